@@ -1,0 +1,149 @@
+//! The 2D data model: a [`Drawing`] is a list of [`Path`]s, each a chain of cubic Bézier
+//! curves, open or closed, with a [`JointKind`] at every on-curve point.
+//!
+//! Only this module (and its children) knows SVG: [`svg_in`] turns a document into a drawing
+//! (through usvg), [`svg_out`] writes deformed geometry back into the same document, and
+//! [`authors_svg`] reproduces the SVG reading of the paper authors' code for compatibility
+//! mode. All coordinates are `f64` in the root element's user space (viewBox units).
+
+pub mod junction;
+
+pub use junction::{classify_joints, JointKind, JunctionOptions};
+
+use kurbo::{CubicBez, Point, Rect};
+
+/// A drawing: subpaths in document order, and (when it came from SVG) what is needed to write
+/// deformed geometry back into the same document.
+#[derive(Clone, Debug, Default)]
+pub struct Drawing {
+    /// Every subpath of every imported element, in document order.
+    pub paths: Vec<Path>,
+}
+
+/// One subpath: a chain of `n ≥ 1` cubic Bézier curves.
+///
+/// `points` holds the `3n + 1` chain points `P_0 … P_3n`; curve `j` is
+/// `P_3j, P_3j+1, P_3j+2, P_3j+3`. A closed path repeats its first point at the end
+/// (`P_3n == P_0`). `joints[k]` is the kind of the on-curve point `P_3k` (the start of curve
+/// `k`): `n + 1` entries for an open path (the two ends are [`JointKind::End`]), `n` for a closed
+/// one (`joints[0]` is the junction between the last and the first curve).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Path {
+    /// The `3n + 1` chain points.
+    pub points: Vec<Point>,
+    /// Whether the last curve joins the first.
+    pub closed: bool,
+    /// The continuity kind at each on-curve point (see the type doc for its length).
+    pub joints: Vec<JointKind>,
+}
+
+impl Path {
+    /// Builds a path from its chain points, classifying its joints with `options`.
+    ///
+    /// Returns `None` if `points.len()` is not `3n + 1` with `n ≥ 1`, or if `closed` is asked
+    /// but the last point differs from the first.
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin::drawing::{JointKind, JunctionOptions, Path};
+    /// let pts = [(0.0, 0.0), (1.0, 1.0), (2.0, 1.0), (3.0, 0.0)].map(Point::from);
+    /// let path = Path::new(pts.to_vec(), false, &JunctionOptions::default()).unwrap();
+    /// assert_eq!(path.n_curves(), 1);
+    /// assert_eq!(path.joints, vec![JointKind::End, JointKind::End]);
+    /// ```
+    pub fn new(points: Vec<Point>, closed: bool, options: &JunctionOptions) -> Option<Path> {
+        if points.len() < 4 || (points.len() - 1) % 3 != 0 {
+            return None;
+        }
+        if closed && points[0] != points[points.len() - 1] {
+            return None;
+        }
+        let joints = classify_joints(&points, closed, options);
+        Some(Path {
+            points,
+            closed,
+            joints,
+        })
+    }
+
+    /// Number of cubic curves `n`.
+    #[inline]
+    pub fn n_curves(&self) -> usize {
+        (self.points.len() - 1) / 3
+    }
+
+    /// The control points of curve `j`.
+    #[inline]
+    pub fn curve_points(&self, j: usize) -> [Point; 4] {
+        let p = &self.points[3 * j..3 * j + 4];
+        [p[0], p[1], p[2], p[3]]
+    }
+
+    /// Curve `j` as a kurbo cubic.
+    #[inline]
+    pub fn curve(&self, j: usize) -> CubicBez {
+        let [p0, p1, p2, p3] = self.curve_points(j);
+        CubicBez::new(p0, p1, p2, p3)
+    }
+
+    /// Number of distinct unknown points of the fit: `3n + 1` open, `3n` closed (the repeated
+    /// first point is not a separate unknown).
+    #[inline]
+    pub fn n_unknown_points(&self) -> usize {
+        if self.closed {
+            self.points.len() - 1
+        } else {
+            self.points.len()
+        }
+    }
+}
+
+impl Drawing {
+    /// Total number of cubic curves over all paths.
+    pub fn n_curves(&self) -> usize {
+        self.paths.iter().map(Path::n_curves).sum()
+    }
+
+    /// Total number of chain points over all paths (each path's `points.len()`): the length of
+    /// the flat point buffers that rigs write ([`Drawing::with_points`] reads them back).
+    pub fn n_points(&self) -> usize {
+        self.paths.iter().map(|p| p.points.len()).sum()
+    }
+
+    /// All chain points of all paths, concatenated in path order.
+    pub fn flat_points(&self) -> Vec<Point> {
+        self.paths.iter().flat_map(|p| p.points.iter().copied()).collect()
+    }
+
+    /// A copy of this drawing with its chain points replaced by `points` (concatenated in path
+    /// order, `self.n_points()` of them). Joint kinds are kept. Returns `None` on a length
+    /// mismatch.
+    pub fn with_points(&self, points: &[Point]) -> Option<Drawing> {
+        if points.len() != self.n_points() {
+            return None;
+        }
+        let mut out = self.clone();
+        let mut offset = 0;
+        for path in &mut out.paths {
+            let n = path.points.len();
+            path.points.copy_from_slice(&points[offset..offset + n]);
+            offset += n;
+        }
+        Some(out)
+    }
+
+    /// The axis-aligned bounding box of all control points (`None` for an empty drawing).
+    pub fn control_bounds(&self) -> Option<Rect> {
+        let mut it = self.paths.iter().flat_map(|p| p.points.iter());
+        let first = *it.next()?;
+        Some(it.fold(Rect::from_points(first, first), |r, &p| r.union_pt(p)))
+    }
+
+    /// Length of the diagonal of [`Drawing::control_bounds`] (0 for an empty drawing): the
+    /// scale that relative tolerances and error figures refer to.
+    pub fn diagonal(&self) -> f64 {
+        self.control_bounds()
+            .map(|r| r.width().hypot(r.height()))
+            .unwrap_or(0.0)
+    }
+}
