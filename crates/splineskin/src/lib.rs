@@ -15,3 +15,4 @@
 
 pub mod bezier;
 pub mod drawing;
+pub mod render;

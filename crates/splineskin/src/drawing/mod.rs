@@ -6,7 +6,10 @@
 //! [`authors_svg`] reproduces the SVG reading of the paper authors' code for compatibility
 //! mode. All coordinates are `f64` in the root element's user space (viewBox units).
 
+pub mod authors_svg;
 pub mod junction;
+pub mod svg_in;
+pub mod svg_out;
 
 pub use junction::{classify_joints, JointKind, JunctionOptions};
 
@@ -18,6 +21,8 @@ use kurbo::{CubicBez, Point, Rect};
 pub struct Drawing {
     /// Every subpath of every imported element, in document order.
     pub paths: Vec<Path>,
+    /// The SVG document the drawing came from, if any (needed by [`svg_out`]).
+    pub source: Option<std::sync::Arc<svg_in::SvgSource>>,
 }
 
 /// One subpath: a chain of `n ≥ 1` cubic Bézier curves.

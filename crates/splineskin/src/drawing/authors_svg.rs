@@ -1,0 +1,1 @@
+//! The paper authors' SVG reading, for compatibility mode (stub: being written).

@@ -1,0 +1,1 @@
+//! PNG rendering with resvg (stub: being written).
