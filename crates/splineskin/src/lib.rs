@@ -16,3 +16,5 @@
 pub mod bezier;
 pub mod drawing;
 pub mod render;
+pub mod spline_fit;
+pub mod weights;

@@ -1,0 +1,257 @@
+//! Linear junction constraints of one path, as sparse rows over its unknowns.
+//!
+//! Unknowns are the path's distinct chain points (C⁰ is built in: neighbouring curves share
+//! their junction point), two coordinates each: unknown `2·k + d` is coordinate `d` of point `k`.
+//!
+//! At a smooth or fixed-angle junction `p`, with `a` the tangent neighbour before it and `b` the
+//! one after it (see [`JunctionRule`]), `u = P_p − P_a` and `v = P_b − P_p` in the input with
+//! lengths `l_u`, `l_v`, the deformed tangents must satisfy
+//!
+//! ```text
+//! l_u · v' − l_v · R(θ) · u' = 0          (two rows, one per coordinate)
+//! ```
+//!
+//! i.e. `v'` is `u'` turned by `θ` and scaled by the input ratio `l_v/l_u` (Liu et al. 2014 §4,
+//! Table 1; DESIGN.md §1):
+//!
+//! | kind | `θ` | lengths |
+//! |---|---|---|
+//! | C¹ (ours: strict) | 0 | `l_u = l_v = 1` |
+//! | G¹ | the input's angle if within the smooth tolerance, else 0 | input |
+//! | fixed angle | the input's angle | input |
+//! | C¹, G¹ ([`ConstraintForm::Authors`]) | 0 | input |
+//!
+//! Rows are divided by `max(l_u, l_v)` for conditioning. With [`JunctionRule::NextDistinct`]
+//! control points lying on the junction point (between `a` and `p`, or `p` and `b`) are also
+//! pinned to it (`P_k' = P_p'`), so a degenerate tangent stays degenerate and the curve's real
+//! tangent (towards the next distinct point) carries the continuity.
+
+use kurbo::Point;
+
+use crate::drawing::junction::{coincidence_distance, tangent_neighbours};
+use crate::drawing::{JointKind, JunctionOptions};
+
+/// How constraints are written.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ConstraintForm {
+    /// Ours: tangent neighbours are the next distinct points ([`JunctionRule::NextDistinct`]),
+    /// C¹ is strict, G¹ keeps the input's (tiny) angle so that the rest pose is exact.
+    #[default]
+    Ours,
+    /// The paper authors' rows (compatibility mode): immediate neighbours, C¹ rows identical to
+    /// G¹ rows with the input ratio, G¹ with `θ = 0`, rows that vanish (two zero-length tangents)
+    /// dropped.
+    Authors,
+}
+
+/// Which points define a junction's tangents.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum JunctionRule {
+    /// `c2` and `d1`, whatever their position.
+    Immediate,
+    /// The first control point distinct from the junction point on each side.
+    NextDistinct,
+}
+
+/// Sparse linear constraint rows `Σ coef · x_col = 0`.
+#[derive(Clone, Debug, Default)]
+pub struct ConstraintRows {
+    /// `(row, column, coefficient)` entries; rows are numbered from 0.
+    pub entries: Vec<(usize, usize, f64)>,
+    /// Number of rows.
+    pub n_rows: usize,
+}
+
+impl ConstraintRows {
+    fn push_row(&mut self, entries: &[(usize, f64)]) {
+        let mut any = false;
+        for &(col, v) in entries {
+            if v != 0.0 {
+                self.entries.push((self.n_rows, col, v));
+                any = true;
+            }
+        }
+        if any {
+            self.n_rows += 1;
+        }
+    }
+}
+
+/// Builds the constraint rows of a chain with joint kinds `joints` (see
+/// [`crate::drawing::Path`] for the layouts). `smooth_angle` is the G¹ tolerance (radians) under
+/// which the input's own angle is kept.
+pub fn junction_rows(
+    points: &[Point],
+    closed: bool,
+    joints: &[JointKind],
+    form: ConstraintForm,
+    options: &JunctionOptions,
+) -> ConstraintRows {
+    let mut rows = ConstraintRows::default();
+    let m = points.len() - 1; // 3n
+    let n_unknown = if closed { m } else { m + 1 };
+    let wrap = |i: usize| if i >= n_unknown { i - n_unknown } else { i };
+    let eps = coincidence_distance(points, options.coincidence);
+    for (k, &kind) in joints.iter().enumerate() {
+        if matches!(kind, JointKind::End | JointKind::C0) {
+            continue;
+        }
+        let p = 3 * k;
+        let (a, b) = match form {
+            ConstraintForm::Ours => match tangent_neighbours(points, closed, p, eps) {
+                (Some(a), Some(b)) => (a, b),
+                // No direction on one side: nothing to keep but position.
+                _ => continue,
+            },
+            ConstraintForm::Authors => {
+                let a = if p == 0 { m - 1 } else { p - 1 };
+                (a, p + 1)
+            }
+        };
+        let pp = points[p];
+        let u = pp - points[a];
+        let v = points[b] - pp;
+        let (mut lu, mut lv) = (u.hypot(), v.hypot());
+        let input_angle = if lu > 0.0 && lv > 0.0 {
+            u.cross(v).atan2(u.dot(v))
+        } else {
+            0.0
+        };
+        let theta = match (form, kind) {
+            (_, JointKind::FixedAngle) => input_angle,
+            (ConstraintForm::Ours, JointKind::G1) if input_angle.abs() <= options.smooth_angle => {
+                input_angle
+            }
+            _ => 0.0,
+        };
+        if form == ConstraintForm::Ours && kind == JointKind::C1 {
+            lu = 1.0;
+            lv = 1.0;
+        }
+        let scale = lu.max(lv);
+        if scale == 0.0 {
+            continue; // both tangents vanish: the authors' rows are all zero and dropped
+        }
+        let (lu, lv) = (lu / scale, lv / scale);
+        let (s, c) = theta.sin_cos();
+        let (ia, ip, ib) = (wrap(a), wrap(p), wrap(b));
+        // x row: lu (xb − xp) − lv [c (xp − xa) − s (yp − ya)] = 0
+        // y row: lu (yb − yp) − lv [s (xp − xa) + c (yp − ya)] = 0
+        let x = |i: usize| 2 * i;
+        let y = |i: usize| 2 * i + 1;
+        rows.push_row(&[
+            (x(ib), lu),
+            (x(ip), -lu - lv * c),
+            (x(ia), lv * c),
+            (y(ip), lv * s),
+            (y(ia), -lv * s),
+        ]);
+        rows.push_row(&[
+            (y(ib), lu),
+            (y(ip), -lu - lv * c),
+            (y(ia), lv * c),
+            (x(ip), -lv * s),
+            (x(ia), lv * s),
+        ]);
+        if form == ConstraintForm::Ours {
+            // Pin control points lying on the junction point between a and p, and p and b.
+            let before = (if p == 0 { m } else { p }) - a;
+            let pins_before = (1..before).map(|d| wrap((if p == 0 { m } else { p }) - d));
+            let pins_after = (1..(b - p)).map(|d| wrap(p + d));
+            for q in pins_before.chain(pins_after) {
+                rows.push_row(&[(x(q), 1.0), (x(ip), -1.0)]);
+                rows.push_row(&[(y(q), 1.0), (y(ip), -1.0)]);
+            }
+        }
+    }
+    rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn residuals(rows: &ConstraintRows, pts: &[Point], closed: bool) -> Vec<f64> {
+        let n_unknown = if closed { pts.len() - 1 } else { pts.len() };
+        let x: Vec<f64> = pts[..n_unknown].iter().flat_map(|p| [p.x, p.y]).collect();
+        let mut r = vec![0.0; rows.n_rows];
+        for &(i, j, v) in &rows.entries {
+            r[i] += v * x[j];
+        }
+        r
+    }
+
+    #[test]
+    fn constraints_hold_on_the_input() {
+        // A corner at 60°, kept as a fixed angle, and a smooth G1 junction with ratio 2.
+        let pts: Vec<Point> = [
+            (0.0, 0.0),
+            (1.0, 0.0),
+            (2.0, 0.0),
+            (3.0, 0.0),
+            (3.5, 0.866_025_403_784_438_6),
+            (4.0, 2.0),
+            (5.0, 2.0),
+            (7.0, 2.0),
+            (8.0, 3.0),
+            (9.0, 2.0),
+        ]
+        .map(Point::from)
+        .to_vec();
+        let joints = [
+            JointKind::End,
+            JointKind::FixedAngle,
+            JointKind::G1,
+            JointKind::End,
+        ];
+        for form in [ConstraintForm::Ours, ConstraintForm::Authors] {
+            let rows = junction_rows(&pts, false, &joints, form, &JunctionOptions::default());
+            assert_eq!(rows.n_rows, 4);
+            for r in residuals(&rows, &pts, false) {
+                assert!(r.abs() < 1e-14, "{form:?}: {r}");
+            }
+        }
+    }
+
+    #[test]
+    fn constraints_c1_is_strict_in_our_form() {
+        // Smooth with ratio 2: strict C1 is violated by the input, the authors' C1 is not.
+        let pts: Vec<Point> = [(0., 0.), (1., 1.), (2., 0.), (3., 0.), (5., 0.), (6., 1.), (7., 0.)]
+            .map(Point::from)
+            .to_vec();
+        let joints = [JointKind::End, JointKind::C1, JointKind::End];
+        let ours = junction_rows(&pts, false, &joints, ConstraintForm::Ours, &Default::default());
+        assert!(residuals(&ours, &pts, false)[0].abs() > 0.1);
+        let theirs =
+            junction_rows(&pts, false, &joints, ConstraintForm::Authors, &Default::default());
+        assert!(residuals(&theirs, &pts, false)[0].abs() < 1e-15);
+    }
+
+    #[test]
+    fn constraints_pin_degenerate_handles() {
+        // c2 on c3 and d1 on d0: pins for both, tangent row between c1 and d2.
+        let pts: Vec<Point> = [(0., 0.), (1., 0.), (3., 0.), (3., 0.), (3., 0.), (6., 0.), (7., 1.)]
+            .map(Point::from)
+            .to_vec();
+        let joints = [JointKind::End, JointKind::G1, JointKind::End];
+        let rows = junction_rows(&pts, false, &joints, ConstraintForm::Ours, &Default::default());
+        assert_eq!(rows.n_rows, 2 + 4);
+        for r in residuals(&rows, &pts, false) {
+            assert!(r.abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn constraints_closed_path_wraps() {
+        let pts: Vec<Point> = [(1., 0.), (1., 1.), (-1., 1.), (-1., 0.), (-1., -1.), (1., -1.), (1., 0.)]
+            .map(Point::from)
+            .to_vec();
+        let joints = [JointKind::C1, JointKind::C1];
+        let rows = junction_rows(&pts, true, &joints, ConstraintForm::Ours, &Default::default());
+        assert_eq!(rows.n_rows, 4);
+        assert!(rows.entries.iter().all(|&(_, c, _)| c < 12));
+        for r in residuals(&rows, &pts, true) {
+            assert!(r.abs() < 1e-15);
+        }
+    }
+}

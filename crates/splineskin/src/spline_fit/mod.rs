@@ -1,0 +1,147 @@
+//! The paper's spline fit: the cubic closest (in L²) to each skinned curve, under the drawing's
+//! junction constraints, as a linear operator of the handle transforms.
+//!
+//! | paper (Liu et al. 2014 §4) | here |
+//! |---|---|
+//! | `Â` (Gram matrix of the Bernstein basis) | [`quadrature::CurveSamples::gram`] |
+//! | `Ŵ_i` (weighted Gram times `C̄`) | assembled in [`system`] from [`quadrature::CurveSamples::weighted_grams`] |
+//! | continuity constraints (Table 1) | [`constraints`] |
+//! | per-handle operators `O_i` | [`SplineRig`] rows |
+//!
+//! See [`SplineRig`] for the precompute / update recipe.
+
+pub mod constraints;
+pub mod quadrature;
+mod rig;
+pub(crate) mod system;
+
+pub use constraints::ConstraintForm;
+pub use quadrature::{Measure, Quadrature};
+pub use rig::{PoseError, SplineRig};
+
+use crate::drawing::JunctionOptions;
+
+/// Options of the fit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct FitOptions {
+    /// The integration rule. Default: [`Quadrature::default`] (composite Gauss–Legendre).
+    pub quadrature: Quadrature,
+    /// The measure along curves. Default: [`Measure::LengthWeighted`].
+    pub measure: Measure,
+    /// How junction constraints are written. Default: [`ConstraintForm::Ours`].
+    pub constraint_form: ConstraintForm,
+    /// Tolerances used when writing constraints (the smooth angle under which G¹ keeps the
+    /// input's own angle, the coincidence distance). Default: [`JunctionOptions::default`].
+    pub junctions: JunctionOptions,
+    /// Check every path's system for rank deficiency with a dense SVD (slow; compatibility
+    /// mode uses it to report the paths where the authors' solver is ill-posed). Default: false.
+    pub check_rank: bool,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        FitOptions {
+            quadrature: Quadrature::default(),
+            measure: Measure::LengthWeighted,
+            constraint_form: ConstraintForm::Ours,
+            junctions: JunctionOptions::default(),
+            check_rank: false,
+        }
+    }
+}
+
+impl FitOptions {
+    /// The paper authors' discretisation (compatibility mode `vectorskinning`): their 100-sample
+    /// midpoint rule for both sides, polyline-length weighting, their constraint rows, and the
+    /// rank check. `arc_length` selects their arc-length measure.
+    pub fn vectorskinning(arc_length: bool) -> FitOptions {
+        FitOptions {
+            quadrature: Quadrature::AuthorsMidpoint {
+                samples: quadrature::AUTHORS_SAMPLES,
+            },
+            measure: if arc_length {
+                Measure::ArcLength
+            } else {
+                Measure::LengthWeighted
+            },
+            constraint_form: ConstraintForm::Authors,
+            junctions: JunctionOptions::default(),
+            check_rank: true,
+        }
+    }
+
+    /// Sets [`FitOptions::measure`].
+    pub fn with_measure(mut self, measure: Measure) -> Self {
+        self.measure = measure;
+        self
+    }
+    /// Sets [`FitOptions::quadrature`].
+    pub fn with_quadrature(mut self, quadrature: Quadrature) -> Self {
+        self.quadrature = quadrature;
+        self
+    }
+    /// Sets [`FitOptions::check_rank`].
+    pub fn with_check_rank(mut self, check: bool) -> Self {
+        self.check_rank = check;
+        self
+    }
+}
+
+/// Why a rig could not be built.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum FitError {
+    /// The weight field has no handles.
+    #[error("no handles: a rig needs at least one handle")]
+    NoHandles,
+    /// The drawing has no paths.
+    #[error("the drawing has no paths to fit")]
+    NoPaths,
+    /// A control point is NaN or infinite.
+    #[error("path {path}, point {point}: coordinate is not finite ({x}, {y})")]
+    NonFinite {
+        /// Path index.
+        path: usize,
+        /// Chain point index.
+        point: usize,
+        /// x coordinate.
+        x: f64,
+        /// y coordinate.
+        y: f64,
+    },
+    /// A path's joint list does not match its curves.
+    #[error("path {path}: {got} joint kinds, expected {expected} for {n_curves} curves")]
+    JointCount {
+        /// Path index.
+        path: usize,
+        /// Number given.
+        got: usize,
+        /// Number expected.
+        expected: usize,
+        /// Curves in the path.
+        n_curves: usize,
+    },
+    /// A path has a malformed chain.
+    #[error("path {path}: {n_points} chain points is not 3n+1 with n ≥ 1 (or a closed path does not end at its start)")]
+    BadChain {
+        /// Path index.
+        path: usize,
+        /// Points in the chain.
+        n_points: usize,
+    },
+    /// The system of a path is singular although it should not be (a bug).
+    #[error("path {path}: the fit system is singular; this is a bug, please report it with the drawing")]
+    Singular {
+        /// Path index.
+        path: usize,
+    },
+    /// The sparse solver failed.
+    #[error("path {path}: sparse solver failed: {detail}")]
+    Solver {
+        /// Path index.
+        path: usize,
+        /// The solver's message.
+        detail: String,
+    },
+}

@@ -1,0 +1,37 @@
+//! Handle weight functions `w_i : R² → R`.
+//!
+//! The fit ([`crate::spline_fit`]) only needs to evaluate the weights of all handles at points
+//! along the curves, and to know where along a curve a weight function stops being smooth (mesh
+//! weights are piecewise linear: the quadrature splits curves at mesh edges). That is the whole
+//! [`WeightField`] interface, so new families (harmonic, biharmonic, bounded biharmonic, mean
+//! value coordinates) plug in without any change to the fit.
+//!
+//! | family | module | handles |
+//! |---|---|---|
+//! | Shepard (inverse distance) | [`shepard`] | points |
+
+pub mod shepard;
+
+pub use shepard::{Shepard, ShepardOptions};
+
+use kurbo::Point;
+
+/// A set of weight functions, one per handle, evaluated together.
+///
+/// Implementations are immutable once built (all precomputation done in their constructor), so
+/// they can be shared between threads and evaluated in parallel.
+pub trait WeightField: Send + Sync {
+    /// Number of handles `h`.
+    fn n_handles(&self) -> usize;
+
+    /// Writes `w_i(p)` for every handle `i` into `out` (length [`WeightField::n_handles`]).
+    fn eval(&self, p: Point, out: &mut [f64]);
+
+    /// Appends to `out` the parameters `t ∈ (0, 1)` at which the weights restricted to the cubic
+    /// `curve` are not smooth (for example where it crosses mesh edges), in any order.
+    /// Quadrature splits the curve there so that every piece integrates a smooth function.
+    /// Smooth families (Shepard, mean value coordinates) append nothing, which is the default.
+    fn kinks(&self, curve: &[Point; 4], out: &mut Vec<f64>) {
+        let _ = (curve, out);
+    }
+}
