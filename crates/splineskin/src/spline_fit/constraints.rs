@@ -216,25 +216,58 @@ mod tests {
     #[test]
     fn constraints_c1_is_strict_in_our_form() {
         // Smooth with ratio 2: strict C1 is violated by the input, the authors' C1 is not.
-        let pts: Vec<Point> = [(0., 0.), (1., 1.), (2., 0.), (3., 0.), (5., 0.), (6., 1.), (7., 0.)]
-            .map(Point::from)
-            .to_vec();
+        let pts: Vec<Point> = [
+            (0., 0.),
+            (1., 1.),
+            (2., 0.),
+            (3., 0.),
+            (5., 0.),
+            (6., 1.),
+            (7., 0.),
+        ]
+        .map(Point::from)
+        .to_vec();
         let joints = [JointKind::End, JointKind::C1, JointKind::End];
-        let ours = junction_rows(&pts, false, &joints, ConstraintForm::Ours, &Default::default());
+        let ours = junction_rows(
+            &pts,
+            false,
+            &joints,
+            ConstraintForm::Ours,
+            &Default::default(),
+        );
         assert!(residuals(&ours, &pts, false)[0].abs() > 0.1);
-        let theirs =
-            junction_rows(&pts, false, &joints, ConstraintForm::Authors, &Default::default());
+        let theirs = junction_rows(
+            &pts,
+            false,
+            &joints,
+            ConstraintForm::Authors,
+            &Default::default(),
+        );
         assert!(residuals(&theirs, &pts, false)[0].abs() < 1e-15);
     }
 
     #[test]
     fn constraints_pin_degenerate_handles() {
         // c2 on c3 and d1 on d0: pins for both, tangent row between c1 and d2.
-        let pts: Vec<Point> = [(0., 0.), (1., 0.), (3., 0.), (3., 0.), (3., 0.), (6., 0.), (7., 1.)]
-            .map(Point::from)
-            .to_vec();
+        let pts: Vec<Point> = [
+            (0., 0.),
+            (1., 0.),
+            (3., 0.),
+            (3., 0.),
+            (3., 0.),
+            (6., 0.),
+            (7., 1.),
+        ]
+        .map(Point::from)
+        .to_vec();
         let joints = [JointKind::End, JointKind::G1, JointKind::End];
-        let rows = junction_rows(&pts, false, &joints, ConstraintForm::Ours, &Default::default());
+        let rows = junction_rows(
+            &pts,
+            false,
+            &joints,
+            ConstraintForm::Ours,
+            &Default::default(),
+        );
         assert_eq!(rows.n_rows, 2 + 4);
         for r in residuals(&rows, &pts, false) {
             assert!(r.abs() < 1e-15);
@@ -243,11 +276,25 @@ mod tests {
 
     #[test]
     fn constraints_closed_path_wraps() {
-        let pts: Vec<Point> = [(1., 0.), (1., 1.), (-1., 1.), (-1., 0.), (-1., -1.), (1., -1.), (1., 0.)]
-            .map(Point::from)
-            .to_vec();
+        let pts: Vec<Point> = [
+            (1., 0.),
+            (1., 1.),
+            (-1., 1.),
+            (-1., 0.),
+            (-1., -1.),
+            (1., -1.),
+            (1., 0.),
+        ]
+        .map(Point::from)
+        .to_vec();
         let joints = [JointKind::C1, JointKind::C1];
-        let rows = junction_rows(&pts, true, &joints, ConstraintForm::Ours, &Default::default());
+        let rows = junction_rows(
+            &pts,
+            true,
+            &joints,
+            ConstraintForm::Ours,
+            &Default::default(),
+        );
         assert_eq!(rows.n_rows, 4);
         assert!(rows.entries.iter().all(|&(_, c, _)| c < 12));
         for r in residuals(&rows, &pts, true) {

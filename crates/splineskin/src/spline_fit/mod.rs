@@ -130,8 +130,18 @@ pub enum FitError {
         /// Points in the chain.
         n_points: usize,
     },
+    /// The sampled weights were computed for another drawing.
+    #[error("weights were sampled on {sampled} curves but the drawing has {curves}")]
+    SamplesMismatch {
+        /// Curves in the samples.
+        sampled: usize,
+        /// Curves in the drawing.
+        curves: usize,
+    },
     /// The system of a path is singular although it should not be (a bug).
-    #[error("path {path}: the fit system is singular; this is a bug, please report it with the drawing")]
+    #[error(
+        "path {path}: the fit system is singular; this is a bug, please report it with the drawing"
+    )]
     Singular {
         /// Path index.
         path: usize,

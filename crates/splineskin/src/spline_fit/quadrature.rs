@@ -21,7 +21,10 @@
 use kurbo::{ParamCurveArclen, Point};
 
 use crate::bezier::{self, gauss_legendre};
+use crate::drawing::{Drawing, Path};
 use crate::weights::WeightField;
+
+use super::{ConstraintForm, FitOptions};
 
 /// Default number of equal parameter pieces per curve for [`Quadrature::Gauss`]: 4.
 pub const DEFAULT_PIECES: usize = 4;
@@ -78,17 +81,122 @@ pub enum Measure {
     ArcLength,
 }
 
-/// Nodes, node weights and the handle weights at the nodes, for one curve.
+/// The quadrature nodes of every curve of a drawing with the handle weights at them: the part
+/// of the precomputation that depends on the weight functions.
 ///
-/// Reused across curves to avoid reallocating (see [`CurveSamples::build`]).
-#[derive(Clone, Debug, Default)]
-pub struct CurveSamples {
+/// Computed once by [`SampledCurves::sample`]; [`super::SplineRig::from_samples`] builds the rig
+/// from it, so that changing only the fit (constraints, junction kinds) does not re-evaluate
+/// the weights, and so that benchmarks can time the two phases separately.
+///
+/// ```
+/// use kurbo::Point;
+/// use splineskin::drawing::{Drawing, JunctionOptions, Path};
+/// use splineskin::spline_fit::{quadrature::SampledCurves, FitOptions};
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let pts = [(0.0, 0.0), (1.0, 1.0), (2.0, 1.0), (3.0, 0.0)].map(Point::from).to_vec();
+/// let drawing = Drawing {
+///     paths: vec![Path::new(pts, false, &JunctionOptions::default()).unwrap()],
+///     ..Default::default()
+/// };
+/// let w = Shepard::new(&[Point::ZERO], ShepardOptions::default());
+/// let s = SampledCurves::sample(&drawing, &w, &FitOptions::default());
+/// assert_eq!(s.n_curves(), 1);
+/// // Four pieces of eight Gauss nodes.
+/// assert_eq!(s.curve(0).t.len(), 32);
+/// ```
+#[derive(Clone, Debug)]
+pub struct SampledCurves {
+    n_handles: usize,
+    node_offsets: Vec<usize>,
+    t: Vec<f64>,
+    omega: Vec<f64>,
+    weights: Vec<f64>,
+}
+
+impl SampledCurves {
+    /// Samples every curve of `drawing` with the rule and measure of `options`, evaluating
+    /// `field` at the nodes.
+    pub fn sample(drawing: &Drawing, field: &dyn WeightField, options: &FitOptions) -> Self {
+        let h = field.n_handles();
+        let mut out = SampledCurves {
+            n_handles: h,
+            node_offsets: vec![0],
+            t: Vec::new(),
+            omega: Vec::new(),
+            weights: Vec::new(),
+        };
+        let mut builder = CurveSamples::default();
+        for path in &drawing.paths {
+            let min_measure = min_measure(path, options.constraint_form);
+            for j in 0..path.n_curves() {
+                let c = path.curve_points(j);
+                builder.build(&c, field, options.quadrature, options.measure, min_measure);
+                out.t.extend_from_slice(&builder.t);
+                out.omega.extend_from_slice(&builder.omega);
+                out.weights.extend_from_slice(&builder.weights);
+                out.node_offsets.push(out.t.len());
+            }
+        }
+        out
+    }
+
+    /// Number of curves sampled (all paths, in order).
+    pub fn n_curves(&self) -> usize {
+        self.node_offsets.len() - 1
+    }
+
+    /// Number of handles whose weights were sampled.
+    pub fn n_handles(&self) -> usize {
+        self.n_handles
+    }
+
+    /// The nodes of curve `j` (counted over all paths of the drawing, in order).
+    pub fn curve(&self, j: usize) -> CurveNodes<'_> {
+        let r = self.node_offsets[j]..self.node_offsets[j + 1];
+        CurveNodes {
+            t: &self.t[r.clone()],
+            omega: &self.omega[r.clone()],
+            weights: &self.weights[r.start * self.n_handles..r.end * self.n_handles],
+            n_handles: self.n_handles,
+        }
+    }
+}
+
+/// The floor of a curve's measure in `path`: [`MIN_RELATIVE_MEASURE`] times the path's largest
+/// control-polygon length (none in the authors' form: they have no floor).
+fn min_measure(path: &Path, form: ConstraintForm) -> f64 {
+    if form == ConstraintForm::Authors {
+        return 0.0;
+    }
+    let max_len = (0..path.n_curves())
+        .map(|j| {
+            let c = path.curve_points(j);
+            (c[1] - c[0]).hypot() + (c[2] - c[1]).hypot() + (c[3] - c[2]).hypot()
+        })
+        .fold(0.0, f64::max);
+    (MIN_RELATIVE_MEASURE * max_len).max(f64::MIN_POSITIVE)
+}
+
+/// The quadrature of one curve: nodes `t`, node weights `omega` (measure included) and the
+/// handle weights at the nodes (`t.len() × n_handles`, row-major).
+#[derive(Clone, Copy, Debug)]
+pub struct CurveNodes<'a> {
     /// Parameters `t_q` of the nodes.
-    pub t: Vec<f64>,
-    /// Node weights `ω_q` (the measure included).
-    pub omega: Vec<f64>,
-    /// `w_i` at node `q` for every handle: `t.len() × n_handles`, row-major.
-    pub weights: Vec<f64>,
+    pub t: &'a [f64],
+    /// Node weights `ω_q`.
+    pub omega: &'a [f64],
+    /// `w_i` at node `q`: entry `q · n_handles + i`.
+    pub weights: &'a [f64],
+    n_handles: usize,
+}
+
+/// Builder of one curve's nodes, reused across curves to avoid reallocating.
+#[derive(Clone, Debug, Default)]
+struct CurveSamples {
+    /// Parameters `t_q` of the nodes.
+    t: Vec<f64>,
+    omega: Vec<f64>,
+    weights: Vec<f64>,
     scratch_kinks: Vec<f64>,
     scratch_w: Vec<f64>,
     gauss: Vec<(usize, Vec<f64>, Vec<f64>)>,
@@ -98,7 +206,7 @@ impl CurveSamples {
     /// Fills `self` for the curve `c` with the rule `quadrature`, measure `measure`, handle
     /// weights from `field`, and `min_measure` as the floor of the curve's total measure (see
     /// [`MIN_RELATIVE_MEASURE`]).
-    pub fn build(
+    fn build(
         &mut self,
         c: &[Point; 4],
         field: &dyn WeightField,
@@ -198,6 +306,16 @@ impl CurveSamples {
         }
     }
 
+    #[cfg(test)]
+    fn nodes(&self, n_handles: usize) -> CurveNodes<'_> {
+        CurveNodes {
+            t: &self.t,
+            omega: &self.omega,
+            weights: &self.weights,
+            n_handles,
+        }
+    }
+
     fn gauss_rule(&mut self, n: usize) -> (&[f64], &[f64]) {
         let idx = match self.gauss.iter().position(|(m, _, _)| *m == n) {
             Some(i) => i,
@@ -210,11 +328,13 @@ impl CurveSamples {
         let (_, t, w) = &self.gauss[idx];
         (t, w)
     }
+}
 
+impl CurveNodes<'_> {
     /// `Σ_q ω_q b(t_q) b(t_q)ᵀ`: the curve's Gram matrix under this rule.
     pub fn gram(&self) -> [[f64; 4]; 4] {
         let mut a = [[0.0; 4]; 4];
-        for (&t, &w) in self.t.iter().zip(&self.omega) {
+        for (&t, &w) in self.t.iter().zip(self.omega) {
             let b = bezier::bernstein(t);
             for k in 0..4 {
                 for l in 0..4 {
@@ -226,11 +346,12 @@ impl CurveSamples {
     }
 
     /// `M_i = Σ_q ω_q w_i(q) b(t_q) b(t_q)ᵀ` for every handle `i`, written to `out`
-    /// (`n_handles` 4×4 matrices).
-    pub fn weighted_grams(&self, n_handles: usize, out: &mut Vec<[[f64; 4]; 4]>) {
+    /// (one 4×4 matrix per handle).
+    pub fn weighted_grams(&self, out: &mut Vec<[[f64; 4]; 4]>) {
+        let n_handles = self.n_handles;
         out.clear();
         out.resize(n_handles, [[0.0; 4]; 4]);
-        for (q, (&t, &w)) in self.t.iter().zip(&self.omega).enumerate() {
+        for (q, (&t, &w)) in self.t.iter().zip(self.omega).enumerate() {
             let b = bezier::bernstein(t);
             let mut bb = [[0.0; 4]; 4];
             for k in 0..4 {
@@ -267,10 +388,16 @@ mod tests {
     fn quadrature_gauss_gram_is_exact_times_length() {
         let field = Shepard::new(&[Point::new(0.0, 0.0)], ShepardOptions::default());
         let mut s = CurveSamples::default();
-        s.build(&curve(), &field, Quadrature::default(), Measure::LengthWeighted, 0.0);
+        s.build(
+            &curve(),
+            &field,
+            Quadrature::default(),
+            Measure::LengthWeighted,
+            0.0,
+        );
         let c = curve();
         let len = kurbo::CubicBez::new(c[0], c[1], c[2], c[3]).arclen(1e-12);
-        let a = s.gram();
+        let a = s.nodes(field.n_handles()).gram();
         let exact = bernstein_gram();
         for k in 0..4 {
             for l in 0..4 {
@@ -281,7 +408,11 @@ mod tests {
 
     #[test]
     fn quadrature_weighted_grams_sum_to_gram() {
-        let hs = [Point::new(0.0, 0.0), Point::new(4.0, 1.0), Point::new(2.0, 3.0)];
+        let hs = [
+            Point::new(0.0, 0.0),
+            Point::new(4.0, 1.0),
+            Point::new(2.0, 3.0),
+        ];
         let field = Shepard::new(&hs, ShepardOptions::default());
         for q in [
             Quadrature::default(),
@@ -290,9 +421,9 @@ mod tests {
             for m in [Measure::LengthWeighted, Measure::ArcLength] {
                 let mut s = CurveSamples::default();
                 s.build(&curve(), &field, q, m, 0.0);
-                let a = s.gram();
+                let a = s.nodes(field.n_handles()).gram();
                 let mut ms = Vec::new();
-                s.weighted_grams(3, &mut ms);
+                s.nodes(3).weighted_grams(&mut ms);
                 for k in 0..4 {
                     for l in 0..4 {
                         let sum: f64 = ms.iter().map(|m| m[k][l]).sum();
@@ -307,7 +438,10 @@ mod tests {
     fn quadrature_arc_length_total_is_curve_length() {
         let field = Shepard::new(&[Point::new(0.0, 0.0)], ShepardOptions::default());
         let mut s = CurveSamples::default();
-        let q = Quadrature::Gauss { pieces: 8, nodes: 8 };
+        let q = Quadrature::Gauss {
+            pieces: 8,
+            nodes: 8,
+        };
         s.build(&curve(), &field, q, Measure::ArcLength, 0.0);
         let c = curve();
         let len = kurbo::CubicBez::new(c[0], c[1], c[2], c[3]).arclen(1e-12);

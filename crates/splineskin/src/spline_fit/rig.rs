@@ -2,7 +2,7 @@
 
 use kurbo::{Affine, Point};
 
-use super::quadrature::CurveSamples;
+use super::quadrature::SampledCurves;
 use super::system::solve_path;
 use super::{FitError, FitOptions};
 use crate::drawing::Drawing;
@@ -79,30 +79,50 @@ pub enum PoseError {
 }
 
 impl SplineRig {
-    /// Builds the rig: validates the drawing, integrates, assembles and factors each path's
-    /// system once and solves it for the `6h` right-hand sides.
+    /// Builds the rig: validates the drawing, samples the weights at the quadrature nodes
+    /// ([`SampledCurves::sample`]) and calls [`SplineRig::from_samples`].
     pub fn precompute(
         drawing: &Drawing,
         weights: &dyn WeightField,
         options: &FitOptions,
     ) -> Result<SplineRig, FitError> {
-        let h = weights.n_handles();
+        if weights.n_handles() == 0 {
+            return Err(FitError::NoHandles);
+        }
+        validate(drawing)?;
+        let samples = SampledCurves::sample(drawing, weights, options);
+        SplineRig::from_samples(drawing, &samples, options)
+    }
+
+    /// Builds the rig from weights already sampled at the quadrature nodes of `drawing` (with
+    /// the same `options`): integrates, assembles and factors each path's system once and
+    /// solves it for the `6h` right-hand sides.
+    pub fn from_samples(
+        drawing: &Drawing,
+        samples: &SampledCurves,
+        options: &FitOptions,
+    ) -> Result<SplineRig, FitError> {
+        let h = samples.n_handles();
         if h == 0 {
             return Err(FitError::NoHandles);
         }
-        if drawing.paths.is_empty() {
-            return Err(FitError::NoPaths);
-        }
         validate(drawing)?;
+        if samples.n_curves() != drawing.n_curves() {
+            return Err(FitError::SamplesMismatch {
+                sampled: samples.n_curves(),
+                curves: drawing.n_curves(),
+            });
+        }
         let n_points = drawing.n_points();
         let n_cols = 6 * h;
         let mut operator = vec![0.0; 2 * n_points * n_cols];
-        let mut samples = CurveSamples::default();
         let mut n_constraints = 0;
+        let mut first_curve = 0;
         let mut rank_deficient_paths = Vec::new();
         let mut offset = 0;
         for (pi, path) in drawing.paths.iter().enumerate() {
-            let solved = solve_path(pi, path, weights, options, &mut samples)?;
+            let solved = solve_path(pi, path, samples, first_curve, options)?;
+            first_curve += path.n_curves();
             n_constraints += solved.n_constraints;
             if solved.rank_deficient {
                 rank_deficient_paths.push(pi);
@@ -148,15 +168,19 @@ impl SplineRig {
         for (p, rows) in out.iter_mut().zip(self.operator.chunks_exact(2 * n_cols)) {
             let (rx, ry) = rows.split_at(n_cols);
             let (mut x, mut y) = (0.0, 0.0);
-            for ((t, ox), oy) in pose
-                .iter()
-                .zip(rx.chunks_exact(6))
-                .zip(ry.chunks_exact(6))
-            {
+            for ((t, ox), oy) in pose.iter().zip(rx.chunks_exact(6)).zip(ry.chunks_exact(6)) {
                 let c = t.as_coeffs();
-                x += ox[0] * c[0] + ox[1] * c[1] + ox[2] * c[2] + ox[3] * c[3] + ox[4] * c[4]
+                x += ox[0] * c[0]
+                    + ox[1] * c[1]
+                    + ox[2] * c[2]
+                    + ox[3] * c[3]
+                    + ox[4] * c[4]
                     + ox[5] * c[5];
-                y += oy[0] * c[0] + oy[1] * c[1] + oy[2] * c[2] + oy[3] * c[3] + oy[4] * c[4]
+                y += oy[0] * c[0]
+                    + oy[1] * c[1]
+                    + oy[2] * c[2]
+                    + oy[3] * c[3]
+                    + oy[4] * c[4]
                     + oy[5] * c[5];
             }
             *p = Point::new(x, y);
@@ -193,6 +217,9 @@ impl SplineRig {
 }
 
 fn validate(drawing: &Drawing) -> Result<(), FitError> {
+    if drawing.paths.is_empty() {
+        return Err(FitError::NoPaths);
+    }
     for (pi, path) in drawing.paths.iter().enumerate() {
         let np = path.points.len();
         if np < 4 || (np - 1) % 3 != 0 || (path.closed && path.points[0] != path.points[np - 1]) {

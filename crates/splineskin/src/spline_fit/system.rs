@@ -27,11 +27,10 @@ use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
 
-use super::constraints::{junction_rows, ConstraintForm};
-use super::quadrature::{CurveSamples, MIN_RELATIVE_MEASURE};
+use super::constraints::junction_rows;
+use super::quadrature::SampledCurves;
 use super::{FitError, FitOptions};
 use crate::drawing::Path;
-use crate::weights::WeightField;
 
 /// Relative size of the smallest singular value below which a path's system counts as rank
 /// deficient (compatibility mode's check): 1e-12.
@@ -50,19 +49,26 @@ pub(crate) struct PathOperator {
     pub rank_deficient: bool,
 }
 
-/// Assembles and solves the system of `path` (index `path_index`, for messages).
+/// Assembles and solves the system of `path` (index `path_index`, for messages), whose first
+/// curve is curve `first_curve` of `samples`.
 pub(crate) fn solve_path(
     path_index: usize,
     path: &Path,
-    field: &dyn WeightField,
+    samples: &SampledCurves,
+    first_curve: usize,
     options: &FitOptions,
-    samples: &mut CurveSamples,
 ) -> Result<PathOperator, FitError> {
-    let h = field.n_handles();
+    let h = samples.n_handles();
     let n_curves = path.n_curves();
     let m = path.n_unknown_points();
     let n_x = 2 * m;
-    let unknown = |chain_index: usize| if chain_index >= m { chain_index - m } else { chain_index };
+    let unknown = |chain_index: usize| {
+        if chain_index >= m {
+            chain_index - m
+        } else {
+            chain_index
+        }
+    };
 
     let rows = junction_rows(
         &path.points,
@@ -73,28 +79,15 @@ pub(crate) fn solve_path(
     );
     let n = n_x + rows.n_rows;
 
-    // Floor of a curve's measure: relative to the path's largest chord-length bound.
-    let max_len = (0..n_curves)
-        .map(|j| {
-            let c = path.curve_points(j);
-            (c[1] - c[0]).hypot() + (c[2] - c[1]).hypot() + (c[3] - c[2]).hypot()
-        })
-        .fold(0.0, f64::max);
-    let min_measure = match options.constraint_form {
-        // The authors' code has no floor: a zero-length curve makes their system singular.
-        ConstraintForm::Authors => 0.0,
-        ConstraintForm::Ours => (MIN_RELATIVE_MEASURE * max_len).max(f64::MIN_POSITIVE),
-    };
-
     let mut triplets: Vec<Triplet<usize, usize, f64>> =
         Vec::with_capacity(n_curves * 32 + 2 * rows.entries.len());
     let mut rhs = Mat::<f64>::zeros(n, 6 * h);
     let mut weighted = Vec::with_capacity(h);
     for j in 0..n_curves {
         let c = path.curve_points(j);
-        samples.build(&c, field, options.quadrature, options.measure, min_measure);
-        let a = samples.gram();
-        samples.weighted_grams(h, &mut weighted);
+        let nodes = samples.curve(first_curve + j);
+        let a = nodes.gram();
+        nodes.weighted_grams(&mut weighted);
         let idx = [0, 1, 2, 3].map(|k| unknown(3 * j + k));
         for (k, &pk) in idx.iter().enumerate() {
             for (l, &pl) in idx.iter().enumerate() {
@@ -153,7 +146,11 @@ pub(crate) fn solve_path(
     rhs += &residual;
 
     let operator = rhs.subrows(0, n_x).to_owned();
-    if !rank_deficient && operator.col_iter().any(|c| c.iter().any(|v| !v.is_finite())) {
+    if !rank_deficient
+        && operator
+            .col_iter()
+            .any(|c| c.iter().any(|v| !v.is_finite()))
+    {
         return Err(FitError::Singular { path: path_index });
     }
     Ok(PathOperator {

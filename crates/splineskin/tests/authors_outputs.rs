@@ -1,0 +1,120 @@
+//! Typed reader for `../shared/data/vectorskinning/authors-solver-outputs/*.json`.
+#![allow(dead_code)]
+
+use kurbo::{Affine, Point};
+use serde::Deserialize;
+use splineskin::drawing::JointKind;
+
+#[derive(Deserialize)]
+pub struct InputPath {
+    pub closed: bool,
+    pub cubic_bezier_chain: Vec<[f64; 2]>,
+}
+
+#[derive(Deserialize)]
+pub struct AuthorsCase {
+    pub case: String,
+    pub source_json: String,
+    pub engine_type: String,
+    pub weight_function: String,
+    pub using_arc_length: bool,
+    pub input_paths: Vec<InputPath>,
+    pub constraints_used: Vec<Vec<(String, bool)>>,
+    pub handle_positions: Vec<[f64; 2]>,
+    pub handle_transforms_2x3: Vec<[[f64; 3]; 2]>,
+    pub deformed_paths: Vec<Vec<[f64; 2]>>,
+    pub singular_fallback_used: bool,
+}
+
+impl AuthorsCase {
+    pub fn load(path: &std::path::Path) -> AuthorsCase {
+        let text = std::fs::read_to_string(path).expect("read case");
+        serde_json::from_str(&text).expect("parse case")
+    }
+
+    pub fn joint_kinds(&self, path: usize) -> Vec<JointKind> {
+        let closed = self.input_paths[path].closed;
+        let mut v: Vec<JointKind> = self.constraints_used[path]
+            .iter()
+            .map(|(k, _)| match k.as_str() {
+                "C0" => JointKind::C0,
+                "C1" => JointKind::C1,
+                "G1" => JointKind::G1,
+                "A" => JointKind::FixedAngle,
+                "None" => JointKind::End,
+                other => panic!("unknown kind {other}"),
+            })
+            .collect();
+        let n = (self.input_paths[path].cubic_bezier_chain.len() - 1) / 3;
+        if !closed && v.len() == n {
+            v.push(JointKind::End);
+        }
+        v
+    }
+
+    pub fn has_flexible_joints(&self) -> bool {
+        self.constraints_used
+            .iter()
+            .flatten()
+            .any(|(k, _)| k == "G1" || k == "A")
+    }
+
+    pub fn pose(&self) -> Vec<Affine> {
+        self.handle_transforms_2x3
+            .iter()
+            .map(|m| Affine::new([m[0][0], m[1][0], m[0][1], m[1][1], m[0][2], m[1][2]]))
+            .collect()
+    }
+
+    pub fn handles(&self) -> Vec<Point> {
+        self.handle_positions
+            .iter()
+            .map(|p| Point::new(p[0], p[1]))
+            .collect()
+    }
+}
+
+/// Every case of `authors-solver-outputs` with Shepard weights, the paper's engine and no G¹ or
+/// angle joints (the cases the linear fit must reproduce), sorted by name.
+pub fn shepard_linear_cases(data_root: &std::path::Path) -> Vec<AuthorsCase> {
+    let dir = data_root.join("vectorskinning/authors-solver-outputs");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("authors-solver-outputs")
+        .map(|e| e.expect("dir entry").path())
+        .filter(|f| f.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    files
+        .iter()
+        .map(|f| AuthorsCase::load(f))
+        .filter(|c| {
+            c.weight_function == "shepard" && c.engine_type == "ours" && !c.has_flexible_joints()
+        })
+        .collect()
+}
+
+/// Largest distance per path between `points` (flat, in the drawing's layout) and the
+/// authors' `deformed` chains, divided by `diag`.
+pub fn per_path_errors(
+    drawing: &splineskin::drawing::Drawing,
+    points: &[Point],
+    deformed: &[Vec<[f64; 2]>],
+    diag: f64,
+) -> Vec<f64> {
+    let mut offset = 0;
+    drawing
+        .paths
+        .iter()
+        .zip(deformed)
+        .map(|(path, theirs)| {
+            assert_eq!(path.points.len(), theirs.len());
+            let e = theirs
+                .iter()
+                .enumerate()
+                .map(|(k, q)| (points[offset + k] - Point::new(q[0], q[1])).hypot() / diag)
+                .fold(0.0, f64::max);
+            offset += path.points.len();
+            e
+        })
+        .collect()
+}
