@@ -172,7 +172,11 @@ pub(crate) fn angle_between(u: Vec2, v: Vec2) -> f64 {
 /// let kinds = classify_joints(&pts, false, &JunctionOptions::default());
 /// assert_eq!(kinds, vec![JointKind::End, JointKind::G1, JointKind::End]);
 /// ```
-pub fn classify_joints(points: &[Point], closed: bool, options: &JunctionOptions) -> Vec<JointKind> {
+pub fn classify_joints(
+    points: &[Point],
+    closed: bool,
+    options: &JunctionOptions,
+) -> Vec<JointKind> {
     let n = (points.len() - 1) / 3;
     let eps = coincidence_distance(points, options.coincidence);
     let count = if closed { n } else { n + 1 };
@@ -217,21 +221,45 @@ mod tests {
 
     #[test]
     fn junction_corner_is_c0() {
-        let p = pts(&[(0., 0.), (1., 0.), (2., 0.), (3., 0.), (4., 1.), (5., 2.), (6., 3.)]);
+        let p = pts(&[
+            (0., 0.),
+            (1., 0.),
+            (2., 0.),
+            (3., 0.),
+            (4., 1.),
+            (5., 2.),
+            (6., 3.),
+        ]);
         let k = classify_joints(&p, false, &JunctionOptions::default());
         assert_eq!(k[1], JointKind::C0);
     }
 
     #[test]
     fn junction_equal_collinear_tangents_are_c1() {
-        let p = pts(&[(0., 0.), (1., 1.), (2., 0.), (3., 0.), (4., 0.), (5., 1.), (6., 0.)]);
+        let p = pts(&[
+            (0., 0.),
+            (1., 1.),
+            (2., 0.),
+            (3., 0.),
+            (4., 0.),
+            (5., 1.),
+            (6., 0.),
+        ]);
         let k = classify_joints(&p, false, &JunctionOptions::default());
         assert_eq!(k[1], JointKind::C1);
     }
 
     #[test]
     fn junction_right_angle_is_fixed_unless_disabled() {
-        let p = pts(&[(0., 0.), (1., 0.), (2., 0.), (3., 0.), (3., 1.), (3., 2.), (3., 3.)]);
+        let p = pts(&[
+            (0., 0.),
+            (1., 0.),
+            (2., 0.),
+            (3., 0.),
+            (3., 1.),
+            (3., 2.),
+            (3., 3.),
+        ]);
         let k = classify_joints(&p, false, &JunctionOptions::default());
         assert_eq!(k[1], JointKind::FixedAngle);
         let o = JunctionOptions::default().with_keep_right_angles(false);
@@ -241,7 +269,15 @@ mod tests {
     #[test]
     fn junction_degenerate_tangent_uses_next_distinct_point() {
         // c2 on top of c3, d1 on top of d0: directions come from c1 and d2.
-        let p = pts(&[(0., 0.), (1., 0.), (3., 0.), (3., 0.), (3., 0.), (6., 0.), (7., 1.)]);
+        let p = pts(&[
+            (0., 0.),
+            (1., 0.),
+            (3., 0.),
+            (3., 0.),
+            (3., 0.),
+            (6., 0.),
+            (7., 1.),
+        ]);
         let k = classify_joints(&p, false, &JunctionOptions::default());
         assert_eq!(k[1], JointKind::G1);
     }
@@ -249,7 +285,15 @@ mod tests {
     #[test]
     fn junction_without_any_direction_is_c0() {
         // The second curve is a single point.
-        let p = pts(&[(0., 0.), (1., 0.), (2., 0.), (3., 0.), (3., 0.), (3., 0.), (3., 0.)]);
+        let p = pts(&[
+            (0., 0.),
+            (1., 0.),
+            (2., 0.),
+            (3., 0.),
+            (3., 0.),
+            (3., 0.),
+            (3., 0.),
+        ]);
         let k = classify_joints(&p, false, &JunctionOptions::default());
         assert_eq!(k[1], JointKind::C0);
     }
@@ -257,7 +301,15 @@ mod tests {
     #[test]
     fn junction_closed_chain_classifies_the_closing_point() {
         // A circle-like closed chain of two curves, smooth everywhere.
-        let p = pts(&[(1., 0.), (1., 1.), (-1., 1.), (-1., 0.), (-1., -1.), (1., -1.), (1., 0.)]);
+        let p = pts(&[
+            (1., 0.),
+            (1., 1.),
+            (-1., 1.),
+            (-1., 0.),
+            (-1., -1.),
+            (1., -1.),
+            (1., 0.),
+        ]);
         let k = classify_joints(&p, true, &JunctionOptions::default());
         assert_eq!(k, vec![JointKind::C1, JointKind::C1]);
     }

@@ -117,7 +117,10 @@ impl Drawing {
 
     /// All chain points of all paths, concatenated in path order.
     pub fn flat_points(&self) -> Vec<Point> {
-        self.paths.iter().flat_map(|p| p.points.iter().copied()).collect()
+        self.paths
+            .iter()
+            .flat_map(|p| p.points.iter().copied())
+            .collect()
     }
 
     /// A copy of this drawing with its chain points replaced by `points` (concatenated in path

@@ -128,7 +128,11 @@ mod tests {
 
     #[test]
     fn shepard_sums_to_one_and_matches_closed_form() {
-        let hs = [Point::new(0.0, 0.0), Point::new(3.0, 1.0), Point::new(-1.0, 4.0)];
+        let hs = [
+            Point::new(0.0, 0.0),
+            Point::new(3.0, 1.0),
+            Point::new(-1.0, 4.0),
+        ];
         let w = Shepard::new(&hs, ShepardOptions::default().with_exponent(3.0));
         let x = Point::new(0.7, 0.2);
         let mut out = [0.0; 3];
@@ -144,7 +148,10 @@ mod tests {
     #[test]
     fn shepard_snaps_within_distance() {
         let hs = [Point::new(0.0, 0.0), Point::new(1.0, 0.0)];
-        let w = Shepard::new(&hs, ShepardOptions::default().with_snap_distance_squared(1e-8));
+        let w = Shepard::new(
+            &hs,
+            ShepardOptions::default().with_snap_distance_squared(1e-8),
+        );
         let mut out = [0.0; 2];
         w.eval(Point::new(1.0 + 5e-5, 0.0), &mut out);
         assert_eq!(out, [0.0, 1.0]);
