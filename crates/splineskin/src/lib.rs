@@ -16,5 +16,6 @@
 pub mod bezier;
 pub mod drawing;
 pub mod render;
+pub mod scene;
 pub mod spline_fit;
 pub mod weights;

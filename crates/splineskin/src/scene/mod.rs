@@ -1,0 +1,359 @@
+//! Scenes: a drawing, its handles, weights, junction overrides and poses, as a JSON file.
+//!
+//! Two formats are read, told apart by their keys:
+//!
+//! * **ours** (marked by `"splineskin_scene": 1`), documented in [`ours`];
+//! * **the paper authors'** `*-deformation.json` saved by their web editor (`gInputSVGText`,
+//!   `gHandles`, …), read as they are ([`authors`]).
+//!
+//! Both become a [`Scene`]. Everything is validated on load: numbers finite and within
+//! [`MAX_COORDINATE`], one transform per handle in every pose, known weight families and
+//! engines. A family or engine that exists but is not implemented yet loads (so `info` can
+//! show it) and is reported by [`Scene::check_supported`].
+
+pub mod authors;
+pub mod ours;
+
+use std::path::{Path as FsPath, PathBuf};
+
+use kurbo::{Affine, Point};
+
+use crate::drawing::JointKind;
+use crate::spline_fit::Measure;
+
+/// Largest absolute coordinate or transform coefficient accepted in a scene: 1e9 drawing units.
+/// Beyond it `f64` sums over a drawing lose all sub-unit precision, and such values are always a
+/// mistake in a drawing measured in points or pixels.
+pub const MAX_COORDINATE: f64 = 1e9;
+
+/// Largest scene file accepted: 256 MiB.
+pub const MAX_SCENE_BYTES: u64 = 256 << 20;
+
+/// A loaded scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// Where the scene came from (file name or `<inline>`), for messages.
+    pub origin: String,
+    /// The SVG document text.
+    pub svg_text: String,
+    /// Where the SVG text came from (a file next to the scene, or the scene itself).
+    pub svg_origin: String,
+    /// Rest positions of the point handles.
+    pub handles: Vec<Point>,
+    /// The weight functions.
+    pub weights: WeightSpec,
+    /// The deformation engine.
+    pub engine: Engine,
+    /// The measure along curves (arc length or length-weighted parameter).
+    pub measure: Measure,
+    /// Per-junction kinds set by the user: they replace the classification.
+    pub junctions: Vec<JunctionOverride>,
+    /// The authors' per-path, per-joint kinds (their format only): applied when the drawing's
+    /// structure matches theirs (see [`Scene::joint_overrides_for`]).
+    pub authors_joints: Option<Vec<Vec<JointKind>>>,
+    /// Poses: one transform per handle each. A scene without poses has the identity pose.
+    pub poses: Vec<Pose>,
+    /// Which format the scene was read from.
+    pub format: SceneFormat,
+}
+
+/// The file format a scene was read from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneFormat {
+    /// `"splineskin_scene": 1`.
+    Ours,
+    /// The paper authors' `*-deformation.json`.
+    Authors,
+}
+
+/// The weight family of a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub enum WeightSpec {
+    /// Shepard weights `1/d^a`, normalised.
+    Shepard {
+        /// The exponent `a`.
+        exponent: f64,
+    },
+    /// A known family that this version does not implement yet (`bbw`, `harmonic`, …).
+    NotImplemented(String),
+}
+
+/// The deformation engine of a scene (the authors' `engineType`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Engine {
+    /// The paper's spline fit (`ours`).
+    Ours,
+    /// Naive baseline: skin all four control points (`fourcontrols`).
+    FourControls,
+    /// Naive baseline: skin on-curve points, off-curve points follow (`twoendpoints`).
+    TwoEndpoints,
+    /// Naive baseline: off-curve points by the Jacobian (`jacobian`).
+    Jacobian,
+}
+
+impl Engine {
+    /// The name used in scenes.
+    pub fn name(self) -> &'static str {
+        match self {
+            Engine::Ours => "ours",
+            Engine::FourControls => "fourcontrols",
+            Engine::TwoEndpoints => "twoendpoints",
+            Engine::Jacobian => "jacobian",
+        }
+    }
+
+    fn parse(name: &str, origin: &str) -> Result<Engine, SceneError> {
+        Ok(match name {
+            "ours" => Engine::Ours,
+            "fourcontrols" => Engine::FourControls,
+            "twoendpoints" => Engine::TwoEndpoints,
+            "jacobian" => Engine::Jacobian,
+            other => {
+                return Err(SceneError::Invalid {
+                    origin: origin.to_string(),
+                    element: "engine".into(),
+                    message: format!(
+                        "unknown engine '{other}' (expected ours, fourcontrols, twoendpoints or jacobian)"
+                    ),
+                })
+            }
+        })
+    }
+}
+
+impl WeightSpec {
+    fn parse(name: &str, exponent: Option<f64>, origin: &str) -> Result<WeightSpec, SceneError> {
+        match name {
+            "shepard" => {
+                let exponent = exponent.unwrap_or(crate::weights::shepard::DEFAULT_EXPONENT);
+                if !(exponent.is_finite() && exponent > 0.0 && exponent <= 64.0) {
+                    return Err(SceneError::Invalid {
+                        origin: origin.to_string(),
+                        element: "weights.exponent".into(),
+                        message: format!("Shepard exponent {exponent} is not in (0, 64]"),
+                    });
+                }
+                Ok(WeightSpec::Shepard { exponent })
+            }
+            "bbw" | "harmonic" | "biharmonic" | "mvc" => {
+                Ok(WeightSpec::NotImplemented(name.to_string()))
+            }
+            other => Err(SceneError::Invalid {
+                origin: origin.to_string(),
+                element: "weights".into(),
+                message: format!(
+                    "unknown weight family '{other}' (expected shepard, bbw, harmonic, biharmonic or mvc)"
+                ),
+            }),
+        }
+    }
+
+    /// The family's name.
+    pub fn name(&self) -> &str {
+        match self {
+            WeightSpec::Shepard { .. } => "shepard",
+            WeightSpec::NotImplemented(name) => name,
+        }
+    }
+}
+
+/// A junction kind chosen by the user for on-curve point `joint` of path `path` (joint `k` is
+/// the start of curve `k`, as in [`crate::drawing::Path::joints`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct JunctionOverride {
+    /// Path index (subpaths in document order).
+    pub path: usize,
+    /// On-curve point index within the path.
+    pub joint: usize,
+    /// The kind to impose.
+    pub kind: JointKind,
+}
+
+/// One transform per handle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pose {
+    /// Optional name (keyframe label).
+    pub name: Option<String>,
+    /// The handles' affine maps, in handle order.
+    pub transforms: Vec<Affine>,
+}
+
+/// Why a scene could not be loaded or used.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SceneError {
+    /// The file could not be read.
+    #[error("{path}: cannot read: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// The file is too large.
+    #[error("{path}: {size} bytes is more than the {limit}-byte limit for scenes")]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its size.
+        size: u64,
+        /// [`MAX_SCENE_BYTES`].
+        limit: u64,
+    },
+    /// Not JSON, or JSON of the wrong shape.
+    #[error("{origin}: {message}")]
+    Json {
+        /// The scene.
+        origin: String,
+        /// serde_json's message, with line and column.
+        message: String,
+    },
+    /// Well-formed JSON with an invalid value.
+    #[error("{origin}: {element}: {message}")]
+    Invalid {
+        /// The scene.
+        origin: String,
+        /// Which field (e.g. `handles[2].position`).
+        element: String,
+        /// What was expected.
+        message: String,
+    },
+    /// A feature the scene asks for is not implemented in this version.
+    #[error("{origin}: {what} is not implemented yet")]
+    NotImplemented {
+        /// The scene.
+        origin: String,
+        /// What (e.g. "weight function 'bbw'").
+        what: String,
+    },
+}
+
+impl Scene {
+    /// Reads a scene file (either format). A scene of ours may name its SVG file relative to
+    /// the scene's folder.
+    pub fn load(path: &FsPath) -> Result<Scene, SceneError> {
+        let meta = std::fs::metadata(path).map_err(|source| SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        if meta.len() > MAX_SCENE_BYTES {
+            return Err(SceneError::TooLarge {
+                path: path.to_path_buf(),
+                size: meta.len(),
+                limit: MAX_SCENE_BYTES,
+            });
+        }
+        let bytes = std::fs::read(path).map_err(|source| SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| SceneError::Json {
+            origin: path.display().to_string(),
+            message: format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+        })?;
+        Scene::from_json(&text, &path.display().to_string(), path.parent())
+    }
+
+    /// Parses a scene from JSON text. `origin` names it in messages; `base_dir` resolves a
+    /// relative SVG file name (none: only inline SVG text is accepted).
+    ///
+    /// ```
+    /// let json = r#"{
+    ///   "splineskin_scene": 1,
+    ///   "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C1 1 2 1 3 0'/></svg>",
+    ///   "handles": [{"position": [0, 0]}, {"position": [3, 0]}],
+    ///   "pose": [{"translate": [0, 0]}, {"translate": [1, 2], "rotate": 30}]
+    /// }"#;
+    /// let scene = splineskin::scene::Scene::from_json(json, "example", None).unwrap();
+    /// assert_eq!(scene.handles.len(), 2);
+    /// assert_eq!(scene.poses[0].transforms.len(), 2);
+    /// ```
+    pub fn from_json(
+        text: &str,
+        origin: &str,
+        base_dir: Option<&FsPath>,
+    ) -> Result<Scene, SceneError> {
+        if authors::looks_like_authors(text) {
+            authors::parse(text, origin)
+        } else {
+            ours::parse(text, origin, base_dir)
+        }
+    }
+
+    /// Errors if the scene asks for a weight family or engine not implemented in this version.
+    pub fn check_supported(&self) -> Result<(), SceneError> {
+        if let WeightSpec::NotImplemented(name) = &self.weights {
+            return Err(SceneError::NotImplemented {
+                origin: self.origin.clone(),
+                what: format!(
+                    "weight function '{name}' (only 'shepard' is available in this version)"
+                ),
+            });
+        }
+        if self.engine != Engine::Ours {
+            return Err(SceneError::NotImplemented {
+                origin: self.origin.clone(),
+                what: format!(
+                    "engine '{}' (a naive baseline; only 'ours' is available in this version)",
+                    self.engine.name()
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// The pose with index `index`, or the identity pose when the scene has none and `index`
+    /// is 0.
+    pub fn pose(&self, index: usize) -> Option<Pose> {
+        if self.poses.is_empty() && index == 0 {
+            return Some(Pose {
+                name: None,
+                transforms: vec![Affine::IDENTITY; self.handles.len()],
+            });
+        }
+        self.poses.get(index).cloned()
+    }
+}
+
+/// Validates a point: finite and within [`MAX_COORDINATE`].
+pub(crate) fn check_point(p: [f64; 2], origin: &str, element: String) -> Result<Point, SceneError> {
+    if p.iter().all(|v| v.is_finite() && v.abs() <= MAX_COORDINATE) {
+        Ok(Point::new(p[0], p[1]))
+    } else {
+        Err(SceneError::Invalid {
+            origin: origin.to_string(),
+            element,
+            message: format!(
+                "({}, {}) is not a finite position within ±{MAX_COORDINATE:e}",
+                p[0], p[1]
+            ),
+        })
+    }
+}
+
+/// Validates an affine map: finite coefficients within [`MAX_COORDINATE`].
+pub(crate) fn check_affine(a: Affine, origin: &str, element: String) -> Result<Affine, SceneError> {
+    if a.as_coeffs()
+        .iter()
+        .all(|v| v.is_finite() && v.abs() <= MAX_COORDINATE)
+    {
+        Ok(a)
+    } else {
+        Err(SceneError::Invalid {
+            origin: origin.to_string(),
+            element,
+            message: format!(
+                "transform {:?} has a coefficient that is not finite or beyond ±{MAX_COORDINATE:e}",
+                a.as_coeffs()
+            ),
+        })
+    }
+}
+
+/// Converts a serde_json error into [`SceneError::Json`].
+pub(crate) fn json_error(origin: &str, e: serde_json::Error) -> SceneError {
+    SceneError::Json {
+        origin: origin.to_string(),
+        message: format!("invalid scene JSON: {e}"),
+    }
+}
