@@ -1,5 +1,1201 @@
-//! SVG import (stub: being written).
+//! SVG import: a document becomes a [`Drawing`] of cubic chains in the root element's user
+//! space, plus an [`SvgSource`] that lets [`super::svg_out`] write deformed geometry back into the
+//! same document.
+//!
+//! # What is read
+//!
+//! The text is checked ([`MAX_SVG_BYTES`], well-formed XML, an `<svg>` root, every `d`,
+//! `points`, `transform`, `viewBox` and shape/`use` length attribute parsed with `svgtypes` and
+//! required to be finite and within [`MAX_COORDINATE`]), then handed to usvg, which resolves
+//! styles, nested transforms, nested `svg` viewports and turns every path command (M, L, H, V,
+//! C, S, Q, T, A, Z, absolute or relative) and every basic shape (`rect` incl. rounded,
+//! `circle`, `ellipse`, `line`, `polyline`, `polygon`) into move / line / quadratic / cubic /
+//! close segments. usvg never touches the file system here (no resources directory, images are
+//! not loaded).
+//!
+//! Each segment becomes a cubic, computed in `f64` from usvg's `f32` points:
+//!
+//! ```text
+//! line  p0 → p3:          c1 = p0 + (p3 − p0)/3,   c2 = p0 + 2(p3 − p0)/3          (exact)
+//! quad  p0, q, p3:        c1 = p0 + 2/3 (q − p0),  c2 = p3 + 2/3 (q − p3)          (exact)
+//! cubic:                  kept
+//! ```
+//!
+//! Elliptical arcs (in `d`, rounded-rect corners, circles and ellipses) are approximated by usvg
+//! and svgtypes with kurbo's standard arc approximation: at most 90° per cubic, control arms
+//! `4/3·tan(θ/4)` times the radius, so the radial error is at most `2.7e-4 × radius` per cubic,
+//! and at most 0.1 local units (more cubics are used on large arcs). This is the only geometric
+//! approximation of the import; everything else is exact up to usvg's `f32` storage (relative
+//! error ≈ 6e-8 of each coordinate and transform coefficient).
+//!
+//! # Coordinates
+//!
+//! All points are in the root `<svg>` element's user space (viewBox units): every transform
+//! between the root and an element (group, element, `use`, nested `svg`) is applied, the
+//! root's own `transform` and its viewBox → viewport mapping are not. The composition of the
+//! individual transforms is done in `f64`.
+//!
+//! # Subpaths and degenerate input
+//!
+//! Every subpath becomes one [`Path`] in document order. `Z` closes it: if the last point
+//! differs from the first (by more than [`CLOSE_SNAP`] of the subpath's size) a closing line is
+//! added as one more cubic, otherwise the last point is set to the first and the path is marked
+//! closed. Zero-length segments, duplicate consecutive points and control points on top of
+//! their end points are **kept** as they are (so the curve count is stable: export writes the
+//! same curves back). Subpaths of a single point (`M` alone, `M … Z` with nothing in between)
+//! carry no curve: they are skipped with a `tracing` warning and are not written back.
+//!
+//! # What is not imported
+//!
+//! - Clip paths, masks, patterns and markers are not deformed in this version: their geometry
+//!   is left as it is. Paths that usvg emits without a source element (marker contents, the
+//!   two halves of a path split by `paint-order` around markers) are skipped with a `tracing`
+//!   warning.
+//! - Text and images are not geometry here; they are kept verbatim on export.
+//! - `use` elements are expanded before usvg sees them (the same expansion
+//!   [`super::svg_out::write_svg`] writes: a `<g>` holding a copy of the referenced content),
+//!   so CSS rules that select the referenced content by id or position do not follow it into the
+//!   copy. A `use` of an `<svg>` element and `use` lengths in `em`/`ex` are unsupported
+//!   (an error), and the clipping of a referenced `symbol` to its viewport is dropped.
+//! - Elements created by DTD entity expansion are unsupported (an error).
 
-/// What is kept of the source document to write deformed geometry back into it.
-#[derive(Clone, Debug, Default)]
-pub struct SvgSource {}
+use std::collections::HashMap;
+use std::ops::Range;
+use std::str::FromStr;
+use std::sync::Arc;
+
+use kurbo::{Affine, Point, Rect, Size};
+
+use super::svg_out::{self, ElementKey, GeometryEdit, RewritePolicy};
+use super::{Drawing, JunctionOptions, Path};
+
+/// Largest accepted SVG input: 64 MiB. Bigger documents are refused before parsing
+/// ([`SvgError::TooLarge`]).
+pub const MAX_SVG_BYTES: usize = 64 * 1024 * 1024;
+
+/// Largest accepted absolute value of a coordinate, in user units: 1e9. Checked on every number
+/// of `d`, `points` and shape attributes, and on every point after transforms (root user
+/// space). usvg stores `f32`, whose spacing at 1e9 is already 64 units.
+pub const MAX_COORDINATE: f64 = 1e9;
+
+/// Distance, relative to the larger of a subpath's control-point bounding-box diagonal and its
+/// largest absolute coordinate (local units), below which the end of a closed subpath counts as
+/// its start: 1e-6. usvg's `f32` rounding (≈ 6e-8 relative) can leave arcs and circles ending a
+/// few ulps away from where they started; a closing line of that length would be a spurious
+/// degenerate curve.
+pub const CLOSE_SNAP: f64 = 1e-6;
+
+/// Options of the SVG import.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct ImportOptions {
+    /// How the junctions of every imported path are classified.
+    /// Default: [`JunctionOptions::default`].
+    pub junctions: JunctionOptions,
+}
+
+impl ImportOptions {
+    /// Sets [`ImportOptions::junctions`].
+    pub fn with_junctions(mut self, junctions: JunctionOptions) -> Self {
+        self.junctions = junctions;
+        self
+    }
+}
+
+/// Errors of SVG import and export. Every variant names the file (`"<svg text>"` when the
+/// document did not come from a file), the element where there is one, and what was expected.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SvgError {
+    /// The file could not be read.
+    #[error("{file}: cannot read the file: {source}")]
+    Io {
+        /// The file.
+        file: String,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The input is bigger than [`MAX_SVG_BYTES`] (or expanding its `use` elements would make
+    /// it more than four times that).
+    #[error("{file}: {size} bytes is more than the limit of {limit} bytes")]
+    TooLarge {
+        /// The file.
+        file: String,
+        /// Its size in bytes.
+        size: u64,
+        /// The limit in bytes.
+        limit: u64,
+    },
+    /// The input is empty or whitespace only.
+    #[error("{file}: the document is empty; expected an <svg> document")]
+    Empty {
+        /// The file.
+        file: String,
+    },
+    /// The file is not UTF-8 text.
+    #[error("{file}: not UTF-8 text; expected an SVG document encoded as UTF-8")]
+    NotUtf8 {
+        /// The file.
+        file: String,
+    },
+    /// The text is not well-formed XML.
+    #[error("{file}:{line}:{column}: not well-formed XML: {message}")]
+    Xml {
+        /// The file.
+        file: String,
+        /// 1-based line of the error.
+        line: u32,
+        /// 1-based column of the error.
+        column: u32,
+        /// roxmltree's description.
+        message: String,
+    },
+    /// The root element is not `<svg>` in the SVG namespace.
+    #[error("{file}: the root element is <{found}>; expected <svg> in the SVG namespace")]
+    NoSvgRoot {
+        /// The file.
+        file: String,
+        /// The root element's name.
+        found: String,
+    },
+    /// An attribute does not parse, or holds a non-finite or too large number.
+    #[error(
+        "{file}: {element}: attribute {attribute}=\"{value}\" is invalid: expected {expected}"
+    )]
+    InvalidAttribute {
+        /// The file.
+        file: String,
+        /// The element, as `tag#id (line n)`.
+        element: String,
+        /// The attribute's name.
+        attribute: String,
+        /// The attribute's value (shortened if long).
+        value: String,
+        /// What was expected.
+        expected: String,
+    },
+    /// A point is beyond [`MAX_COORDINATE`] after transforms.
+    #[error("{file}: {element}: coordinate {value} is beyond ±{limit} in root user units")]
+    CoordinateOutOfRange {
+        /// The file.
+        file: String,
+        /// The element.
+        element: String,
+        /// The offending coordinate.
+        value: f64,
+        /// The limit ([`MAX_COORDINATE`]).
+        limit: f64,
+    },
+    /// No path or shape of the document is rendered, or every one is degenerate.
+    #[error(
+        "{file}: no paths: expected at least one rendered path, rect, circle, ellipse, line, \
+         polyline or polygon with at least one segment"
+    )]
+    NoPaths {
+        /// The file.
+        file: String,
+    },
+    /// usvg refused the document (e.g. no valid size).
+    #[error("{file}: usvg cannot read the document: {message}")]
+    Usvg {
+        /// The file.
+        file: String,
+        /// usvg's description.
+        message: String,
+    },
+    /// A construct this version cannot import or export.
+    #[error("{file}: {element}: unsupported: {what}")]
+    Unsupported {
+        /// The file.
+        file: String,
+        /// The element.
+        element: String,
+        /// What is not supported.
+        what: String,
+    },
+    /// Export: the number of points is not `drawing.n_points()`.
+    #[error("{file}: expected {expected} deformed points (drawing.n_points()), got {found}")]
+    PointCount {
+        /// The file.
+        file: String,
+        /// `drawing.n_points()`.
+        expected: usize,
+        /// The length given.
+        found: usize,
+    },
+    /// Export: a deformed point is NaN or infinite.
+    #[error(
+        "{file}: deformed point {index} ({element}) is not finite; expected finite coordinates"
+    )]
+    NonFinitePoint {
+        /// The file.
+        file: String,
+        /// The element the point belongs to.
+        element: String,
+        /// Index into the flat point buffer.
+        index: usize,
+    },
+    /// Export: an element's local → root transform cannot be inverted.
+    #[error(
+        "{file}: {element}: its transform is singular; cannot express points in its coordinates"
+    )]
+    SingularTransform {
+        /// The file.
+        file: String,
+        /// The element.
+        element: String,
+    },
+    /// Export: the drawing's paths no longer match the document they came from.
+    #[error("{file}: the drawing does not match its SVG source: {what}")]
+    SourceMismatch {
+        /// The file.
+        file: String,
+        /// What differs.
+        what: String,
+    },
+    /// An internal invariant failed: a bug in splineskin.
+    #[error("{file}: internal error (a bug in splineskin, please report it): {what}")]
+    Internal {
+        /// The file.
+        file: String,
+        /// What went wrong.
+        what: String,
+    },
+}
+
+/// The kind of a geometry element.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum ElementKind {
+    /// `<path>`.
+    Path,
+    /// `<rect>`.
+    Rect,
+    /// `<circle>`.
+    Circle,
+    /// `<ellipse>`.
+    Ellipse,
+    /// `<line>`.
+    Line,
+    /// `<polyline>`.
+    Polyline,
+    /// `<polygon>`.
+    Polygon,
+}
+
+impl ElementKind {
+    /// The element's tag name.
+    pub fn tag(self) -> &'static str {
+        match self {
+            ElementKind::Path => "path",
+            ElementKind::Rect => "rect",
+            ElementKind::Circle => "circle",
+            ElementKind::Ellipse => "ellipse",
+            ElementKind::Line => "line",
+            ElementKind::Polyline => "polyline",
+            ElementKind::Polygon => "polygon",
+        }
+    }
+
+    /// The kind of a tag name, if it is a geometry element.
+    pub(crate) fn from_tag(tag: &str) -> Option<ElementKind> {
+        Some(match tag {
+            "path" => ElementKind::Path,
+            "rect" => ElementKind::Rect,
+            "circle" => ElementKind::Circle,
+            "ellipse" => ElementKind::Ellipse,
+            "line" => ElementKind::Line,
+            "polyline" => ElementKind::Polyline,
+            "polygon" => ElementKind::Polygon,
+            _ => return None,
+        })
+    }
+
+    /// The attributes that hold this kind's geometry (replaced by `d` on export).
+    pub(crate) fn geometry_attributes(self) -> &'static [&'static str] {
+        match self {
+            ElementKind::Path => &["d"],
+            ElementKind::Rect => &["x", "y", "width", "height", "rx", "ry"],
+            ElementKind::Circle => &["cx", "cy", "r"],
+            ElementKind::Ellipse => &["cx", "cy", "rx", "ry"],
+            ElementKind::Line => &["x1", "y1", "x2", "y2"],
+            ElementKind::Polyline | ElementKind::Polygon => &["points"],
+        }
+    }
+}
+
+/// One imported element (or one instance of it through `use`).
+#[derive(Clone, Debug)]
+pub(crate) struct ImportedElement {
+    /// Where it is in the original text (byte offsets of the `use` chain and of the element).
+    pub(crate) key: ElementKey,
+    /// Its kind.
+    pub(crate) kind: ElementKind,
+    /// `tag#id (line n)`, with `in use#… (line m)` for instances.
+    pub(crate) label: String,
+    /// Byte range of the element in the original text.
+    pub(crate) range: Range<usize>,
+    /// Its local coordinates (those of its `d` or shape attributes) → root user space.
+    pub(crate) local_to_root: Affine,
+    /// The indices of [`Drawing::paths`] it produced.
+    pub(crate) paths: Range<usize>,
+}
+
+/// What is kept of the source document to write deformed geometry back into it: the original
+/// text, and for every imported element (or `use` instance of one) its kind, byte range, local
+/// → root transform and the [`Drawing::paths`] it produced. Also the document's size and
+/// viewBox, for rendering.
+#[derive(Clone, Debug)]
+pub struct SvgSource {
+    /// The file name (or `"<svg text>"`), for messages.
+    pub(crate) origin: String,
+    /// The original text, as given (not the id-injected one usvg saw).
+    pub(crate) text: String,
+    /// Imported elements, in the order of their first path.
+    pub(crate) elements: Vec<ImportedElement>,
+    /// For each path of the drawing, the index of its element in `elements`.
+    pub(crate) path_elements: Vec<usize>,
+    /// The root viewport size (usvg's resolution of `width`/`height`).
+    pub(crate) size: Size,
+    /// The root viewBox (`0 0 width height` when absent).
+    pub(crate) view_box: Rect,
+}
+
+impl SvgSource {
+    /// The file the document came from (or `"<svg text>"`).
+    pub fn origin(&self) -> &str {
+        &self.origin
+    }
+
+    /// The original text of the document.
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+
+    /// Number of imported elements (a `use` instance of an element counts separately).
+    pub fn n_elements(&self) -> usize {
+        self.elements.len()
+    }
+
+    /// Number of paths the document produced (`Drawing::paths.len()` at import).
+    pub fn n_paths(&self) -> usize {
+        self.path_elements.len()
+    }
+
+    /// The index of the element that produced path `path_index`, if in range.
+    pub fn element_of_path(&self, path_index: usize) -> Option<usize> {
+        self.path_elements.get(path_index).copied()
+    }
+
+    /// The kind of element `element`, if in range.
+    pub fn element_kind(&self, element: usize) -> Option<ElementKind> {
+        self.elements.get(element).map(|e| e.kind)
+    }
+
+    /// A human-readable name of the element that produced path `path_index`, for messages:
+    /// `path#leaf (line 12)`, `rect (line 3) in use#u1 (line 9)` for a `use` instance, or
+    /// `path index 7 (no such path)` when out of range.
+    ///
+    /// ```
+    /// use splineskin::drawing::svg_in::{read_svg, ImportOptions};
+    /// let svg = "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 10 10'>\n\
+    ///            <path id='leaf' d='M0 0 L5 5'/></svg>";
+    /// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+    /// let source = drawing.source.as_ref().unwrap();
+    /// assert_eq!(source.element_label(0), "path#leaf (line 2)");
+    /// ```
+    pub fn element_label(&self, path_index: usize) -> String {
+        match self.element_of_path(path_index) {
+            Some(e) => self.elements[e].label.clone(),
+            None => format!("path index {path_index} (no such path)"),
+        }
+    }
+
+    /// The root viewport size in pixels, as resolved by usvg from `width`/`height`/`viewBox`.
+    pub fn size(&self) -> Size {
+        self.size
+    }
+
+    /// The root viewBox, in root user units (`0 0 width height` when the root has none): the
+    /// frame the drawing's coordinates are in.
+    pub fn view_box(&self) -> Rect {
+        self.view_box
+    }
+}
+
+/// Name used in errors for documents that did not come from a file.
+const TEXT_ORIGIN: &str = "<svg text>";
+
+/// Longest attribute value quoted in an error message, in characters.
+const MAX_QUOTED_VALUE: usize = 60;
+
+/// Reads an SVG document into a [`Drawing`] whose [`Drawing::source`] allows writing it back.
+///
+/// See the module doc for what is read and how. Errors: [`SvgError::TooLarge`],
+/// [`SvgError::Empty`], [`SvgError::Xml`], [`SvgError::NoSvgRoot`],
+/// [`SvgError::InvalidAttribute`], [`SvgError::CoordinateOutOfRange`], [`SvgError::NoPaths`],
+/// [`SvgError::Usvg`], [`SvgError::Unsupported`].
+///
+/// ```
+/// use splineskin::drawing::svg_in::{read_svg, ImportOptions};
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100" width="200">
+///   <g transform="translate(10 0)"><rect width="20" height="10"/></g>
+/// </svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// assert_eq!(drawing.paths.len(), 1);
+/// let rect = &drawing.paths[0];
+/// assert!(rect.closed);
+/// assert_eq!(rect.n_curves(), 4); // four sides, the last one the closing line
+/// assert_eq!(rect.points[3], kurbo::Point::new(30.0, 0.0)); // viewBox units, not pixels
+/// ```
+pub fn read_svg(text: &str, options: &ImportOptions) -> Result<Drawing, SvgError> {
+    read_svg_impl(text, options, TEXT_ORIGIN)
+}
+
+/// Reads an SVG file (UTF-8, at most [`MAX_SVG_BYTES`]) like [`read_svg`]; errors name the
+/// file.
+///
+/// ```
+/// use splineskin::drawing::svg_in::{read_svg_file, ImportOptions, SvgError};
+/// let err = read_svg_file(std::path::Path::new("/no/such.svg"), &ImportOptions::default());
+/// assert!(matches!(err, Err(SvgError::Io { .. })));
+/// ```
+pub fn read_svg_file(path: &std::path::Path, options: &ImportOptions) -> Result<Drawing, SvgError> {
+    use std::io::Read;
+    let origin = path.display().to_string();
+    let io = |source| SvgError::Io {
+        file: origin.clone(),
+        source,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let len = file.metadata().map_err(io)?.len();
+    if len > MAX_SVG_BYTES as u64 {
+        return Err(SvgError::TooLarge {
+            file: origin,
+            size: len,
+            limit: MAX_SVG_BYTES as u64,
+        });
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_SVG_BYTES as u64 + 1)
+        .read_to_end(&mut bytes)
+        .map_err(io)?;
+    if bytes.len() > MAX_SVG_BYTES {
+        return Err(SvgError::TooLarge {
+            file: origin,
+            size: bytes.len() as u64,
+            limit: MAX_SVG_BYTES as u64,
+        });
+    }
+    let text = String::from_utf8(bytes).map_err(|_| SvgError::NotUtf8 {
+        file: origin.clone(),
+    })?;
+    read_svg_impl(&text, options, &origin)
+}
+
+/// roxmltree options shared by import and export (DTDs allowed, as usvg does).
+pub(crate) fn xml_options<'i>() -> roxmltree::ParsingOptions<'i> {
+    roxmltree::ParsingOptions {
+        allow_dtd: true,
+        ..Default::default()
+    }
+}
+
+/// Parses `text` as XML, mapping errors to [`SvgError::Xml`].
+pub(crate) fn parse_xml<'i>(
+    text: &'i str,
+    origin: &str,
+) -> Result<roxmltree::Document<'i>, SvgError> {
+    roxmltree::Document::parse_with_options(text, xml_options()).map_err(|e| {
+        let pos = e.pos();
+        SvgError::Xml {
+            file: origin.to_string(),
+            line: pos.row,
+            column: pos.col,
+            message: e.to_string(),
+        }
+    })
+}
+
+/// usvg options that keep usvg away from the file system: no resources directory, and no
+/// image is loaded (images are irrelevant to the geometry).
+fn usvg_options() -> usvg::Options<'static> {
+    let mut options = usvg::Options::default();
+    options.resources_dir = None;
+    options.image_href_resolver = usvg::ImageHrefResolver {
+        resolve_data: Box::new(|_, _, _| None),
+        resolve_string: Box::new(|_, _| None),
+    };
+    options
+}
+
+fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Drawing, SvgError> {
+    if text.len() > MAX_SVG_BYTES {
+        return Err(SvgError::TooLarge {
+            file: origin.to_string(),
+            size: text.len() as u64,
+            limit: MAX_SVG_BYTES as u64,
+        });
+    }
+    if text.trim().is_empty() {
+        return Err(SvgError::Empty {
+            file: origin.to_string(),
+        });
+    }
+    let doc = parse_xml(text, origin)?;
+    let root = doc.root_element();
+    if !(svg_out::is_svg_element(root) && root.tag_name().name() == "svg") {
+        let found = match root.tag_name().namespace() {
+            Some(ns) => format!("{} (namespace {ns})", root.tag_name().name()),
+            None => root.tag_name().name().to_string(),
+        };
+        return Err(SvgError::NoSvgRoot {
+            file: origin.to_string(),
+            found,
+        });
+    }
+    validate_document(&doc, origin)?;
+
+    // Give every geometry element an id usvg keeps, expand `use`, and wrap the root's content
+    // in a group of our own so that the root transform can be told apart.
+    let prefix = unique_prefix(&doc);
+    let wrapper_id = format!("{prefix}root");
+    let mut policy = PreparePolicy::new(&doc, &prefix);
+    let prepared = svg_out::rewrite_document(
+        text,
+        &doc,
+        &mut policy,
+        origin,
+        Some(&wrapper_id),
+        root_viewport(root),
+    )?;
+    let ids = policy.ids;
+
+    let tree = usvg::Tree::from_str(&prepared, &usvg_options()).map_err(|e| SvgError::Usvg {
+        file: origin.to_string(),
+        message: e.to_string(),
+    })?;
+
+    let mut found = Vec::new();
+    let mut n_unmapped = 0usize;
+    if let Some(usvg::Node::Group(wrapper)) = tree.node_by_id(&wrapper_id) {
+        collect_paths(wrapper, Affine::IDENTITY, &mut found);
+    }
+    let nodes: HashMap<usize, roxmltree::Node> = doc
+        .descendants()
+        .filter(|n| n.is_element())
+        .map(|n| (n.range().start, n))
+        .collect();
+
+    let mut paths: Vec<Path> = Vec::new();
+    let mut path_elements = Vec::new();
+    let mut elements: Vec<ImportedElement> = Vec::new();
+    let mut element_of_key: HashMap<ElementKey, usize> = HashMap::new();
+    for (usvg_path, local_to_root) in found {
+        let Some(key) = ids.get(usvg_path.id()) else {
+            n_unmapped += 1;
+            continue;
+        };
+        let Some(&node) = nodes.get(&key.element) else {
+            return Err(SvgError::Internal {
+                file: origin.to_string(),
+                what: format!("no element at byte {}", key.element),
+            });
+        };
+        let index = match element_of_key.get(key) {
+            Some(&i) => {
+                if elements[i].paths.end != paths.len() {
+                    tracing::warn!(
+                        file = origin,
+                        element = %elements[i].label,
+                        "usvg emitted this element twice, not contiguously; the second copy is \
+                         not imported"
+                    );
+                    continue;
+                }
+                i
+            }
+            None => {
+                let kind = ElementKind::from_tag(node.tag_name().name()).ok_or_else(|| {
+                    SvgError::Internal {
+                        file: origin.to_string(),
+                        what: format!("<{}> mapped as geometry", node.tag_name().name()),
+                    }
+                })?;
+                elements.push(ImportedElement {
+                    key: key.clone(),
+                    kind,
+                    label: key_label(&doc, &nodes, key),
+                    range: node.range(),
+                    local_to_root,
+                    paths: paths.len()..paths.len(),
+                });
+                element_of_key.insert(key.clone(), elements.len() - 1);
+                elements.len() - 1
+            }
+        };
+        let element = &mut elements[index];
+        let before = paths.len();
+        convert_path_data(
+            usvg_path.data(),
+            element.local_to_root,
+            &options.junctions,
+            origin,
+            &element.label,
+            &mut paths,
+        )?;
+        element.paths.end = paths.len();
+        path_elements.extend(std::iter::repeat_n(index, paths.len() - before));
+    }
+    if n_unmapped > 0 {
+        tracing::warn!(
+            file = origin,
+            count = n_unmapped,
+            "paths without a source element (marker contents or paint-order split copies) are \
+             not imported"
+        );
+    }
+    // Elements that produced no subpath at all (all degenerate) are not kept.
+    if paths.is_empty() {
+        return Err(SvgError::NoPaths {
+            file: origin.to_string(),
+        });
+    }
+    let mut remap = vec![usize::MAX; elements.len()];
+    let mut kept = Vec::new();
+    for (i, e) in elements.into_iter().enumerate() {
+        if !e.paths.is_empty() {
+            remap[i] = kept.len();
+            kept.push(e);
+        }
+    }
+    let path_elements = path_elements.into_iter().map(|i| remap[i]).collect();
+
+    let size = Size::new(
+        f64::from(tree.size().width()),
+        f64::from(tree.size().height()),
+    );
+    let view_box = root
+        .attribute("viewBox")
+        .and_then(|v| svgtypes::ViewBox::from_str(v).ok())
+        .map(|vb| Rect::new(vb.x, vb.y, vb.x + vb.w, vb.y + vb.h))
+        .unwrap_or_else(|| Rect::from_origin_size(Point::ORIGIN, size));
+    let source = SvgSource {
+        origin: origin.to_string(),
+        text: text.to_string(),
+        elements: kept,
+        path_elements,
+        size,
+        view_box,
+    };
+    Ok(Drawing {
+        paths,
+        source: Some(Arc::new(source)),
+    })
+}
+
+/// A prefix for synthetic ids that no id of the document starts with.
+fn unique_prefix(doc: &roxmltree::Document) -> String {
+    let mut prefix = String::from("splineskin-");
+    while doc
+        .descendants()
+        .filter_map(|n| n.attribute("id"))
+        .any(|id| id.starts_with(&prefix))
+    {
+        prefix.push('x');
+    }
+    prefix
+}
+
+/// The root viewport in user units (viewBox size, else absolute width/height, else 100 × 100
+/// as usvg assumes): what percentages in `use` lengths refer to.
+fn root_viewport(root: roxmltree::Node) -> Size {
+    if let Some(vb) = root
+        .attribute("viewBox")
+        .and_then(|v| svgtypes::ViewBox::from_str(v).ok())
+    {
+        return Size::new(vb.w, vb.h);
+    }
+    let length = |name| {
+        root.attribute(name)
+            .and_then(|v| svg_out::user_length(v, 100.0).ok())
+            .filter(|v| v.is_finite() && *v > 0.0)
+            .unwrap_or(100.0)
+    };
+    Size::new(length("width"), length("height"))
+}
+
+/// Import policy for the rewriter: keeps first-occurrence ids of direct geometry elements,
+/// gives every other geometry element (and every copy inside an expanded `use`) a synthetic
+/// id, records id → element, and expands every `use`.
+struct PreparePolicy<'p> {
+    prefix: &'p str,
+    /// Byte offset of the first element carrying each id.
+    first_owner: HashMap<&'p str, usize>,
+    ids: HashMap<String, ElementKey>,
+    n_synthetic: usize,
+}
+
+impl<'p> PreparePolicy<'p> {
+    fn new(doc: &'p roxmltree::Document, prefix: &'p str) -> Self {
+        let mut first_owner = HashMap::new();
+        for n in doc.descendants() {
+            if let Some(id) = n.attribute("id") {
+                first_owner.entry(id).or_insert(n.range().start);
+            }
+        }
+        PreparePolicy {
+            prefix,
+            first_owner,
+            ids: HashMap::new(),
+            n_synthetic: 0,
+        }
+    }
+}
+
+impl RewritePolicy for PreparePolicy<'_> {
+    fn geometry(
+        &mut self,
+        key: &ElementKey,
+        node: roxmltree::Node,
+        in_copy: bool,
+    ) -> Result<GeometryEdit, SvgError> {
+        if !in_copy {
+            if let Some(id) = node.attribute("id") {
+                if self.first_owner.get(id) == Some(&key.element) {
+                    self.ids.insert(id.to_string(), key.clone());
+                    return Ok(GeometryEdit::Keep);
+                }
+            }
+        }
+        let id = format!("{}{}", self.prefix, self.n_synthetic);
+        self.n_synthetic += 1;
+        self.ids.insert(id.clone(), key.clone());
+        Ok(GeometryEdit::SetId(id))
+    }
+
+    fn expand_use(&mut self, _instance: &[usize]) -> bool {
+        true
+    }
+}
+
+/// The paths below `group` with their local → (wrapper) root transform, composed in `f64`.
+fn collect_paths<'t>(group: &'t usvg::Group, ts: Affine, out: &mut Vec<(&'t usvg::Path, Affine)>) {
+    for child in group.children() {
+        match child {
+            usvg::Node::Group(g) => collect_paths(g, ts * affine(g.transform()), out),
+            usvg::Node::Path(p) => out.push((p, ts)),
+            _ => {}
+        }
+    }
+}
+
+/// A tiny-skia transform as a kurbo affine (`x' = sx·x + kx·y + tx`, `y' = ky·x + sy·y + ty`,
+/// i.e. SVG's `matrix(sx ky kx sy tx ty)`), in `f64`.
+fn affine(t: usvg::Transform) -> Affine {
+    Affine::new([
+        f64::from(t.sx),
+        f64::from(t.ky),
+        f64::from(t.kx),
+        f64::from(t.sy),
+        f64::from(t.tx),
+        f64::from(t.ty),
+    ])
+}
+
+/// `tag#id (line n)` for an element node.
+pub(crate) fn node_label(doc: &roxmltree::Document, node: roxmltree::Node) -> String {
+    let line = doc.text_pos_at(node.range().start).row;
+    match node.attribute("id") {
+        Some(id) => format!("{}#{} (line {line})", node.tag_name().name(), id),
+        None => format!("{} (line {line})", node.tag_name().name()),
+    }
+}
+
+/// The label of an element key: the element, then the `use` elements it is instantiated
+/// through, innermost first.
+fn key_label(
+    doc: &roxmltree::Document,
+    nodes: &HashMap<usize, roxmltree::Node>,
+    key: &ElementKey,
+) -> String {
+    let label = |offset: &usize| match nodes.get(offset) {
+        Some(&n) => node_label(doc, n),
+        None => format!("element at byte {offset}"),
+    };
+    let mut s = label(&key.element);
+    for u in key.uses.iter().rev() {
+        s.push_str(" in ");
+        s.push_str(&label(u));
+    }
+    s
+}
+
+/// Appends the subpaths of usvg path data as [`Path`]s in root user space.
+fn convert_path_data(
+    data: &usvg::tiny_skia_path::Path,
+    local_to_root: Affine,
+    junctions: &JunctionOptions,
+    origin: &str,
+    label: &str,
+    out: &mut Vec<Path>,
+) -> Result<(), SvgError> {
+    use usvg::tiny_skia_path::PathSegment;
+    let pt = |p: usvg::tiny_skia_path::Point| Point::new(f64::from(p.x), f64::from(p.y));
+    let mut current: Vec<Point> = Vec::new();
+    let mut finish = |points: &mut Vec<Point>, closed: bool| -> Result<(), SvgError> {
+        let mut points = std::mem::take(points);
+        if points.is_empty() {
+            return Ok(());
+        }
+        if closed {
+            close_subpath(&mut points);
+        }
+        if points.len() < 4 {
+            tracing::warn!(
+                file = origin,
+                element = label,
+                x = points[0].x,
+                y = points[0].y,
+                "a subpath of a single point has no curve; skipped (it is not written back)"
+            );
+            return Ok(());
+        }
+        for p in &mut points {
+            *p = local_to_root * *p;
+            for v in [p.x, p.y] {
+                if !(v.abs() <= MAX_COORDINATE) {
+                    return Err(SvgError::CoordinateOutOfRange {
+                        file: origin.to_string(),
+                        element: label.to_string(),
+                        value: v,
+                        limit: MAX_COORDINATE,
+                    });
+                }
+            }
+        }
+        let path = Path::new(points, closed, junctions).ok_or_else(|| SvgError::Internal {
+            file: origin.to_string(),
+            what: format!("{label}: a subpath is not a 3n+1 chain"),
+        })?;
+        out.push(path);
+        Ok(())
+    };
+    for segment in data.segments() {
+        match segment {
+            PathSegment::MoveTo(p) => {
+                finish(&mut current, false)?;
+                current.push(pt(p));
+            }
+            PathSegment::LineTo(p) => {
+                let (p0, p3) = (last_point(&current), pt(p));
+                if current.is_empty() {
+                    current.push(p0);
+                }
+                current.extend([p0.lerp(p3, 1.0 / 3.0), p0.lerp(p3, 2.0 / 3.0), p3]);
+            }
+            PathSegment::QuadTo(q, p) => {
+                let (p0, q, p3) = (last_point(&current), pt(q), pt(p));
+                if current.is_empty() {
+                    current.push(p0);
+                }
+                current.extend([p0.lerp(q, 2.0 / 3.0), p3.lerp(q, 2.0 / 3.0), p3]);
+            }
+            PathSegment::CubicTo(c1, c2, p) => {
+                if current.is_empty() {
+                    current.push(Point::ORIGIN);
+                }
+                current.extend([pt(c1), pt(c2), pt(p)]);
+            }
+            PathSegment::Close => finish(&mut current, true)?,
+        }
+    }
+    finish(&mut current, false)
+}
+
+/// The current point of a subpath being built (the origin if none, as SVG says).
+fn last_point(points: &[Point]) -> Point {
+    points.last().copied().unwrap_or(Point::ORIGIN)
+}
+
+/// Closes a subpath's chain (`≥ 1` point): snaps its last point onto the first when within
+/// [`CLOSE_SNAP`], otherwise appends the closing line as a cubic. A single point stays single.
+fn close_subpath(points: &mut Vec<Point>) {
+    let first = points[0];
+    let last = points[points.len() - 1];
+    if points.len() < 4 {
+        return;
+    }
+    let bounds = points
+        .iter()
+        .fold(Rect::from_points(first, first), |r, &p| r.union_pt(p));
+    let magnitude = points
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+    let scale = (bounds.width().hypot(bounds.height())).max(magnitude);
+    if (last - first).hypot() <= CLOSE_SNAP * scale {
+        let n = points.len();
+        points[n - 1] = first;
+    } else {
+        points.extend([
+            last.lerp(first, 1.0 / 3.0),
+            last.lerp(first, 2.0 / 3.0),
+            first,
+        ]);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Validation of the raw attributes (usvg and svgtypes silently truncate bad data).
+
+/// Attributes holding a `<length>` (or `auto` where allowed), per element.
+fn length_attributes(tag: &str) -> &'static [&'static str] {
+    match tag {
+        "rect" => &["x", "y", "width", "height", "rx", "ry"],
+        "circle" => &["cx", "cy", "r"],
+        "ellipse" => &["cx", "cy", "rx", "ry"],
+        "line" => &["x1", "y1", "x2", "y2"],
+        "use" | "svg" | "symbol" => &["x", "y", "width", "height"],
+        _ => &[],
+    }
+}
+
+/// Checks every geometry-relevant attribute of every SVG element: `transform`, `d`, `points`,
+/// shape and `use` lengths, `viewBox` and `preserveAspectRatio`.
+fn validate_document(doc: &roxmltree::Document, origin: &str) -> Result<(), SvgError> {
+    for node in doc.descendants().filter(|n| svg_out::is_svg_element(*n)) {
+        let tag = node.tag_name().name();
+        let fail = |attribute: &str, value: &str, expected: String| SvgError::InvalidAttribute {
+            file: origin.to_string(),
+            element: node_label(doc, node),
+            attribute: attribute.to_string(),
+            value: shorten(value),
+            expected,
+        };
+        for attr in node.attributes().filter(|a| a.namespace().is_none()) {
+            let (name, value) = (attr.name(), attr.value());
+            let result = match name {
+                "transform" => check_transform(value),
+                "d" if tag == "path" => check_path_data(value),
+                "points" if tag == "polyline" || tag == "polygon" => check_points(value),
+                "viewBox" if matches!(tag, "svg" | "symbol" | "marker" | "pattern" | "view") => {
+                    check_view_box(value)
+                }
+                "preserveAspectRatio" => svgtypes::AspectRatio::from_str(value)
+                    .map(|_| ())
+                    .map_err(|e| {
+                        format!("[defer] <align> [meet|slice], e.g. \"xMidYMid meet\" ({e})")
+                    }),
+                _ if length_attributes(tag).contains(&name) => check_length(name, value),
+                _ => Ok(()),
+            };
+            result.map_err(|expected| fail(name, value, expected))?;
+        }
+    }
+    Ok(())
+}
+
+fn shorten(value: &str) -> String {
+    if value.chars().count() <= MAX_QUOTED_VALUE {
+        value.to_string()
+    } else {
+        let mut s: String = value.chars().take(MAX_QUOTED_VALUE).collect();
+        s.push('…');
+        s
+    }
+}
+
+fn check_number(v: f64, what: &str) -> Result<(), String> {
+    if !v.is_finite() {
+        Err(format!("finite numbers in {what} (found {v})"))
+    } else if v.abs() > MAX_COORDINATE {
+        Err(format!(
+            "numbers within ±{MAX_COORDINATE:e} in {what} (found {v:e})"
+        ))
+    } else {
+        Ok(())
+    }
+}
+
+fn check_transform(value: &str) -> Result<(), String> {
+    const EXPECTED: &str = "a transform list (matrix, translate, scale, rotate, skewX, skewY)";
+    for token in svgtypes::TransformListParser::from(value) {
+        use svgtypes::TransformListToken as T;
+        let numbers: Vec<f64> = match token.map_err(|e| format!("{EXPECTED} ({e})"))? {
+            T::Matrix { a, b, c, d, e, f } => vec![a, b, c, d, e, f],
+            T::Translate { tx, ty } => vec![tx, ty],
+            T::Scale { sx, sy } => vec![sx, sy],
+            T::Rotate { angle } => vec![angle],
+            T::SkewX { angle } | T::SkewY { angle } => vec![angle],
+        };
+        if let Some(v) = numbers.into_iter().find(|v| !v.is_finite()) {
+            return Err(format!("{EXPECTED} with finite numbers (found {v})"));
+        }
+    }
+    let t = svgtypes::Transform::from_str(value).map_err(|e| format!("{EXPECTED} ({e})"))?;
+    if [t.a, t.b, t.c, t.d, t.e, t.f].iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(format!("{EXPECTED} whose product is finite"))
+    }
+}
+
+fn check_path_data(value: &str) -> Result<(), String> {
+    const WHAT: &str = "path data";
+    for segment in svgtypes::PathParser::from(value) {
+        use svgtypes::PathSegment as S;
+        let segment = segment.map_err(|e| format!("SVG path data ({e})"))?;
+        let numbers: &[f64] = match &segment {
+            S::MoveTo { x, y, .. } | S::LineTo { x, y, .. } | S::SmoothQuadratic { x, y, .. } => {
+                &[*x, *y]
+            }
+            S::HorizontalLineTo { x, .. } => &[*x],
+            S::VerticalLineTo { y, .. } => &[*y],
+            S::CurveTo {
+                x1,
+                y1,
+                x2,
+                y2,
+                x,
+                y,
+                ..
+            } => &[*x1, *y1, *x2, *y2, *x, *y],
+            S::SmoothCurveTo { x2, y2, x, y, .. } => &[*x2, *y2, *x, *y],
+            S::Quadratic { x1, y1, x, y, .. } => &[*x1, *y1, *x, *y],
+            S::EllipticalArc {
+                rx,
+                ry,
+                x_axis_rotation,
+                x,
+                y,
+                ..
+            } => &[*rx, *ry, *x_axis_rotation, *x, *y],
+            S::ClosePath { .. } => &[],
+        };
+        for &v in numbers {
+            check_number(v, WHAT)?;
+        }
+    }
+    Ok(())
+}
+
+fn check_points(value: &str) -> Result<(), String> {
+    let mut count = 0usize;
+    for number in svgtypes::NumberListParser::from(value) {
+        let v = number.map_err(|e| format!("a list of x,y coordinates ({e})"))?;
+        check_number(v, "points")?;
+        count += 1;
+    }
+    if count % 2 == 1 {
+        return Err(format!(
+            "an even number of coordinates (x,y pairs); found {count}"
+        ));
+    }
+    Ok(())
+}
+
+fn check_view_box(value: &str) -> Result<(), String> {
+    const EXPECTED: &str =
+        "four numbers \"min-x min-y width height\" with positive width and height";
+    let vb = svgtypes::ViewBox::from_str(value).map_err(|e| format!("{EXPECTED} ({e})"))?;
+    for v in [vb.x, vb.y, vb.w, vb.h] {
+        check_number(v, "viewBox")?;
+    }
+    if vb.w > 0.0 && vb.h > 0.0 {
+        Ok(())
+    } else {
+        Err(EXPECTED.to_string())
+    }
+}
+
+fn check_length(name: &str, value: &str) -> Result<(), String> {
+    let auto_allowed = matches!(name, "rx" | "ry" | "width" | "height");
+    if auto_allowed && value.trim() == "auto" {
+        return Ok(());
+    }
+    let length = svgtypes::Length::from_str(value)
+        .map_err(|e| format!("a length such as \"10\", \"2.5px\" or \"50%\" ({e})"))?;
+    check_number(length.number, "a length")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn svg(body: &str) -> String {
+        format!("<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 100 100\">{body}</svg>")
+    }
+
+    fn read(body: &str) -> Result<Drawing, SvgError> {
+        read_svg(&svg(body), &ImportOptions::default())
+    }
+
+    #[test]
+    fn svg_in_line_is_elevated_exactly() {
+        let d = read("<path d='M0 0 L3 6'/>").unwrap();
+        let p = &d.paths[0].points;
+        assert_eq!(p.len(), 4);
+        assert_eq!(p[1], Point::new(1.0, 2.0));
+        assert_eq!(p[2], Point::new(2.0, 4.0));
+        assert_eq!(p[3], Point::new(3.0, 6.0));
+    }
+
+    #[test]
+    fn svg_in_quadratic_is_elevated_exactly() {
+        // Q with control (3, 6): c1 = p0 + 2/3 (q − p0) = (2, 4), c2 = p3 + 2/3 (q − p3) = (4, 4).
+        let d = read("<path d='M0 0 Q3 6 6 0'/>").unwrap();
+        let p = &d.paths[0].points;
+        assert_eq!(
+            p,
+            &[(0., 0.), (2., 4.), (4., 4.), (6., 0.)].map(Point::from)
+        );
+    }
+
+    #[test]
+    fn svg_in_close_adds_line_or_snaps() {
+        let open_end = read("<path d='M0 0 L10 0 L10 10 Z'/>").unwrap();
+        assert!(open_end.paths[0].closed);
+        assert_eq!(open_end.paths[0].n_curves(), 3);
+        let same_end = read("<path d='M0 0 L10 0 L10 10 L0 0 Z'/>").unwrap();
+        assert!(same_end.paths[0].closed);
+        assert_eq!(same_end.paths[0].n_curves(), 3);
+    }
+
+    #[test]
+    fn svg_in_close_snap_absorbs_float_noise() {
+        let mut pts = vec![
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 0.0),
+            Point::new(2.0, 0.0),
+            Point::new(3.0, 0.0),
+            Point::new(3.0, 1.0),
+            Point::new(0.0, 1.0),
+            Point::new(1e-9, 0.0),
+        ];
+        close_subpath(&mut pts);
+        assert_eq!(pts.len(), 7);
+        assert_eq!(pts[6], pts[0]);
+    }
+
+    #[test]
+    fn svg_in_transform_validation_rejects_non_finite() {
+        assert!(check_transform("translate(1e999 0)").is_err());
+        assert!(check_transform("rotate(30) scale(2)").is_ok());
+        assert!(check_transform("rotate(30").is_err());
+    }
+
+    #[test]
+    fn svg_in_points_validation() {
+        assert!(check_points("0,0 1,1").is_ok());
+        assert!(check_points("0,0 1").is_err());
+        assert!(check_points("0,0 1,x").is_err());
+    }
+
+    #[test]
+    fn svg_in_prefix_avoids_existing_ids() {
+        let text = svg("<path id='splineskin-0' d='M0 0 L1 1'/>");
+        let doc = parse_xml(&text, "t").unwrap();
+        assert_eq!(unique_prefix(&doc), "splineskin-x");
+    }
+}

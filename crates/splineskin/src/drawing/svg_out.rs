@@ -1,1 +1,998 @@
-//! SVG export (stub: being written).
+//! SVG export: deformed chain points written back into the document they came from.
+//!
+//! The original text is spliced, not regenerated: every element, attribute, style, gradient,
+//! text, comment and the order of all of them are kept byte for byte, except for the geometry
+//! of imported elements:
+//!
+//! - `<path>`: its `d` value is replaced.
+//! - `<rect>`, `<circle>`, `<ellipse>`, `<line>`, `<polyline>`, `<polygon>`: renamed to
+//!   `<path>` (start and end tag), their geometric attributes (`x y width height rx ry`,
+//!   `cx cy r`, `x1 y1 x2 y2`, `points`) removed and `d` added.
+//! - `<use>` whose instance was imported: replaced by a `<g>` carrying the `use`'s attributes
+//!   except `href`, `xlink:href`, `x`, `y`, `width`, `height`, with
+//!   `transform` = the `use`'s transform, then `translate(x y)` (then the referenced symbol's
+//!   viewBox mapping), holding a copy of the referenced element (ids inside removed; a `symbol`
+//!   becomes a `g`) whose geometry elements carry the deformed instance geometry.
+//!
+//! Each element's points are mapped back to its local coordinates with the inverse of its
+//! local → root transform and written as `M x y C … [Z]`, one `C` per cubic, numbers in the
+//! shortest form that reads back to the same `f64`. A closed path's last cubic ends on its first
+//! point (`P_0`, not `P_3n`), so that `Z` adds no closing segment. Reading the output back with
+//! [`super::svg_in::read_svg`] gives the same paths and curve counts.
+//!
+//! The same rewriting machinery (with another [`RewritePolicy`]) prepares the text usvg reads at
+//! import: it injects ids and expands `use` elements exactly as export does, so that import and
+//! export agree on the structure of every instance.
+
+use std::collections::{HashMap, HashSet};
+use std::fmt::Write as _;
+
+use kurbo::{Affine, Point, Rect, Size};
+
+use super::svg_in::{node_label, ElementKind, SvgError, SvgSource, MAX_SVG_BYTES};
+use super::{Drawing, Path};
+
+/// The SVG namespace.
+pub(crate) const SVG_NS: &str = "http://www.w3.org/2000/svg";
+/// The XLink namespace (`xlink:href`).
+const XLINK_NS: &str = "http://www.w3.org/1999/xlink";
+/// The XML namespace (`xml:id`).
+const XML_NS: &str = "http://www.w3.org/XML/1998/namespace";
+
+/// Deepest chain of `use` elements expanded (a `use` in content referenced by a `use` …): 32.
+pub const MAX_USE_DEPTH: usize = 32;
+
+/// Largest text the rewriter produces (expanding `use` elements copies content): four times
+/// [`MAX_SVG_BYTES`]. Guards against exponential `use` nesting.
+pub const MAX_EXPANDED_BYTES: usize = 4 * MAX_SVG_BYTES;
+
+/// Margin around the points in the viewBox of a standalone export, relative to the larger side
+/// of their bounding box: 5 %.
+const STANDALONE_MARGIN: f64 = 0.05;
+
+/// Stroke width of a standalone export, relative to the larger side of the points' bounding
+/// box: 0.4 %, thin but visible at any zoom that shows the whole drawing.
+const STANDALONE_STROKE: f64 = 0.004;
+
+/// Relative size below which an element transform's determinant counts as zero (the transform
+/// cannot be inverted to write points in the element's coordinates): 1e-12.
+const SINGULAR_DETERMINANT: f64 = 1e-12;
+
+/// Writes `drawing` with its chain points replaced by `points` as SVG text.
+///
+/// `points` are the deformed chain points concatenated in path order: `drawing.n_points()` of
+/// them, laid out like [`Drawing::flat_points`]. If the drawing came from SVG
+/// ([`Drawing::source`]), the original document is kept and only the geometry of imported
+/// elements changes (module doc). Otherwise a minimal standalone document is written: one
+/// `<path>` per [`Path`] (black stroke, no fill) in a viewBox around the points.
+///
+/// Errors: [`SvgError::PointCount`], [`SvgError::NonFinitePoint`],
+/// [`SvgError::SourceMismatch`] (the drawing's paths no longer match its source),
+/// [`SvgError::SingularTransform`], [`SvgError::Unsupported`].
+///
+/// ```
+/// use kurbo::Vec2;
+/// use splineskin::drawing::svg_in::{read_svg, ImportOptions};
+/// use splineskin::drawing::svg_out::write_svg;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <rect id="box" x="1" y="1" width="2" height="2" fill="red"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let moved: Vec<_> = drawing.flat_points().iter().map(|&p| p + Vec2::new(5.0, 0.0)).collect();
+/// let out = write_svg(&drawing, &moved).unwrap();
+/// assert!(out.contains(r#"<path id="box" fill="red" d="M6 1 C"#));
+/// ```
+pub fn write_svg(drawing: &Drawing, points: &[Point]) -> Result<String, SvgError> {
+    let origin = drawing
+        .source
+        .as_ref()
+        .map_or("<drawing>", |s| s.origin.as_str());
+    if points.len() != drawing.n_points() {
+        return Err(SvgError::PointCount {
+            file: origin.to_string(),
+            expected: drawing.n_points(),
+            found: points.len(),
+        });
+    }
+    let mut offsets = Vec::with_capacity(drawing.paths.len());
+    let mut offset = 0;
+    for (i, path) in drawing.paths.iter().enumerate() {
+        let chunk = &points[offset..offset + path.points.len()];
+        if let Some(k) = chunk
+            .iter()
+            .position(|p| !(p.x.is_finite() && p.y.is_finite()))
+        {
+            let element = match &drawing.source {
+                Some(s) => s.element_label(i),
+                None => format!("path {i}"),
+            };
+            return Err(SvgError::NonFinitePoint {
+                file: origin.to_string(),
+                element,
+                index: offset + k,
+            });
+        }
+        offsets.push(offset);
+        offset += path.points.len();
+    }
+    match &drawing.source {
+        Some(source) => write_into_source(drawing, points, &offsets, source),
+        None => Ok(write_standalone(drawing, points, &offsets)),
+    }
+}
+
+/// A standalone document for a drawing built in code.
+fn write_standalone(drawing: &Drawing, points: &[Point], offsets: &[usize]) -> String {
+    let bounds = points
+        .iter()
+        .fold(None, |r: Option<Rect>, &p| {
+            Some(r.map_or(Rect::from_points(p, p), |r| r.union_pt(p)))
+        })
+        .unwrap_or(Rect::new(0.0, 0.0, 1.0, 1.0));
+    let side = bounds.width().max(bounds.height());
+    let side = if side > 0.0 { side } else { 1.0 };
+    let view = bounds.inflate(STANDALONE_MARGIN * side, STANDALONE_MARGIN * side);
+    let mut out = String::from("<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"");
+    push_numbers(&mut out, &[view.x0, view.y0, view.width(), view.height()]);
+    out.push_str("\">\n");
+    for (path, &offset) in drawing.paths.iter().zip(offsets) {
+        out.push_str("  <path d=\"");
+        push_path_data(
+            &mut out,
+            path,
+            &points[offset..offset + path.points.len()],
+            Affine::IDENTITY,
+        );
+        out.push_str("\" fill=\"none\" stroke=\"black\" stroke-width=\"");
+        push_number(&mut out, STANDALONE_STROKE * side);
+        out.push_str("\"/>\n");
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
+/// Export policy: imported elements get their deformed `d`; `use` instances that were imported
+/// are expanded.
+struct ExportPolicy<'e> {
+    source: &'e SvgSource,
+    element_of_key: HashMap<&'e ElementKey, usize>,
+    instances: HashSet<&'e [usize]>,
+    data: Vec<String>,
+}
+
+impl RewritePolicy for ExportPolicy<'_> {
+    fn geometry(
+        &mut self,
+        key: &ElementKey,
+        node: roxmltree::Node,
+        _in_copy: bool,
+    ) -> Result<GeometryEdit, SvgError> {
+        let Some(&i) = self.element_of_key.get(key) else {
+            return Ok(GeometryEdit::Keep);
+        };
+        if node.range() != self.source.elements[i].range {
+            return Err(SvgError::Internal {
+                file: self.source.origin.clone(),
+                what: format!("{}: its byte range moved", self.source.elements[i].label),
+            });
+        }
+        Ok(GeometryEdit::ToPath(std::mem::take(&mut self.data[i])))
+    }
+
+    fn expand_use(&mut self, instance: &[usize]) -> bool {
+        self.instances.contains(instance)
+    }
+}
+
+fn write_into_source(
+    drawing: &Drawing,
+    points: &[Point],
+    offsets: &[usize],
+    source: &SvgSource,
+) -> Result<String, SvgError> {
+    let origin = source.origin.as_str();
+    let mismatch = |what: String| SvgError::SourceMismatch {
+        file: origin.to_string(),
+        what,
+    };
+    if drawing.paths.len() != source.n_paths() {
+        return Err(mismatch(format!(
+            "it has {} paths, the document produced {}",
+            drawing.paths.len(),
+            source.n_paths()
+        )));
+    }
+    let mut data = Vec::with_capacity(source.elements.len());
+    for element in &source.elements {
+        let t = element.local_to_root;
+        let [a, b, c, d, _, _] = t.as_coeffs();
+        let det = a * d - b * c;
+        let scale = (a.abs() + b.abs()) * (c.abs() + d.abs());
+        if !(det.abs() > SINGULAR_DETERMINANT * scale && det.is_finite()) {
+            return Err(SvgError::SingularTransform {
+                file: origin.to_string(),
+                element: element.label.clone(),
+            });
+        }
+        let inverse = t.inverse();
+        let mut d = String::new();
+        for i in element.paths.clone() {
+            let path = &drawing.paths[i];
+            if !d.is_empty() {
+                d.push(' ');
+            }
+            push_path_data(
+                &mut d,
+                path,
+                &points[offsets[i]..offsets[i] + path.points.len()],
+                inverse,
+            );
+        }
+        data.push(d);
+    }
+    let mut policy = ExportPolicy {
+        source,
+        element_of_key: source
+            .elements
+            .iter()
+            .enumerate()
+            .map(|(i, e)| (&e.key, i))
+            .collect(),
+        instances: source
+            .elements
+            .iter()
+            .flat_map(|e| (1..=e.key.uses.len()).map(|n| &e.key.uses[..n]))
+            .collect(),
+        data,
+    };
+    let doc = super::svg_in::parse_xml(&source.text, origin)?;
+    let viewport = source.view_box.size();
+    rewrite_document(&source.text, &doc, &mut policy, origin, None, viewport)
+}
+
+/// Appends one subpath as `M x y C x1 y1 x2 y2 x y … [Z]`, each point mapped by `to_local`.
+/// `points` has `path.points.len()` entries; a closed path's last cubic ends on `points[0]`.
+fn push_path_data(out: &mut String, path: &Path, points: &[Point], to_local: Affine) {
+    let n = path.n_curves();
+    let local = |p: Point| {
+        let q = to_local * p;
+        [q.x, q.y]
+    };
+    out.push('M');
+    push_numbers(out, &local(points[0]));
+    for j in 0..n {
+        out.push_str(" C");
+        for k in 1..=3 {
+            let i = 3 * j + k;
+            let p = if path.closed && i == 3 * n {
+                points[0]
+            } else {
+                points[i]
+            };
+            if k > 1 {
+                out.push(' ');
+            }
+            push_numbers(out, &local(p));
+        }
+    }
+    if path.closed {
+        out.push_str(" Z");
+    }
+}
+
+/// Appends numbers separated by single spaces (a leading space is the caller's business).
+fn push_numbers(out: &mut String, values: &[f64]) {
+    for (i, &v) in values.iter().enumerate() {
+        if i > 0 {
+            out.push(' ');
+        }
+        push_number(out, v);
+    }
+}
+
+/// Appends `v` in the shortest text that parses back to the same `f64`: the shorter of Rust's
+/// shortest round-trip decimal (`{}`) and exponent (`{:e}`) forms; `0` for ±0.
+fn push_number(out: &mut String, v: f64) {
+    if v == 0.0 {
+        out.push('0');
+        return;
+    }
+    let plain = format!("{v}");
+    let exp = format!("{v:e}");
+    out.push_str(if exp.len() < plain.len() {
+        &exp
+    } else {
+        &plain
+    });
+}
+
+/// [`push_number`] as a `String`.
+fn number(v: f64) -> String {
+    let mut s = String::new();
+    push_number(&mut s, v);
+    s
+}
+
+// ---------------------------------------------------------------------------------------------
+// The document rewriter shared by import (id injection, `use` expansion) and export.
+
+/// Where an element is: the byte offsets, in the original text, of the `use` elements it is
+/// instantiated through (outermost first; empty for the element itself) and of the element.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct ElementKey {
+    /// Offsets of the `use` chain, outermost first.
+    pub(crate) uses: Vec<usize>,
+    /// Offset of the element (`<` of its start tag).
+    pub(crate) element: usize,
+}
+
+/// What the rewriter does to a geometry element.
+pub(crate) enum GeometryEdit {
+    /// Write it as it is (ids still removed inside copies).
+    Keep,
+    /// Set its `id` (replacing one, or adding it).
+    SetId(String),
+    /// Make it a `<path>` with this `d`.
+    ToPath(String),
+}
+
+/// The decisions that differ between preparing the import text and exporting.
+pub(crate) trait RewritePolicy {
+    /// The edit of the geometry element at `key` (`in_copy`: inside an expanded `use`).
+    fn geometry(
+        &mut self,
+        key: &ElementKey,
+        node: roxmltree::Node,
+        in_copy: bool,
+    ) -> Result<GeometryEdit, SvgError>;
+    /// Whether the `use` instance `instance` (its `use` chain, outermost first) is expanded.
+    fn expand_use(&mut self, instance: &[usize]) -> bool;
+}
+
+/// Whether `node` is an element in the SVG namespace (or in none, as usvg accepts).
+pub(crate) fn is_svg_element(node: roxmltree::Node) -> bool {
+    node.is_element() && matches!(node.tag_name().namespace(), None | Some(SVG_NS))
+}
+
+/// A `<length>` in user units: numbers, `px`, `in`, `cm`, `mm`, `pt`, `pc` (96 dpi) and
+/// percentages of `percent_base`; `em`/`ex` are refused (they need the font size).
+pub(crate) fn user_length(value: &str, percent_base: f64) -> Result<f64, String> {
+    use svgtypes::LengthUnit as U;
+    let length = <svgtypes::Length as std::str::FromStr>::from_str(value)
+        .map_err(|e| format!("a length ({e})"))?;
+    let n = length.number;
+    Ok(match length.unit {
+        U::None | U::Px => n,
+        U::In => n * 96.0,
+        U::Cm => n * 96.0 / 2.54,
+        U::Mm => n * 96.0 / 25.4,
+        U::Pt => n * 4.0 / 3.0,
+        U::Pc => n * 16.0,
+        U::Percent => n / 100.0 * percent_base,
+        U::Em | U::Ex => return Err("a length without em/ex units".to_string()),
+    })
+}
+
+/// The mapping of `view_box` onto a `width × height` viewport under `aspect`
+/// (SVG 1.1 §7.8, as usvg's `ViewBox::to_transform`).
+fn view_box_transform(
+    view_box: svgtypes::ViewBox,
+    aspect: svgtypes::AspectRatio,
+    width: f64,
+    height: f64,
+) -> Affine {
+    use svgtypes::Align as A;
+    let (mut sx, mut sy) = (width / view_box.w, height / view_box.h);
+    if aspect.align != A::None {
+        let s = if aspect.slice { sx.max(sy) } else { sx.min(sy) };
+        (sx, sy) = (s, s);
+    }
+    let (x, y) = (-view_box.x * sx, -view_box.y * sy);
+    let (w, h) = (width - view_box.w * sx, height - view_box.h * sy);
+    let (tx, ty) = match aspect.align {
+        A::None | A::XMinYMin => (x, y),
+        A::XMidYMin => (x + w / 2.0, y),
+        A::XMaxYMin => (x + w, y),
+        A::XMinYMid => (x, y + h / 2.0),
+        A::XMidYMid => (x + w / 2.0, y + h / 2.0),
+        A::XMaxYMid => (x + w, y + h / 2.0),
+        A::XMinYMax => (x, y + h),
+        A::XMidYMax => (x + w / 2.0, y + h),
+        A::XMaxYMax => (x + w, y + h),
+    };
+    Affine::new([sx, 0.0, 0.0, sy, tx, ty])
+}
+
+/// Escapes an attribute value for either quote style.
+fn escape_attribute(value: &str) -> String {
+    let mut s = String::with_capacity(value.len());
+    for c in value.chars() {
+        match c {
+            '&' => s.push_str("&amp;"),
+            '<' => s.push_str("&lt;"),
+            '"' => s.push_str("&quot;"),
+            '\'' => s.push_str("&apos;"),
+            _ => s.push(c),
+        }
+    }
+    s
+}
+
+/// Rewrites `src` (parsed as `doc`) under `policy`: geometry elements get the policy's edit,
+/// `use` elements outside clip paths are expanded when the policy says so, ids are removed
+/// inside expanded copies. With `wrap_root`, the root's content is wrapped in
+/// `<g id="wrap_root">`. `viewport` is the root viewport in user units (percentages in `use`
+/// lengths).
+pub(crate) fn rewrite_document<P: RewritePolicy>(
+    src: &str,
+    doc: &roxmltree::Document,
+    policy: &mut P,
+    origin: &str,
+    wrap_root: Option<&str>,
+    viewport: Size,
+) -> Result<String, SvgError> {
+    let mut ids = HashMap::new();
+    for n in doc.descendants() {
+        if let Some(id) = n.attribute("id") {
+            ids.entry(id).or_insert(n);
+        }
+    }
+    let root = doc.root_element();
+    let mut w = Rewriter {
+        src,
+        doc,
+        ids,
+        policy,
+        origin,
+        viewport,
+        out: String::with_capacity(src.len() + src.len() / 8),
+    };
+    let range = root.range();
+    w.out.push_str(&src[..range.start]);
+    let spec = TagSpec::default();
+    w.write_with(root, &spec, &Context::default(), wrap_root)?;
+    w.out.push_str(&src[range.end..]);
+    Ok(w.out)
+}
+
+/// The edits of one start tag.
+#[derive(Default)]
+struct TagSpec<'s> {
+    /// New local name (the prefix is kept).
+    rename: Option<&'s str>,
+    /// Attributes (no namespace) to remove.
+    remove: &'s [&'s str],
+    /// Whether `id` and `xml:id` are removed.
+    strip_ids: bool,
+    /// Attributes (no namespace) to set: replaced if present, else added.
+    set: Vec<(&'s str, String)>,
+}
+
+/// Where the rewriter is.
+#[derive(Clone, Default)]
+struct Context {
+    /// The `use` chain of the current copy (byte offsets, outermost first).
+    uses: Vec<usize>,
+    /// The elements referenced along that chain (recursion guard).
+    targets: Vec<roxmltree::NodeId>,
+    /// Inside an expanded copy.
+    in_copy: bool,
+    /// Inside a `clipPath` (its `use` children must stay `use`).
+    in_clip: bool,
+}
+
+/// The byte positions of an element's tags.
+struct TagPositions<'i> {
+    /// Just after the start tag's name.
+    qname_end: usize,
+    /// Just after the start tag's `>`.
+    tag_end: usize,
+    /// `<… />`.
+    self_closing: bool,
+    /// The name's prefix with its colon (`""`, or e.g. `"svg:"`).
+    prefix: &'i str,
+}
+
+struct Rewriter<'a, 'i, P> {
+    src: &'i str,
+    doc: &'a roxmltree::Document<'i>,
+    ids: HashMap<&'a str, roxmltree::Node<'a, 'i>>,
+    policy: &'a mut P,
+    origin: &'a str,
+    viewport: Size,
+    out: String,
+}
+
+impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
+    fn unsupported(&self, node: roxmltree::Node, what: impl Into<String>) -> SvgError {
+        SvgError::Unsupported {
+            file: self.origin.to_string(),
+            element: node_label(self.doc, node),
+            what: what.into(),
+        }
+    }
+
+    fn write_element(
+        &mut self,
+        node: roxmltree::Node<'a, 'i>,
+        ctx: &Context,
+    ) -> Result<(), SvgError> {
+        if self.out.len() > MAX_EXPANDED_BYTES {
+            return Err(SvgError::TooLarge {
+                file: self.origin.to_string(),
+                size: self.out.len() as u64,
+                limit: MAX_EXPANDED_BYTES as u64,
+            });
+        }
+        let tag = if is_svg_element(node) {
+            node.tag_name().name()
+        } else {
+            ""
+        };
+        if tag == "use" && !ctx.in_clip {
+            return self.write_use(node, ctx);
+        }
+        let mut spec = TagSpec {
+            strip_ids: ctx.in_copy,
+            ..TagSpec::default()
+        };
+        if let Some(kind) = ElementKind::from_tag(tag) {
+            let key = ElementKey {
+                uses: ctx.uses.clone(),
+                element: node.range().start,
+            };
+            match self.policy.geometry(&key, node, ctx.in_copy)? {
+                GeometryEdit::Keep => {}
+                GeometryEdit::SetId(id) => spec.set.push(("id", id)),
+                GeometryEdit::ToPath(d) => {
+                    if kind != ElementKind::Path {
+                        spec.rename = Some("path");
+                        spec.remove = kind.geometry_attributes();
+                    }
+                    spec.set.push(("d", d));
+                }
+            }
+        }
+        if tag == "clipPath" && !ctx.in_clip {
+            let inner = Context {
+                in_clip: true,
+                ..ctx.clone()
+            };
+            return self.write_with(node, &spec, &inner, None);
+        }
+        self.write_with(node, &spec, ctx, None)
+    }
+
+    /// Locates the tags of `node` in the source.
+    fn positions(&self, node: roxmltree::Node) -> Result<TagPositions<'i>, SvgError> {
+        let bytes = self.src.as_bytes();
+        let start = node.range().start;
+        let entity = || self.unsupported(node, "elements created by DTD entity expansion");
+        if bytes.get(start) != Some(&b'<') {
+            return Err(entity());
+        }
+        let mut qname_end = start + 1;
+        while qname_end < bytes.len()
+            && !matches!(bytes[qname_end], b' ' | b'\t' | b'\r' | b'\n' | b'/' | b'>')
+        {
+            qname_end += 1;
+        }
+        let qname = &self.src[start + 1..qname_end];
+        let prefix = match qname.rfind(':') {
+            Some(i) => &self.src[start + 1..start + 2 + i],
+            None => "",
+        };
+        if &qname[prefix.len()..] != node.tag_name().name() {
+            return Err(entity());
+        }
+        // The start tag ends at the first `>` outside quotes.
+        let mut quote = None;
+        let mut i = qname_end;
+        let tag_end = loop {
+            let Some(&c) = bytes.get(i) else {
+                return Err(SvgError::Internal {
+                    file: self.origin.to_string(),
+                    what: format!("unterminated start tag at byte {start}"),
+                });
+            };
+            match quote {
+                Some(q) if c == q => quote = None,
+                Some(_) => {}
+                None if c == b'"' || c == b'\'' => quote = Some(c),
+                None if c == b'>' => break i + 1,
+                None => {}
+            }
+            i += 1;
+        };
+        Ok(TagPositions {
+            qname_end,
+            tag_end,
+            self_closing: bytes[tag_end - 2] == b'/',
+            prefix,
+        })
+    }
+
+    /// Writes the start tag of `node` with `spec`'s edits.
+    fn write_start_tag(&mut self, node: roxmltree::Node, spec: &TagSpec, pos: &TagPositions) {
+        let bytes = self.src.as_bytes();
+        let start = node.range().start;
+        let mut edits: Vec<(usize, usize, String)> = Vec::new();
+        if let Some(name) = spec.rename {
+            edits.push((
+                start + 1 + pos.prefix.len(),
+                pos.qname_end,
+                name.to_string(),
+            ));
+        }
+        let mut done = vec![false; spec.set.len()];
+        let mut insert_at = pos.qname_end;
+        for a in node.attributes() {
+            let r = a.range();
+            insert_at = insert_at.max(r.end);
+            let plain = a.namespace().is_none();
+            if let Some(k) = spec.set.iter().position(|(n, _)| plain && *n == a.name()) {
+                if !done[k] {
+                    done[k] = true;
+                    let v = a.range_value();
+                    edits.push((v.start, v.end, escape_attribute(&spec.set[k].1)));
+                    continue;
+                }
+            }
+            let is_id = (plain || a.namespace() == Some(XML_NS)) && a.name() == "id";
+            if (spec.strip_ids && is_id) || (plain && spec.remove.contains(&a.name())) {
+                let mut ws = r.start;
+                while ws > pos.qname_end && bytes[ws - 1].is_ascii_whitespace() {
+                    ws -= 1;
+                }
+                edits.push((ws, r.end, String::new()));
+            }
+        }
+        let mut added = String::new();
+        for ((name, value), done) in spec.set.iter().zip(&done) {
+            if !done {
+                let _ = write!(added, " {name}=\"{}\"", escape_attribute(value));
+            }
+        }
+        if !added.is_empty() {
+            edits.push((insert_at, insert_at, added));
+        }
+        edits.sort_by_key(|e| (e.0, e.1));
+        let mut cursor = start;
+        for (from, to, text) in edits {
+            self.out.push_str(&self.src[cursor..from]);
+            self.out.push_str(&text);
+            cursor = to;
+        }
+        self.out.push_str(&self.src[cursor..pos.tag_end]);
+    }
+
+    /// Writes `node` with `spec` applied to its start tag, its element children rewritten in
+    /// `child_ctx`, everything else verbatim.
+    fn write_with(
+        &mut self,
+        node: roxmltree::Node<'a, 'i>,
+        spec: &TagSpec,
+        child_ctx: &Context,
+        wrap: Option<&str>,
+    ) -> Result<(), SvgError> {
+        let pos = self.positions(node)?;
+        self.write_start_tag(node, spec, &pos);
+        if pos.self_closing {
+            return Ok(());
+        }
+        let end = node.range().end;
+        let end_tag = match self.src[pos.tag_end..end].rfind("</") {
+            Some(i) => pos.tag_end + i,
+            None => {
+                return Err(SvgError::Internal {
+                    file: self.origin.to_string(),
+                    what: format!("no end tag for the element at byte {}", node.range().start),
+                })
+            }
+        };
+        if let Some(id) = wrap {
+            let _ = write!(
+                self.out,
+                "<{}g id=\"{}\">",
+                pos.prefix,
+                escape_attribute(id)
+            );
+        }
+        let mut cursor = pos.tag_end;
+        for child in node.children().filter(|c| c.is_element()) {
+            let r = child.range();
+            if r.start < cursor || r.end > end_tag {
+                return Err(self.unsupported(child, "elements created by DTD entity expansion"));
+            }
+            self.out.push_str(&self.src[cursor..r.start]);
+            self.write_element(child, child_ctx)?;
+            cursor = r.end;
+        }
+        self.out.push_str(&self.src[cursor..end_tag]);
+        if wrap.is_some() {
+            let _ = write!(self.out, "</{}g>", pos.prefix);
+        }
+        match spec.rename {
+            Some(name) => {
+                let _ = write!(self.out, "</{}{}>", pos.prefix, name);
+            }
+            None => self.out.push_str(&self.src[end_tag..end]),
+        }
+        Ok(())
+    }
+
+    /// Writes a `use` element: expanded into a `<g>` with a copy of its target when the policy
+    /// says so, else as it is.
+    fn write_use(&mut self, node: roxmltree::Node<'a, 'i>, ctx: &Context) -> Result<(), SvgError> {
+        let plain = TagSpec {
+            strip_ids: ctx.in_copy,
+            ..TagSpec::default()
+        };
+        let href = node
+            .attribute("href")
+            .or_else(|| node.attribute((XLINK_NS, "href")));
+        let target = href
+            .and_then(|h| h.trim().strip_prefix('#'))
+            .and_then(|id| self.ids.get(id))
+            .copied();
+        let Some(target) = target.filter(|t| is_svg_element(*t)) else {
+            return self.write_with(node, &plain, ctx, None);
+        };
+        let target_tag = target.tag_name().name();
+        let graphic = matches!(
+            target_tag,
+            "g" | "symbol"
+                | "use"
+                | "a"
+                | "switch"
+                | "path"
+                | "rect"
+                | "circle"
+                | "ellipse"
+                | "line"
+                | "polyline"
+                | "polygon"
+                | "text"
+                | "image"
+                | "svg"
+        );
+        let recursive = node.ancestors().any(|a| a == target) || ctx.targets.contains(&target.id());
+        if recursive {
+            tracing::warn!(
+                file = self.origin,
+                element = %node_label(self.doc, node),
+                "recursive use; left as it is (usvg skips it)"
+            );
+        }
+        if !graphic || recursive {
+            return self.write_with(node, &plain, ctx, None);
+        }
+        let mut instance = ctx.uses.clone();
+        instance.push(node.range().start);
+        if !self.policy.expand_use(&instance) {
+            return self.write_with(node, &plain, ctx, None);
+        }
+        if target_tag == "svg" {
+            return Err(self.unsupported(node, "a use that references an <svg> element"));
+        }
+        if ctx.uses.len() >= MAX_USE_DEPTH {
+            return Err(self.unsupported(
+                node,
+                format!("use elements nested more than {MAX_USE_DEPTH} deep"),
+            ));
+        }
+        if node.has_attribute("transform-origin") {
+            return Err(self.unsupported(node, "transform-origin on a use element"));
+        }
+
+        // transform = use transform · translate(x y) [· symbol viewBox mapping]
+        let (vw, vh) = (self.viewport.width, self.viewport.height);
+        let length = |name: &str, base: f64, default: f64| -> Result<f64, SvgError> {
+            match node.attribute(name) {
+                Some(v) => user_length(v, base).map_err(|e| {
+                    self.unsupported(node, format!("attribute {name}=\"{v}\": expected {e}"))
+                }),
+                None => Ok(default),
+            }
+        };
+        let (x, y) = (length("x", vw, 0.0)?, length("y", vh, 0.0)?);
+        let mut transform = node.attribute("transform").unwrap_or("").trim().to_string();
+        let mut push = |part: String| {
+            if !transform.is_empty() {
+                transform.push(' ');
+            }
+            transform.push_str(&part);
+        };
+        if x != 0.0 || y != 0.0 {
+            push(format!("translate({} {})", number(x), number(y)));
+        }
+        if target_tag == "symbol" {
+            let (w, h) = (length("width", vw, vw)?, length("height", vh, vh)?);
+            let view_box = target
+                .attribute("viewBox")
+                .and_then(|v| <svgtypes::ViewBox as std::str::FromStr>::from_str(v).ok());
+            if let Some(vb) = view_box.filter(|_| w > 0.0 && h > 0.0) {
+                let aspect = target
+                    .attribute("preserveAspectRatio")
+                    .and_then(|v| <svgtypes::AspectRatio as std::str::FromStr>::from_str(v).ok())
+                    .unwrap_or_default();
+                let c = view_box_transform(vb, aspect, w, h).as_coeffs();
+                push(format!(
+                    "matrix({} {} {} {} {} {})",
+                    number(c[0]),
+                    number(c[1]),
+                    number(c[2]),
+                    number(c[3]),
+                    number(c[4]),
+                    number(c[5])
+                ));
+            }
+        }
+
+        let pos = self.positions(node)?;
+        let _ = write!(self.out, "<{}g", pos.prefix);
+        for a in node.attributes() {
+            let name = a.name();
+            let ns = a.namespace();
+            let drop = (name == "href" && (ns.is_none() || ns == Some(XLINK_NS)))
+                || (ns.is_none() && matches!(name, "x" | "y" | "width" | "height" | "transform"))
+                || (ctx.in_copy && name == "id" && (ns.is_none() || ns == Some(XML_NS)));
+            if !drop {
+                self.out.push(' ');
+                self.out.push_str(&self.src[a.range()]);
+            }
+        }
+        if !transform.is_empty() {
+            let _ = write!(self.out, " transform=\"{}\"", escape_attribute(&transform));
+        }
+        self.out.push('>');
+        let mut targets = ctx.targets.clone();
+        targets.push(target.id());
+        let inner = Context {
+            uses: instance,
+            targets,
+            in_copy: true,
+            in_clip: false,
+        };
+        if target_tag == "symbol" {
+            const SYMBOL_ONLY: &[&str] = &[
+                "viewBox",
+                "preserveAspectRatio",
+                "x",
+                "y",
+                "width",
+                "height",
+                "refX",
+                "refY",
+            ];
+            let spec = TagSpec {
+                rename: Some("g"),
+                remove: SYMBOL_ONLY,
+                strip_ids: true,
+                set: Vec::new(),
+            };
+            self.write_with(target, &spec, &inner, None)?;
+        } else {
+            self.write_element(target, &inner)?;
+        }
+        let _ = write!(self.out, "</{}g>", pos.prefix);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn formatted(v: f64) -> String {
+        number(v)
+    }
+
+    #[test]
+    fn svg_out_number_round_trips_shortest() {
+        for v in [
+            0.1,
+            1.0 / 3.0,
+            -2.5,
+            1e-17,
+            123456789.0,
+            1.0e9,
+            5e-324,
+            -0.0,
+            0.0,
+        ] {
+            let s = formatted(v);
+            assert_eq!(s.parse::<f64>().unwrap(), v, "{s}");
+        }
+        assert_eq!(formatted(10.0), "10");
+        assert_eq!(formatted(-0.0), "0");
+        assert_eq!(formatted(1.5e-17), "1.5e-17");
+        assert_eq!(formatted(0.25), "0.25");
+    }
+
+    #[test]
+    fn svg_out_view_box_transform_matches_closed_form() {
+        let vb = svgtypes::ViewBox::new(-10.0, 0.0, 20.0, 10.0);
+        // meet into 100 × 100: scale 5, centred vertically: ty = (100 − 50)/2 = 25.
+        let t = view_box_transform(vb, svgtypes::AspectRatio::default(), 100.0, 100.0);
+        assert_eq!(t.as_coeffs(), [5.0, 0.0, 0.0, 5.0, 50.0, 25.0]);
+        let slice = svgtypes::AspectRatio {
+            defer: false,
+            align: svgtypes::Align::XMinYMin,
+            slice: true,
+        };
+        let t = view_box_transform(vb, slice, 100.0, 100.0);
+        assert_eq!(t.as_coeffs(), [10.0, 0.0, 0.0, 10.0, 100.0, 0.0]);
+    }
+
+    #[test]
+    fn svg_out_user_length_units() {
+        assert_eq!(user_length("10", 50.0), Ok(10.0));
+        assert_eq!(user_length("1in", 50.0), Ok(96.0));
+        assert_eq!(user_length("50%", 50.0), Ok(25.0));
+        assert!(user_length("2em", 50.0).is_err());
+    }
+
+    #[test]
+    fn svg_out_path_data_closed_ends_on_first_point() {
+        let pts: Vec<Point> = [
+            (0., 0.),
+            (1., 0.),
+            (2., 0.),
+            (3., 0.),
+            (2., 2.),
+            (1., 2.),
+            (0., 0.),
+        ]
+        .map(Point::from)
+        .to_vec();
+        let path = Path::new(pts.clone(), true, &Default::default()).unwrap();
+        let mut deformed = pts;
+        deformed[6] = Point::new(1e-12, 0.0); // a rig that lets P_3n drift
+        let mut s = String::new();
+        push_path_data(&mut s, &path, &deformed, Affine::IDENTITY);
+        assert_eq!(s, "M0 0 C1 0 2 0 3 0 C2 2 1 2 0 0 Z");
+    }
+
+    #[test]
+    fn svg_out_standalone_has_one_path_per_chain() {
+        let pts = [(0., 0.), (1., 1.), (2., 1.), (3., 0.)]
+            .map(Point::from)
+            .to_vec();
+        let path = Path::new(pts.clone(), false, &Default::default()).unwrap();
+        let drawing = Drawing {
+            paths: vec![path.clone(), path],
+            source: None,
+        };
+        let flat = drawing.flat_points();
+        let out = write_svg(&drawing, &flat).unwrap();
+        assert_eq!(out.matches("<path ").count(), 2);
+        assert!(out.contains("d=\"M0 0 C1 1 2 1 3 0\""));
+        let doc = roxmltree::Document::parse(&out).unwrap();
+        let vb: Vec<f64> = doc
+            .root_element()
+            .attribute("viewBox")
+            .unwrap()
+            .split(' ')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        // bounds (0, 0)–(3, 1), margin 5 % of 3 = 0.15 on every side
+        for (v, want) in vb.iter().zip([-0.15, -0.15, 3.3, 1.3]) {
+            assert!((v - want).abs() < 1e-12, "{vb:?}");
+        }
+        let bad = write_svg(&drawing, &flat[1..]);
+        assert!(matches!(
+            bad,
+            Err(SvgError::PointCount {
+                expected: 8,
+                found: 7,
+                ..
+            })
+        ));
+        let mut nan = flat.clone();
+        nan[5].y = f64::NAN;
+        assert!(matches!(
+            write_svg(&drawing, &nan),
+            Err(SvgError::NonFinitePoint { index: 5, .. })
+        ));
+    }
+}
