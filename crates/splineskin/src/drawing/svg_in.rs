@@ -13,7 +13,9 @@
 //! close segments. usvg never touches the file system here (no resources directory, images are
 //! not loaded).
 //!
-//! Each segment becomes a cubic, computed in `f64` from usvg's `f32` points:
+//! The `d` of a `<path>` is read in `f64` with the same svgtypes simplification usvg applies
+//! (and checked against usvg's `f32` copy); shapes use usvg's `f32` points. Each segment then
+//! becomes a cubic, in `f64`:
 //!
 //! ```text
 //! line  p0 → p3:          c1 = p0 + (p3 − p0)/3,   c2 = p0 + 2(p3 − p0)/3          (exact)
@@ -23,10 +25,11 @@
 //!
 //! Elliptical arcs (in `d`, rounded-rect corners, circles and ellipses) are approximated by usvg
 //! and svgtypes with kurbo's standard arc approximation: at most 90° per cubic, control arms
-//! `4/3·tan(θ/4)` times the radius, so the radial error is at most `2.7e-4 × radius` per cubic,
-//! and at most 0.1 local units (more cubics are used on large arcs). This is the only geometric
-//! approximation of the import; everything else is exact up to usvg's `f32` storage (relative
-//! error ≈ 6e-8 of each coordinate and transform coefficient).
+//! `4/3·tan(θ/4)` times the radius, so the radial error is at most `2.73e-4 × radius` per cubic
+//! (the classic quarter-circle figure, 0.0273 %), and at most 0.1 local units (more cubics are
+//! used on large arcs). This is the only geometric
+//! approximation of the import; everything else is exact up to usvg's `f32` storage of
+//! transform coefficients and shape attributes (relative error ≈ 6e-8).
 //!
 //! # Coordinates
 //!
@@ -637,8 +640,25 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
         };
         let element = &mut elements[index];
         let before = paths.len();
-        convert_path_data(
-            usvg_path.data(),
+        let usvg_segments = segments_of_usvg(usvg_path.data());
+        let segments = match (element.kind, node.attribute("d")) {
+            (ElementKind::Path, Some(d)) => {
+                let exact = segments_of_path_data(d);
+                if same_structure(&exact, &usvg_segments) {
+                    exact
+                } else {
+                    tracing::warn!(
+                        file = origin,
+                        element = %element.label,
+                        "path data read in f64 differs from usvg's; using usvg's f32 data"
+                    );
+                    usvg_segments
+                }
+            }
+            _ => usvg_segments,
+        };
+        convert_segments(
+            &segments,
             element.local_to_root,
             &options.junctions,
             origin,
@@ -832,17 +852,120 @@ fn key_label(
     s
 }
 
-/// Appends the subpaths of usvg path data as [`Path`]s in root user space.
-fn convert_path_data(
-    data: &usvg::tiny_skia_path::Path,
+/// A segment of path data in local coordinates (`f64`), as tiny-skia's path builder stores
+/// it: absolute, arcs already cubics, `H`/`V`/`S`/`T` resolved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Segment {
+    Move(Point),
+    Line(Point),
+    Quad(Point, Point),
+    Cubic(Point, Point, Point),
+    Close,
+}
+
+/// usvg's (`f32`) path data as segments.
+fn segments_of_usvg(data: &usvg::tiny_skia_path::Path) -> Vec<Segment> {
+    use usvg::tiny_skia_path::PathSegment as S;
+    let pt = |p: usvg::tiny_skia_path::Point| Point::new(f64::from(p.x), f64::from(p.y));
+    data.segments()
+        .map(|s| match s {
+            S::MoveTo(p) => Segment::Move(pt(p)),
+            S::LineTo(p) => Segment::Line(pt(p)),
+            S::QuadTo(q, p) => Segment::Quad(pt(q), pt(p)),
+            S::CubicTo(c1, c2, p) => Segment::Cubic(pt(c1), pt(c2), pt(p)),
+            S::Close => Segment::Close,
+        })
+        .collect()
+}
+
+/// A validated `d` attribute as segments, in `f64`: the same svgtypes simplification usvg
+/// uses (arcs become cubics with kurbo at tolerance 0.1), with tiny-skia's path-builder rules
+/// (consecutive moves collapse, repeated closes collapse, drawing after a close starts at the
+/// subpath's start), but without usvg's rounding to `f32`.
+fn segments_of_path_data(d: &str) -> Vec<Segment> {
+    use svgtypes::SimplePathSegment as S;
+    let mut out: Vec<Segment> = Vec::new();
+    let mut last_move = Point::ORIGIN;
+    let mut move_required = true;
+    let move_to = |out: &mut Vec<Segment>, p: Point, last_move: &mut Point| {
+        match out.last_mut() {
+            Some(Segment::Move(q)) => *q = p,
+            _ => out.push(Segment::Move(p)),
+        }
+        *last_move = p;
+    };
+    for segment in svgtypes::SimplifyingPathParser::from(d) {
+        let Ok(segment) = segment else {
+            break; // as usvg does; validation has already refused such data
+        };
+        if !matches!(segment, S::MoveTo { .. } | S::ClosePath) && move_required {
+            move_to(&mut out, last_move, &mut last_move);
+            move_required = false;
+        }
+        match segment {
+            S::MoveTo { x, y } => {
+                move_to(&mut out, Point::new(x, y), &mut last_move);
+                move_required = false;
+            }
+            S::LineTo { x, y } => out.push(Segment::Line(Point::new(x, y))),
+            S::Quadratic { x1, y1, x, y } => {
+                out.push(Segment::Quad(Point::new(x1, y1), Point::new(x, y)))
+            }
+            S::CurveTo {
+                x1,
+                y1,
+                x2,
+                y2,
+                x,
+                y,
+            } => out.push(Segment::Cubic(
+                Point::new(x1, y1),
+                Point::new(x2, y2),
+                Point::new(x, y),
+            )),
+            S::ClosePath => {
+                if !matches!(out.last(), None | Some(Segment::Close)) {
+                    out.push(Segment::Close);
+                }
+                move_required = true;
+            }
+        }
+    }
+    out
+}
+
+/// Relative tolerance of the cross-check between our `f64` path data and usvg's `f32` one:
+/// 1e-6, a dozen `f32` ulps.
+const F32_CROSS_CHECK: f64 = 1e-6;
+
+/// Whether two segment lists have the same commands and points equal within `f32` rounding.
+fn same_structure(a: &[Segment], b: &[Segment]) -> bool {
+    let close = |p: &Point, q: &Point| {
+        (*p - *q).hypot() <= F32_CROSS_CHECK * (1.0 + p.x.abs().max(p.y.abs()))
+    };
+    a.len() == b.len()
+        && a.iter().zip(b).all(|pair| match pair {
+            (Segment::Move(p), Segment::Move(q)) | (Segment::Line(p), Segment::Line(q)) => {
+                close(p, q)
+            }
+            (Segment::Quad(p1, p), Segment::Quad(q1, q)) => close(p1, q1) && close(p, q),
+            (Segment::Cubic(p1, p2, p), Segment::Cubic(q1, q2, q)) => {
+                close(p1, q1) && close(p2, q2) && close(p, q)
+            }
+            (Segment::Close, Segment::Close) => true,
+            _ => false,
+        })
+}
+
+/// Appends the subpaths of `segments` (local coordinates) as [`Path`]s in root user space.
+fn convert_segments(
+    segments: &[Segment],
     local_to_root: Affine,
     junctions: &JunctionOptions,
     origin: &str,
     label: &str,
     out: &mut Vec<Path>,
 ) -> Result<(), SvgError> {
-    use usvg::tiny_skia_path::PathSegment;
-    let pt = |p: usvg::tiny_skia_path::Point| Point::new(f64::from(p.x), f64::from(p.y));
     let mut current: Vec<Point> = Vec::new();
     let mut finish = |points: &mut Vec<Point>, closed: bool| -> Result<(), SvgError> {
         let mut points = std::mem::take(points);
@@ -882,41 +1005,40 @@ fn convert_path_data(
         out.push(path);
         Ok(())
     };
-    for segment in data.segments() {
+    for &segment in segments {
         match segment {
-            PathSegment::MoveTo(p) => {
+            Segment::Move(p) => {
                 finish(&mut current, false)?;
-                current.push(pt(p));
+                current.push(p);
             }
-            PathSegment::LineTo(p) => {
-                let (p0, p3) = (last_point(&current), pt(p));
-                if current.is_empty() {
-                    current.push(p0);
-                }
+            Segment::Line(p3) => {
+                let p0 = start_point(&mut current);
                 current.extend([p0.lerp(p3, 1.0 / 3.0), p0.lerp(p3, 2.0 / 3.0), p3]);
             }
-            PathSegment::QuadTo(q, p) => {
-                let (p0, q, p3) = (last_point(&current), pt(q), pt(p));
-                if current.is_empty() {
-                    current.push(p0);
-                }
+            Segment::Quad(q, p3) => {
+                let p0 = start_point(&mut current);
                 current.extend([p0.lerp(q, 2.0 / 3.0), p3.lerp(q, 2.0 / 3.0), p3]);
             }
-            PathSegment::CubicTo(c1, c2, p) => {
-                if current.is_empty() {
-                    current.push(Point::ORIGIN);
-                }
-                current.extend([pt(c1), pt(c2), pt(p)]);
+            Segment::Cubic(c1, c2, p3) => {
+                start_point(&mut current);
+                current.extend([c1, c2, p3]);
             }
-            PathSegment::Close => finish(&mut current, true)?,
+            Segment::Close => finish(&mut current, true)?,
         }
     }
     finish(&mut current, false)
 }
 
-/// The current point of a subpath being built (the origin if none, as SVG says).
-fn last_point(points: &[Point]) -> Point {
-    points.last().copied().unwrap_or(Point::ORIGIN)
+/// The current point of a subpath being built; starts the subpath at the origin if it has
+/// none (tiny-skia always starts with a move, so this is only a guard).
+fn start_point(points: &mut Vec<Point>) -> Point {
+    match points.last() {
+        Some(&p) => p,
+        None => {
+            points.push(Point::ORIGIN);
+            Point::ORIGIN
+        }
+    }
 }
 
 /// Closes a subpath's chain (`≥ 1` point): snaps its last point onto the first when within
@@ -1190,6 +1312,28 @@ mod tests {
         assert!(check_points("0,0 1,1").is_ok());
         assert!(check_points("0,0 1").is_err());
         assert!(check_points("0,0 1,x").is_err());
+    }
+
+    #[test]
+    fn svg_in_f64_path_data_has_usvg_structure() {
+        for d in [
+            "M0 0 L1 1",
+            "M0 0 Z Z L1 1 Z",
+            "M1 1 M2 2 L3 3 M4 4",
+            "M0 0 L1 1 Z L2 2",
+            "m1 1 h2 v2 s1 1 2 0 t2 0 q1 1 2 2 z m3 3 l1 0",
+            "M10 0 A10 10 0 1 0 0 10 A3 7 30 0 1 5 5 A0 0 0 0 1 6 6",
+            "M0.1 0.2 C0.3 0.4 0.5 0.6 0.7 0.8",
+        ] {
+            let text = svg(&format!("<path id='p' d='{d}'/>"));
+            let tree = usvg::Tree::from_str(&text, &usvg_options()).unwrap();
+            let Some(usvg::Node::Path(p)) = tree.node_by_id("p") else {
+                panic!("{d}: no path");
+            };
+            let ours = segments_of_path_data(d);
+            let theirs = segments_of_usvg(p.data());
+            assert!(same_structure(&ours, &theirs), "{d}:\n{ours:?}\n{theirs:?}");
+        }
     }
 
     #[test]
