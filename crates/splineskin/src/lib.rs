@@ -19,3 +19,4 @@ pub mod render;
 pub mod scene;
 pub mod spline_fit;
 pub mod weights;
+pub mod examples;

@@ -1,0 +1,240 @@
+//! Bundled example data and synthetic test drawings.
+//!
+//! * [`DEMO_SVG`] and [`DEMO_SCENE`]: a fish drawn for this project (`assets/demo.svg`) and a
+//!   scene of ours rigging it with five point handles (head, body, tail, dorsal and anal fin)
+//!   and three poses (`assets/demo-scene.json`, format in [`crate::scene::ours`]). The drawing
+//!   has smooth junctions with unequal handles (G¹), exact C¹ ones, corners, a right-angle
+//!   corner, gradients, a transformed group, circles, an ellipse, a rounded rectangle and a
+//!   text label.
+//! * [`tile`]: copies of a drawing on a grid, to make drawings of any size for benchmarks and
+//!   scaling tests.
+
+use kurbo::{Point, Vec2};
+
+use crate::drawing::Drawing;
+
+/// The demo drawing, an SVG document of about 600 × 400 user units.
+pub const DEMO_SVG: &str = include_str!("../assets/demo.svg");
+
+/// The demo scene (our format), naming `demo.svg` as its drawing: load it with
+/// [`crate::scene::Scene::from_json`] and the `assets` folder as base folder, or replace the
+/// file name by [`DEMO_SVG`].
+pub const DEMO_SCENE: &str = include_str!("../assets/demo-scene.json");
+
+/// Gap between neighbouring tiles of [`tile`], as a fraction of the larger side of the
+/// drawing's control-point bounding box: 0.1. Enough that the tiles' control polygons do not
+/// overlap, small enough that the tiling stays compact.
+pub const TILE_MARGIN: f64 = 0.1;
+
+/// Tiles copies of `drawing` on a grid until the result has at least `min_curves` curves.
+///
+/// The grid has `cols = ⌈√n_tiles⌉` columns and `rows = ⌈n_tiles / cols⌉` rows, with
+/// `n_tiles = ⌈min_curves / n_curves⌉` (at least 1), and every cell is filled, so there may be
+/// up to `cols − 1` more tiles than needed. Tile `(row, col)` is the drawing translated by
+/// `(col · (w + m), row · (h + m))`, where `w × h` is the size of [`Drawing::control_bounds`]
+/// and `m` = [`TILE_MARGIN`] `· max(w, h)`; tiles are stored row by row, each with all of the
+/// drawing's paths in order and their joint kinds copied (not reclassified). The result has no
+/// SVG source (`source: None`): it cannot be written back into a document.
+///
+/// The returned handles are one per distinct tile among the four corner tiles and the centre
+/// tile `(rows / 2, cols / 2)` (so 5 for grids of at least 3 × 3, fewer for smaller ones): the
+/// centroid of `handles` translated into that tile, or the centre of the bounding box when
+/// `handles` is empty.
+///
+/// A drawing without curves is returned as a single tile: the copy of its (empty) paths, and
+/// `handles` unchanged.
+///
+/// ```
+/// use kurbo::Point;
+/// use splineskin::drawing::{Drawing, JunctionOptions, Path};
+/// use splineskin::examples::tile;
+///
+/// let pts = [(0.0, 0.0), (1.0, 1.0), (2.0, 1.0), (3.0, 0.0)].map(Point::from).to_vec();
+/// let drawing = Drawing {
+///     paths: vec![Path::new(pts, false, &JunctionOptions::default()).unwrap()],
+///     ..Default::default()
+/// };
+/// let (big, handles) = tile(&drawing, &[Point::new(1.5, 0.5)], 10);
+/// assert_eq!(big.n_curves(), 12); // a full 4 × 3 grid
+/// assert_eq!(handles.len(), 5);
+/// assert_eq!(handles[0], Point::new(1.5, 0.5)); // top-left tile: the handle itself
+/// ```
+pub fn tile(drawing: &Drawing, handles: &[Point], min_curves: usize) -> (Drawing, Vec<Point>) {
+    let n_curves = drawing.n_curves();
+    let Some(bounds) = drawing.control_bounds().filter(|_| n_curves > 0) else {
+        let copy = Drawing {
+            paths: drawing.paths.clone(),
+            source: None,
+        };
+        return (copy, handles.to_vec());
+    };
+    let n_tiles = min_curves.div_ceil(n_curves).max(1);
+    let cols = n_tiles.isqrt() + usize::from(n_tiles.isqrt().pow(2) < n_tiles);
+    let rows = n_tiles.div_ceil(cols);
+    let margin = TILE_MARGIN * bounds.width().max(bounds.height());
+    let step = Vec2::new(bounds.width() + margin, bounds.height() + margin);
+    let offset = |row: usize, col: usize| Vec2::new(col as f64 * step.x, row as f64 * step.y);
+
+    let mut paths = Vec::with_capacity(rows * cols * drawing.paths.len());
+    for row in 0..rows {
+        for col in 0..cols {
+            let d = offset(row, col);
+            paths.extend(drawing.paths.iter().map(|path| {
+                let mut copy = path.clone();
+                for p in &mut copy.points {
+                    *p += d;
+                }
+                copy
+            }));
+        }
+    }
+
+    let anchor = if handles.is_empty() {
+        bounds.center()
+    } else {
+        let sum = handles.iter().fold(Vec2::ZERO, |s, p| s + p.to_vec2());
+        (sum / handles.len() as f64).to_point()
+    };
+    let mut cells = vec![
+        (0, 0),
+        (0, cols - 1),
+        (rows - 1, 0),
+        (rows - 1, cols - 1),
+        (rows / 2, cols / 2),
+    ];
+    let mut seen = Vec::with_capacity(cells.len());
+    cells.retain(|c| {
+        let new = !seen.contains(c);
+        seen.push(*c);
+        new
+    });
+    let tiled_handles = cells
+        .into_iter()
+        .map(|(row, col)| anchor + offset(row, col))
+        .collect();
+
+    (
+        Drawing {
+            paths,
+            source: None,
+        },
+        tiled_handles,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::{JointKind, JunctionOptions, Path};
+
+    /// A closed drop shape (a C⁰ tip and G¹ junctions) and an open wave with a C¹ junction.
+    fn small_drawing() -> Drawing {
+        let drop = [
+            (0.0, 0.0),
+            (2.0, 1.0),
+            (3.0, 3.0),
+            (2.0, 4.0),
+            (1.5, 4.5),
+            (-1.5, 4.5),
+            (-2.0, 4.0),
+            (-3.0, 3.0),
+            (-2.0, 1.0),
+            (0.0, 0.0),
+        ]
+        .map(Point::from)
+        .to_vec();
+        let wave = [
+            (5.0, 0.0),
+            (6.0, 2.0),
+            (7.0, 2.0),
+            (8.0, 0.0),
+            (9.0, -2.0),
+            (10.0, -2.0),
+            (11.0, 0.0),
+        ]
+        .map(Point::from)
+        .to_vec();
+        let options = JunctionOptions::default();
+        Drawing {
+            paths: vec![
+                Path::new(drop, true, &options).unwrap(),
+                Path::new(wave, false, &options).unwrap(),
+            ],
+            source: None,
+        }
+    }
+
+    #[test]
+    fn tile_reaches_min_curves_on_a_full_grid() {
+        let drawing = small_drawing();
+        assert_eq!(drawing.n_curves(), 5);
+        assert_eq!(drawing.paths[0].joints[0], JointKind::C0);
+        assert_eq!(drawing.paths[1].joints[1], JointKind::C1);
+        for min_curves in [0, 1, 5, 6, 24, 26, 1000] {
+            let (tiled, handles) = tile(&drawing, &[Point::new(1.0, 2.0)], min_curves);
+            let n_tiles = tiled.paths.len() / drawing.paths.len();
+            assert_eq!(tiled.paths.len() % drawing.paths.len(), 0);
+            assert!(tiled.n_curves() >= min_curves.max(1), "{min_curves}");
+            assert_eq!(tiled.n_curves(), n_tiles * drawing.n_curves());
+            // The grid is full: at most one row more than needed.
+            let needed = min_curves.div_ceil(5).max(1);
+            let cols = (needed as f64).sqrt().ceil() as usize;
+            assert_eq!(n_tiles, cols * needed.div_ceil(cols), "{min_curves}");
+            let expected_handles = match (needed.div_ceil(cols), cols) {
+                (1, 1) => 1,
+                (1, _) => 2,
+                (r, c) if r <= 2 && c <= 2 => 4,
+                _ => 5,
+            };
+            assert_eq!(handles.len(), expected_handles, "{min_curves}");
+            assert!(tiled.source.is_none());
+        }
+    }
+
+    #[test]
+    fn tile_translates_exactly_and_copies_joints() {
+        let drawing = small_drawing();
+        let bounds = drawing.control_bounds().unwrap();
+        let (tiled, handles) = tile(&drawing, &[Point::new(0.0, 1.0), Point::new(2.0, 3.0)], 40);
+        // 8 tiles → a 3 × 3 grid.
+        let cols = 3;
+        assert_eq!(tiled.paths.len(), 9 * drawing.paths.len());
+        let margin = TILE_MARGIN * bounds.width().max(bounds.height());
+        let step = Vec2::new(bounds.width() + margin, bounds.height() + margin);
+        for (t, copy) in tiled.paths.chunks(drawing.paths.len()).enumerate() {
+            let d = Vec2::new((t % cols) as f64 * step.x, (t / cols) as f64 * step.y);
+            for (original, path) in drawing.paths.iter().zip(copy) {
+                assert_eq!(path.closed, original.closed);
+                assert_eq!(path.joints, original.joints);
+                for (p, q) in original.points.iter().zip(&path.points) {
+                    assert_eq!(*q, *p + d);
+                }
+            }
+        }
+        // Handles: the centroid (1, 2) in the corner tiles and the centre tile.
+        let at = |row: f64, col: f64| Point::new(1.0 + col * step.x, 2.0 + row * step.y);
+        assert_eq!(
+            handles,
+            vec![at(0., 0.), at(0., 2.), at(2., 0.), at(2., 2.), at(1., 1.)]
+        );
+        // Neighbouring tiles' control boxes are separated by the margin.
+        let first = tiled.paths[..2].iter().flat_map(|p| &p.points);
+        let second = tiled.paths[2..4].iter().flat_map(|p| &p.points);
+        let right_of_first = first.map(|p| p.x).fold(f64::MIN, f64::max);
+        let left_of_second = second.map(|p| p.x).fold(f64::MAX, f64::min);
+        assert!((left_of_second - right_of_first - margin).abs() < 1e-12);
+    }
+
+    #[test]
+    fn tile_of_an_empty_drawing_is_itself() {
+        let (tiled, handles) = tile(&Drawing::default(), &[Point::new(1.0, 1.0)], 100);
+        assert!(tiled.paths.is_empty());
+        assert_eq!(handles, vec![Point::new(1.0, 1.0)]);
+    }
+
+    #[test]
+    fn demo_assets_are_embedded() {
+        assert!(DEMO_SVG.starts_with("<svg"));
+        assert!(DEMO_SCENE.contains("\"splineskin_scene\": 1"));
+    }
+}
