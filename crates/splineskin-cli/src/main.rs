@@ -1,1 +1,67 @@
-fn main() {}
+//! `splineskin`: deform SVG drawings with spline skinning from the command line.
+//!
+//! One file per subcommand; the library does all the computing, this crate parses arguments,
+//! formats results and writes files atomically.
+
+mod bench;
+mod deform;
+mod demo;
+mod info;
+mod output;
+
+use clap::{Parser, Subcommand};
+
+/// Deform vector drawings with point handles and keep them Bézier splines.
+#[derive(Parser)]
+#[command(name = "splineskin", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Deform a scene's drawing by one of its poses and write SVG, PNG or JSON.
+    Deform(deform::Args),
+    /// Summarise a drawing: paths, curves and junction kinds.
+    Info(info::Args),
+    /// Time precomputation and per-frame update on scenes.
+    Bench(bench::Args),
+    /// Deform the bundled example drawing and write SVG and PNG files.
+    Demo(demo::Args),
+}
+
+fn main() -> std::process::ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Deform(a) => deform::run(a),
+        Command::Info(a) => info::run(a),
+        Command::Bench(a) => bench::run(a),
+        Command::Demo(a) => demo::run(a),
+    };
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+/// The `--compat` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum CompatArg {
+    /// Our discretisation (default).
+    None,
+    /// The paper authors' code exactly (their SVG reading, quadrature and constraint rows).
+    Vectorskinning,
+}
+
+impl From<CompatArg> for splineskin::scene::Compat {
+    fn from(c: CompatArg) -> Self {
+        match c {
+            CompatArg::None => splineskin::scene::Compat::None,
+            CompatArg::Vectorskinning => splineskin::scene::Compat::VectorSkinning,
+        }
+    }
+}

@@ -13,6 +13,9 @@
 
 pub mod authors;
 pub mod ours;
+mod setup;
+
+pub use setup::{Compat, Setup, AUTHORS_SHEPARD_SNAP};
 
 use std::path::{Path as FsPath, PathBuf};
 
@@ -217,6 +220,14 @@ pub enum SceneError {
         element: String,
         /// What was expected.
         message: String,
+    },
+    /// The scene's drawing could not be read.
+    #[error("{origin}: {source}")]
+    Drawing {
+        /// Where the SVG came from.
+        origin: String,
+        /// The importer's error.
+        source: Box<dyn std::error::Error + Send + Sync>,
     },
     /// A feature the scene asks for is not implemented in this version.
     #[error("{origin}: {what} is not implemented yet")]

@@ -34,6 +34,9 @@ pub struct FitOptions {
     /// Tolerances used when writing constraints (the smooth angle under which G¹ keeps the
     /// input's own angle, the coincidence distance). Default: [`JunctionOptions::default`].
     pub junctions: JunctionOptions,
+    /// Solve paths (and sample their weights) on several threads (rayon's global pool).
+    /// Default: `false` (sequential), so that the library never spawns threads unasked.
+    pub parallel: bool,
     /// Check every path's system for rank deficiency with a dense SVD (slow; compatibility
     /// mode uses it to report the paths where the authors' solver is ill-posed). Default: false.
     pub check_rank: bool,
@@ -46,6 +49,7 @@ impl Default for FitOptions {
             measure: Measure::LengthWeighted,
             constraint_form: ConstraintForm::Ours,
             junctions: JunctionOptions::default(),
+            parallel: false,
             check_rank: false,
         }
     }
@@ -67,6 +71,7 @@ impl FitOptions {
             },
             constraint_form: ConstraintForm::Authors,
             junctions: JunctionOptions::default(),
+            parallel: false,
             check_rank: true,
         }
     }
@@ -79,6 +84,11 @@ impl FitOptions {
     /// Sets [`FitOptions::quadrature`].
     pub fn with_quadrature(mut self, quadrature: Quadrature) -> Self {
         self.quadrature = quadrature;
+        self
+    }
+    /// Sets [`FitOptions::parallel`].
+    pub fn with_parallel(mut self, parallel: bool) -> Self {
+        self.parallel = parallel;
         self
     }
     /// Sets [`FitOptions::check_rank`].

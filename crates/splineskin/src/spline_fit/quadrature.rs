@@ -125,16 +125,33 @@ impl SampledCurves {
             omega: Vec::new(),
             weights: Vec::new(),
         };
-        let mut builder = CurveSamples::default();
-        for path in &drawing.paths {
+        let sample_path = |path: &Path| {
+            let mut builder = CurveSamples::default();
+            let mut part = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
             let min_measure = min_measure(path, options.constraint_form);
             for j in 0..path.n_curves() {
                 let c = path.curve_points(j);
                 builder.build(&c, field, options.quadrature, options.measure, min_measure);
-                out.t.extend_from_slice(&builder.t);
-                out.omega.extend_from_slice(&builder.omega);
-                out.weights.extend_from_slice(&builder.weights);
-                out.node_offsets.push(out.t.len());
+                part.0.extend_from_slice(&builder.t);
+                part.1.extend_from_slice(&builder.omega);
+                part.2.extend_from_slice(&builder.weights);
+                part.3.push(builder.t.len());
+            }
+            part
+        };
+        let parts: Vec<_> = if options.parallel {
+            use rayon::prelude::*;
+            drawing.paths.par_iter().map(sample_path).collect()
+        } else {
+            drawing.paths.iter().map(sample_path).collect()
+        };
+        for (t, omega, weights, counts) in parts {
+            out.t.extend_from_slice(&t);
+            out.omega.extend_from_slice(&omega);
+            out.weights.extend_from_slice(&weights);
+            for n in counts {
+                let last = *out.node_offsets.last().unwrap_or(&0);
+                out.node_offsets.push(last + n);
             }
         }
         out

@@ -116,13 +116,39 @@ impl SplineRig {
         let n_points = drawing.n_points();
         let n_cols = 6 * h;
         let mut operator = vec![0.0; 2 * n_points * n_cols];
+        // Paths are independent systems: solve them (in parallel if asked), then copy each
+        // path's operator rows into place.
+        let mut first_curves = Vec::with_capacity(drawing.paths.len());
+        let mut c = 0;
+        for path in &drawing.paths {
+            first_curves.push(c);
+            c += path.n_curves();
+        }
+        let solve = |(pi, (path, &first)): (usize, (&crate::drawing::Path, &usize))| {
+            solve_path(pi, path, samples, first, options)
+        };
+        let solved: Vec<_> = if options.parallel {
+            use rayon::prelude::*;
+            drawing
+                .paths
+                .par_iter()
+                .zip(first_curves.par_iter())
+                .enumerate()
+                .map(solve)
+                .collect::<Result<_, _>>()?
+        } else {
+            drawing
+                .paths
+                .iter()
+                .zip(first_curves.iter())
+                .enumerate()
+                .map(solve)
+                .collect::<Result<_, _>>()?
+        };
         let mut n_constraints = 0;
-        let mut first_curve = 0;
         let mut rank_deficient_paths = Vec::new();
         let mut offset = 0;
-        for (pi, path) in drawing.paths.iter().enumerate() {
-            let solved = solve_path(pi, path, samples, first_curve, options)?;
-            first_curve += path.n_curves();
+        for (pi, (path, solved)) in drawing.paths.iter().zip(&solved).enumerate() {
             n_constraints += solved.n_constraints;
             if solved.rank_deficient {
                 rank_deficient_paths.push(pi);

@@ -129,21 +129,7 @@ pub(crate) fn solve_path(
         path: path_index,
         detail: format!("LU factorisation: {e:?}"),
     })?;
-    let b = rhs.clone();
     lu.solve_in_place(rhs.as_mut());
-    // One step of iterative refinement: r = b − K x, x += K⁻¹ r. It costs one more solve and
-    // brings the invariants (identity, affine reproduction) from ~1e-11 to rounding level.
-    let mut residual = b;
-    faer::sparse::linalg::matmul::sparse_dense_matmul(
-        residual.as_mut(),
-        faer::Accum::Add,
-        kkt.as_ref(),
-        rhs.as_ref(),
-        -1.0,
-        faer::Par::Seq,
-    );
-    lu.solve_in_place(residual.as_mut());
-    rhs += &residual;
 
     let operator = rhs.subrows(0, n_x).to_owned();
     if !rank_deficient

@@ -1,0 +1,203 @@
+//! `splineskin bench SCENE… [--json]`: medians of weight sampling, precomputation and
+//! per-frame update, separately.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+use kurbo::{Affine, Point, Vec2};
+use serde::Serialize;
+use splineskin::scene::{Scene, Setup};
+use splineskin::spline_fit::quadrature::SampledCurves;
+use splineskin::spline_fit::SplineRig;
+
+use crate::CompatArg;
+
+/// Fewest timed updates per scene.
+const MIN_UPDATES: usize = 200;
+/// Fewest timed precomputations per scene.
+const MIN_PRECOMPUTES: usize = 3;
+/// Precomputations are repeated until this much time has been spent (or 50 runs).
+const PRECOMPUTE_BUDGET: Duration = Duration::from_secs(2);
+const MAX_PRECOMPUTES: usize = 50;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Scenes (our format or the paper authors').
+    scenes: Vec<PathBuf>,
+    /// Print one JSON object per line instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Number of timed updates (at least 200).
+    #[arg(long, default_value_t = 1000)]
+    updates: usize,
+    /// Also time a synthetic drawing of at least this many curves: the bundled drawing tiled,
+    /// with five handles spread over it.
+    #[arg(long)]
+    synthetic: Option<usize>,
+    /// Discretisation to time.
+    #[arg(long, value_enum, default_value_t = CompatArg::None)]
+    compat: CompatArg,
+}
+
+#[derive(Serialize)]
+struct Row {
+    scene: String,
+    curves: usize,
+    paths: usize,
+    handles: usize,
+    constraints: usize,
+    weights_s: f64,
+    precompute_s: f64,
+    update_s: f64,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    anyhow::ensure!(
+        !args.scenes.is_empty() || args.synthetic.is_some(),
+        "no scenes given (and no --synthetic)"
+    );
+    if !args.json {
+        println!(
+            "{:<60} {:>7} {:>7} {:>11} {:>12} {:>14} {:>12}",
+            "scene",
+            "curves",
+            "handles",
+            "constraints",
+            "weights (s)",
+            "precompute (s)",
+            "update (s)"
+        );
+    }
+    for path in &args.scenes {
+        let scene = Scene::load(path)?;
+        let mut setup = scene.setup(args.compat.into())?;
+        setup.options = setup.options.with_parallel(true);
+        let base = scene.pose(0).map(|p| p.transforms).unwrap_or_default();
+        let row = measure(
+            &path.display().to_string(),
+            &setup,
+            &base,
+            &scene.handles,
+            args.updates,
+        )?;
+        print_row(&row, args.json);
+    }
+    if let Some(min_curves) = args.synthetic {
+        let scene = splineskin::examples::demo_scene();
+        let mut setup = scene.setup(args.compat.into())?;
+        let (drawing, handles) =
+            splineskin::examples::tile(&setup.drawing, &scene.handles, min_curves);
+        setup.drawing = drawing;
+        setup.weights = Box::new(splineskin::weights::Shepard::new(
+            &handles,
+            splineskin::weights::ShepardOptions::default(),
+        ));
+        setup.options = setup.options.with_parallel(true);
+        let base = vec![Affine::IDENTITY; handles.len()];
+        let name = format!("synthetic: bundled drawing tiled to {min_curves}+ curves");
+        let row = measure(&name, &setup, &base, &handles, args.updates)?;
+        print_row(&row, args.json);
+    }
+    Ok(())
+}
+
+fn print_row(row: &Row, json: bool) {
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string(row).expect("plain numbers serialise")
+        );
+    } else {
+        println!(
+            "{:<60} {:>7} {:>7} {:>11} {:>12.3e} {:>14.3e} {:>12.3e}",
+            row.scene,
+            row.curves,
+            row.handles,
+            row.constraints,
+            row.weights_s,
+            row.precompute_s,
+            row.update_s
+        );
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+fn measure(
+    name: &str,
+    setup: &Setup,
+    base: &[Affine],
+    handles: &[Point],
+    updates: usize,
+) -> Result<Row> {
+    let drawing = &setup.drawing;
+    let weights = setup.weights.as_ref();
+    let start = Instant::now();
+    let mut weight_times = Vec::new();
+    let mut samples = None;
+    while weight_times.len() < MIN_PRECOMPUTES
+        || (start.elapsed() < PRECOMPUTE_BUDGET / 2 && weight_times.len() < MAX_PRECOMPUTES)
+    {
+        let t = Instant::now();
+        let s = SampledCurves::sample(drawing, weights, &setup.options);
+        weight_times.push(t.elapsed().as_secs_f64());
+        samples = Some(s);
+    }
+    let samples = samples.context("no samples")?;
+    let start = Instant::now();
+    let mut pre_times = Vec::new();
+    let mut rig = None;
+    while pre_times.len() < MIN_PRECOMPUTES
+        || (start.elapsed() < PRECOMPUTE_BUDGET && pre_times.len() < MAX_PRECOMPUTES)
+    {
+        let t = Instant::now();
+        let r = SplineRig::from_samples(drawing, &samples, &setup.options)?;
+        pre_times.push(t.elapsed().as_secs_f64());
+        rig = Some(r);
+    }
+    let rig = rig.context("no rig")?;
+    // Varying poses: every handle's saved transform followed by a small rotation about the
+    // handle that changes from frame to frame.
+    let n = updates.max(MIN_UPDATES);
+    let poses: Vec<Vec<Affine>> = (0..n)
+        .map(|k| {
+            handles
+                .iter()
+                .zip(base)
+                .enumerate()
+                .map(|(i, (h, t))| {
+                    let angle = 0.2 * ((k as f64) * 0.05 + i as f64).sin();
+                    let c = Vec2::new(h.x, h.y);
+                    Affine::translate(c) * Affine::rotate(angle) * Affine::translate(-c) * *t
+                })
+                .collect()
+        })
+        .collect();
+    let mut out = vec![Point::ZERO; rig.n_points()];
+    let mut update_times = Vec::with_capacity(n);
+    for pose in &poses {
+        let t = Instant::now();
+        rig.update(pose, &mut out)?;
+        update_times.push(t.elapsed().as_secs_f64());
+        std::hint::black_box(&out);
+    }
+    Ok(Row {
+        scene: name.to_string(),
+        curves: drawing.n_curves(),
+        paths: drawing.paths.len(),
+        handles: rig.n_handles(),
+        constraints: rig.n_constraints(),
+        weights_s: median(weight_times),
+        precompute_s: median(pre_times),
+        update_s: median(update_times),
+    })
+}

@@ -1,0 +1,65 @@
+//! `splineskin deform SCENE -o OUT`.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use kurbo::Point;
+use splineskin::scene::Scene;
+use splineskin::spline_fit::SplineRig;
+
+use crate::output::write_deformed;
+use crate::CompatArg;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene: our JSON format or the paper authors' `*-deformation.json`.
+    scene: PathBuf,
+    /// Output file: `.svg` (the input document with deformed paths), `.png`, or `.json`
+    /// (`{"paths":[{"closed":…,"points":[[x,y],…]}]}`).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Which of the scene's poses to apply (0 is the first).
+    #[arg(long, default_value_t = 0)]
+    pose: usize,
+    /// Reproduce another implementation's discretisation exactly.
+    #[arg(long, value_enum, default_value_t = CompatArg::None)]
+    compat: CompatArg,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    crate::output::Format::of(&args.output)?;
+    let scene = Scene::load(&args.scene)?;
+    let mut setup = scene.setup(args.compat.into())?;
+    setup.options = setup.options.with_parallel(true);
+    for w in &setup.warnings {
+        eprintln!("warning: {w}");
+    }
+    let pose = scene.pose(args.pose).with_context(|| {
+        format!(
+            "{}: pose {} does not exist (the scene has {})",
+            args.scene.display(),
+            args.pose,
+            scene.poses.len().max(1)
+        )
+    })?;
+    let rig = SplineRig::precompute(&setup.drawing, setup.weights.as_ref(), &setup.options)
+        .with_context(|| format!("{}: building the rig", args.scene.display()))?;
+    for p in rig.rank_deficient_paths() {
+        eprintln!(
+            "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
+        );
+    }
+    let mut points = vec![Point::ZERO; rig.n_points()];
+    rig.update(&pose.transforms, &mut points)?;
+    write_deformed(&args.output, &setup.drawing, &points)?;
+    eprintln!(
+        "{}: {} curves in {} paths, {} handles, pose {} -> {}",
+        args.scene.display(),
+        setup.drawing.n_curves(),
+        setup.drawing.paths.len(),
+        rig.n_handles(),
+        args.pose,
+        args.output.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,107 @@
+//! `splineskin info FILE`: paths, curves and junction kinds of an SVG (or of a scene's drawing).
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use anyhow::Result;
+use splineskin::drawing::{read_svg_file, Drawing, ImportOptions, JointKind};
+use splineskin::scene::{Compat, Scene};
+
+use crate::CompatArg;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// An SVG file, or a scene (`.json`) whose drawing to describe.
+    file: PathBuf,
+    /// Read the drawing as another implementation does.
+    #[arg(long, value_enum, default_value_t = CompatArg::None)]
+    compat: CompatArg,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let compat: Compat = args.compat.into();
+    let is_scene = args
+        .file
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let drawing = if is_scene {
+        let scene = Scene::load(&args.file)?;
+        println!(
+            "scene: {} handles, {} poses, weights {}, engine {}",
+            scene.handles.len(),
+            scene.poses.len(),
+            scene.weights.name(),
+            scene.engine.name()
+        );
+        match scene.setup(compat) {
+            Ok(setup) => {
+                for w in &setup.warnings {
+                    eprintln!("warning: {w}");
+                }
+                setup.drawing
+            }
+            Err(e) => {
+                eprintln!("note: {e}");
+                scene.drawing(compat)?
+            }
+        }
+    } else if compat == Compat::VectorSkinning {
+        let text = std::fs::read_to_string(&args.file)
+            .map_err(|e| anyhow::anyhow!("{}: cannot read: {e}", args.file.display()))?;
+        splineskin::drawing::authors_svg::read_authors_drawing(&text)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?
+    } else {
+        read_svg_file(&args.file, &ImportOptions::default())?
+    };
+    print!("{}", describe(&drawing));
+    Ok(())
+}
+
+/// The text `info` prints for a drawing.
+fn describe(drawing: &Drawing) -> String {
+    let mut totals: BTreeMap<&str, usize> = BTreeMap::new();
+    let mut lines = String::new();
+    for (i, path) in drawing.paths.iter().enumerate() {
+        let label = drawing
+            .source
+            .as_ref()
+            .map(|s| s.element_label(i))
+            .unwrap_or_default();
+        let kinds: Vec<&str> = path
+            .joints
+            .iter()
+            .map(|k| {
+                *totals.entry(k.name()).or_default() += 1;
+                k.name()
+            })
+            .collect();
+        lines.push_str(&format!(
+            "  path {i:>4}  {:<6} {:>4} curves  {label}\n            joints: {}\n",
+            if path.closed { "closed" } else { "open" },
+            path.n_curves(),
+            kinds.join(" ")
+        ));
+    }
+    let summary: Vec<String> = [
+        JointKind::C0,
+        JointKind::C1,
+        JointKind::G1,
+        JointKind::FixedAngle,
+        JointKind::End,
+    ]
+    .iter()
+    .map(|k| {
+        format!(
+            "{} {}",
+            k.name(),
+            totals.get(k.name()).copied().unwrap_or(0)
+        )
+    })
+    .collect();
+    format!(
+        "{} paths, {} curves; joints: {}\n{lines}",
+        drawing.paths.len(),
+        drawing.n_curves(),
+        summary.join(", ")
+    )
+}
