@@ -15,8 +15,8 @@
 
 pub mod bezier;
 pub mod drawing;
+pub mod examples;
 pub mod render;
 pub mod scene;
 pub mod spline_fit;
 pub mod weights;
-pub mod examples;
