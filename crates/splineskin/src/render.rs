@@ -69,11 +69,13 @@ pub fn render_png(svg_text: &str, max_size: u32) -> Result<Vec<u8>, RenderError>
             max: MAX_RENDER_SIZE,
         });
     }
-    let mut options = usvg::Options::default();
-    options.resources_dir = None;
-    options.image_href_resolver = usvg::ImageHrefResolver {
-        resolve_data: usvg::ImageHrefResolver::default_data_resolver(),
-        resolve_string: Box::new(|_, _| None),
+    let options = usvg::Options {
+        resources_dir: None,
+        image_href_resolver: usvg::ImageHrefResolver {
+            resolve_data: usvg::ImageHrefResolver::default_data_resolver(),
+            resolve_string: Box::new(|_, _| None),
+        },
+        ..usvg::Options::default()
     };
     let tree = usvg::Tree::from_str(svg_text, &options).map_err(|e| RenderError::Parse {
         message: e.to_string(),

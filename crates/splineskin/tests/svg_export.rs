@@ -330,3 +330,15 @@ fn svg_export_use_of_svg_element_is_unsupported() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn svg_export_keeps_namespace_prefixes() {
+    let text = "<s:svg xmlns:s='http://www.w3.org/2000/svg' viewBox='0 0 9 9'>\
+                <s:rect id='r' width='2' height='1'></s:rect><s:path d='M0 0 L1 1'/></s:svg>";
+    let drawing = read_svg(text, &ImportOptions::default()).unwrap();
+    let out = write_svg(&drawing, &drawing.flat_points()).unwrap();
+    assert!(out.starts_with("<s:svg xmlns:s='http://www.w3.org/2000/svg' viewBox='0 0 9 9'><s:path id='r' d=\"M0 0 C"), "{out}");
+    assert!(out.contains("Z\"></s:path><s:path d='M0 0 C"), "{out}");
+    let again = reimport(&out, "prefixed");
+    assert_eq!(again.n_curves(), drawing.n_curves());
+}

@@ -467,3 +467,38 @@ fn svg_import_junction_options_are_applied() {
     let d = read_svg(&text, &opts).unwrap();
     assert_eq!(d.paths[0].joints[1], JointKind::C0);
 }
+
+#[test]
+fn svg_import_edge_documents() {
+    // A byte-order mark before the document.
+    let bom = "\u{feff}<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 9 9'><path d='M0 0 L1 1'/></svg>";
+    assert_eq!(
+        read_svg(bom, &ImportOptions::default())
+            .unwrap()
+            .paths
+            .len(),
+        1
+    );
+    // A path that is a single point repeated: kept as one degenerate curve, or dropped by usvg
+    // as having no extent; either way no panic.
+    match inline("<path d='M5 5 L5 5'/>") {
+        Ok(d) => assert_eq!(d.paths[0].n_curves(), 1),
+        Err(e) => assert!(matches!(e, SvgError::NoPaths { .. }), "{e}"),
+    }
+    // A prefixed SVG root and prefixed shapes.
+    let prefixed = "<s:svg xmlns:s='http://www.w3.org/2000/svg' viewBox='0 0 9 9'>\
+                    <s:rect id='r' width='2' height='1'/></s:svg>";
+    let d = read_svg(prefixed, &ImportOptions::default()).unwrap();
+    assert_eq!(d.paths[0].n_curves(), 4);
+    // A symbol without viewBox used twice.
+    let d = inline(
+        "<symbol id='s'><path d='M0 0 L1 0'/></symbol>\
+         <use href='#s' x='10'/><use href='#s' x='20' y='1'/>",
+    )
+    .unwrap();
+    let starts: Vec<Point> = d.paths.iter().map(|p| p.points[0]).collect();
+    assert_eq!(starts, vec![Point::new(10.0, 0.0), Point::new(20.0, 1.0)]);
+    // Recursive use: skipped (as usvg does), the rest imported.
+    let d = inline("<g id='g'><use href='#g'/><path d='M0 0 L3 0'/></g>").unwrap();
+    assert_eq!(d.paths.len(), 1);
+}

@@ -524,13 +524,14 @@ pub(crate) fn parse_xml<'i>(
 /// usvg options that keep usvg away from the file system: no resources directory, and no
 /// image is loaded (images are irrelevant to the geometry).
 fn usvg_options() -> usvg::Options<'static> {
-    let mut options = usvg::Options::default();
-    options.resources_dir = None;
-    options.image_href_resolver = usvg::ImageHrefResolver {
-        resolve_data: Box::new(|_, _, _| None),
-        resolve_string: Box::new(|_, _| None),
-    };
-    options
+    usvg::Options {
+        resources_dir: None,
+        image_href_resolver: usvg::ImageHrefResolver {
+            resolve_data: Box::new(|_, _, _| None),
+            resolve_string: Box::new(|_, _| None),
+        },
+        ..usvg::Options::default()
+    }
 }
 
 fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Drawing, SvgError> {
@@ -988,7 +989,7 @@ fn convert_segments(
         for p in &mut points {
             *p = local_to_root * *p;
             for v in [p.x, p.y] {
-                if !(v.abs() <= MAX_COORDINATE) {
+                if v.is_nan() || v.abs() > MAX_COORDINATE {
                     return Err(SvgError::CoordinateOutOfRange {
                         file: origin.to_string(),
                         element: label.to_string(),
