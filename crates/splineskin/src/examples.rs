@@ -122,6 +122,21 @@ pub fn tile(drawing: &Drawing, handles: &[Point], min_curves: usize) -> (Drawing
     )
 }
 
+/// The bundled scene ([`DEMO_SCENE`]) with its drawing ([`DEMO_SVG`]) inline, ready to use
+/// without files.
+///
+/// ```
+/// let scene = splineskin::examples::demo_scene();
+/// assert_eq!(scene.handles.len(), 5);
+/// assert!(scene.svg_text.contains("<svg"));
+/// ```
+pub fn demo_scene() -> crate::scene::Scene {
+    let svg = serde_json::to_string(DEMO_SVG).expect("a string always serialises");
+    let json = DEMO_SCENE.replacen("\"svg\": \"demo.svg\"", &format!("\"svg_text\": {svg}"), 1);
+    crate::scene::Scene::from_json(&json, "demo-scene.json (bundled)", None)
+        .expect("the bundled scene is valid (tested)")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -237,19 +252,4 @@ mod tests {
         assert!(DEMO_SVG.starts_with("<svg"));
         assert!(DEMO_SCENE.contains("\"splineskin_scene\": 1"));
     }
-}
-
-/// The bundled scene ([`DEMO_SCENE`]) with its drawing ([`DEMO_SVG`]) inline, ready to use
-/// without files.
-///
-/// ```
-/// let scene = splineskin::examples::demo_scene();
-/// assert_eq!(scene.handles.len(), 5);
-/// assert!(scene.svg_text.contains("<svg"));
-/// ```
-pub fn demo_scene() -> crate::scene::Scene {
-    let svg = serde_json::to_string(DEMO_SVG).expect("a string always serialises");
-    let json = DEMO_SCENE.replacen("\"svg\": \"demo.svg\"", &format!("\"svg_text\": {svg}"), 1);
-    crate::scene::Scene::from_json(&json, "demo-scene.json (bundled)", None)
-        .expect("the bundled scene is valid (tested)")
 }

@@ -10,10 +10,9 @@
 //! two arc-length cases, and happens to agree in the third). The test asserts that exactly
 //! those paths are detected.
 
-mod authors_outputs;
 mod common;
 
-use authors_outputs::AuthorsCase;
+use common::authors_outputs::{self, AuthorsCase};
 use kurbo::Point;
 use splineskin::drawing::{Drawing, Path};
 use splineskin::spline_fit::{FitOptions, SplineRig};

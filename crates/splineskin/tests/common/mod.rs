@@ -1,4 +1,4 @@
-//! Shared helpers of the integration tests: where the external data lives.
+//! Shared helpers of the integration tests: where the external data lives, and readers of it.
 #![allow(dead_code)]
 
 use std::path::PathBuf;
@@ -14,3 +14,4 @@ pub fn data_root() -> Option<PathBuf> {
         None
     }
 }
+pub mod authors_outputs;

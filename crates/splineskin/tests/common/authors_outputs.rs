@@ -1,5 +1,5 @@
 //! Typed reader for `../shared/data/vectorskinning/authors-solver-outputs/*.json`.
-#![allow(dead_code)]
+#![allow(dead_code, missing_docs)]
 
 use kurbo::{Affine, Point};
 use serde::Deserialize;
