@@ -20,3 +20,8 @@ pub mod render;
 pub mod scene;
 pub mod spline_fit;
 pub mod weights;
+
+/// The README's code examples, compiled and run as doctests so they cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;

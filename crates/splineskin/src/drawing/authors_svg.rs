@@ -293,13 +293,10 @@ pub fn read_authors_drawing(svg_text: &str) -> Result<Drawing, AuthorsSvgError> 
 /// assert_eq!(kinds, vec![JointKind::End, JointKind::G1, JointKind::End]);
 /// ```
 pub fn authors_joints(points: &[Point], closed: bool) -> Option<Vec<JointKind>> {
-    if points.len() < 4 || (points.len() - 1) % 3 != 0 {
+    if !crate::drawing::is_chain(points, closed) {
         return None;
     }
     let n = (points.len() - 1) / 3;
-    if closed && points[0] != points[3 * n] {
-        return None;
-    }
     let count = if closed { n } else { n + 1 };
     let kinds = (0..count)
         .map(|k| {

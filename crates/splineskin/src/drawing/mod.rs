@@ -58,10 +58,7 @@ impl Path {
     /// assert_eq!(path.joints, vec![JointKind::End, JointKind::End]);
     /// ```
     pub fn new(points: Vec<Point>, closed: bool, options: &JunctionOptions) -> Option<Path> {
-        if points.len() < 4 || (points.len() - 1) % 3 != 0 {
-            return None;
-        }
-        if closed && points[0] != points[points.len() - 1] {
+        if !is_chain(&points, closed) {
             return None;
         }
         let joints = classify_joints(&points, closed, options);
@@ -102,6 +99,21 @@ impl Path {
             self.points.len()
         }
     }
+}
+
+/// Whether `points` is a chain of cubics: `3n + 1` points with `n ≥ 1`, and, if `closed`, the
+/// last point equal to the first.
+///
+/// ```
+/// use kurbo::Point;
+/// let p = [Point::ZERO, Point::new(1.0, 0.0), Point::new(1.0, 1.0), Point::ZERO];
+/// assert!(splineskin::drawing::is_chain(&p, true));
+/// assert!(!splineskin::drawing::is_chain(&p[..3], false));
+/// ```
+pub fn is_chain(points: &[Point], closed: bool) -> bool {
+    points.len() >= 4
+        && (points.len() - 1) % 3 == 0
+        && (!closed || points[0] == points[points.len() - 1])
 }
 
 impl Drawing {

@@ -163,11 +163,7 @@ pub(crate) fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
         handles,
         weights,
         engine,
-        measure: if file.arc_length {
-            Measure::ArcLength
-        } else {
-            Measure::LengthWeighted
-        },
+        measure: Measure::from_arc_length(file.arc_length),
         junctions: Vec::new(),
         authors_joints: Some(joints),
         poses,

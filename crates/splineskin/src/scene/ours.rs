@@ -308,11 +308,7 @@ pub(crate) fn parse(
         handles,
         weights,
         engine,
-        measure: if file.arc_length {
-            Measure::ArcLength
-        } else {
-            Measure::LengthWeighted
-        },
+        measure: Measure::from_arc_length(file.arc_length),
         junctions,
         authors_joints: None,
         poses,

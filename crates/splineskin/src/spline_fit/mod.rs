@@ -64,11 +64,7 @@ impl FitOptions {
             quadrature: Quadrature::AuthorsMidpoint {
                 samples: quadrature::AUTHORS_SAMPLES,
             },
-            measure: if arc_length {
-                Measure::ArcLength
-            } else {
-                Measure::LengthWeighted
-            },
+            measure: Measure::from_arc_length(arc_length),
             constraint_form: ConstraintForm::Authors,
             junctions: JunctionOptions::default(),
             parallel: false,

@@ -81,6 +81,18 @@ pub enum Measure {
     ArcLength,
 }
 
+impl Measure {
+    /// [`Measure::ArcLength`] if `arc_length`, else [`Measure::LengthWeighted`] (the scenes'
+    /// `arc_length` / `usingArcLengthParameterization` flag).
+    pub fn from_arc_length(arc_length: bool) -> Measure {
+        if arc_length {
+            Measure::ArcLength
+        } else {
+            Measure::LengthWeighted
+        }
+    }
+}
+
 /// The quadrature nodes of every curve of a drawing with the handle weights at them: the part
 /// of the precomputation that depends on the weight functions.
 ///
@@ -126,7 +138,7 @@ impl SampledCurves {
             weights: Vec::new(),
         };
         let sample_path = |path: &Path| {
-            let mut builder = CurveSamples::default();
+            let mut builder = CurveSamples::new(options.quadrature);
             let mut part = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
             let min_measure = min_measure(path, options.constraint_form);
             for j in 0..path.n_curves() {
@@ -216,10 +228,25 @@ struct CurveSamples {
     weights: Vec<f64>,
     scratch_kinks: Vec<f64>,
     scratch_w: Vec<f64>,
-    gauss: Vec<(usize, Vec<f64>, Vec<f64>)>,
+    /// Nodes and weights of the per-piece Gauss–Legendre rule (empty for other rules).
+    gauss_t: Vec<f64>,
+    gauss_w: Vec<f64>,
 }
 
 impl CurveSamples {
+    /// A builder for `quadrature`: computes its Gauss–Legendre rule once.
+    fn new(quadrature: Quadrature) -> Self {
+        let (gauss_t, gauss_w) = match quadrature {
+            Quadrature::Gauss { nodes, .. } => gauss_legendre(nodes.max(4)),
+            Quadrature::AuthorsMidpoint { .. } => (Vec::new(), Vec::new()),
+        };
+        CurveSamples {
+            gauss_t,
+            gauss_w,
+            ..Default::default()
+        }
+    }
+
     /// Fills `self` for the curve `c` with the rule `quadrature`, measure `measure`, handle
     /// weights from `field`, and `min_measure` as the floor of the curve's total measure (see
     /// [`MIN_RELATIVE_MEASURE`]).
@@ -236,7 +263,7 @@ impl CurveSamples {
         self.omega.clear();
         self.weights.clear();
         match quadrature {
-            Quadrature::Gauss { pieces, nodes } => {
+            Quadrature::Gauss { pieces, .. } => {
                 self.scratch_kinks.clear();
                 field.kinks(c, &mut self.scratch_kinks);
                 let pieces = pieces.max(1);
@@ -247,11 +274,9 @@ impl CurveSamples {
                 self.scratch_kinks.push(1.0);
                 self.scratch_kinks.sort_by(f64::total_cmp);
                 self.scratch_kinks.dedup();
-                let (gt, gw) = self.gauss_rule(nodes.max(4));
-                let (gt, gw) = (gt.to_vec(), gw.to_vec());
                 for piece in self.scratch_kinks.windows(2) {
                     let (a, b) = (piece[0], piece[1]);
-                    for (&s, &w) in gt.iter().zip(&gw) {
+                    for (&s, &w) in self.gauss_t.iter().zip(&self.gauss_w) {
                         self.t.push(a + (b - a) * s);
                         self.omega.push((b - a) * w);
                     }
@@ -265,16 +290,20 @@ impl CurveSamples {
                     }
                     Measure::ArcLength => {
                         // ‖B'‖ dt per node; the floor adds a uniform parameter measure so that a
-                        // degenerate (point) curve keeps a positive definite Gram matrix.
+                        // degenerate (point) curve keeps a positive definite Gram matrix (the
+                        // parameter weights sum to 1, so it adds exactly `floor`).
+                        self.scratch_w.clear();
+                        self.scratch_w
+                            .extend(self.t.iter().map(|&t| bezier::derivative(c, t).hypot()));
                         let total: f64 = self
-                            .t
+                            .omega
                             .iter()
-                            .zip(&self.omega)
-                            .map(|(&t, &w)| w * bezier::derivative(c, t).hypot())
+                            .zip(&self.scratch_w)
+                            .map(|(w, v)| w * v)
                             .sum();
                         let floor = (min_measure - total).max(0.0);
-                        for (t, w) in self.t.iter().zip(self.omega.iter_mut()) {
-                            *w *= bezier::derivative(c, *t).hypot() + floor;
+                        for (w, speed) in self.omega.iter_mut().zip(&self.scratch_w) {
+                            *w *= speed + floor;
                         }
                         1.0
                     }
@@ -331,19 +360,6 @@ impl CurveSamples {
             weights: &self.weights,
             n_handles,
         }
-    }
-
-    fn gauss_rule(&mut self, n: usize) -> (&[f64], &[f64]) {
-        let idx = match self.gauss.iter().position(|(m, _, _)| *m == n) {
-            Some(i) => i,
-            None => {
-                let (t, w) = gauss_legendre(n);
-                self.gauss.push((n, t, w));
-                self.gauss.len() - 1
-            }
-        };
-        let (_, t, w) = &self.gauss[idx];
-        (t, w)
     }
 }
 
@@ -404,7 +420,7 @@ mod tests {
     #[test]
     fn quadrature_gauss_gram_is_exact_times_length() {
         let field = Shepard::new(&[Point::new(0.0, 0.0)], ShepardOptions::default());
-        let mut s = CurveSamples::default();
+        let mut s = CurveSamples::new(Quadrature::default());
         s.build(
             &curve(),
             &field,
@@ -436,7 +452,7 @@ mod tests {
             Quadrature::AuthorsMidpoint { samples: 100 },
         ] {
             for m in [Measure::LengthWeighted, Measure::ArcLength] {
-                let mut s = CurveSamples::default();
+                let mut s = CurveSamples::new(q);
                 s.build(&curve(), &field, q, m, 0.0);
                 let a = s.nodes(field.n_handles()).gram();
                 let mut ms = Vec::new();
@@ -454,11 +470,11 @@ mod tests {
     #[test]
     fn quadrature_arc_length_total_is_curve_length() {
         let field = Shepard::new(&[Point::new(0.0, 0.0)], ShepardOptions::default());
-        let mut s = CurveSamples::default();
         let q = Quadrature::Gauss {
             pieces: 8,
             nodes: 8,
         };
+        let mut s = CurveSamples::new(q);
         s.build(&curve(), &field, q, Measure::ArcLength, 0.0);
         let c = curve();
         let len = kurbo::CubicBez::new(c[0], c[1], c[2], c[3]).arclen(1e-12);
@@ -470,7 +486,7 @@ mod tests {
     fn quadrature_degenerate_curve_gets_floor_measure() {
         let field = Shepard::new(&[Point::new(0.0, 0.0)], ShepardOptions::default());
         let p = [Point::new(1.0, 1.0); 4];
-        let mut s = CurveSamples::default();
+        let mut s = CurveSamples::new(Quadrature::default());
         for m in [Measure::LengthWeighted, Measure::ArcLength] {
             s.build(&p, &field, Quadrature::default(), m, 1e-3);
             let total: f64 = s.omega.iter().sum();

@@ -91,7 +91,7 @@ impl SplineRig {
         }
         validate(drawing)?;
         let samples = SampledCurves::sample(drawing, weights, options);
-        SplineRig::from_samples(drawing, &samples, options)
+        SplineRig::from_validated(drawing, &samples, options)
     }
 
     /// Builds the rig from weights already sampled at the quadrature nodes of `drawing` (with
@@ -102,11 +102,20 @@ impl SplineRig {
         samples: &SampledCurves,
         options: &FitOptions,
     ) -> Result<SplineRig, FitError> {
+        validate(drawing)?;
+        SplineRig::from_validated(drawing, samples, options)
+    }
+
+    /// [`SplineRig::from_samples`] on a drawing already checked by `validate`.
+    fn from_validated(
+        drawing: &Drawing,
+        samples: &SampledCurves,
+        options: &FitOptions,
+    ) -> Result<SplineRig, FitError> {
         let h = samples.n_handles();
         if h == 0 {
             return Err(FitError::NoHandles);
         }
-        validate(drawing)?;
         if samples.n_curves() != drawing.n_curves() {
             return Err(FitError::SamplesMismatch {
                 sampled: samples.n_curves(),
@@ -247,11 +256,10 @@ fn validate(drawing: &Drawing) -> Result<(), FitError> {
         return Err(FitError::NoPaths);
     }
     for (pi, path) in drawing.paths.iter().enumerate() {
-        let np = path.points.len();
-        if np < 4 || (np - 1) % 3 != 0 || (path.closed && path.points[0] != path.points[np - 1]) {
+        if !crate::drawing::is_chain(&path.points, path.closed) {
             return Err(FitError::BadChain {
                 path: pi,
-                n_points: np,
+                n_points: path.points.len(),
             });
         }
         let n = path.n_curves();
