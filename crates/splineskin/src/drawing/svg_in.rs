@@ -43,7 +43,10 @@
 //! Every subpath becomes one [`Path`] in document order. `Z` closes it: if the last point
 //! differs from the first (by more than [`CLOSE_SNAP`] of the subpath's size) a closing line is
 //! added as one more cubic, otherwise the last point is set to the first and the path is marked
-//! closed. Zero-length segments, duplicate consecutive points and control points on top of
+//! closed. A subpath without `Z` whose last point equals its first exactly (as drawn in
+//! illustration tools that close a shape by returning to its start) is closed too: its ends are
+//! one point with a junction, so a deformation cannot open it; export writes it back without
+//! `Z`, so its stroke caps do not change. Zero-length segments, duplicate consecutive points and control points on top of
 //! their end points are **kept** as they are (so the curve count is stable: export writes the
 //! same curves back). Subpaths of a single point (`M` alone, `M … Z` with nothing in between)
 //! carry no curve: they are skipped with a `tracing` warning and are not written back.
@@ -359,6 +362,9 @@ pub struct SvgSource {
     pub(crate) elements: Vec<ImportedElement>,
     /// For each path of the drawing, the index of its element in `elements`.
     pub(crate) path_elements: Vec<usize>,
+    /// For each path of the drawing, whether it is closed without a `Z` in the source (its
+    /// last point returns exactly to its first): export then writes no `Z` either.
+    pub(crate) closed_without_z: Vec<bool>,
     /// The root viewport size (usvg's resolution of `width`/`height`).
     pub(crate) size: Size,
     /// The root viewBox (`0 0 width height` when absent).
@@ -384,6 +390,15 @@ impl SvgSource {
     /// Number of paths the document produced (`Drawing::paths.len()` at import).
     pub fn n_paths(&self) -> usize {
         self.path_elements.len()
+    }
+
+    /// Whether path `path_index` is closed although its source subpath has no `Z` (it ends
+    /// exactly where it starts); `false` if out of range.
+    pub fn is_closed_without_z(&self, path_index: usize) -> bool {
+        self.closed_without_z
+            .get(path_index)
+            .copied()
+            .unwrap_or(false)
     }
 
     /// The index of the element that produced path `path_index`, if in range.
@@ -594,6 +609,7 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
 
     let mut paths: Vec<Path> = Vec::new();
     let mut path_elements = Vec::new();
+    let mut closed_without_z = Vec::new();
     let mut elements: Vec<ImportedElement> = Vec::new();
     let mut element_of_key: HashMap<ElementKey, usize> = HashMap::new();
     for (usvg_path, local_to_root) in found {
@@ -665,6 +681,7 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
             origin,
             &element.label,
             &mut paths,
+            &mut closed_without_z,
         )?;
         element.paths.end = paths.len();
         path_elements.extend(std::iter::repeat_n(index, paths.len() - before));
@@ -707,6 +724,7 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
         text: text.to_string(),
         elements: kept,
         path_elements,
+        closed_without_z,
         size,
         view_box,
     };
@@ -958,7 +976,8 @@ fn same_structure(a: &[Segment], b: &[Segment]) -> bool {
         })
 }
 
-/// Appends the subpaths of `segments` (local coordinates) as [`Path`]s in root user space.
+/// Appends the subpaths of `segments` (local coordinates) as [`Path`]s in root user space,
+/// and for each whether it is closed without a `Z` (to `closed_without_z`).
 fn convert_segments(
     segments: &[Segment],
     local_to_root: Affine,
@@ -966,16 +985,19 @@ fn convert_segments(
     origin: &str,
     label: &str,
     out: &mut Vec<Path>,
+    closed_without_z: &mut Vec<bool>,
 ) -> Result<(), SvgError> {
     let mut current: Vec<Point> = Vec::new();
-    let mut finish = |points: &mut Vec<Point>, closed: bool| -> Result<(), SvgError> {
+    let mut finish = |points: &mut Vec<Point>, has_z: bool| -> Result<(), SvgError> {
         let mut points = std::mem::take(points);
         if points.is_empty() {
             return Ok(());
         }
-        if closed {
+        if has_z {
             close_subpath(&mut points);
         }
+        let returns_to_start = !has_z && points.len() >= 4 && points[0] == points[points.len() - 1];
+        let closed = has_z || returns_to_start;
         if points.len() < 4 {
             tracing::warn!(
                 file = origin,
@@ -1004,6 +1026,7 @@ fn convert_segments(
             what: format!("{label}: a subpath is not a 3n+1 chain"),
         })?;
         out.push(path);
+        closed_without_z.push(returns_to_start);
         Ok(())
     };
     for &segment in segments {
@@ -1283,6 +1306,21 @@ mod tests {
         let same_end = read("<path d='M0 0 L10 0 L10 10 L0 0 Z'/>").unwrap();
         assert!(same_end.paths[0].closed);
         assert_eq!(same_end.paths[0].n_curves(), 3);
+    }
+
+    #[test]
+    fn svg_in_return_to_start_without_z_is_closed() {
+        let d = read("<path d='M0 0 C1 1 2 1 3 0 C2 -1 1 -1 0 0'/>").unwrap();
+        assert!(d.paths[0].closed);
+        assert_eq!(d.paths[0].joints.len(), 2);
+        assert!(d.source.as_ref().unwrap().is_closed_without_z(0));
+        // Ending near, but not exactly on, the start leaves the subpath open.
+        let open = read("<path d='M0 0 C1 1 2 1 3 0 C2 -1 1 -1 0 0.001'/>").unwrap();
+        assert!(!open.paths[0].closed);
+        assert!(!open.source.as_ref().unwrap().is_closed_without_z(0));
+        let with_z = read("<path d='M0 0 C1 1 2 1 3 0 C2 -1 1 -1 0 0 Z'/>").unwrap();
+        assert!(with_z.paths[0].closed);
+        assert!(!with_z.source.as_ref().unwrap().is_closed_without_z(0));
     }
 
     #[test]

@@ -141,6 +141,7 @@ fn write_standalone(drawing: &Drawing, points: &[Point], offsets: &[usize]) -> S
             path,
             &points[offset..offset + path.points.len()],
             Affine::IDENTITY,
+            true,
         );
         out.push_str("\" fill=\"none\" stroke=\"black\" stroke-width=\"");
         push_number(&mut out, STANDALONE_STROKE * side);
@@ -225,6 +226,7 @@ fn write_into_source(
                 path,
                 &points[offsets[i]..offsets[i] + path.points.len()],
                 inverse,
+                !source.is_closed_without_z(i),
             );
         }
         data.push(d);
@@ -250,8 +252,15 @@ fn write_into_source(
 }
 
 /// Appends one subpath as `M x y C x1 y1 x2 y2 x y … [Z]`, each point mapped by `to_local`.
-/// `points` has `path.points.len()` entries; a closed path's last cubic ends on `points[0]`.
-fn push_path_data(out: &mut String, path: &Path, points: &[Point], to_local: Affine) {
+/// `points` has `path.points.len()` entries; a closed path's last cubic ends on `points[0]`,
+/// followed by `Z` when `close_with_z` (a closed path whose source had no `Z` gets none).
+fn push_path_data(
+    out: &mut String,
+    path: &Path,
+    points: &[Point],
+    to_local: Affine,
+    close_with_z: bool,
+) {
     let n = path.n_curves();
     let local = |p: Point| {
         let q = to_local * p;
@@ -274,7 +283,7 @@ fn push_path_data(out: &mut String, path: &Path, points: &[Point], to_local: Aff
             push_numbers(out, &local(p));
         }
     }
-    if path.closed {
+    if path.closed && close_with_z {
         out.push_str(" Z");
     }
 }
@@ -949,8 +958,25 @@ mod tests {
         let mut deformed = pts;
         deformed[6] = Point::new(1e-12, 0.0); // a rig that lets P_3n drift
         let mut s = String::new();
-        push_path_data(&mut s, &path, &deformed, Affine::IDENTITY);
+        push_path_data(&mut s, &path, &deformed, Affine::IDENTITY, true);
         assert_eq!(s, "M0 0 C1 0 2 0 3 0 C2 2 1 2 0 0 Z");
+    }
+
+    #[test]
+    fn svg_out_keeps_a_missing_z() {
+        let svg = "<svg xmlns='http://www.w3.org/2000/svg'>\
+                   <path d='M0 0 C1 1 2 1 3 0 C2 -1 1 -1 0 0'/>\
+                   <path d='M5 0 C6 1 7 1 8 0 C7 -1 6 -1 5 0 Z'/></svg>";
+        let drawing = super::super::read_svg(svg, &Default::default()).unwrap();
+        assert!(drawing.paths.iter().all(|p| p.closed));
+        let points: Vec<Point> = drawing
+            .flat_points()
+            .iter()
+            .map(|p| *p + kurbo::Vec2::new(0.0, 1.0))
+            .collect();
+        let out = write_svg(&drawing, &points).unwrap();
+        assert!(out.contains("M0 1 C1 2 2 2 3 1 C2 0 1 0 0 1'"), "{out}");
+        assert!(out.contains("M5 1 C6 2 7 2 8 1 C7 0 6 0 5 1 Z'"), "{out}");
     }
 
     #[test]
