@@ -12,7 +12,11 @@
 //!   input angle (parallel, or the input's own angle below the smooth tolerance) and length
 //!   ratio, fixed-angle junctions keep angle and ratio, control points lying on a junction
 //!   point stay on it (1e-9);
-//! * the deformed drawing written by `svg_out::write_svg` reads back to the same paths and points.
+//! * the deformed drawing written by `svg_out::write_svg` reads back to the same paths and points;
+//! * junction kinds overridden through a scene (`junctions: [{path, joint, kind}]`) change the
+//!   fit: the imposed relation holds after every pose and did not without the override, a smooth
+//!   joint made C⁰ is free; overrides of missing paths or joints, or of open ends, are errors
+//!   naming `junctions[i]`.
 //!
 //! The paper authors' discretisation (`Compat::VectorSkinning`) does not reproduce the input at
 //! its G¹ joints (its rows force parallel tangents, and the bundled drawing's smooth joints are
@@ -26,8 +30,8 @@
 use kurbo::{Affine, Point, Vec2};
 use splineskin::drawing::svg_out::write_svg;
 use splineskin::drawing::{read_svg, Drawing, ImportOptions, JointKind, JunctionOptions, Path};
-use splineskin::examples::{demo_scene, tile, DEMO_SVG};
-use splineskin::scene::Compat;
+use splineskin::examples::{demo_scene, tile, DEMO_SCENE, DEMO_SVG};
+use splineskin::scene::{Compat, Scene, SceneError};
 use splineskin::spline_fit::{FitOptions, Measure, SplineRig};
 use splineskin::weights::{Shepard, ShepardOptions, WeightField};
 
@@ -743,4 +747,215 @@ fn rig_invariants_checks_detect_errors() {
         check_junctions(&drawing, &moved, &options, &mut worst);
         above(worst.closed.max(worst.pinned), "closure or pin");
     }
+}
+
+/// The demo scene (drawing inline) with `junctions` (JSON array, our format) added.
+fn scene_with_junctions(junctions: &str) -> Result<Scene, SceneError> {
+    let mut json: serde_json::Value = serde_json::from_str(DEMO_SCENE).unwrap();
+    let object = json.as_object_mut().unwrap();
+    object.remove("svg");
+    object.insert("svg_text".into(), DEMO_SVG.into());
+    object.insert("junctions".into(), serde_json::from_str(junctions).unwrap());
+    Scene::from_json(&json.to_string(), "junctions.json", None)
+}
+
+/// The scene's drawing deformed by each of its poses and by random ones, in `compat` mode.
+fn deform_scene(scene: &Scene, compat: Compat) -> (Drawing, Vec<Vec<Point>>) {
+    let setup = scene.setup(compat).unwrap();
+    let rig =
+        SplineRig::precompute(&setup.drawing, setup.weights.as_ref(), &setup.options).unwrap();
+    let mut rng = Rng(0x5eed_0005);
+    let random: Vec<_> = (0..RANDOM_POSES)
+        .map(|_| rng.pose(&scene.handles))
+        .collect();
+    let outputs = scene
+        .poses
+        .iter()
+        .map(|p| &p.transforms)
+        .chain(&random)
+        .map(|pose| {
+            let mut out = vec![Point::ZERO; rig.n_points()];
+            rig.update(pose, &mut out).unwrap();
+            out
+        })
+        .collect();
+    (setup.drawing, outputs)
+}
+
+/// Overrides on the fish's body (path 3, closed, joints C0 G1 G1 G1 G1 C1 C0), tail (path 0)
+/// and gill (path 8, open, End G1 End), as (path, joint, kind as imported, kind imposed).
+const OVERRIDES: [(usize, usize, JointKind, JointKind); 5] = [
+    (3, 1, JointKind::G1, JointKind::C0),
+    (3, 6, JointKind::C0, JointKind::G1),
+    (3, 0, JointKind::C0, JointKind::C1),
+    (0, 2, JointKind::C0, JointKind::FixedAngle),
+    (8, 1, JointKind::G1, JointKind::C1),
+];
+
+fn overrides_json() -> String {
+    let items: Vec<String> = OVERRIDES
+        .iter()
+        .map(|(path, joint, _, kind)| {
+            format!(
+                r#"{{"path": {path}, "joint": {joint}, "kind": "{}"}}"#,
+                kind.name()
+            )
+        })
+        .collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// Overriding a joint changes the fit: the imposed relation (C¹: equal tangents; G¹: parallel
+/// with the input ratio; angle: the input's corner angle and ratio) holds after every pose with
+/// the override and fails without it; a smooth joint made C⁰ is free (its G¹ relation, which
+/// held before, no longer does). Every other junction keeps its kind.
+#[test]
+fn scene_junction_overrides_change_the_fit() {
+    let options = JunctionOptions::default();
+    let (plain, plain_outputs) = deform_scene(&scene_with_junctions("[]").unwrap(), Compat::None);
+    let scene = scene_with_junctions(&overrides_json()).unwrap();
+    let (drawing, outputs) = deform_scene(&scene, Compat::None);
+    let diag = drawing.diagonal();
+    let mut worst = Worst::default();
+    for out in &outputs {
+        check_junctions(&drawing, out, &options, &mut worst);
+    }
+    worst.assert_within("demo with junction overrides");
+
+    // The error of relation `kind` at the joint (angle and ratio, or the tangents' difference
+    // for C¹), largest over the poses.
+    let error = |drawing: &Drawing, outputs: &[Vec<Point>], path: usize, joint: usize, kind| {
+        outputs
+            .iter()
+            .map(|out| {
+                let (p, o) = per_path(drawing, out).nth(path).unwrap();
+                let r = relation(&p.points, o, p.closed, joint, kind, &options).unwrap();
+                match kind {
+                    JointKind::C1 => r.difference / diag,
+                    _ => r.angle_error.max(r.ratio_error),
+                }
+            })
+            .fold(0.0, f64::max)
+    };
+    for (path, joint, imported, imposed) in OVERRIDES {
+        assert_eq!(plain.paths[path].joints[joint], imported);
+        assert_eq!(drawing.paths[path].joints[joint], imposed);
+        let (checked, before, after) = if imposed == JointKind::C0 {
+            // Free now: the G¹ relation held and no longer does.
+            let before = error(&plain, &plain_outputs, path, joint, imported);
+            let after = error(&drawing, &outputs, path, joint, imported);
+            assert!(before <= INVARIANT_TOLERANCE, "{path}/{joint}: {before:e}");
+            (imported, before, after)
+        } else {
+            let before = error(&plain, &plain_outputs, path, joint, imposed);
+            let after = error(&drawing, &outputs, path, joint, imposed);
+            assert!(after <= INVARIANT_TOLERANCE, "{path}/{joint}: {after:e}");
+            (imposed, before, after)
+        };
+        eprintln!("path {path} joint {joint} {imported:?} → {imposed:?}: {checked:?} relation error {before:e} before, {after:e} after");
+        let changed = if imposed == JointKind::C0 {
+            after
+        } else {
+            before
+        };
+        assert!(changed > 1e-4, "{path}/{joint}: {changed:e}");
+    }
+}
+
+/// The same in compatibility mode, where the authors' rows are written: the body's corner made
+/// G¹ satisfies their parallel-tangent row after every pose, and did not without the override.
+#[test]
+fn scene_junction_override_in_compat_mode() {
+    let json = r#"[{"path": 3, "joint": 6, "kind": "G1"}]"#;
+    let (plain, plain_outputs) =
+        deform_scene(&scene_with_junctions("[]").unwrap(), Compat::VectorSkinning);
+    let (drawing, outputs) =
+        deform_scene(&scene_with_junctions(json).unwrap(), Compat::VectorSkinning);
+    assert_eq!(plain.paths[3].joints[6], JointKind::C0);
+    assert_eq!(drawing.paths[3].joints[6], JointKind::G1);
+    let diag = drawing.diagonal();
+    let body = &drawing.paths[3];
+    let residual = |outputs: &[Vec<Point>]| {
+        outputs
+            .iter()
+            .map(|out| authors_residual(body, per_path(&drawing, out).nth(3).unwrap().1, diag))
+            .fold(0.0, f64::max)
+    };
+    let (before, after) = (residual(&plain_outputs), residual(&outputs));
+    eprintln!(
+        "compat: body corner made G1, authors' rows residual {before:e} before, {after:e} after"
+    );
+    assert!(after <= INVARIANT_TOLERANCE, "{after:e}");
+    assert!(before > 1e-4, "{before:e}");
+}
+
+/// Overrides naming a path or joint the drawing does not have, or an open end, are errors that
+/// name the entry (`junctions[i]`) and say what is wrong; so is the kind `end`.
+#[test]
+fn scene_junction_override_errors_name_the_entry() {
+    let setup_error = |junctions: &str, compat: Compat| -> String {
+        let scene = scene_with_junctions(junctions).unwrap();
+        match scene.setup(compat) {
+            Ok(_) => panic!("{junctions}: accepted"),
+            Err(e) => e.to_string(),
+        }
+    };
+    let valid = r#"{"path": 3, "joint": 1, "kind": "C0"}"#;
+    for (junctions, compat, expected) in [
+        (
+            format!(r#"[{valid}, {{"path": 99, "joint": 0, "kind": "C1"}}]"#),
+            Compat::None,
+            [
+                "junctions[1]",
+                "path 99 does not exist (the drawing has 16)",
+            ],
+        ),
+        (
+            r#"[{"path": 3, "joint": 7, "kind": "G1"}]"#.to_string(),
+            Compat::None,
+            ["junctions[0]", "joint 7 does not exist (path 3 has 7)"],
+        ),
+        (
+            format!(r#"[{valid}, {valid}, {{"path": 8, "joint": 0, "kind": "G1"}}]"#),
+            Compat::None,
+            ["junctions[2]", "joint 0 of path 8 is an open end"],
+        ),
+        (
+            r#"[{"path": 8, "joint": 2, "kind": "angle"}]"#.to_string(),
+            Compat::None,
+            ["junctions[0]", "joint 2 of path 8 is an open end"],
+        ),
+        // The circles and the rectangle are not read in compatibility mode: 11 paths.
+        (
+            r#"[{"path": 12, "joint": 0, "kind": "C1"}]"#.to_string(),
+            Compat::VectorSkinning,
+            [
+                "junctions[0]",
+                "path 12 does not exist (the drawing has 11)",
+            ],
+        ),
+    ] {
+        let message = setup_error(&junctions, compat);
+        for needle in expected {
+            assert!(message.contains(needle), "{junctions}: {message}");
+        }
+        assert!(message.contains("junctions.json"), "{message}");
+    }
+    // Path 12 (the pupil, an ellipse) exists in our mode.
+    let scene = scene_with_junctions(r#"[{"path": 12, "joint": 0, "kind": "C0"}]"#).unwrap();
+    assert_eq!(
+        scene.setup(Compat::None).ok().unwrap().drawing.paths[12].joints[0],
+        JointKind::C0
+    );
+
+    let message = scene_with_junctions(r#"[{"path": 3, "joint": 1, "kind": "end"}]"#)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(message.contains("junctions[0].kind"), "{message}");
+    let message = scene_with_junctions(r#"[{"path": 3, "joint": 1, "kind": "C2"}]"#)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(message.contains("C2"), "{message}");
 }
