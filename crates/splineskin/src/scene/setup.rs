@@ -59,7 +59,7 @@ impl Scene {
         let mut warnings = Vec::new();
         let mut drawing = self.drawing(compat)?;
         if let Some(kinds) = &self.authors_joints {
-            if let Some(w) = apply_authors_joints(&mut drawing, kinds) {
+            if let Some(w) = apply_authors_joints(&mut drawing, kinds, compat) {
                 warnings.push(format!("{}: {w}", self.origin));
             }
         }
@@ -146,7 +146,17 @@ impl Scene {
 
 /// Applies the authors' saved per-joint kinds when the drawing has their structure (same
 /// number of paths, each with their number of joints); otherwise returns why not.
-fn apply_authors_joints(drawing: &mut Drawing, kinds: &[Vec<JointKind>]) -> Option<String> {
+///
+/// Their `C1` is not strict C¹: their solver writes it as a tangent of fixed direction and
+/// fixed length *ratio* (the input's), which is our [`JointKind::G1`]. In default mode it is
+/// read as such, so a junction whose tangents have different lengths keeps its shape (strict
+/// C¹ would make the lengths equal). Compatibility mode keeps the label: its constraint form
+/// writes their rows for both.
+fn apply_authors_joints(
+    drawing: &mut Drawing,
+    kinds: &[Vec<JointKind>],
+    compat: Compat,
+) -> Option<String> {
     if kinds.is_empty() {
         return None;
     }
@@ -170,9 +180,11 @@ fn apply_authors_joints(drawing: &mut Drawing, kinds: &[Vec<JointKind>]) -> Opti
             if open_end {
                 *slot = JointKind::End;
             } else if let Some(&kind) = k.get(j) {
-                if kind != JointKind::End {
-                    *slot = kind;
-                }
+                *slot = match (kind, compat) {
+                    (JointKind::End, _) => *slot,
+                    (JointKind::C1, Compat::None) => JointKind::G1,
+                    _ => kind,
+                };
             }
         }
     }

@@ -6,7 +6,8 @@
 //! on every handle gives exactly that map of it (DESIGN.md §1, "Consistency").
 //!
 //! The measure `dμ` is `ℓ_j dt` (the paper's length weighting: `ℓ_j` the curve's undeformed
-//! arc length) or `‖B'(t)‖ dt` (arc-length measure, an option in the authors' code).
+//! arc length) or `ℓ_j ‖B'(t)‖ dt` (the arc-length option of the authors' code: arc length
+//! along the curve, the curve still weighted by its length, DESIGN.md §1 "Many curves").
 //!
 //! Two rules:
 //! * [`Quadrature::Gauss`] (default): the curve is cut at the weight field's kinks
@@ -35,7 +36,7 @@ pub const DEFAULT_NODES: usize = 8;
 /// Samples per curve of the authors' midpoint rule: 100.
 pub const AUTHORS_SAMPLES: usize = 100;
 
-/// Smallest measure used for a curve, relative to the largest curve length in its path: 1e-6.
+/// Smallest total measure of a curve, relative to the largest its path can have: 1e-6.
 /// A curve of zero length has no energy of its own and would make the system singular; with this
 /// floor its control points go to the (constant) skinned position of its point.
 pub const MIN_RELATIVE_MEASURE: f64 = 1e-6;
@@ -77,7 +78,8 @@ pub enum Measure {
     /// `ℓ_j dt`: each curve's energy weighted by its undeformed length (the paper).
     #[default]
     LengthWeighted,
-    /// `‖B'(t)‖ dt`: integrate with respect to arc length.
+    /// `ℓ_j ‖B'(t)‖ dt`: integrate with respect to arc length, each curve's energy still
+    /// weighted by its undeformed length `ℓ_j`, as in the authors' code.
     ArcLength,
 }
 
@@ -140,7 +142,7 @@ impl SampledCurves {
         let sample_path = |path: &Path| {
             let mut builder = CurveSamples::new(options.quadrature);
             let mut part = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-            let min_measure = min_measure(path, options.constraint_form);
+            let min_measure = min_measure(path, options.constraint_form, options.measure);
             for j in 0..path.n_curves() {
                 let c = path.curve_points(j);
                 builder.build(&c, field, options.quadrature, options.measure, min_measure);
@@ -191,9 +193,10 @@ impl SampledCurves {
     }
 }
 
-/// The floor of a curve's measure in `path`: [`MIN_RELATIVE_MEASURE`] times the path's largest
-/// control-polygon length (none in the authors' form: they have no floor).
-fn min_measure(path: &Path, form: ConstraintForm) -> f64 {
+/// The floor of a curve's total measure in `path`: [`MIN_RELATIVE_MEASURE`] times the largest
+/// total measure a curve of the path can have, bounded with its control-polygon length `L`
+/// (`L` length-weighted, `L²` with arc length). None in the authors' form: they have no floor.
+fn min_measure(path: &Path, form: ConstraintForm, measure: Measure) -> f64 {
     if form == ConstraintForm::Authors {
         return 0.0;
     }
@@ -203,7 +206,11 @@ fn min_measure(path: &Path, form: ConstraintForm) -> f64 {
             (c[1] - c[0]).hypot() + (c[2] - c[1]).hypot() + (c[3] - c[2]).hypot()
         })
         .fold(0.0, f64::max);
-    (MIN_RELATIVE_MEASURE * max_len).max(f64::MIN_POSITIVE)
+    let largest = match measure {
+        Measure::LengthWeighted => max_len,
+        Measure::ArcLength => max_len * max_len,
+    };
+    (MIN_RELATIVE_MEASURE * largest).max(f64::MIN_POSITIVE)
 }
 
 /// The quadrature of one curve: nodes `t`, node weights `omega` (measure included) and the
@@ -289,7 +296,8 @@ impl CurveSamples {
                         len.max(min_measure)
                     }
                     Measure::ArcLength => {
-                        // ‖B'‖ dt per node; the floor adds a uniform parameter measure so that a
+                        // ℓ_j ‖B'‖ dt per node, ℓ_j = ∫ ‖B'‖ dt by the same rule, so the total
+                        // is ℓ_j². The floor adds a uniform parameter measure so that a
                         // degenerate (point) curve keeps a positive definite Gram matrix (the
                         // parameter weights sum to 1, so it adds exactly `floor`).
                         self.scratch_w.clear();
@@ -301,9 +309,9 @@ impl CurveSamples {
                             .zip(&self.scratch_w)
                             .map(|(w, v)| w * v)
                             .sum();
-                        let floor = (min_measure - total).max(0.0);
+                        let floor = (min_measure - total * total).max(0.0);
                         for (w, speed) in self.omega.iter_mut().zip(&self.scratch_w) {
-                            *w *= speed + floor;
+                            *w *= speed * total + floor;
                         }
                         1.0
                     }
@@ -478,8 +486,12 @@ mod tests {
         s.build(&curve(), &field, q, Measure::ArcLength, 0.0);
         let c = curve();
         let len = kurbo::CubicBez::new(c[0], c[1], c[2], c[3]).arclen(1e-12);
+        // ℓ ∫ ‖B'‖ dt = ℓ².
         let total: f64 = s.omega.iter().sum();
-        assert!((total - len).abs() < 1e-9 * len, "{total} vs {len}");
+        assert!(
+            (total - len * len).abs() < 1e-9 * len * len,
+            "{total} vs {len}²"
+        );
     }
 
     #[test]

@@ -1,0 +1,279 @@
+//! End-to-end conformance with the paper authors' solver, through their saved scenes
+//! (`../shared/data/vectorskinning/**/*-deformation.json`) as a user opens them: the scene's
+//! SVG text, handles, joint kinds and pose, read by our scene loader.
+//!
+//! For every case of `authors-solver-outputs` with Shepard weights, the paper's engine and no
+//! G¹/angle joints:
+//!
+//! * **compatibility mode** (`Compat::VectorSkinning`: their SVG reading, midpoint rule,
+//!   polyline-length weighting, their rows) agrees with their `deformed_paths` to 1e-6 of the
+//!   bounding-box diagonal, point by point, except on paths whose system is rank deficient
+//!   (turtles paths 2 and 4 end with a curve of four coincident points; the authors' sparse LU
+//!   returns an arbitrary solution there), which are detected and excluded;
+//! * **default mode** (usvg import with exact line elevation, Gauss quadrature, strict C¹)
+//!   draws the same curves to 0.2 % of the diagonal. Control points are not comparable there
+//!   (a line's inner control points sit at its thirds in ours and on its ends in theirs), so
+//!   the distance is between the curves: each deformed curve is sampled and the farthest sample
+//!   from the corresponding curve of the other side counts, in both directions. The authors'
+//!   rank-deficient paths are excluded here too (their result is arbitrary).
+//!
+//! One case misses 0.2 % in default mode, for a reason that is a choice, not an error: the
+//! U-shape's two straight segments. A line is a cubic in many parametrisations; we elevate it
+//! (control points at thirds, uniform speed), they put the control points on its ends. The fit
+//! matches the skinned curve *at equal parameters*, so the two parametrisations give two
+//! different best cubics for the same bent line, both 1–4 % of the diagonal away from the
+//! exactly skinned shape (the cubic cannot follow it closely), and 0.40 % from each other.
+//! The test proves that this is the only difference: with our import's lines re-expressed the
+//! authors' way, the U-shape agrees to 2.3e-5. (Neither form is better in general: on the
+//! bundled fish, where lines meet curves smoothly, ours is ten times closer to the skinned
+//! shape; on the U-shape theirs is 1.6 times closer.)
+
+mod common;
+
+use common::authors_outputs::{self, AuthorsCase};
+use kurbo::{CubicBez, ParamCurve, ParamCurveNearest, Point};
+use splineskin::drawing::{Drawing, Path};
+use splineskin::scene::{Compat, Scene};
+use splineskin::spline_fit::SplineRig;
+
+/// Agreement required in compatibility mode, as a fraction of the bounding-box diagonal.
+const COMPAT_TOLERANCE: f64 = 1e-6;
+
+/// Agreement required in default mode, as a fraction of the bounding-box diagonal.
+const DEFAULT_TOLERANCE: f64 = 2e-3;
+
+/// Samples per curve for the curve-to-curve distance.
+const SAMPLES_PER_CURVE: usize = 24;
+
+/// Accuracy of the nearest-point search, as a fraction of the diagonal.
+const NEAREST_ACCURACY: f64 = 1e-9;
+
+/// Cases whose default-mode figure is dominated by the line parametrisation (see the module
+/// doc), and the bound they meet: 0.5 % of the diagonal.
+const LINE_FORM_CASES: &[&str] = &["U-shape__"];
+
+/// The bound for [`LINE_FORM_CASES`] with our lines.
+const LINE_FORM_TOLERANCE: f64 = 5e-3;
+
+/// Tolerance for recognising the same on-curve point in both readings (their coordinates are
+/// `float32`, ours `f64`), as a fraction of the diagonal.
+const SAME_POINT: f64 = 1e-6;
+
+fn scene_of(root: &std::path::Path, case: &AuthorsCase) -> Scene {
+    let relative = case
+        .source_json
+        .strip_prefix("tests-and-results/")
+        .expect("source_json under tests-and-results/");
+    let file = root.join("vectorskinning").join(relative);
+    Scene::load(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()))
+}
+
+fn deform(scene: &Scene, compat: Compat) -> (Drawing, Vec<Point>, Vec<usize>) {
+    deform_with(scene, compat, |_| {})
+}
+
+/// [`deform`] after `edit` has changed the drawing read from the scene.
+fn deform_with(
+    scene: &Scene,
+    compat: Compat,
+    edit: impl FnOnce(&mut Drawing),
+) -> (Drawing, Vec<Point>, Vec<usize>) {
+    let mut setup = scene.setup(compat).expect("setup");
+    edit(&mut setup.drawing);
+    let rig = SplineRig::precompute(&setup.drawing, setup.weights.as_ref(), &setup.options)
+        .expect("precompute");
+    let mut out = vec![Point::ZERO; rig.n_points()];
+    rig.update(&scene.pose(0).expect("pose 0").transforms, &mut out)
+        .expect("update");
+    (setup.drawing, out, rig.rank_deficient_paths().to_vec())
+}
+
+fn curve(points: &[Point], path: &Path, k: usize) -> CubicBez {
+    let p = |i: usize| {
+        if path.closed && i == path.points.len() - 1 {
+            points[0]
+        } else {
+            points[i]
+        }
+    };
+    CubicBez::new(p(3 * k), p(3 * k + 1), p(3 * k + 2), p(3 * k + 3))
+}
+
+/// Largest distance from samples of `a` to the curve `b`.
+fn one_sided(a: CubicBez, b: CubicBez, accuracy: f64) -> f64 {
+    (0..=SAMPLES_PER_CURVE)
+        .map(|s| {
+            let q = a.eval(s as f64 / SAMPLES_PER_CURVE as f64);
+            b.nearest(q, accuracy).distance_sq.sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Moves the inner control points of every straight segment (control points at the thirds of
+/// its chord, as our import elevates lines) onto its ends, as the authors' reader places them.
+/// Returns how many segments it changed.
+fn lines_to_authors_form(drawing: &mut Drawing) -> usize {
+    let mut changed = 0;
+    for path in &mut drawing.paths {
+        for k in 0..path.n_curves() {
+            let [a, b, c, d] = [0, 1, 2, 3].map(|i| path.points[3 * k + i]);
+            let tolerance = 1e-12 * (1.0 + a.to_vec2().hypot().max(d.to_vec2().hypot()));
+            let is_line = a != d
+                && (b - a.lerp(d, 1.0 / 3.0)).hypot() <= tolerance
+                && (c - a.lerp(d, 2.0 / 3.0)).hypot() <= tolerance;
+            if is_line {
+                path.points[3 * k + 1] = a;
+                path.points[3 * k + 2] = d;
+                changed += 1;
+            }
+        }
+    }
+    changed
+}
+
+/// Largest curve-to-curve distance, over the authors' paths not in `excluded`, between their
+/// deformed curves and ours (`ours` with `points`), relative to `diag`.
+fn default_mode_distance(
+    case: &AuthorsCase,
+    theirs: &Drawing,
+    ours: &Drawing,
+    points: &[Point],
+    excluded: &[usize],
+    diag: f64,
+) -> f64 {
+    let matched = match_paths(theirs, ours, SAME_POINT * diag);
+    let our_offsets = offsets(ours);
+    let accuracy = NEAREST_ACCURACY * diag;
+    let mut worst: f64 = 0.0;
+    for (i, &j) in matched.iter().enumerate() {
+        if excluded.contains(&i) {
+            continue;
+        }
+        let (a, b) = (&theirs.paths[i], &ours.paths[j]);
+        let deformed: Vec<Point> = case.deformed_paths[i]
+            .iter()
+            .map(|q| Point::new(q[0], q[1]))
+            .collect();
+        let mine = &points[our_offsets[j]..our_offsets[j] + b.points.len()];
+        for k in 0..a.n_curves() {
+            let (ca, cb) = (curve(&deformed, a, k), curve(mine, b, k));
+            let d = one_sided(ca, cb, accuracy).max(one_sided(cb, ca, accuracy));
+            worst = worst.max(d / diag);
+        }
+    }
+    worst
+}
+
+/// For each of the authors' paths, the index of our path with the same on-curve points (our
+/// import also reads shapes they ignore, such as `<polygon>`, so ours may have more paths).
+fn match_paths(theirs: &Drawing, ours: &Drawing, tolerance: f64) -> Vec<usize> {
+    let same = |a: &Path, b: &Path| {
+        a.n_curves() == b.n_curves()
+            && (0..=a.n_curves()).all(|k| (a.points[3 * k] - b.points[3 * k]).hypot() <= tolerance)
+    };
+    let mut next = 0;
+    theirs
+        .paths
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            let j = (next..ours.paths.len())
+                .find(|&j| same(a, &ours.paths[j]))
+                .unwrap_or_else(|| panic!("their path {i} has no counterpart in ours"));
+            next = j + 1;
+            j
+        })
+        .collect()
+}
+
+fn offsets(drawing: &Drawing) -> Vec<usize> {
+    drawing
+        .paths
+        .iter()
+        .scan(0, |o, p| {
+            let start = *o;
+            *o += p.points.len();
+            Some(start)
+        })
+        .collect()
+}
+
+#[test]
+fn authors_scenes_deform_as_their_solver() {
+    let Some(root) = common::data_root() else {
+        return;
+    };
+    let mut checked = 0;
+    for case in authors_outputs::shepard_linear_cases(&root) {
+        let scene = scene_of(&root, &case);
+        // The scene's first pose is the one the authors' solver output was computed for.
+        let pose = scene.pose(0).expect("pose 0").transforms;
+        assert_eq!(pose, case.pose(), "{}: pose", case.case);
+        assert_eq!(scene.handles, case.handles(), "{}: handles", case.case);
+
+        // Compatibility mode, point by point.
+        let (theirs, compat_points, singular) = deform(&scene, Compat::VectorSkinning);
+        let diag = theirs.diagonal();
+        let expected_singular: &[usize] = if case.case.starts_with("turtle") {
+            &[2, 4]
+        } else {
+            &[]
+        };
+        assert_eq!(singular, expected_singular, "{}", case.case);
+        let errors =
+            authors_outputs::per_path_errors(&theirs, &compat_points, &case.deformed_paths, diag);
+        let compat_worst = errors
+            .iter()
+            .enumerate()
+            .filter(|(p, _)| !singular.contains(p))
+            .map(|(_, e)| *e)
+            .fold(0.0, f64::max);
+
+        // Default mode, curve against curve; then with lines in their form.
+        let (ours, points, _) = deform(&scene, Compat::None);
+        let default_worst = default_mode_distance(&case, &theirs, &ours, &points, &singular, diag);
+        let mut n_lines = 0;
+        let (ours_l, points_l, _) = deform_with(&scene, Compat::None, |d| {
+            n_lines = lines_to_authors_form(d);
+        });
+        let lines_worst =
+            default_mode_distance(&case, &theirs, &ours_l, &points_l, &singular, diag);
+        eprintln!(
+            "{}: compatibility {:.1e}, default {:.2e} ({:.2e} with their form of {} lines) \
+             of the diagonal; {} of our {} paths matched; rank-deficient paths excluded: {:?}",
+            case.case,
+            compat_worst,
+            default_worst,
+            lines_worst,
+            n_lines,
+            theirs.paths.len(),
+            ours.paths.len(),
+            singular
+        );
+        assert!(
+            compat_worst <= COMPAT_TOLERANCE,
+            "{}: {compat_worst:e}",
+            case.case
+        );
+        assert!(
+            lines_worst <= DEFAULT_TOLERANCE,
+            "{}: {lines_worst:e}",
+            case.case
+        );
+        let line_form_case = LINE_FORM_CASES.iter().any(|c| case.case.starts_with(c));
+        let bound = if line_form_case {
+            // The only difference must be the lines: there are some, and they matter.
+            assert!(
+                n_lines > 0 && default_worst > DEFAULT_TOLERANCE,
+                "{}",
+                case.case
+            );
+            LINE_FORM_TOLERANCE
+        } else {
+            DEFAULT_TOLERANCE
+        };
+        assert!(default_worst <= bound, "{}: {default_worst:e}", case.case);
+        checked += 1;
+    }
+    assert_eq!(checked, 7, "expected the 7 Shepard linear cases");
+}
