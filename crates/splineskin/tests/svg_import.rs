@@ -135,9 +135,21 @@ fn svg_import_basic_shapes() {
         rect,
         [(10., 10.), (50., 10.), (50., 30.), (10., 30.), (10., 10.)].map(Point::from)
     );
-    // Lines are elevated exactly (up to f64 rounding): controls at 1/3 and 2/3.
+    // Sides between corners have their control points on their ends.
+    assert_eq!(d.paths[0].points[1], Point::new(10.0, 10.0), "rect c1");
+    assert_eq!(d.paths[0].points[2], Point::new(50.0, 10.0), "rect c2");
+    let line = [(80., 60.), (80., 60.), (180., 100.), (180., 100.)];
+    for (got, want) in d.paths[4].points.iter().zip(line) {
+        assert_close(*got, Point::from(want), EXACT, "line");
+    }
+    // Elevated exactly (up to f64 rounding) when asked: controls at 1/3 and 2/3.
+    let thirds = read_svg_file(
+        &fixture_path("shapes.svg"),
+        &ImportOptions::default().with_corner_lines_at_ends(false),
+    )
+    .unwrap();
     assert_close(
-        d.paths[0].points[1],
+        thirds.paths[0].points[1],
         Point::new(10.0 + 40.0 / 3.0, 10.0),
         EXACT,
         "rect c1",
@@ -148,7 +160,7 @@ fn svg_import_basic_shapes() {
         (80. + 200. / 3., 60. + 80. / 3.),
         (180., 100.),
     ];
-    for (got, want) in d.paths[4].points.iter().zip(line) {
+    for (got, want) in thirds.paths[4].points.iter().zip(line) {
         assert_close(*got, Point::from(want), EXACT, "line");
     }
     let circle_error = max_radial_error(&d.paths[2].points, Point::new(150.0, 30.0), 15.0);
