@@ -16,6 +16,7 @@
 pub mod bezier;
 pub mod drawing;
 pub mod examples;
+pub mod mesh;
 pub mod render;
 pub mod scene;
 pub mod spline_fit;
