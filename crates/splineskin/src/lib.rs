@@ -14,6 +14,7 @@
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
 pub mod bezier;
+pub mod domain;
 pub mod drawing;
 pub mod examples;
 pub mod mesh;

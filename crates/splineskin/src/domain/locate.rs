@@ -1,0 +1,404 @@
+//! Weights given at the vertices of a triangle mesh, evaluated anywhere by point location and
+//! barycentric interpolation: the [`WeightField`] of the mesh-based families (harmonic,
+//! biharmonic, bounded biharmonic; DESIGN.md §2).
+//!
+//! Inside triangle `(a, b, c)` the weights are the linear interpolant
+//!
+//! ```text
+//! w(p) = λ_a W_a + λ_b W_b + λ_c W_c,   λ_a = (b − p) × (c − p) / ((b − a) × (c − a)),  …
+//! ```
+//!
+//! (`W_v` the row of vertex `v`), which reproduces every affine function exactly. Outside the
+//! mesh (and in its holes) a point takes the weights of the nearest point of the mesh boundary,
+//! interpolated linearly along that boundary edge (DESIGN.md §2). The result is continuous
+//! everywhere and smooth inside each triangle; across mesh edges it is only C⁰, which is what
+//! [`WeightField::kinks`] reports to the quadrature.
+//!
+//! **Integration error.** Restricted to a cubic `B(t)`, the interpolant is a cubic polynomial in
+//! `t` on each piece between consecutive edge crossings, so `w_i(B(t)) b(t) b(t)ᵀ` has degree
+//! 9 there and the default composite rule (8 Gauss–Legendre nodes per piece, exact to degree
+//! 15; `spline_fit::quadrature`) integrates it exactly — the only error left is rounding and
+//! the accuracy of the crossing parameters ([`super::crossings::T_ACCURACY`]). The test
+//! `kinks_make_weighted_grams_exact` measures it against an independent exact integration on a
+//! structured mesh: ≤ 1e-13 relative (where 4 pieces without kinks are off by ~1e-3). Outside
+//! the mesh the nearest-boundary weights are smooth between changes of the nearest feature,
+//! which are not reported: curves outside the domain are integrated to the accuracy of the
+//! rule on a merely continuous function.
+
+use kurbo::{CubicBez, ParamCurve, Point, Rect};
+
+use super::crossings::cubic_segment_crossings;
+use super::grid::BucketGrid;
+use super::polygon::segment_distance;
+use super::DomainError;
+use crate::mesh::TriMesh;
+use crate::weights::WeightField;
+
+/// Barycentric slack of point location: `1e-12`. A point whose smallest barycentric
+/// coordinate in a triangle is above `−1e-12` counts as inside it. Interior points on an edge
+/// are found in either neighbour (the interpolant is continuous, so both give the same value to
+/// rounding); the slack only keeps points on the mesh boundary, after rounding, on the fast path.
+pub const BARYCENTRIC_SLACK: f64 = 1e-12;
+
+/// Two crossing parameters closer than this are one kink: `1e-12` (in `t`). A curve through a
+/// mesh vertex crosses every edge meeting there at (nearly) the same parameter.
+pub const KINK_MERGE: f64 = 1e-12;
+
+/// Largest number of pieces a curve is cut into to gather the mesh edges near it: 4096.
+const MAX_COVER_PIECES: usize = 4096;
+
+/// Per-vertex weights on a triangle mesh, evaluated by point location (a uniform grid of
+/// triangle buckets) and barycentric interpolation. Immutable once built, so `Send + Sync`.
+///
+/// ```
+/// use kurbo::Point;
+/// use splineskin::domain::MeshWeights;
+/// use splineskin::mesh::TriMesh;
+/// use splineskin::weights::WeightField;
+///
+/// // The unit square, two triangles; one handle whose weight is x + 2y.
+/// let v = [(0., 0.), (1., 0.), (1., 1.), (0., 1.)].map(Point::from).to_vec();
+/// let mesh = TriMesh::new(v, vec![[0, 1, 2], [0, 2, 3]])?;
+/// let w = MeshWeights::new(&mesh, vec![0.0, 1.0, 3.0, 2.0], 1)?;
+/// let mut out = [0.0];
+/// w.eval(Point::new(0.25, 0.5), &mut out);
+/// assert!((out[0] - 1.25).abs() < 1e-15);
+/// // Outside: the nearest boundary point, here (1, 0.5).
+/// w.eval(Point::new(3.0, 0.5), &mut out);
+/// assert!((out[0] - 2.0).abs() < 1e-15);
+/// // The straight cubic from (0, 0.5) to (1, 0.5) crosses the diagonal at t = ½.
+/// let line = [(0., 0.5), (1. / 3., 0.5), (2. / 3., 0.5), (1., 0.5)].map(Point::from);
+/// let mut kinks = Vec::new();
+/// w.kinks(&line, &mut kinks);
+/// assert_eq!(kinks.len(), 1);
+/// assert!((kinks[0] - 0.5).abs() < 1e-14);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct MeshWeights {
+    vertices: Vec<Point>,
+    triangles: Vec<[u32; 3]>,
+    /// `n_vertices × n_handles`, row-major.
+    weights: Vec<f64>,
+    n_handles: usize,
+    triangle_grid: BucketGrid,
+    /// Unique undirected edges.
+    edges: Vec<[u32; 2]>,
+    edge_grid: BucketGrid,
+    /// Boundary edges (one triangle only), as vertex pairs.
+    boundary: Vec<[u32; 2]>,
+    boundary_grid: BucketGrid,
+}
+
+impl MeshWeights {
+    /// Weights `weights` (`mesh.n_vertices() × n_handles`, row-major: entry `v · n_handles + i`
+    /// is `w_i` at vertex `v`) on `mesh`.
+    ///
+    /// Errors: an invalid mesh ([`TriMesh::check`]), more than `u32::MAX` vertices, a wrong
+    /// length, a non-finite weight, no handles, or an edge shared by more than two triangles.
+    pub fn new(
+        mesh: &TriMesh,
+        weights: Vec<f64>,
+        n_handles: usize,
+    ) -> Result<MeshWeights, DomainError> {
+        mesh.check()?;
+        let n_vertices = mesh.n_vertices();
+        if n_handles == 0 {
+            return Err(DomainError::NoHandles);
+        }
+        if n_vertices > u32::MAX as usize || mesh.n_triangles() > u32::MAX as usize {
+            return Err(DomainError::TooLarge {
+                n_vertices,
+                n_triangles: mesh.n_triangles(),
+            });
+        }
+        let expected = n_vertices.checked_mul(n_handles);
+        if expected != Some(weights.len()) {
+            return Err(DomainError::WeightsLength {
+                n_vertices,
+                n_handles,
+                len: weights.len(),
+            });
+        }
+        if let Some(k) = weights.iter().position(|w| !w.is_finite()) {
+            return Err(DomainError::NonFiniteWeight {
+                vertex: k / n_handles,
+                handle: k % n_handles,
+            });
+        }
+        let triangles: Vec<[u32; 3]> = mesh.triangles.iter().map(|t| t.map(|v| v as u32)).collect();
+
+        // Unique edges with their triangle counts: sort the directed half-edges by their
+        // undirected key.
+        let mut half: Vec<([u32; 2], u32)> = Vec::with_capacity(3 * triangles.len());
+        for t in &triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                half.push(([a.min(b), a.max(b)], a));
+            }
+        }
+        half.sort_unstable();
+        let mut edges = Vec::with_capacity(half.len() / 2 + 1);
+        let mut boundary = Vec::new();
+        let mut k = 0;
+        while k < half.len() {
+            let key = half[k].0;
+            let mut l = k + 1;
+            while l < half.len() && half[l].0 == key {
+                l += 1;
+            }
+            match l - k {
+                1 => {
+                    // Oriented as in its triangle (the mesh on its left).
+                    let a = half[k].1;
+                    let b = if a == key[0] { key[1] } else { key[0] };
+                    boundary.push([a, b]);
+                }
+                2 => {}
+                n_triangles => {
+                    return Err(DomainError::NonManifoldEdge {
+                        a: key[0] as usize,
+                        b: key[1] as usize,
+                        n_triangles,
+                    })
+                }
+            }
+            edges.push(key);
+            k = l;
+        }
+
+        let vertices = mesh.vertices.clone();
+        let bounds = vertices
+            .iter()
+            .fold(Rect::from_points(vertices[0], vertices[0]), |r, &p| {
+                r.union_pt(p)
+            });
+        // About one triangle per cell on average.
+        let cell = (bounds.area() / triangles.len() as f64).sqrt();
+        let triangle_grid = BucketGrid::build(bounds, cell, triangles.len(), |k, emit| {
+            let [a, b, c] = triangles[k].map(|v| vertices[v as usize]);
+            emit(Rect::from_points(a, b).union_pt(c));
+        });
+        let cell = triangle_grid.cell_size();
+        let segment = |e: &[u32; 2]| (vertices[e[0] as usize], vertices[e[1] as usize]);
+        let edge_grid = BucketGrid::build(bounds, cell, edges.len(), |k, emit| {
+            let (a, b) = segment(&edges[k]);
+            BucketGrid::segment_pieces(cell, a, b, emit);
+        });
+        let boundary_grid = BucketGrid::build(bounds, cell, boundary.len(), |k, emit| {
+            let (a, b) = segment(&boundary[k]);
+            BucketGrid::segment_pieces(cell, a, b, emit);
+        });
+        Ok(MeshWeights {
+            vertices,
+            triangles,
+            weights,
+            n_handles,
+            triangle_grid,
+            edges,
+            edge_grid,
+            boundary,
+            boundary_grid,
+        })
+    }
+
+    /// Number of mesh vertices.
+    pub fn n_vertices(&self) -> usize {
+        self.vertices.len()
+    }
+
+    /// The weights of all handles at vertex `v` (a row of the matrix given to
+    /// [`MeshWeights::new`]).
+    pub fn vertex_weights(&self, v: usize) -> &[f64] {
+        &self.weights[v * self.n_handles..(v + 1) * self.n_handles]
+    }
+
+    /// Number of boundary edges (edges of one triangle only).
+    pub fn n_boundary_edges(&self) -> usize {
+        self.boundary.len()
+    }
+
+    /// The triangle containing `p` and its barycentric coordinates, or `None` if `p` is outside
+    /// the mesh (by more than [`BARYCENTRIC_SLACK`]).
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin::domain::MeshWeights;
+    /// use splineskin::mesh::TriMesh;
+    /// let v = [(0., 0.), (2., 0.), (0., 2.)].map(Point::from).to_vec();
+    /// let mesh = TriMesh::new(v, vec![[0, 1, 2]])?;
+    /// let w = MeshWeights::new(&mesh, vec![1.0, 0.0, 0.0], 1)?;
+    /// let (t, l) = w.locate(Point::new(0.5, 0.5)).unwrap();
+    /// assert_eq!(t, 0);
+    /// assert!((l[0] - 0.5).abs() < 1e-15 && (l[1] - 0.25).abs() < 1e-15);
+    /// assert!(w.locate(Point::new(2.0, 2.0)).is_none());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn locate(&self, p: Point) -> Option<(usize, [f64; 3])> {
+        let (ix, iy) = self.triangle_grid.cell_of(p);
+        let mut best: Option<(usize, [f64; 3])> = None;
+        let mut best_min = f64::NEG_INFINITY;
+        for &t in self.triangle_grid.bucket(ix, iy) {
+            let l = self.barycentric(t as usize, p);
+            let m = l[0].min(l[1]).min(l[2]);
+            if m >= 0.0 {
+                return Some((t as usize, l));
+            }
+            if m > best_min {
+                best_min = m;
+                best = Some((t as usize, l));
+            }
+        }
+        best.filter(|_| best_min >= -BARYCENTRIC_SLACK)
+    }
+
+    /// Barycentric coordinates of `p` in triangle `t` (see the module documentation).
+    #[inline]
+    fn barycentric(&self, t: usize, p: Point) -> [f64; 3] {
+        let [a, b, c] = self.triangles[t].map(|v| self.vertices[v as usize]);
+        let area2 = (b - a).cross(c - a);
+        let la = (b - p).cross(c - p) / area2;
+        let lb = (c - p).cross(a - p) / area2;
+        [la, lb, 1.0 - la - lb]
+    }
+
+    /// The nearest point of the mesh boundary to `p`: boundary edge index and parameter along
+    /// it. A ring search over the grid's cells, stopped once no unvisited cell can be nearer.
+    fn nearest_boundary(&self, p: Point) -> Option<(usize, f64)> {
+        let (cx, cy) = self.boundary_grid.cell_of(p);
+        let (nx, ny) = self.boundary_grid.dims();
+        let cell = self.boundary_grid.cell_size();
+        let mut best: Option<(usize, f64)> = None;
+        let mut best_d = f64::INFINITY;
+        let visit = |bucket: &[u32], best: &mut Option<(usize, f64)>, best_d: &mut f64| {
+            for &e in bucket {
+                let [a, b] = self.boundary[e as usize];
+                let (d, s) =
+                    segment_distance(p, self.vertices[a as usize], self.vertices[b as usize]);
+                if d < *best_d {
+                    *best_d = d;
+                    *best = Some((e as usize, s));
+                }
+            }
+        };
+        for r in 0..nx.max(ny) {
+            let (x0, x1) = (cx.saturating_sub(r), (cx + r).min(nx - 1));
+            let (y0, y1) = (cy.saturating_sub(r), (cy + r).min(ny - 1));
+            for iy in y0..=y1 {
+                let on_edge_row = iy + r == cy || iy == cy + r;
+                if on_edge_row {
+                    for ix in x0..=x1 {
+                        visit(self.boundary_grid.bucket(ix, iy), &mut best, &mut best_d);
+                    }
+                } else {
+                    if cx >= r {
+                        visit(
+                            self.boundary_grid.bucket(cx - r, iy),
+                            &mut best,
+                            &mut best_d,
+                        );
+                    }
+                    if r > 0 && cx + r < nx {
+                        visit(
+                            self.boundary_grid.bucket(cx + r, iy),
+                            &mut best,
+                            &mut best_d,
+                        );
+                    }
+                }
+            }
+            // Every cell not yet visited is more than r cells away on some axis, so at least
+            // r · cell from p.
+            if best_d <= r as f64 * cell {
+                break;
+            }
+        }
+        best
+    }
+}
+
+impl WeightField for MeshWeights {
+    fn n_handles(&self) -> usize {
+        self.n_handles
+    }
+
+    fn eval(&self, p: Point, out: &mut [f64]) {
+        let h = self.n_handles;
+        debug_assert_eq!(out.len(), h);
+        if let Some((t, l)) = self.locate(p) {
+            let tri = self.triangles[t];
+            let (wa, wb, wc) = (
+                self.vertex_weights(tri[0] as usize),
+                self.vertex_weights(tri[1] as usize),
+                self.vertex_weights(tri[2] as usize),
+            );
+            for i in 0..h.min(out.len()) {
+                out[i] = l[0] * wa[i] + l[1] * wb[i] + l[2] * wc[i];
+            }
+            return;
+        }
+        match self.nearest_boundary(p) {
+            Some((e, s)) => {
+                let [a, b] = self.boundary[e];
+                let (wa, wb) = (
+                    self.vertex_weights(a as usize),
+                    self.vertex_weights(b as usize),
+                );
+                for i in 0..h.min(out.len()) {
+                    out[i] = (1.0 - s) * wa[i] + s * wb[i];
+                }
+            }
+            // A valid mesh has a boundary; unreachable, but never panic in evaluation.
+            None => out.fill(f64::NAN),
+        }
+    }
+
+    /// The parameters where the cubic crosses mesh edges (interior and boundary), found exactly
+    /// on the cubic ([`super::crossings`]), merged when closer than [`KINK_MERGE`], ascending.
+    fn kinks(&self, curve: &[Point; 4], out: &mut Vec<f64>) {
+        let start = out.len();
+        let cubic = CubicBez::new(curve[0], curve[1], curve[2], curve[3]);
+        let polygon_len = (curve[1] - curve[0]).hypot()
+            + (curve[2] - curve[1]).hypot()
+            + (curve[3] - curve[2]).hypot();
+        let cell = self.edge_grid.cell_size();
+        let n_pieces = if polygon_len.is_finite() {
+            ((polygon_len / cell).ceil() as usize).clamp(1, MAX_COVER_PIECES)
+        } else {
+            return;
+        };
+        // Edges in the cells covered by the pieces' control-point boxes (each piece lies in the
+        // convex hull of its control points).
+        let mut candidates: Vec<u32> = Vec::new();
+        for k in 0..n_pieces {
+            let piece =
+                cubic.subsegment(k as f64 / n_pieces as f64..(k + 1) as f64 / n_pieces as f64);
+            let r = Rect::from_points(piece.p0, piece.p1)
+                .union_pt(piece.p2)
+                .union_pt(piece.p3);
+            self.edge_grid
+                .for_cells_in(r, |bucket| candidates.extend_from_slice(bucket));
+        }
+        candidates.sort_unstable();
+        candidates.dedup();
+        for &e in &candidates {
+            let [a, b] = self.edges[e as usize];
+            cubic_segment_crossings(
+                curve,
+                self.vertices[a as usize],
+                self.vertices[b as usize],
+                out,
+            );
+        }
+        let found = &mut out[start..];
+        found.sort_by(f64::total_cmp);
+        let mut keep = start;
+        for k in start..out.len() {
+            if keep == start || out[k] - out[keep - 1] > KINK_MERGE {
+                out[keep] = out[k];
+                keep += 1;
+            }
+        }
+        out.truncate(keep);
+    }
+}

@@ -1,0 +1,762 @@
+//! Building a [`Domain`]: validation, boundary choice, vertex placement, constrained Delaunay
+//! triangulation and refinement (spade), extraction of the mesh. The rules are stated in the
+//! parent module's documentation.
+
+use std::collections::{HashMap, HashSet};
+
+use kurbo::{CubicBez, ParamCurve, ParamCurveArclen, Point, Rect, Shape};
+use spade::handles::FixedVertexHandle;
+use spade::{
+    AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
+};
+
+use super::grid::BucketGrid;
+use super::polygon::{
+    segment_distance, segments_intersect, self_intersection, signed_area, PolygonIndex,
+};
+use super::{Boundary, Domain, DomainError, DomainOptions, COINCIDENT_RELATIVE, MAX_MIN_ANGLE};
+use crate::drawing::Drawing;
+use crate::mesh::TriMesh;
+
+/// Arc-length accuracy of the per-curve sample counts, relative to the spacing: 1e-2 (the
+/// counts are rounded up anyway).
+const ARCLEN_ACCURACY: f64 = 1e-2;
+
+/// Relative tolerance of the check that the kept triangles tile the domain: 1e-9 of its area.
+/// The polygon and the triangles share their vertices, so only rounding separates the sums.
+const AREA_CHECK: f64 = 1e-9;
+
+type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
+pub(super) fn build(
+    drawing: &Drawing,
+    points: &[Point],
+    bones: &[[Point; 2]],
+    options: &DomainOptions,
+) -> Result<Domain, DomainError> {
+    check_options(options)?;
+    for (handle, p) in points.iter().enumerate() {
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            return Err(DomainError::NonFiniteHandle { handle });
+        }
+    }
+    for (bone, b) in bones.iter().enumerate() {
+        if !b.iter().all(|p| p.x.is_finite() && p.y.is_finite()) {
+            return Err(DomainError::NonFiniteBone { bone });
+        }
+    }
+    for (path, p) in drawing.paths.iter().enumerate() {
+        if !p.points.iter().all(|p| p.x.is_finite() && p.y.is_finite()) {
+            return Err(DomainError::NonFiniteDrawing { path });
+        }
+    }
+
+    // Scale: the curves' bounding box (else everything's).
+    let curve_bounds = drawing
+        .paths
+        .iter()
+        .flat_map(|p| (0..p.n_curves()).map(move |j| p.curve(j).bounding_box()))
+        .reduce(|a, b| a.union(b));
+    let cage = options.cage.as_ref().map(|c| closed_cage(c));
+    let mut all_bounds = curve_bounds;
+    let extra = points
+        .iter()
+        .chain(bones.iter().flatten())
+        .chain(cage.iter().flatten());
+    for &p in extra {
+        all_bounds = Some(all_bounds.map_or(Rect::from_points(p, p), |r| r.union_pt(p)));
+    }
+    if curve_bounds.is_none() && cage.is_none() {
+        return Err(DomainError::EmptyDomain {
+            reason: "the drawing has no curves and no cage was given",
+        });
+    }
+    let diag = |r: Rect| r.width().hypot(r.height());
+    let drawing_diag = curve_bounds
+        .map(diag)
+        .filter(|d| *d > 0.0)
+        .or(all_bounds.map(diag))
+        .unwrap_or(0.0);
+    let all_bounds = all_bounds.unwrap_or_default();
+    if !(drawing_diag > 0.0) {
+        return Err(DomainError::EmptyDomain {
+            reason: "the drawing, handles and cage span a single point",
+        });
+    }
+    let coincident = COINCIDENT_RELATIVE * drawing_diag.max(diag(all_bounds));
+    check_handles(points, bones, coincident)?;
+
+    // Curve samples, path by path (closed paths without the repeated first point).
+    let spacing = sample_spacing(drawing, drawing_diag, options);
+    let samples: Vec<Vec<Point>> = drawing
+        .paths
+        .iter()
+        .map(|path| {
+            let mut out = Vec::new();
+            for j in 0..path.n_curves() {
+                let c = path.curve(j);
+                let n = curve_intervals(&c, spacing, options);
+                out.extend((0..n).map(|k| c.eval(k as f64 / n as f64)));
+            }
+            if !path.closed {
+                out.push(*path.points.last().unwrap_or(&Point::ZERO));
+            }
+            dedup_consecutive(&mut out, path.closed);
+            out
+        })
+        .collect();
+
+    // The outer boundary.
+    let (outer, boundary) = match &cage {
+        Some(c) => {
+            check_cage(c, coincident)?;
+            (c.clone(), Boundary::Cage)
+        }
+        None => match closed_curve_boundary(drawing, &samples, points, bones, spacing) {
+            Some((path, poly)) => (poly, Boundary::ClosedCurve { path }),
+            None => {
+                let r = all_bounds.inflate(
+                    options.padding * drawing_diag,
+                    options.padding * drawing_diag,
+                );
+                let poly = vec![
+                    Point::new(r.x0, r.y0),
+                    Point::new(r.x1, r.y0),
+                    Point::new(r.x1, r.y1),
+                    Point::new(r.x0, r.y1),
+                ];
+                (poly, Boundary::Padded)
+            }
+        },
+    };
+    let outer_area = signed_area(&outer);
+    if !(outer_area > 0.0) {
+        return Err(DomainError::EmptyDomain {
+            reason: "the domain's boundary has zero area",
+        });
+    }
+    let outer_index = PolygonIndex::new(&[&outer]);
+    for (handle, &p) in points.iter().enumerate() {
+        if !outer_index.contains(p) && !on_polygon(&outer, p, coincident) {
+            return Err(DomainError::HandleOutsideDomain {
+                handle,
+                x: p.x,
+                y: p.y,
+            });
+        }
+    }
+    for (bone, b) in bones.iter().enumerate() {
+        let inside = b
+            .iter()
+            .all(|&p| outer_index.contains(p) || on_polygon(&outer, p, coincident));
+        let crosses = crosses_polygon(&outer, b[0], b[1], coincident);
+        if !inside || crosses {
+            return Err(DomainError::BoneOutsideDomain { bone });
+        }
+    }
+
+    // Holes.
+    let boundary_path = match boundary {
+        Boundary::ClosedCurve { path } => Some(path),
+        _ => None,
+    };
+    let holes: Vec<(usize, Vec<Point>)> = if options.holes {
+        find_holes(
+            drawing,
+            &samples,
+            boundary_path,
+            &outer_index,
+            points,
+            bones,
+        )
+    } else {
+        Vec::new()
+    };
+    let hole_area: f64 = holes.iter().map(|(_, h)| -signed_area(h)).sum();
+    let area = outer_area - hole_area;
+    let mut loops: Vec<&[Point]> = vec![&outer];
+    loops.extend(holes.iter().map(|(_, h)| h.as_slice()));
+    let domain_index = PolygonIndex::new(&loops);
+
+    // Vertices and constraint edges.
+    let merge = 0.5 * spacing;
+    let mut verts = VertexSet::new(merge, coincident);
+    let handle_vertices: Vec<usize> = points.iter().map(|&p| verts.add_fixed(p)).collect();
+    let mut constraints: Vec<[usize; 2]> = Vec::new();
+    let mut add_loop = |verts: &mut VertexSet, poly: &[Point]| -> Vec<usize> {
+        let idx: Vec<usize> = poly.iter().map(|&p| verts.add_fixed(p)).collect();
+        for k in 0..idx.len() {
+            let (a, b) = (idx[k], idx[(k + 1) % idx.len()]);
+            if a != b {
+                constraints.push([a, b]);
+            }
+        }
+        idx
+    };
+    let outer_vertices = add_loop(&mut verts, &outer);
+    for (_, h) in &holes {
+        add_loop(&mut verts, h);
+    }
+    let bone_chains: Vec<Vec<usize>> = bones
+        .iter()
+        .map(|b| {
+            let n = (((b[1] - b[0]).hypot() / spacing).ceil() as usize).max(1);
+            (0..=n)
+                .map(|k| verts.add_fixed(b[0].lerp(b[1], k as f64 / n as f64)))
+                .collect()
+        })
+        .collect();
+
+    // Segments near which curve samples are skipped: boundary, holes, bones.
+    let mut segments: Vec<(Point, Point)> = domain_index.edges().to_vec();
+    segments.extend(bones.iter().map(|b| (b[0], b[1])));
+    let seg_bounds = segments
+        .iter()
+        .fold(domain_index.bounds(), |r, s| r.union_pt(s.0).union_pt(s.1));
+    let seg_cell = (4.0 * merge).max(diag(seg_bounds) / 2048.0);
+    let seg_grid = BucketGrid::build(seg_bounds, seg_cell, segments.len(), |k, emit| {
+        BucketGrid::segment_pieces(seg_cell, segments[k].0, segments[k].1, emit)
+    });
+    let near_segment = |p: Point| {
+        let mut near = false;
+        seg_grid.for_cells_in(Rect::from_center_size(p, (2.0 * merge, 2.0 * merge)), |b| {
+            near = near
+                || b.iter().any(|&k| {
+                    let (a, c) = segments[k as usize];
+                    segment_distance(p, a, c).0 < merge
+                });
+        });
+        near
+    };
+    let hole_paths: HashSet<usize> = holes.iter().map(|(p, _)| *p).collect();
+    let mut n_curve_samples = 0;
+    for (path, s) in samples.iter().enumerate() {
+        if Some(path) == boundary_path || hole_paths.contains(&path) {
+            n_curve_samples += s.len();
+            continue;
+        }
+        for &p in s {
+            if domain_index.contains(p) && !near_segment(p) && verts.add_sample(p) {
+                n_curve_samples += 1;
+            }
+        }
+    }
+
+    // Triangulate and refine.
+    let n_initial = verts.points.len();
+    let mut conflicts = Vec::new();
+    let mut cdt = Cdt::try_bulk_load_cdt(
+        verts.points.iter().map(|p| Point2::new(p.x, p.y)).collect(),
+        constraints,
+        |e| conflicts.push(e),
+    )
+    .map_err(|e| DomainError::Triangulation {
+        reason: e.to_string(),
+    })?;
+    if !conflicts.is_empty() {
+        return Err(DomainError::Bug(
+            "constraint edges of a validated boundary intersect",
+        ));
+    }
+    if cdt.num_vertices() != n_initial {
+        return Err(DomainError::Bug(
+            "duplicate vertices reached the triangulator",
+        ));
+    }
+    let params = RefinementParameters::<f64>::new()
+        .exclude_outer_faces(true)
+        .with_angle_limit(AngleLimit::from_deg(options.min_angle))
+        .with_max_allowed_area(options.max_area_fraction * area)
+        .with_max_additional_vertices(options.max_vertices.saturating_sub(n_initial));
+    let result = cdt.refine(params);
+    if !result.refinement_complete {
+        tracing::warn!(
+            max_vertices = options.max_vertices,
+            "domain refinement stopped at the vertex cap before meeting its angle and area goals"
+        );
+    }
+    let excluded: HashSet<usize> = result.excluded_faces.iter().map(|f| f.index()).collect();
+
+    // Bones become constraint edges after refinement: spade's classification of outer faces
+    // needs closed constraint loops, and a bone is an open chain.
+    for chain in &bone_chains {
+        for w in chain.windows(2) {
+            if w[0] == w[1] {
+                continue;
+            }
+            let (a, b) = (
+                FixedVertexHandle::from_index(w[0]),
+                FixedVertexHandle::from_index(w[1]),
+            );
+            if !cdt.can_add_constraint(a, b) && !cdt.exists_constraint(a, b) {
+                return Err(DomainError::Bug("a bone crosses a constraint edge"));
+            }
+            cdt.add_constraint(a, b);
+        }
+    }
+
+    // Extract the kept triangles and compact the vertices.
+    let mut remap = vec![usize::MAX; cdt.num_vertices()];
+    let mut vertices = Vec::new();
+    let mut triangles = Vec::new();
+    for face in cdt.inner_faces() {
+        if excluded.contains(&face.fix().index()) {
+            continue;
+        }
+        let tri = face.vertices().map(|v| {
+            let i = v.fix().index();
+            if remap[i] == usize::MAX {
+                remap[i] = vertices.len();
+                let p = v.position();
+                vertices.push(Point::new(p.x, p.y));
+            }
+            remap[i]
+        });
+        triangles.push(tri);
+    }
+    let mesh = TriMesh::new(vertices, triangles)?;
+    let mesh_area: f64 = (0..mesh.n_triangles()).map(|t| mesh.signed_area(t)).sum();
+    if (mesh_area - area).abs() > AREA_CHECK * area {
+        return Err(DomainError::Bug(
+            "the kept triangles do not tile the domain",
+        ));
+    }
+    let mapped = |i: usize| {
+        let m = remap[i];
+        (m != usize::MAX)
+            .then_some(m)
+            .ok_or(DomainError::Bug("an input vertex is not in the mesh"))
+    };
+    let handle_vertices = handle_vertices
+        .into_iter()
+        .map(mapped)
+        .collect::<Result<Vec<_>, _>>()?;
+    let cage_vertices = if cage.is_some() {
+        outer_vertices
+            .iter()
+            .map(|&i| mapped(i))
+            .collect::<Result<Vec<_>, _>>()?
+    } else {
+        Vec::new()
+    };
+    let bone_vertices = bones
+        .iter()
+        .map(|b| vertices_on_segment(&mesh, b[0], b[1], coincident))
+        .collect();
+    let boundary_loops = boundary_loops(&mesh)?;
+    Ok(Domain {
+        mesh,
+        handle_vertices,
+        bone_vertices,
+        cage_vertices,
+        boundary_loops,
+        boundary,
+        area,
+        sample_spacing: spacing,
+        n_curve_samples,
+        refinement_complete: result.refinement_complete,
+    })
+}
+
+fn check_options(o: &DomainOptions) -> Result<(), DomainError> {
+    let bad = |name, value: f64, expected| {
+        Err(DomainError::InvalidOption {
+            name,
+            value,
+            expected,
+        })
+    };
+    if !(0.0..=MAX_MIN_ANGLE).contains(&o.min_angle) {
+        return bad("min_angle", o.min_angle, "0 to 34 degrees");
+    }
+    if !(o.max_area_fraction > 0.0 && o.max_area_fraction <= 1.0) {
+        return bad("max_area_fraction", o.max_area_fraction, "(0, 1]");
+    }
+    if !(o.samples_per_diagonal > 0.0 && o.samples_per_diagonal.is_finite()) {
+        return bad(
+            "samples_per_diagonal",
+            o.samples_per_diagonal,
+            "positive and finite",
+        );
+    }
+    if o.max_samples_per_curve == 0 {
+        return bad("max_samples_per_curve", 0.0, "at least 1");
+    }
+    if !(o.padding > 0.0 && o.padding.is_finite()) {
+        return bad("padding", o.padding, "positive and finite");
+    }
+    if o.max_vertices < 3 {
+        return bad("max_vertices", o.max_vertices as f64, "at least 3");
+    }
+    Ok(())
+}
+
+/// The cage without a repeated closing vertex.
+fn closed_cage(c: &[Point]) -> Vec<Point> {
+    let mut c = c.to_vec();
+    if c.len() > 1 && c.first() == c.last() {
+        c.pop();
+    }
+    c
+}
+
+fn check_cage(c: &[Point], coincident: f64) -> Result<(), DomainError> {
+    if let Some(vertex) = c.iter().position(|p| !(p.x.is_finite() && p.y.is_finite())) {
+        return Err(DomainError::CageNonFinite { vertex });
+    }
+    if c.len() < 3 {
+        return Err(DomainError::CageTooFewVertices {
+            n_vertices: c.len(),
+        });
+    }
+    for edge in 0..c.len() {
+        if (c[(edge + 1) % c.len()] - c[edge]).hypot() <= coincident {
+            return Err(DomainError::CageDegenerateEdge { edge });
+        }
+    }
+    if let Some((first, second)) = self_intersection(c) {
+        return Err(DomainError::CageSelfIntersecting { first, second });
+    }
+    let signed_area = signed_area(c);
+    if signed_area < 0.0 {
+        return Err(DomainError::CageClockwise { signed_area });
+    }
+    Ok(())
+}
+
+fn check_handles(points: &[Point], bones: &[[Point; 2]], tol: f64) -> Result<(), DomainError> {
+    for first in 0..points.len() {
+        for second in first + 1..points.len() {
+            let distance = (points[first] - points[second]).hypot();
+            if distance <= tol {
+                return Err(DomainError::CoincidentHandles {
+                    first,
+                    second,
+                    distance,
+                });
+            }
+        }
+    }
+    for (bone, b) in bones.iter().enumerate() {
+        if (b[1] - b[0]).hypot() <= tol {
+            return Err(DomainError::DegenerateBone { bone });
+        }
+        for (handle, &p) in points.iter().enumerate() {
+            if segment_distance(p, b[0], b[1]).0 <= tol {
+                return Err(DomainError::HandleOnBone { handle, bone });
+            }
+        }
+    }
+    for first in 0..bones.len() {
+        for second in first + 1..bones.len() {
+            let (a, b) = (bones[first], bones[second]);
+            let shared = a
+                .iter()
+                .flat_map(|p| b.iter().map(move |q| (*p - *q).hypot() <= tol))
+                .filter(|s| *s)
+                .count();
+            let crosses = if shared == 0 {
+                segments_intersect(a[0], a[1], b[0], b[1])
+            } else {
+                // Sharing an end: a problem only if one bone's free end lies on the other
+                // (overlap), or both ends are shared (the same bone twice).
+                shared > 1
+                    || a.iter().any(|&p| {
+                        b.iter().all(|q| (p - *q).hypot() > tol)
+                            && segment_distance(p, b[0], b[1]).0 <= tol
+                    })
+                    || b.iter().any(|&p| {
+                        a.iter().all(|q| (p - *q).hypot() > tol)
+                            && segment_distance(p, a[0], a[1]).0 <= tol
+                    })
+            };
+            if crosses {
+                return Err(DomainError::BonesCross { first, second });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Whether `p` is within `tol` of the polygon's boundary.
+fn on_polygon(poly: &[Point], p: Point, tol: f64) -> bool {
+    (0..poly.len()).any(|k| segment_distance(p, poly[k], poly[(k + 1) % poly.len()]).0 <= tol)
+}
+
+/// Whether the segment `a b` crosses the polygon's boundary other than at its own end points
+/// lying on it.
+fn crosses_polygon(poly: &[Point], a: Point, b: Point, tol: f64) -> bool {
+    let n = poly.len();
+    (0..n).any(|k| {
+        let (c, d) = (poly[k], poly[(k + 1) % n]);
+        segments_intersect(a, b, c, d)
+            && segment_distance(a, c, d).0 > tol
+            && segment_distance(b, c, d).0 > tol
+    })
+}
+
+/// The sample spacing `s` (module documentation): `D / samples_per_diagonal`, enlarged until
+/// the total count is within `max_curve_samples` (or every curve has a single interval).
+fn sample_spacing(drawing: &Drawing, diag: f64, o: &DomainOptions) -> f64 {
+    let lengths: Vec<f64> = drawing
+        .paths
+        .iter()
+        .flat_map(|p| (0..p.n_curves()).map(move |j| p.curve(j)))
+        .map(|c| c.arclen(ARCLEN_ACCURACY * diag / o.samples_per_diagonal))
+        .collect();
+    let mut s = diag / o.samples_per_diagonal;
+    for _ in 0..64 {
+        let total: usize = lengths
+            .iter()
+            .map(|&l| intervals_for(l, s, o.max_samples_per_curve))
+            .sum();
+        if total <= o.max_curve_samples || total <= lengths.len() {
+            break;
+        }
+        s *= (total as f64 / o.max_curve_samples as f64).max(1.01);
+    }
+    s
+}
+
+fn intervals_for(len: f64, s: f64, cap: usize) -> usize {
+    let n = (len / s).ceil();
+    if n.is_finite() && n >= 1.0 {
+        (n as usize).min(cap)
+    } else {
+        1
+    }
+}
+
+fn curve_intervals(c: &CubicBez, s: f64, o: &DomainOptions) -> usize {
+    intervals_for(c.arclen(ARCLEN_ACCURACY * s), s, o.max_samples_per_curve)
+}
+
+/// Removes consecutive exact duplicates (and, if closed, a last point equal to the first).
+fn dedup_consecutive(v: &mut Vec<Point>, closed: bool) {
+    v.dedup();
+    if closed && v.len() > 1 && v.first() == v.last() {
+        v.pop();
+    }
+}
+
+/// The largest closed path's flattening, counter-clockwise, if it is simple and contains all
+/// other geometry (see the module documentation).
+fn closed_curve_boundary(
+    drawing: &Drawing,
+    samples: &[Vec<Point>],
+    points: &[Point],
+    bones: &[[Point; 2]],
+    spacing: f64,
+) -> Option<(usize, Vec<Point>)> {
+    let (path, area) = drawing
+        .paths
+        .iter()
+        .enumerate()
+        .filter(|(k, p)| p.closed && samples[*k].len() >= 3)
+        .map(|(k, _)| (k, signed_area(&samples[k])))
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?;
+    if area == 0.0 {
+        return None;
+    }
+    let mut poly = samples[path].clone();
+    if area < 0.0 {
+        poly.reverse();
+    }
+    if self_intersection(&poly).is_some() {
+        return None;
+    }
+    let index = PolygonIndex::new(&[&poly]);
+    let handles_inside = points
+        .iter()
+        .chain(bones.iter().flatten())
+        .all(|&p| index.contains(p));
+    if !handles_inside {
+        return None;
+    }
+    let curves_inside = samples
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| *k != path)
+        .flat_map(|(_, s)| s.iter())
+        .all(|&p| index.contains(p) || on_polygon(&poly, p, spacing));
+    curves_inside.then_some((path, poly))
+}
+
+/// Closed paths that become holes (module documentation), clockwise.
+fn find_holes(
+    drawing: &Drawing,
+    samples: &[Vec<Point>],
+    boundary_path: Option<usize>,
+    outer: &PolygonIndex,
+    points: &[Point],
+    bones: &[[Point; 2]],
+) -> Vec<(usize, Vec<Point>)> {
+    let mut holes = Vec::new();
+    for (k, path) in drawing.paths.iter().enumerate() {
+        if !path.closed || Some(k) == boundary_path || samples[k].len() < 3 {
+            continue;
+        }
+        let mut poly = samples[k].clone();
+        let area = signed_area(&poly);
+        if area == 0.0 || self_intersection(&poly).is_some() {
+            continue;
+        }
+        if area > 0.0 {
+            poly.reverse();
+        }
+        if !poly.iter().all(|&p| outer.contains(p)) {
+            continue;
+        }
+        let index = PolygonIndex::new(&[&poly]);
+        let bounds = index.bounds();
+        let inside = |p: Point| bounds.contains(p) && index.contains(p);
+        let encloses_handle = points
+            .iter()
+            .chain(bones.iter().flatten())
+            .any(|&p| inside(p));
+        let encloses_curve = samples
+            .iter()
+            .enumerate()
+            .filter(|(l, _)| *l != k)
+            .any(|(_, s)| s.iter().any(|&p| inside(p)));
+        if !encloses_handle && !encloses_curve {
+            holes.push((k, poly));
+        }
+    }
+    holes
+}
+
+/// The points of the triangulation, with merging of near-duplicates through a hash of cells
+/// of side `merge`.
+struct VertexSet {
+    points: Vec<Point>,
+    cells: HashMap<(i64, i64), Vec<usize>>,
+    merge: f64,
+    coincident: f64,
+}
+
+impl VertexSet {
+    fn new(merge: f64, coincident: f64) -> VertexSet {
+        VertexSet {
+            points: Vec::new(),
+            cells: HashMap::new(),
+            merge,
+            coincident,
+        }
+    }
+
+    fn key(&self, p: Point) -> (i64, i64) {
+        (
+            (p.x / self.merge).floor() as i64,
+            (p.y / self.merge).floor() as i64,
+        )
+    }
+
+    /// The nearest existing point within `radius` (≤ `merge`).
+    fn nearest(&self, p: Point, radius: f64) -> Option<usize> {
+        let (kx, ky) = self.key(p);
+        let mut best = None;
+        let mut best_d = radius;
+        for dy in -1..=1 {
+            for dx in -1..=1 {
+                if let Some(v) = self.cells.get(&(kx + dx, ky + dy)) {
+                    for &i in v {
+                        let d = (self.points[i] - p).hypot();
+                        if d <= best_d {
+                            best_d = d;
+                            best = Some(i);
+                        }
+                    }
+                }
+            }
+        }
+        best
+    }
+
+    fn push(&mut self, p: Point) -> usize {
+        let i = self.points.len();
+        self.points.push(p);
+        let key = self.key(p);
+        self.cells.entry(key).or_default().push(i);
+        i
+    }
+
+    /// A point that must be a vertex: merged only with a coincident one.
+    fn add_fixed(&mut self, p: Point) -> usize {
+        match self.nearest(p, self.coincident) {
+            Some(i) => i,
+            None => self.push(p),
+        }
+    }
+
+    /// A curve sample: skipped (false) when within `merge` of an existing vertex.
+    fn add_sample(&mut self, p: Point) -> bool {
+        if self.nearest(p, self.merge).is_some() {
+            return false;
+        }
+        self.push(p);
+        true
+    }
+}
+
+/// The mesh vertices within `tol` of the segment `a b`, ordered from `a` to `b`.
+fn vertices_on_segment(mesh: &TriMesh, a: Point, b: Point, tol: f64) -> Vec<usize> {
+    let mut on: Vec<(f64, usize)> = mesh
+        .vertices
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &p)| {
+            let (d, s) = segment_distance(p, a, b);
+            (d <= tol).then_some((s, i))
+        })
+        .collect();
+    on.sort_by(|x, y| x.0.total_cmp(&y.0));
+    on.into_iter().map(|(_, i)| i).collect()
+}
+
+/// The boundary of the mesh as closed loops of vertices (each boundary edge oriented with the
+/// mesh on its left), the loop of largest signed area first.
+fn boundary_loops(mesh: &TriMesh) -> Result<Vec<Vec<usize>>, DomainError> {
+    let mut directed: HashSet<(usize, usize)> = HashSet::new();
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            directed.insert((t[k], t[(k + 1) % 3]));
+        }
+    }
+    let mut next: HashMap<usize, usize> = HashMap::new();
+    for &(a, b) in &directed {
+        if !directed.contains(&(b, a)) && next.insert(a, b).is_some() {
+            return Err(DomainError::Bug(
+                "a boundary vertex starts two boundary edges (the domain pinches)",
+            ));
+        }
+    }
+    let mut starts: Vec<usize> = next.keys().copied().collect();
+    starts.sort_unstable();
+    let mut seen: HashSet<usize> = HashSet::new();
+    let mut loops = Vec::new();
+    for s in starts {
+        if seen.contains(&s) {
+            continue;
+        }
+        let mut l = vec![s];
+        seen.insert(s);
+        let mut v = next[&s];
+        while v != s {
+            if !seen.insert(v) {
+                return Err(DomainError::Bug("boundary edges do not form loops"));
+            }
+            l.push(v);
+            v = *next
+                .get(&v)
+                .ok_or(DomainError::Bug("boundary edges do not form loops"))?;
+        }
+        loops.push(l);
+    }
+    let area = |l: &Vec<usize>| {
+        let p: Vec<Point> = l.iter().map(|&i| mesh.vertices[i]).collect();
+        signed_area(&p)
+    };
+    loops.sort_by(|a, b| area(b).total_cmp(&area(a)));
+    Ok(loops)
+}
