@@ -3,6 +3,13 @@
 //!
 //! A [`TriMesh`] is an indexed triangle list in the drawing's coordinates. Triangles are
 //! counter-clockwise (positive signed area) — every constructor and reader checks it.
+//!
+//! [`operators`] builds the discrete operators on a mesh: the cotangent Laplacian, the lumped
+//! mass matrices and the polyharmonic energies the weight families minimise.
+
+pub mod operators;
+
+use std::collections::HashMap;
 
 use kurbo::Point;
 
@@ -52,6 +59,28 @@ pub enum MeshError {
     /// The mesh has no triangles.
     #[error("the mesh has no triangles")]
     Empty,
+    /// An edge is used twice in the same direction (two triangles that overlap or disagree
+    /// on orientation) or by more than two triangles.
+    #[error("edge ({from}, {to}): used by more than one triangle in the same direction (triangles {first} and {second}); expected a manifold, consistently oriented mesh")]
+    NonManifoldEdge {
+        /// First vertex of the directed edge.
+        from: usize,
+        /// Second vertex of the directed edge.
+        to: usize,
+        /// A triangle holding the directed edge.
+        first: usize,
+        /// Another triangle holding it.
+        second: usize,
+    },
+    /// Boundary edges do not form simple closed loops (a vertex where the boundary pinches:
+    /// two boundary edges leave it).
+    #[error("vertex {vertex}: {count} boundary edges leave it (expected one: the boundary pinches there)")]
+    NonManifoldVertex {
+        /// The vertex.
+        vertex: usize,
+        /// Number of outgoing boundary edges.
+        count: usize,
+    },
 }
 
 impl TriMesh {
@@ -119,5 +148,172 @@ impl TriMesh {
     pub fn signed_area(&self, t: usize) -> f64 {
         let [a, b, c] = self.triangles[t].map(|i| self.vertices[i]);
         0.5 * (b - a).cross(c - a)
+    }
+
+    /// Sum of the triangles' areas.
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin::mesh::TriMesh;
+    /// let v = vec![Point::new(0., 0.), Point::new(2., 0.), Point::new(2., 1.), Point::new(0., 1.)];
+    /// let mesh = TriMesh::new(v, vec![[0, 1, 2], [0, 2, 3]])?;
+    /// assert_eq!(mesh.total_area(), 2.0);
+    /// # Ok::<(), splineskin::mesh::MeshError>(())
+    /// ```
+    pub fn total_area(&self) -> f64 {
+        (0..self.n_triangles()).map(|t| self.signed_area(t)).sum()
+    }
+
+    /// Whether each vertex belongs to at least one triangle (length [`TriMesh::n_vertices`]).
+    /// A vertex in no triangle has no neighbourhood: every mesh operator is zero on it.
+    pub fn referenced_vertices(&self) -> Vec<bool> {
+        let mut used = vec![false; self.n_vertices()];
+        for t in &self.triangles {
+            for &i in t {
+                used[i] = true;
+            }
+        }
+        used
+    }
+
+    /// The connected component of each vertex, through shared triangle edges and corners
+    /// (length [`TriMesh::n_vertices`]); components are numbered from 0 in the order of
+    /// their smallest vertex. A vertex in no triangle is a component of its own.
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin::mesh::TriMesh;
+    /// let v = vec![Point::new(0., 0.), Point::new(1., 0.), Point::new(0., 1.),
+    ///              Point::new(5., 5.), Point::new(6., 5.), Point::new(5., 6.)];
+    /// let mesh = TriMesh::new(v, vec![[0, 1, 2], [3, 4, 5]])?;
+    /// assert_eq!(mesh.components(), vec![0, 0, 0, 1, 1, 1]);
+    /// # Ok::<(), splineskin::mesh::MeshError>(())
+    /// ```
+    pub fn components(&self) -> Vec<usize> {
+        // Union–find over the triangles' corners, with path halving.
+        let n = self.n_vertices();
+        let mut parent: Vec<usize> = (0..n).collect();
+        fn root(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
+        }
+        for t in &self.triangles {
+            for k in 1..3 {
+                let (a, b) = (root(&mut parent, t[0]), root(&mut parent, t[k]));
+                if a != b {
+                    parent[a.max(b)] = a.min(b);
+                }
+            }
+        }
+        let mut label = vec![usize::MAX; n];
+        let mut out = vec![0; n];
+        let mut n_components = 0;
+        for i in 0..n {
+            let r = root(&mut parent, i);
+            if label[r] == usize::MAX {
+                label[r] = n_components;
+                n_components += 1;
+            }
+            out[i] = label[r];
+        }
+        out
+    }
+
+    /// The boundary edges, each directed as its triangle traverses it (so the domain lies to
+    /// the left: outer boundaries run counter-clockwise, holes clockwise), in the order of
+    /// their triangles. An edge is on the boundary when exactly one triangle uses it.
+    ///
+    /// Errors when a directed edge is used twice (overlapping or inconsistently oriented
+    /// triangles, or an edge shared by more than two triangles).
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin::mesh::TriMesh;
+    /// let v = vec![Point::new(0., 0.), Point::new(1., 0.), Point::new(1., 1.), Point::new(0., 1.)];
+    /// let mesh = TriMesh::new(v, vec![[0, 1, 2], [0, 2, 3]])?;
+    /// assert_eq!(mesh.boundary_edges()?, vec![[0, 1], [1, 2], [2, 3], [3, 0]]);
+    /// # Ok::<(), splineskin::mesh::MeshError>(())
+    /// ```
+    pub fn boundary_edges(&self) -> Result<Vec<[usize; 2]>, MeshError> {
+        let mut directed: HashMap<(usize, usize), usize> =
+            HashMap::with_capacity(3 * self.n_triangles());
+        for (t, tri) in self.triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (from, to) = (tri[k], tri[(k + 1) % 3]);
+                if let Some(&first) = directed.get(&(from, to)) {
+                    return Err(MeshError::NonManifoldEdge {
+                        from,
+                        to,
+                        first,
+                        second: t,
+                    });
+                }
+                directed.insert((from, to), t);
+            }
+        }
+        let mut edges = Vec::new();
+        for tri in &self.triangles {
+            for k in 0..3 {
+                let (from, to) = (tri[k], tri[(k + 1) % 3]);
+                if !directed.contains_key(&(to, from)) {
+                    edges.push([from, to]);
+                }
+            }
+        }
+        Ok(edges)
+    }
+
+    /// The boundary as closed loops of vertex indices, each following
+    /// [`TriMesh::boundary_edges`]' direction (domain on the left) and starting at its
+    /// smallest vertex; loops are sorted by their first vertex. A mesh without boundary (none
+    /// in the plane, but possible for a hand-made index list) gives no loops.
+    ///
+    /// Errors as [`TriMesh::boundary_edges`] does, and when the boundary pinches (a vertex
+    /// with two outgoing boundary edges, where loops would be ambiguous).
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin::mesh::TriMesh;
+    /// let v = vec![Point::new(0., 0.), Point::new(1., 0.), Point::new(1., 1.), Point::new(0., 1.)];
+    /// let mesh = TriMesh::new(v, vec![[1, 2, 0], [2, 3, 0]])?;
+    /// assert_eq!(mesh.boundary_loops()?, vec![vec![0, 1, 2, 3]]);
+    /// # Ok::<(), splineskin::mesh::MeshError>(())
+    /// ```
+    pub fn boundary_loops(&self) -> Result<Vec<Vec<usize>>, MeshError> {
+        let edges = self.boundary_edges()?;
+        let mut next = vec![usize::MAX; self.n_vertices()];
+        for &[from, to] in &edges {
+            if next[from] != usize::MAX {
+                let count = edges.iter().filter(|e| e[0] == from).count();
+                return Err(MeshError::NonManifoldVertex {
+                    vertex: from,
+                    count,
+                });
+            }
+            next[from] = to;
+        }
+        // Every boundary vertex has one outgoing and (counting edges) one incoming edge, so
+        // following `next` from any of them returns to it.
+        let mut starts: Vec<usize> = edges.iter().map(|e| e[0]).collect();
+        starts.sort_unstable();
+        let mut seen = vec![false; self.n_vertices()];
+        let mut loops = Vec::new();
+        for s in starts {
+            if seen[s] {
+                continue;
+            }
+            let mut lp = Vec::new();
+            let mut v = s;
+            while !seen[v] {
+                seen[v] = true;
+                lp.push(v);
+                v = next[v];
+            }
+            loops.push(lp);
+        }
+        Ok(loops)
     }
 }
