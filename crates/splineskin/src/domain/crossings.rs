@@ -79,6 +79,7 @@ pub(crate) fn bernstein_roots(d: [f64; 4], out: &mut Vec<f64>) {
     if d.iter().all(|&x| x == 0.0) {
         return;
     }
+    let start = out.len();
     // Depth-first over (coefficients of the sub-interval, its start, its width).
     let mut stack: Vec<([f64; 4], f64, f64)> = vec![(d, 0.0, 1.0)];
     while let Some((c, t0, w)) = stack.pop() {
@@ -105,7 +106,14 @@ pub(crate) fn bernstein_roots(d: [f64; 4], out: &mut Vec<f64>) {
         stack.push((r, t0 + 0.5 * w, 0.5 * w));
         stack.push((l, t0, 0.5 * w));
     }
-    out.retain(|&t| t > 0.0 && t < 1.0);
+    let mut keep = start;
+    for k in start..out.len() {
+        if out[k] > 0.0 && out[k] < 1.0 {
+            out[keep] = out[k];
+            keep += 1;
+        }
+    }
+    out.truncate(keep);
 }
 
 /// The root of the Bernstein cubic `d` in `[lo, hi]`, where `d(lo)` has the sign
@@ -198,8 +206,10 @@ mod tests {
                 .filter(|r| *r > 0.0 && *r < 1.0)
                 .collect();
             assert_eq!(out.len(), expected.len(), "{roots:?}: {out:?}");
+            // Each root moves by about ε / |p'(r)| when the coefficients are rounded:
+            // p'(0.3) = 4e-5 for the close pair, so 1e-11 is that conditioning, not slack.
             for (a, b) in out.iter().zip(&expected) {
-                assert!((a - b).abs() < 1e-13, "{roots:?}: {out:?}");
+                assert!((a - b).abs() < 1e-11, "{roots:?}: {out:?}");
             }
         }
     }
@@ -208,10 +218,11 @@ mod tests {
     fn crossings_of_line_with_segment() {
         // The straight cubic from (0,0) to (4,0), parametrised uniformly, crosses x = 1 at 1/4.
         let c = [(0., 0.), (4. / 3., 0.), (8. / 3., 0.), (4., 0.)].map(Point::from);
-        let mut out = Vec::new();
+        let mut out = vec![7.0]; // appended to, earlier content kept
         cubic_segment_crossings(&c, Point::new(1.0, -1.0), Point::new(1.0, 1.0), &mut out);
-        assert_eq!(out.len(), 1);
-        assert!((out[0] - 0.25).abs() < 1e-15);
+        assert_eq!(out.len(), 2);
+        assert_eq!(out.remove(0), 7.0);
+        assert!((out[0] - 0.25).abs() <= 2.0 * T_ACCURACY, "{}", out[0]);
         // A segment beside the line's crossing point is not crossed.
         out.clear();
         cubic_segment_crossings(&c, Point::new(1.0, 0.5), Point::new(1.0, 1.0), &mut out);

@@ -78,7 +78,7 @@ pub(super) fn build(
         .or(all_bounds.map(diag))
         .unwrap_or(0.0);
     let all_bounds = all_bounds.unwrap_or_default();
-    if !(drawing_diag > 0.0) {
+    if drawing_diag.is_nan() || drawing_diag <= 0.0 {
         return Err(DomainError::EmptyDomain {
             reason: "the drawing, handles and cage span a single point",
         });
@@ -130,7 +130,7 @@ pub(super) fn build(
         },
     };
     let outer_area = signed_area(&outer);
-    if !(outer_area > 0.0) {
+    if outer_area.is_nan() || outer_area <= 0.0 {
         return Err(DomainError::EmptyDomain {
             reason: "the domain's boundary has zero area",
         });
@@ -759,4 +759,459 @@ fn boundary_loops(mesh: &TriMesh) -> Result<Vec<Vec<usize>>, DomainError> {
     };
     loops.sort_by(|a, b| area(b).total_cmp(&area(a)));
     Ok(loops)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::domain::triangle_min_angle;
+    use crate::drawing::{JunctionOptions, Path};
+
+    /// A drawing of one path through the given cubics' control points.
+    fn path(points: &[(f64, f64)], closed: bool) -> Path {
+        let pts: Vec<Point> = points.iter().map(|&p| Point::from(p)).collect();
+        Path::new(pts, closed, &JunctionOptions::default()).expect("chain")
+    }
+
+    fn drawing(paths: Vec<Path>) -> Drawing {
+        Drawing {
+            paths,
+            ..Default::default()
+        }
+    }
+
+    /// A wave: two cubics from (0, 0) to (100, 0).
+    fn wave() -> Drawing {
+        drawing(vec![path(
+            &[
+                (0., 0.),
+                (20., 40.),
+                (30., 40.),
+                (50., 0.),
+                (70., -40.),
+                (80., -40.),
+                (100., 0.),
+            ],
+            false,
+        )])
+    }
+
+    /// A closed blob around (50, 50), radius about 50, as four cubics (circle approximation).
+    fn blob(cx: f64, cy: f64, r: f64) -> Path {
+        let k = 0.5523 * r;
+        path(
+            &[
+                (cx + r, cy),
+                (cx + r, cy + k),
+                (cx + k, cy + r),
+                (cx, cy + r),
+                (cx - k, cy + r),
+                (cx - r, cy + k),
+                (cx - r, cy),
+                (cx - r, cy - k),
+                (cx - k, cy - r),
+                (cx, cy - r),
+                (cx + k, cy - r),
+                (cx + r, cy - k),
+                (cx + r, cy),
+            ],
+            true,
+        )
+    }
+
+    /// The checks every domain must pass: valid CCW mesh, handles are vertices at their exact
+    /// position, the triangle areas sum to the domain's area, the boundary loops enclose that
+    /// area, and every triangle's smallest angle reaches the option unless it touches a
+    /// boundary vertex (where constraint corners can force smaller angles).
+    fn check_domain(domain: &Domain, handles: &[Point], options: &DomainOptions) {
+        let mesh = &domain.mesh;
+        mesh.check().expect("valid mesh");
+        assert_eq!(domain.handle_vertices.len(), handles.len());
+        for (i, &v) in domain.handle_vertices.iter().enumerate() {
+            assert_eq!(mesh.vertices[v], handles[i], "handle {i}");
+        }
+        let sum: f64 = (0..mesh.n_triangles()).map(|t| mesh.signed_area(t)).sum();
+        assert!(
+            (sum - domain.area).abs() <= 1e-9 * domain.area,
+            "{sum} vs {}",
+            domain.area
+        );
+        let loop_area: f64 = domain
+            .boundary_loops
+            .iter()
+            .map(|l| signed_area(&l.iter().map(|&i| mesh.vertices[i]).collect::<Vec<_>>()))
+            .sum();
+        assert!((loop_area - domain.area).abs() <= 1e-9 * domain.area);
+        let on_boundary: HashSet<usize> = domain.boundary_loops.iter().flatten().copied().collect();
+        let mut n_small = 0;
+        for t in 0..mesh.n_triangles() {
+            let a = triangle_min_angle(mesh, t);
+            if a < options.min_angle - 1e-6 {
+                n_small += 1;
+                assert!(
+                    mesh.triangles[t].iter().any(|v| on_boundary.contains(v)),
+                    "triangle {t} has angle {a}° away from the boundary"
+                );
+            }
+        }
+        assert!(n_small <= 8, "{n_small} triangles below the angle limit");
+        assert!(domain.refinement_complete);
+    }
+
+    #[test]
+    fn domain_padded_box_holds_handles_and_samples() {
+        let d = wave();
+        let handles = [Point::new(0.0, 0.0), Point::new(50.0, 10.0)];
+        let o = DomainOptions::default();
+        let domain = Domain::build(&d, &handles, &[], &o).unwrap();
+        assert_eq!(domain.boundary, Boundary::Padded);
+        check_domain(&domain, &handles, &o);
+        // The box: curve bounds (exact cubic extrema, y in ±30) with 5 % of the diagonal.
+        let bounds = d.paths[0]
+            .curve(0)
+            .bounding_box()
+            .union(d.paths[0].curve(1).bounding_box());
+        let pad = 0.05 * bounds.width().hypot(bounds.height());
+        let expected = (bounds.width() + 2.0 * pad) * (bounds.height() + 2.0 * pad);
+        assert!((domain.area - expected).abs() < 1e-9 * expected);
+        // Every curve sample is a vertex, or was skipped for one within s/2.
+        let s = domain.sample_spacing;
+        assert!((s - bounds.width().hypot(bounds.height()) / 500.0).abs() < 1e-12);
+        let mut exact = 0;
+        for j in 0..2 {
+            let c = d.paths[0].curve(j);
+            let n = curve_intervals(&c, s, &o);
+            assert!(n > 50 && n <= 100, "{n}");
+            for k in 0..n {
+                let p = c.eval(k as f64 / n as f64);
+                let nearest = domain
+                    .mesh
+                    .vertices
+                    .iter()
+                    .map(|v| (*v - p).hypot())
+                    .fold(f64::INFINITY, f64::min);
+                assert!(nearest <= 0.5 * s, "sample {j}/{k} at {nearest}");
+                exact += (nearest == 0.0) as usize;
+            }
+        }
+        assert!(exact >= 150, "{exact} samples are vertices");
+        assert!(domain.n_curve_samples >= exact);
+    }
+
+    #[test]
+    fn domain_options_change_density() {
+        let d = wave();
+        let h = [Point::new(10.0, 0.0)];
+        let coarse = DomainOptions::default()
+            .with_max_area_fraction(0.01)
+            .with_samples_per_diagonal(50.0);
+        let fine = DomainOptions::default();
+        let a = Domain::build(&d, &h, &[], &coarse).unwrap();
+        let b = Domain::build(&d, &h, &[], &fine).unwrap();
+        check_domain(&a, &h, &coarse);
+        assert!(a.mesh.n_vertices() * 4 < b.mesh.n_vertices());
+        // A cap on the curve samples enlarges the spacing.
+        let capped = DomainOptions::default().with_max_curve_samples(20);
+        let c = Domain::build(&d, &h, &[], &capped).unwrap();
+        assert!(c.n_curve_samples <= 20 + 1, "{}", c.n_curve_samples);
+        assert!(c.sample_spacing > b.sample_spacing * 5.0);
+        // A vertex cap stops refinement and says so.
+        let stopped = DomainOptions::default().with_max_vertices(500);
+        let e = Domain::build(&d, &h, &[], &stopped).unwrap();
+        assert!(!e.refinement_complete);
+        assert!(e.mesh.n_vertices() <= 500);
+    }
+
+    #[test]
+    fn domain_cage_bounds_the_mesh() {
+        // An L-shaped cage (not convex) cutting the wave: parts of the drawing are outside.
+        let cage: Vec<Point> = [
+            (-5., -35.),
+            (60., -35.),
+            (60., 10.),
+            (30., 10.),
+            (30., 45.),
+            (-5., 45.),
+        ]
+        .map(Point::from)
+        .to_vec();
+        let handles = [
+            Point::new(0.0, 0.0),
+            Point::new(45.0, -20.0),
+            Point::new(30.0, 45.0),
+        ];
+        let o = DomainOptions::default().with_cage(cage.clone());
+        let domain = Domain::build(&wave(), &handles, &[], &o).unwrap();
+        assert_eq!(domain.boundary, Boundary::Cage);
+        check_domain(&domain, &handles, &o);
+        assert!((domain.area - signed_area(&cage)).abs() < 1e-9 * domain.area);
+        assert_eq!(domain.cage_vertices.len(), 6);
+        for (k, &v) in domain.cage_vertices.iter().enumerate() {
+            assert_eq!(domain.mesh.vertices[v], cage[k]);
+        }
+        // No vertex outside the cage.
+        let index = PolygonIndex::new(&[&cage]);
+        for &p in &domain.mesh.vertices {
+            assert!(index.contains(p) || on_polygon(&cage, p, 1e-9), "{p:?}");
+        }
+        // The cage given with its first vertex repeated is the same cage.
+        let mut closed = cage.clone();
+        closed.push(cage[0]);
+        let again = Domain::build(
+            &wave(),
+            &handles,
+            &[],
+            &DomainOptions::default().with_cage(closed),
+        )
+        .unwrap();
+        assert_eq!(again.cage_vertices.len(), 6);
+    }
+
+    #[test]
+    fn domain_largest_closed_curve_is_the_boundary() {
+        let d = drawing(vec![
+            path(&[(40., 50.), (45., 60.), (55., 60.), (60., 50.)], false),
+            blob(50.0, 50.0, 50.0),
+            blob(50.0, 50.0, 10.0),
+        ]);
+        let handles = [Point::new(50.0, 50.0), Point::new(20.0, 40.0)];
+        let o = DomainOptions::default();
+        let domain = Domain::build(&d, &handles, &[], &o).unwrap();
+        assert_eq!(domain.boundary, Boundary::ClosedCurve { path: 1 });
+        check_domain(&domain, &handles, &o);
+        // The flattened blob: area within 0.1 % of the curve's (the circle approximation's
+        // area is π r² to 0.03 %), boundary vertices on the curve.
+        let circle = std::f64::consts::PI * 2500.0;
+        assert!((domain.area / circle - 1.0).abs() < 2e-3, "{}", domain.area);
+        assert_eq!(domain.boundary_loops.len(), 1);
+        for &v in &domain.boundary_loops[0] {
+            let r = (domain.mesh.vertices[v] - Point::new(50.0, 50.0)).hypot();
+            assert!((r - 50.0).abs() < 0.05, "{r}");
+        }
+        // A handle outside the blob: the padded box instead.
+        let outside = [Point::new(50.0, 50.0), Point::new(120.0, 50.0)];
+        let padded = Domain::build(&d, &outside, &[], &o).unwrap();
+        assert_eq!(padded.boundary, Boundary::Padded);
+    }
+
+    #[test]
+    fn domain_holes_only_when_asked() {
+        let square = |x0: f64, y0: f64, w: f64| {
+            path(
+                &[
+                    (x0, y0),
+                    (x0 + w / 3., y0),
+                    (x0 + 2. * w / 3., y0),
+                    (x0 + w, y0),
+                    (x0 + w, y0 + w / 3.),
+                    (x0 + w, y0 + 2. * w / 3.),
+                    (x0 + w, y0 + w),
+                    (x0 + 2. * w / 3., y0 + w),
+                    (x0 + w / 3., y0 + w),
+                    (x0, y0 + w),
+                    (x0, y0 + 2. * w / 3.),
+                    (x0, y0 + w / 3.),
+                    (x0, y0),
+                ],
+                true,
+            )
+        };
+        // An outer square, an empty inner square (a hole), and an inner square holding a
+        // curve (not a hole).
+        let d = drawing(vec![
+            square(0.0, 0.0, 100.0),
+            square(10.0, 10.0, 30.0),
+            square(60.0, 60.0, 30.0),
+            path(&[(70., 70.), (75., 80.), (80., 80.), (85., 70.)], false),
+        ]);
+        let handles = [Point::new(50.0, 50.0), Point::new(5.0, 95.0)];
+        let with = DomainOptions::default().with_holes(true);
+        let domain = Domain::build(&d, &handles, &[], &with).unwrap();
+        assert_eq!(domain.boundary, Boundary::ClosedCurve { path: 0 });
+        check_domain(&domain, &handles, &with);
+        assert_eq!(domain.boundary_loops.len(), 2);
+        assert!((domain.area - (10000.0 - 900.0)).abs() < 1e-6);
+        // No triangle inside the hole.
+        for t in &domain.mesh.triangles {
+            let c = t.iter().fold(Point::ZERO, |acc, &v| {
+                acc + domain.mesh.vertices[v].to_vec2() / 3.0
+            });
+            assert!(
+                !(c.x > 10.0 && c.x < 40.0 && c.y > 10.0 && c.y < 40.0),
+                "{c:?}"
+            );
+        }
+        let without = Domain::build(&d, &handles, &[], &DomainOptions::default()).unwrap();
+        assert_eq!(without.boundary_loops.len(), 1);
+        assert!((without.area - 10000.0).abs() < 1e-6);
+        // A handle inside the would-be hole keeps it filled.
+        let inside = [Point::new(25.0, 25.0)];
+        let kept = Domain::build(&d, &inside, &[], &with).unwrap();
+        assert_eq!(kept.boundary_loops.len(), 1);
+    }
+
+    #[test]
+    fn domain_bones_are_edge_chains() {
+        let bones = [
+            [Point::new(10.0, 0.0), Point::new(40.0, 5.0)],
+            [Point::new(40.0, 5.0), Point::new(90.0, -5.0)],
+        ];
+        let handles = [Point::new(50.0, 30.0)];
+        let o = DomainOptions::default();
+        let domain = Domain::build(&wave(), &handles, &bones, &o).unwrap();
+        check_domain(&domain, &handles, &o);
+        let mut edges: HashSet<(usize, usize)> = HashSet::new();
+        for t in &domain.mesh.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                edges.insert((a.min(b), a.max(b)));
+            }
+        }
+        for (b, chain) in bones.iter().zip(&domain.bone_vertices) {
+            assert!(chain.len() >= 3, "{}", chain.len());
+            assert_eq!(domain.mesh.vertices[chain[0]], b[0]);
+            assert_eq!(domain.mesh.vertices[*chain.last().unwrap()], b[1]);
+            for w in chain.windows(2) {
+                assert!(edges.contains(&(w[0].min(w[1]), w[0].max(w[1]))), "{w:?}");
+            }
+        }
+        // The shared joint is one vertex.
+        assert_eq!(
+            domain.bone_vertices[0].last(),
+            domain.bone_vertices[1].first()
+        );
+    }
+
+    #[test]
+    fn domain_bad_input_is_a_clear_error() {
+        let d = wave();
+        let o = DomainOptions::default();
+        let h = [Point::new(10.0, 0.0), Point::new(60.0, 0.0)];
+        let square = [(0., -50.), (100., -50.), (100., 50.), (0., 50.)].map(Point::from);
+        let cage = |c: &[Point]| DomainOptions::default().with_cage(c.to_vec());
+        let err = |r: Result<Domain, DomainError>| r.expect_err("must fail");
+
+        // A handle outside the cage.
+        let e = err(Domain::build(
+            &d,
+            &[Point::new(150.0, 0.0)],
+            &[],
+            &cage(&square),
+        ));
+        assert!(
+            matches!(e, DomainError::HandleOutsideDomain { handle: 0, .. }),
+            "{e}"
+        );
+        assert!(e.to_string().contains("outside the domain"));
+        // Two coincident handles.
+        let e = err(Domain::build(&d, &[h[0], h[1], h[0]], &[], &o));
+        assert_eq!(
+            e,
+            DomainError::CoincidentHandles {
+                first: 0,
+                second: 2,
+                distance: 0.0
+            }
+        );
+        // Self-intersecting cage (a bow tie).
+        let bowtie = [(0., -50.), (100., 50.), (100., -50.), (0., 50.)].map(Point::from);
+        let e = err(Domain::build(&d, &h, &[], &cage(&bowtie)));
+        assert_eq!(
+            e,
+            DomainError::CageSelfIntersecting {
+                first: 0,
+                second: 2
+            }
+        );
+        // Clockwise cage.
+        let mut cw = square.to_vec();
+        cw.reverse();
+        let e = err(Domain::build(&d, &h, &[], &cage(&cw)));
+        assert!(matches!(e, DomainError::CageClockwise { signed_area } if signed_area == -10000.0));
+        assert!(e.to_string().contains("reverse"));
+        // Fewer than three vertices (also after dropping a repeated closing vertex).
+        let e = err(Domain::build(&d, &h, &[], &cage(&square[..2])));
+        assert_eq!(e, DomainError::CageTooFewVertices { n_vertices: 2 });
+        let e = err(Domain::build(
+            &d,
+            &h,
+            &[],
+            &cage(&[square[0], square[1], square[0]]),
+        ));
+        assert_eq!(e, DomainError::CageTooFewVertices { n_vertices: 2 });
+        // A zero-length cage edge and a non-finite vertex.
+        let dup = [square[0], square[1], square[1], square[2], square[3]];
+        assert_eq!(
+            err(Domain::build(&d, &h, &[], &cage(&dup))),
+            DomainError::CageDegenerateEdge { edge: 1 }
+        );
+        let nan = [square[0], Point::new(f64::NAN, 0.0), square[2]];
+        assert_eq!(
+            err(Domain::build(&d, &h, &[], &cage(&nan))),
+            DomainError::CageNonFinite { vertex: 1 }
+        );
+        // Empty domains: nothing at all, or a drawing that is a single point.
+        let e = err(Domain::build(&Drawing::default(), &h, &[], &o));
+        assert!(matches!(e, DomainError::EmptyDomain { .. }), "{e}");
+        let dot = drawing(vec![path(&[(5., 5.); 4], false)]);
+        let e = err(Domain::build(&dot, &[Point::new(5.0, 5.0)], &[], &o));
+        assert!(matches!(e, DomainError::EmptyDomain { .. }), "{e}");
+        // Handles and bones.
+        assert_eq!(
+            err(Domain::build(
+                &d,
+                &[Point::new(f64::INFINITY, 0.0)],
+                &[],
+                &o
+            )),
+            DomainError::NonFiniteHandle { handle: 0 }
+        );
+        let bone = [Point::new(10.0, 10.0), Point::new(90.0, 10.0)];
+        assert_eq!(
+            err(Domain::build(&d, &[Point::new(50.0, 10.0)], &[bone], &o)),
+            DomainError::HandleOnBone { handle: 0, bone: 0 }
+        );
+        assert_eq!(
+            err(Domain::build(&d, &[], &[[bone[0], bone[0]]], &o)),
+            DomainError::DegenerateBone { bone: 0 }
+        );
+        let crossing = [Point::new(50.0, 0.0), Point::new(50.0, 20.0)];
+        assert_eq!(
+            err(Domain::build(&d, &[], &[bone, crossing], &o)),
+            DomainError::BonesCross {
+                first: 0,
+                second: 1
+            }
+        );
+        let leaving = [Point::new(50.0, 0.0), Point::new(150.0, 0.0)];
+        assert_eq!(
+            err(Domain::build(&d, &[], &[leaving], &cage(&square))),
+            DomainError::BoneOutsideDomain { bone: 0 }
+        );
+        // Options out of range.
+        let e = err(Domain::build(&d, &h, &[], &o.clone().with_min_angle(40.0)));
+        assert!(
+            matches!(
+                e,
+                DomainError::InvalidOption {
+                    name: "min_angle",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let e = err(Domain::build(
+            &d,
+            &h,
+            &[],
+            &o.clone().with_max_area_fraction(0.0),
+        ));
+        assert!(matches!(
+            e,
+            DomainError::InvalidOption {
+                name: "max_area_fraction",
+                ..
+            }
+        ));
+    }
 }
