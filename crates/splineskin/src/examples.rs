@@ -44,6 +44,10 @@ pub const TILE_MARGIN: f64 = 0.1;
 /// A drawing without curves is returned as a single tile: the copy of its (empty) paths, and
 /// `handles` unchanged.
 ///
+/// Memory grows with `min_curves` and is not bounded here: a `min_curves` beyond what memory
+/// can hold panics (capacity overflow) or aborts (allocation failure). Callers taking it from
+/// users bound it (the CLI's `bench --synthetic` does).
+///
 /// ```
 /// use kurbo::Point;
 /// use splineskin::drawing::{Drawing, JunctionOptions, Path};

@@ -334,8 +334,9 @@ pub(crate) fn check_point(p: [f64; 2], origin: &str, element: String) -> Result<
         Err(SceneError::Invalid {
             origin: origin.to_string(),
             element,
+            // `{:?}` writes 1e300 as `1e300`, not as 301 digits.
             message: format!(
-                "({}, {}) is not a finite position within ±{MAX_COORDINATE:e}",
+                "({:?}, {:?}) is not a finite position within ±{MAX_COORDINATE:e}",
                 p[0], p[1]
             ),
         })

@@ -219,10 +219,19 @@ pub(crate) fn parse(
                 Some(dir) => dir.join(&name),
                 None => FsPath::new(&name).to_path_buf(),
             };
-            let meta = std::fs::metadata(&path).map_err(|source| SceneError::Io {
-                path: path.clone(),
-                source,
-            })?;
+            // The message names the scene and its `svg` field as well as the file: a missing
+            // drawing is an error in the scene.
+            let unreadable = |e: std::io::Error| {
+                invalid(
+                    "svg",
+                    format!(
+                        "cannot read the drawing {}: {e} (expected an SVG file; a relative \
+                         name is taken from the scene's folder)",
+                        path.display()
+                    ),
+                )
+            };
+            let meta = std::fs::metadata(&path).map_err(unreadable)?;
             if meta.len() > MAX_SCENE_BYTES {
                 return Err(SceneError::TooLarge {
                     path,
@@ -230,10 +239,7 @@ pub(crate) fn parse(
                     limit: MAX_SCENE_BYTES,
                 });
             }
-            let text = std::fs::read_to_string(&path).map_err(|source| SceneError::Io {
-                path: path.clone(),
-                source,
-            })?;
+            let text = std::fs::read_to_string(&path).map_err(unreadable)?;
             (text, path.display().to_string())
         }
     };

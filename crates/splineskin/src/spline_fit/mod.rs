@@ -102,7 +102,7 @@ pub enum FitError {
     #[error("no handles: a rig needs at least one handle")]
     NoHandles,
     /// The drawing has no paths.
-    #[error("the drawing has no paths to fit")]
+    #[error("the drawing has no paths to fit (expected at least one path with a curve)")]
     NoPaths,
     /// A control point is NaN or infinite.
     #[error("path {path}, point {point}: coordinate is not finite ({x}, {y})")]
