@@ -20,6 +20,10 @@ const MIN_PRECOMPUTES: usize = 3;
 /// Precomputations are repeated until this much time has been spent (or 50 runs).
 const PRECOMPUTE_BUDGET: Duration = Duration::from_secs(2);
 const MAX_PRECOMPUTES: usize = 50;
+/// Largest `--synthetic` drawing, in curves: 1 000 000. Its rig (five handles) holds about
+/// 1.6 GB of operator; far larger requests would fail to allocate (or overflow the size
+/// computation) rather than report an error.
+const MAX_SYNTHETIC_CURVES: usize = 1_000_000;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -57,6 +61,12 @@ pub fn run(args: Args) -> Result<()> {
         !args.scenes.is_empty() || args.synthetic.is_some(),
         "no scenes given (and no --synthetic)"
     );
+    if let Some(n) = args.synthetic {
+        anyhow::ensure!(
+            n <= MAX_SYNTHETIC_CURVES,
+            "--synthetic {n}: expected at most {MAX_SYNTHETIC_CURVES} curves"
+        );
+    }
     if !args.json {
         println!(
             "{:<60} {:>7} {:>7} {:>11} {:>12} {:>14} {:>12}",
@@ -80,7 +90,8 @@ pub fn run(args: Args) -> Result<()> {
             &base,
             &scene.handles,
             args.updates,
-        )?;
+        )
+        .with_context(|| format!("{}: building the rig", path.display()))?;
         print_row(&row, args.json);
     }
     if let Some(min_curves) = args.synthetic {

@@ -2,8 +2,9 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use kurbo::Point;
+use splineskin::drawing::Drawing;
 use splineskin::scene::Scene;
 use splineskin::spline_fit::SplineRig;
 
@@ -51,6 +52,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let mut points = vec![Point::ZERO; rig.n_points()];
     rig.update(&pose.transforms, &mut points)?;
+    check_finite(&args, &setup.drawing, &points, rig.rank_deficient_paths())?;
     write_deformed(&args.output, &setup.drawing, &points)?;
     eprintln!(
         "{}: {} curves in {} paths, {} handles, pose {} -> {}",
@@ -61,5 +63,44 @@ pub fn run(args: Args) -> Result<()> {
         args.pose,
         args.output.display()
     );
+    Ok(())
+}
+
+/// Errors, naming the scene, the pose and the first path concerned, if a deformed point is not
+/// finite: a rank-deficient system (compatibility mode solves them as the authors do, without
+/// a fallback) can give NaN, which no output format can hold.
+fn check_finite(
+    args: &Args,
+    drawing: &Drawing,
+    points: &[Point],
+    rank_deficient: &[usize],
+) -> Result<()> {
+    let mut offset = 0;
+    for (i, path) in drawing.paths.iter().enumerate() {
+        let n = path.points.len();
+        let bad = points[offset..offset + n]
+            .iter()
+            .any(|p| !(p.x.is_finite() && p.y.is_finite()));
+        offset += n;
+        if bad {
+            let element = drawing
+                .source
+                .as_ref()
+                .map(|s| format!(" ({})", s.element_label(i)))
+                .unwrap_or_default();
+            let why = if rank_deficient.contains(&i) {
+                "its fit system is rank deficient, e.g. a curve of zero length"
+            } else {
+                "the fit is numerically unstable"
+            };
+            bail!(
+                "{}: pose {}: path {i}{element}: deformed points are not finite (expected finite \
+                 coordinates): {why}; nothing written to {}",
+                args.scene.display(),
+                args.pose,
+                args.output.display()
+            );
+        }
+    }
     Ok(())
 }

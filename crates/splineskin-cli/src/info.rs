@@ -48,8 +48,16 @@ pub fn run(args: Args) -> Result<()> {
     } else if compat == Compat::VectorSkinning {
         let text = std::fs::read_to_string(&args.file)
             .map_err(|e| anyhow::anyhow!("{}: cannot read: {e}", args.file.display()))?;
-        splineskin::drawing::authors_svg::read_authors_drawing(&text)
-            .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?
+        let drawing = splineskin::drawing::authors_svg::read_authors_drawing(&text)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", args.file.display()))?;
+        // As in our mode (`SvgError::NoPaths`): a drawing without paths is an error.
+        anyhow::ensure!(
+            !drawing.paths.is_empty(),
+            "{}: no paths: expected at least one <path> element with a segment (compatibility \
+             mode reads only <path> elements)",
+            args.file.display()
+        );
+        drawing
     } else {
         read_svg_file(&args.file, &ImportOptions::default())?
     };

@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, ensure, Context, Result};
 use kurbo::Point;
 use serde::Serialize;
 use splineskin::drawing::{svg_out::write_svg, Drawing};
@@ -51,7 +51,22 @@ struct JsonPath {
 }
 
 /// `{"paths":[{"closed":bool,"points":[[x,y],…]}]}`: per subpath its `3n+1` chain points.
-pub fn paths_json(drawing: &Drawing, points: &[Point]) -> String {
+///
+/// Errors if a point is not finite (JSON has no NaN or infinity: serde_json would write `null`)
+/// or if `points` does not hold the drawing's points.
+pub fn paths_json(drawing: &Drawing, points: &[Point]) -> Result<String> {
+    ensure!(
+        points.len() == drawing.n_points(),
+        "{} deformed points for a drawing of {}",
+        points.len(),
+        drawing.n_points()
+    );
+    if let Some(k) = points
+        .iter()
+        .position(|q| !(q.x.is_finite() && q.y.is_finite()))
+    {
+        bail!("deformed point {k} is not finite; expected finite coordinates");
+    }
     let mut offset = 0;
     let paths = drawing
         .paths
@@ -69,13 +84,15 @@ pub fn paths_json(drawing: &Drawing, points: &[Point]) -> String {
             }
         })
         .collect();
-    serde_json::to_string(&JsonPaths { paths }).expect("serialising plain numbers cannot fail")
+    Ok(serde_json::to_string(&JsonPaths { paths })?)
 }
 
 /// Writes the deformed drawing to `path` in the format its extension asks for.
 pub fn write_deformed(path: &Path, drawing: &Drawing, points: &[Point]) -> Result<()> {
     let bytes = match Format::of(path)? {
-        Format::Json => paths_json(drawing, points).into_bytes(),
+        Format::Json => paths_json(drawing, points)
+            .context("writing the deformed JSON")?
+            .into_bytes(),
         Format::Svg => write_svg(drawing, points)
             .context("writing the deformed SVG")?
             .into_bytes(),
