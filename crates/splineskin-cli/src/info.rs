@@ -40,9 +40,12 @@ pub fn run(args: Args) -> Result<()> {
                 }
                 setup.drawing
             }
+            // The drawing alone may still be readable (e.g. the weights are not implemented):
+            // describe it after a note. If it is not, its error is the one to report (once).
             Err(e) => {
+                let drawing = scene.drawing(compat)?;
                 eprintln!("note: {e}");
-                scene.drawing(compat)?
+                drawing
             }
         }
     } else if compat == Compat::VectorSkinning {

@@ -12,7 +12,7 @@ pub mod svg_in;
 pub mod svg_out;
 
 pub use junction::{classify_joints, JointKind, JunctionOptions};
-pub use svg_in::{read_svg, read_svg_file, ImportOptions, SvgError, SvgSource};
+pub use svg_in::{read_svg, read_svg_file, read_svg_named, ImportOptions, SvgError, SvgSource};
 
 use kurbo::{CubicBez, Point, Rect};
 

@@ -509,6 +509,22 @@ pub fn read_svg(text: &str, options: &ImportOptions) -> Result<Drawing, SvgError
     read_svg_impl(text, options, TEXT_ORIGIN)
 }
 
+/// Reads an SVG document held in memory like [`read_svg`], naming it `origin` (the file or the
+/// scene it came from) in errors and in [`SvgSource::origin`] instead of `"<svg text>"`.
+///
+/// ```
+/// use splineskin::drawing::svg_in::{read_svg_named, ImportOptions};
+/// let err = read_svg_named("<svg", &ImportOptions::default(), "fish.svg").unwrap_err();
+/// assert!(err.to_string().starts_with("fish.svg:1:"), "{err}");
+/// ```
+pub fn read_svg_named(
+    text: &str,
+    options: &ImportOptions,
+    origin: &str,
+) -> Result<Drawing, SvgError> {
+    read_svg_impl(text, options, origin)
+}
+
 /// Reads an SVG file (UTF-8, at most [`MAX_SVG_BYTES`]) like [`read_svg`]; errors name the
 /// file.
 ///

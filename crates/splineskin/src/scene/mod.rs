@@ -221,7 +221,11 @@ pub enum SceneError {
         /// What was expected.
         message: String,
     },
-    /// The scene's drawing could not be read.
+    /// Our SVG importer could not read the scene's drawing (the error names the drawing's
+    /// origin, [`Scene::svg_origin`]).
+    #[error(transparent)]
+    Svg(#[from] crate::drawing::SvgError),
+    /// The authors' SVG reader (compatibility mode) could not read the scene's drawing.
     #[error("{origin}: {source}")]
     Drawing {
         /// Where the SVG came from.

@@ -3,7 +3,7 @@
 //! authors' compatibility mode.
 
 use crate::drawing::authors_svg::read_authors_drawing;
-use crate::drawing::{read_svg, Drawing, ImportOptions, JointKind};
+use crate::drawing::{read_svg_named, Drawing, ImportOptions, JointKind};
 use crate::spline_fit::FitOptions;
 use crate::weights::{Shepard, ShepardOptions, WeightField};
 
@@ -127,18 +127,22 @@ impl Scene {
         })
     }
 
-    /// Reads the scene's SVG with the importer of `compat`, joints classified by it.
+    /// Reads the scene's SVG with the importer of `compat`, joints classified by it. Errors
+    /// name [`Scene::svg_origin`] (our importer's as [`SceneError::Svg`], the authors' reader's
+    /// as [`SceneError::Drawing`]); in our mode the drawing's [`crate::drawing::SvgSource`]
+    /// carries it too, so export errors name it as well.
     pub fn drawing(&self, compat: Compat) -> Result<Drawing, SceneError> {
-        let wrap = |e: Box<dyn std::error::Error + Send + Sync>| SceneError::Drawing {
-            origin: self.svg_origin.clone(),
-            source: e,
-        };
         match compat {
-            Compat::None => {
-                read_svg(&self.svg_text, &ImportOptions::default()).map_err(|e| wrap(Box::new(e)))
-            }
+            Compat::None => Ok(read_svg_named(
+                &self.svg_text,
+                &ImportOptions::default(),
+                &self.svg_origin,
+            )?),
             Compat::VectorSkinning => {
-                read_authors_drawing(&self.svg_text).map_err(|e| wrap(Box::new(e)))
+                read_authors_drawing(&self.svg_text).map_err(|e| SceneError::Drawing {
+                    origin: self.svg_origin.clone(),
+                    source: Box::new(e),
+                })
             }
         }
     }
