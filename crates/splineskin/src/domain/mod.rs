@@ -79,6 +79,29 @@ pub const MAX_MIN_ANGLE: f64 = 34.0;
 pub const COINCIDENT_RELATIVE: f64 = 1e-9;
 
 /// Options of [`Domain::build`].
+///
+/// ```
+/// use kurbo::Point;
+/// use splineskin::domain::{Boundary, Domain, DomainError, DomainOptions};
+/// use splineskin::drawing::Drawing;
+///
+/// // A cage alone (no drawing) is a domain; coarser than the defaults.
+/// let cage = [(0., 0.), (10., 0.), (10., 10.), (0., 10.)].map(Point::from).to_vec();
+/// let options = DomainOptions::default()
+///     .with_cage(cage.clone())
+///     .with_min_angle(30.0)
+///     .with_max_area_fraction(0.01);
+/// let handles = [Point::new(2.0, 2.0), Point::new(8.0, 5.0)];
+/// let domain = Domain::build(&Drawing::default(), &handles, &[], &options)?;
+/// assert_eq!(domain.boundary, Boundary::Cage);
+/// assert!((domain.area - 100.0).abs() < 1e-12);
+/// assert!(Domain::min_angle_of(&domain.mesh) >= 30.0 - 1e-9);
+/// // The same cage clockwise is refused.
+/// let reversed: Vec<Point> = cage.iter().rev().copied().collect();
+/// let err = Domain::build(&Drawing::default(), &handles, &[], &options.with_cage(reversed));
+/// assert!(matches!(err, Err(DomainError::CageClockwise { .. })));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct DomainOptions {

@@ -130,6 +130,11 @@ pub(super) fn build(
         },
     };
     let outer_area = signed_area(&outer);
+    if !outer_area.is_finite() {
+        return Err(DomainError::Triangulation {
+            reason: "the domain's area overflows f64 (coordinates too large)".into(),
+        });
+    }
     if outer_area.is_nan() || outer_area <= 0.0 {
         return Err(DomainError::EmptyDomain {
             reason: "the domain's boundary has zero area",
@@ -1188,6 +1193,13 @@ mod tests {
             err(Domain::build(&d, &[], &[leaving], &cage(&square))),
             DomainError::BoneOutsideDomain { bone: 0 }
         );
+        // Coordinates too large for the domain's area.
+        let huge = drawing(vec![path(
+            &[(0., 0.), (1e200, 1e200), (2e200, 0.), (3e200, 1e200)],
+            false,
+        )]);
+        let e = err(Domain::build(&huge, &[], &[], &o));
+        assert!(matches!(e, DomainError::Triangulation { .. }), "{e}");
         // Options out of range.
         let e = err(Domain::build(&d, &h, &[], &o.clone().with_min_angle(40.0)));
         assert!(
