@@ -973,6 +973,23 @@ mod tests {
     }
 
     #[test]
+    fn domain_acute_cage_corners_only_spoil_angles_next_to_them() {
+        // A five-pointed star: tips of 36°, and a sliver notch of about 6°.
+        let mut cage = Vec::new();
+        for k in 0..10 {
+            let r = if k % 2 == 0 { 50.0 } else { 19.1 };
+            let a = std::f64::consts::PI * (0.5 + k as f64 / 5.0);
+            cage.push(Point::new(50.0 + r * a.cos(), 50.0 + r * a.sin()));
+        }
+        cage.insert(3, Point::new(50.0, 50.0 + 2.0));
+        let handles = [Point::new(50.0, 40.0)];
+        let o = DomainOptions::default().with_cage(cage.clone());
+        let domain = Domain::build(&wave(), &handles, &[], &o).unwrap();
+        check_domain(&domain, &handles, &o);
+        assert!((domain.area - signed_area(&cage)).abs() < 1e-9 * domain.area);
+    }
+
+    #[test]
     fn domain_largest_closed_curve_is_the_boundary() {
         let d = drawing(vec![
             path(&[(40., 50.), (45., 60.), (55., 60.), (60., 50.)], false),
