@@ -129,6 +129,14 @@ pub(super) fn build(
             }
         },
     };
+    // Handles and bone ends on the boundary (within `coincident`) become boundary vertices, so
+    // that rounding cannot leave them just outside. `corners[k]` is the position in `outer` of
+    // its k-th original vertex.
+    let (outer, corners) = insert_on_boundary(
+        outer,
+        points.iter().chain(bones.iter().flatten()).copied(),
+        coincident,
+    );
     let outer_area = signed_area(&outer);
     if !outer_area.is_finite() {
         return Err(DomainError::Triangulation {
@@ -337,9 +345,9 @@ pub(super) fn build(
         .map(mapped)
         .collect::<Result<Vec<_>, _>>()?;
     let cage_vertices = if cage.is_some() {
-        outer_vertices
+        corners
             .iter()
-            .map(|&i| mapped(i))
+            .map(|&k| mapped(outer_vertices[k]))
             .collect::<Result<Vec<_>, _>>()?
     } else {
         Vec::new()
@@ -481,6 +489,48 @@ fn check_handles(points: &[Point], bones: &[[Point; 2]], tol: f64) -> Result<(),
         }
     }
     Ok(())
+}
+
+/// The polygon `poly` with every point of `extra` that lies within `tol` of one of its edges
+/// (and not within `tol` of a vertex) inserted into that edge, in order along it; and the new
+/// positions of the original vertices.
+fn insert_on_boundary(
+    poly: Vec<Point>,
+    extra: impl Iterator<Item = Point>,
+    tol: f64,
+) -> (Vec<Point>, Vec<usize>) {
+    let n = poly.len();
+    let mut inserts: Vec<(usize, f64, Point)> = Vec::new();
+    for p in extra {
+        if poly.iter().any(|v| (*v - p).hypot() <= tol) {
+            continue;
+        }
+        let nearest = (0..n)
+            .map(|k| (k, segment_distance(p, poly[k], poly[(k + 1) % n])))
+            .min_by(|a, b| a.1 .0.total_cmp(&b.1 .0));
+        if let Some((k, (d, s))) = nearest {
+            if d <= tol {
+                inserts.push((k, s, p));
+            }
+        }
+    }
+    if inserts.is_empty() {
+        return (poly, (0..n).collect());
+    }
+    inserts.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let mut out = Vec::with_capacity(n + inserts.len());
+    let mut corners = Vec::with_capacity(n);
+    let mut next = inserts.iter().peekable();
+    for (k, &v) in poly.iter().enumerate() {
+        corners.push(out.len());
+        out.push(v);
+        while let Some(&(_, _, p)) = next.next_if(|i| i.0 == k) {
+            if out.last() != Some(&p) {
+                out.push(p);
+            }
+        }
+    }
+    (out, corners)
 }
 
 /// Whether `p` is within `tol` of the polygon's boundary.
@@ -1210,6 +1260,25 @@ mod tests {
             err(Domain::build(&d, &[], &[leaving], &cage(&square))),
             DomainError::BoneOutsideDomain { bone: 0 }
         );
+        // Handles on the cage, exactly or within the coincidence tolerance on either side,
+        // become boundary vertices; farther outside is an error.
+        for dy in [0.0, -1e-12, 1e-12] {
+            let on = [Point::new(50.0, -50.0 + dy), Point::new(100.0 + dy, 10.0)];
+            let domain = Domain::build(&d, &on, &[], &cage(&square)).unwrap();
+            assert_eq!(domain.mesh.vertices[domain.handle_vertices[0]], on[0]);
+            assert_eq!(domain.cage_vertices.len(), 4);
+            for (k, &v) in domain.cage_vertices.iter().enumerate() {
+                assert_eq!(domain.mesh.vertices[v], square[k]);
+            }
+            assert!((domain.area - 10000.0).abs() < 1e-6);
+        }
+        let e = err(Domain::build(
+            &d,
+            &[Point::new(50.0, -50.001)],
+            &[],
+            &cage(&square),
+        ));
+        assert!(matches!(e, DomainError::HandleOutsideDomain { .. }), "{e}");
         // Coordinates too large for the domain's area.
         let huge = drawing(vec![path(
             &[(0., 0.), (1e200, 1e200), (2e200, 0.), (3e200, 1e200)],
