@@ -357,6 +357,15 @@ pub(super) fn build(
         .map(|b| vertices_on_segment(&mesh, b[0], b[1], coincident))
         .collect();
     let boundary_loops = boundary_loops(&mesh)?;
+    tracing::debug!(
+        n_vertices = mesh.n_vertices(),
+        n_triangles = mesh.n_triangles(),
+        n_curve_samples,
+        spacing,
+        boundary = ?boundary,
+        refinement_complete = result.refinement_complete,
+        "domain triangulated"
+    );
     Ok(Domain {
         mesh,
         handle_vertices,
