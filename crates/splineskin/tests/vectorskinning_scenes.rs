@@ -236,3 +236,67 @@ fn authors_scenes_deform_as_their_solver() {
     }
     assert_eq!(checked, 7, "expected the 7 Shepard linear cases");
 }
+
+/// Compatibility mode writes its result back into the scene's own document: every `<path>`
+/// gets its deformed chains (read back the authors' way, they are the deformed points up to the
+/// reader's `float32` rounding), and everything else — other shapes, styles, groups — is kept.
+#[test]
+fn compatibility_mode_exports_into_the_authors_document() {
+    let Some(root) = common::data_root() else {
+        return;
+    };
+    for case in authors_outputs::shepard_linear_cases(&root)
+        .iter()
+        .filter(|c| c.case.starts_with("clam") || c.case.contains("comparison"))
+    {
+        let scene = scene_of(&root, case);
+        let (drawing, points, _) = deform(&scene, Compat::VectorSkinning);
+        let svg = splineskin::drawing::svg_out::write_svg(&drawing, &points).expect("export");
+        let back = splineskin::drawing::authors_svg::read_authors_paths(&svg).expect("re-read");
+        assert_eq!(back.len(), drawing.paths.len(), "{}", case.case);
+        let diag = drawing.diagonal();
+        let mut offset = 0;
+        for (chain, path) in back.iter().zip(&drawing.paths) {
+            assert_eq!(chain.points.len(), path.points.len(), "{}", case.case);
+            assert_eq!(chain.closed, path.closed, "{}", case.case);
+            for (k, q) in chain.points.iter().enumerate() {
+                let p = points[offset + k];
+                let p = if path.closed && k + 1 == path.points.len() {
+                    points[offset]
+                } else {
+                    p
+                };
+                // The reader's float32 rounding (relative 6e-8 per coordinate; the arbitrary
+                // solutions of rank-deficient paths reach coordinates of 3e4).
+                let rounding = 1.2e-7 * p.x.abs().max(p.y.abs());
+                assert!(
+                    (*q - p).hypot() <= 1e-9 * diag + rounding,
+                    "{}: {q:?} vs {p:?}",
+                    case.case
+                );
+            }
+            offset += path.points.len();
+        }
+        // The rest of the document is untouched: same elements in the same order.
+        let tags = |text: &str| -> Vec<String> {
+            let opts = roxmltree::ParsingOptions {
+                allow_dtd: true,
+                ..Default::default()
+            };
+            let doc = roxmltree::Document::parse_with_options(text, opts).unwrap();
+            doc.descendants()
+                .filter(|n| n.is_element())
+                .map(|n| {
+                    let attrs: Vec<String> = n
+                        .attributes()
+                        .filter(|a| a.name() != "d")
+                        .map(|a| format!("{}={}", a.name(), a.value()))
+                        .collect();
+                    format!("{} {}", n.tag_name().name(), attrs.join(" "))
+                })
+                .collect()
+        };
+        assert_eq!(tags(&svg), tags(&scene.svg_text), "{}", case.case);
+        assert_ne!(svg, scene.svg_text, "{}: nothing was deformed", case.case);
+    }
+}

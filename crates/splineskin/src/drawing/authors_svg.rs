@@ -57,6 +57,7 @@
 //! ```
 
 use std::fmt;
+use std::str::FromStr;
 
 use kurbo::Point;
 use svgtypes::{PathParser, PathSegment};
@@ -236,8 +237,13 @@ pub fn read_authors_paths(svg_text: &str) -> Result<Vec<AuthorsPath>, AuthorsSvg
     Ok(paths)
 }
 
-/// [`read_authors_paths`] as a [`Drawing`] whose joints come from [`authors_joints`]. The
-/// drawing has no [`Drawing::source`].
+/// [`read_authors_paths`] as a [`Drawing`] whose joints come from [`authors_joints`].
+///
+/// The drawing keeps the document as its [`Drawing::source`], so that
+/// [`super::svg_out::write_svg`] writes deformed chains back into the same `<path>` elements
+/// (everything else untouched). As the authors read `d` without transforms, the chains are in
+/// each element's own coordinates and are written back as such. A closed chain gets a `Z` when
+/// its element's `d` has one.
 ///
 /// ```
 /// use splineskin::drawing::{authors_svg::read_authors_drawing, JointKind};
@@ -247,8 +253,17 @@ pub fn read_authors_paths(svg_text: &str) -> Result<Vec<AuthorsPath>, AuthorsSvg
 /// assert_eq!(drawing.paths[0].joints, vec![JointKind::FixedAngle; 4]);
 /// ```
 pub fn read_authors_drawing(svg_text: &str) -> Result<Drawing, AuthorsSvgError> {
-    let paths = read_authors_paths(svg_text)?
-        .into_iter()
+    read_authors_drawing_named(svg_text, "<svg text>")
+}
+
+/// [`read_authors_drawing`] with the file name used in messages (`origin`).
+pub fn read_authors_drawing_named(
+    svg_text: &str,
+    origin: &str,
+) -> Result<Drawing, AuthorsSvgError> {
+    let chains = read_authors_paths(svg_text)?;
+    let paths = chains
+        .iter()
         .map(|chain| {
             chain.to_path().ok_or(AuthorsSvgError::InvalidChain {
                 element: PathElement {
@@ -258,9 +273,95 @@ pub fn read_authors_drawing(svg_text: &str) -> Result<Drawing, AuthorsSvgError> 
             })
         })
         .collect::<Result<Vec<_>, _>>()?;
+    let source = authors_source(svg_text, origin, &chains)?;
     Ok(Drawing {
         paths,
-        source: None,
+        source: Some(std::sync::Arc::new(source)),
+    })
+}
+
+/// The export record of a document read the authors' way: one element per `<path>` that
+/// produced chains, with the identity as its transform.
+fn authors_source(
+    svg_text: &str,
+    origin: &str,
+    chains: &[AuthorsPath],
+) -> Result<super::SvgSource, AuthorsSvgError> {
+    use super::svg_in::{ElementKind, ImportedElement};
+    let options = roxmltree::ParsingOptions {
+        allow_dtd: true,
+        ..roxmltree::ParsingOptions::default()
+    };
+    let document = roxmltree::Document::parse_with_options(svg_text, options)?;
+    let nodes: Vec<roxmltree::Node> = document
+        .descendants()
+        .filter(|node| {
+            node.is_element()
+                && node.tag_name().name() == "path"
+                && matches!(node.tag_name().namespace(), None | Some(SVG_NAMESPACE))
+        })
+        .collect();
+    let mut elements: Vec<ImportedElement> = Vec::new();
+    let mut path_elements = Vec::with_capacity(chains.len());
+    let mut closed_without_z = Vec::with_capacity(chains.len());
+    for (i, chain) in chains.iter().enumerate() {
+        let node = nodes[chain.element];
+        let has_z = node.attribute("d").is_some_and(|d| d.contains(['z', 'Z']));
+        closed_without_z.push(chain.closed && !has_z);
+        match elements.last_mut() {
+            Some(e) if e.key.element == node.range().start => e.paths.end = i + 1,
+            _ => {
+                let label = PathElement {
+                    index: chain.element,
+                    id: node.attribute("id").map(str::to_owned),
+                };
+                let line = document.text_pos_at(node.range().start).row;
+                elements.push(ImportedElement {
+                    key: super::svg_out::ElementKey {
+                        uses: Vec::new(),
+                        element: node.range().start,
+                    },
+                    kind: ElementKind::Path,
+                    label: format!("{label} (line {line})"),
+                    range: node.range(),
+                    local_to_root: kurbo::Affine::IDENTITY,
+                    paths: i..i + 1,
+                });
+            }
+        }
+        path_elements.push(elements.len() - 1);
+    }
+    let root = document.root_element();
+    let number = |name: &str| {
+        root.attribute(name)
+            .and_then(|v| v.trim_end_matches("px").trim().parse::<f64>().ok())
+            .filter(|v| v.is_finite() && *v > 0.0)
+    };
+    let view_box = root
+        .attribute("viewBox")
+        .and_then(|v| svgtypes::ViewBox::from_str(v).ok())
+        .filter(|vb| vb.w > 0.0 && vb.h > 0.0)
+        .map(|vb| kurbo::Rect::new(vb.x, vb.y, vb.x + vb.w, vb.y + vb.h))
+        .unwrap_or_else(|| {
+            kurbo::Rect::new(
+                0.0,
+                0.0,
+                number("width").unwrap_or(100.0),
+                number("height").unwrap_or(100.0),
+            )
+        });
+    let size = kurbo::Size::new(
+        number("width").unwrap_or(view_box.width()),
+        number("height").unwrap_or(view_box.height()),
+    );
+    Ok(super::SvgSource {
+        origin: origin.to_string(),
+        text: svg_text.to_string(),
+        elements,
+        path_elements,
+        closed_without_z,
+        size,
+        view_box,
     })
 }
 

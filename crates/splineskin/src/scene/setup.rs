@@ -2,7 +2,7 @@
 //! kinds), the weight functions and the fit options, in our default mode or in the paper
 //! authors' compatibility mode.
 
-use crate::drawing::authors_svg::read_authors_drawing;
+use crate::drawing::authors_svg::read_authors_drawing_named;
 use crate::drawing::{read_svg_named, Drawing, ImportOptions, JointKind};
 use crate::spline_fit::FitOptions;
 use crate::weights::{Shepard, ShepardOptions, WeightField};
@@ -138,12 +138,11 @@ impl Scene {
                 &ImportOptions::default(),
                 &self.svg_origin,
             )?),
-            Compat::VectorSkinning => {
-                read_authors_drawing(&self.svg_text).map_err(|e| SceneError::Drawing {
+            Compat::VectorSkinning => read_authors_drawing_named(&self.svg_text, &self.svg_origin)
+                .map_err(|e| SceneError::Drawing {
                     origin: self.svg_origin.clone(),
                     source: Box::new(e),
-                })
-            }
+                }),
         }
     }
 }
