@@ -103,6 +103,44 @@ impl TriMesh {
         Ok(mesh)
     }
 
+    /// A regular grid of `nx × ny` cells over `rect`, each cell cut into two triangles along
+    /// alternating diagonals (so no direction is favoured): `(nx + 1)(ny + 1)` vertices, row by
+    /// row from `(rect.x0, rect.y0)`, and `2 nx ny` counter-clockwise triangles. For tests and
+    /// benchmarks. Errors if a count is zero or `rect` has no area.
+    ///
+    /// ```
+    /// use kurbo::Rect;
+    /// use splineskin::mesh::TriMesh;
+    /// let mesh = TriMesh::grid(Rect::new(0., 0., 2., 1.), 4, 2)?;
+    /// assert_eq!((mesh.n_vertices(), mesh.n_triangles()), (15, 16));
+    /// assert!((mesh.total_area() - 2.0).abs() < 1e-15);
+    /// # Ok::<(), splineskin::mesh::MeshError>(())
+    /// ```
+    pub fn grid(rect: kurbo::Rect, nx: usize, ny: usize) -> Result<TriMesh, MeshError> {
+        let id = |x: usize, y: usize| y * (nx + 1) + x;
+        let mut vertices = Vec::with_capacity((nx + 1) * (ny + 1));
+        for y in 0..=ny {
+            for x in 0..=nx {
+                vertices.push(Point::new(
+                    rect.x0 + rect.width() * x as f64 / nx as f64,
+                    rect.y0 + rect.height() * y as f64 / ny as f64,
+                ));
+            }
+        }
+        let mut triangles = Vec::with_capacity(2 * nx * ny);
+        for y in 0..ny {
+            for x in 0..nx {
+                let (a, b, c, d) = (id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1));
+                if (x + y) % 2 == 0 {
+                    triangles.extend([[a, b, c], [a, c, d]]);
+                } else {
+                    triangles.extend([[a, b, d], [b, c, d]]);
+                }
+            }
+        }
+        TriMesh::new(vertices, triangles)
+    }
+
     /// Checks the invariants listed at [`TriMesh::new`].
     pub fn check(&self) -> Result<(), MeshError> {
         if self.triangles.is_empty() {

@@ -9,10 +9,26 @@
 //! | family | module | handles |
 //! |---|---|---|
 //! | Shepard (inverse distance) | [`shepard`] | points |
+//! | harmonic (`k = 1`), biharmonic (`k = 2`) | [`harmonic`] | vertices of a mesh (points, or any Dirichlet data) |
+//! | bounded biharmonic (BBW) | [`bbw`] | vertices of a mesh |
+//!
+//! The mesh families compute [`VertexWeights`] on a [`crate::mesh::TriMesh`] from
+//! [`DirichletData`]; [`crate::domain::MeshWeights`] evaluates them anywhere in the plane.
 
+pub mod bbw;
+mod dirichlet;
+mod error;
+pub mod harmonic;
+mod reduced_cholesky;
 pub mod shepard;
+mod vertex_weights;
 
+pub use bbw::{bbw_weights, bounded_biharmonic, BbwOptions};
+pub use dirichlet::DirichletData;
+pub use error::WeightsError;
+pub use harmonic::{harmonic, harmonic_weights};
 pub use shepard::{Shepard, ShepardOptions};
+pub use vertex_weights::VertexWeights;
 
 use kurbo::Point;
 

@@ -1,0 +1,252 @@
+//! Minimising a quadratic energy with some vertices fixed: the linear algebra shared by the
+//! harmonic and bounded biharmonic solves.
+//!
+//! With `Q` symmetric positive semidefinite (`n × n`), the free vertices `f` and the fixed ones
+//! `c`, the minimiser of `wᵀ Q w` over `w_f` with `w_c` given solves
+//!
+//! ```text
+//! Q_ff w_f = −Q_fc w_c
+//! ```
+//!
+//! (libigl's `min_quad_with_fixed` without linear term or equality rows). `Q_ff` is positive
+//! definite when every connected part of the mesh holds a fixed vertex, and is factored by a
+//! sparse Cholesky (faer, supernodal or simplicial as faer chooses, sequential).
+//!
+//! **Orderings.** The fill-reducing ordering is computed once, by AMD on the pattern of the
+//! whole `Q` ([`EnergySystem::new`]), and every `Q_ff` is factored in the order it induces on
+//! `f`. The fill of a principal submatrix in an induced order is contained in the fill of the
+//! whole matrix (a fill edge `(i, j)` is a path from `i` to `j` through vertices eliminated
+//! before both — George & Liu's path lemma — and the paths of a subgraph are paths of the
+//! graph), so factoring `Q_ff` costs at most what factoring `Q` does, and shrinks with `f`;
+//! the bounded solve, which factors a new `Q_ff` per active-set iteration, needs no ordering
+//! pass per iteration, only the (linear-time) symbolic analysis.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::amd;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymmetricOrdering,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side};
+
+use super::WeightsError;
+use crate::mesh::operators::Csc;
+
+/// Right-hand sides solved together: the workspace is sized for this many columns.
+const SOLVE_BLOCK: usize = 8;
+
+/// A symmetric positive semidefinite energy `Q` on the vertices with its fill-reducing
+/// elimination order.
+#[derive(Clone, Debug)]
+pub(crate) struct EnergySystem {
+    /// `Q`, full symmetric storage, sorted rows.
+    pub q: Csc,
+    /// `order[k]` is the vertex eliminated `k`-th.
+    order: Vec<usize>,
+    /// The upper triangle of `Q` renumbered in elimination order (`P Q Pᵀ`), sorted rows:
+    /// restricting it to free vertices keeps rows sorted, so each factorisation only filters.
+    permuted: Csc,
+}
+
+impl EnergySystem {
+    /// Wraps `q` and orders it by AMD (faer's, default parameters).
+    pub fn new(q: Csc) -> Result<EnergySystem, WeightsError> {
+        let n = q.n;
+        let mut order = vec![0usize; n];
+        let mut inverse = vec![0usize; n];
+        let nnz = q.row_idx.len();
+        let mut memory = MemBuffer::try_new(amd::order_scratch::<usize>(n, nnz))
+            .map_err(|e| factorization_error("AMD workspace", e))?;
+        let pattern = SymbolicSparseColMatRef::new_checked(n, n, &q.col_ptr, None, &q.row_idx);
+        amd::order(
+            &mut order,
+            &mut inverse,
+            pattern,
+            amd::Control::default(),
+            MemStack::new(&mut memory),
+        )
+        .map_err(|e| factorization_error("AMD ordering", e))?;
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(nnz / 2 + n);
+        let mut values = Vec::with_capacity(nnz / 2 + n);
+        let mut column: Vec<(usize, f64)> = Vec::new();
+        col_ptr.push(0);
+        for (k, &v) in order.iter().enumerate() {
+            column.clear();
+            let (rows, vals) = q.column(v);
+            column.extend(
+                rows.iter()
+                    .zip(vals)
+                    .map(|(&u, &x)| (inverse[u], x))
+                    .filter(|&(r, _)| r <= k),
+            );
+            column.sort_unstable_by_key(|&(r, _)| r);
+            row_idx.extend(column.iter().map(|&(r, _)| r));
+            values.extend(column.iter().map(|&(_, x)| x));
+            col_ptr.push(row_idx.len());
+        }
+        let permuted = Csc {
+            n,
+            col_ptr,
+            row_idx,
+            values,
+        };
+        Ok(EnergySystem { q, order, permuted })
+    }
+
+    /// Number of vertices.
+    pub fn n(&self) -> usize {
+        self.q.n
+    }
+
+    /// The diagonal `Q_vv` of every vertex.
+    pub fn diagonal(&self) -> Vec<f64> {
+        (0..self.n())
+            .map(|v| {
+                let (rows, vals) = self.q.column(v);
+                rows.binary_search(&v).map_or(0.0, |k| vals[k])
+            })
+            .collect()
+    }
+
+    /// `out = Q w`.
+    pub fn apply(&self, w: &[f64], out: &mut [f64]) {
+        // Q is symmetric: row v of Q·w is column v's entries against w.
+        for (v, o) in out.iter_mut().enumerate() {
+            let (rows, values) = self.q.column(v);
+            *o = rows.iter().zip(values).map(|(&u, &q)| q * w[u]).sum();
+        }
+    }
+
+    /// Factors `Q_ff` for the vertices with `free[v]`.
+    pub fn factor(&self, free: &[bool]) -> Result<ReducedCholesky, WeightsError> {
+        let n = self.n();
+        // Reduced index of each elimination position, and of each vertex.
+        let mut reduced = vec![NOT_FREE; n];
+        let mut position = vec![NOT_FREE; n];
+        let mut vertices = Vec::new();
+        for (k, &v) in self.order.iter().enumerate() {
+            if free[v] {
+                reduced[k] = vertices.len();
+                position[v] = vertices.len();
+                vertices.push(v);
+            }
+        }
+        let m = vertices.len();
+        // Upper triangle of Q_ff in the induced order: the free rows of the free columns of
+        // `permuted`, renumbered (monotonically, so rows stay sorted).
+        let mut col_ptr = Vec::with_capacity(m + 1);
+        let mut row_idx = Vec::new();
+        let mut values = Vec::new();
+        col_ptr.push(0);
+        for k in 0..n {
+            if reduced[k] == NOT_FREE {
+                continue;
+            }
+            let (rows, vals) = self.permuted.column(k);
+            for (&r, &x) in rows.iter().zip(vals) {
+                if reduced[r] != NOT_FREE {
+                    row_idx.push(reduced[r]);
+                    values.push(x);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let pattern = SymbolicSparseColMatRef::new_checked(m, m, &col_ptr, None, &row_idx);
+        let symbolic = factorize_symbolic_cholesky(
+            pattern,
+            Side::Upper,
+            SymmetricOrdering::Identity,
+            CholeskySymbolicParams::default(),
+        )
+        .map_err(|e| factorization_error("symbolic analysis", e))?;
+        let mut l_values = vec![0.0; symbolic.len_val()];
+        let scratch = symbolic
+            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+            .or(symbolic.solve_in_place_scratch::<f64>(SOLVE_BLOCK, Par::Seq));
+        let mut memory =
+            MemBuffer::try_new(scratch).map_err(|e| factorization_error("workspace", e))?;
+        symbolic
+            .factorize_numeric_llt(
+                &mut l_values,
+                SparseColMatRef::new(pattern, &values),
+                Side::Upper,
+                LltRegularization::default(),
+                Par::Seq,
+                MemStack::new(&mut memory),
+                Default::default(),
+            )
+            .map_err(|e| factorization_error("numeric factorisation", e))?;
+        Ok(ReducedCholesky {
+            vertices,
+            position,
+            symbolic,
+            l_values,
+            memory,
+        })
+    }
+}
+
+/// Marks a vertex that is not free in [`ReducedCholesky`]'s position map.
+const NOT_FREE: usize = usize::MAX;
+
+fn factorization_error(stage: &str, e: impl std::fmt::Debug) -> WeightsError {
+    WeightsError::Factorization {
+        detail: format!("{stage}: {e:?}"),
+    }
+}
+
+/// The Cholesky factor of `Q_ff` for one set of free vertices `f`.
+pub(crate) struct ReducedCholesky {
+    /// `vertices[r]`: the free vertex of reduced index `r` (in elimination order).
+    vertices: Vec<usize>,
+    /// Reduced index of each vertex, [`NOT_FREE`] for fixed ones.
+    position: Vec<usize>,
+    symbolic: SymbolicCholesky<usize>,
+    l_values: Vec<f64>,
+    /// Workspace of the solves.
+    memory: MemBuffer,
+}
+
+impl ReducedCholesky {
+    /// For each column `w` of `columns` (vertex-indexed, `n_vertices` each, contiguous),
+    /// overwrites the free entries with the minimiser of `wᵀQw` given the fixed ones:
+    /// `w_f = −Q_ff⁻¹ Q_fc w_c`.
+    pub fn solve_free(&mut self, system: &EnergySystem, columns: &mut [f64]) {
+        let n = system.n();
+        let m = self.vertices.len();
+        if m == 0 || n == 0 {
+            return;
+        }
+        for block in columns.chunks_mut(n * SOLVE_BLOCK) {
+            let k = block.len() / n;
+            let mut rhs = vec![0.0; m * k];
+            for (j, w) in block.chunks(n).enumerate() {
+                let b = &mut rhs[j * m..(j + 1) * m];
+                for (r, &v) in self.vertices.iter().enumerate() {
+                    let (rows, vals) = system.q.column(v);
+                    b[r] = -rows
+                        .iter()
+                        .zip(vals)
+                        .filter(|(&u, _)| self.position[u] == NOT_FREE)
+                        .map(|(&u, &q)| q * w[u])
+                        .sum::<f64>();
+                }
+            }
+            let llt = LltRef::new(&self.symbolic, &self.l_values);
+            llt.solve_in_place_with_conj(
+                Conj::No,
+                MatMut::from_column_major_slice_mut(&mut rhs, m, k),
+                Par::Seq,
+                MemStack::new(&mut self.memory),
+            );
+            for (j, w) in block.chunks_mut(n).enumerate() {
+                for (r, &v) in self.vertices.iter().enumerate() {
+                    w[v] = rhs[j * m + r];
+                }
+            }
+        }
+    }
+}
