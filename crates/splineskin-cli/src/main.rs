@@ -8,6 +8,7 @@ mod deform;
 mod demo;
 mod info;
 mod output;
+mod weights;
 
 use clap::{Parser, Subcommand};
 
@@ -29,6 +30,8 @@ enum Command {
     Bench(bench::Args),
     /// Deform the bundled example drawing and write SVG and PNG files.
     Demo(demo::Args),
+    /// Compute handle weights on a triangle mesh (harmonic, biharmonic, bounded biharmonic).
+    Weights(weights::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -38,6 +41,7 @@ fn main() -> std::process::ExitCode {
         Command::Info(a) => info::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Demo(a) => demo::run(a),
+        Command::Weights(a) => weights::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -288,7 +288,8 @@ fn solve_column(
         if n_changes == 0 {
             for (x, s) in w.iter_mut().zip(&status) {
                 if *s == Status::Free {
-                    *x = x.clamp(LOWER, UPPER);
+                    // `+ 0.0` turns a −0.0 into 0.0.
+                    *x = x.clamp(LOWER, UPPER) + 0.0;
                 }
             }
             tracing::debug!(

@@ -1,0 +1,416 @@
+//! `splineskin weights --mesh MESH.json --kind … -o OUT.json` through the binary: the weights
+//! it writes (against libigl's on the reference-igl meshes, and by their defining properties on
+//! a small mesh written here), and clean failures on bad input — each names the file and the
+//! element, exits with status 1 without panicking, and leaves no output behind.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde::Deserialize;
+
+/// A 3 × 2 grid of unit squares (12 vertices, 12 counter-clockwise triangles), as JSON
+/// `"V"` and `"F"` arrays.
+fn grid_mesh() -> (String, String) {
+    let mut v = Vec::new();
+    for y in 0..3 {
+        for x in 0..4 {
+            v.push(format!("[{x}, {y}]"));
+        }
+    }
+    let mut f = Vec::new();
+    for y in 0..2 {
+        for x in 0..3 {
+            let a = y * 4 + x;
+            f.push(format!("[{a}, {}, {}]", a + 1, a + 5));
+            f.push(format!("[{a}, {}, {}]", a + 5, a + 4));
+        }
+    }
+    (format!("[{}]", v.join(", ")), format!("[{}]", f.join(", ")))
+}
+
+/// A mesh file with the grid's vertices and triangles replaced where given.
+fn mesh_file(v: Option<&str>, f: Option<&str>, handles: &str) -> String {
+    let (gv, gf) = grid_mesh();
+    format!(
+        r#"{{"mesh": {{"V": {}, "F": {}}}, "handles": {{"indices": {handles}}}}}"#,
+        v.unwrap_or(&gv),
+        f.unwrap_or(&gf)
+    )
+}
+
+/// A fresh folder for one run.
+fn case_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "splineskin-weights-cli-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs the binary in `dir` with `args`.
+fn run(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_splineskin"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+#[derive(Deserialize)]
+struct WeightsOut {
+    weights: Vec<Vec<f64>>,
+}
+
+fn read_weights(path: &Path) -> Vec<Vec<f64>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    serde_json::from_str::<WeightsOut>(&text).unwrap().weights
+}
+
+/// A failing case: `mesh` written to `mesh.json` (if any), then `args` run; stderr must hold
+/// every `expect` substring.
+struct Failure<'a> {
+    name: &'a str,
+    mesh: Option<String>,
+    args: Vec<&'a str>,
+    expect: Vec<&'a str>,
+}
+
+/// Checks a failed run: `Err` says what is wrong. `output` must not exist afterwards, nor a
+/// temporary file of the atomic write.
+fn check_failure(case: &Failure, dir: &Path, out: &Output, output: &str) -> Result<(), String> {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let label = format!("{} ({})\nstderr: {stderr}", case.name, case.args.join(" "));
+    if out.status.success() {
+        return Err(format!("{label}: succeeded"));
+    }
+    if stderr.contains("panicked") {
+        return Err(format!("{label}: panicked"));
+    }
+    if !stderr.starts_with("error") {
+        return Err(format!("{label}: no error line"));
+    }
+    for want in &case.expect {
+        if !stderr.contains(want) {
+            return Err(format!("{label}: stderr lacks {want:?}"));
+        }
+    }
+    for entry in std::fs::read_dir(dir).unwrap().flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name == output || name.starts_with(&format!(".{output}.tmp-")) {
+            return Err(format!("{label}: left {name} behind"));
+        }
+    }
+    Ok(())
+}
+
+fn run_failures(cases: Vec<Failure>) {
+    let mut problems = Vec::new();
+    for case in &cases {
+        let dir = case_dir(case.name);
+        if let Some(mesh) = &case.mesh {
+            std::fs::write(dir.join("mesh.json"), mesh).unwrap();
+        }
+        let out = run(&dir, &case.args);
+        let output = case
+            .args
+            .iter()
+            .position(|&a| a == "-o")
+            .map_or("out.json", |k| case.args[k + 1]);
+        match check_failure(case, &dir, &out, output) {
+            Ok(()) => {
+                let _ = std::fs::remove_dir_all(&dir);
+            }
+            Err(e) => problems.push(e),
+        }
+    }
+    assert!(
+        problems.is_empty(),
+        "{} of {} cases failed:\n\n{}",
+        problems.len(),
+        cases.len(),
+        problems.join("\n\n")
+    );
+}
+
+/// Every kind on the small grid: handles interpolated, rows summing to one (harmonic and
+/// biharmonic weights of identity data do; BBW rows are normalised), BBW within [0, 1].
+#[test]
+fn weights_cli_small_mesh_every_kind() {
+    let dir = case_dir("small");
+    std::fs::write(dir.join("mesh.json"), mesh_file(None, None, "[0, 11, 5]")).unwrap();
+    for kind in ["harmonic", "biharmonic", "bbw"] {
+        let name = format!("{kind}.json");
+        let out = run(
+            &dir,
+            &[
+                "weights",
+                "--mesh",
+                "mesh.json",
+                "--kind",
+                kind,
+                "-o",
+                &name,
+            ],
+        );
+        assert!(
+            out.status.success(),
+            "{kind}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let w = read_weights(&dir.join(&name));
+        assert_eq!(w.len(), 12, "{kind}: one row per vertex");
+        for (i, &v) in [0usize, 11, 5].iter().enumerate() {
+            for j in 0..3 {
+                assert_eq!(
+                    w[v][j],
+                    if i == j { 1.0 } else { 0.0 },
+                    "{kind}: handle {i}"
+                );
+            }
+        }
+        for (v, row) in w.iter().enumerate() {
+            assert_eq!(row.len(), 3);
+            let sum: f64 = row.iter().sum();
+            assert!((sum - 1.0).abs() < 1e-12, "{kind}: row {v} sums to {sum}");
+            if kind == "bbw" {
+                assert!(
+                    row.iter().all(|x| (0.0..=1.0).contains(x)),
+                    "{kind}: {row:?}"
+                );
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The reference files themselves, as input: the output matches libigl's weights.
+#[test]
+fn weights_cli_reads_reference_igl_files() {
+    let data = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
+    if !data.is_dir() {
+        eprintln!("skipped: ../shared/data not found next to the repository");
+        return;
+    }
+    #[derive(Deserialize)]
+    struct Reference {
+        weights: ReferenceWeights,
+    }
+    #[derive(Deserialize)]
+    struct ReferenceWeights {
+        harmonic_k1: Matrix,
+        harmonic_k2: Matrix,
+        bbw_normalized: Matrix,
+    }
+    #[derive(Deserialize)]
+    #[allow(non_snake_case)]
+    struct Matrix {
+        W: Vec<Vec<f64>>,
+    }
+    let dir = case_dir("reference");
+    for shape in ["bar", "ushape"] {
+        let input = data.join("reference-igl").join(format!("{shape}.json"));
+        let text = std::fs::read_to_string(&input).unwrap();
+        let reference: Reference = serde_json::from_str(&text).unwrap();
+        // Tolerances of the library's conformance tests (crates/splineskin/tests/weights_igl.rs).
+        for (kind, expected, tolerance) in [
+            ("harmonic", &reference.weights.harmonic_k1.W, 1e-9),
+            ("biharmonic", &reference.weights.harmonic_k2.W, 1e-9),
+            ("bbw", &reference.weights.bbw_normalized.W, 1e-6),
+        ] {
+            let name = format!("{shape}-{kind}.json");
+            let out = run(
+                &dir,
+                &[
+                    "weights",
+                    "--mesh",
+                    input.to_str().unwrap(),
+                    "--kind",
+                    kind,
+                    "-o",
+                    &name,
+                ],
+            );
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let w = read_weights(&dir.join(&name));
+            assert_eq!(w.len(), expected.len());
+            let worst = w
+                .iter()
+                .zip(expected)
+                .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
+                .fold(0.0, f64::max);
+            assert!(worst <= tolerance, "{shape} {kind}: max |Δ| = {worst:e}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn weights_cli_bad_input_fails_cleanly() {
+    let mesh_args = |kind: &'static str| {
+        vec![
+            "weights",
+            "--mesh",
+            "mesh.json",
+            "--kind",
+            kind,
+            "-o",
+            "out.json",
+        ]
+    };
+    let tri = Some("[[0, 0], [1, 0], [0, 1]]");
+    run_failures(vec![
+        Failure {
+            name: "missing-file",
+            mesh: None,
+            args: mesh_args("bbw"),
+            expect: vec!["mesh.json", "cannot read"],
+        },
+        Failure {
+            name: "bad-json",
+            mesh: Some(r#"{"mesh": {"V": [[0, 0], "#.into()),
+            args: mesh_args("bbw"),
+            expect: vec!["mesh.json", "not a mesh file", "line 1"],
+        },
+        Failure {
+            name: "no-handles-key",
+            mesh: Some(r#"{"mesh": {"V": [], "F": []}}"#.into()),
+            args: mesh_args("harmonic"),
+            expect: vec!["mesh.json", "missing field `handles`"],
+        },
+        Failure {
+            name: "handle-out-of-range",
+            mesh: Some(mesh_file(None, None, "[0, 12]")),
+            args: mesh_args("harmonic"),
+            expect: vec!["mesh.json", "handles.indices[1] = 12", "12 vertices"],
+        },
+        Failure {
+            name: "duplicate-handle",
+            mesh: Some(mesh_file(None, None, "[3, 5, 3]")),
+            args: mesh_args("bbw"),
+            expect: vec![
+                "mesh.json",
+                "handles.indices[0] and handles.indices[2]",
+                "vertex 3",
+            ],
+        },
+        Failure {
+            name: "no-handles",
+            mesh: Some(mesh_file(None, None, "[]")),
+            args: mesh_args("bbw"),
+            expect: vec!["mesh.json", "handles.indices is empty"],
+        },
+        Failure {
+            name: "non-finite-coordinate",
+            mesh: Some(mesh_file(
+                Some("[[0, 0], [1e400, 0], [0, 1]]"),
+                Some("[[0, 1, 2]]"),
+                "[0]",
+            )),
+            args: mesh_args("biharmonic"),
+            expect: vec!["mesh.json", "number out of range", "line 1"],
+        },
+        Failure {
+            name: "clockwise-triangle",
+            mesh: Some(mesh_file(tri, Some("[[0, 2, 1]]"), "[0]")),
+            args: mesh_args("harmonic"),
+            expect: vec!["mesh.json", "mesh.F[0]", "counter-clockwise"],
+        },
+        Failure {
+            name: "degenerate-triangle",
+            mesh: Some(mesh_file(
+                Some("[[0, 0], [1, 0], [0, 1], [2, 0]]"),
+                Some("[[0, 1, 2], [0, 1, 3]]"),
+                "[0]",
+            )),
+            args: mesh_args("harmonic"),
+            expect: vec!["mesh.json", "mesh.F[1]", "signed area 0"],
+        },
+        Failure {
+            name: "triangle-index-out-of-range",
+            mesh: Some(mesh_file(tri, Some("[[0, 1, 7]]"), "[0]")),
+            args: mesh_args("bbw"),
+            expect: vec!["mesh.json", "mesh.F[0]", "index 7 out of range"],
+        },
+        Failure {
+            name: "no-triangles",
+            mesh: Some(mesh_file(tri, Some("[]"), "[0]")),
+            args: mesh_args("bbw"),
+            expect: vec!["mesh.json", "no triangles"],
+        },
+        Failure {
+            name: "vertex-in-no-triangle",
+            mesh: Some(mesh_file(
+                Some("[[0, 0], [1, 0], [0, 1], [5, 5]]"),
+                Some("[[0, 1, 2]]"),
+                "[0]",
+            )),
+            args: mesh_args("bbw"),
+            expect: vec!["mesh.json", "vertex 3 belongs to no triangle"],
+        },
+        Failure {
+            name: "part-without-handle",
+            mesh: Some(mesh_file(
+                Some("[[0, 0], [1, 0], [0, 1], [5, 5], [6, 5], [5, 6]]"),
+                Some("[[0, 1, 2], [3, 4, 5]]"),
+                "[0, 1]",
+            )),
+            args: mesh_args("biharmonic"),
+            expect: vec!["mesh.json", "vertex 3", "holds no handle"],
+        },
+        Failure {
+            name: "output-not-json",
+            mesh: Some(mesh_file(None, None, "[0, 11]")),
+            args: vec!["weights", "--mesh", "mesh.json", "-o", "out.png"],
+            expect: vec!["out.png", "written as JSON"],
+        },
+        Failure {
+            name: "scene-and-mesh",
+            mesh: Some(mesh_file(None, None, "[0, 11]")),
+            args: vec![
+                "weights",
+                "scene.json",
+                "--mesh",
+                "mesh.json",
+                "-o",
+                "out.json",
+            ],
+            expect: vec!["cannot be used with"],
+        },
+        Failure {
+            name: "neither-scene-nor-mesh",
+            mesh: None,
+            args: vec!["weights", "-o", "out.json"],
+            expect: vec!["required", "--mesh"],
+        },
+        Failure {
+            name: "scene-not-implemented",
+            mesh: None,
+            args: vec!["weights", "scene.json", "-o", "weights.png"],
+            expect: vec!["scene.json", "not implemented yet", "--mesh"],
+        },
+    ]);
+}
+
+/// The failure check itself fails on a successful run (so the cases above prove something).
+#[test]
+fn weights_cli_failure_check_rejects_success() {
+    let case = Failure {
+        name: "control",
+        mesh: Some(mesh_file(None, None, "[0, 11]")),
+        args: vec!["weights", "--mesh", "mesh.json", "-o", "out.json"],
+        expect: vec![],
+    };
+    let dir = case_dir(case.name);
+    std::fs::write(dir.join("mesh.json"), case.mesh.as_ref().unwrap()).unwrap();
+    let out = run(&dir, &case.args);
+    assert!(out.status.success());
+    assert!(dir.join("out.json").is_file());
+    assert!(check_failure(&case, &dir, &out, "out.json").is_err());
+    let _ = std::fs::remove_dir_all(&dir);
+}
