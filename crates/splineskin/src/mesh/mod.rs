@@ -355,3 +355,87 @@ impl TriMesh {
         Ok(loops)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use kurbo::Rect;
+
+    /// A 3 × 3 grid with its centre cell removed: one outer loop and one hole.
+    fn ring() -> TriMesh {
+        let mut mesh = TriMesh::grid(Rect::new(0.0, 0.0, 3.0, 3.0), 3, 3).unwrap();
+        // Cell (1, 1) is triangles 8 and 9 (two per cell, row by row).
+        mesh.triangles.drain(8..10);
+        mesh
+    }
+
+    #[test]
+    fn boundary_loops_of_a_ring_run_outer_ccw_and_hole_cw() {
+        let mesh = ring();
+        let loops = mesh.boundary_loops().unwrap();
+        assert_eq!(loops.len(), 2);
+        // Vertices are row-major, 4 per row: the outer loop starts at 0 and runs along y = 0.
+        assert_eq!(loops[0], vec![0, 1, 2, 3, 7, 11, 15, 14, 13, 12, 8, 4]);
+        // The hole (vertices 5, 6, 10, 9) runs clockwise: the domain is on its left.
+        assert_eq!(loops[1], vec![5, 9, 10, 6]);
+        let signed_area = |lp: &[usize]| -> f64 {
+            (0..lp.len())
+                .map(|k| {
+                    let (a, b) = (mesh.vertices[lp[k]], mesh.vertices[lp[(k + 1) % lp.len()]]);
+                    0.5 * (a.x * b.y - b.x * a.y)
+                })
+                .sum()
+        };
+        assert_eq!(signed_area(&loops[0]), 9.0);
+        assert_eq!(signed_area(&loops[1]), -1.0);
+        assert_eq!(mesh.total_area(), 8.0);
+    }
+
+    #[test]
+    fn boundary_edges_reject_overlaps_and_pinches() {
+        let v = vec![
+            Point::new(0., 0.),
+            Point::new(1., 0.),
+            Point::new(0., 1.),
+            Point::new(-1., 0.),
+            Point::new(0., -1.),
+        ];
+        // The same triangle twice: its edges are used twice in the same direction.
+        let twice = TriMesh::new(v.clone(), vec![[0, 1, 2], [1, 2, 0]]).unwrap();
+        assert_eq!(
+            twice.boundary_edges(),
+            Err(MeshError::NonManifoldEdge {
+                from: 1,
+                to: 2,
+                first: 0,
+                second: 1
+            })
+        );
+        // Two triangles sharing only vertex 0: the boundary pinches there.
+        let bowtie = TriMesh::new(v, vec![[0, 1, 2], [0, 3, 4]]).unwrap();
+        assert_eq!(bowtie.boundary_edges().unwrap().len(), 6);
+        assert_eq!(
+            bowtie.boundary_loops(),
+            Err(MeshError::NonManifoldVertex {
+                vertex: 0,
+                count: 2
+            })
+        );
+        assert_eq!(bowtie.components(), vec![0, 0, 0, 0, 0]);
+    }
+
+    #[test]
+    fn grid_rejects_empty_and_inverted_rectangles() {
+        assert_eq!(
+            TriMesh::grid(Rect::new(0., 0., 1., 1.), 0, 3),
+            Err(MeshError::Empty)
+        );
+        assert!(matches!(
+            TriMesh::grid(Rect::new(1., 0., 0., 1.), 2, 2),
+            Err(MeshError::BadOrientation { triangle: 0, .. })
+        ));
+        let mesh = TriMesh::grid(Rect::new(0., 0., 2., 1.), 4, 2).unwrap();
+        assert!(mesh.referenced_vertices().iter().all(|&r| r));
+        assert!(mesh.components().iter().all(|&c| c == 0));
+    }
+}

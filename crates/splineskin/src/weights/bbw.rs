@@ -320,3 +320,144 @@ fn solve_column(
         n_changes,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::operators::polyharmonic_energy;
+    use kurbo::Rect;
+
+    /// A 2 × 1 rectangle in 24 × 12 cells with four handles: big enough for every bound to be
+    /// active somewhere, small enough for a unit test.
+    fn strip() -> (TriMesh, Vec<usize>) {
+        let mesh = TriMesh::grid(Rect::new(0.0, 0.0, 2.0, 1.0), 24, 12).unwrap();
+        // Row-major vertices, 25 per row.
+        let handles = vec![3 * 25 + 3, 9 * 25 + 4, 6 * 25 + 12, 6 * 25 + 21];
+        (mesh, handles)
+    }
+
+    /// The KKT conditions checked independently of the solver: with g = Qw, free vertices have
+    /// g = 0, vertices at 0 have g ≥ 0, vertices at 1 have g ≤ 0 (relative to max |Q|).
+    fn kkt_residual(mesh: &TriMesh, fixed: &[usize], w: &[f64]) -> f64 {
+        let q = polyharmonic_energy(mesh, 2);
+        let q_max = q.val().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let mut g = vec![0.0; w.len()];
+        for j in 0..q.ncols() {
+            for (i, &x) in q.row_idx_of_col(j).zip(q.val_of_col(j)) {
+                g[i] += x * w[j];
+            }
+        }
+        let mut worst: f64 = 0.0;
+        for v in (0..w.len()).filter(|v| !fixed.contains(v)) {
+            let r = g[v] / q_max;
+            worst = worst.max(if w[v] == LOWER {
+                -r
+            } else if w[v] == UPPER {
+                r
+            } else {
+                r.abs()
+            });
+        }
+        worst
+    }
+
+    /// KKT residual allowed: rounding of g (a few units of 1e-16 times the ~20 terms of a row).
+    const KKT_ROUNDING: f64 = 1e-12;
+
+    #[test]
+    fn bbw_is_bounded_interpolating_kkt_point() {
+        let (mesh, handles) = strip();
+        let data = DirichletData::handles(&handles).unwrap();
+        let raw = bounded_biharmonic(&mesh, &data, &BbwOptions::default()).unwrap();
+        let unbounded = crate::weights::harmonic_weights(&mesh, &handles, 2).unwrap();
+        let (lo, hi) = unbounded
+            .as_slice()
+            .iter()
+            .fold((1.0f64, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!(
+            lo < -0.01 && hi > 1.01,
+            "the bounds matter here: [{lo}, {hi}]"
+        );
+        for i in 0..handles.len() {
+            let w = raw.column(i);
+            assert!(w.iter().all(|x| (LOWER..=UPPER).contains(x)));
+            assert!(
+                w.iter().filter(|&&x| x == LOWER).count() > 10,
+                "lower bound active"
+            );
+            for (j, &v) in handles.iter().enumerate() {
+                assert_eq!(w[v], if i == j { 1.0 } else { 0.0 });
+            }
+            let r = kkt_residual(&mesh, &handles, &w);
+            assert!(r < KKT_ROUNDING, "handle {i}: KKT residual {r:e}");
+            // Control: the unbounded weights violate the conditions (negative values are
+            // "free" there with g = 0, so clamp them to see a wrong-sign multiplier).
+            let clamped: Vec<f64> = unbounded
+                .column(i)
+                .iter()
+                .map(|x| x.clamp(0.0, 1.0))
+                .collect();
+            assert!(kkt_residual(&mesh, &handles, &clamped) > 1e-6);
+        }
+        let normalised = bbw_weights(&mesh, &handles, &BbwOptions::default()).unwrap();
+        for v in 0..mesh.n_vertices() {
+            let sum: f64 = normalised.row(v).iter().sum();
+            assert!((sum - 1.0).abs() < 1e-15, "vertex {v}: {sum}");
+        }
+    }
+
+    #[test]
+    fn bbw_parallel_equals_sequential() {
+        let (mesh, handles) = strip();
+        let a = bbw_weights(&mesh, &handles, &BbwOptions::default()).unwrap();
+        let b = bbw_weights(&mesh, &handles, &BbwOptions::default().with_parallel(true)).unwrap();
+        assert_eq!(a, b);
+    }
+
+    #[test]
+    fn bbw_rejects_bad_input_and_reports_non_convergence() {
+        let (mesh, handles) = strip();
+        let data = DirichletData::handles(&handles).unwrap();
+        assert!(matches!(
+            bounded_biharmonic(&mesh, &data, &BbwOptions::default().with_max_iterations(0)),
+            Err(WeightsError::InvalidOption {
+                name: "max_iterations",
+                ..
+            })
+        ));
+        for bad in [0.0, -1.0, f64::NAN] {
+            assert!(matches!(
+                bounded_biharmonic(
+                    &mesh,
+                    &data,
+                    &BbwOptions::default().with_feasibility_tolerance(bad)
+                ),
+                Err(WeightsError::InvalidOption { .. })
+            ));
+            assert!(matches!(
+                bounded_biharmonic(
+                    &mesh,
+                    &data,
+                    &BbwOptions::default().with_optimality_tolerance(bad)
+                ),
+                Err(WeightsError::InvalidOption { .. })
+            ));
+        }
+        let outside = DirichletData::new(vec![0, 5], vec![1.0, -0.5], 1).unwrap();
+        assert_eq!(
+            bounded_biharmonic(&mesh, &outside, &BbwOptions::default()),
+            Err(WeightsError::ValueOutOfBounds {
+                vertex: 5,
+                column: 0,
+                value: -0.5,
+                lower: LOWER,
+                upper: UPPER
+            })
+        );
+        // One re-solve is not enough on this mesh: an error, not a wrong answer.
+        assert!(matches!(
+            bounded_biharmonic(&mesh, &data, &BbwOptions::default().with_max_iterations(1)),
+            Err(WeightsError::NotConverged { iterations: 1, .. })
+        ));
+    }
+}

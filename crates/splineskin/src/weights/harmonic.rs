@@ -70,12 +70,16 @@ pub fn harmonic_weights(
 /// use kurbo::Point;
 /// use splineskin::mesh::TriMesh;
 /// use splineskin::weights::{harmonic::harmonic, DirichletData};
-/// // The unit square split in two; fixing the function x at three corners reproduces it at
-/// // the fourth: linear functions are harmonic.
-/// let v = [(0., 0.), (1., 0.), (1., 1.), (0., 1.)].map(Point::from);
-/// let mesh = TriMesh::new(v.to_vec(), vec![[0, 1, 2], [0, 2, 3]])?;
-/// let w = harmonic(&mesh, &DirichletData::new(vec![0, 1, 2], vec![0.0, 1.0, 1.0], 1)?, 1)?;
-/// assert!(w.get(3, 0).abs() < 1e-15);
+/// // The unit square fanned around its centre (vertex 4). Fixing the function x at the
+/// // corners reproduces it at the centre: the cotangent Laplacian is exact on linear
+/// // functions at interior vertices, so piecewise linear boundary data (a cage's) of a
+/// // linear function give that function back.
+/// let v = [(0., 0.), (1., 0.), (1., 1.), (0., 1.), (0.5, 0.5)].map(Point::from);
+/// let t = vec![[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+/// let mesh = TriMesh::new(v.to_vec(), t)?;
+/// let data = DirichletData::new(vec![0, 1, 2, 3], vec![0.0, 1.0, 1.0, 0.0], 1)?;
+/// let w = harmonic(&mesh, &data, 1)?;
+/// assert!((w.get(4, 0) - 0.5).abs() < 1e-15);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn harmonic(
@@ -143,4 +147,195 @@ pub(crate) fn solve_unbounded(
     let mut factor = system.factor(&free)?;
     factor.solve_free(system, &mut columns);
     Ok(columns)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use kurbo::{Point, Rect};
+
+    /// A 6 × 4 grid over [0, 3] × [0, 2], jittered so that no triangle is right-angled (the
+    /// cotangent weights are then all different) while staying counter-clockwise.
+    fn jittered_grid() -> TriMesh {
+        let mut mesh = TriMesh::grid(Rect::new(0.0, 0.0, 3.0, 2.0), 6, 4).unwrap();
+        for (i, p) in mesh.vertices.iter_mut().enumerate() {
+            let (x, y) = (p.x, p.y);
+            let on_x_edge = x == 0.0 || x == 3.0;
+            let on_y_edge = y == 0.0 || y == 2.0;
+            let s = ((i * 7919) % 13) as f64 / 13.0 - 0.5;
+            let c = ((i * 104_729) % 11) as f64 / 11.0 - 0.5;
+            *p = Point::new(
+                if on_x_edge { x } else { x + 0.12 * s },
+                if on_y_edge { y } else { y + 0.12 * c },
+            );
+        }
+        mesh.check().unwrap();
+        mesh
+    }
+
+    /// `f(p) = a + b·x + c·y` at every vertex.
+    fn linear(mesh: &TriMesh, [a, b, c]: [f64; 3]) -> Vec<f64> {
+        mesh.vertices
+            .iter()
+            .map(|p| a + b * p.x + c * p.y)
+            .collect()
+    }
+
+    /// Vertices within `rings` edges of the boundary.
+    fn boundary_rings(mesh: &TriMesh, rings: usize) -> Vec<usize> {
+        let mut near = vec![false; mesh.n_vertices()];
+        for e in mesh.boundary_edges().unwrap() {
+            near[e[0]] = true;
+        }
+        for _ in 1..rings {
+            let current = near.clone();
+            for t in &mesh.triangles {
+                if t.iter().any(|&v| current[v]) {
+                    t.iter().for_each(|&v| near[v] = true);
+                }
+            }
+        }
+        (0..mesh.n_vertices()).filter(|&v| near[v]).collect()
+    }
+
+    /// Rounding allowance for solved values of order 1 on a 35-vertex mesh.
+    const SOLVE_ROUNDING: f64 = 1e-12;
+
+    #[test]
+    fn harmonic_reproduces_linear_functions_from_boundary_data() {
+        // The cotangent Laplacian is linearly precise: L·f = 0 at interior vertices for linear
+        // f. So with f prescribed on the boundary (piecewise linear data, as a cage gives),
+        // k = 1 reproduces f inside; k = 2 needs the boundary's neighbours too (Q = L M⁻¹ L
+        // reaches two rings), and then reproduces f as well.
+        let mesh = jittered_grid();
+        let f = [
+            linear(&mesh, [0.5, 1.0, -2.0]),
+            linear(&mesh, [-1.0, 0.3, 0.7]),
+        ];
+        for (k, rings) in [(1, 1), (2, 2)] {
+            let fixed = boundary_rings(&mesh, rings);
+            let values = fixed.iter().flat_map(|&v| [f[0][v], f[1][v]]).collect();
+            let data = DirichletData::new(fixed.clone(), values, 2).unwrap();
+            let w = harmonic(&mesh, &data, k).unwrap();
+            assert!(fixed.len() < mesh.n_vertices(), "some vertices are free");
+            for v in 0..mesh.n_vertices() {
+                for j in 0..2 {
+                    let d = (w.get(v, j) - f[j][v]).abs();
+                    assert!(
+                        d < SOLVE_ROUNDING,
+                        "k={k} vertex {v} column {j}: off by {d:e}"
+                    );
+                }
+            }
+        }
+        // Control: with only the boundary fixed, k = 2 does not reproduce a linear function
+        // (natural conditions act at the boundary's neighbours), so the test above can fail.
+        let fixed = boundary_rings(&mesh, 1);
+        let values = fixed.iter().map(|&v| f[0][v]).collect();
+        let w = harmonic(&mesh, &DirichletData::new(fixed, values, 1).unwrap(), 2).unwrap();
+        let worst = (0..mesh.n_vertices())
+            .map(|v| (w.get(v, 0) - f[0][v]).abs())
+            .fold(0.0, f64::max);
+        assert!(worst > 1e-3, "{worst:e}");
+    }
+
+    #[test]
+    fn harmonic_weights_interpolate_and_sum_to_one() {
+        let mesh = jittered_grid();
+        let handles = [0, 34, 17, 6];
+        for k in 1..=MAX_ORDER {
+            let w = harmonic_weights(&mesh, &handles, k).unwrap();
+            assert_eq!((w.n_vertices(), w.n_handles()), (35, 4));
+            for (i, &v) in handles.iter().enumerate() {
+                for j in 0..4 {
+                    assert_eq!(w.get(v, j), if i == j { 1.0 } else { 0.0 });
+                }
+            }
+            for v in 0..35 {
+                let sum: f64 = w.row(v).iter().sum();
+                assert!(
+                    (sum - 1.0).abs() < SOLVE_ROUNDING,
+                    "k={k} vertex {v}: {sum}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn harmonic_rejects_bad_input() {
+        let mesh = jittered_grid();
+        assert_eq!(
+            harmonic_weights(&mesh, &[], 1),
+            Err(WeightsError::NoHandles)
+        );
+        assert_eq!(
+            harmonic_weights(&mesh, &[3, 35], 1),
+            Err(WeightsError::HandleOutOfRange {
+                handle: 1,
+                vertex: 35,
+                n_vertices: 35
+            })
+        );
+        assert_eq!(
+            harmonic_weights(&mesh, &[3, 8, 3], 1),
+            Err(WeightsError::DuplicateHandle {
+                vertex: 3,
+                first: 0,
+                second: 2
+            })
+        );
+        for k in [0, MAX_ORDER + 1] {
+            assert_eq!(
+                harmonic_weights(&mesh, &[3], k),
+                Err(WeightsError::UnsupportedOrder {
+                    order: k,
+                    max: MAX_ORDER
+                })
+            );
+        }
+        // A vertex in no triangle, and a second part of the mesh without a handle.
+        let mut extra = mesh.clone();
+        extra.vertices.push(Point::new(9.0, 9.0));
+        assert_eq!(
+            harmonic_weights(&extra, &[3], 1),
+            Err(WeightsError::UnreferencedVertex { vertex: 35 })
+        );
+        extra
+            .vertices
+            .extend([Point::new(10.0, 9.0), Point::new(9.0, 10.0)]);
+        extra.triangles.push([35, 36, 37]);
+        assert_eq!(
+            harmonic_weights(&extra, &[3], 2),
+            Err(WeightsError::UnconstrainedComponent { vertex: 35 })
+        );
+        assert!(harmonic_weights(&extra, &[3, 36], 2).is_ok());
+        // An invalid mesh.
+        let mut clockwise = mesh.clone();
+        clockwise.triangles[5].swap(0, 1);
+        assert!(matches!(
+            harmonic_weights(&clockwise, &[3], 1),
+            Err(WeightsError::Mesh(crate::mesh::MeshError::BadOrientation {
+                triangle: 5,
+                ..
+            }))
+        ));
+        // Dirichlet data of the wrong shape or not finite.
+        assert_eq!(
+            DirichletData::new(vec![1, 2], vec![0.0; 3], 2),
+            Err(WeightsError::DirichletShape {
+                len: 3,
+                n_fixed: 2,
+                n_columns: 2
+            })
+        );
+        assert!(matches!(
+            DirichletData::new(vec![1, 2], vec![0.0, f64::NAN], 1),
+            Err(WeightsError::NonFiniteValue {
+                row: 1,
+                vertex: 2,
+                column: 0,
+                ..
+            })
+        ));
+    }
 }

@@ -132,3 +132,35 @@ impl VertexWeights {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vertex_weights_check_shape_and_refuse_zero_rows() {
+        assert_eq!(
+            VertexWeights::from_row_major(3, 2, vec![0.0; 5]),
+            Err(WeightsError::WeightsShape {
+                len: 5,
+                n_vertices: 3,
+                n_handles: 2
+            })
+        );
+        let mut w =
+            VertexWeights::from_row_major(3, 2, vec![1.0, 3.0, 0.0, 0.0, 2.0, 2.0]).unwrap();
+        let before = w.clone();
+        assert_eq!(
+            w.normalize_rows(),
+            Err(WeightsError::ZeroRowSum {
+                vertex: 1,
+                sum: 0.0
+            })
+        );
+        assert_eq!(w, before, "nothing changed on error");
+        assert_eq!(w.column(1), vec![3.0, 0.0, 2.0]);
+        let mut ok = VertexWeights::from_row_major(2, 2, vec![1.0, 3.0, 2.0, 2.0]).unwrap();
+        ok.normalize_rows().unwrap();
+        assert_eq!(ok.into_values(), vec![0.25, 0.75, 0.5, 0.5]);
+    }
+}
