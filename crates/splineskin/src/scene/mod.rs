@@ -15,7 +15,7 @@ pub mod authors;
 pub mod ours;
 mod setup;
 
-pub use setup::{Compat, Setup, AUTHORS_SHEPARD_SNAP};
+pub use setup::{mesh_weights, Compat, Setup, AUTHORS_SHEPARD_SNAP};
 
 use std::path::{Path as FsPath, PathBuf};
 
@@ -77,8 +77,33 @@ pub enum WeightSpec {
         /// The exponent `a`.
         exponent: f64,
     },
-    /// A known family that this version does not implement yet (`bbw`, `harmonic`, …).
+    /// A family computed on a triangulation of the drawing's domain
+    /// ([`crate::domain::Domain`]): harmonic, biharmonic or bounded biharmonic weights.
+    Mesh(MeshFamily),
+    /// A known family that this version does not implement yet (`mvc`).
     NotImplemented(String),
+}
+
+/// The mesh-based weight families.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshFamily {
+    /// `Δw = 0` with `w_i = δ_ij` at the handles (`harmonic`).
+    Harmonic,
+    /// `Δ²w = 0`, natural boundary (`biharmonic`); not bounded, rows sum to 1.
+    Biharmonic,
+    /// Bounded biharmonic weights (`bbw`): `Δ²` energy with `0 ≤ w ≤ 1`, rows normalised.
+    Bbw,
+}
+
+impl MeshFamily {
+    /// The name used in scenes.
+    pub fn name(self) -> &'static str {
+        match self {
+            MeshFamily::Harmonic => "harmonic",
+            MeshFamily::Biharmonic => "biharmonic",
+            MeshFamily::Bbw => "bbw",
+        }
+    }
 }
 
 /// The deformation engine of a scene (the authors' `engineType`).
@@ -138,9 +163,10 @@ impl WeightSpec {
                 }
                 Ok(WeightSpec::Shepard { exponent })
             }
-            "bbw" | "harmonic" | "biharmonic" | "mvc" => {
-                Ok(WeightSpec::NotImplemented(name.to_string()))
-            }
+            "harmonic" => Ok(WeightSpec::Mesh(MeshFamily::Harmonic)),
+            "biharmonic" => Ok(WeightSpec::Mesh(MeshFamily::Biharmonic)),
+            "bbw" => Ok(WeightSpec::Mesh(MeshFamily::Bbw)),
+            "mvc" => Ok(WeightSpec::NotImplemented(name.to_string())),
             other => Err(SceneError::Invalid {
                 origin: origin.to_string(),
                 element: "weights".into(),
@@ -155,6 +181,7 @@ impl WeightSpec {
     pub fn name(&self) -> &str {
         match self {
             WeightSpec::Shepard { .. } => "shepard",
+            WeightSpec::Mesh(family) => family.name(),
             WeightSpec::NotImplemented(name) => name,
         }
     }
@@ -233,6 +260,17 @@ pub enum SceneError {
         /// The importer's error.
         source: Box<dyn std::error::Error + Send + Sync>,
     },
+    /// The weights could not be computed (domain triangulation or solve), e.g. a handle
+    /// outside the domain or two coincident handles.
+    #[error("{origin}: {family} weights: {source}")]
+    Weights {
+        /// The scene.
+        origin: String,
+        /// The family's name.
+        family: &'static str,
+        /// What went wrong.
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
     /// A feature the scene asks for is not implemented in this version.
     #[error("{origin}: {what} is not implemented yet")]
     NotImplemented {
@@ -301,7 +339,7 @@ impl Scene {
             return Err(SceneError::NotImplemented {
                 origin: self.origin.clone(),
                 what: format!(
-                    "weight function '{name}' (only 'shepard' is available in this version)"
+                    "weight function '{name}' (available: shepard, harmonic, biharmonic, bbw)"
                 ),
             });
         }

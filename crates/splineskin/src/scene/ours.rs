@@ -19,7 +19,7 @@
 //! | `splineskin_scene` | format version, `1` (required: it marks the format) |
 //! | `svg` / `svg_text` | the SVG file (relative to the scene's folder) or the document inline; exactly one |
 //! | `handles` | point handles: `position` = rest position in the SVG's user units (viewBox) |
-//! | `weights` | `family`: `shepard` (`exponent`, default 2); `bbw`, `harmonic`, `biharmonic`, `mvc` are recognised but not implemented yet |
+//! | `weights` | `family`: `shepard` (`exponent`, default 2), or the mesh families `harmonic`, `biharmonic`, `bbw` (computed on a triangulation of the drawing's domain, [`crate::domain`]); `mvc` is recognised but not implemented yet |
 //! | `arc_length` | integrate with respect to arc length rather than length-weighted `t` (default false) |
 //! | `junctions` | overrides: path index (subpaths in document order), joint index (joint `k` starts curve `k`), `kind` ∈ `C0`, `C1`, `G1`, `angle` |
 //! | `pose` / `poses` | one pose (a list of transforms, one per handle) or a list of `{name?, transforms}` |
@@ -383,8 +383,11 @@ mod tests {
 
     #[test]
     fn scene_not_implemented_family_loads_but_is_reported() {
-        let s = scene(r#", "weights": {"family": "bbw"}"#).unwrap();
+        let s = scene(r#", "weights": {"family": "mvc"}"#).unwrap();
         let e = s.check_supported().unwrap_err();
-        assert!(e.to_string().contains("weight function 'bbw'"), "{e}");
+        assert!(e.to_string().contains("weight function 'mvc'"), "{e}");
+        let s = scene(r#", "weights": {"family": "bbw"}"#).unwrap();
+        assert_eq!(s.weights, WeightSpec::Mesh(crate::scene::MeshFamily::Bbw));
+        assert!(s.check_supported().is_ok());
     }
 }

@@ -7,7 +7,10 @@ use crate::drawing::{read_svg_named, Drawing, ImportOptions, JointKind};
 use crate::spline_fit::FitOptions;
 use crate::weights::{Shepard, ShepardOptions, WeightField};
 
-use super::{Scene, SceneError, WeightSpec};
+use super::{MeshFamily, Scene, SceneError, WeightSpec};
+use crate::domain::{Domain, DomainOptions, MeshWeights};
+use crate::weights::bbw::{bbw_weights, BbwOptions};
+use crate::weights::harmonic::harmonic_weights;
 
 /// Squared distance under which a quadrature sample takes a handle's weight outright in the
 /// authors' Shepard code: 1e-8 squared drawing units.
@@ -98,20 +101,6 @@ impl Scene {
                 AUTHORS_SHEPARD_SNAP,
             ),
         };
-        let weights: Box<dyn WeightField> = match &self.weights {
-            WeightSpec::Shepard { exponent } => Box::new(Shepard::new(
-                &self.handles,
-                ShepardOptions::default()
-                    .with_exponent(*exponent)
-                    .with_snap_distance_squared(snap),
-            )),
-            WeightSpec::NotImplemented(name) => {
-                return Err(SceneError::NotImplemented {
-                    origin: self.origin.clone(),
-                    what: format!("weight function '{name}'"),
-                })
-            }
-        };
         if self.handles.is_empty() {
             return Err(SceneError::Invalid {
                 origin: self.origin.clone(),
@@ -119,6 +108,26 @@ impl Scene {
                 message: "no handles: place at least one".into(),
             });
         }
+        let weights: Box<dyn WeightField> = match &self.weights {
+            WeightSpec::Shepard { exponent } => Box::new(Shepard::new(
+                &self.handles,
+                ShepardOptions::default()
+                    .with_exponent(*exponent)
+                    .with_snap_distance_squared(snap),
+            )),
+            WeightSpec::Mesh(family) => Box::new(mesh_weights(
+                &drawing,
+                &self.handles,
+                *family,
+                &self.origin,
+            )?),
+            WeightSpec::NotImplemented(name) => {
+                return Err(SceneError::NotImplemented {
+                    origin: self.origin.clone(),
+                    what: format!("weight function '{name}'"),
+                })
+            }
+        };
         Ok(Setup {
             drawing,
             weights,
@@ -145,6 +154,34 @@ impl Scene {
                 }),
         }
     }
+}
+
+/// Weights of `family` for point `handles`: the drawing's domain is triangulated with its
+/// handles and curve samples as vertices ([`Domain::build`] with default options), the
+/// family's solve runs on that mesh, and [`MeshWeights`] interpolates the vertex weights
+/// (exact piecewise-linear, with the mesh edges as quadrature kinks).
+pub fn mesh_weights(
+    drawing: &Drawing,
+    handles: &[kurbo::Point],
+    family: MeshFamily,
+    origin: &str,
+) -> Result<MeshWeights, SceneError> {
+    let wrap = |source: Box<dyn std::error::Error + Send + Sync>| SceneError::Weights {
+        origin: origin.to_string(),
+        family: family.name(),
+        source,
+    };
+    let domain = Domain::build(drawing, handles, &[], &DomainOptions::default())
+        .map_err(|e| wrap(Box::new(e)))?;
+    let vertices = &domain.handle_vertices;
+    let weights = match family {
+        MeshFamily::Harmonic => harmonic_weights(&domain.mesh, vertices, 1),
+        MeshFamily::Biharmonic => harmonic_weights(&domain.mesh, vertices, 2),
+        MeshFamily::Bbw => bbw_weights(&domain.mesh, vertices, &BbwOptions::default()),
+    }
+    .map_err(|e| wrap(Box::new(e)))?;
+    MeshWeights::new(&domain.mesh, weights.into_values(), handles.len())
+        .map_err(|e| wrap(Box::new(e)))
 }
 
 /// Applies the authors' saved per-joint kinds when the drawing has their structure (same

@@ -16,3 +16,4 @@ pub fn data_root() -> Option<PathBuf> {
 }
 pub mod authors_outputs;
 pub mod reference_igl;
+pub mod scene_compare;

@@ -1,0 +1,95 @@
+//! Harmonic weights solved on the triangulated domain of the bundled fish, evaluated in the
+//! fit through `MeshWeights`: the whole mesh-weights path, domain to deformed curves.
+
+use std::time::Instant;
+
+use kurbo::{Affine, Point};
+use splineskin::domain::{Domain, DomainOptions, MeshWeights};
+use splineskin::drawing::{read_svg, ImportOptions};
+use splineskin::examples::DEMO_SVG;
+use splineskin::spline_fit::{FitOptions, SplineRig};
+use splineskin::weights::harmonic::harmonic_weights;
+use splineskin::weights::WeightField;
+
+/// The demo scene's five handles (assets/demo-scene.json).
+const FISH_HANDLES: [(f64, f64); 5] = [
+    (440.0, 200.0),
+    (310.0, 200.0),
+    (110.0, 205.0),
+    (290.0, 70.0),
+    (230.0, 320.0),
+];
+
+#[test]
+fn domain_fish_harmonic_rig_reproduces_identity_and_affine_maps() {
+    let d = read_svg(DEMO_SVG, &ImportOptions::default()).expect("demo svg");
+    let h = FISH_HANDLES.map(Point::from).to_vec();
+    let domain = Domain::build(&d, &h, &[], &DomainOptions::default()).expect("domain");
+    let t = Instant::now();
+    let w = harmonic_weights(&domain.mesh, &domain.handle_vertices, 1).expect("harmonic");
+    eprintln!(
+        "fish: harmonic weights on {} vertices in {:.3} s",
+        domain.mesh.n_vertices(),
+        t.elapsed().as_secs_f64()
+    );
+    let field = MeshWeights::new(&domain.mesh, w.into_values(), h.len()).expect("mesh weights");
+
+    // Interpolation at the handles and partition of unity at curve points.
+    let mut out = vec![0.0; h.len()];
+    for (i, &p) in h.iter().enumerate() {
+        field.eval(p, &mut out);
+        for (k, &x) in out.iter().enumerate() {
+            assert!(
+                (x - (i == k) as u8 as f64).abs() < 1e-12,
+                "handle {i}: {out:?}"
+            );
+        }
+    }
+    for path in &d.paths {
+        for j in 0..path.n_curves() {
+            field.eval(path.curve(j).p0, &mut out);
+            assert!((out.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+            assert!(
+                out.iter().all(|&x| (-1e-12..=1.0 + 1e-12).contains(&x)),
+                "{out:?}"
+            );
+        }
+    }
+
+    let rig = SplineRig::precompute(&d, &field, &FitOptions::default()).expect("rig");
+    let diag = d.diagonal();
+    let input = d.flat_points();
+    let mut points = vec![Point::ZERO; rig.n_points()];
+    rig.update(&vec![Affine::IDENTITY; h.len()], &mut points)
+        .unwrap();
+    let worst = points
+        .iter()
+        .zip(&input)
+        .map(|(a, b)| (*a - *b).hypot())
+        .fold(0.0, f64::max);
+    eprintln!(
+        "fish: identity pose reproduced to {:e} of the diagonal",
+        worst / diag
+    );
+    assert!(worst < 1e-9 * diag, "{worst}");
+    let a = Affine::translate((-40.0, 25.0)) * Affine::rotate(-0.7) * Affine::scale(1.3);
+    rig.update(&vec![a; h.len()], &mut points).unwrap();
+    let worst = points
+        .iter()
+        .zip(&input)
+        .map(|(p, q)| (*p - a * *q).hypot())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-9 * diag, "{worst}");
+    // A real pose moves the fish and keeps every point finite.
+    let pose: Vec<Affine> = (0..h.len())
+        .map(|i| Affine::rotate_about(0.1 * i as f64, h[i]))
+        .collect();
+    rig.update(&pose, &mut points).unwrap();
+    assert!(points.iter().all(|p| p.x.is_finite() && p.y.is_finite()));
+    let moved = points
+        .iter()
+        .zip(&input)
+        .map(|(a, b)| (*a - *b).hypot())
+        .fold(0.0, f64::max);
+    assert!(moved > 1e-3 * diag, "{moved}");
+}
