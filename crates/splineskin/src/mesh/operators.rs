@@ -71,40 +71,71 @@ fn half_cotangents(p: [kurbo::Point; 3]) -> [f64; 3] {
 /// # Ok::<(), splineskin::mesh::MeshError>(())
 /// ```
 pub fn cotangent_laplacian(mesh: &TriMesh) -> SparseColMat<usize, f64> {
+    laplacian_csc(mesh).into_faer()
+}
+
+/// [`cotangent_laplacian`] in our working form.
+pub(crate) fn laplacian_csc(mesh: &TriMesh) -> Csc {
     let n = mesh.n_vertices();
-    // Off-diagonal entries per vertex, accumulated into a sorted adjacency.
-    let mut entries: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+    // Each triangle contributes one half-cotangent to each of its three edges, in both
+    // directions; every vertex of a triangle also gets a diagonal slot. Bucket the entries by
+    // column (counting sort), then sort and merge each short column.
+    let mut col_ptr = vec![0usize; n + 1];
+    let mut referenced = vec![false; n];
+    for tri in &mesh.triangles {
+        for &i in tri {
+            col_ptr[i + 1] += 2;
+            referenced[i] = true;
+        }
+    }
+    for (i, &r) in referenced.iter().enumerate() {
+        col_ptr[i + 1] += usize::from(r);
+    }
+    for i in 0..n {
+        col_ptr[i + 1] += col_ptr[i];
+    }
+    let mut next = col_ptr.clone();
+    let mut entries = vec![(0usize, 0.0f64); col_ptr[n]];
+    for (i, &r) in referenced.iter().enumerate() {
+        if r {
+            entries[next[i]] = (i, 0.0); // the diagonal's slot, filled below
+            next[i] += 1;
+        }
+    }
     for tri in &mesh.triangles {
         let c = half_cotangents(tri.map(|i| mesh.vertices[i]));
         for k in 0..3 {
             // The angle at corner k faces the edge between the other two corners.
             let (i, j) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
-            entries[i].push((j, c[k]));
-            entries[j].push((i, c[k]));
+            entries[next[i]] = (j, c[k]);
+            next[i] += 1;
+            entries[next[j]] = (i, c[k]);
+            next[j] += 1;
         }
     }
-    let mut col_ptr = Vec::with_capacity(n + 1);
-    let mut row_idx = Vec::new();
-    let mut values = Vec::new();
-    col_ptr.push(0);
-    for (i, column) in entries.iter_mut().enumerate() {
-        if !column.is_empty() {
-            column.push((i, 0.0)); // the diagonal's slot, filled below
-        }
-        column.sort_by_key(|&(j, _)| j);
+    let mut merged_ptr = Vec::with_capacity(n + 1);
+    let mut row_idx = Vec::with_capacity(entries.len());
+    let mut values = Vec::with_capacity(entries.len());
+    merged_ptr.push(0);
+    for i in 0..n {
+        let column = &mut entries[col_ptr[i]..col_ptr[i + 1]];
+        column.sort_unstable_by_key(|&(j, _)| j);
         let start = row_idx.len();
         let mut diagonal_at = start;
         for &(j, value) in column.iter() {
-            if row_idx.len() > start && row_idx[row_idx.len() - 1] == j {
-                if let Some(last) = values.last_mut() {
-                    *last += value;
+            match row_idx.last() {
+                Some(&last) if row_idx.len() > start && last == j => {
+                    if let Some(v) = values.last_mut() {
+                        *v += value;
+                    }
                 }
-            } else {
-                if j == i {
-                    diagonal_at = row_idx.len();
+                _ => {
+                    if j == i {
+                        diagonal_at = row_idx.len();
+                    }
+                    row_idx.push(j);
+                    values.push(value);
                 }
-                row_idx.push(j);
-                values.push(value);
             }
         }
         if row_idx.len() > start {
@@ -112,9 +143,14 @@ pub fn cotangent_laplacian(mesh: &TriMesh) -> SparseColMat<usize, f64> {
             let off_diagonal: f64 = values[start..].iter().sum();
             values[diagonal_at] = -off_diagonal;
         }
-        col_ptr.push(row_idx.len());
+        merged_ptr.push(row_idx.len());
     }
-    csc(n, col_ptr, row_idx, values)
+    Csc {
+        n,
+        col_ptr: merged_ptr,
+        row_idx,
+        values,
+    }
 }
 
 /// The diagonal of the lumped mass matrix of `mesh` (length `n_vertices`): each vertex's share
@@ -194,12 +230,21 @@ fn voronoi_shares(p: [kurbo::Point; 3]) -> [f64; 3] {
 /// # Ok::<(), splineskin::mesh::MeshError>(())
 /// ```
 pub fn polyharmonic_energy(mesh: &TriMesh, k: usize) -> SparseColMat<usize, f64> {
+    polyharmonic_csc(mesh, k).into_faer()
+}
+
+/// [`polyharmonic_energy`] in our working form.
+pub(crate) fn polyharmonic_csc(mesh: &TriMesh, k: usize) -> Csc {
     let n = mesh.n_vertices();
     if k == 0 {
-        return csc(n, vec![0; n + 1], Vec::new(), Vec::new());
+        return Csc {
+            n,
+            col_ptr: vec![0; n + 1],
+            row_idx: Vec::new(),
+            values: Vec::new(),
+        };
     }
-    let laplacian = cotangent_laplacian(mesh);
-    let minus_l = Csc::from_faer(&laplacian).scaled(-1.0);
+    let minus_l = laplacian_csc(mesh).scaled(-1.0);
     let mass = lumped_mass(mesh, MassKind::Voronoi);
     let inverse_mass: Vec<f64> = mass
         .iter()
@@ -209,7 +254,7 @@ pub fn polyharmonic_energy(mesh: &TriMesh, k: usize) -> SparseColMat<usize, f64>
     for _ in 1..k {
         q = q.times_diagonal_times(&inverse_mass, &minus_l);
     }
-    q.into_faer()
+    q
 }
 
 /// Wraps sorted CSC arrays into faer's matrix (the arrays are built valid by this module).
@@ -236,6 +281,7 @@ pub(crate) struct Csc {
 impl Csc {
     /// Copies a faer matrix (square, sorted rows, no separate column counts: what this
     /// module builds).
+    #[cfg(test)]
     pub fn from_faer(m: &SparseColMat<usize, f64>) -> Csc {
         let n = m.ncols();
         let mut col_ptr = Vec::with_capacity(n + 1);

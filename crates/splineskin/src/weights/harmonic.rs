@@ -20,7 +20,7 @@
 
 use super::reduced_cholesky::EnergySystem;
 use super::{DirichletData, VertexWeights, WeightsError};
-use crate::mesh::operators::{polyharmonic_energy, Csc};
+use crate::mesh::operators::polyharmonic_csc;
 use crate::mesh::TriMesh;
 
 /// Highest supported order `k`: each order widens the energy's stencil by one ring of
@@ -125,7 +125,7 @@ pub(crate) fn prepare(
         let vertex = components.iter().position(|&x| x == c).unwrap_or(0);
         return Err(WeightsError::UnconstrainedComponent { vertex });
     }
-    EnergySystem::new(Csc::from_faer(&polyharmonic_energy(mesh, k)))
+    EnergySystem::new(polyharmonic_csc(mesh, k))
 }
 
 /// The unbounded minimisers, column-major (`n_columns` contiguous columns of `n_vertices`),
