@@ -8,11 +8,11 @@ use splineskin::mesh::operators::{cotangent_laplacian, lumped_mass, MassKind};
 
 /// `cotmatrix` tolerance, relative to the largest entry: our cotangents come from dot and
 /// cross products, libigl's from squared edge lengths and Heron's area, so entries differ by
-/// rounding only (measured: about 1e-15 relative).
+/// rounding only (measured: 3.8e-16 of the largest entry, same sparsity pattern).
 const COTMATRIX_RELATIVE: f64 = 1e-12;
 
-/// Mass tolerance, relative per entry: the same formula summed in a different order (measured
-/// up to a few units of 1e-16).
+/// Mass tolerance, relative per entry: the same formula summed in a different order (measured:
+/// 6.5e-16 at most, Voronoi and barycentric, both meshes).
 const MASS_RELATIVE: f64 = 1e-15;
 
 #[test]
