@@ -85,7 +85,13 @@ impl Case {
 
 fn grid() -> (TriMesh, Vec<usize>) {
     let mesh = TriMesh::grid(Rect::new(0.0, 0.0, 2.0, 1.0), NX, NY).expect("valid grid");
-    let targets = [(0.3, 0.25), (0.3, 0.75), (1.0, 0.5), (1.7, 0.25), (1.7, 0.75)];
+    let targets = [
+        (0.3, 0.25),
+        (0.3, 0.75),
+        (1.0, 0.5),
+        (1.7, 0.25),
+        (1.7, 0.75),
+    ];
     let handles = targets
         .iter()
         .map(|&(x, y)| nearest_vertex(&mesh, Point::new(x, y)))
@@ -109,8 +115,8 @@ fn turtles() -> Option<(TriMesh, Vec<usize>)> {
     }
     let drawing = read_svg_file(&path, &ImportOptions::default()).expect("turtles SVG");
     let handles = TURTLE_HANDLES.map(Point::from);
-    let domain = Domain::build(&drawing, &handles, &[], &DomainOptions::default())
-        .expect("turtles domain");
+    let domain =
+        Domain::build(&drawing, &handles, &[], &DomainOptions::default()).expect("turtles domain");
     Some((domain.mesh, domain.handle_vertices))
 }
 
