@@ -42,9 +42,9 @@
 //! **Cost.** One sparse factorisation per iteration and handle. The number of iterations grows
 //! with the mesh's resolution: the gradient at a bound vertex only sees `Q`'s stencil (two
 //! rings), so the active set's edge moves a ring or two per iteration, and the problem is
-//! massively degenerate (most bound vertices have zero multipliers). Measured: 3–10 iterations
-//! on libigl's 1 000-vertex test shapes, about 40 on a regular 5 000-vertex grid, about 100 on
-//! the 20 000-vertex turtles domain.
+//! massively degenerate (most bound vertices have zero multipliers). Measured (re-solves per
+//! handle): 7–46 on libigl's 575- and 1 091-vertex test shapes, about 40 on a regular
+//! 5 000-vertex grid, 75–115 on the 20 437-vertex turtles domain.
 
 use rayon::prelude::*;
 
@@ -59,8 +59,8 @@ pub const LOWER: f64 = 0.0;
 pub const UPPER: f64 = 1.0;
 
 /// Default [`BbwOptions::max_iterations`]: 1 000 active-set iterations per handle. libigl
-/// allows 100, which its 1 000-vertex test shapes need 3–10 of; a 20 000-vertex domain needs
-/// about 100 (see the module documentation), so the limit only stops a cycling active set.
+/// allows 100, of which its test shapes need up to 46; a 20 000-vertex domain needs up to about
+/// 115 (see the module documentation), so the limit only stops a cycling active set.
 pub const DEFAULT_MAX_ITERATIONS: usize = 1000;
 /// Default [`BbwOptions::feasibility_tolerance`]: `1e-10` in weight units (weights are
 /// dimensionless, in `[0, 1]`). A free value this close outside the box is accepted (then
