@@ -2,7 +2,7 @@
 
 use crate::mesh::MeshError;
 
-/// Why weights on a mesh could not be computed ([`super::harmonic`], [`super::bbw`]).
+/// Why weights on a mesh could not be computed ([`mod@super::harmonic`], [`mod@super::bbw`]).
 #[derive(Debug, thiserror::Error, PartialEq)]
 #[non_exhaustive]
 pub enum WeightsError {

@@ -9,7 +9,7 @@
 //! | family | module | handles |
 //! |---|---|---|
 //! | Shepard (inverse distance) | [`shepard`] | points |
-//! | harmonic (`k = 1`), biharmonic (`k = 2`) | [`harmonic`] | vertices of a mesh (points, or any Dirichlet data) |
+//! | harmonic (`k = 1`), biharmonic (`k = 2`) | [`mod@harmonic`] | vertices of a mesh (points, or any Dirichlet data) |
 //! | bounded biharmonic (BBW) | [`bbw`] | vertices of a mesh |
 //!
 //! The mesh families compute [`VertexWeights`] on a [`crate::mesh::TriMesh`] from
