@@ -51,6 +51,9 @@ pub struct Setup {
     pub options: FitOptions,
     /// Things the user should know (e.g. saved junction kinds that did not fit the drawing).
     pub warnings: Vec<String>,
+    /// The triangulated domain the weights were solved on (mesh weight families only), for
+    /// showing the mesh and reporting its size.
+    pub domain: Option<Domain>,
 }
 
 impl Scene {
@@ -108,6 +111,7 @@ impl Scene {
                 message: "no handles: place at least one".into(),
             });
         }
+        let mut domain = None;
         let weights: Box<dyn WeightField> = match &self.weights {
             WeightSpec::Shepard { exponent } => Box::new(Shepard::new(
                 &self.handles,
@@ -115,12 +119,12 @@ impl Scene {
                     .with_exponent(*exponent)
                     .with_snap_distance_squared(snap),
             )),
-            WeightSpec::Mesh(family) => Box::new(mesh_weights(
-                &drawing,
-                &self.handles,
-                *family,
-                &self.origin,
-            )?),
+            WeightSpec::Mesh(family) => {
+                let (weights, mesh_domain) =
+                    mesh_weights(&drawing, &self.handles, *family, &self.origin)?;
+                domain = Some(mesh_domain);
+                Box::new(weights)
+            }
             WeightSpec::NotImplemented(name) => {
                 return Err(SceneError::NotImplemented {
                     origin: self.origin.clone(),
@@ -133,6 +137,7 @@ impl Scene {
             weights,
             options,
             warnings,
+            domain,
         })
     }
 
@@ -159,13 +164,14 @@ impl Scene {
 /// Weights of `family` for point `handles`: the drawing's domain is triangulated with its
 /// handles and curve samples as vertices ([`Domain::build`] with default options), the
 /// family's solve runs on that mesh, and [`MeshWeights`] interpolates the vertex weights
-/// (exact piecewise-linear, with the mesh edges as quadrature kinks).
+/// (exact piecewise-linear, with the mesh edges as quadrature kinks). Returns the weights and
+/// the domain they were solved on.
 pub fn mesh_weights(
     drawing: &Drawing,
     handles: &[kurbo::Point],
     family: MeshFamily,
     origin: &str,
-) -> Result<MeshWeights, SceneError> {
+) -> Result<(MeshWeights, Domain), SceneError> {
     let wrap = |source: Box<dyn std::error::Error + Send + Sync>| SceneError::Weights {
         origin: origin.to_string(),
         family: family.name(),
@@ -180,8 +186,9 @@ pub fn mesh_weights(
         MeshFamily::Bbw => bbw_weights(&domain.mesh, vertices, &BbwOptions::default()),
     }
     .map_err(|e| wrap(Box::new(e)))?;
-    MeshWeights::new(&domain.mesh, weights.into_values(), handles.len())
-        .map_err(|e| wrap(Box::new(e)))
+    let weights = MeshWeights::new(&domain.mesh, weights.into_values(), handles.len())
+        .map_err(|e| wrap(Box::new(e)))?;
+    Ok((weights, domain))
 }
 
 /// Applies the authors' saved per-joint kinds when the drawing has their structure (same
