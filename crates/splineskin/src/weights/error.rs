@@ -1,8 +1,10 @@
-//! [`WeightsError`]: why a mesh weight family could not be computed.
+//! [`WeightsError`]: why a weight family could not be computed.
 
+use crate::domain::DomainError;
 use crate::mesh::MeshError;
 
-/// Why weights on a mesh could not be computed ([`mod@super::harmonic`], [`mod@super::bbw`]).
+/// Why weights could not be computed: on a mesh ([`mod@super::harmonic`], [`mod@super::bbw`],
+/// [`mod@super::cage`]) or of a cage ([`super::MeanValue`]).
 #[derive(Debug, thiserror::Error, PartialEq)]
 #[non_exhaustive]
 pub enum WeightsError {
@@ -139,5 +141,23 @@ pub enum WeightsError {
     Factorization {
         /// What faer reported.
         detail: String,
+    },
+    /// A cage is not a simple counter-clockwise polygon of at least 3 finite vertices without
+    /// zero-length edges: the same [`DomainError`] (one of its `Cage*` variants) that
+    /// [`crate::domain::Domain::build`] gives for it.
+    #[error("invalid cage: {0}")]
+    Cage(DomainError),
+    /// A cage weight family was asked for on a domain built without a cage.
+    #[error("the domain has no cage (build it with DomainOptions::with_cage)")]
+    NoCage,
+    /// The outer boundary of a caged domain does not run along its cage: a corner missing or
+    /// out of order, or a boundary vertex off the cage edge between its corners. A domain
+    /// from [`crate::domain::Domain::build`] never does this (a bug), a modified one may.
+    #[error("domain vertex {vertex}: {reason}; the domain's outer boundary does not follow its cage (a bug, or a modified Domain)")]
+    CageBoundary {
+        /// The mesh vertex.
+        vertex: usize,
+        /// What is wrong there.
+        reason: &'static str,
     },
 }

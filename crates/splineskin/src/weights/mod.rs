@@ -11,22 +11,28 @@
 //! | Shepard (inverse distance) | [`shepard`] | points |
 //! | harmonic (`k = 1`), biharmonic (`k = 2`) | [`mod@harmonic`] | vertices of a mesh (points, or any Dirichlet data) |
 //! | bounded biharmonic (BBW) | [`bbw`] | vertices of a mesh |
+//! | mean value coordinates (closed form, whole plane) | [`mvc`] | vertices of a cage polygon |
+//! | harmonic coordinates (`k = 1`, piecewise linear data along the cage) | [`cage`] | vertices of a cage polygon (on a caged [`crate::domain::Domain`]) |
 //!
 //! The mesh families compute [`VertexWeights`] on a [`crate::mesh::TriMesh`] from
 //! [`DirichletData`]; [`crate::domain::MeshWeights`] evaluates them anywhere in the plane.
 
 pub mod bbw;
+pub mod cage;
 mod dirichlet;
 mod error;
 pub mod harmonic;
+pub mod mvc;
 mod reduced_cholesky;
 pub mod shepard;
 mod vertex_weights;
 
 pub use bbw::{bbw_weights, bounded_biharmonic, BbwOptions};
+pub use cage::{cage_boundary_data, harmonic_coordinates};
 pub use dirichlet::DirichletData;
 pub use error::WeightsError;
 pub use harmonic::{harmonic, harmonic_weights};
+pub use mvc::MeanValue;
 pub use shepard::{Shepard, ShepardOptions};
 pub use vertex_weights::VertexWeights;
 
@@ -46,7 +52,8 @@ pub trait WeightField: Send + Sync {
     /// Appends to `out` the parameters `t ∈ (0, 1)` at which the weights restricted to the cubic
     /// `curve` are not smooth (for example where it crosses mesh edges), in any order.
     /// Quadrature splits the curve there so that every piece integrates a smooth function.
-    /// Smooth families (Shepard, mean value coordinates) append nothing, which is the default.
+    /// Smooth families (Shepard) append nothing, which is the default; mean value coordinates
+    /// report where the curve passes through a cage vertex (they are smooth elsewhere).
     fn kinks(&self, curve: &[Point; 4], out: &mut Vec<f64>) {
         let _ = (curve, out);
     }
