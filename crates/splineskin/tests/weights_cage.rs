@@ -599,6 +599,37 @@ fn harmonic_coordinates_partition_bounds_and_linear_precision() {
     assert!(worst > 0.01, "{worst:e}");
 }
 
+#[test]
+fn harmonic_coordinates_with_a_drawing_and_point_handles_in_the_cage() {
+    // A wave partly outside an L-shaped cage (its samples inside become vertices, those
+    // outside are dropped) and a point handle (ignored: one column per cage corner).
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg">
+        <path d="M-20 50 C20 -10 60 110 120 50"/></svg>"#;
+    let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+    let cage = pts(&[
+        (0., 0.),
+        (100., 0.),
+        (100., 40.),
+        (40., 40.),
+        (40., 100.),
+        (0., 100.),
+    ]);
+    let options = DomainOptions::default().with_cage(cage.clone());
+    let domain = Domain::build(&drawing, &[Point::new(20.0, 20.0)], &[], &options).unwrap();
+    assert!(domain.n_curve_samples > 10, "{}", domain.n_curve_samples);
+    let w = harmonic_coordinates(&domain).unwrap();
+    assert_eq!(w.n_handles(), 6);
+    let (sum_err, bound_err, linear_err) = harmonic_properties(&cage, &domain, &w);
+    eprintln!(
+        "harmonic, L cage with a wave: {} vertices: |Σw − 1| ≤ {sum_err:e}, bounds violated by \
+         ≤ {bound_err:e}, linear residual ≤ {linear_err:e}",
+        domain.mesh.n_vertices()
+    );
+    assert!(sum_err < SOLVE_ROUNDING, "{sum_err:e}");
+    assert!(bound_err < SOLVE_ROUNDING, "{bound_err:e}");
+    assert!(linear_err < LINEAR_PRECISION, "{linear_err:e}");
+}
+
 /// Largest difference at the vertices between the harmonic coordinates of the rectangle
 /// `[0, 2] × [0, 1]` and its bilinear coordinates — which are harmonic (`∂²/∂x² + ∂²/∂y²` of
 /// `x y` is 0) and linear along the edges, so they are the exact harmonic coordinates.

@@ -40,9 +40,12 @@
 //! [`EDGE_SNAP_SINE`] `· r_i r_{i+1}`, within about `1e-16` edge lengths of it) the linear
 //! interpolation `w_i = r_{i+1} / (r_i + r_{i+1})`, `w_{i+1} = r_i / (r_i + r_{i+1})`.
 //!
-//! Accuracy: to rounding inside and near the cage; far outside, `Σ_k w̃_k` is a difference of
-//! terms that nearly cancel (the signed angles sum to zero), and the relative error grows like
-//! the distance over the cage's size (measured in `tests/weights_cage.rs`).
+//! Accuracy: to rounding inside and near the cage (measured: partition of unity and linear
+//! precision to 4e-15 at points up to a cage size outside it); far outside, `Σ_k w̃_k` is a
+//! difference of terms that nearly cancel (the signed angles sum to zero), and the relative
+//! error grows like the distance `d` over the cage's size (measured about `3e-16 d`). `A_i` is
+//! computed as `s_i × e_i` (`e_i = v_{i+1} − v_i`), equal to `s_i × s_{i+1}` but without that
+//! product's cancellation far away, which would make the error grow like `d²`.
 
 use kurbo::{Point, Rect, Vec2};
 
@@ -67,7 +70,7 @@ pub const EDGE_SNAP_SINE: f64 = f64::EPSILON;
 /// of the plane (see the module documentation for the formula and its sources).
 ///
 /// ```
-/// use kurbo::{Point, Rect, Vec2};
+/// use kurbo::Point;
 /// use splineskin::weights::{MeanValue, WeightField};
 /// let square = [(0., 0.), (2., 0.), (2., 2.), (0., 2.)].map(Point::from);
 /// let mvc = MeanValue::new(&square)?;
@@ -122,7 +125,7 @@ impl MeanValue {
     /// ([`DomainError::CageClockwise`]).
     ///
     /// ```
-    /// use kurbo::{Point, Rect, Vec2};
+    /// use kurbo::Point;
     /// use splineskin::domain::DomainError;
     /// use splineskin::weights::{MeanValue, WeightsError};
     /// let clockwise = [(0., 0.), (0., 1.), (1., 1.), (1., 0.)].map(Point::from);
