@@ -30,7 +30,7 @@ enum Command {
     Bench(bench::Args),
     /// Deform the bundled example drawing and write SVG and PNG files.
     Demo(demo::Args),
-    /// Compute handle weights on a triangle mesh (harmonic, biharmonic, bounded biharmonic).
+    /// Draw a scene's handle weights as PNG, or compute weights on a triangle mesh.
     Weights(weights::Args),
 }
 

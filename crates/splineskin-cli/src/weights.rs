@@ -1,7 +1,10 @@
-//! `splineskin weights --mesh MESH.json --kind harmonic|biharmonic|bbw -o OUT.json`: handle
-//! weights on a given triangle mesh. (`splineskin weights SCENE -o weights.png`, the weights of
-//! a scene's domain drawn over its drawing, is the other mode of this subcommand; not yet
-//! implemented.)
+//! `splineskin weights`, two modes:
+//!
+//! * `splineskin weights SCENE -o weights.png [--handle I] [--mesh-lines] [--iso-lines]
+//!   [--width PX]`: a picture of the scene's weights, one panel per handle, drawn by
+//!   [`splineskin::weight_map`];
+//! * `splineskin weights --mesh MESH.json --kind harmonic|biharmonic|bbw -o OUT.json`: handle
+//!   weights on a given triangle mesh.
 //!
 //! The mesh file uses the layout of `../shared/data/reference-igl` (whose files are accepted
 //! as they are; other keys are ignored):
@@ -21,6 +24,10 @@ use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use serde::{Deserialize, Serialize};
 use splineskin::mesh::{MeshError, TriMesh};
+use splineskin::scene::{Compat, Scene};
+use splineskin::weight_map::{
+    render_weight_map, HandleMarker, WeightMapOptions, DEFAULT_ISO_STEP, DEFAULT_PANEL_WIDTH,
+};
 use splineskin::weights::{bbw_weights, harmonic_weights, BbwOptions, VertexWeights};
 
 use crate::output::{write_atomic, Format};
@@ -30,21 +37,37 @@ use crate::output::{write_atomic, Format};
     clap::ArgGroup::new("input").required(true).args(["scene", "mesh"]),
 ))]
 pub struct Args {
-    /// A scene whose domain's weights to draw (`-o weights.png`). Not implemented yet; give
-    /// `--mesh` instead.
+    /// A scene (our JSON format or the paper authors' `*-deformation.json`) whose weights to
+    /// draw as PNG: one panel per handle, the weight in viridis from 0 (dark purple) to 1
+    /// (yellow), values below 0 in red and above 1 in pink, the drawing's curves on top.
     scene: Option<PathBuf>,
     /// A triangle mesh with handle vertices, in the reference-igl JSON layout:
     /// `{"mesh": {"V": [[x,y],…], "F": [[i,j,k],…]}, "handles": {"indices": [v,…]}}`
     /// (counter-clockwise triangles, 0-based indices).
     #[arg(long, value_name = "MESH.json")]
     mesh: Option<PathBuf>,
-    /// Weight family: harmonic (k = 1), biharmonic (k = 2, unbounded), or bounded biharmonic
-    /// (normalised to sum to 1).
-    #[arg(long, value_enum, default_value_t = Kind::Bbw)]
+    /// With --mesh: the weight family: harmonic (k = 1), biharmonic (k = 2, unbounded), or
+    /// bounded biharmonic (normalised to sum to 1). A scene names its own.
+    #[arg(long, value_enum, default_value_t = Kind::Bbw, conflicts_with = "scene")]
     kind: Kind,
-    /// Output file: `.json`, `{"weights": [[w per handle] per vertex]}`.
+    /// Output file: `.png` for a scene; `.json` with --mesh,
+    /// `{"weights": [[w per handle] per vertex]}`.
     #[arg(short, long)]
     output: PathBuf,
+    /// Draw only this handle's weights (0 is the first handle), in one panel.
+    #[arg(long, value_name = "I", conflicts_with = "mesh")]
+    handle: Option<usize>,
+    /// Draw the edges of the triangulated domain the weights were solved on (harmonic,
+    /// biharmonic and bbw scenes).
+    #[arg(long, conflicts_with = "mesh")]
+    mesh_lines: bool,
+    /// Draw iso-lines where the weight crosses 0.1, 0.2, …, 0.9 (and every 0.1 beyond
+    /// [0, 1]).
+    #[arg(long, conflicts_with = "mesh")]
+    iso_lines: bool,
+    /// Width of each panel in pixels (its height follows the drawing's proportions).
+    #[arg(long, value_name = "PX", default_value_t = DEFAULT_PANEL_WIDTH, conflicts_with = "mesh")]
+    width: u32,
 }
 
 /// The `--kind` values.
@@ -61,11 +84,7 @@ pub enum Kind {
 pub fn run(args: Args) -> Result<()> {
     let Some(mesh_path) = &args.mesh else {
         let scene = args.scene.as_deref().unwrap_or(Path::new("?"));
-        bail!(
-            "{}: drawing a scene's weights is not implemented yet; compute weights on a mesh \
-             with --mesh MESH.json --kind harmonic|biharmonic|bbw -o OUT.json",
-            scene.display()
-        );
+        return draw_scene(scene, &args);
     };
     if Format::of(&args.output)? != Format::Json {
         bail!(
@@ -97,6 +116,79 @@ pub fn run(args: Args) -> Result<()> {
         handles.len(),
         args.output.display()
     );
+    Ok(())
+}
+
+/// The scene mode: the scene's weights as a PNG picture.
+fn draw_scene(scene_path: &Path, args: &Args) -> Result<()> {
+    let is_png = args
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if !is_png {
+        bail!(
+            "{}: a scene's weights are drawn as PNG (expected a name ending in .png)",
+            args.output.display()
+        );
+    }
+    let scene = Scene::load(scene_path)?;
+    let n_handles = scene.handles.len();
+    if let Some(i) = args.handle.filter(|&i| i >= n_handles) {
+        bail!(
+            "{}: --handle {i}: no such handle (the scene has {n_handles}, numbered from 0)",
+            scene_path.display()
+        );
+    }
+    let family = scene.weights.name().to_string();
+    let start = Instant::now();
+    let setup = scene.setup(Compat::None)?;
+    for w in &setup.warnings {
+        eprintln!("warning: {w}");
+    }
+    let mesh = setup.domain.as_ref().map(|d| &d.mesh);
+    if args.mesh_lines && mesh.is_none() {
+        eprintln!("warning: --mesh-lines: {family} weights are not solved on a mesh; none drawn");
+    }
+    let markers: Vec<HandleMarker> = scene
+        .handles
+        .iter()
+        .map(|&p| HandleMarker::Point(p))
+        .collect();
+    let options = WeightMapOptions::default()
+        .with_panel_width(args.width)
+        .with_handle(args.handle)
+        .with_mesh_lines(args.mesh_lines)
+        .with_iso_step(args.iso_lines.then_some(DEFAULT_ISO_STEP))
+        .with_parallel(true);
+    let map = render_weight_map(
+        &setup.drawing,
+        &markers,
+        setup.weights.as_ref(),
+        mesh,
+        &options,
+    )
+    .with_context(|| format!("{}: drawing the weights", scene_path.display()))?;
+    write_atomic(&args.output, &map.png)?;
+    let on_mesh = mesh
+        .map(|m| format!(" (domain of {} vertices)", m.n_vertices()))
+        .unwrap_or_default();
+    eprintln!(
+        "{}: {family} weights{on_mesh}, {} of {n_handles} handles in {:.2} s -> {} ({}×{} px)",
+        scene_path.display(),
+        map.layout.panels.len(),
+        start.elapsed().as_secs_f64(),
+        args.output.display(),
+        map.layout.width,
+        map.layout.height
+    );
+    for r in map.ranges.iter().filter(|r| !r.is_within_unit()) {
+        eprintln!(
+            "note: handle {}: weights from {:.4} to {:.4}, outside [0, 1] (below 0 in red, \
+             above 1 in pink)",
+            r.handle, r.min, r.max
+        );
+    }
     Ok(())
 }
 

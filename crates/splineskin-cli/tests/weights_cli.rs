@@ -1,12 +1,23 @@
-//! `splineskin weights --mesh MESH.json --kind … -o OUT.json` through the binary: the weights
-//! it writes (against libigl's on the reference-igl meshes, and by their defining properties on
-//! a small mesh written here), and clean failures on bad input — each names the file and the
-//! element, exits with status 1 without panicking, and leaves no output behind.
+//! `splineskin weights` through the binary, both modes:
+//!
+//! * `--mesh MESH.json --kind … -o OUT.json`: the weights it writes (against libigl's on the
+//!   reference-igl meshes, and by their defining properties on a small mesh written here);
+//! * `SCENE -o OUT.png`: the picture's size and panels (from the library's layout), the colour
+//!   of pixels whose weight is known (1 and 0 at the handles of Shepard weights; the field
+//!   evaluated by the library at harmonic weights' pixels), and that mesh lines and iso-lines
+//!   change the picture;
+//!
+//! and clean failures on bad input — each names the file and the element, exits with status 1
+//! without panicking, and leaves no output behind.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use kurbo::Point;
 use serde::Deserialize;
+use splineskin::scene::{Compat, Scene};
+use splineskin::weight_map::colour_map::{viridis, weight_colour};
+use splineskin::weight_map::{HandleMarker, RgbaImage, WeightMapLayout, WeightMapOptions};
 
 /// A 3 × 2 grid of unit squares (12 vertices, 12 counter-clockwise triangles), as JSON
 /// `"V"` and `"F"` arrays.
@@ -38,12 +49,17 @@ fn mesh_file(v: Option<&str>, f: Option<&str>, handles: &str) -> String {
     )
 }
 
-/// A fresh folder for one run.
-fn case_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
+/// The folder of one run.
+fn case_path(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!(
         "splineskin-weights-cli-{}-{name}",
         std::process::id()
-    ));
+    ))
+}
+
+/// A fresh folder for one run.
+fn case_dir(name: &str) -> PathBuf {
+    let dir = case_path(name);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
@@ -106,9 +122,17 @@ fn check_failure(case: &Failure, dir: &Path, out: &Output, output: &str) -> Resu
 }
 
 fn run_failures(cases: Vec<Failure>) {
+    for case in &cases {
+        case_dir(case.name);
+    }
+    run_failures_in_place(cases);
+}
+
+/// [`run_failures`] in the case folders as they are (files written there beforehand stay).
+fn run_failures_in_place(cases: Vec<Failure>) {
     let mut problems = Vec::new();
     for case in &cases {
-        let dir = case_dir(case.name);
+        let dir = case_path(case.name);
         if let Some(mesh) = &case.mesh {
             std::fs::write(dir.join("mesh.json"), mesh).unwrap();
         }
@@ -388,13 +412,243 @@ fn weights_cli_bad_input_fails_cleanly() {
             args: vec!["weights", "-o", "out.json"],
             expect: vec!["required", "--mesh"],
         },
-        Failure {
-            name: "scene-not-implemented",
-            mesh: None,
-            args: vec!["weights", "scene.json", "-o", "weights.png"],
-            expect: vec!["scene.json", "not implemented yet", "--mesh"],
-        },
     ]);
+}
+
+/// An arc from (0, 0) to (100, 0) bulging up to y = 30 (SVG y points down), and two handles
+/// on the x axis, about 24 units from it.
+const ARC_SVG: &str =
+    r#"<svg xmlns=\"http://www.w3.org/2000/svg\"><path d=\"M0 0 C30 40 70 40 100 0\"/></svg>"#;
+const ARC_HANDLES: [Point; 2] = [Point::new(25.0, 0.0), Point::new(75.0, 0.0)];
+
+/// Our scene format with the arc inline, its two handles and weights of `family`.
+fn arc_scene(family: &str) -> String {
+    let handles: Vec<String> = ARC_HANDLES
+        .iter()
+        .map(|p| format!(r#"{{"position": [{}, {}]}}"#, p.x, p.y))
+        .collect();
+    format!(
+        r#"{{"splineskin_scene": 1, "svg_text": "{ARC_SVG}", "handles": [{}], "weights": {{"family": "{family}"}}}}"#,
+        handles.join(", ")
+    )
+}
+
+/// Runs `weights scene.json -o OUT …` in `dir`; the image, decoded.
+fn draw(dir: &Path, output: &str, extra: &[&str]) -> (RgbaImage, String) {
+    let mut args = vec!["weights", "scene.json", "-o", output];
+    args.extend_from_slice(extra);
+    let out = run(dir, &args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{args:?}: {stderr}");
+    let png = std::fs::read(dir.join(output)).unwrap();
+    (RgbaImage::decode_png(&png).unwrap(), stderr)
+}
+
+fn markers() -> Vec<HandleMarker> {
+    ARC_HANDLES
+        .iter()
+        .map(|&p| HandleMarker::Point(p))
+        .collect()
+}
+
+/// Two Shepard handles: two panels stacked (the arc's frame is wide), sized as the library's
+/// layout says (and as worked out by hand: 232 × 201 at 220 px panels, see the library's
+/// `weight_map_layout_by_hand`); in panel i the pixel at handle i has the map's top colour
+/// (weight 1 − 5e-5 at its centre) and the pixel at the other handle its bottom colour.
+/// `--handle 1` draws that panel alone.
+#[test]
+fn weights_cli_scene_shepard_panels() {
+    let dir = case_dir("scene-shepard");
+    std::fs::write(dir.join("scene.json"), arc_scene("shepard")).unwrap();
+    let (image, stderr) = draw(&dir, "w.png", &["--width", "220"]);
+    assert!(
+        stderr.contains("shepard weights, 2 of 2 handles"),
+        "{stderr}"
+    );
+    let scene = Scene::load(&dir.join("scene.json")).unwrap();
+    let drawing = scene.drawing(Compat::None).unwrap();
+    let options = WeightMapOptions::default().with_panel_width(220);
+    let layout = WeightMapLayout::new(&drawing, &markers(), None, &options).unwrap();
+    assert_eq!((image.width, image.height), (232, 201));
+    assert_eq!((layout.width, layout.height), (232, 201));
+    assert_eq!(layout.panels.len(), 2);
+    for panel in 0..2 {
+        for (i, &h) in ARC_HANDLES.iter().enumerate() {
+            let want = if i == panel {
+                viridis(1.0)
+            } else {
+                viridis(0.0)
+            };
+            let at = layout.to_pixel(panel, h).unwrap();
+            assert_eq!(image.colour_at(at), Some(want), "panel {panel}, handle {i}");
+        }
+    }
+    // Between the panels: the gutter, white.
+    let gutter = Point::new(100.5, f64::from(layout.panels[1].y) - 3.0);
+    assert_eq!(image.colour_at(gutter), Some([255, 255, 255]));
+
+    let (one, _) = draw(&dir, "one.png", &["--width", "220", "--handle", "1"]);
+    let layout =
+        WeightMapLayout::new(&drawing, &markers(), None, &options.with_handle(Some(1))).unwrap();
+    assert_eq!((one.width, one.height), (232, 201 - 86));
+    assert_eq!((layout.width, layout.height), (one.width, one.height));
+    let at = |h: Point| one.colour_at(layout.to_pixel(0, h).unwrap());
+    assert_eq!(at(ARC_HANDLES[1]), Some(viridis(1.0)));
+    assert_eq!(at(ARC_HANDLES[0]), Some(viridis(0.0)));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Harmonic weights (a mesh family, solved on the triangulated domain): pixels away from the
+/// curves and markers have the colour of the library's field at their centre; mesh lines and
+/// iso-lines change pixels inside the panels only, and the size stays the same.
+#[test]
+fn weights_cli_scene_harmonic_mesh_lines() {
+    let dir = case_dir("scene-harmonic");
+    std::fs::write(dir.join("scene.json"), arc_scene("harmonic")).unwrap();
+    let (plain, stderr) = draw(&dir, "plain.png", &[]);
+    assert!(stderr.contains("harmonic weights (domain of"), "{stderr}");
+    let (meshed, _) = draw(&dir, "mesh.png", &["--mesh-lines"]);
+    let (iso, _) = draw(&dir, "iso.png", &["--iso-lines"]);
+
+    let scene = Scene::load(&dir.join("scene.json")).unwrap();
+    let setup = scene.setup(Compat::None).unwrap();
+    let mesh = setup.domain.as_ref().map(|d| &d.mesh);
+    assert!(mesh.is_some());
+    let layout = WeightMapLayout::new(
+        &setup.drawing,
+        &markers(),
+        mesh,
+        &WeightMapOptions::default(),
+    )
+    .unwrap();
+    assert_eq!((plain.width, plain.height), (layout.width, layout.height));
+    assert_eq!((meshed.width, meshed.height), (layout.width, layout.height));
+    // Far from the arc and the handle rings (at least 8 units at 4.7 px per unit).
+    let probes = [
+        Point::new(50.0, 15.0),
+        Point::new(50.0, -3.0),
+        Point::new(10.0, 25.0),
+        ARC_HANDLES[0],
+        ARC_HANDLES[1],
+    ];
+    let mut w = vec![0.0; 2];
+    for (panel, placement) in layout.panels.iter().enumerate() {
+        for &p in &probes {
+            let at = layout.to_pixel(panel, p).unwrap();
+            let centre = layout.pixel_centre(
+                (at.x.floor() as u32) - placement.x,
+                (at.y.floor() as u32) - placement.y,
+            );
+            setup.weights.eval(centre, &mut w);
+            let want = weight_colour(w[placement.handle]);
+            assert_eq!(plain.colour_at(at), Some(want), "panel {panel} at {p:?}");
+        }
+    }
+    let inside_panels = |x: u32, y: u32| {
+        layout.panels.iter().any(|p| {
+            (p.x..p.x + layout.panel_width).contains(&x)
+                && (p.y..p.y + layout.panel_height).contains(&y)
+        })
+    };
+    for (name, other) in [("mesh lines", &meshed), ("iso-lines", &iso)] {
+        let mut n_changed = 0;
+        for y in 0..plain.height {
+            for x in 0..plain.width {
+                if plain.pixel(x, y) != other.pixel(x, y) {
+                    assert!(inside_panels(x, y), "{name} changed pixel ({x}, {y})");
+                    n_changed += 1;
+                }
+            }
+        }
+        // The mesh has thousands of edges; nine iso-levels cross each panel.
+        assert!(n_changed > 2000, "{name}: {n_changed} pixels changed");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn weights_cli_scene_bad_input_fails_cleanly() {
+    let scene = arc_scene("shepard");
+    let cases = vec![
+        Failure {
+            name: "scene-missing",
+            mesh: None,
+            args: vec!["weights", "missing.json", "-o", "w.png"],
+            expect: vec!["missing.json", "cannot read"],
+        },
+        Failure {
+            name: "scene-unknown-handle",
+            mesh: None,
+            args: vec!["weights", "scene.json", "-o", "w.png", "--handle", "2"],
+            expect: vec![
+                "scene.json",
+                "--handle 2",
+                "no such handle",
+                "the scene has 2",
+            ],
+        },
+        Failure {
+            name: "scene-unwritable-output",
+            mesh: None,
+            args: vec!["weights", "scene.json", "-o", "no-such-folder/w.png"],
+            expect: vec!["no-such-folder/w.png", "cannot write"],
+        },
+        Failure {
+            name: "scene-output-not-png",
+            mesh: None,
+            args: vec!["weights", "scene.json", "-o", "w.jpg"],
+            expect: vec!["w.jpg", "drawn as PNG", ".png"],
+        },
+        Failure {
+            name: "scene-output-json",
+            mesh: None,
+            args: vec!["weights", "scene.json", "-o", "w.json"],
+            expect: vec!["w.json", "drawn as PNG"],
+        },
+        Failure {
+            name: "scene-width-too-small",
+            mesh: None,
+            args: vec!["weights", "scene.json", "-o", "w.png", "--width", "8"],
+            expect: vec!["scene.json", "panel width 8 px", "32"],
+        },
+        Failure {
+            name: "scene-kind",
+            mesh: None,
+            args: vec!["weights", "scene.json", "--kind", "harmonic", "-o", "w.png"],
+            expect: vec!["--kind", "cannot be used with"],
+        },
+        Failure {
+            name: "mesh-with-mesh-lines",
+            mesh: Some(mesh_file(None, None, "[0, 11]")),
+            args: vec![
+                "weights",
+                "--mesh",
+                "mesh.json",
+                "--mesh-lines",
+                "-o",
+                "out.json",
+            ],
+            expect: vec!["--mesh-lines", "cannot be used with"],
+        },
+    ];
+    for case in &cases {
+        let dir = case_dir(case.name);
+        std::fs::write(dir.join("scene.json"), &scene).unwrap();
+    }
+    run_failures_in_place(cases);
+    let bad_json = Failure {
+        name: "scene-bad-json",
+        mesh: None,
+        args: vec!["weights", "scene.json", "-o", "w.png"],
+        expect: vec!["scene.json", "line 1"],
+    };
+    let dir = case_dir(bad_json.name);
+    std::fs::write(
+        dir.join("scene.json"),
+        r#"{"splineskin_scene": 1, "handles": ["#,
+    )
+    .unwrap();
+    run_failures_in_place(vec![bad_json]);
 }
 
 /// The failure check itself fails on a successful run (so the cases above prove something).

@@ -21,6 +21,7 @@ pub mod mesh;
 pub mod render;
 pub mod scene;
 pub mod spline_fit;
+pub mod weight_map;
 pub mod weights;
 
 /// The README's code examples, compiled and run as doctests so they cannot go stale.

@@ -1,0 +1,1341 @@
+//! Pictures of handle weights: each handle's weight function `w_i` as a colour map over the
+//! drawing, one panel per handle, as a PNG image.
+//!
+//! ```text
+//! ┌──────────────┐ ┌──────────────┐
+//! │0             │ │1             │   panel i: w_i sampled at every pixel centre, in viridis
+//! │   ◎      ○   │ │   ○      ◎   │   ◎ handle i, ○ the other handles
+//! │  ~~curves~~  │ │  ~~curves~~  │   the drawing's curves as thin dark strokes on top
+//! └──────────────┘ └──────────────┘   optional: mesh edges, iso-lines every 0.1
+//!    ▕▒▒▒▒▒▒▒▒▒▒▒▒▒▒▒▒▒▒▏             colour bar 0 … 1 (with out-of-range ends when needed)
+//!     0       0.5       1
+//! ```
+//!
+//! The weight field is evaluated through [`WeightField::eval`] at the centre of every pixel:
+//! every family is defined on the whole plane (mesh families outside their domain take the
+//! weights of the nearest boundary point, [`crate::domain::MeshWeights`]), so the whole panel is
+//! the field itself, not an extrapolation made here. Values in `[0, 1]` are drawn in viridis;
+//! values outside (negative lobes and overshoots of unbounded families such as biharmonic
+//! weights) in two ramps of hues viridis does not use ([`colour_map`]), so they are never read
+//! as in-range values. The frame, scale and grid are in [`WeightMapLayout`].
+//!
+//! Iso-lines are drawn where `w_i` crosses a multiple of the step (0 and 1 excepted: bounded
+//! families are exactly 0 or 1 on whole regions), anti-aliased from the distance to the level
+//! estimated as `|w − level| / |∇w|` with `∇w` by central differences of the pixel samples.
+
+pub mod colour_map;
+mod glyphs;
+pub mod layout;
+
+pub use layout::{Panel, WeightMapLayout};
+
+use kurbo::Point;
+use resvg::tiny_skia::{self, LineCap, Paint, PathBuilder, Pixmap, PixmapPaint, Stroke, Transform};
+
+use crate::drawing::Drawing;
+use crate::mesh::TriMesh;
+use crate::weights::WeightField;
+use colour_map::{luma, range_of, weight_colour, Range, OUT_OF_RANGE_FULL};
+
+/// Default panel width: 512 pixels.
+pub const DEFAULT_PANEL_WIDTH: u32 = 512;
+
+/// Default iso-line step: 0.1 weight units (nine lines between 0 and 1).
+pub const DEFAULT_ISO_STEP: f64 = 0.1;
+
+/// Smallest iso-line step: 0.001 weight units (finer lines fill the picture).
+pub const MIN_ISO_STEP: f64 = 1e-3;
+
+/// Options of [`render_weight_map`].
+///
+/// ```
+/// use splineskin::weight_map::{WeightMapOptions, DEFAULT_PANEL_WIDTH};
+/// let options = WeightMapOptions::default().with_handle(Some(2)).with_iso_step(Some(0.1));
+/// assert_eq!(options.panel_width, DEFAULT_PANEL_WIDTH);
+/// assert!(!options.mesh_lines);
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct WeightMapOptions {
+    /// Width of each panel in pixels, in `MIN_PANEL_WIDTH..=MAX_IMAGE_SIDE` (its height
+    /// follows the frame's aspect ratio). Default: [`DEFAULT_PANEL_WIDTH`].
+    pub panel_width: u32,
+    /// Draw only this handle's panel. Default: none (one panel per handle).
+    pub handle: Option<usize>,
+    /// Draw the mesh's edges (when a mesh is given). Default: false.
+    pub mesh_lines: bool,
+    /// Draw iso-lines at multiples of this step (in `[MIN_ISO_STEP, 1]`). Default: none.
+    pub iso_step: Option<f64>,
+    /// Sample the weights on several threads (rayon's global pool). Default: false.
+    pub parallel: bool,
+}
+
+impl Default for WeightMapOptions {
+    fn default() -> Self {
+        WeightMapOptions {
+            panel_width: DEFAULT_PANEL_WIDTH,
+            handle: None,
+            mesh_lines: false,
+            iso_step: None,
+            parallel: false,
+        }
+    }
+}
+
+impl WeightMapOptions {
+    /// Sets [`WeightMapOptions::panel_width`].
+    pub fn with_panel_width(mut self, pixels: u32) -> Self {
+        self.panel_width = pixels;
+        self
+    }
+    /// Sets [`WeightMapOptions::handle`].
+    pub fn with_handle(mut self, handle: Option<usize>) -> Self {
+        self.handle = handle;
+        self
+    }
+    /// Sets [`WeightMapOptions::mesh_lines`].
+    pub fn with_mesh_lines(mut self, on: bool) -> Self {
+        self.mesh_lines = on;
+        self
+    }
+    /// Sets [`WeightMapOptions::iso_step`].
+    pub fn with_iso_step(mut self, step: Option<f64>) -> Self {
+        self.iso_step = step;
+        self
+    }
+    /// Sets [`WeightMapOptions::parallel`].
+    pub fn with_parallel(mut self, parallel: bool) -> Self {
+        self.parallel = parallel;
+        self
+    }
+}
+
+/// Why a weight map cannot be drawn.
+#[derive(Debug, thiserror::Error, PartialEq)]
+#[non_exhaustive]
+pub enum WeightMapError {
+    /// No handles.
+    #[error("no handles: nothing to draw")]
+    NoHandles,
+    /// The handle markers and the weight field disagree on the number of handles.
+    #[error("{n_markers} handle markers for a weight field of {n_handles} handles")]
+    HandleCount {
+        /// Markers given.
+        n_markers: usize,
+        /// [`WeightField::n_handles`].
+        n_handles: usize,
+    },
+    /// A handle position is NaN or infinite.
+    #[error("handle {handle}: position is not finite")]
+    NonFiniteHandle {
+        /// The handle.
+        handle: usize,
+    },
+    /// [`WeightMapOptions::handle`] names no handle.
+    #[error("handle {handle} does not exist (there are {n_handles} handles, 0 to {})", n_handles - 1)]
+    UnknownHandle {
+        /// The index asked for.
+        handle: usize,
+        /// Number of handles (at least 1).
+        n_handles: usize,
+    },
+    /// [`WeightMapOptions::panel_width`] out of range.
+    #[error("panel width {width} px is out of range (expected {min} to {max} pixels)")]
+    InvalidPanelWidth {
+        /// The width asked for.
+        width: u32,
+        /// [`layout::MIN_PANEL_WIDTH`].
+        min: u32,
+        /// [`layout::MAX_IMAGE_SIDE`].
+        max: u32,
+    },
+    /// [`WeightMapOptions::iso_step`] out of range.
+    #[error("iso-line step {step} is out of range (expected {min} to 1)")]
+    InvalidIsoStep {
+        /// The step asked for.
+        step: f64,
+        /// [`MIN_ISO_STEP`].
+        min: f64,
+    },
+    /// The drawing or the mesh has coordinates that give no finite frame.
+    #[error("the drawing, handles and mesh do not have finite bounds")]
+    NonFiniteGeometry,
+    /// The image would be too large.
+    #[error("a {width}×{height} image is too large (at most {max_side} pixels a side and {max_pixels} in all): ask for narrower panels or one handle")]
+    TooLarge {
+        /// Image width.
+        width: u64,
+        /// Image height.
+        height: u64,
+        /// [`layout::MAX_IMAGE_SIDE`].
+        max_side: u32,
+        /// [`layout::MAX_IMAGE_PIXELS`].
+        max_pixels: u64,
+    },
+    /// The weight field returned NaN or an infinity.
+    #[error("weight of handle {handle} is not finite at ({x}, {y})")]
+    NonFiniteWeight {
+        /// The handle.
+        handle: usize,
+        /// Where (drawing units).
+        x: f64,
+        /// Where (drawing units).
+        y: f64,
+    },
+    /// The pixmap cannot be allocated.
+    #[error("cannot allocate a {width}×{height} pixmap")]
+    Pixmap {
+        /// Width in pixels.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+    },
+    /// PNG encoding failed.
+    #[error("cannot encode the PNG: {message}")]
+    Encode {
+        /// The encoder's description.
+        message: String,
+    },
+    /// [`RgbaImage::decode_png`] cannot read the bytes.
+    #[error("cannot decode the PNG: {message}")]
+    Decode {
+        /// The decoder's description.
+        message: String,
+    },
+}
+
+/// An 8-bit RGBA image (straight alpha) read back from PNG bytes: for tests and tools that look
+/// at weight maps without a PNG decoder of their own.
+///
+/// ```
+/// use splineskin::weight_map::RgbaImage;
+/// let png = splineskin::render::render_png(
+///     r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 2 1"><rect width="1" height="1"/></svg>"#,
+///     20,
+/// )?;
+/// let image = RgbaImage::decode_png(&png)?;
+/// assert_eq!((image.width, image.height), (20, 10));
+/// assert_eq!(image.pixel(2, 2), Some([0, 0, 0, 255]));
+/// assert_eq!(image.pixel(15, 2), Some([255, 255, 255, 255]));
+/// assert_eq!(image.pixel(20, 0), None);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RgbaImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `width × height` pixels, row by row from the top left.
+    pub pixels: Vec<[u8; 4]>,
+}
+
+impl RgbaImage {
+    /// Decodes PNG bytes (any colour type the PNG decoder accepts).
+    pub fn decode_png(png: &[u8]) -> Result<RgbaImage, WeightMapError> {
+        let pixmap = Pixmap::decode_png(png).map_err(|e| WeightMapError::Decode {
+            message: e.to_string(),
+        })?;
+        let (width, height) = (pixmap.width(), pixmap.height());
+        let pixels = pixmap
+            .take_demultiplied()
+            .chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2], c[3]])
+            .collect();
+        Ok(RgbaImage {
+            width,
+            height,
+            pixels,
+        })
+    }
+
+    /// The pixel at column `x`, row `y`; `None` outside the image.
+    pub fn pixel(&self, x: u32, y: u32) -> Option<[u8; 4]> {
+        if x >= self.width || y >= self.height {
+            return None;
+        }
+        Some(self.pixels[y as usize * self.width as usize + x as usize])
+    }
+
+    /// The colour (without alpha) of the pixel holding image point `p` (pixel coordinates, as
+    /// [`WeightMapLayout::to_pixel`] gives); `None` outside the image.
+    pub fn colour_at(&self, p: Point) -> Option<[u8; 3]> {
+        if !(p.x >= 0.0 && p.y >= 0.0) {
+            return None;
+        }
+        let [r, g, b, _] = self.pixel(p.x.floor() as u32, p.y.floor() as u32)?;
+        Some([r, g, b])
+    }
+}
+
+/// A handle as drawn on the panels: where its weight is 1 at rest.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum HandleMarker {
+    /// A point handle (or a cage vertex): a ring.
+    Point(Point),
+    /// A bone: the segment between its end points.
+    Segment([Point; 2]),
+}
+
+impl HandleMarker {
+    /// The points that define it.
+    pub fn points(&self) -> &[Point] {
+        match self {
+            HandleMarker::Point(p) => std::slice::from_ref(p),
+            HandleMarker::Segment(ends) => ends,
+        }
+    }
+
+    /// Whether all its coordinates are finite.
+    pub fn is_finite(&self) -> bool {
+        self.points()
+            .iter()
+            .all(|p| p.x.is_finite() && p.y.is_finite())
+    }
+}
+
+/// The range of one handle's weight over the pixel centres of its panel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WeightRange {
+    /// The handle.
+    pub handle: usize,
+    /// Smallest sampled weight.
+    pub min: f64,
+    /// Largest sampled weight.
+    pub max: f64,
+}
+
+impl WeightRange {
+    /// Whether every sample is in `[0, 1]` up to [`colour_map::OUT_OF_RANGE_TOLERANCE`] (no
+    /// pixel is drawn in an out-of-range colour).
+    pub fn is_within_unit(&self) -> bool {
+        range_of(self.min) == Range::Within && range_of(self.max) == Range::Within
+    }
+}
+
+/// A rendered weight map.
+#[derive(Clone, Debug)]
+pub struct WeightMap {
+    /// The image, 8-bit RGBA PNG.
+    pub png: Vec<u8>,
+    /// Where everything is in it.
+    pub layout: WeightMapLayout,
+    /// Per panel, in [`WeightMapLayout::panels`] order, the range of the sampled weights.
+    pub ranges: Vec<WeightRange>,
+}
+
+/// Renders the weights of `weights` (one function per handle, handle `i` drawn as
+/// `handles[i]`) over the curves of `drawing` as a PNG: one panel per handle (or only
+/// [`WeightMapOptions::handle`]'s), laid out as [`WeightMapLayout::new`] says, with a colour
+/// bar below. `mesh` is the mesh a mesh family was solved on: it is kept inside the frame,
+/// and its edges are drawn with [`WeightMapOptions::mesh_lines`].
+///
+/// Each panel shows, bottom to top: `w_i` at every pixel centre ([`colour_map::weight_colour`]),
+/// iso-lines (dark over light colours, light over dark ones), mesh edges (thin, translucent
+/// white), the mesh's boundary (dashed white, whenever a mesh is given: outside it the weights
+/// are those of the nearest boundary point), the curves (dark, over a light halo so that they
+/// read on dark colours too), every handle (a ring for a point, large for handle `i` and small for the others, the pixel at its
+/// centre keeping its weight colour; a segment for a bone, thick for handle `i`) and the
+/// handle's index in the top-left corner.
+///
+/// Errors: those of [`WeightMapLayout::new`], [`WeightMapError::HandleCount`],
+/// [`WeightMapError::InvalidIsoStep`], [`WeightMapError::NonFiniteWeight`], and allocation or
+/// encoding failures.
+///
+/// ```
+/// use kurbo::Point;
+/// use splineskin::drawing::{read_svg, ImportOptions};
+/// use splineskin::weight_map::colour_map::viridis;
+/// use splineskin::weight_map::{render_weight_map, HandleMarker, RgbaImage, WeightMapOptions};
+/// use splineskin::weights::{Shepard, ShepardOptions};
+///
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 C30 40 70 40 100 0"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default())?;
+/// let handles = [Point::new(10.0, 10.0), Point::new(90.0, 10.0)];
+/// let weights = Shepard::new(&handles, ShepardOptions::default());
+/// let markers = handles.map(HandleMarker::Point);
+/// let options = WeightMapOptions::default().with_panel_width(200);
+/// let map = render_weight_map(&drawing, &markers, &weights, None, &options)?;
+/// let image = RgbaImage::decode_png(&map.png)?;
+/// assert_eq!((image.width, image.height), (map.layout.width, map.layout.height));
+/// // Panel 1, at handle 1: weight 1, the top colour of viridis; at handle 0 about 0.
+/// let at = map.layout.to_pixel(1, handles[1]).unwrap();
+/// assert_eq!(image.colour_at(at), Some(viridis(1.0)));
+/// let at = map.layout.to_pixel(1, handles[0]).unwrap();
+/// assert_eq!(image.colour_at(at), Some(viridis(0.0)));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn render_weight_map(
+    drawing: &Drawing,
+    handles: &[HandleMarker],
+    weights: &dyn WeightField,
+    mesh: Option<&TriMesh>,
+    options: &WeightMapOptions,
+) -> Result<WeightMap, WeightMapError> {
+    if handles.len() != weights.n_handles() {
+        return Err(WeightMapError::HandleCount {
+            n_markers: handles.len(),
+            n_handles: weights.n_handles(),
+        });
+    }
+    if let Some(step) = options.iso_step {
+        if !(MIN_ISO_STEP..=1.0).contains(&step) {
+            return Err(WeightMapError::InvalidIsoStep {
+                step,
+                min: MIN_ISO_STEP,
+            });
+        }
+    }
+    let layout = WeightMapLayout::new(drawing, handles, mesh, options)?;
+    let shown: Vec<usize> = layout.panels.iter().map(|p| p.handle).collect();
+    let samples = sample(weights, &layout, &shown, options.parallel)?;
+    let ranges = ranges_of(&samples, &shown);
+
+    let (pw, ph) = (layout.panel_width, layout.panel_height);
+    let mut image = Pixmap::new(layout.width, layout.height).ok_or(WeightMapError::Pixmap {
+        width: layout.width,
+        height: layout.height,
+    })?;
+    image.fill(tiny_skia::Color::WHITE);
+    let mut panel = Pixmap::new(pw, ph).ok_or(WeightMapError::Pixmap {
+        width: pw,
+        height: ph,
+    })?;
+    let curves = curves_path(drawing, &layout);
+    let (edges, boundary) = match mesh {
+        Some(mesh) => mesh_paths(mesh, &layout),
+        None => (None, None),
+    };
+    let edges = edges.filter(|_| options.mesh_lines);
+    for (s, placement) in layout.panels.iter().enumerate() {
+        fill_panel(
+            &mut panel,
+            &samples,
+            s,
+            shown.len(),
+            options.iso_step,
+            &layout,
+        );
+        let ls = layout.line_scale;
+        if let Some(edges) = &edges {
+            stroke(&mut panel, edges, MESH_EDGE, ls);
+        }
+        if let Some(boundary) = &boundary {
+            dashed(&mut panel, boundary, DOMAIN_BOUNDARY, ls);
+        }
+        if let Some(curves) = &curves {
+            stroke(&mut panel, curves, CURVE_HALO, ls);
+            stroke(&mut panel, curves, CURVE, ls);
+        }
+        for (i, h) in handles.iter().enumerate() {
+            let own = i == placement.handle;
+            handle_marker(&mut panel, h, own, &layout);
+        }
+        let label = placement.handle.to_string();
+        panel_label(&mut panel, &label, &layout);
+        image.draw_pixmap(
+            placement.x as i32,
+            placement.y as i32,
+            panel.as_ref(),
+            &PixmapPaint::default(),
+            Transform::identity(),
+            None,
+        );
+        panel_border(&mut image, placement, &layout);
+    }
+    let below = ranges.iter().any(|r| range_of(r.min) == Range::Below);
+    let above = ranges.iter().any(|r| range_of(r.max) == Range::Above);
+    colour_bar(&mut image, &layout, below, above, options.iso_step);
+    let png = image.encode_png().map_err(|e| WeightMapError::Encode {
+        message: e.to_string(),
+    })?;
+    Ok(WeightMap {
+        png,
+        layout,
+        ranges,
+    })
+}
+
+/// The weights of the `shown` handles at every pixel centre of a panel: entry
+/// `(y · panel_width + x) · shown.len() + s` is `w_{shown[s]}` at pixel `(x, y)`.
+fn sample(
+    weights: &dyn WeightField,
+    layout: &WeightMapLayout,
+    shown: &[usize],
+    parallel: bool,
+) -> Result<Vec<f64>, WeightMapError> {
+    let (pw, ph) = (layout.panel_width as usize, layout.panel_height as usize);
+    let n_shown = shown.len();
+    let row_len = pw * n_shown;
+    let mut samples = vec![0.0; row_len * ph];
+    let fill_row = |y: usize, row: &mut [f64], all: &mut Vec<f64>| {
+        all.resize(weights.n_handles(), 0.0);
+        for x in 0..pw {
+            weights.eval(layout.pixel_centre(x as u32, y as u32), all);
+            for (s, &i) in shown.iter().enumerate() {
+                row[x * n_shown + s] = all[i];
+            }
+        }
+    };
+    if parallel {
+        use rayon::prelude::*;
+        samples
+            .par_chunks_mut(row_len)
+            .enumerate()
+            .for_each_init(Vec::new, |all, (y, row)| fill_row(y, row, all));
+    } else {
+        let mut all = Vec::new();
+        for (y, row) in samples.chunks_mut(row_len).enumerate() {
+            fill_row(y, row, &mut all);
+        }
+    }
+    if let Some(k) = samples.iter().position(|w| !w.is_finite()) {
+        let pixel = k / n_shown;
+        let p = layout.pixel_centre((pixel % pw) as u32, (pixel / pw) as u32);
+        return Err(WeightMapError::NonFiniteWeight {
+            handle: shown[k % n_shown],
+            x: p.x,
+            y: p.y,
+        });
+    }
+    Ok(samples)
+}
+
+/// Per shown handle, the smallest and largest sample.
+fn ranges_of(samples: &[f64], shown: &[usize]) -> Vec<WeightRange> {
+    let n = shown.len();
+    shown
+        .iter()
+        .enumerate()
+        .map(|(s, &handle)| {
+            let (min, max) = samples
+                .iter()
+                .skip(s)
+                .step_by(n)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &w| {
+                    (lo.min(w), hi.max(w))
+                });
+            WeightRange { handle, min, max }
+        })
+        .collect()
+}
+
+/// Opacity of iso-lines drawn dark (over light colours).
+const ISO_DARK_ALPHA: f64 = 0.55;
+/// Opacity of iso-lines drawn light (over dark colours).
+const ISO_LIGHT_ALPHA: f64 = 0.7;
+/// Luma above which a colour counts as light (iso-lines over it are dark).
+const LIGHT_LUMA: f64 = 0.45;
+/// Nominal iso-line width, pixels.
+const ISO_LINE_WIDTH: f64 = 1.0;
+
+/// Colours the panel pixmap from the samples of panel `s`, with iso-lines every `iso_step`.
+fn fill_panel(
+    panel: &mut Pixmap,
+    samples: &[f64],
+    s: usize,
+    n_shown: usize,
+    iso_step: Option<f64>,
+    layout: &WeightMapLayout,
+) {
+    let (pw, ph) = (layout.panel_width as usize, layout.panel_height as usize);
+    let value = |x: usize, y: usize| samples[(y * pw + x) * n_shown + s];
+    let half_width = 0.5 * ISO_LINE_WIDTH * layout.line_scale;
+    let data = panel.data_mut();
+    for y in 0..ph {
+        for x in 0..pw {
+            let w = value(x, y);
+            let mut colour = weight_colour(w);
+            if let Some(step) = iso_step {
+                let derivative = |a: f64, b: f64, spacing: f64| (b - a) / spacing;
+                let gx = match (x > 0, x + 1 < pw) {
+                    (true, true) => derivative(value(x - 1, y), value(x + 1, y), 2.0),
+                    (false, true) => derivative(w, value(x + 1, y), 1.0),
+                    (true, false) => derivative(value(x - 1, y), w, 1.0),
+                    (false, false) => 0.0,
+                };
+                let gy = match (y > 0, y + 1 < ph) {
+                    (true, true) => derivative(value(x, y - 1), value(x, y + 1), 2.0),
+                    (false, true) => derivative(w, value(x, y + 1), 1.0),
+                    (true, false) => derivative(value(x, y - 1), w, 1.0),
+                    (false, false) => 0.0,
+                };
+                let coverage = iso_coverage(w, gx.hypot(gy), step, half_width);
+                if coverage > 0.0 {
+                    let (line, alpha) = if luma(colour) > LIGHT_LUMA {
+                        ([0, 0, 0], ISO_DARK_ALPHA)
+                    } else {
+                        ([255, 255, 255], ISO_LIGHT_ALPHA)
+                    };
+                    colour = colour_map::mix(colour, line, alpha * coverage);
+                }
+            }
+            let k = 4 * (y * pw + x);
+            data[k..k + 4].copy_from_slice(&[colour[0], colour[1], colour[2], 255]);
+        }
+    }
+}
+
+/// How much of a pixel an iso-line covers, in `[0, 1]`: the line of half-width `half_width`
+/// pixels at the multiple of `step` nearest `w` (none at 0 and 1), at estimated distance
+/// `|w − level| / gradient` pixels, with a one-pixel linear fall-off.
+fn iso_coverage(w: f64, gradient: f64, step: f64, half_width: f64) -> f64 {
+    let level = (w / step).round() * step;
+    let at_bound = level.abs() < 1e-6 * step || (level - 1.0).abs() < 1e-6 * step;
+    if at_bound || gradient <= 0.0 || !gradient.is_finite() {
+        return 0.0;
+    }
+    let distance = (w - level).abs() / gradient;
+    (half_width + 0.5 - distance).clamp(0.0, 1.0)
+}
+
+/// The drawing's curves in panel pixel coordinates, `None` if it has none.
+fn curves_path(drawing: &Drawing, layout: &WeightMapLayout) -> Option<tiny_skia::Path> {
+    let mut b = PathBuilder::new();
+    let px = |p: Point| {
+        let q = layout.panel_pixel(p);
+        (q.x as f32, q.y as f32)
+    };
+    for path in &drawing.paths {
+        let (x, y) = px(path.points[0]);
+        b.move_to(x, y);
+        for j in 0..path.n_curves() {
+            let [_, p1, p2, p3] = path.curve_points(j);
+            let ((x1, y1), (x2, y2), (x3, y3)) = (px(p1), px(p2), px(p3));
+            b.cubic_to(x1, y1, x2, y2, x3, y3);
+        }
+        if path.closed {
+            b.close();
+        }
+    }
+    b.finish()
+}
+
+/// Every edge of `mesh` once, and its boundary edges (those of one triangle only), in panel
+/// pixel coordinates.
+fn mesh_paths(
+    mesh: &TriMesh,
+    layout: &WeightMapLayout,
+) -> (Option<tiny_skia::Path>, Option<tiny_skia::Path>) {
+    let mut half_edges: Vec<[usize; 2]> = mesh
+        .triangles
+        .iter()
+        .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
+        .map(|[a, b]| [a.min(b), a.max(b)])
+        .collect();
+    half_edges.sort_unstable();
+    let (mut all, mut boundary) = (PathBuilder::new(), PathBuilder::new());
+    for run in half_edges.chunk_by(|a, b| a == b) {
+        let [a, c] = run[0];
+        let (p, q) = (
+            layout.panel_pixel(mesh.vertices[a]),
+            layout.panel_pixel(mesh.vertices[c]),
+        );
+        let (p, q) = ((p.x as f32, p.y as f32), (q.x as f32, q.y as f32));
+        all.move_to(p.0, p.1);
+        all.line_to(q.0, q.1);
+        if run.len() == 1 {
+            boundary.move_to(p.0, p.1);
+            boundary.line_to(q.0, q.1);
+        }
+    }
+    (all.finish(), boundary.finish())
+}
+
+/// A paint of 8-bit RGBA, anti-aliased.
+fn paint(rgba: [u8; 4]) -> Paint<'static> {
+    let mut paint = Paint::default();
+    paint.set_color_rgba8(rgba[0], rgba[1], rgba[2], rgba[3]);
+    paint.anti_alias = true;
+    paint
+}
+
+/// A line style: 8-bit sRGB colour with alpha, and width in pixels at the nominal size
+/// ([`layout::REFERENCE_PANEL_WIDTH`]), multiplied by the line scale when drawn.
+#[derive(Clone, Copy, Debug)]
+struct Line {
+    rgba: [u8; 4],
+    width: f64,
+}
+
+/// Mesh edges: faint white, thinner than a pixel, so that a dense mesh tints rather than
+/// hides the colours.
+const MESH_EDGE: Line = Line {
+    rgba: [255, 255, 255, 90],
+    width: 0.6,
+};
+/// The mesh's boundary, dashed ([`DASH`]): where the weights stop being interpolated.
+const DOMAIN_BOUNDARY: Line = Line {
+    rgba: [255, 255, 255, 200],
+    width: 1.0,
+};
+/// Dash of [`DOMAIN_BOUNDARY`]: on, off, in line widths.
+const DASH: [f64; 2] = [5.0, 4.0];
+/// A light halo under the curves, so that dark curves read over dark colours.
+const CURVE_HALO: Line = Line {
+    rgba: [255, 255, 255, 150],
+    width: 3.0,
+};
+/// The curves: thin, near black.
+const CURVE: Line = Line {
+    rgba: [20, 20, 20, 255],
+    width: 1.3,
+};
+/// The panel's own handle: a black ring over a white one (readable on every colour).
+const OWN_HANDLE: [Line; 2] = [
+    Line {
+        rgba: [255, 255, 255, 230],
+        width: 3.5,
+    },
+    Line {
+        rgba: [0, 0, 0, 255],
+        width: 1.6,
+    },
+];
+/// The other handles: thinner rings.
+const OTHER_HANDLE: [Line; 2] = [
+    Line {
+        rgba: [255, 255, 255, 230],
+        width: 2.5,
+    },
+    Line {
+        rgba: [0, 0, 0, 255],
+        width: 1.0,
+    },
+];
+/// Bones are drawn this many times wider than rings, to read as segments rather than lines of
+/// the drawing.
+const BONE_WIDEN: f64 = 1.5;
+/// Frame around each panel (not scaled).
+const PANEL_BORDER: Line = Line {
+    rgba: [120, 120, 120, 255],
+    width: 1.0,
+};
+/// Outline and ticks of the colour bar (not scaled).
+const BAR_LINE: Line = Line {
+    rgba: [60, 60, 60, 255],
+    width: 1.0,
+};
+/// Box behind a panel's label.
+const LABEL_BOX: [u8; 4] = [255, 255, 255, 215];
+/// A panel's label.
+const LABEL_TEXT: [u8; 4] = [0, 0, 0, 255];
+/// The colour bar's tick values.
+const TICK_TEXT: [u8; 4] = [40, 40, 40, 255];
+
+/// Strokes `path` (pixel coordinates) in `line`, its width times `scale`, with round caps and
+/// joins.
+fn stroke(pixmap: &mut Pixmap, path: &tiny_skia::Path, line: Line, scale: f64) {
+    let stroke = Stroke {
+        width: (line.width * scale) as f32,
+        line_cap: LineCap::Round,
+        line_join: tiny_skia::LineJoin::Round,
+        ..Stroke::default()
+    };
+    pixmap.stroke_path(
+        path,
+        &paint(line.rgba),
+        &stroke,
+        Transform::identity(),
+        None,
+    );
+}
+
+/// Strokes `path` dashed by [`DASH`].
+fn dashed(pixmap: &mut Pixmap, path: &tiny_skia::Path, line: Line, scale: f64) {
+    let width = line.width * scale;
+    let stroke = Stroke {
+        width: width as f32,
+        dash: tiny_skia::StrokeDash::new(DASH.map(|d| (d * width) as f32).to_vec(), 0.0),
+        ..Stroke::default()
+    };
+    pixmap.stroke_path(
+        path,
+        &paint(line.rgba),
+        &stroke,
+        Transform::identity(),
+        None,
+    );
+}
+
+/// Nominal ring radius of the panel's own handle, pixels.
+const OWN_RING_RADIUS: f64 = 8.0;
+/// Nominal ring radius of the other handles, pixels.
+const OTHER_RING_RADIUS: f64 = 4.5;
+
+/// A handle, white under black so that it reads on every colour: a ring around a point (the
+/// centre stays clear), the segment of a bone. The panel's own handle is drawn larger.
+fn handle_marker(pixmap: &mut Pixmap, marker: &HandleMarker, own: bool, layout: &WeightMapLayout) {
+    let (radius, lines) = if own {
+        (OWN_RING_RADIUS, OWN_HANDLE)
+    } else {
+        (OTHER_RING_RADIUS, OTHER_HANDLE)
+    };
+    let path = match *marker {
+        HandleMarker::Point(p) => {
+            let at = layout.panel_pixel(p);
+            let radius = radius * layout.line_scale;
+            PathBuilder::from_circle(at.x as f32, at.y as f32, radius as f32)
+        }
+        HandleMarker::Segment([a, b]) => {
+            let (a, b) = (layout.panel_pixel(a), layout.panel_pixel(b));
+            let mut builder = PathBuilder::new();
+            builder.move_to(a.x as f32, a.y as f32);
+            builder.line_to(b.x as f32, b.y as f32);
+            builder.finish()
+        }
+    };
+    let Some(path) = path else {
+        return;
+    };
+    let widen = match marker {
+        HandleMarker::Point(_) => 1.0,
+        HandleMarker::Segment(_) => BONE_WIDEN,
+    };
+    for line in lines {
+        stroke(pixmap, &path, line, widen * layout.line_scale);
+    }
+}
+
+/// The handle index in the panel's top-left corner, black on a translucent white box.
+fn panel_label(pixmap: &mut Pixmap, text: &str, layout: &WeightMapLayout) {
+    let s = layout.glyph_scale + 1;
+    let pad = f64::from(s);
+    let (w, h) = (
+        f64::from(glyphs::text_width(text, s)) + 2.0 * pad,
+        f64::from(glyphs::GLYPH_HEIGHT * s) + 2.0 * pad,
+    );
+    let corner = (2.0 * pad).round();
+    if let Some(rect) = tiny_skia::Rect::from_xywh(corner as f32, corner as f32, w as f32, h as f32)
+    {
+        pixmap.fill_rect(rect, &paint(LABEL_BOX), Transform::identity(), None);
+    }
+    glyphs::draw_text(
+        pixmap,
+        text,
+        corner + pad,
+        corner + pad,
+        s,
+        &paint(LABEL_TEXT),
+    );
+}
+
+/// A one-pixel grey frame just outside the panel.
+fn panel_border(image: &mut Pixmap, panel: &Panel, layout: &WeightMapLayout) {
+    let rect = tiny_skia::Rect::from_xywh(
+        panel.x as f32 - 0.5,
+        panel.y as f32 - 0.5,
+        layout.panel_width as f32 + 1.0,
+        layout.panel_height as f32 + 1.0,
+    );
+    if let Some(rect) = rect {
+        let path = PathBuilder::from_rect(rect);
+        stroke(image, &path, PANEL_BORDER, 1.0);
+    }
+}
+
+/// The colour bar: viridis from 0 to 1, the out-of-range ramps at its ends when such values
+/// occur (`below`, `above`), ticks at 0, ½ and 1 (and at the ramps' deep ends) with their
+/// values, minor ticks at the iso-line step (0.1 without iso-lines).
+fn colour_bar(
+    image: &mut Pixmap,
+    layout: &WeightMapLayout,
+    below: bool,
+    above: bool,
+    iso: Option<f64>,
+) {
+    let bar = layout.colour_bar;
+    let ext = layout.bar_extension;
+    let x_start = if below { bar.x0 - ext } else { bar.x0 };
+    let x_end = if above { bar.x1 + ext } else { bar.x1 };
+    let value_at = |x: f64| {
+        if x < bar.x0 {
+            -OUT_OF_RANGE_FULL * (bar.x0 - x) / ext
+        } else if x > bar.x1 {
+            1.0 + OUT_OF_RANGE_FULL * (x - bar.x1) / ext
+        } else {
+            (x - bar.x0) / bar.width()
+        }
+    };
+    let (y0, y1) = (bar.y0 as u32, bar.y1 as u32);
+    let width = image.width() as usize;
+    let data = image.data_mut();
+    for x in (x_start as u32)..(x_end as u32) {
+        let c = weight_colour(value_at(f64::from(x) + 0.5));
+        for y in y0..y1 {
+            let k = 4 * (y as usize * width + x as usize);
+            data[k..k + 4].copy_from_slice(&[c[0], c[1], c[2], 255]);
+        }
+    }
+    let ls = layout.line_scale;
+    if let Some(rect) = tiny_skia::Rect::from_ltrb(
+        x_start as f32 - 0.5,
+        bar.y0 as f32 - 0.5,
+        x_end as f32 + 0.5,
+        bar.y1 as f32 + 0.5,
+    ) {
+        stroke(image, &PathBuilder::from_rect(rect), BAR_LINE, 1.0);
+    }
+    let pixel_of = |w: f64| {
+        if w < 0.0 {
+            bar.x0 + w / OUT_OF_RANGE_FULL * ext
+        } else if w > 1.0 {
+            bar.x1 + (w - 1.0) / OUT_OF_RANGE_FULL * ext
+        } else {
+            bar.x0 + w * bar.width()
+        }
+    };
+    let tick = |image: &mut Pixmap, w: f64, length: f64| {
+        // The middle of the pixel column holding `w`: a 1 px line covers it exactly.
+        let x = (pixel_of(w).floor() + 0.5) as f32;
+        let mut b = PathBuilder::new();
+        b.move_to(x, bar.y1 as f32);
+        b.line_to(x, (bar.y1 + length) as f32);
+        if let Some(path) = b.finish() {
+            let stroke = Stroke {
+                width: BAR_LINE.width as f32,
+                ..Stroke::default()
+            };
+            image.stroke_path(
+                &path,
+                &paint(BAR_LINE.rgba),
+                &stroke,
+                Transform::identity(),
+                None,
+            );
+        }
+    };
+    let minor = iso.unwrap_or(DEFAULT_ISO_STEP);
+    let n_minor = (1.0 / minor).floor() as usize;
+    for k in 1..n_minor {
+        tick(image, k as f64 * minor, 0.5 * layout::TICK_LENGTH * ls);
+    }
+    let mut labelled = vec![0.0, 0.5, 1.0];
+    if below {
+        labelled.push(-OUT_OF_RANGE_FULL);
+    }
+    if above {
+        labelled.push(1.0 + OUT_OF_RANGE_FULL);
+    }
+    let s = layout.glyph_scale;
+    let text_top = bar.y1 + (layout::TICK_LENGTH * ls).round() + f64::from(s) * 2.0;
+    for w in labelled {
+        tick(image, w, layout::TICK_LENGTH * ls);
+        let text = format!("{w}");
+        let x = pixel_of(w) - f64::from(glyphs::text_width(&text, s)) / 2.0;
+        glyphs::draw_text(image, &text, x.round(), text_top, s, &paint(TICK_TEXT));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::colour_map::{viridis, BELOW_DEEP, BELOW_LIGHT};
+    use super::*;
+    use crate::domain::MeshWeights;
+    use crate::drawing::{read_svg, ImportOptions};
+    use crate::weights::{Shepard, ShepardOptions};
+    use kurbo::Rect;
+
+    /// An arc from (0, 0) to (100, 0) bulging to y = 30, with handles below it at (25, 0)
+    /// and (75, 0), about 24 units from the curve.
+    fn arc_scene() -> (Drawing, [Point; 2]) {
+        let svg =
+            r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 C30 40 70 40 100 0"/></svg>"#;
+        let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+        (drawing, [Point::new(25.0, 0.0), Point::new(75.0, 0.0)])
+    }
+
+    fn markers(points: &[Point]) -> Vec<HandleMarker> {
+        points.iter().map(|&p| HandleMarker::Point(p)).collect()
+    }
+
+    /// The largest per-channel difference.
+    fn difference(a: [u8; 3], b: [u8; 3]) -> u8 {
+        (0..3).map(|k| a[k].abs_diff(b[k])).max().unwrap()
+    }
+
+    /// Weights linear in x on the square [0, 10]² (a 5 × 5 grid mesh): handle 0 has
+    /// `a + b·x`, handle 1 the rest of 1. Linear interpolation reproduces them exactly inside;
+    /// outside, the nearest boundary point's value, i.e. x clamped to [0, 10].
+    fn linear_field(a: f64, b: f64) -> (TriMesh, MeshWeights) {
+        let mesh = TriMesh::grid(Rect::new(0.0, 0.0, 10.0, 10.0), 5, 5).unwrap();
+        let values = mesh
+            .vertices
+            .iter()
+            .flat_map(|v| [a + b * v.x, 1.0 - a - b * v.x])
+            .collect();
+        let weights = MeshWeights::new(&mesh, values, 2).unwrap();
+        (mesh, weights)
+    }
+
+    fn render(
+        drawing: &Drawing,
+        handles: &[Point],
+        weights: &dyn WeightField,
+        mesh: Option<&TriMesh>,
+        options: &WeightMapOptions,
+    ) -> (WeightMap, RgbaImage) {
+        let map = render_weight_map(drawing, &markers(handles), weights, mesh, options).unwrap();
+        let image = RgbaImage::decode_png(&map.png).unwrap();
+        (map, image)
+    }
+
+    #[test]
+    fn weight_map_layout_by_hand() {
+        // Content: the arc (x 0..100, y 0..30) and the handles (y = 0): 100 × 30; margin
+        // 5 % of 100 → frame (−5, −5)–(105, 35), 110 × 40. At 220 px: scale 2, panels
+        // 220 × 80; line scale 0.5 (clamped), gutter 6, glyphs 1 px. Two wide panels stack
+        // (1 column: 220 × 160 is nearer square than 440 × 80). Width 6 + 220 + 6 = 232;
+        // height 6 + 2·(80 + 6) = 178, + bar 7 + tick 3 + 2 + label 5 + gutter 6 = 201.
+        let (drawing, handles) = arc_scene();
+        let options = WeightMapOptions::default().with_panel_width(220);
+        let layout = WeightMapLayout::new(&drawing, &markers(&handles), None, &options).unwrap();
+        assert_eq!(layout.frame, Rect::new(-5.0, -5.0, 105.0, 35.0));
+        assert_eq!(layout.scale, 2.0);
+        assert_eq!((layout.panel_width, layout.panel_height), (220, 80));
+        assert_eq!(layout.columns, 1);
+        assert_eq!(
+            layout.panels,
+            vec![
+                Panel {
+                    handle: 0,
+                    x: 6,
+                    y: 6
+                },
+                Panel {
+                    handle: 1,
+                    x: 6,
+                    y: 92
+                }
+            ]
+        );
+        assert_eq!((layout.width, layout.height), (232, 201));
+        assert_eq!(
+            layout.to_pixel(1, handles[1]),
+            Some(Point::new(6.0 + 160.0, 92.0 + 10.0))
+        );
+        assert_eq!(layout.to_pixel(2, handles[1]), None);
+        // One handle: one panel.
+        let one = WeightMapLayout::new(
+            &drawing,
+            &markers(&handles),
+            None,
+            &options.clone().with_handle(Some(1)),
+        )
+        .unwrap();
+        assert_eq!(
+            one.panels,
+            vec![Panel {
+                handle: 1,
+                x: 6,
+                y: 6
+            }]
+        );
+        assert_eq!((one.width, one.height), (232, 201 - 86));
+    }
+
+    #[test]
+    fn weight_map_shepard_handles_are_top_and_bottom_of_the_map() {
+        let (drawing, handles) = arc_scene();
+        let weights = Shepard::new(&handles, ShepardOptions::default());
+        let options = WeightMapOptions::default().with_panel_width(220);
+        let (map, image) = render(&drawing, &handles, &weights, None, &options);
+        assert_eq!(
+            (image.width, image.height),
+            (map.layout.width, map.layout.height)
+        );
+        for panel in 0..2 {
+            for (i, &h) in handles.iter().enumerate() {
+                let at = map.layout.to_pixel(panel, h).unwrap();
+                // Shepard at the pixel centre, 0.35 units from the handle and 50 from the
+                // other: 1 − 5e-5 or 5e-5, which viridis rounds to its ends.
+                let want = if i == panel {
+                    viridis(1.0)
+                } else {
+                    viridis(0.0)
+                };
+                assert_eq!(image.colour_at(at), Some(want), "panel {panel}, handle {i}");
+            }
+        }
+        // Shepard weights are in [0, 1]: no out-of-range tint, the bar has no extensions.
+        assert!(map.ranges.iter().all(|r| r.is_within_unit()));
+        assert!(map.ranges[0].max > 0.999 && map.ranges[0].min < 0.01);
+        let bar = map.layout.colour_bar;
+        let left_of_bar = Point::new(bar.x0 - 5.0, bar.y0 + 2.0);
+        assert_eq!(image.colour_at(left_of_bar), Some([255, 255, 255]));
+        let bar_start = Point::new(bar.x0 + 0.5, bar.y0 + 2.0);
+        let first = viridis(0.5 / bar.width());
+        assert_eq!(image.colour_at(bar_start), Some(first));
+    }
+
+    #[test]
+    fn weight_map_curves_land_on_their_user_units() {
+        // A viewBox not at the origin and a group transform: the line is y = 80 from x = 120
+        // to 220 in root user units, and must be drawn there.
+        let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="100 50 200 100" width="400" height="200">
+            <g transform="translate(120 60)"><path d="M0 20 L100 20" stroke="black"/></g></svg>"#;
+        let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+        let handles = [Point::new(150.0, 100.0), Point::new(200.0, 100.0)];
+        let weights = Shepard::new(&handles, ShepardOptions::default());
+        let options = WeightMapOptions::default().with_panel_width(1024);
+        let (map, image) = render(&drawing, &handles, &weights, None, &options);
+        let dark = |p: Point| {
+            let c = image.colour_at(map.layout.to_pixel(0, p).unwrap()).unwrap();
+            c.iter().all(|&v| v <= 40)
+        };
+        for x in [130.0, 170.0, 210.0] {
+            assert!(
+                dark(Point::new(x, 80.0)),
+                "x = {x}: the line is not drawn at y = 80"
+            );
+            // 1 unit is 9.3 px: one unit off the line is the weight colour.
+            assert!(!dark(Point::new(x, 81.0)) && !dark(Point::new(x, 79.0)));
+        }
+        assert!(!dark(Point::new(223.0, 80.0)), "the line ends at x = 220");
+    }
+
+    #[test]
+    fn weight_map_linear_field_is_viridis_of_x_everywhere() {
+        let (mesh, weights) = linear_field(0.0, 0.1);
+        let handles = [Point::new(0.0, 5.0), Point::new(10.0, 5.0)];
+        let options = WeightMapOptions::default().with_panel_width(110);
+        let (map, image) = render(
+            &Drawing::default(),
+            &handles,
+            &weights,
+            Some(&mesh),
+            &options,
+        );
+        let layout = &map.layout;
+        // frame (−0.5, −0.5)–(10.5, 10.5), 10 px per unit
+        assert_eq!(layout.frame, Rect::new(-0.5, -0.5, 10.5, 10.5));
+        assert_eq!(layout.scale, 10.0);
+        for (panel, placement) in layout.panels.iter().enumerate() {
+            let mut checked = 0;
+            for row in [30, 80] {
+                for col in 0..110u32 {
+                    // Skip the dashed boundary (x = 0 and 10, pixels 5 and 105).
+                    if col.abs_diff(5) <= 2 || col.abs_diff(105) <= 2 {
+                        continue;
+                    }
+                    let p = layout.pixel_centre(col, row);
+                    let w0 = (p.x / 10.0).clamp(0.0, 1.0);
+                    let w = if panel == 0 { w0 } else { 1.0 - w0 };
+                    let at = Point::new(
+                        f64::from(placement.x + col) + 0.5,
+                        f64::from(placement.y + row) + 0.5,
+                    );
+                    let got = image.colour_at(at).unwrap();
+                    assert!(
+                        difference(got, viridis(w)) <= 1,
+                        "panel {panel} pixel ({col}, {row}): {got:?} for w = {w}"
+                    );
+                    checked += 1;
+                }
+            }
+            assert!(checked > 190);
+        }
+        let r = map.ranges[0];
+        assert!(r.min.abs() < 1e-12 && (r.max - 1.0).abs() < 1e-12, "{r:?}");
+    }
+
+    #[test]
+    fn weight_map_iso_lines_and_mesh_lines_where_expected() {
+        let (mesh, weights) = linear_field(0.0, 0.1);
+        let handles = [Point::new(0.0, 5.0), Point::new(10.0, 5.0)];
+        let base = WeightMapOptions::default()
+            .with_panel_width(110)
+            .with_handle(Some(0));
+        let (map, plain) = render(&Drawing::default(), &handles, &weights, Some(&mesh), &base);
+        let iso = base.clone().with_iso_step(Some(0.1));
+        let (_, with_iso) = render(&Drawing::default(), &handles, &weights, Some(&mesh), &iso);
+        let lines = base.clone().with_mesh_lines(true);
+        let (_, with_mesh) = render(&Drawing::default(), &handles, &weights, Some(&mesh), &lines);
+        let corner = map.layout.panels[0];
+        let at = |col: u32, row: u32| {
+            Point::new(
+                f64::from(corner.x + col) + 0.5,
+                f64::from(corner.y + row) + 0.5,
+            )
+        };
+        let row = 33; // y = 2.85: off the grid lines y = 2 and 4
+                      // Level 0.5 is at x = 5, the boundary between pixels 54 and 55: both half a pixel
+                      // from it; pixel 50 is 5 px away.
+        for col in [54, 55] {
+            let (a, b) = (
+                plain.colour_at(at(col, row)).unwrap(),
+                with_iso.colour_at(at(col, row)).unwrap(),
+            );
+            assert!(difference(a, b) >= 10, "pixel {col}: {a:?} vs {b:?}");
+        }
+        for col in [50, 60, 42] {
+            assert_eq!(
+                plain.colour_at(at(col, row)),
+                with_iso.colour_at(at(col, row))
+            );
+        }
+        // Mesh edges: vertical lines at x = 0, 2, …, 10 (pixels 5, 25, …), diagonals inside
+        // each square. Pixel 25 (x = 2) is on an edge; row 33 at x = 3.2 (pixel 37) is on no
+        // edge (the diagonal of the square [2, 4]² there passes at y = 2.8 or 3.2 ± 0.35 px).
+        let on_edge = at(25, row);
+        assert!(
+            difference(
+                plain.colour_at(on_edge).unwrap(),
+                with_mesh.colour_at(on_edge).unwrap()
+            ) >= 10
+        );
+        assert_eq!(plain.colour_at(at(31, 70)), with_mesh.colour_at(at(31, 70)));
+        // The boundary (x = 0) is drawn, dashed, with or without mesh lines: pixel 5 is not
+        // the field on most rows.
+        let n_drawn = (20..60)
+            .filter(|&row| difference(plain.colour_at(at(5, row)).unwrap(), viridis(0.0)) >= 10)
+            .count();
+        assert!(n_drawn >= 20, "{n_drawn} of 40 rows");
+    }
+
+    #[test]
+    fn weight_map_out_of_range_values_take_the_out_of_range_ramps() {
+        // w0 = x/5 − 1/2: −0.5 at x = 0, 1.5 at x = 10 (biharmonic-like lobes, exaggerated).
+        let (mesh, weights) = linear_field(-0.5, 0.2);
+        let handles = [Point::new(0.0, 5.0), Point::new(10.0, 5.0)];
+        let options = WeightMapOptions::default().with_panel_width(110);
+        let (map, image) = render(
+            &Drawing::default(),
+            &handles,
+            &weights,
+            Some(&mesh),
+            &options,
+        );
+        let r = map.ranges[0];
+        assert!(
+            (r.min + 0.5).abs() < 1e-12 && (r.max - 1.5).abs() < 1e-12,
+            "{r:?}"
+        );
+        assert!(!r.is_within_unit());
+        let corner = map.layout.panels[0];
+        let colour = |x: f64, y: f64| {
+            let p = map.layout.to_pixel(0, Point::new(x, y)).unwrap();
+            let _ = corner;
+            image.colour_at(p).unwrap()
+        };
+        // x = 1.05 (pixel centre): w = −0.29, 58 % of the way down the below ramp.
+        let got = colour(1.0, 3.0);
+        let want = colour_map::mix(BELOW_LIGHT, BELOW_DEEP, 0.29 / 0.5);
+        assert!(difference(got, want) <= 1, "{got:?} vs {want:?}");
+        // x = 5.05: w = 0.51, in range.
+        assert!(difference(colour(5.0, 3.0), viridis(0.51)) <= 1);
+        // The colour bar has its extensions, each end at its deepest colour.
+        let bar = map.layout.colour_bar;
+        let ext = map.layout.bar_extension;
+        let y = bar.y0 + 2.0;
+        let left = image.colour_at(Point::new(bar.x0 - ext + 0.5, y)).unwrap();
+        assert!(difference(left, BELOW_DEEP) <= 12, "{left:?}");
+        let right = image.colour_at(Point::new(bar.x1 + ext - 0.5, y)).unwrap();
+        assert!(difference(right, colour_map::ABOVE_DEEP) <= 12, "{right:?}");
+    }
+
+    #[test]
+    fn weight_map_parallel_is_sequential() {
+        let (drawing, handles) = arc_scene();
+        let weights = Shepard::new(&handles, ShepardOptions::default());
+        let options = WeightMapOptions::default()
+            .with_panel_width(96)
+            .with_iso_step(Some(0.1));
+        let (a, _) = render(&drawing, &handles, &weights, None, &options);
+        let (b, _) = render(
+            &drawing,
+            &handles,
+            &weights,
+            None,
+            &options.with_parallel(true),
+        );
+        assert_eq!(a.png, b.png);
+    }
+
+    /// A field that is NaN right of x = 50.
+    struct Broken;
+    impl WeightField for Broken {
+        fn n_handles(&self) -> usize {
+            2
+        }
+        fn eval(&self, p: Point, out: &mut [f64]) {
+            out[0] = if p.x > 50.0 { f64::NAN } else { 0.5 };
+            out[1] = 0.5;
+        }
+    }
+
+    #[test]
+    fn weight_map_errors_name_the_problem() {
+        let (drawing, handles) = arc_scene();
+        let marks = markers(&handles);
+        let weights = Shepard::new(&handles, ShepardOptions::default());
+        let ok = WeightMapOptions::default().with_panel_width(64);
+        let run = |handles: &[HandleMarker], weights: &dyn WeightField, o: &WeightMapOptions| {
+            render_weight_map(&drawing, handles, weights, None, o).unwrap_err()
+        };
+        assert_eq!(
+            run(&marks[..1], &weights, &ok),
+            WeightMapError::HandleCount {
+                n_markers: 1,
+                n_handles: 2
+            }
+        );
+        let unknown = run(&marks, &weights, &ok.clone().with_handle(Some(2)));
+        assert_eq!(
+            unknown,
+            WeightMapError::UnknownHandle {
+                handle: 2,
+                n_handles: 2
+            }
+        );
+        assert!(unknown.to_string().contains("0 to 1"), "{unknown}");
+        for width in [0, 31, MAX_IMAGE_SIDE_FOR_TESTS + 1] {
+            assert!(matches!(
+                run(&marks, &weights, &ok.clone().with_panel_width(width)),
+                WeightMapError::InvalidPanelWidth { .. }
+            ));
+        }
+        for step in [0.0, -0.1, 1e-4, 1.5, f64::NAN] {
+            assert!(matches!(
+                run(&marks, &weights, &ok.clone().with_iso_step(Some(step))),
+                WeightMapError::InvalidIsoStep { .. }
+            ));
+        }
+        // 16384 px panels, two of them stacked: too tall.
+        assert!(matches!(
+            run(&marks, &weights, &ok.clone().with_panel_width(16384)),
+            WeightMapError::TooLarge { .. }
+        ));
+        let mut bad = marks.clone();
+        bad[1] = HandleMarker::Point(Point::new(f64::INFINITY, 0.0));
+        assert_eq!(
+            run(&bad, &weights, &ok),
+            WeightMapError::NonFiniteHandle { handle: 1 }
+        );
+        match run(&marks, &Broken, &ok) {
+            WeightMapError::NonFiniteWeight { handle: 0, x, .. } => assert!(x > 50.0),
+            e => panic!("{e:?}"),
+        }
+        assert!(matches!(
+            RgbaImage::decode_png(b"not a png"),
+            Err(WeightMapError::Decode { .. })
+        ));
+    }
+
+    const MAX_IMAGE_SIDE_FOR_TESTS: u32 = layout::MAX_IMAGE_SIDE;
+
+    #[test]
+    fn weight_map_bone_marker_widens_the_frame() {
+        let (drawing, handles) = arc_scene();
+        let mut marks = markers(&handles);
+        marks.push(HandleMarker::Segment([
+            Point::new(40.0, 50.0),
+            Point::new(60.0, 70.0),
+        ]));
+        let layout =
+            WeightMapLayout::new(&drawing, &marks, None, &WeightMapOptions::default()).unwrap();
+        // content y 0..70, x 0..100 → margin 5, frame y −5..75 (grown to whole pixels).
+        assert!(layout.frame.y1 >= 75.0 - 1e-9 && layout.frame.y0 <= -5.0 + 1e-9);
+        assert_eq!(layout.panels.len(), 3);
+    }
+}
