@@ -5,9 +5,9 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
-use kurbo::{Affine, Point, Vec2};
+use kurbo::{Affine, Point};
 use serde::Serialize;
-use splineskin::scene::{Scene, Setup};
+use splineskin::scene::{HandleSet, Scene, Setup};
 use splineskin::spline_fit::quadrature::SampledCurves;
 use splineskin::spline_fit::SplineRig;
 
@@ -88,7 +88,7 @@ pub fn run(args: Args) -> Result<()> {
             &path.display().to_string(),
             &setup,
             &base,
-            &scene.handles,
+            &scene.handle_set(),
             args.updates,
         )
         .with_context(|| format!("{}: building the rig", path.display()))?;
@@ -107,7 +107,12 @@ pub fn run(args: Args) -> Result<()> {
         setup.options = setup.options.with_parallel(true);
         let base = vec![Affine::IDENTITY; handles.len()];
         let name = format!("synthetic: bundled drawing tiled to {min_curves}+ curves");
-        let row = measure(&name, &setup, &base, &handles, args.updates)?;
+        let set = HandleSet {
+            points: &handles,
+            bones: &[],
+            cage: None,
+        };
+        let row = measure(&name, &setup, &base, &set, args.updates)?;
         print_row(&row, args.json);
     }
     Ok(())
@@ -147,7 +152,7 @@ fn measure(
     name: &str,
     setup: &Setup,
     base: &[Affine],
-    handles: &[Point],
+    handles: &HandleSet<'_>,
     updates: usize,
 ) -> Result<Row> {
     let drawing = &setup.drawing;
@@ -177,19 +182,15 @@ fn measure(
     }
     let rig = rig.context("no rig")?;
     // Varying poses: every handle's saved transform followed by a small rotation about the
-    // handle that changes from frame to frame.
+    // handle's pivot (a small translation for cage vertices) that changes from frame to frame.
     let n = updates.max(MIN_UPDATES);
     let poses: Vec<Vec<Affine>> = (0..n)
         .map(|k| {
             handles
+                .wobble(|i| 0.2 * ((k as f64) * 0.05 + i as f64).sin())
                 .iter()
                 .zip(base)
-                .enumerate()
-                .map(|(i, (h, t))| {
-                    let angle = 0.2 * ((k as f64) * 0.05 + i as f64).sin();
-                    let c = Vec2::new(h.x, h.y);
-                    Affine::translate(c) * Affine::rotate(angle) * Affine::translate(-c) * *t
-                })
+                .map(|(w, t)| *w * *t)
                 .collect()
         })
         .collect();

@@ -54,12 +54,33 @@ pub fn run(args: Args) -> Result<()> {
     rig.update(&pose.transforms, &mut points)?;
     check_finite(&args, &setup.drawing, &points, rig.rank_deficient_paths())?;
     write_deformed(&args.output, &setup.drawing, &points)?;
+    let set = scene.handle_set();
+    let kinds = [
+        (set.bones.len(), "bones"),
+        (set.n_cage_vertices(), "cage vertices"),
+    ]
+    .iter()
+    .filter(|(n, _)| *n > 0)
+    .map(|(n, what)| format!(", {n} {what}"))
+    .collect::<String>();
+    let domain = setup
+        .domain
+        .as_ref()
+        .map(|d| {
+            format!(
+                ", {} weights on {} triangles",
+                scene.weights.name(),
+                d.mesh.n_triangles()
+            )
+        })
+        .unwrap_or_default();
     eprintln!(
-        "{}: {} curves in {} paths, {} handles, pose {} -> {}",
+        "{}: {} curves in {} paths, {} handles ({} points{kinds}){domain}, pose {} -> {}",
         args.scene.display(),
         setup.drawing.n_curves(),
         setup.drawing.paths.len(),
         rig.n_handles(),
+        set.points.len(),
         args.pose,
         args.output.display()
     );

@@ -1,9 +1,12 @@
-//! `splineskin info FILE`: paths, curves and junction kinds of an SVG (or of a scene's drawing).
+//! `splineskin info FILE`: paths, curves and junction kinds of an SVG (or of a scene's drawing);
+//! for a scene also its handles by kind and, for the mesh weight families, the size of the
+//! triangulated domain.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use anyhow::Result;
+use splineskin::domain::{Boundary, Domain};
 use splineskin::drawing::{read_svg_file, Drawing, ImportOptions, JointKind};
 use splineskin::scene::{Compat, Scene};
 
@@ -26,17 +29,14 @@ pub fn run(args: Args) -> Result<()> {
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     let drawing = if is_scene {
         let scene = Scene::load(&args.file)?;
-        println!(
-            "scene: {} handles, {} poses, weights {}, engine {}",
-            scene.handles.len(),
-            scene.poses.len(),
-            scene.weights.name(),
-            scene.engine.name()
-        );
+        print!("{}", describe_scene(&scene));
         match scene.setup(compat) {
             Ok(setup) => {
                 for w in &setup.warnings {
                     eprintln!("warning: {w}");
+                }
+                if let Some(domain) = &setup.domain {
+                    println!("{}", describe_domain(domain));
                 }
                 setup.drawing
             }
@@ -66,6 +66,61 @@ pub fn run(args: Args) -> Result<()> {
     };
     print!("{}", describe(&drawing));
     Ok(())
+}
+
+/// The scene's summary: handles by kind (in rig order), poses, weights and engine.
+fn describe_scene(scene: &Scene) -> String {
+    let set = scene.handle_set();
+    let mut kinds = Vec::new();
+    if !set.points.is_empty() || set.n_handles() == 0 {
+        kinds.push(format!("{} points", set.points.len()));
+    }
+    if !set.bones.is_empty() {
+        let rigid = set
+            .bones
+            .iter()
+            .filter(|b| b.transform == splineskin::scene::BoneTransform::Rigid)
+            .count();
+        kinds.push(format!(
+            "{} bones ({rigid} rigid, {} affine)",
+            set.bones.len(),
+            set.bones.len() - rigid
+        ));
+    }
+    if let Some(cage) = set.cage {
+        kinds.push(format!("{} cage vertices", cage.len()));
+    }
+    format!(
+        "scene: {} handles ({}), {} poses, weights {}, engine {}\n",
+        set.n_handles(),
+        kinds.join(", then "),
+        scene.poses.len(),
+        scene.weights.name(),
+        scene.engine.name()
+    )
+}
+
+/// The domain's summary line.
+fn describe_domain(domain: &Domain) -> String {
+    let boundary = match domain.boundary {
+        Boundary::Cage => "the cage".to_string(),
+        Boundary::ClosedCurve { path } => format!("closed path {path}"),
+        Boundary::Padded => "the padded bounding box".to_string(),
+    };
+    format!(
+        "domain: {} vertices, {} triangles, boundary {boundary}, {} holes, {} curve samples, \
+         min angle {:.1}°{}",
+        domain.mesh.n_vertices(),
+        domain.mesh.n_triangles(),
+        domain.boundary_loops.len().saturating_sub(1),
+        domain.n_curve_samples,
+        Domain::min_angle_of(&domain.mesh),
+        if domain.refinement_complete {
+            ""
+        } else {
+            " (refinement stopped at the vertex cap)"
+        }
+    )
 }
 
 /// The text `info` prints for a drawing.

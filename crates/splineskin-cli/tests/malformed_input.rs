@@ -496,16 +496,15 @@ fn malformed_deform_scene_of_ours() {
             &[],
             &["scene.json", "invalid scene JSON", "C7"],
         ),
-        // A family that is recognised but not implemented: mvc (bbw and harmonic are being
-        // implemented, so they would not stay examples of this).
+        // mvc weighs a cage only: with point handles it is refused on load.
         deform(
-            "weights-mvc",
+            "weights-mvc-with-points",
             vec![file(
                 "scene.json",
                 ours(r#", "weights": {"family": "mvc"}"#),
             )],
             &[],
-            &["scene.json", "weight function 'mvc'", "not implemented"],
+            &["scene.json", "weights", "cage's vertices only"],
         ),
         deform(
             "weights-garbage",
@@ -663,13 +662,13 @@ fn malformed_deform_scene_of_ours_in_compatibility_mode() {
             &["scene.json", "junctions[0]", "path 2 does not exist"],
         ),
         deform(
-            "vs-weights-mvc",
+            "vs-weights-mvc-with-points",
             vec![file(
                 "scene.json",
                 ours(r#", "weights": {"family": "mvc"}"#),
             )],
             &a,
-            &["scene.json", "weight function 'mvc'", "not implemented"],
+            &["scene.json", "weights", "cage's vertices only"],
         ),
         // A curve of zero length makes the authors' system singular. On this one (all of its
         // points exactly at the origin) the LU meets an exact zero pivot and gives NaN, which
@@ -1002,13 +1001,24 @@ fn malformed_bench() {
             &["scene.json", "poses[0].transforms[0]"],
         ),
         bench(
-            "bench-mvc",
+            "bench-mvc-with-points",
             vec![file(
                 "scene.json",
                 ours(r#", "weights": {"family": "mvc"}"#),
             )],
             &["scene.json"],
-            &["scene.json", "weight function 'mvc'", "not implemented"],
+            &["scene.json", "weights", "cage's vertices only"],
+        ),
+        bench(
+            "bench-clockwise-cage",
+            vec![file(
+                "scene.json",
+                kinds(
+                    r#""cage": [[0, 0], [0, 100], [100, 100], [100, 0]], "weights": {"family": "harmonic"}"#,
+                ),
+            )],
+            &["scene.json"],
+            &["scene.json", "cage", "clockwise"],
         ),
         bench(
             "bench-missing-svg",
@@ -1173,4 +1183,286 @@ fn malformed_harness_rejects_bad_outcomes() {
         .unwrap_err()
         .contains("lacks"));
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A scene of ours with the SVG file `drawing.svg` and the members `members` (handles of any
+/// kind, weights, domain, poses).
+fn kinds(members: &str) -> String {
+    format!("{{\"splineskin_scene\": 1, \"svg\": \"drawing.svg\",\n  {members}}}")
+}
+
+/// A counter-clockwise cage around `SVG`.
+const CAGE: &str = r#""cage": [[0, 0], [100, 0], [100, 100], [0, 100]]"#;
+
+/// Coarse domain options (a few hundred vertices) to keep the mesh families fast.
+const COARSE: &str = r#""domain": {"max_area_fraction": 0.002, "samples_per_diagonal": 100}"#;
+
+/// Bones, cages and domain options (issue 4): bad handles and options through `deform`, `info`
+/// and `bench`, each naming the scene and the element.
+#[test]
+fn malformed_handle_kinds() {
+    let harmonic = r#""weights": {"family": "harmonic"}"#;
+    let k = |name: &'static str, members: String, expect: &[&'static str]| {
+        deform(name, vec![file("scene.json", kinds(&members))], &[], expect)
+    };
+    let mut cases = vec![
+        k(
+            "kinds-handle-outside-cage",
+            format!(r#"{CAGE}, "handles": [{{"position": [150, 50]}}], {harmonic}, {COARSE}"#),
+            &["scene.json", "handles[0]", "outside the domain"],
+        ),
+        k(
+            "kinds-bone-outside-cage",
+            format!(
+                r#"{CAGE}, "bones": [{{"ends": [[50, 50], [150, 50]]}}], {harmonic}, {COARSE}"#
+            ),
+            &["scene.json", "bones[0]", "not inside the domain"],
+        ),
+        k(
+            "kinds-coincident-handles",
+            r#""handles": [{"position": [10, 50]}, {"position": [10, 50]}]"#.into(),
+            &["scene.json", "handles[0] and handles[1]", "coincide"],
+        ),
+        k(
+            "kinds-crossing-bones",
+            format!(
+                r#""bones": [{{"ends": [[10, 10], [90, 90]]}}, {{"ends": [[10, 90], [90, 10]]}}], {harmonic}, {COARSE}"#
+            ),
+            &["scene.json", "bones[0] and bones[1]", "intersect"],
+        ),
+        k(
+            "kinds-self-intersecting-cage",
+            format!(r#""cage": [[0, 0], [100, 100], [100, 0], [0, 100]], {harmonic}"#),
+            &["scene.json", "cage[", "not simple"],
+        ),
+        k(
+            "kinds-clockwise-cage",
+            format!(r#""cage": [[0, 0], [0, 100], [100, 100], [100, 0]], {harmonic}"#),
+            &["scene.json", "cage", "clockwise", "counter-clockwise"],
+        ),
+        k(
+            "kinds-cage-of-two",
+            format!(r#""cage": [[0, 0], [100, 0]], {harmonic}"#),
+            &["scene.json", "cage", "at least 3"],
+        ),
+        k(
+            "kinds-empty-cage",
+            format!(r#""cage": [], {harmonic}"#),
+            &["scene.json", "cage", "at least 3"],
+        ),
+        k(
+            "kinds-nan-in-cage",
+            format!("\"cage\": [[0, 0], [100, 0],\n [NaN, 100]], {harmonic}"),
+            &["scene.json", "invalid scene JSON", "line 3"],
+        ),
+        k(
+            "kinds-nan-in-bone",
+            "\"bones\": [{\"ends\": [[0, 0],\n [NaN, 5]]}]".into(),
+            &["scene.json", "invalid scene JSON", "line 3"],
+        ),
+        k(
+            "kinds-inf-in-bone",
+            r#""bones": [{"ends": [[0, 0], [1e999, 5]]}]"#.into(),
+            &["scene.json", "invalid scene JSON", "number out of range"],
+        ),
+        k(
+            "kinds-huge-cage-vertex",
+            format!(r#""cage": [[0, 0], [1e300, 0], [0, 100]], {harmonic}"#),
+            &["scene.json", "cage[1]", "not a finite position within ±1e9"],
+        ),
+        k(
+            "kinds-huge-bone-end",
+            r#""bones": [{"ends": [[0, 0], [0, -1e300]]}]"#.into(),
+            &["scene.json", "bones[0].ends[1]", "not a finite position"],
+        ),
+        k(
+            "kinds-zero-length-bone",
+            r#""bones": [{"ends": [[10, 10], [10, 10]]}]"#.into(),
+            &["scene.json", "bones[0]", "zero length"],
+        ),
+        k(
+            "kinds-unknown-top-level-key",
+            r#""handles": [{"position": [10, 50]}], "cage_vertices": [[0, 0]]"#.into(),
+            &["scene.json", "unknown field `cage_vertices`"],
+        ),
+        k(
+            "kinds-unknown-bone-key",
+            r#""bones": [{"ends": [[0, 0], [0, 10]], "rigid": true}]"#.into(),
+            &[
+                "scene.json",
+                "unknown field `rigid`",
+                "expected `ends` or `transform`",
+            ],
+        ),
+        k(
+            "kinds-unknown-bone-transform",
+            r#""bones": [{"ends": [[0, 0], [0, 10]], "transform": "bendy"}]"#.into(),
+            &["scene.json", "unknown variant `bendy`", "`rigid`"],
+        ),
+        k(
+            "kinds-unknown-domain-key",
+            format!(
+                r#""handles": [{{"position": [10, 50]}}], {harmonic}, "domain": {{"min_angel": 20}}"#
+            ),
+            &["scene.json", "unknown field `min_angel`"],
+        ),
+        k(
+            "kinds-domain-min-angle",
+            format!(
+                r#""handles": [{{"position": [10, 50]}}], {harmonic}, "domain": {{"min_angle": 50}}"#
+            ),
+            &["scene.json", "domain.min_angle", "out of range"],
+        ),
+        k(
+            "kinds-domain-area-fraction",
+            format!(
+                r#""handles": [{{"position": [10, 50]}}], {harmonic}, "domain": {{"max_area_fraction": 0}}"#
+            ),
+            &["scene.json", "domain.max_area_fraction", "out of range"],
+        ),
+        k(
+            "kinds-domain-with-shepard",
+            r#""handles": [{"position": [10, 50]}], "domain": {"holes": true}"#.into(),
+            &["scene.json", "domain", "mesh families"],
+        ),
+        k(
+            "kinds-shepard-cage",
+            CAGE.to_string(),
+            &["scene.json", "weights", "not a cage"],
+        ),
+        k(
+            "kinds-mvc-cage",
+            format!(r#"{CAGE}, "weights": {{"family": "mvc"}}"#),
+            &["scene.json", "weight function 'mvc'", "not implemented"],
+        ),
+        k(
+            "kinds-rigid-bone-scaled",
+            r#""handles": [{"position": [10, 50]}], "bones": [{"ends": [[35, 45], [65, 40]]}],
+               "pose": [[1, 0, 0, 1, 0, 0], {"scale": 2}]"#
+                .into(),
+            &[
+                "scene.json",
+                "poses[0].transforms[1] (bones[0])",
+                "rotation and translation",
+            ],
+        ),
+        k(
+            "kinds-ends-for-a-point",
+            r#""handles": [{"position": [10, 50]}], "pose": [{"ends": [[0, 0], [1, 1]]}]"#.into(),
+            &["scene.json", "poses[0].transforms[0]", "poses a bone"],
+        ),
+        k(
+            "kinds-cage-positions-count",
+            format!(r#"{CAGE}, {harmonic}, "poses": [{{"cage_positions": [[0, 0], [1, 1]]}}]"#),
+            &[
+                "scene.json",
+                "poses[0].cage_positions",
+                "2 positions for 4 cage vertices",
+            ],
+        ),
+        k(
+            "kinds-pose-count",
+            format!(
+                r#"{CAGE}, "handles": [{{"position": [50, 50]}}], {harmonic}, "pose": [[1, 0, 0, 1, 0, 0]]"#
+            ),
+            &[
+                "scene.json",
+                "poses[0]",
+                "1 transforms for 5 handles",
+                "1 point handles, then 4 cage vertices",
+            ],
+        ),
+        k(
+            "kinds-no-handles",
+            harmonic.to_string(),
+            &["scene.json", "handles", "place at least one"],
+        ),
+    ];
+    // The empty domain: a drawing of one point, no cage.
+    cases.push(deform(
+        "kinds-empty-domain",
+        vec![
+            file(
+                "scene.json",
+                kinds(&format!(
+                    r#""handles": [{{"position": [10, 10]}}], {harmonic}"#
+                )),
+            ),
+            file("drawing.svg", svg_with("M10 10 L10 10", None)),
+        ],
+        &[],
+        &["scene.json", "domain", "empty domain"],
+    ));
+    // `info` refuses a scene whose cage is invalid (it is checked on load).
+    cases.push(Case {
+        name: "kinds-info-clockwise-cage",
+        files: vec![
+            file("drawing.svg", SVG),
+            file(
+                "scene.json",
+                kinds(&format!(
+                    r#""cage": [[0, 0], [0, 100], [100, 100], [100, 0]], {harmonic}"#
+                )),
+            ),
+        ],
+        args: vec!["info", "scene.json"],
+        output: None,
+        expect: vec!["scene.json", "cage", "clockwise"],
+    });
+    run_failures(cases);
+}
+
+/// Positive controls for the handle kinds: a bone scene and a cage scene deform, `info`
+/// reports the kinds and the domain's size.
+#[test]
+fn malformed_handle_kinds_positive_controls() {
+    let scenes = [
+        (
+            "control-bones",
+            kinds(&format!(
+                r#""handles": [{{"position": [10, 50]}}],
+                   "bones": [{{"ends": [[35, 45], [65, 40]]}}, {{"ends": [[65, 40], [85, 70]], "transform": "affine"}}],
+                   "weights": {{"family": "harmonic"}}, {COARSE},
+                   "pose": [{{"translate": [0, 5]}}, {{"ends": [[35, 45], [60, 30]]}}, {{"ends": [[60, 30], [90, 60]]}}]"#
+            )),
+            "3 handles (1 points, then 2 bones (1 rigid, 1 affine))",
+        ),
+        (
+            "control-cage",
+            kinds(&format!(
+                r#"{CAGE}, "weights": {{"family": "harmonic"}}, {COARSE},
+                   "poses": [{{"cage_positions": [[0, 0], [100, 0], [130, 120], [0, 100]]}}]"#
+            )),
+            "4 handles (4 cage vertices)",
+        ),
+    ];
+    for (name, scene, summary) in scenes {
+        let case = Case {
+            name,
+            files: vec![file("drawing.svg", SVG), file("scene.json", scene)],
+            args: vec!["deform", "scene.json", "-o", "out.json"],
+            output: Some("out.json"),
+            expect: vec![],
+        };
+        let (dir, out) = case.run();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{name}: {stderr}");
+        let written = std::fs::read_to_string(dir.join("out.json")).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&written).unwrap();
+        assert_eq!(v["paths"].as_array().unwrap().len(), 2, "{name}");
+        assert!(case.check_failure(&dir, &out).is_err(), "{name}");
+        let info = Command::new(env!("CARGO_BIN_EXE_splineskin"))
+            .args(["info", "scene.json"])
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&info.stdout);
+        assert!(info.status.success(), "{name}: {stdout}");
+        assert!(stdout.contains(summary), "{name}: {stdout}");
+        assert!(
+            stdout.contains("domain: ") && stdout.contains(" triangles"),
+            "{name}: {stdout}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

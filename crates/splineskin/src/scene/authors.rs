@@ -161,7 +161,10 @@ pub(crate) fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
             file.filename.map(|f| format!(", {f}")).unwrap_or_default()
         ),
         handles,
+        bones: Vec::new(),
+        cage: None,
         weights,
+        domain: crate::domain::DomainOptions::default(),
         engine,
         measure: Measure::from_arc_length(file.arc_length),
         junctions: Vec::new(),

@@ -8,19 +8,33 @@
 //!
 //! Both become a [`Scene`]. Everything is validated on load: numbers finite and within
 //! [`MAX_COORDINATE`], one transform per handle in every pose, known weight families and
-//! engines. A family or engine that exists but is not implemented yet loads (so `info` can
-//! show it) and is reported by [`Scene::check_supported`].
+//! engines, handle kinds the family can weigh ([`WeightSpec::check_handles`]), a cage that is
+//! a counter-clockwise simple polygon, no two coincident point handles. A family or engine
+//! that exists but is not implemented yet loads (so `info` can show it) and is reported by
+//! [`Scene::check_supported`]. What needs the drawing (a handle outside the domain, an empty
+//! domain, out-of-range domain options) is reported by [`Scene::setup`], naming the element.
+//!
+//! Handles come in three kinds ([`handles`]): point handles ([`Scene::handles`]), bones
+//! ([`Scene::bones`]) and the vertices of a cage ([`Scene::cage`]); the rig numbers them in
+//! that order. [`Puppet`] keeps a scene's weights and rig cached while only its pose changes.
 
 pub mod authors;
+pub mod handles;
 pub mod ours;
+mod segment_shepard;
+mod session;
 mod setup;
 
-pub use setup::{mesh_weights, Compat, Setup, AUTHORS_SHEPARD_SNAP};
+pub use handles::{Bone, BonePoseError, BoneTransform, HandleKind, HandleSet};
+pub use segment_shepard::SegmentShepard;
+pub use session::{Puppet, PuppetStats};
+pub use setup::{handle_weights, mesh_weights, Compat, Setup, AUTHORS_SHEPARD_SNAP};
 
 use std::path::{Path as FsPath, PathBuf};
 
 use kurbo::{Affine, Point};
 
+use crate::domain::DomainOptions;
 use crate::drawing::JointKind;
 use crate::spline_fit::Measure;
 
@@ -41,10 +55,18 @@ pub struct Scene {
     pub svg_text: String,
     /// Where the SVG text came from (a file next to the scene, or the scene itself).
     pub svg_origin: String,
-    /// Rest positions of the point handles.
+    /// Rest positions of the point handles (rig handles `0 .. handles.len()`).
     pub handles: Vec<Point>,
+    /// Bones (rig handles after the point handles). Our format only.
+    pub bones: Vec<Bone>,
+    /// The cage, a counter-clockwise simple polygon whose vertices are handles (after the
+    /// bones); `None` without a cage. Our format only.
+    pub cage: Option<Vec<Point>>,
     /// The weight functions.
     pub weights: WeightSpec,
+    /// Options of the triangulated domain of the mesh families (its `cage` is unset: the
+    /// scene's [`Scene::cage`] is put in by [`Scene::setup`]).
+    pub domain: DomainOptions,
     /// The deformation engine.
     pub engine: Engine,
     /// The measure along curves (arc length or length-weighted parameter).
@@ -177,6 +199,45 @@ impl WeightSpec {
         }
     }
 
+    /// Errors unless this family can weigh the handle kinds of `handles`:
+    ///
+    /// | family | points | bones | cage |
+    /// |---|---|---|---|
+    /// | `shepard` | yes | yes (distance to the segment) | no |
+    /// | `harmonic`, `biharmonic`, `bbw` | yes | yes | yes, alone or with points and bones |
+    /// | `mvc` | no | no | yes, alone |
+    ///
+    /// `element` is what the message names (e.g. `weights`); `origin` the scene.
+    pub fn check_handles(
+        &self,
+        handles: &HandleSet<'_>,
+        origin: &str,
+        element: &str,
+    ) -> Result<(), SceneError> {
+        let invalid = |message: String| SceneError::Invalid {
+            origin: origin.to_string(),
+            element: element.to_string(),
+            message,
+        };
+        let has_others = !handles.points.is_empty() || !handles.bones.is_empty();
+        match self {
+            WeightSpec::Shepard { .. } if handles.cage.is_some() => Err(invalid(
+                "shepard weights take point handles and bones, not a cage (use mvc, harmonic, \
+                 biharmonic or bbw for a cage)"
+                    .into(),
+            )),
+            WeightSpec::NotImplemented(name) if name == "mvc" && has_others => Err(invalid(
+                "mean value coordinates (mvc) weigh a cage's vertices only: remove the point \
+                 handles and bones, or use harmonic, biharmonic or bbw"
+                    .into(),
+            )),
+            WeightSpec::NotImplemented(name) if name == "mvc" && handles.cage.is_none() => Err(
+                invalid("mean value coordinates (mvc) need a cage (\"cage\": [[x, y], …])".into()),
+            ),
+            _ => Ok(()),
+        }
+    }
+
     /// The family's name.
     pub fn name(&self) -> &str {
         match self {
@@ -271,6 +332,15 @@ pub enum SceneError {
         /// What went wrong.
         source: Box<dyn std::error::Error + Send + Sync>,
     },
+    /// The rig could not be built or updated ([`crate::spline_fit::FitError`],
+    /// [`crate::spline_fit::PoseError`]).
+    #[error("{origin}: rig: {source}")]
+    Rig {
+        /// The scene.
+        origin: String,
+        /// What went wrong.
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
     /// A feature the scene asks for is not implemented in this version.
     #[error("{origin}: {what} is not implemented yet")]
     NotImplemented {
@@ -361,10 +431,40 @@ impl Scene {
         if self.poses.is_empty() && index == 0 {
             return Some(Pose {
                 name: None,
-                transforms: vec![Affine::IDENTITY; self.handles.len()],
+                transforms: vec![Affine::IDENTITY; self.n_handles()],
             });
         }
         self.poses.get(index).cloned()
+    }
+
+    /// The rest handles, borrowed, in rig order (points, bones, cage vertices).
+    pub fn handle_set(&self) -> HandleSet<'_> {
+        HandleSet {
+            points: &self.handles,
+            bones: &self.bones,
+            cage: self.cage.as_deref(),
+        }
+    }
+
+    /// Number of handles of the rig: point handles + bones + cage vertices.
+    pub fn n_handles(&self) -> usize {
+        self.handle_set().n_handles()
+    }
+
+    /// The scene's name for handle `kind` in messages: `handles[i]` (`gHandles[i]` in the
+    /// authors' format), `bones[b]`, `cage[k]`.
+    pub fn element(&self, kind: HandleKind) -> String {
+        handle_element(self.format, kind)
+    }
+}
+
+/// The name of a handle in a scene of `format` (see [`Scene::element`]).
+pub(crate) fn handle_element(format: SceneFormat, kind: HandleKind) -> String {
+    match (kind, format) {
+        (HandleKind::Point(i), SceneFormat::Authors) => format!("gHandles[{i}]"),
+        (HandleKind::Point(i), SceneFormat::Ours) => format!("handles[{i}]"),
+        (HandleKind::Bone(b), _) => format!("bones[{b}]"),
+        (HandleKind::CageVertex(k), _) => format!("cage[{k}]"),
     }
 }
 

@@ -5,12 +5,27 @@
 //!   "splineskin_scene": 1,
 //!   "svg": "drawing.svg",
 //!   "handles": [ { "position": [120, 80] }, { "position": [300, 90] } ],
-//!   "weights": { "family": "shepard", "exponent": 2 },
+//!   "bones": [ { "ends": [[150, 200], [250, 200]], "transform": "rigid" } ],
+//!   "weights": { "family": "bbw" },
+//!   "domain": { "min_angle": 25, "max_area_fraction": 0.0002, "holes": false },
 //!   "arc_length": false,
 //!   "junctions": [ { "path": 0, "joint": 3, "kind": "C1" } ],
 //!   "poses": [
-//!     { "name": "wave", "transforms": [ { "rotate": 20 }, { "translate": [40, -10], "scale": 1.2 } ] }
+//!     { "name": "wave", "transforms": [
+//!         { "rotate": 20 }, { "translate": [40, -10], "scale": 1.2 },
+//!         { "ends": [[150, 200], [240, 150]] } ] }
 //!   ]
+//! }
+//! ```
+//!
+//! A cage scene (its vertices are the handles):
+//!
+//! ```json
+//! {
+//!   "splineskin_scene": 1, "svg": "drawing.svg",
+//!   "cage": [[0, 0], [400, 0], [400, 300], [0, 300]],
+//!   "weights": { "family": "mvc" },
+//!   "poses": [ { "cage_positions": [[0, 0], [450, -20], [400, 300], [0, 300]] } ]
 //! }
 //! ```
 //!
@@ -18,27 +33,50 @@
 //! |---|---|
 //! | `splineskin_scene` | format version, `1` (required: it marks the format) |
 //! | `svg` / `svg_text` | the SVG file (relative to the scene's folder) or the document inline; exactly one |
-//! | `handles` | point handles: `position` = rest position in the SVG's user units (viewBox) |
-//! | `weights` | `family`: `shepard` (`exponent`, default 2), or the mesh families `harmonic`, `biharmonic`, `bbw` (computed on a triangulation of the drawing's domain, [`crate::domain`]); `mvc` is recognised but not implemented yet |
+//! | `handles` | point handles: `position` = rest position in the SVG's user units (viewBox). Default: none |
+//! | `bones` | segment handles: `ends` = `[[x0, y0], [x1, y1]]` rest end points (distinct); `transform` = `"rigid"` (default) or `"affine"`, how a posed bone is read ([`super::BoneTransform`]). Default: none |
+//! | `cage` | `[[x, y], …]`: a simple polygon of at least 3 vertices, **counter-clockwise** (positive shoelace area `½ Σ p_k × p_{k+1}`; clockwise is refused, not reversed), closed implicitly (do not repeat the first vertex). Each vertex is a handle whose pose is a translation. Default: none |
+//! | `weights` | `family`: `shepard` (`exponent`, default 2), `harmonic`, `biharmonic`, `bbw` (computed on a triangulation of the drawing's domain, [`crate::domain`]) or `mvc` (recognised, not implemented yet). Which family takes which handles: [`super::WeightSpec::check_handles`] |
+//! | `domain` | options of the triangulated domain (mesh families only): `min_angle` (degrees), `max_area_fraction`, `holes` (bool), `max_vertices`, `samples_per_diagonal`, `max_samples_per_curve`, `max_curve_samples`, `padding`; each optional, defaults and ranges in [`crate::domain::DomainOptions`] |
 //! | `arc_length` | integrate with respect to arc length rather than length-weighted `t` (default false) |
 //! | `junctions` | overrides: path index (subpaths in document order), joint index (joint `k` starts curve `k`), `kind` ∈ `C0`, `C1`, `G1`, `angle` |
-//! | `pose` / `poses` | one pose (a list of transforms, one per handle) or a list of `{name?, transforms}` |
+//! | `pose` / `poses` | one pose (a list of transforms) or a list of `{name?, transforms, cage_positions?}` |
+//!
+//! **Handle order.** The rig and every pose number the handles: point handles first (in
+//! `handles` order), then bones, then cage vertices ([`super::handles`]). A pose's
+//! `transforms` has one entry per handle in that order — or one per point handle and bone
+//! when `cage_positions` (`[[x, y], …]`, one per cage vertex) gives the cage vertices' posed
+//! positions.
 //!
 //! A transform is one of
 //! * `[a, b, c, d, e, f]`: the SVG matrix mapping `(x, y)` to `(a x + c y + e, b x + d y + f)`;
 //! * `{"a": …, "b": …, "c": …, "d": …, "e": …, "f": …}`: the same, by name;
 //! * `{"translate": [dx, dy], "rotate": degrees, "scale": s | [sx, sy]}` (each optional): scale,
-//!   then rotate **about the handle's rest position**, then translate.
+//!   then rotate **about the handle's pivot** (a point handle's rest position, a bone's first
+//!   end, a cage vertex), then translate;
+//! * `{"ends": [[x0, y0], [x1, y1]]}` (bones only): the posed end points; a rigid bone turns
+//!   about its first end to the posed direction (length ignored), an affine bone takes the
+//!   similarity mapping both ends exactly ([`super::Bone::posed_by_ends`]);
+//! * `{"position": [x, y]}` (point handles and cage vertices): the posed position, a
+//!   translation.
+//!
+//! A rigid bone given a matrix must be given a rotation and translation
+//! ([`super::handles::RIGID_TOLERANCE`]). A cage vertex given a map `T` moves to `T·v`: its
+//! handle's map is the translation by `T·v − v` (so one affine map on every cage vertex maps
+//! the drawing by it, for linearly precise cage coordinates).
 
 use std::path::Path as FsPath;
 
-use kurbo::{Affine, Vec2};
+use kurbo::{Affine, Point, Vec2};
 use serde::Deserialize;
 
+use super::handles::{cage_vertex_map, translation_to};
+use super::setup::check_rest_handles;
 use super::{
-    check_affine, check_point, json_error, Engine, JunctionOverride, Pose, Scene, SceneError,
-    SceneFormat, WeightSpec, MAX_SCENE_BYTES,
+    check_affine, check_point, handle_element, json_error, Bone, BoneTransform, Engine, HandleKind,
+    HandleSet, JunctionOverride, Pose, Scene, SceneError, SceneFormat, WeightSpec, MAX_SCENE_BYTES,
 };
+use crate::domain::DomainOptions;
 use crate::drawing::JointKind;
 use crate::spline_fit::Measure;
 
@@ -53,9 +91,16 @@ struct SceneFile {
     svg: Option<String>,
     #[serde(default)]
     svg_text: Option<String>,
+    #[serde(default)]
     handles: Vec<HandleFile>,
     #[serde(default)]
+    bones: Vec<BoneFile>,
+    #[serde(default)]
+    cage: Option<Vec<[f64; 2]>>,
+    #[serde(default)]
     weights: Option<WeightsFile>,
+    #[serde(default)]
+    domain: Option<DomainFile>,
     #[serde(default)]
     arc_length: bool,
     #[serde(default)]
@@ -72,6 +117,74 @@ struct SceneFile {
 #[serde(deny_unknown_fields)]
 struct HandleFile {
     position: [f64; 2],
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BoneFile {
+    ends: [[f64; 2]; 2],
+    #[serde(default)]
+    transform: BoneTransformFile,
+}
+
+#[derive(Deserialize, Default, Clone, Copy)]
+#[serde(rename_all = "lowercase")]
+enum BoneTransformFile {
+    #[default]
+    Rigid,
+    Affine,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DomainFile {
+    #[serde(default)]
+    min_angle: Option<f64>,
+    #[serde(default)]
+    max_area_fraction: Option<f64>,
+    #[serde(default)]
+    holes: Option<bool>,
+    #[serde(default)]
+    max_vertices: Option<usize>,
+    #[serde(default)]
+    samples_per_diagonal: Option<f64>,
+    #[serde(default)]
+    max_samples_per_curve: Option<usize>,
+    #[serde(default)]
+    max_curve_samples: Option<usize>,
+    #[serde(default)]
+    padding: Option<f64>,
+}
+
+impl DomainFile {
+    fn options(&self) -> DomainOptions {
+        let mut o = DomainOptions::default();
+        if let Some(v) = self.min_angle {
+            o = o.with_min_angle(v);
+        }
+        if let Some(v) = self.max_area_fraction {
+            o = o.with_max_area_fraction(v);
+        }
+        if let Some(v) = self.holes {
+            o = o.with_holes(v);
+        }
+        if let Some(v) = self.max_vertices {
+            o = o.with_max_vertices(v);
+        }
+        if let Some(v) = self.samples_per_diagonal {
+            o = o.with_samples_per_diagonal(v);
+        }
+        if let Some(v) = self.max_samples_per_curve {
+            o = o.with_max_samples_per_curve(v);
+        }
+        if let Some(v) = self.max_curve_samples {
+            o = o.with_max_curve_samples(v);
+        }
+        if let Some(v) = self.padding {
+            o = o.with_padding(v);
+        }
+        o
+    }
 }
 
 #[derive(Deserialize)]
@@ -95,7 +208,10 @@ struct JunctionFile {
 struct PoseFile {
     #[serde(default)]
     name: Option<String>,
+    #[serde(default)]
     transforms: Vec<TransformFile>,
+    #[serde(default)]
+    cage_positions: Option<Vec<[f64; 2]>>,
 }
 
 #[derive(Deserialize)]
@@ -117,6 +233,8 @@ struct NamedTransform {
     translate: Option<[f64; 2]>,
     rotate: Option<f64>,
     scale: Option<ScaleFile>,
+    ends: Option<[[f64; 2]; 2]>,
+    position: Option<[f64; 2]>,
 }
 
 #[derive(Deserialize, Clone, Copy)]
@@ -127,6 +245,81 @@ enum ScaleFile {
 }
 
 impl TransformFile {
+    /// The map of handle `kind` (rest geometry in `set`) posed by this transform.
+    fn resolve(
+        &self,
+        kind: HandleKind,
+        set: &HandleSet<'_>,
+        origin: &str,
+        element: &str,
+    ) -> Result<Affine, SceneError> {
+        let invalid = |message: String| SceneError::Invalid {
+            origin: origin.to_string(),
+            element: element.to_string(),
+            message,
+        };
+        let named = match self {
+            TransformFile::Named(n) => Some(n),
+            TransformFile::Matrix(_) => None,
+        };
+        let ends = named.and_then(|n| n.ends);
+        let position = named.and_then(|n| n.position);
+        if let Some(n) = named.filter(|_| ends.is_some() || position.is_some()) {
+            let others = [n.a, n.b, n.c, n.d, n.e, n.f, n.rotate]
+                .iter()
+                .any(Option::is_some)
+                || n.translate.is_some()
+                || n.scale.is_some()
+                || (n.ends.is_some() && n.position.is_some());
+            if others {
+                return Err(invalid(
+                    "\"ends\" and \"position\" stand alone: give one of them, or a matrix, or \
+                     translate/rotate/scale"
+                        .into(),
+                ));
+            }
+        }
+        let pivot = set.pivots()[kind_index(kind, set)];
+        match (kind, ends, position) {
+            (HandleKind::Bone(b), Some(ends), None) => {
+                let posed = [
+                    check_point(ends[0], origin, format!("{element}.ends[0]"))?,
+                    check_point(ends[1], origin, format!("{element}.ends[1]"))?,
+                ];
+                set.bones[b].posed_by_ends(posed).map_err(|e| {
+                    invalid(format!(
+                        "{e} (bones[{b}] is {})",
+                        set.bones[b].transform.name()
+                    ))
+                })
+            }
+            (_, Some(_), None) => Err(invalid(
+                "\"ends\" poses a bone; this handle is not one (use \"position\" or a transform)"
+                    .into(),
+            )),
+            (HandleKind::Bone(_), None, Some(_)) => Err(invalid(
+                "a bone is posed by \"ends\" or a transform, not by \"position\"".into(),
+            )),
+            (_, None, Some(q)) => Ok(translation_to(
+                pivot,
+                check_point(q, origin, format!("{element}.position"))?,
+            )),
+            _ => {
+                let map =
+                    check_affine(self.affine(pivot, origin, element)?, origin, element.into())?;
+                match kind {
+                    HandleKind::Point(_) => Ok(map),
+                    HandleKind::Bone(b) => set.bones[b].check_map(map).map_err(|e| {
+                        invalid(format!(
+                            "{e} (bones[{b}] is rigid; declare it \"transform\": \"affine\" to allow any map)"
+                        ))
+                    }),
+                    HandleKind::CageVertex(_) => Ok(cage_vertex_map(pivot, map)),
+                }
+            }
+        }
+    }
+
     fn affine(
         &self,
         pivot: kurbo::Point,
@@ -249,9 +442,57 @@ pub(crate) fn parse(
         .enumerate()
         .map(|(i, h)| check_point(h.position, origin, format!("handles[{i}].position")))
         .collect::<Result<Vec<_>, _>>()?;
+    let bones = file
+        .bones
+        .iter()
+        .enumerate()
+        .map(|(b, f)| {
+            Ok(Bone {
+                ends: [
+                    check_point(f.ends[0], origin, format!("bones[{b}].ends[0]"))?,
+                    check_point(f.ends[1], origin, format!("bones[{b}].ends[1]"))?,
+                ],
+                transform: match f.transform {
+                    BoneTransformFile::Rigid => BoneTransform::Rigid,
+                    BoneTransformFile::Affine => BoneTransform::Affine,
+                },
+            })
+        })
+        .collect::<Result<Vec<_>, SceneError>>()?;
+    let cage = file
+        .cage
+        .as_ref()
+        .map(|c| {
+            c.iter()
+                .enumerate()
+                .map(|(k, p)| check_point(*p, origin, format!("cage[{k}]")))
+                .collect::<Result<Vec<_>, _>>()
+        })
+        .transpose()?;
+    let set = HandleSet {
+        points: &handles,
+        bones: &bones,
+        cage: cage.as_deref(),
+    };
+    check_rest_handles(&set, origin, SceneFormat::Ours)?;
     let weights = match &file.weights {
         Some(w) => WeightSpec::parse(&w.family, w.exponent, origin)?,
         None => WeightSpec::parse("shepard", None, origin)?,
+    };
+    weights.check_handles(&set, origin, "weights")?;
+    let domain = match &file.domain {
+        Some(_) if !matches!(weights, WeightSpec::Mesh(_)) => {
+            return Err(invalid(
+                "domain",
+                format!(
+                    "domain options apply to the mesh families (harmonic, biharmonic, bbw), \
+                     not to '{}'",
+                    weights.name()
+                ),
+            ))
+        }
+        Some(d) => d.options(),
+        None => DomainOptions::default(),
     };
     let engine = Engine::parse(file.engine.as_deref().unwrap_or("ours"), origin)?;
     let junctions = file
@@ -273,46 +514,43 @@ pub(crate) fn parse(
             }
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let pose_files: Vec<(Option<String>, &Vec<TransformFile>)> = match (&file.pose, &file.poses) {
+    type PoseParts<'f> = (Option<String>, &'f [TransformFile], Option<&'f [[f64; 2]]>);
+    let pose_files: Vec<PoseParts<'_>> = match (&file.pose, &file.poses) {
         (Some(_), Some(_)) => {
             return Err(invalid(
                 "pose",
                 "give either pose or poses, not both".into(),
             ))
         }
-        (Some(p), None) => vec![(None, p)],
-        (None, Some(ps)) => ps.iter().map(|p| (p.name.clone(), &p.transforms)).collect(),
+        (Some(p), None) => vec![(None, p.as_slice(), None)],
+        (None, Some(ps)) => ps
+            .iter()
+            .map(|p| {
+                (
+                    p.name.clone(),
+                    p.transforms.as_slice(),
+                    p.cage_positions.as_deref(),
+                )
+            })
+            .collect(),
         (None, None) => Vec::new(),
     };
     let mut poses = Vec::with_capacity(pose_files.len());
-    for (k, (name, transforms)) in pose_files.into_iter().enumerate() {
-        if transforms.len() != handles.len() {
-            return Err(invalid(
-                &format!("poses[{k}]"),
-                format!(
-                    "{} transforms for {} handles (one per handle expected)",
-                    transforms.len(),
-                    handles.len()
-                ),
-            ));
-        }
-        let transforms = transforms
-            .iter()
-            .zip(&handles)
-            .enumerate()
-            .map(|(i, (t, &h))| {
-                let element = format!("poses[{k}].transforms[{i}]");
-                check_affine(t.affine(h, origin, &element)?, origin, element)
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        poses.push(Pose { name, transforms });
+    for (k, (name, transforms, cage_positions)) in pose_files.into_iter().enumerate() {
+        poses.push(Pose {
+            name,
+            transforms: pose_transforms(&set, transforms, cage_positions, origin, k)?,
+        });
     }
     Ok(Scene {
         origin: origin.to_string(),
         svg_text,
         svg_origin,
         handles,
+        bones,
+        cage,
         weights,
+        domain,
         engine,
         measure: Measure::from_arc_length(file.arc_length),
         junctions,
@@ -320,6 +558,91 @@ pub(crate) fn parse(
         poses,
         format: SceneFormat::Ours,
     })
+}
+
+/// Index of `kind` in rig order.
+fn kind_index(kind: HandleKind, set: &HandleSet<'_>) -> usize {
+    match kind {
+        HandleKind::Point(i) => i,
+        HandleKind::Bone(b) => set.points.len() + b,
+        HandleKind::CageVertex(k) => set.points.len() + set.bones.len() + k,
+    }
+}
+
+/// The maps of pose `k`: `transforms` for the handles in rig order (without the cage vertices
+/// when `cage_positions` gives them).
+fn pose_transforms(
+    set: &HandleSet<'_>,
+    transforms: &[TransformFile],
+    cage_positions: Option<&[[f64; 2]]>,
+    origin: &str,
+    k: usize,
+) -> Result<Vec<Affine>, SceneError> {
+    let invalid = |element: String, message: String| SceneError::Invalid {
+        origin: origin.to_string(),
+        element,
+        message,
+    };
+    let (n_p, n_b, n_c) = (set.points.len(), set.bones.len(), set.n_cage_vertices());
+    let listed = match cage_positions {
+        Some(_) => n_p + n_b,
+        None => set.n_handles(),
+    };
+    if transforms.len() != listed {
+        let parts = [
+            (n_p, "point handles"),
+            (n_b, "bones"),
+            (n_c, "cage vertices"),
+        ]
+        .iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, what)| format!("{n} {what}"))
+        .collect::<Vec<_>>()
+        .join(", then ");
+        let what = if cage_positions.is_some() {
+            "the point handles and bones; cage_positions gives the cage"
+        } else {
+            "handles"
+        };
+        return Err(invalid(
+            format!("poses[{k}]"),
+            format!(
+                "{} transforms for {listed} {what} (one per handle expected, in the order {parts})",
+                transforms.len()
+            ),
+        ));
+    }
+    let mut out = Vec::with_capacity(set.n_handles());
+    for (i, t) in transforms.iter().enumerate() {
+        let kind = set.kind(i).expect("i < n_handles");
+        let mut element = format!("poses[{k}].transforms[{i}]");
+        if !matches!(kind, HandleKind::Point(_)) {
+            element = format!("{element} ({})", handle_element(SceneFormat::Ours, kind));
+        }
+        out.push(t.resolve(kind, set, origin, &element)?);
+    }
+    if let Some(positions) = cage_positions {
+        let Some(cage) = set.cage else {
+            return Err(invalid(
+                format!("poses[{k}].cage_positions"),
+                "the scene has no cage".into(),
+            ));
+        };
+        if positions.len() != n_c {
+            return Err(invalid(
+                format!("poses[{k}].cage_positions"),
+                format!(
+                    "{} positions for {n_c} cage vertices (one per vertex expected)",
+                    positions.len()
+                ),
+            ));
+        }
+        for (v, (q, &rest)) in positions.iter().zip(cage).enumerate() {
+            let q: Point = check_point(*q, origin, format!("poses[{k}].cage_positions[{v}]"))?;
+            out.push(translation_to(rest, q));
+        }
+    }
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -383,9 +706,16 @@ mod tests {
 
     #[test]
     fn scene_not_implemented_family_loads_but_is_reported() {
-        let s = scene(r#", "weights": {"family": "mvc"}"#).unwrap();
+        let cage = r#"{"splineskin_scene": 1, "svg_text": "<svg/>", "cage": [[0, 0], [5, 0], [0, 5]], "weights": {"family": "mvc"}}"#;
+        let s = parse(cage, "test", None).unwrap();
         let e = s.check_supported().unwrap_err();
         assert!(e.to_string().contains("weight function 'mvc'"), "{e}");
+        // mvc weighs a cage only.
+        let e = scene(r#", "weights": {"family": "mvc"}"#).unwrap_err();
+        assert!(
+            e.to_string().contains("weights: mean value coordinates"),
+            "{e}"
+        );
         let s = scene(r#", "weights": {"family": "bbw"}"#).unwrap();
         assert_eq!(s.weights, WeightSpec::Mesh(crate::scene::MeshFamily::Bbw));
         assert!(s.check_supported().is_ok());

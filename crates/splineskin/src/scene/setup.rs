@@ -2,15 +2,19 @@
 //! kinds), the weight functions and the fit options, in our default mode or in the paper
 //! authors' compatibility mode.
 
+use crate::domain::polygon::{self_intersection, signed_area};
+use crate::domain::{Domain, DomainError, DomainOptions, MeshWeights};
 use crate::drawing::authors_svg::read_authors_drawing_named;
 use crate::drawing::{read_svg_named, Drawing, ImportOptions, JointKind};
 use crate::spline_fit::FitOptions;
-use crate::weights::{Shepard, ShepardOptions, WeightField};
+use crate::weights::bbw::{bounded_biharmonic, BbwOptions};
+use crate::weights::harmonic::harmonic;
+use crate::weights::{DirichletData, Shepard, ShepardOptions, WeightField};
 
-use super::{MeshFamily, Scene, SceneError, WeightSpec};
-use crate::domain::{Domain, DomainOptions, MeshWeights};
-use crate::weights::bbw::{bbw_weights, BbwOptions};
-use crate::weights::harmonic::harmonic_weights;
+use super::{
+    handle_element, HandleKind, HandleSet, MeshFamily, Scene, SceneError, SceneFormat,
+    SegmentShepard, WeightSpec,
+};
 
 /// Squared distance under which a quadrature sample takes a handle's weight outright in the
 /// authors' Shepard code: 1e-8 squared drawing units.
@@ -97,41 +101,8 @@ impl Scene {
             }
             *slot = o.kind;
         }
-        let (options, snap) = match compat {
-            Compat::None => (FitOptions::default().with_measure(self.measure), 0.0),
-            Compat::VectorSkinning => (
-                FitOptions::vectorskinning(self.measure == crate::spline_fit::Measure::ArcLength),
-                AUTHORS_SHEPARD_SNAP,
-            ),
-        };
-        if self.handles.is_empty() {
-            return Err(SceneError::Invalid {
-                origin: self.origin.clone(),
-                element: "handles".into(),
-                message: "no handles: place at least one".into(),
-            });
-        }
-        let mut domain = None;
-        let weights: Box<dyn WeightField> = match &self.weights {
-            WeightSpec::Shepard { exponent } => Box::new(Shepard::new(
-                &self.handles,
-                ShepardOptions::default()
-                    .with_exponent(*exponent)
-                    .with_snap_distance_squared(snap),
-            )),
-            WeightSpec::Mesh(family) => {
-                let (weights, mesh_domain) =
-                    mesh_weights(&drawing, &self.handles, *family, &self.origin)?;
-                domain = Some(mesh_domain);
-                Box::new(weights)
-            }
-            WeightSpec::NotImplemented(name) => {
-                return Err(SceneError::NotImplemented {
-                    origin: self.origin.clone(),
-                    what: format!("weight function '{name}'"),
-                })
-            }
-        };
+        let options = self.fit_options(compat);
+        let (weights, domain) = handle_weights(&drawing, &self.weight_inputs(compat))?;
         Ok(Setup {
             drawing,
             weights,
@@ -139,6 +110,28 @@ impl Scene {
             warnings,
             domain,
         })
+    }
+
+    /// The fit options of the scene's measure in `compat`.
+    pub fn fit_options(&self, compat: Compat) -> FitOptions {
+        match compat {
+            Compat::None => FitOptions::default().with_measure(self.measure),
+            Compat::VectorSkinning => {
+                FitOptions::vectorskinning(self.measure == crate::spline_fit::Measure::ArcLength)
+            }
+        }
+    }
+
+    /// What the scene's weights are built from, in `compat`.
+    pub fn weight_inputs(&self, compat: Compat) -> WeightInputs<'_> {
+        WeightInputs {
+            handles: self.handle_set(),
+            family: &self.weights,
+            domain: &self.domain,
+            compat,
+            origin: &self.origin,
+            format: self.format,
+        }
     }
 
     /// Reads the scene's SVG with the importer of `compat`, joints classified by it. Errors
@@ -161,34 +154,387 @@ impl Scene {
     }
 }
 
-/// Weights of `family` for point `handles`: the drawing's domain is triangulated with its
-/// handles and curve samples as vertices ([`Domain::build`] with default options), the
-/// family's solve runs on that mesh, and [`MeshWeights`] interpolates the vertex weights
-/// (exact piecewise-linear, with the mesh edges as quadrature kinks). Returns the weights and
-/// the domain they were solved on.
+/// What a scene's weights are built from ([`handle_weights`]).
+#[derive(Clone, Copy, Debug)]
+pub struct WeightInputs<'a> {
+    /// The rest handles (rig order: points, bones, cage vertices).
+    pub handles: HandleSet<'a>,
+    /// The family.
+    pub family: &'a WeightSpec,
+    /// Options of the triangulated domain (mesh families); the cage is taken from `handles`.
+    pub domain: &'a DomainOptions,
+    /// The discretisation (compatibility mode snaps Shepard weights as the authors do).
+    pub compat: Compat,
+    /// The scene, for messages.
+    pub origin: &'a str,
+    /// The scene's format, for naming handles in messages ([`Scene::element`]).
+    pub format: SceneFormat,
+}
+
+/// The weights of `inputs.handles` on `drawing`, one column per handle in rig order, and the
+/// triangulated domain they were solved on (mesh families only):
+///
+/// * `shepard`: [`Shepard`] for point handles alone (as before bones existed, bit for bit),
+///   [`SegmentShepard`] (distance to the segment) when there are bones;
+/// * `harmonic`, `biharmonic`, `bbw`: [`mesh_weights`].
+///
+/// Errors: handle kinds the family cannot weigh ([`WeightSpec::check_handles`]), no handles, a
+/// family not implemented, and those of [`mesh_weights`].
+pub fn handle_weights(
+    drawing: &Drawing,
+    inputs: &WeightInputs<'_>,
+) -> Result<(Box<dyn WeightField>, Option<Domain>), SceneError> {
+    let handles = &inputs.handles;
+    inputs
+        .family
+        .check_handles(handles, inputs.origin, "weights")?;
+    if handles.n_handles() == 0 {
+        return Err(SceneError::Invalid {
+            origin: inputs.origin.to_string(),
+            element: "handles".into(),
+            message: "no handles: place at least one (a point handle, a bone or a cage)".into(),
+        });
+    }
+    match inputs.family {
+        WeightSpec::Shepard { exponent } => {
+            let snap = match inputs.compat {
+                Compat::None => 0.0,
+                Compat::VectorSkinning => AUTHORS_SHEPARD_SNAP,
+            };
+            let options = ShepardOptions::default()
+                .with_exponent(*exponent)
+                .with_snap_distance_squared(snap);
+            let field: Box<dyn WeightField> = if handles.bones.is_empty() {
+                Box::new(Shepard::new(handles.points, options))
+            } else {
+                Box::new(SegmentShepard::new(
+                    handles.points,
+                    &handles.bone_segments(),
+                    options,
+                ))
+            };
+            Ok((field, None))
+        }
+        WeightSpec::Mesh(family) => {
+            let (weights, domain) = mesh_weights(drawing, inputs, *family)?;
+            Ok((Box::new(weights), Some(domain)))
+        }
+        WeightSpec::NotImplemented(name) => Err(SceneError::NotImplemented {
+            origin: inputs.origin.to_string(),
+            what: format!("weight function '{name}'"),
+        }),
+    }
+}
+
+/// Weights of a mesh `family` for the handles of `inputs`: the drawing's domain is triangulated
+/// ([`Domain::build`] with the scene's domain options and cage) with the point handles, bone
+/// chains and curve samples as vertices; the family is solved on that mesh with the Dirichlet
+/// data of [`handle_dirichlet_data`]; [`MeshWeights`] interpolates the vertex weights (exact
+/// piecewise-linear, with the mesh edges as quadrature kinks; outside the mesh a point takes
+/// the weights of the nearest boundary point). Returns the weights and the domain.
+///
+/// * `harmonic`: `Δw = 0` (`k = 1`); on a cage alone these are harmonic coordinates;
+/// * `biharmonic`: `Δ²w = 0` (`k = 2`), natural boundary conditions;
+/// * `bbw`: bounded biharmonic weights, rows normalised to sum to 1.
+///
+/// The Dirichlet rows sum to 1, so the harmonic and biharmonic weights sum to 1 everywhere
+/// (constants solve both equations).
+///
+/// Errors name the element concerned ([`SceneError::Invalid`], e.g. `handles[2]`, `bones[0]`,
+/// `cage[3]`, `domain.min_angle`) when the domain refuses the handles or options, else
+/// [`SceneError::Weights`].
 pub fn mesh_weights(
     drawing: &Drawing,
-    handles: &[kurbo::Point],
+    inputs: &WeightInputs<'_>,
     family: MeshFamily,
-    origin: &str,
 ) -> Result<(MeshWeights, Domain), SceneError> {
     let wrap = |source: Box<dyn std::error::Error + Send + Sync>| SceneError::Weights {
-        origin: origin.to_string(),
+        origin: inputs.origin.to_string(),
         family: family.name(),
         source,
     };
-    let domain = Domain::build(drawing, handles, &[], &DomainOptions::default())
-        .map_err(|e| wrap(Box::new(e)))?;
-    let vertices = &domain.handle_vertices;
+    let handles = &inputs.handles;
+    let options = match handles.cage {
+        Some(cage) => inputs.domain.clone().with_cage(cage.to_vec()),
+        None => inputs.domain.clone(),
+    };
+    let domain = Domain::build(drawing, handles.points, &handles.bone_segments(), &options)
+        .map_err(|e| domain_error(e, inputs, family.name()))?;
+    let data = handle_dirichlet_data(&domain, inputs, family.name())?;
+    let mesh = &domain.mesh;
     let weights = match family {
-        MeshFamily::Harmonic => harmonic_weights(&domain.mesh, vertices, 1),
-        MeshFamily::Biharmonic => harmonic_weights(&domain.mesh, vertices, 2),
-        MeshFamily::Bbw => bbw_weights(&domain.mesh, vertices, &BbwOptions::default()),
+        MeshFamily::Harmonic => harmonic(mesh, &data, 1),
+        MeshFamily::Biharmonic => harmonic(mesh, &data, 2),
+        MeshFamily::Bbw => {
+            // The BBW solve, in this one call (its solver is to be swapped for speed), then
+            // normalised like libigl's users do.
+            let raw = bounded_biharmonic(mesh, &data, &BbwOptions::default());
+            raw.and_then(|mut w| w.normalize_rows().map(|()| w))
+        }
     }
     .map_err(|e| wrap(Box::new(e)))?;
-    let weights = MeshWeights::new(&domain.mesh, weights.into_values(), handles.len())
+    let weights = MeshWeights::new(mesh, weights.into_values(), handles.n_handles())
         .map_err(|e| wrap(Box::new(e)))?;
     Ok((weights, domain))
+}
+
+/// The Dirichlet data of the handles of `inputs` on `domain`, one column per handle in rig
+/// order:
+///
+/// * point handle `i`: 1 at its vertex (`domain.handle_vertices[i]`), 0 at every other fixed
+///   vertex;
+/// * bone `b`: 1 at every vertex along it (`domain.bone_vertices[b]`), 0 elsewhere; at an end
+///   shared by `m` bones each of them gets `1/m` (the data of every vertex sum to 1);
+/// * cage vertex `k`: along the outer boundary, piecewise linear between the cage's corners:
+///   `1 − s` on the edge from corner `k` to corner `k + 1` and `s` on the edge before it,
+///   `s ∈ [0, 1]` the position along the edge (Joshi et al. 2007, harmonic coordinates). Point
+///   handles and bones have weight 0 on the cage; holes' boundaries are free.
+///
+/// Errors: a point handle or bone end on the cage (its vertex would carry two kinds of data).
+/// `family` names the weights in messages.
+pub fn handle_dirichlet_data(
+    domain: &Domain,
+    inputs: &WeightInputs<'_>,
+    family: &'static str,
+) -> Result<DirichletData, SceneError> {
+    let handles = &inputs.handles;
+    let (n_p, n_b) = (handles.points.len(), handles.bones.len());
+    let h = handles.n_handles();
+    let n_vertices = domain.mesh.n_vertices();
+    let invalid = |kind: HandleKind, message: String| SceneError::Invalid {
+        origin: inputs.origin.to_string(),
+        element: handle_element(inputs.format, kind),
+        message,
+    };
+    let bug = |what: &'static str| SceneError::Weights {
+        origin: inputs.origin.to_string(),
+        family,
+        source: Box::new(crate::domain::DomainError::Bug(what)),
+    };
+    let mut rows = DirichletRows {
+        owner: vec![None; n_vertices],
+        vertices: Vec::new(),
+        values: Vec::new(),
+        n_columns: h,
+    };
+    if domain.handle_vertices.len() != n_p || domain.bone_vertices.len() != n_b {
+        return Err(bug("the domain does not have one vertex per handle"));
+    }
+    for (i, &v) in domain.handle_vertices.iter().enumerate() {
+        if rows.owner[v].is_some() {
+            return Err(bug("two point handles share a vertex"));
+        }
+        let row = rows.add(v, HandleKind::Point(i));
+        rows.values[row * h + i] = 1.0;
+    }
+    // Bone rows: count how many bones meet at each vertex, then write 1/m.
+    let mut bone_rows: Vec<usize> = Vec::new();
+    for (b, chain) in domain.bone_vertices.iter().enumerate() {
+        for &v in chain {
+            let row = match rows.owner[v] {
+                None => {
+                    let row = rows.add(v, HandleKind::Bone(b));
+                    bone_rows.push(row);
+                    row
+                }
+                Some((HandleKind::Bone(_), row)) => row,
+                Some(_) => return Err(bug("a bone passes through a point handle")),
+            };
+            rows.values[row * h + n_p + b] = 1.0;
+        }
+    }
+    for row in bone_rows {
+        let r = &mut rows.values[row * h..(row + 1) * h];
+        let m: f64 = r.iter().sum();
+        r.iter_mut().for_each(|w| *w /= m);
+    }
+    if let Some(cage) = handles.cage {
+        let n_c = cage.len();
+        let outer = domain
+            .boundary_loops
+            .first()
+            .ok_or_else(|| bug("a cage domain without a boundary loop"))?;
+        let mut position: Vec<Option<usize>> = vec![None; n_vertices];
+        for (k, &v) in outer.iter().enumerate() {
+            position[v] = Some(k);
+        }
+        if domain.cage_vertices.len() != n_c {
+            return Err(bug("the domain does not have one vertex per cage corner"));
+        }
+        for k in 0..n_c {
+            let (a, b) = (cage[k], cage[(k + 1) % n_c]);
+            let (start, end) = (domain.cage_vertices[k], domain.cage_vertices[(k + 1) % n_c]);
+            let (Some(mut at), Some(stop)) = (position[start], position[end]) else {
+                return Err(bug("a cage corner is not on the outer boundary"));
+            };
+            let column = n_p + n_b + k;
+            let next_column = n_p + n_b + (k + 1) % n_c;
+            // From corner k (included) to corner k + 1 (excluded), counter-clockwise.
+            loop {
+                let v = outer[at];
+                if let Some((kind, _)) = rows.owner[v] {
+                    return Err(invalid(
+                        kind,
+                        format!(
+                            "lies on the cage's edge {k} (from cage[{k}] to cage[{}]), where the \
+                             cage's weights are prescribed: move it inside the cage",
+                            (k + 1) % n_c
+                        ),
+                    ));
+                }
+                let row = rows.add(v, HandleKind::CageVertex(k));
+                let s = if v == start {
+                    0.0
+                } else {
+                    let ab = b - a;
+                    ((domain.mesh.vertices[v] - a).dot(ab) / ab.hypot2()).clamp(0.0, 1.0)
+                };
+                rows.values[row * h + column] = 1.0 - s;
+                rows.values[row * h + next_column] += s;
+                at = (at + 1) % outer.len();
+                if at == stop {
+                    break;
+                }
+            }
+        }
+    }
+    DirichletData::new(rows.vertices, rows.values, h).map_err(|e| SceneError::Weights {
+        origin: inputs.origin.to_string(),
+        family,
+        source: Box::new(e),
+    })
+}
+
+/// Dirichlet rows being gathered: which handle first fixed each vertex (and its row), the
+/// fixed vertices and their values (`n_columns` per row).
+struct DirichletRows {
+    owner: Vec<Option<(HandleKind, usize)>>,
+    vertices: Vec<usize>,
+    values: Vec<f64>,
+    n_columns: usize,
+}
+
+impl DirichletRows {
+    /// A new row of zeros for vertex `v`, fixed by `kind`; returns its index.
+    fn add(&mut self, v: usize, kind: HandleKind) -> usize {
+        let row = self.vertices.len();
+        self.owner[v] = Some((kind, row));
+        self.vertices.push(v);
+        self.values.extend(std::iter::repeat_n(0.0, self.n_columns));
+        row
+    }
+}
+
+/// A domain error as a scene error naming the element concerned, where there is one.
+fn domain_error(e: DomainError, inputs: &WeightInputs<'_>, family: &'static str) -> SceneError {
+    match domain_element(&e, inputs.format) {
+        Some(element) => SceneError::Invalid {
+            origin: inputs.origin.to_string(),
+            element,
+            message: format!("{family} weights: {e}"),
+        },
+        None => SceneError::Weights {
+            origin: inputs.origin.to_string(),
+            family,
+            source: Box::new(e),
+        },
+    }
+}
+
+/// The scene element a domain error is about (`handles[2]`, `bones[0] and bones[1]`,
+/// `cage[3]`, `domain.min_angle`, …), if any.
+fn domain_element(e: &DomainError, format: SceneFormat) -> Option<String> {
+    let name = |kind: HandleKind| handle_element(format, kind);
+    let both = |a: HandleKind, b: HandleKind| format!("{} and {}", name(a), name(b));
+    Some(match e {
+        DomainError::NonFiniteHandle { handle }
+        | DomainError::HandleOutsideDomain { handle, .. } => name(HandleKind::Point(*handle)),
+        DomainError::CoincidentHandles { first, second, .. } => {
+            both(HandleKind::Point(*first), HandleKind::Point(*second))
+        }
+        DomainError::NonFiniteBone { bone }
+        | DomainError::DegenerateBone { bone }
+        | DomainError::BoneOutsideDomain { bone } => name(HandleKind::Bone(*bone)),
+        DomainError::BonesCross { first, second } => {
+            both(HandleKind::Bone(*first), HandleKind::Bone(*second))
+        }
+        DomainError::HandleOnBone { handle, bone } => {
+            both(HandleKind::Point(*handle), HandleKind::Bone(*bone))
+        }
+        DomainError::CageNonFinite { vertex } => format!("cage[{vertex}]"),
+        DomainError::CageDegenerateEdge { edge } => format!("cage[{edge}]"),
+        DomainError::CageSelfIntersecting { first, .. } => format!("cage[{first}]"),
+        DomainError::CageTooFewVertices { .. } | DomainError::CageClockwise { .. } => {
+            "cage".to_string()
+        }
+        DomainError::EmptyDomain { .. } => "domain".to_string(),
+        DomainError::InvalidOption { name, .. } => format!("domain.{name}"),
+        _ => return None,
+    })
+}
+
+/// Checks the rest handles that need no drawing: a cage of at least 3 vertices, without
+/// zero-length edges, simple and counter-clockwise; no two point handles at the same place; no
+/// bone of zero length. Errors name the element ([`SceneError::Invalid`]). (What needs the
+/// drawing's size — near-coincidence, handles outside the domain — is checked when the domain
+/// is built.)
+pub fn check_rest_handles(
+    handles: &HandleSet<'_>,
+    origin: &str,
+    format: SceneFormat,
+) -> Result<(), SceneError> {
+    let inputs_error = |e: DomainError| SceneError::Invalid {
+        origin: origin.to_string(),
+        element: domain_element(&e, format).unwrap_or_else(|| "handles".into()),
+        message: e.to_string(),
+    };
+    if let Some(cage) = handles.cage {
+        if cage.len() < 3 {
+            return Err(inputs_error(DomainError::CageTooFewVertices {
+                n_vertices: cage.len(),
+            }));
+        }
+        if let Some(edge) = (0..cage.len()).find(|&k| cage[k] == cage[(k + 1) % cage.len()]) {
+            return Err(inputs_error(DomainError::CageDegenerateEdge { edge }));
+        }
+        if let Some((first, second)) = self_intersection(cage) {
+            return Err(inputs_error(DomainError::CageSelfIntersecting {
+                first,
+                second,
+            }));
+        }
+        let area = signed_area(cage);
+        if area < 0.0 {
+            return Err(inputs_error(DomainError::CageClockwise {
+                signed_area: area,
+            }));
+        }
+        if area == 0.0 || area.is_nan() {
+            return Err(inputs_error(DomainError::EmptyDomain {
+                reason: "the cage has zero area",
+            }));
+        }
+    }
+    let mut order: Vec<usize> = (0..handles.points.len()).collect();
+    let key = |i: &usize| (handles.points[*i].x, handles.points[*i].y);
+    order.sort_by(|a, b| {
+        key(a)
+            .partial_cmp(&key(b))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    for pair in order.windows(2) {
+        if handles.points[pair[0]] == handles.points[pair[1]] {
+            return Err(inputs_error(DomainError::CoincidentHandles {
+                first: pair[0].min(pair[1]),
+                second: pair[0].max(pair[1]),
+                distance: 0.0,
+            }));
+        }
+    }
+    if let Some(bone) = handles.bones.iter().position(|b| b.ends[0] == b.ends[1]) {
+        return Err(inputs_error(DomainError::DegenerateBone { bone }));
+    }
+    Ok(())
 }
 
 /// Applies the authors' saved per-joint kinds when the drawing has their structure (same
