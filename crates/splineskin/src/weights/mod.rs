@@ -27,7 +27,7 @@ mod reduced_cholesky;
 pub mod shepard;
 mod vertex_weights;
 
-pub use bbw::{bbw_weights, bounded_biharmonic, BbwOptions};
+pub use bbw::{bbw_weights, bounded_biharmonic, bounded_biharmonic_from, BbwOptions};
 pub use cage::{cage_boundary_data, harmonic_coordinates};
 pub use dirichlet::DirichletData;
 pub use error::WeightsError;
