@@ -4,7 +4,11 @@
 //! * `harmonic`: [`harmonic_weights`] with `k = 1` and `k = 2` (build the energy, order,
 //!   factor once, solve for the 5 handles);
 //! * `bbw`: [`bbw_weights`] with the handles' programs on rayon's pool (2 cores here) — the
-//!   sequential time is about 1.6 times longer.
+//!   sequential time is about 1.6 times longer — started cold, from the unbounded solution;
+//! * `bbw_coarse_to_fine` (turtles only): what a scene with `bbw` weights does — the domain
+//!   built ([`Domain::build`], included in the time), the program solved on coarser domains
+//!   first ([`bbw_coarse_to_fine`]), handles in parallel, rows normalised;
+//! * `domain` (turtles only): [`Domain::build`] alone.
 //!
 //! on two domains:
 //!
@@ -20,10 +24,11 @@ use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use kurbo::{Point, Rect};
-use splineskin::domain::{Domain, DomainOptions};
+use splineskin::domain::{coarse_to_fine::bbw_coarse_to_fine, Domain, DomainOptions};
+use splineskin::drawing::Drawing;
 use splineskin::drawing::{svg_in::read_svg_file, ImportOptions};
 use splineskin::mesh::TriMesh;
-use splineskin::weights::{bbw_weights, harmonic_weights, BbwOptions};
+use splineskin::weights::{bbw_weights, harmonic_weights, BbwOptions, DirichletData};
 
 /// Cells along x of the grid (the rectangle is 2 × 1, cells are square).
 const NX: usize = 200;
@@ -137,4 +142,55 @@ fn bbw(bencher: divan::Bencher, case: Case) {
     };
     let options = BbwOptions::default().with_parallel(true);
     bencher.bench_local(|| bbw_weights(mesh, handles, &options).expect("bbw weights"));
+}
+
+/// The turtles drawing, read once (`None` without ../shared/data).
+fn turtles_drawing() -> Option<&'static Drawing> {
+    static DRAWING: OnceLock<Option<Drawing>> = OnceLock::new();
+    DRAWING
+        .get_or_init(|| {
+            let path = turtles_svg();
+            path.is_file()
+                .then(|| read_svg_file(&path, &ImportOptions::default()).expect("turtles SVG"))
+        })
+        .as_ref()
+}
+
+#[divan::bench(sample_count = 10)]
+fn domain(bencher: divan::Bencher) {
+    let Some(drawing) = turtles_drawing() else {
+        return;
+    };
+    let handles = TURTLE_HANDLES.map(Point::from);
+    bencher.bench_local(|| {
+        Domain::build(drawing, &handles, &[], &DomainOptions::default()).expect("turtles domain")
+    });
+}
+
+#[divan::bench(sample_count = 5)]
+fn bbw_coarse_to_fine_turtles(bencher: divan::Bencher) {
+    let Some(drawing) = turtles_drawing() else {
+        return;
+    };
+    let handles = TURTLE_HANDLES.map(Point::from);
+    let options = DomainOptions::default();
+    let bbw = BbwOptions::default().with_parallel(true);
+    bencher.bench_local(|| {
+        let fine = Domain::build(drawing, &handles, &[], &options).expect("turtles domain");
+        let data = |d: &Domain| DirichletData::handles(&d.handle_vertices).ok();
+        let fine_data = data(&fine).expect("handle data");
+        let mut w = bbw_coarse_to_fine(
+            drawing,
+            &handles,
+            &[],
+            &options,
+            &fine,
+            &fine_data,
+            data,
+            &bbw,
+        )
+        .expect("bbw weights");
+        w.normalize_rows().expect("normalised");
+        w
+    });
 }

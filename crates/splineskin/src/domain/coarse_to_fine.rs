@@ -18,7 +18,7 @@
 
 use kurbo::Point;
 
-use super::{Domain, DomainError, DomainOptions, MeshWeights};
+use super::{Domain, DomainOptions, MeshWeights};
 use crate::drawing::Drawing;
 use crate::weights::bbw::{bounded_biharmonic, bounded_biharmonic_from, BbwOptions};
 use crate::weights::{DirichletData, VertexWeights, WeightField, WeightsError};
@@ -31,24 +31,11 @@ pub const LEVEL_FACTOR: f64 = 4.0;
 /// A level with at most this many vertices is solved from the unbounded solution: 2 000.
 pub const DIRECT_VERTICES: usize = 2000;
 
-/// Why coarse-to-fine bounded biharmonic weights failed (on the fine level: coarse levels
-/// only ever fall back).
-#[derive(Debug, thiserror::Error, PartialEq)]
-#[non_exhaustive]
-pub enum CoarseToFineError {
-    /// The Dirichlet data could not be built for the fine domain, or its solve failed.
-    #[error(transparent)]
-    Weights(#[from] WeightsError),
-    /// Interpolating a coarse level failed.
-    #[error(transparent)]
-    Domain(#[from] DomainError),
-}
-
 /// Bounded biharmonic weights (raw, not normalised: [`bounded_biharmonic`]) on `fine`, the
-/// domain [`Domain::build`] made of `drawing`, `points`, `bones` and `options`, solved coarse
-/// to fine (module documentation). `data` builds the Dirichlet data of a level from its
-/// domain (for example, one column per point handle with 1 at its vertex); it is called with
-/// every level, whose handles and bones are the same.
+/// domain [`Domain::build`] made of `drawing`, `points`, `bones` and `options`, with Dirichlet
+/// data `fine_data`, solved coarse to fine (module documentation). `data` builds the same
+/// Dirichlet data on a coarser level from its domain (for example, one column per point handle
+/// with 1 at its vertex); when it returns `None` that level is skipped.
 ///
 /// ```
 /// use kurbo::Point;
@@ -61,48 +48,51 @@ pub enum CoarseToFineError {
 /// let handles = [Point::new(0.0, 0.0), Point::new(50.0, 30.0), Point::new(100.0, 0.0)];
 /// let options = DomainOptions::default().with_max_area_fraction(1.0 / 2000.0);
 /// let fine = Domain::build(&drawing, &handles, &[], &options)?;
-/// let data = |d: &Domain| DirichletData::handles(&d.handle_vertices);
+/// let fine_data = DirichletData::handles(&fine.handle_vertices)?;
+/// let data = |d: &Domain| DirichletData::handles(&d.handle_vertices).ok();
 /// let bbw = BbwOptions::default();
-/// let warm = bbw_coarse_to_fine(&drawing, &handles, &[], &options, &fine, data, &bbw)?;
-/// let cold = bounded_biharmonic(&fine.mesh, &data(&fine)?, &bbw)?;
+/// let warm = bbw_coarse_to_fine(&drawing, &handles, &[], &options, &fine, &fine_data, data, &bbw)?;
+/// let cold = bounded_biharmonic(&fine.mesh, &fine_data, &bbw)?;
 /// let gap = warm.as_slice().iter().zip(cold.as_slice()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
 /// assert!(gap < 1e-9, "{gap}");
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
+#[allow(clippy::too_many_arguments)]
 pub fn bbw_coarse_to_fine<F>(
     drawing: &Drawing,
     points: &[Point],
     bones: &[[Point; 2]],
     options: &DomainOptions,
     fine: &Domain,
+    fine_data: &DirichletData,
     data: F,
     bbw: &BbwOptions,
-) -> Result<VertexWeights, CoarseToFineError>
+) -> Result<VertexWeights, WeightsError>
 where
-    F: Fn(&Domain) -> Result<DirichletData, WeightsError>,
+    F: Fn(&Domain) -> Option<DirichletData>,
 {
-    solve_level(drawing, points, bones, options, fine, &data, bbw)
+    solve_level(drawing, points, bones, options, fine, fine_data, &data, bbw)
 }
 
-/// Data of a level from its domain.
-type LevelData<'a> = &'a dyn Fn(&Domain) -> Result<DirichletData, WeightsError>;
+/// Data of a coarse level from its domain.
+type LevelData<'a> = &'a dyn Fn(&Domain) -> Option<DirichletData>;
 
 /// [`bbw_coarse_to_fine`] with the data builder behind a reference (the levels recurse).
+#[allow(clippy::too_many_arguments)]
 fn solve_level(
     drawing: &Drawing,
     points: &[Point],
     bones: &[[Point; 2]],
     options: &DomainOptions,
     fine: &Domain,
+    fine_data: &DirichletData,
     data: LevelData<'_>,
     bbw: &BbwOptions,
-) -> Result<VertexWeights, CoarseToFineError> {
-    let fine_data = data(fine)?;
-    let guess = coarse_guess(drawing, points, bones, options, fine, data, bbw);
-    Ok(match guess {
-        Some(guess) => bounded_biharmonic_from(&fine.mesh, &fine_data, bbw, &guess)?,
-        None => bounded_biharmonic(&fine.mesh, &fine_data, bbw)?,
-    })
+) -> Result<VertexWeights, WeightsError> {
+    match coarse_guess(drawing, points, bones, options, fine, data, bbw) {
+        Some(guess) => bounded_biharmonic_from(&fine.mesh, fine_data, bbw, &guess),
+        None => bounded_biharmonic(&fine.mesh, fine_data, bbw),
+    }
 }
 
 /// The weights of the next coarser level interpolated at `fine`'s vertices, or `None` when
@@ -126,7 +116,18 @@ fn coarse_guess(
     if coarse.mesh.n_vertices() * 2 > fine.mesh.n_vertices() {
         return None;
     }
-    let weights = solve_level(drawing, points, bones, &coarse_options, &coarse, data, bbw).ok()?;
+    let coarse_data = data(&coarse)?;
+    let weights = solve_level(
+        drawing,
+        points,
+        bones,
+        &coarse_options,
+        &coarse,
+        &coarse_data,
+        data,
+        bbw,
+    )
+    .ok()?;
     let h = weights.n_handles();
     let field = MeshWeights::new(&coarse.mesh, weights.into_values(), h).ok()?;
     let n = fine.mesh.n_vertices();
@@ -170,12 +171,13 @@ mod tests {
     fn coarse_to_fine_equals_a_cold_solve() {
         let (drawing, handles, options, fine) = setup();
         assert!(fine.mesh.n_vertices() > DIRECT_VERTICES);
-        let data = |d: &Domain| DirichletData::handles(&d.handle_vertices);
+        let data = |d: &Domain| DirichletData::handles(&d.handle_vertices).ok();
+        let fine_data = data(&fine).unwrap();
         let bbw = BbwOptions::default();
         // The coarse level exists and is a real guess: bounded, but not the answer.
         let guess = coarse_guess(&drawing, &handles, &[], &options, &fine, &data, &bbw)
             .expect("a coarse level");
-        let cold = bounded_biharmonic(&fine.mesh, &data(&fine).unwrap(), &bbw).unwrap();
+        let cold = bounded_biharmonic(&fine.mesh, &fine_data, &bbw).unwrap();
         let gap = |a: &VertexWeights| {
             a.as_slice()
                 .iter()
@@ -184,8 +186,17 @@ mod tests {
                 .fold(0.0, f64::max)
         };
         assert!(gap(&guess) > 1e-4, "guess already exact: {:e}", gap(&guess));
-        let warm =
-            bbw_coarse_to_fine(&drawing, &handles, &[], &options, &fine, data, &bbw).unwrap();
+        let warm = bbw_coarse_to_fine(
+            &drawing,
+            &handles,
+            &[],
+            &options,
+            &fine,
+            &fine_data,
+            data,
+            &bbw,
+        )
+        .unwrap();
         // Same KKT tolerances, strictly convex program: the same minimiser up to the solve's
         // rounding (measured 1.5e-11 on the 20 437-vertex turtles domain).
         assert!(gap(&warm) < 1e-9, "{:e}", gap(&warm));
@@ -197,31 +208,34 @@ mod tests {
         let small_options = options.clone().with_max_area_fraction(1.0 / 200.0);
         let small = Domain::build(&drawing, &handles, &[], &small_options).unwrap();
         assert!(small.mesh.n_vertices() <= DIRECT_VERTICES);
-        let data = |d: &Domain| DirichletData::handles(&d.handle_vertices);
+        let data = |d: &Domain| DirichletData::handles(&d.handle_vertices).ok();
         let bbw = BbwOptions::default();
         assert!(
             coarse_guess(&drawing, &handles, &[], &small_options, &small, &data, &bbw).is_none()
         );
-        // Data that fails on coarse levels only (their vertex count differs) falls back.
+        // Coarse levels without data fall back to a cold start.
         let (drawing, handles, options, fine) = setup();
-        let n_fine = fine.mesh.n_vertices();
-        let picky = |d: &Domain| {
-            if d.mesh.n_vertices() == n_fine {
-                DirichletData::handles(&d.handle_vertices)
-            } else {
-                Err(WeightsError::NoHandles)
-            }
-        };
-        assert!(coarse_guess(&drawing, &handles, &[], &options, &fine, &picky, &bbw).is_none());
-        let cold = bounded_biharmonic(&fine.mesh, &picky(&fine).unwrap(), &bbw).unwrap();
-        let fallback =
-            bbw_coarse_to_fine(&drawing, &handles, &[], &options, &fine, picky, &bbw).unwrap();
+        let none = |_: &Domain| None;
+        assert!(coarse_guess(&drawing, &handles, &[], &options, &fine, &none, &bbw).is_none());
+        let fine_data = DirichletData::handles(&fine.handle_vertices).unwrap();
+        let cold = bounded_biharmonic(&fine.mesh, &fine_data, &bbw).unwrap();
+        let fallback = bbw_coarse_to_fine(
+            &drawing,
+            &handles,
+            &[],
+            &options,
+            &fine,
+            &fine_data,
+            none,
+            &bbw,
+        )
+        .unwrap();
         assert_eq!(fallback, cold);
         // Errors of the fine level are errors.
-        let none = |_: &Domain| Err(WeightsError::NoHandles);
-        assert_eq!(
-            bbw_coarse_to_fine(&drawing, &handles, &[], &options, &fine, none, &bbw),
-            Err(CoarseToFineError::Weights(WeightsError::NoHandles))
-        );
+        let bad = DirichletData::new(vec![0], vec![2.0], 1).unwrap();
+        assert!(matches!(
+            bbw_coarse_to_fine(&drawing, &handles, &[], &options, &fine, &bad, data, &bbw),
+            Err(WeightsError::ValueOutOfBounds { .. })
+        ));
     }
 }
