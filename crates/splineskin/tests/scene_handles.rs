@@ -6,6 +6,7 @@
 use kurbo::{Affine, Point, Rect};
 use splineskin::scene::{Bone, BoneTransform, Compat, Puppet, Scene, SceneError};
 use splineskin::spline_fit::SplineRig;
+use splineskin::weights::WeightField;
 
 /// The drawing: an open cubic across the middle and a closed triangle below it, inside
 /// `0..100 × 0..100`.
@@ -228,9 +229,14 @@ const CAGE: &str = r#""cage": [[0, 0], [100, 0], [100, 100], [0, 100]]"#;
 
 #[test]
 fn scene_handles_cage_translation_and_local_move() {
-    for family in ["harmonic", "biharmonic", "bbw"] {
+    for family in ["mvc", "harmonic", "biharmonic", "bbw"] {
+        let domain = if family == "mvc" {
+            String::new()
+        } else {
+            format!(", {COARSE}")
+        };
         let s = scene(&format!(
-            r#"{CAGE}, "weights": {{"family": "{family}"}}, {COARSE},
+            r#"{CAGE}, "weights": {{"family": "{family}"}}{domain},
                "poses": [{{"cage_positions": [[7, -3], [107, -3], [107, 97], [7, 97]]}},
                          {{"cage_positions": [[0, 0], [100, 0], [130, 120], [0, 100]]}},
                          {{"transforms": [{{"position": [7, -3]}}, {{"translate": [7, -3]}},
@@ -274,17 +280,25 @@ fn scene_handles_cage_translation_and_local_move() {
 
 #[test]
 fn scene_handles_cage_invariants() {
-    // Harmonic coordinates are linearly precise: one affine map on every cage vertex maps the
-    // drawing (inside the cage) by it.
+    // Harmonic and mean value coordinates are linearly precise: one affine map on every cage
+    // vertex maps the drawing (inside the cage) by it.
+    let a = Affine::new([1.1, 0.2, -0.3, 0.9, 4.0, -7.0]);
     let s = scene(&format!(
         r#"{CAGE}, "weights": {{"family": "harmonic"}}, {COARSE}"#
     ))
     .unwrap();
-    check_invariants(
-        &s,
-        Affine::new([1.1, 0.2, -0.3, 0.9, 4.0, -7.0]),
-        "harmonic cage",
-    );
+    check_invariants(&s, a, "harmonic cage");
+    let s = scene(&format!(r#"{CAGE}, "weights": {{"family": "mvc"}}"#)).unwrap();
+    check_invariants(&s, a, "mvc cage");
+    // A cage of six vertices, not convex, cutting through the drawing (the triangle's apex
+    // (50, 60) is outside it): mean value coordinates are defined, and linearly precise,
+    // outside the cage too.
+    let s = scene(
+        r#""cage": [[0, 0], [60, 10], [100, 0], [100, 100], [50, 55], [0, 100]],
+           "weights": {"family": "mvc"}"#,
+    )
+    .unwrap();
+    check_invariants(&s, a, "mvc non-convex cage");
     // Points and bones inside a cage: the cage's weights take the boundary, the others are 0
     // there; every invariant holds for translations.
     let s = scene(&format!(
@@ -301,11 +315,24 @@ fn scene_handles_cage_invariants() {
     assert!(max_error(&rest, &out, |_, p| p) <= INVARIANT_TOLERANCE);
 }
 
+/// The `harmonic` family on a cage alone is exactly the library's harmonic coordinates.
 #[test]
-fn scene_handles_mvc_is_reported_until_implemented() {
-    let s = scene(&format!(r#"{CAGE}, "weights": {{"family": "mvc"}}"#)).unwrap();
-    let e = s.setup(Compat::None).err().expect("mvc").to_string();
-    assert!(e.contains("weight function 'mvc'"), "{e}");
+fn scene_handles_harmonic_cage_is_harmonic_coordinates() {
+    let s = scene(&format!(
+        r#"{CAGE}, "weights": {{"family": "harmonic"}}, {COARSE}"#
+    ))
+    .unwrap();
+    let setup = s.setup(Compat::None).unwrap();
+    let domain = setup.domain.as_ref().unwrap();
+    let reference = splineskin::weights::harmonic_coordinates(domain).unwrap();
+    let field =
+        splineskin::domain::MeshWeights::new(&domain.mesh, reference.into_values(), 4).unwrap();
+    let (mut a, mut b) = ([0.0; 4], [0.0; 4]);
+    for p in [(50.0, 50.0), (12.5, 80.25), (99.0, 1.0), (140.0, 30.0)] {
+        setup.weights.eval(p.into(), &mut a);
+        field.eval(p.into(), &mut b);
+        assert_eq!(a, b, "at {p:?}");
+    }
 }
 
 /// Errors of scenes, by the element they name.
@@ -325,7 +352,7 @@ fn scene_handles_bad_input_names_the_element() {
         (
             "handle on the cage",
             format!(r#"{CAGE}, "handles": [{{"position": [100, 50]}}], "weights": {{"family": "harmonic"}}, {COARSE}"#),
-            &["handles[0]", "lies on the cage's edge 1"],
+            &["handles[0]", "lies on the cage's edge 1 (from cage[1] to cage[2])"],
         ),
         (
             "coincident handles",
@@ -381,6 +408,16 @@ fn scene_handles_bad_input_names_the_element() {
             "shepard on a cage",
             CAGE.to_string(),
             &["weights", "not a cage"],
+        ),
+        (
+            "mvc without a cage",
+            r#""bones": [{"ends": [[10, 10], [20, 20]]}], "weights": {"family": "mvc"}"#.into(),
+            &["weights", "cage's vertices only"],
+        ),
+        (
+            "mvc with a clockwise cage",
+            r#""cage": [[0, 0], [0, 100], [100, 100]], "weights": {"family": "mvc"}"#.into(),
+            &["cage", "clockwise"],
         ),
         (
             "mvc with points",

@@ -102,7 +102,11 @@ pub enum WeightSpec {
     /// A family computed on a triangulation of the drawing's domain
     /// ([`crate::domain::Domain`]): harmonic, biharmonic or bounded biharmonic weights.
     Mesh(MeshFamily),
-    /// A known family that this version does not implement yet (`mvc`).
+    /// Mean value coordinates of the cage (`mvc`; [`crate::weights::MeanValue`]): closed form,
+    /// defined in the whole plane.
+    MeanValue,
+    /// A known family that this version does not implement yet (none at present; kept so a
+    /// family can be announced before it lands).
     NotImplemented(String),
 }
 
@@ -188,7 +192,7 @@ impl WeightSpec {
             "harmonic" => Ok(WeightSpec::Mesh(MeshFamily::Harmonic)),
             "biharmonic" => Ok(WeightSpec::Mesh(MeshFamily::Biharmonic)),
             "bbw" => Ok(WeightSpec::Mesh(MeshFamily::Bbw)),
-            "mvc" => Ok(WeightSpec::NotImplemented(name.to_string())),
+            "mvc" => Ok(WeightSpec::MeanValue),
             other => Err(SceneError::Invalid {
                 origin: origin.to_string(),
                 element: "weights".into(),
@@ -226,7 +230,7 @@ impl WeightSpec {
                  biharmonic or bbw for a cage)"
                     .into(),
             )),
-            WeightSpec::NotImplemented(name) if name == "mvc" && has_others => Err(invalid(
+            WeightSpec::MeanValue if has_others => Err(invalid(
                 "mean value coordinates (mvc) weigh a cage's vertices only: remove the point \
                  handles and bones, or use harmonic, biharmonic or bbw"
                     .into(),
@@ -243,6 +247,7 @@ impl WeightSpec {
         match self {
             WeightSpec::Shepard { .. } => "shepard",
             WeightSpec::Mesh(family) => family.name(),
+            WeightSpec::MeanValue => "mvc",
             WeightSpec::NotImplemented(name) => name,
         }
     }
@@ -409,7 +414,7 @@ impl Scene {
             return Err(SceneError::NotImplemented {
                 origin: self.origin.clone(),
                 what: format!(
-                    "weight function '{name}' (available: shepard, harmonic, biharmonic, bbw)"
+                    "weight function '{name}' (available: shepard, harmonic, biharmonic, bbw, mvc)"
                 ),
             });
         }

@@ -36,7 +36,7 @@
 //! | `handles` | point handles: `position` = rest position in the SVG's user units (viewBox). Default: none |
 //! | `bones` | segment handles: `ends` = `[[x0, y0], [x1, y1]]` rest end points (distinct); `transform` = `"rigid"` (default) or `"affine"`, how a posed bone is read ([`super::BoneTransform`]). Default: none |
 //! | `cage` | `[[x, y], …]`: a simple polygon of at least 3 vertices, **counter-clockwise** (positive shoelace area `½ Σ p_k × p_{k+1}`; clockwise is refused, not reversed), closed implicitly (do not repeat the first vertex). Each vertex is a handle whose pose is a translation. Default: none |
-//! | `weights` | `family`: `shepard` (`exponent`, default 2), `harmonic`, `biharmonic`, `bbw` (computed on a triangulation of the drawing's domain, [`crate::domain`]) or `mvc` (recognised, not implemented yet). Which family takes which handles: [`super::WeightSpec::check_handles`] |
+//! | `weights` | `family`: `shepard` (`exponent`, default 2), `harmonic`, `biharmonic`, `bbw` (computed on a triangulation of the drawing's domain, [`crate::domain`]) or `mvc` (mean value coordinates of the cage, closed form). Which family takes which handles: [`super::WeightSpec::check_handles`] |
 //! | `domain` | options of the triangulated domain (mesh families only): `min_angle` (degrees), `max_area_fraction`, `holes` (bool), `max_vertices`, `samples_per_diagonal`, `max_samples_per_curve`, `max_curve_samples`, `padding`; each optional, defaults and ranges in [`crate::domain::DomainOptions`] |
 //! | `arc_length` | integrate with respect to arc length rather than length-weighted `t` (default false) |
 //! | `junctions` | overrides: path index (subpaths in document order), joint index (joint `k` starts curve `k`), `kind` ∈ `C0`, `C1`, `G1`, `angle` |
@@ -705,12 +705,11 @@ mod tests {
     }
 
     #[test]
-    fn scene_not_implemented_family_loads_but_is_reported() {
+    fn scene_mvc_takes_a_cage_only() {
         let cage = r#"{"splineskin_scene": 1, "svg_text": "<svg/>", "cage": [[0, 0], [5, 0], [0, 5]], "weights": {"family": "mvc"}}"#;
         let s = parse(cage, "test", None).unwrap();
-        let e = s.check_supported().unwrap_err();
-        assert!(e.to_string().contains("weight function 'mvc'"), "{e}");
-        // mvc weighs a cage only.
+        assert_eq!(s.weights, WeightSpec::MeanValue);
+        assert!(s.check_supported().is_ok());
         let e = scene(r#", "weights": {"family": "mvc"}"#).unwrap_err();
         assert!(
             e.to_string().contains("weights: mean value coordinates"),

@@ -2,15 +2,17 @@
 //! kinds), the weight functions and the fit options, in our default mode or in the paper
 //! authors' compatibility mode.
 
-use crate::domain::coarse_to_fine::bbw_coarse_to_fine;
 use crate::domain::polygon::{self_intersection, signed_area};
 use crate::domain::{Domain, DomainError, DomainOptions, MeshWeights};
 use crate::drawing::authors_svg::read_authors_drawing_named;
 use crate::drawing::{read_svg_named, Drawing, ImportOptions, JointKind};
 use crate::spline_fit::FitOptions;
-use crate::weights::bbw::BbwOptions;
+use crate::weights::bbw::{bounded_biharmonic, BbwOptions};
 use crate::weights::harmonic::harmonic;
-use crate::weights::{DirichletData, Shepard, ShepardOptions, WeightField};
+use crate::weights::{
+    cage_boundary_data, DirichletData, MeanValue, Shepard, ShepardOptions, WeightField,
+    WeightsError,
+};
 
 use super::{
     handle_element, HandleKind, HandleSet, MeshFamily, Scene, SceneError, SceneFormat,
@@ -177,7 +179,8 @@ pub struct WeightInputs<'a> {
 ///
 /// * `shepard`: [`Shepard`] for point handles alone (as before bones existed, bit for bit),
 ///   [`SegmentShepard`] (distance to the segment) when there are bones;
-/// * `harmonic`, `biharmonic`, `bbw`: [`mesh_weights`].
+/// * `harmonic`, `biharmonic`, `bbw`: [`mesh_weights`];
+/// * `mvc`: [`MeanValue`] of the cage (defined in the whole plane, inside and outside).
 ///
 /// Errors: handle kinds the family cannot weigh ([`WeightSpec::check_handles`]), no handles, a
 /// family not implemented, and those of [`mesh_weights`].
@@ -219,6 +222,19 @@ pub fn handle_weights(
         WeightSpec::Mesh(family) => {
             let (weights, domain) = mesh_weights(drawing, inputs, *family)?;
             Ok((Box::new(weights), Some(domain)))
+        }
+        WeightSpec::MeanValue => {
+            // `check_handles` made sure there is a cage and nothing else.
+            let cage = handles.cage.unwrap_or(&[]);
+            let weights = MeanValue::new(cage).map_err(|e| match e {
+                WeightsError::Cage(e) => domain_error(e, inputs, "mvc"),
+                e => SceneError::Weights {
+                    origin: inputs.origin.to_string(),
+                    family: "mvc",
+                    source: Box::new(e),
+                },
+            })?;
+            Ok((Box::new(weights), None))
         }
         WeightSpec::NotImplemented(name) => Err(SceneError::NotImplemented {
             origin: inputs.origin.to_string(),
@@ -267,19 +283,9 @@ pub fn mesh_weights(
         MeshFamily::Harmonic => harmonic(mesh, &data, 1),
         MeshFamily::Biharmonic => harmonic(mesh, &data, 2),
         MeshFamily::Bbw => {
-            // Solved coarse to fine (same minimiser, a fraction of the active-set re-solves),
-            // handles in parallel, then normalised like libigl's users do.
-            let coarse_data = |d: &Domain| handle_dirichlet_data(d, inputs, family.name()).ok();
-            let raw = bbw_coarse_to_fine(
-                drawing,
-                handles.points,
-                &handles.bone_segments(),
-                &options,
-                &domain,
-                &data,
-                coarse_data,
-                &BbwOptions::default().with_parallel(true),
-            );
+            // The BBW solve, in this one call (its solver is to be swapped for speed), then
+            // normalised like libigl's users do.
+            let raw = bounded_biharmonic(mesh, &data, &BbwOptions::default());
             raw.and_then(|mut w| w.normalize_rows().map(|()| w))
         }
     }
@@ -296,10 +302,12 @@ pub fn mesh_weights(
 ///   vertex;
 /// * bone `b`: 1 at every vertex along it (`domain.bone_vertices[b]`), 0 elsewhere; at an end
 ///   shared by `m` bones each of them gets `1/m` (the data of every vertex sum to 1);
-/// * cage vertex `k`: along the outer boundary, piecewise linear between the cage's corners:
-///   `1 − s` on the edge from corner `k` to corner `k + 1` and `s` on the edge before it,
-///   `s ∈ [0, 1]` the position along the edge (Joshi et al. 2007, harmonic coordinates). Point
-///   handles and bones have weight 0 on the cage; holes' boundaries are free.
+/// * cage vertex `k`: along the outer boundary, piecewise linear between the cage's corners
+///   ([`cage_boundary_data`]: `1 − s` on the edge from corner `k` to corner `k + 1` and `s` on
+///   the edge before it, `s ∈ [0, 1]` the position along the edge; Joshi et al. 2007, harmonic
+///   coordinates). Point handles and bones have weight 0 on the cage; holes' boundaries are
+///   free. On a cage alone the `harmonic` family is thus exactly
+///   [`crate::weights::harmonic_coordinates`].
 ///
 /// Errors: a point handle or bone end on the cage (its vertex would carry two kinds of data).
 /// `family` names the weights in messages.
@@ -359,54 +367,41 @@ pub fn handle_dirichlet_data(
         let m: f64 = r.iter().sum();
         r.iter_mut().for_each(|w| *w /= m);
     }
-    if let Some(cage) = handles.cage {
-        let n_c = cage.len();
-        let outer = domain
-            .boundary_loops
-            .first()
-            .ok_or_else(|| bug("a cage domain without a boundary loop"))?;
-        let mut position: Vec<Option<usize>> = vec![None; n_vertices];
-        for (k, &v) in outer.iter().enumerate() {
-            position[v] = Some(k);
-        }
-        if domain.cage_vertices.len() != n_c {
-            return Err(bug("the domain does not have one vertex per cage corner"));
-        }
-        for k in 0..n_c {
-            let (a, b) = (cage[k], cage[(k + 1) % n_c]);
-            let (start, end) = (domain.cage_vertices[k], domain.cage_vertices[(k + 1) % n_c]);
-            let (Some(mut at), Some(stop)) = (position[start], position[end]) else {
-                return Err(bug("a cage corner is not on the outer boundary"));
-            };
-            let column = n_p + n_b + k;
-            let next_column = n_p + n_b + (k + 1) % n_c;
-            // From corner k (included) to corner k + 1 (excluded), counter-clockwise.
-            loop {
-                let v = outer[at];
-                if let Some((kind, _)) = rows.owner[v] {
-                    return Err(invalid(
-                        kind,
+    if handles.cage.is_some() {
+        let cage = cage_boundary_data(domain).map_err(|e| SceneError::Weights {
+            origin: inputs.origin.to_string(),
+            family,
+            source: Box::new(e),
+        })?;
+        let (first_column, n_c) = (n_p + n_b, cage.n_columns());
+        for (r, &v) in cage.vertices().iter().enumerate() {
+            let values = cage.values_at(r);
+            // The corner with the largest weight here, and the edge the vertex lies on.
+            let nonzero: Vec<usize> = (0..n_c).filter(|&k| values[k] != 0.0).collect();
+            let corner = (0..n_c)
+                .max_by(|&a, &b| values[a].total_cmp(&values[b]))
+                .unwrap_or(0);
+            if let Some((kind, _)) = rows.owner[v] {
+                let place = match nonzero[..] {
+                    [a, b] => {
+                        let edge = if (a + 1) % n_c == b { a } else { b };
                         format!(
-                            "lies on the cage's edge {k} (from cage[{k}] to cage[{}]), where the \
-                             cage's weights are prescribed: move it inside the cage",
-                            (k + 1) % n_c
-                        ),
-                    ));
-                }
-                let row = rows.add(v, HandleKind::CageVertex(k));
-                let s = if v == start {
-                    0.0
-                } else {
-                    let ab = b - a;
-                    ((domain.mesh.vertices[v] - a).dot(ab) / ab.hypot2()).clamp(0.0, 1.0)
+                            "on the cage's edge {edge} (from cage[{edge}] to cage[{}])",
+                            (edge + 1) % n_c
+                        )
+                    }
+                    _ => format!("at cage[{corner}]"),
                 };
-                rows.values[row * h + column] = 1.0 - s;
-                rows.values[row * h + next_column] += s;
-                at = (at + 1) % outer.len();
-                if at == stop {
-                    break;
-                }
+                return Err(invalid(
+                    kind,
+                    format!(
+                        "lies {place}, where the cage's weights are prescribed: move it inside \
+                         the cage"
+                    ),
+                ));
             }
+            let row = rows.add(v, HandleKind::CageVertex(corner));
+            rows.values[row * h + first_column..][..n_c].copy_from_slice(values);
         }
     }
     DirichletData::new(rows.vertices, rows.values, h).map_err(|e| SceneError::Weights {
