@@ -2,12 +2,13 @@
 //! kinds), the weight functions and the fit options, in our default mode or in the paper
 //! authors' compatibility mode.
 
+use crate::domain::coarse_to_fine::bbw_coarse_to_fine;
 use crate::domain::polygon::{self_intersection, signed_area};
 use crate::domain::{Domain, DomainError, DomainOptions, MeshWeights};
 use crate::drawing::authors_svg::read_authors_drawing_named;
 use crate::drawing::{read_svg_named, Drawing, ImportOptions, JointKind};
 use crate::spline_fit::FitOptions;
-use crate::weights::bbw::{bounded_biharmonic, BbwOptions};
+use crate::weights::bbw::BbwOptions;
 use crate::weights::harmonic::harmonic;
 use crate::weights::{
     cage_boundary_data, DirichletData, MeanValue, Shepard, ShepardOptions, WeightField,
@@ -283,9 +284,19 @@ pub fn mesh_weights(
         MeshFamily::Harmonic => harmonic(mesh, &data, 1),
         MeshFamily::Biharmonic => harmonic(mesh, &data, 2),
         MeshFamily::Bbw => {
-            // The BBW solve, in this one call (its solver is to be swapped for speed), then
-            // normalised like libigl's users do.
-            let raw = bounded_biharmonic(mesh, &data, &BbwOptions::default());
+            // Solved coarse to fine (same minimiser, a fraction of the active-set re-solves),
+            // handles in parallel, then normalised like libigl's users do.
+            let coarse_data = |d: &Domain| handle_dirichlet_data(d, inputs, family.name()).ok();
+            let raw = bbw_coarse_to_fine(
+                drawing,
+                handles.points,
+                &handles.bone_segments(),
+                &options,
+                &domain,
+                &data,
+                coarse_data,
+                &BbwOptions::default().with_parallel(true),
+            );
             raw.and_then(|mut w| w.normalize_rows().map(|()| w))
         }
     }
