@@ -24,7 +24,7 @@ use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use serde::{Deserialize, Serialize};
 use splineskin::mesh::{MeshError, TriMesh};
-use splineskin::scene::{Compat, Scene};
+use splineskin::scene::{Compat, HandleSet, Scene};
 use splineskin::weight_map::{
     render_weight_map, HandleMarker, WeightMapOptions, DEFAULT_ISO_STEP, DEFAULT_PANEL_WIDTH,
 };
@@ -133,10 +133,11 @@ fn draw_scene(scene_path: &Path, args: &Args) -> Result<()> {
         );
     }
     let scene = Scene::load(scene_path)?;
-    let n_handles = scene.handles.len();
+    let n_handles = scene.n_handles();
     if let Some(i) = args.handle.filter(|&i| i >= n_handles) {
         bail!(
-            "{}: --handle {i}: no such handle (the scene has {n_handles}, numbered from 0)",
+            "{}: --handle {i}: no such handle (the scene has {n_handles}, numbered from 0: \
+             points, then bones, then cage vertices)",
             scene_path.display()
         );
     }
@@ -150,11 +151,7 @@ fn draw_scene(scene_path: &Path, args: &Args) -> Result<()> {
     if args.mesh_lines && mesh.is_none() {
         eprintln!("warning: --mesh-lines: {family} weights are not solved on a mesh; none drawn");
     }
-    let markers: Vec<HandleMarker> = scene
-        .handles
-        .iter()
-        .map(|&p| HandleMarker::Point(p))
-        .collect();
+    let markers = handle_markers(&scene.handle_set());
     let options = WeightMapOptions::default()
         .with_panel_width(args.width)
         .with_handle(args.handle)
@@ -182,14 +179,32 @@ fn draw_scene(scene_path: &Path, args: &Args) -> Result<()> {
         map.layout.width,
         map.layout.height
     );
+    let handles = scene.handle_set();
     for r in map.ranges.iter().filter(|r| !r.is_within_unit()) {
+        let element = handles
+            .kind(r.handle)
+            .map(|k| format!(" ({})", scene.element(k)))
+            .unwrap_or_default();
         eprintln!(
-            "note: handle {}: weights from {:.4} to {:.4}, outside [0, 1] (below 0 in red, \
-             above 1 in pink)",
+            "note: handle {}{element}: weights from {:.4} to {:.4}, outside [0, 1] (below 0 in \
+             red, above 1 in pink)",
             r.handle, r.min, r.max
         );
     }
     Ok(())
+}
+
+/// How each handle is drawn, in rig order: point handles and cage vertices as points, bones
+/// as segments.
+fn handle_markers(handles: &HandleSet) -> Vec<HandleMarker> {
+    let points = handles.points.iter().map(|&p| HandleMarker::Point(p));
+    let bones = handles.bones.iter().map(|b| HandleMarker::Segment(b.ends));
+    let cage = handles
+        .cage
+        .unwrap_or(&[])
+        .iter()
+        .map(|&p| HandleMarker::Point(p));
+    points.chain(bones).chain(cage).collect()
 }
 
 fn kind_name(kind: Kind) -> &'static str {

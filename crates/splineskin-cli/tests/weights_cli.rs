@@ -452,7 +452,7 @@ fn markers() -> Vec<HandleMarker> {
 }
 
 /// Two Shepard handles: two panels stacked (the arc's frame is wide), sized as the library's
-/// layout says (and as worked out by hand: 232 × 201 at 220 px panels, see the library's
+/// layout says (and as worked out by hand: 232 × 244 at 220 px panels, see the library's
 /// `weight_map_layout_by_hand`); in panel i the pixel at handle i has the map's top colour
 /// (weight 1 − 5e-5 at its centre) and the pixel at the other handle its bottom colour.
 /// `--handle 1` draws that panel alone.
@@ -469,8 +469,8 @@ fn weights_cli_scene_shepard_panels() {
     let drawing = scene.drawing(Compat::None).unwrap();
     let options = WeightMapOptions::default().with_panel_width(220);
     let layout = WeightMapLayout::new(&drawing, &markers(), None, &options).unwrap();
-    assert_eq!((image.width, image.height), (232, 201));
-    assert_eq!((layout.width, layout.height), (232, 201));
+    assert_eq!((image.width, image.height), (232, 244));
+    assert_eq!((layout.width, layout.height), (232, 244));
     assert_eq!(layout.panels.len(), 2);
     for panel in 0..2 {
         for (i, &h) in ARC_HANDLES.iter().enumerate() {
@@ -490,7 +490,7 @@ fn weights_cli_scene_shepard_panels() {
     let (one, _) = draw(&dir, "one.png", &["--width", "220", "--handle", "1"]);
     let layout =
         WeightMapLayout::new(&drawing, &markers(), None, &options.with_handle(Some(1))).unwrap();
-    assert_eq!((one.width, one.height), (232, 201 - 86));
+    assert_eq!((one.width, one.height), (232, 244 - 104));
     assert_eq!((layout.width, layout.height), (one.width, one.height));
     let at = |h: Point| one.colour_at(layout.to_pixel(0, h).unwrap());
     assert_eq!(at(ARC_HANDLES[1]), Some(viridis(1.0)));
@@ -563,6 +563,74 @@ fn weights_cli_scene_harmonic_mesh_lines() {
         // The mesh has thousands of edges; nine iso-levels cross each panel.
         assert!(n_changed > 2000, "{name}: {n_changed} pixels changed");
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Bones and cage vertices are handles too: a bone gets a panel after the point handles (and
+/// is in the frame), a cage's vertices one each; `--handle` counts them all.
+#[test]
+fn weights_cli_scene_bones_and_cage() {
+    let dir = case_dir("scene-bones");
+    let bone = [Point::new(60.0, -5.0), Point::new(90.0, -5.0)];
+    let scene = format!(
+        r#"{{"splineskin_scene": 1, "svg_text": "{ARC_SVG}", "handles": [{{"position": [25, 0]}}],
+            "bones": [{{"ends": [[{}, {}], [{}, {}]]}}], "weights": {{"family": "shepard"}}}}"#,
+        bone[0].x, bone[0].y, bone[1].x, bone[1].y
+    );
+    std::fs::write(dir.join("scene.json"), scene).unwrap();
+    let (image, stderr) = draw(&dir, "w.png", &[]);
+    assert!(stderr.contains("2 of 2 handles"), "{stderr}");
+    let drawing = Scene::load(&dir.join("scene.json"))
+        .unwrap()
+        .drawing(Compat::None)
+        .unwrap();
+    let markers = [
+        HandleMarker::Point(ARC_HANDLES[0]),
+        HandleMarker::Segment(bone),
+    ];
+    let options = WeightMapOptions::default();
+    let layout = WeightMapLayout::new(&drawing, &markers, None, &options).unwrap();
+    let without_bone = WeightMapLayout::new(&drawing, &markers[..1], None, &options).unwrap();
+    assert!(
+        layout.frame.y0 < without_bone.frame.y0,
+        "the bone is in the frame"
+    );
+    assert_eq!((image.width, image.height), (layout.width, layout.height));
+    assert_eq!(layout.panels.len(), 2);
+    let at = |panel: usize| image.colour_at(layout.to_pixel(panel, ARC_HANDLES[0]).unwrap());
+    assert_eq!(at(0), Some(viridis(1.0)));
+    assert_eq!(at(1), Some(viridis(0.0)));
+    let _ = std::fs::remove_dir_all(&dir);
+
+    // A cage alone, harmonic coordinates of the caged domain: four handles, four panels.
+    let dir = case_dir("scene-cage");
+    let scene = format!(
+        r#"{{"splineskin_scene": 1, "svg_text": "{ARC_SVG}",
+            "cage": [[-10, -10], [110, -10], [110, 40], [-10, 40]],
+            "weights": {{"family": "harmonic"}}}}"#
+    );
+    std::fs::write(dir.join("scene.json"), scene).unwrap();
+    let (image, stderr) = draw(&dir, "w.png", &["--width", "200"]);
+    assert!(stderr.contains("4 of 4 handles"), "{stderr}");
+    let scene = Scene::load(&dir.join("scene.json")).unwrap();
+    let setup = scene.setup(Compat::None).unwrap();
+    let cage = scene.cage.clone().unwrap();
+    let markers: Vec<HandleMarker> = cage.iter().map(|&p| HandleMarker::Point(p)).collect();
+    let options = WeightMapOptions::default().with_panel_width(200);
+    let mesh = setup.domain.as_ref().map(|d| &d.mesh);
+    let layout = WeightMapLayout::new(&setup.drawing, &markers, mesh, &options).unwrap();
+    assert_eq!(layout.panels.len(), 4);
+    assert_eq!((image.width, image.height), (layout.width, layout.height));
+    let out = run(
+        &dir,
+        &["weights", "scene.json", "-o", "x.png", "--handle", "4"],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("the scene has 4"),
+        "{stderr}"
+    );
+    assert!(!dir.join("x.png").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

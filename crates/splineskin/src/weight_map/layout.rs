@@ -33,6 +33,10 @@ pub const LINE_SCALE_RANGE: (f64, f64) = (0.5, 4.0);
 /// Rounding slack when making the panel height a whole number of pixels: 1e-6 px.
 const PIXEL_SLACK: f64 = 1e-6;
 
+/// Smallest size of a font pixel, in pixels: 2 (digits 6 × 10 px, legible at any panel
+/// width).
+const MIN_GLYPH_SCALE: u32 = 2;
+
 /// Nominal gutter between panels and around the image, in pixels.
 const GUTTER: f64 = 12.0;
 /// Nominal height of the colour bar, in pixels.
@@ -96,6 +100,8 @@ pub struct WeightMapLayout {
     /// Size of a font pixel of the colour bar's tick labels, in pixels (panel labels are one
     /// step larger).
     pub glyph_scale: u32,
+    /// Height of the strip above each panel holding its handle's index, in pixels.
+    pub label_height: u32,
 }
 
 impl WeightMapLayout {
@@ -168,21 +174,23 @@ impl WeightMapLayout {
         let line_scale =
             (f64::from(pw) / REFERENCE_PANEL_WIDTH).clamp(LINE_SCALE_RANGE.0, LINE_SCALE_RANGE.1);
         let gutter = ((GUTTER * line_scale).round() as u32).max(4);
-        let glyph_scale = ((2.0 * line_scale).round() as u32).max(1);
+        let glyph_scale = ((2.0 * line_scale).round() as u32).max(MIN_GLYPH_SCALE);
         let bar_height = (BAR_HEIGHT * line_scale).round();
-        let label_height = f64::from(super::glyphs::GLYPH_HEIGHT * glyph_scale);
+        let tick_label_height = f64::from(super::glyphs::GLYPH_HEIGHT * glyph_scale);
+        // The panel label: glyphs one step larger, over a gap of one of their pixels.
+        let label_height = (super::glyphs::GLYPH_HEIGHT + 1) * (glyph_scale + 1);
 
         let size = |count: usize, panel: u32| -> u64 {
             u64::from(gutter) + count as u64 * (u64::from(panel) + u64::from(gutter))
         };
         let width = size(columns, pw);
-        let grid_height = size(rows, ph);
+        let grid_height = size(rows, label_height + ph);
         let bar_top = grid_height as f64;
         let height = grid_height as f64
             + bar_height
             + (TICK_LENGTH * line_scale).round()
             + f64::from(glyph_scale) * 2.0
-            + label_height
+            + tick_label_height
             + f64::from(gutter);
         let height = height as u64;
         if width > u64::from(MAX_IMAGE_SIDE)
@@ -204,7 +212,7 @@ impl WeightMapLayout {
             .map(|(k, &handle)| Panel {
                 handle,
                 x: gutter + (k % columns) as u32 * (pw + gutter),
-                y: gutter + (k / columns) as u32 * (ph + gutter),
+                y: gutter + label_height + (k / columns) as u32 * (label_height + ph + gutter),
             })
             .collect();
         let main = (BAR_MAIN_FRACTION * f64::from(pw)).round();
@@ -224,6 +232,7 @@ impl WeightMapLayout {
             line_scale,
             gutter,
             glyph_scale,
+            label_height,
         })
     }
 

@@ -2,8 +2,9 @@
 //! drawing, one panel per handle, as a PNG image.
 //!
 //! ```text
+//!  0                1                  the handle's index above its panel
 //! ┌──────────────┐ ┌──────────────┐
-//! │0             │ │1             │   panel i: w_i sampled at every pixel centre, in viridis
+//! │              │ │              │   panel i: w_i sampled at every pixel centre, in viridis
 //! │   ◎      ○   │ │   ○      ◎   │   ◎ handle i, ○ the other handles
 //! │  ~~curves~~  │ │  ~~curves~~  │   the drawing's curves as thin dark strokes on top
 //! └──────────────┘ └──────────────┘   optional: mesh edges, iso-lines every 0.1
@@ -336,7 +337,7 @@ pub struct WeightMap {
 /// are those of the nearest boundary point), the curves (dark, over a light halo so that they
 /// read on dark colours too), every handle (a ring for a point, large for handle `i` and small for the others, the pixel at its
 /// centre keeping its weight colour; a segment for a bone, thick for handle `i`) and the
-/// handle's index in the top-left corner.
+/// handle's index above the panel.
 ///
 /// Errors: those of [`WeightMapLayout::new`], [`WeightMapError::HandleCount`],
 /// [`WeightMapError::InvalidIsoStep`], [`WeightMapError::NonFiniteWeight`], and allocation or
@@ -431,8 +432,6 @@ pub fn render_weight_map(
             let own = i == placement.handle;
             handle_marker(&mut panel, h, own, &layout);
         }
-        let label = placement.handle.to_string();
-        panel_label(&mut panel, &label, &layout);
         image.draw_pixmap(
             placement.x as i32,
             placement.y as i32,
@@ -442,6 +441,12 @@ pub fn render_weight_map(
             None,
         );
         panel_border(&mut image, placement, &layout);
+        panel_label(
+            &mut image,
+            &placement.handle.to_string(),
+            placement,
+            &layout,
+        );
     }
     let below = ranges.iter().any(|r| range_of(r.min) == Range::Below);
     let above = ranges.iter().any(|r| range_of(r.max) == Range::Above);
@@ -716,8 +721,6 @@ const BAR_LINE: Line = Line {
     rgba: [60, 60, 60, 255],
     width: 1.0,
 };
-/// Box behind a panel's label.
-const LABEL_BOX: [u8; 4] = [255, 255, 255, 215];
 /// A panel's label.
 const LABEL_TEXT: [u8; 4] = [0, 0, 0, 255];
 /// The colour bar's tick values.
@@ -797,27 +800,11 @@ fn handle_marker(pixmap: &mut Pixmap, marker: &HandleMarker, own: bool, layout: 
     }
 }
 
-/// The handle index in the panel's top-left corner, black on a translucent white box.
-fn panel_label(pixmap: &mut Pixmap, text: &str, layout: &WeightMapLayout) {
+/// The handle index in the strip above the panel, left-aligned, black.
+fn panel_label(image: &mut Pixmap, text: &str, panel: &Panel, layout: &WeightMapLayout) {
     let s = layout.glyph_scale + 1;
-    let pad = f64::from(s);
-    let (w, h) = (
-        f64::from(glyphs::text_width(text, s)) + 2.0 * pad,
-        f64::from(glyphs::GLYPH_HEIGHT * s) + 2.0 * pad,
-    );
-    let corner = (2.0 * pad).round();
-    if let Some(rect) = tiny_skia::Rect::from_xywh(corner as f32, corner as f32, w as f32, h as f32)
-    {
-        pixmap.fill_rect(rect, &paint(LABEL_BOX), Transform::identity(), None);
-    }
-    glyphs::draw_text(
-        pixmap,
-        text,
-        corner + pad,
-        corner + pad,
-        s,
-        &paint(LABEL_TEXT),
-    );
+    let top = f64::from(panel.y) - f64::from(layout.label_height);
+    glyphs::draw_text(image, text, f64::from(panel.x), top, s, &paint(LABEL_TEXT));
 }
 
 /// A one-pixel grey frame just outside the panel.
@@ -984,9 +971,10 @@ mod tests {
     fn weight_map_layout_by_hand() {
         // Content: the arc (x 0..100, y 0..30) and the handles (y = 0): 100 × 30; margin
         // 5 % of 100 → frame (−5, −5)–(105, 35), 110 × 40. At 220 px: scale 2, panels
-        // 220 × 80; line scale 0.5 (clamped), gutter 6, glyphs 1 px. Two wide panels stack
-        // (1 column: 220 × 160 is nearer square than 440 × 80). Width 6 + 220 + 6 = 232;
-        // height 6 + 2·(80 + 6) = 178, + bar 7 + tick 3 + 2 + label 5 + gutter 6 = 201.
+        // 220 × 80; line scale 0.5 (clamped), gutter 6, glyphs 2 px (the least), panel
+        // labels 3 px in a strip of 6 · 3 = 18 px. Two wide panels stack (1 column: 220 × 160
+        // is nearer square than 440 × 80). Width 6 + 220 + 6 = 232; height
+        // 6 + 2·(18 + 80 + 6) = 214, + bar 7 + tick 3 + 4 + tick labels 10 + gutter 6 = 244.
         let (drawing, handles) = arc_scene();
         let options = WeightMapOptions::default().with_panel_width(220);
         let layout = WeightMapLayout::new(&drawing, &markers(&handles), None, &options).unwrap();
@@ -1000,19 +988,19 @@ mod tests {
                 Panel {
                     handle: 0,
                     x: 6,
-                    y: 6
+                    y: 24
                 },
                 Panel {
                     handle: 1,
                     x: 6,
-                    y: 92
+                    y: 128
                 }
             ]
         );
-        assert_eq!((layout.width, layout.height), (232, 201));
+        assert_eq!((layout.width, layout.height), (232, 244));
         assert_eq!(
             layout.to_pixel(1, handles[1]),
-            Some(Point::new(6.0 + 160.0, 92.0 + 10.0))
+            Some(Point::new(6.0 + 160.0, 128.0 + 10.0))
         );
         assert_eq!(layout.to_pixel(2, handles[1]), None);
         // One handle: one panel.
@@ -1028,10 +1016,10 @@ mod tests {
             vec![Panel {
                 handle: 1,
                 x: 6,
-                y: 6
+                y: 24
             }]
         );
-        assert_eq!((one.width, one.height), (232, 201 - 86));
+        assert_eq!((one.width, one.height), (232, 244 - 104));
     }
 
     #[test]
@@ -1056,6 +1044,18 @@ mod tests {
                 };
                 assert_eq!(image.colour_at(at), Some(want), "panel {panel}, handle {i}");
             }
+        }
+        // Each panel's index is written above it: "0" and "1" (3 px font pixels, 9 × 15 px).
+        for (k, panel) in map.layout.panels.iter().enumerate() {
+            let inked = |dx: u32, dy: u32| {
+                let y = panel.y - map.layout.label_height + dy;
+                image.pixel(panel.x + dx, y).unwrap()[..3] == [0, 0, 0]
+            };
+            // Both glyphs have their middle column set on the top row; only "0" has its right
+            // column set on the second row ("0" is .X. / X.X, "1" is .X. / XX.).
+            assert!(inked(4, 1), "panel {k}");
+            assert_eq!(inked(7, 4), k == 0, "panel {k}");
+            assert!(!inked(4, 16), "panel {k}: the gap under the label");
         }
         // Shepard weights are in [0, 1]: no out-of-range tint, the bar has no extensions.
         assert!(map.ranges.iter().all(|r| r.is_within_unit()));
