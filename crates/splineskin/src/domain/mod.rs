@@ -21,6 +21,13 @@
 //! 3. else the bounding box of the curves and handles, padded on every side by
 //!    [`DomainOptions::padding`] times the drawing's diagonal — [`Boundary::Padded`].
 //!
+//! The paper authors' code always gives Triangle one closed path's sampled outline (meant to be
+//! the largest by bounding box) and does not check that the rest of the drawing is inside it:
+//! samples outside belong to no triangle, their BBW solve then fails, and their code silently
+//! uses Shepard weights instead (two of their saved BBW scenes; see
+//! `tests/vectorskinning_mesh_weights.rs`). Rule 2 checks containment instead, counting curves
+//! drawn along the outline (within one sample spacing) as on it.
+//!
 //! With [`DomainOptions::holes`], closed paths inside the boundary that enclose nothing else
 //! (no curve sample, handle or bone) and are simple become holes.
 //!

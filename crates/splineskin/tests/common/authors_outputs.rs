@@ -24,6 +24,10 @@ pub struct AuthorsCase {
     pub handle_transforms_2x3: Vec<[[f64; 3]; 2]>,
     pub deformed_paths: Vec<Vec<[f64; 2]>>,
     pub singular_fallback_used: bool,
+    /// BBW scenes: the authors' BBW solve failed and their code used Shepard weights instead
+    /// (absent for other families).
+    #[serde(default)]
+    pub bbw_fell_back_to_shepard: Option<bool>,
 }
 
 impl AuthorsCase {
