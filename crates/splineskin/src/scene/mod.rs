@@ -21,12 +21,10 @@
 pub mod authors;
 pub mod handles;
 pub mod ours;
-mod segment_shepard;
 mod session;
 mod setup;
 
 pub use handles::{Bone, BonePoseError, BoneTransform, HandleKind, HandleSet};
-pub use segment_shepard::SegmentShepard;
 pub use session::{Puppet, PuppetStats};
 pub use setup::{handle_weights, mesh_weights, Compat, Setup, AUTHORS_SHEPARD_SNAP};
 

@@ -11,13 +11,12 @@ use crate::spline_fit::FitOptions;
 use crate::weights::bbw::BbwOptions;
 use crate::weights::harmonic::harmonic;
 use crate::weights::{
-    cage_boundary_data, DirichletData, MeanValue, Shepard, ShepardOptions, WeightField,
-    WeightsError,
+    cage_boundary_data, DirichletData, MeanValue, SegmentShepard, Shepard, ShepardOptions,
+    WeightField, WeightsError,
 };
 
 use super::{
-    handle_element, HandleKind, HandleSet, MeshFamily, Scene, SceneError, SceneFormat,
-    SegmentShepard, WeightSpec,
+    handle_element, HandleKind, HandleSet, MeshFamily, Scene, SceneError, SceneFormat, WeightSpec,
 };
 
 /// Squared distance under which a quadrature sample takes a handle's weight outright in the

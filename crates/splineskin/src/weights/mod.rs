@@ -9,6 +9,7 @@
 //! | family | module | handles |
 //! |---|---|---|
 //! | Shepard (inverse distance) | [`shepard`] | points |
+//! | Shepard with bones (distance to the segment) | [`segment_shepard`] | points and bones |
 //! | harmonic (`k = 1`), biharmonic (`k = 2`) | [`mod@harmonic`] | vertices of a mesh (points, or any Dirichlet data) |
 //! | bounded biharmonic (BBW) | [`bbw`] | vertices of a mesh |
 //! | mean value coordinates (closed form, whole plane) | [`mvc`] | vertices of a cage polygon |
@@ -24,6 +25,7 @@ mod error;
 pub mod harmonic;
 pub mod mvc;
 mod reduced_cholesky;
+pub mod segment_shepard;
 pub mod shepard;
 mod vertex_weights;
 
@@ -33,6 +35,7 @@ pub use dirichlet::DirichletData;
 pub use error::WeightsError;
 pub use harmonic::{harmonic, harmonic_weights};
 pub use mvc::MeanValue;
+pub use segment_shepard::SegmentShepard;
 pub use shepard::{Shepard, ShepardOptions};
 pub use vertex_weights::VertexWeights;
 

@@ -11,14 +11,14 @@
 
 use kurbo::Point;
 
+use super::{ShepardOptions, WeightField};
 use crate::domain::polygon::segment_distance;
-use crate::weights::{ShepardOptions, WeightField};
 
 /// Shepard weights of point handles followed by bones (segments), in that order.
 ///
 /// ```
 /// use kurbo::Point;
-/// use splineskin::scene::SegmentShepard;
+/// use splineskin::weights::SegmentShepard;
 /// use splineskin::weights::{ShepardOptions, WeightField};
 /// let bone = [Point::new(0.0, 0.0), Point::new(4.0, 0.0)];
 /// let w = SegmentShepard::new(&[Point::new(2.0, 2.0)], &[bone], ShepardOptions::default());
