@@ -1,5 +1,6 @@
-//! `splineskin bench SCENE… [--json]`: medians of weight sampling, precomputation and
-//! per-frame update, separately.
+//! `splineskin bench SCENE… [--json]`: medians of the scene's setup (reading the drawing and,
+//! for the mesh families, building the domain and solving the weights), weight sampling,
+//! precomputation and per-frame update, separately.
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -17,6 +18,8 @@ use crate::CompatArg;
 const MIN_UPDATES: usize = 200;
 /// Fewest timed precomputations per scene.
 const MIN_PRECOMPUTES: usize = 3;
+/// Timed scene setups per scene (each solves the weights: seconds for big mesh domains).
+const SETUPS: usize = 3;
 /// Precomputations are repeated until this much time has been spent (or 50 runs).
 const PRECOMPUTE_BUDGET: Duration = Duration::from_secs(2);
 const MAX_PRECOMPUTES: usize = 50;
@@ -51,6 +54,11 @@ struct Row {
     paths: usize,
     handles: usize,
     constraints: usize,
+    /// Vertices of the triangulated domain (mesh weight families only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    domain_vertices: Option<usize>,
+    /// Median seconds of `Scene::setup`: drawing read, domain built and weights solved.
+    setup_s: f64,
     weights_s: f64,
     precompute_s: f64,
     update_s: f64,
@@ -69,11 +77,13 @@ pub fn run(args: Args) -> Result<()> {
     }
     if !args.json {
         println!(
-            "{:<60} {:>7} {:>7} {:>11} {:>12} {:>14} {:>12}",
+            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10} {:>12} {:>14} {:>12}",
             "scene",
             "curves",
             "handles",
             "constraints",
+            "domain V",
+            "setup (s)",
             "weights (s)",
             "precompute (s)",
             "update (s)"
@@ -81,10 +91,18 @@ pub fn run(args: Args) -> Result<()> {
     }
     for path in &args.scenes {
         let scene = Scene::load(path)?;
-        let mut setup = scene.setup(args.compat.into())?;
+        let mut setup_times = Vec::with_capacity(SETUPS);
+        let mut setup = None;
+        for _ in 0..SETUPS {
+            let t = Instant::now();
+            let s = scene.setup(args.compat.into())?;
+            setup_times.push(t.elapsed().as_secs_f64());
+            setup = Some(s);
+        }
+        let mut setup = setup.expect("SETUPS > 0");
         setup.options = setup.options.with_parallel(true);
         let base = scene.pose(0).map(|p| p.transforms).unwrap_or_default();
-        let row = measure(
+        let mut row = measure(
             &path.display().to_string(),
             &setup,
             &base,
@@ -92,10 +110,13 @@ pub fn run(args: Args) -> Result<()> {
             args.updates,
         )
         .with_context(|| format!("{}: building the rig", path.display()))?;
+        row.setup_s = median(setup_times);
+        row.domain_vertices = setup.domain.as_ref().map(|d| d.mesh.n_vertices());
         print_row(&row, args.json);
     }
     if let Some(min_curves) = args.synthetic {
         let scene = splineskin::examples::demo_scene();
+        let start = Instant::now();
         let mut setup = scene.setup(args.compat.into())?;
         let (drawing, handles) =
             splineskin::examples::tile(&setup.drawing, &scene.handles, min_curves);
@@ -112,7 +133,9 @@ pub fn run(args: Args) -> Result<()> {
             bones: &[],
             cage: None,
         };
-        let row = measure(&name, &setup, &base, &set, args.updates)?;
+        let setup_s = start.elapsed().as_secs_f64();
+        let mut row = measure(&name, &setup, &base, &set, args.updates)?;
+        row.setup_s = setup_s;
         print_row(&row, args.json);
     }
     Ok(())
@@ -126,11 +149,14 @@ fn print_row(row: &Row, json: bool) {
         );
     } else {
         println!(
-            "{:<60} {:>7} {:>7} {:>11} {:>12.3e} {:>14.3e} {:>12.3e}",
+            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10.3e} {:>12.3e} {:>14.3e} {:>12.3e}",
             row.scene,
             row.curves,
             row.handles,
             row.constraints,
+            row.domain_vertices
+                .map_or("-".to_string(), |n| n.to_string()),
+            row.setup_s,
             row.weights_s,
             row.precompute_s,
             row.update_s
@@ -208,6 +234,8 @@ fn measure(
         paths: drawing.paths.len(),
         handles: rig.n_handles(),
         constraints: rig.n_constraints(),
+        domain_vertices: None,
+        setup_s: 0.0,
         weights_s: median(weight_times),
         precompute_s: median(pre_times),
         update_s: median(update_times),

@@ -1,0 +1,97 @@
+//! `splineskin bench --json` through the binary: one JSON object per scene with the counts of
+//! the scene (checked against the library's own reading of it) and finite, positive medians;
+//! mesh families also report the size of their domain (checked against `Scene::setup`).
+
+use std::path::PathBuf;
+use std::process::Command;
+
+use serde::Deserialize;
+use splineskin::scene::{Compat, Scene};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Row {
+    scene: String,
+    curves: usize,
+    paths: usize,
+    handles: usize,
+    constraints: usize,
+    domain_vertices: Option<usize>,
+    setup_s: f64,
+    weights_s: f64,
+    precompute_s: f64,
+    update_s: f64,
+}
+
+/// A two-curve drawing with three point handles and the weight family `family`; the mesh
+/// families get a coarse domain so the test stays quick.
+fn scene_file(family: &str) -> PathBuf {
+    let domain = if family == "shepard" {
+        ""
+    } else {
+        r#", "domain": {"max_area_fraction": 0.01, "samples_per_diagonal": 40}"#
+    };
+    let text = format!(
+        r#"{{"splineskin_scene": 1,
+            "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C30 40 70 40 100 0 S170 -40 200 0'/></svg>",
+            "handles": [{{"position": [0, 0]}}, {{"position": [100, 10]}}, {{"position": [200, 0]}}],
+            "weights": {{"family": "{family}"}}{domain},
+            "pose": [{{"rotate": 10}}, {{}}, {{"translate": [5, 5]}}]}}"#
+    );
+    let path = std::env::temp_dir().join(format!(
+        "splineskin-bench-cli-{}-{family}.json",
+        std::process::id()
+    ));
+    std::fs::write(&path, text).expect("write the scene");
+    path
+}
+
+fn bench_json(scene: &PathBuf) -> Row {
+    let out = Command::new(env!("CARGO_BIN_EXE_splineskin"))
+        .args(["bench", "--json", "--updates", "200"])
+        .arg(scene)
+        .output()
+        .expect("run splineskin");
+    assert!(
+        out.status.success(),
+        "bench failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8(out.stdout).expect("utf-8");
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 1, "one line per scene: {stdout}");
+    serde_json::from_str(lines[0]).expect("one JSON object with the documented keys")
+}
+
+#[test]
+fn bench_json_reports_counts_and_medians() {
+    for family in ["shepard", "harmonic", "bbw"] {
+        let path = scene_file(family);
+        let row = bench_json(&path);
+        let scene = Scene::load(&path).expect("scene");
+        let setup = scene.setup(Compat::None).expect("setup");
+        std::fs::remove_file(&path).ok();
+        assert_eq!(row.scene, path.display().to_string());
+        assert_eq!(row.curves, setup.drawing.n_curves(), "{family}");
+        assert_eq!(row.paths, setup.drawing.paths.len(), "{family}");
+        assert_eq!(row.handles, 3, "{family}");
+        assert!(
+            row.constraints > 0,
+            "{family}: the S-curve has a smooth joint"
+        );
+        assert_eq!(
+            row.domain_vertices,
+            setup.domain.as_ref().map(|d| d.mesh.n_vertices()),
+            "{family}"
+        );
+        assert_eq!(row.domain_vertices.is_some(), family != "shepard");
+        for (name, t) in [
+            ("setup_s", row.setup_s),
+            ("weights_s", row.weights_s),
+            ("precompute_s", row.precompute_s),
+            ("update_s", row.update_s),
+        ] {
+            assert!(t.is_finite() && t > 0.0, "{family}: {name} = {t}");
+        }
+    }
+}
