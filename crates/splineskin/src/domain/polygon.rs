@@ -4,6 +4,8 @@
 
 use kurbo::{Point, Rect};
 
+use super::DomainError;
+
 /// Signed area by the shoelace formula, `½ Σ_k p_k × p_{k+1}`: positive for a counter-clockwise
 /// polygon (in a y-up frame; in SVG's y-down frame the same vertex list looks clockwise on
 /// screen — only the sign convention of the formula matters here).
@@ -212,6 +214,44 @@ impl PolygonIndex {
     pub(crate) fn edges(&self) -> &[(Point, Point)] {
         &self.edges
     }
+}
+
+/// Checks a cage polygon: finite vertices, at least 3 of them, no edge of length `≤ coincident`,
+/// simple ([`self_intersection`]) and counter-clockwise (positive [`signed_area`]) — the rules of
+/// [`crate::domain::DomainOptions::cage`], shared by the domain, mean value coordinates and
+/// scenes.
+///
+/// ```
+/// use kurbo::Point;
+/// use splineskin::domain::{polygon::check_cage, DomainError};
+/// let square = [(0., 0.), (1., 0.), (1., 1.), (0., 1.)].map(Point::from);
+/// assert_eq!(check_cage(&square, 0.0), Ok(()));
+/// let mut clockwise = square;
+/// clockwise.reverse();
+/// assert!(matches!(check_cage(&clockwise, 0.0), Err(DomainError::CageClockwise { .. })));
+/// ```
+pub fn check_cage(c: &[Point], coincident: f64) -> Result<(), DomainError> {
+    if let Some(vertex) = c.iter().position(|p| !(p.x.is_finite() && p.y.is_finite())) {
+        return Err(DomainError::CageNonFinite { vertex });
+    }
+    if c.len() < 3 {
+        return Err(DomainError::CageTooFewVertices {
+            n_vertices: c.len(),
+        });
+    }
+    for edge in 0..c.len() {
+        if (c[(edge + 1) % c.len()] - c[edge]).hypot() <= coincident {
+            return Err(DomainError::CageDegenerateEdge { edge });
+        }
+    }
+    if let Some((first, second)) = self_intersection(c) {
+        return Err(DomainError::CageSelfIntersecting { first, second });
+    }
+    let signed_area = signed_area(c);
+    if signed_area < 0.0 {
+        return Err(DomainError::CageClockwise { signed_area });
+    }
+    Ok(())
 }
 
 #[cfg(test)]

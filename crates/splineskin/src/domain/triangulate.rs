@@ -12,7 +12,7 @@ use spade::{
 
 use super::grid::BucketGrid;
 use super::polygon::{
-    segment_distance, segments_intersect, self_intersection, signed_area, PolygonIndex,
+    self, segment_distance, segments_intersect, self_intersection, signed_area, PolygonIndex,
 };
 use super::{Boundary, Domain, DomainError, DomainOptions, COINCIDENT_RELATIVE, MAX_MIN_ANGLE};
 use crate::drawing::Drawing;
@@ -109,7 +109,7 @@ pub(super) fn build(
     // The outer boundary.
     let (outer, boundary) = match &cage {
         Some(c) => {
-            check_cage(c, coincident)?;
+            polygon::check_cage(c, coincident)?;
             (c.clone(), Boundary::Cage)
         }
         None => match closed_curve_boundary(drawing, &samples, points, bones, spacing) {
@@ -420,30 +420,6 @@ fn closed_cage(c: &[Point]) -> Vec<Point> {
         c.pop();
     }
     c
-}
-
-fn check_cage(c: &[Point], coincident: f64) -> Result<(), DomainError> {
-    if let Some(vertex) = c.iter().position(|p| !(p.x.is_finite() && p.y.is_finite())) {
-        return Err(DomainError::CageNonFinite { vertex });
-    }
-    if c.len() < 3 {
-        return Err(DomainError::CageTooFewVertices {
-            n_vertices: c.len(),
-        });
-    }
-    for edge in 0..c.len() {
-        if (c[(edge + 1) % c.len()] - c[edge]).hypot() <= coincident {
-            return Err(DomainError::CageDegenerateEdge { edge });
-        }
-    }
-    if let Some((first, second)) = self_intersection(c) {
-        return Err(DomainError::CageSelfIntersecting { first, second });
-    }
-    let signed_area = signed_area(c);
-    if signed_area < 0.0 {
-        return Err(DomainError::CageClockwise { signed_area });
-    }
-    Ok(())
 }
 
 fn check_handles(points: &[Point], bones: &[[Point; 2]], tol: f64) -> Result<(), DomainError> {

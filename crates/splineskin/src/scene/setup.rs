@@ -3,7 +3,7 @@
 //! authors' compatibility mode.
 
 use crate::domain::coarse_to_fine::bbw_coarse_to_fine;
-use crate::domain::polygon::{self_intersection, signed_area};
+use crate::domain::polygon::{check_cage, signed_area};
 use crate::domain::{Domain, DomainError, DomainOptions, MeshWeights};
 use crate::drawing::authors_svg::read_authors_drawing_named;
 use crate::drawing::{read_svg_named, Drawing, ImportOptions, JointKind};
@@ -505,26 +505,8 @@ pub fn check_rest_handles(
         message: e.to_string(),
     };
     if let Some(cage) = handles.cage {
-        if cage.len() < 3 {
-            return Err(inputs_error(DomainError::CageTooFewVertices {
-                n_vertices: cage.len(),
-            }));
-        }
-        if let Some(edge) = (0..cage.len()).find(|&k| cage[k] == cage[(k + 1) % cage.len()]) {
-            return Err(inputs_error(DomainError::CageDegenerateEdge { edge }));
-        }
-        if let Some((first, second)) = self_intersection(cage) {
-            return Err(inputs_error(DomainError::CageSelfIntersecting {
-                first,
-                second,
-            }));
-        }
+        check_cage(cage, 0.0).map_err(inputs_error)?;
         let area = signed_area(cage);
-        if area < 0.0 {
-            return Err(inputs_error(DomainError::CageClockwise {
-                signed_area: area,
-            }));
-        }
         if area == 0.0 || area.is_nan() {
             return Err(inputs_error(DomainError::EmptyDomain {
                 reason: "the cage has zero area",

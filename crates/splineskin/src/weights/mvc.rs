@@ -52,7 +52,7 @@ use kurbo::{Point, Rect, Vec2};
 use super::{WeightField, WeightsError};
 use crate::domain::crossings::cubic_segment_crossings;
 use crate::domain::locate::KINK_MERGE;
-use crate::domain::polygon::{self_intersection, signed_area};
+use crate::domain::polygon::check_cage;
 use crate::domain::{DomainError, COINCIDENT_RELATIVE};
 
 /// A point closer to a cage vertex than this fraction of the cage's diameter takes the vertex's
@@ -165,23 +165,12 @@ fn checked_cage(cage: &[Point]) -> Result<Vec<Point>, DomainError> {
     if let Some(vertex) = c.iter().position(|p| !(p.x.is_finite() && p.y.is_finite())) {
         return Err(DomainError::CageNonFinite { vertex });
     }
-    let n = c.len();
-    if n < 3 {
-        return Err(DomainError::CageTooFewVertices { n_vertices: n });
+    if c.len() < 3 {
+        return Err(DomainError::CageTooFewVertices {
+            n_vertices: c.len(),
+        });
     }
-    let coincident = COINCIDENT_RELATIVE * bounding_diagonal(&c);
-    for edge in 0..n {
-        if (c[(edge + 1) % n] - c[edge]).hypot() <= coincident {
-            return Err(DomainError::CageDegenerateEdge { edge });
-        }
-    }
-    if let Some((first, second)) = self_intersection(&c) {
-        return Err(DomainError::CageSelfIntersecting { first, second });
-    }
-    let signed_area = signed_area(&c);
-    if signed_area < 0.0 {
-        return Err(DomainError::CageClockwise { signed_area });
-    }
+    check_cage(&c, COINCIDENT_RELATIVE * bounding_diagonal(&c))?;
     Ok(c)
 }
 
