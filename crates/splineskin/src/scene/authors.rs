@@ -4,13 +4,17 @@
 //! |---|---|
 //! | `gInputSVGText` | the SVG document |
 //! | `gHandles` | `[{ "pos": [x, y], "transform": {a, b, c, d, e, f} }]`: rest position and the SVG matrix `[[a, c, e], [b, d, f]]` applied to absolute points |
-//! | `gPathsControlPointConstraints` | per path, per joint `{ "continuity": "C0"│"C1"│"G1"│"A", "fixed": bool }` |
+//! | `gPathsControlPointConstraints` | per path, per joint `{ "continuity": "C0"│"C1"│"G1"│"A", "fixed": bool }`; `fixed` pins the joint to its rest position in their solver (not supported: refused; every saved scene has `false`) |
 //! | `weightFunction` | `shepard`, `bbw`, `harmonic` |
 //! | `engineType` | `ours` (default), `fourcontrols`, `twoendpoints`, `jacobian` |
 //! | `usingArcLengthParameterization` | arc-length measure |
 //! | `animationFrames` | optional list of frames, each a list of transforms (one per handle) |
 //!
 //! Pose 0 is the handles' saved transforms; animation frames follow as poses 1, 2, ….
+//!
+//! Their solver treats every `G1` and `A` joint as flexible (its tangent-length ratio free,
+//! iterated; [`crate::spline_fit::flexible`]), so these scenes are read with
+//! [`Scene::flexible`] set.
 
 use kurbo::Affine;
 use serde::Deserialize;
@@ -70,6 +74,8 @@ impl AuthorsMatrix {
 #[derive(Deserialize)]
 struct AuthorsConstraint {
     continuity: String,
+    #[serde(default)]
+    fixed: bool,
 }
 
 /// Whether `text` looks like the authors' format (it has their `gInputSVGText` key).
@@ -139,6 +145,14 @@ pub(crate) fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
             path.iter()
                 .enumerate()
                 .map(|(j, c)| {
+                    if c.fixed {
+                        return Err(SceneError::NotImplemented {
+                            origin: origin.to_string(),
+                            what: format!(
+                                "gPathsControlPointConstraints[{p}][{j}]: a fixed (pinned) joint"
+                            ),
+                        });
+                    }
                     authors_kind(&c.continuity).ok_or_else(|| SceneError::Invalid {
                         origin: origin.to_string(),
                         element: format!("gPathsControlPointConstraints[{p}][{j}]"),
@@ -170,6 +184,7 @@ pub(crate) fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
         junctions: Vec::new(),
         authors_joints: Some(joints),
         poses,
+        flexible: true,
         format: SceneFormat::Authors,
     })
 }

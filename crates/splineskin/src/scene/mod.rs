@@ -76,6 +76,10 @@ pub struct Scene {
     pub authors_joints: Option<Vec<Vec<JointKind>>>,
     /// Poses: one transform per handle each. A scene without poses has the identity pose.
     pub poses: Vec<Pose>,
+    /// Whether G¹ and fixed-angle junctions are flexible: their tangent-length ratio is left
+    /// free ([`crate::spline_fit::flexible`]). Our format's `flexible` key (default false);
+    /// always true in the authors' format (their solver iterates every G¹ and angle joint).
+    pub flexible: bool,
     /// Which format the scene was read from.
     pub format: SceneFormat,
 }

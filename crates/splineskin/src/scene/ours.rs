@@ -39,6 +39,7 @@
 //! | `weights` | `family`: `shepard` (`exponent`, default 2), `harmonic`, `biharmonic`, `bbw` (computed on a triangulation of the drawing's domain, [`crate::domain`]) or `mvc` (mean value coordinates of the cage, closed form). Which family takes which handles: [`super::WeightSpec::check_handles`] |
 //! | `domain` | options of the triangulated domain (mesh families only): `min_angle` (degrees), `max_area_fraction`, `holes` (bool), `max_vertices`, `samples_per_diagonal`, `max_samples_per_curve`, `max_curve_samples`, `padding`; each optional, defaults and ranges in [`crate::domain::DomainOptions`] |
 //! | `arc_length` | integrate with respect to arc length rather than length-weighted `t` (default false) |
+//! | `flexible` | `true`: G¹ and fixed-angle junctions keep parallel tangents (fixed angle: their angle) but not their tangent-length ratio, fitted by iteration ([`crate::spline_fit::flexible`]). Default false: the ratio is the input's, a linear fit |
 //! | `junctions` | overrides: path index (subpaths in document order), joint index (joint `k` starts curve `k`), `kind` ∈ `C0`, `C1`, `G1`, `angle` |
 //! | `pose` / `poses` | one pose (a list of transforms) or a list of `{name?, transforms, cage_positions?}` |
 //!
@@ -103,6 +104,8 @@ struct SceneFile {
     domain: Option<DomainFile>,
     #[serde(default)]
     arc_length: bool,
+    #[serde(default)]
+    flexible: bool,
     #[serde(default)]
     engine: Option<String>,
     #[serde(default)]
@@ -556,6 +559,7 @@ pub(crate) fn parse(
         junctions,
         authors_joints: None,
         poses,
+        flexible: file.flexible,
         format: SceneFormat::Ours,
     })
 }

@@ -7,7 +7,7 @@ use crate::domain::polygon::{check_cage, signed_area};
 use crate::domain::{Domain, DomainError, DomainOptions, MeshWeights};
 use crate::drawing::authors_svg::read_authors_drawing_named;
 use crate::drawing::{read_svg_named, Drawing, ImportOptions, JointKind};
-use crate::spline_fit::FitOptions;
+use crate::spline_fit::{FitOptions, FlexibleOptions};
 use crate::weights::bbw::BbwOptions;
 use crate::weights::harmonic::harmonic;
 use crate::weights::{
@@ -123,6 +123,15 @@ impl Scene {
                 FitOptions::vectorskinning(self.measure == crate::spline_fit::Measure::ArcLength)
             }
         }
+    }
+
+    /// The options of the flexible solve if the scene asks for flexible junctions
+    /// ([`Scene::flexible`]): ours, or the authors' rule in compatibility mode.
+    pub fn flexible_options(&self, compat: Compat) -> Option<FlexibleOptions> {
+        self.flexible.then(|| match compat {
+            Compat::None => FlexibleOptions::default(),
+            Compat::VectorSkinning => FlexibleOptions::vectorskinning(),
+        })
     }
 
     /// What the scene's weights are built from, in `compat`.

@@ -63,7 +63,7 @@ pub struct ConstraintRows {
 }
 
 impl ConstraintRows {
-    fn push_row(&mut self, entries: &[(usize, f64)]) {
+    pub(crate) fn push_row(&mut self, entries: &[(usize, f64)]) {
         let mut any = false;
         for &(col, v) in entries {
             if v != 0.0 {
@@ -77,21 +77,85 @@ impl ConstraintRows {
     }
 }
 
-/// Builds the constraint rows of a chain with joint kinds `joints` (see
-/// [`crate::drawing::Path`] for the layouts). `smooth_angle` is the G¹ tolerance (radians) under
-/// which the input's own angle is kept.
-pub fn junction_rows(
+/// The tangent geometry of one junction that has tangent rows (C¹, G¹ or fixed angle): the
+/// unknowns `a`, `p`, `b` of the rows `l_u · v' − l_v · R(θ) · u' = 0` (module doc), `u = P_p −
+/// P_a`, `v = P_b − P_p`.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct TangentJunction {
+    /// The joint index `k` (chain point `3k`).
+    pub joint: usize,
+    /// Its kind.
+    pub kind: JointKind,
+    /// Unknown index of the tangent neighbour before the junction point.
+    pub a: usize,
+    /// Unknown index of the junction point.
+    pub p: usize,
+    /// Unknown index of the tangent neighbour after it.
+    pub b: usize,
+    /// The angle `θ` taking the incoming direction `u` to the outgoing one `v` (radians).
+    pub theta: f64,
+    /// The lengths the rows keep the ratio of: the input's `‖u‖`, `‖v‖` (1, 1 for strict C¹).
+    pub lengths: (f64, f64),
+    /// Unknowns pinned to `p` (control points lying on the junction point, our form only).
+    pub pins: Vec<usize>,
+}
+
+impl TangentJunction {
+    /// Whether both kept lengths are zero: the authors' rows vanish and are dropped.
+    pub fn vanishes(&self) -> bool {
+        self.lengths.0.max(self.lengths.1) == 0.0
+    }
+
+    /// The two rows for tangent lengths `(l_u, l_v)`, as `(column, coefficient)` lists with
+    /// every entry present (zero coefficients included, so that the pattern does not depend on
+    /// the lengths or the angle). Rows are divided by `max(l_u, l_v)`; when both are zero the
+    /// rows are written for equal lengths.
+    pub fn rows(&self, lengths: (f64, f64)) -> [[(usize, f64); 5]; 2] {
+        let scale = lengths.0.max(lengths.1);
+        let (lu, lv) = if scale > 0.0 {
+            (lengths.0 / scale, lengths.1 / scale)
+        } else {
+            (1.0, 1.0)
+        };
+        let (s, c) = self.theta.sin_cos();
+        let (ia, ip, ib) = (self.a, self.p, self.b);
+        let x = |i: usize| 2 * i;
+        let y = |i: usize| 2 * i + 1;
+        // x row: lu (xb − xp) − lv [c (xp − xa) − s (yp − ya)] = 0
+        // y row: lu (yb − yp) − lv [s (xp − xa) + c (yp − ya)] = 0
+        [
+            [
+                (x(ib), lu),
+                (x(ip), -lu - lv * c),
+                (x(ia), lv * c),
+                (y(ip), lv * s),
+                (y(ia), -lv * s),
+            ],
+            [
+                (y(ib), lu),
+                (y(ip), -lu - lv * c),
+                (y(ia), lv * c),
+                (x(ip), -lv * s),
+                (x(ia), lv * s),
+            ],
+        ]
+    }
+}
+
+/// The tangent junctions of a chain with joint kinds `joints`, in joint order (see
+/// [`junction_rows`]): every C¹, G¹ and fixed-angle joint that has a direction on both sides.
+pub(crate) fn tangent_junctions(
     points: &[Point],
     closed: bool,
     joints: &[JointKind],
     form: ConstraintForm,
     options: &JunctionOptions,
-) -> ConstraintRows {
-    let mut rows = ConstraintRows::default();
+) -> Vec<TangentJunction> {
     let m = points.len() - 1; // 3n
     let n_unknown = if closed { m } else { m + 1 };
     let wrap = |i: usize| if i >= n_unknown { i - n_unknown } else { i };
     let eps = coincidence_distance(points, options.coincidence);
+    let mut out = Vec::new();
     for (k, &kind) in joints.iter().enumerate() {
         if matches!(kind, JointKind::End | JointKind::C0) {
             continue;
@@ -128,43 +192,60 @@ pub fn junction_rows(
             lu = 1.0;
             lv = 1.0;
         }
-        let scale = lu.max(lv);
-        if scale == 0.0 {
+        let mut pins = Vec::new();
+        if form == ConstraintForm::Ours {
+            // Control points lying on the junction point between a and p, and p and b.
+            let end = if p == 0 { m } else { p };
+            pins.extend((1..end - a).map(|d| wrap(end - d)));
+            pins.extend((1..(b - p)).map(|d| wrap(p + d)));
+        }
+        out.push(TangentJunction {
+            joint: k,
+            kind,
+            a: wrap(a),
+            p: wrap(p),
+            b: wrap(b),
+            theta,
+            lengths: (lu, lv),
+            pins,
+        });
+    }
+    out
+}
+
+/// Builds the constraint rows of a chain with joint kinds `joints` (see
+/// [`crate::drawing::Path`] for the layouts). `options.smooth_angle` is the G¹ tolerance
+/// (radians) under which the input's own angle is kept.
+///
+/// Per junction: its two tangent rows with the input's lengths ([`TangentJunction::rows`], zero
+/// coefficients left out), then its pins `P_q' − P_p' = 0`. Junctions whose two tangents
+/// vanish (the authors' form) have no rows.
+pub fn junction_rows(
+    points: &[Point],
+    closed: bool,
+    joints: &[JointKind],
+    form: ConstraintForm,
+    options: &JunctionOptions,
+) -> ConstraintRows {
+    let mut rows = ConstraintRows::default();
+    for t in tangent_junctions(points, closed, joints, form, options) {
+        if t.vanishes() {
             continue; // both tangents vanish: the authors' rows are all zero and dropped
         }
-        let (lu, lv) = (lu / scale, lv / scale);
-        let (s, c) = theta.sin_cos();
-        let (ia, ip, ib) = (wrap(a), wrap(p), wrap(b));
-        // x row: lu (xb − xp) − lv [c (xp − xa) − s (yp − ya)] = 0
-        // y row: lu (yb − yp) − lv [s (xp − xa) + c (yp − ya)] = 0
-        let x = |i: usize| 2 * i;
-        let y = |i: usize| 2 * i + 1;
-        rows.push_row(&[
-            (x(ib), lu),
-            (x(ip), -lu - lv * c),
-            (x(ia), lv * c),
-            (y(ip), lv * s),
-            (y(ia), -lv * s),
-        ]);
-        rows.push_row(&[
-            (y(ib), lu),
-            (y(ip), -lu - lv * c),
-            (y(ia), lv * c),
-            (x(ip), -lv * s),
-            (x(ia), lv * s),
-        ]);
-        if form == ConstraintForm::Ours {
-            // Pin control points lying on the junction point between a and p, and p and b.
-            let before = (if p == 0 { m } else { p }) - a;
-            let pins_before = (1..before).map(|d| wrap((if p == 0 { m } else { p }) - d));
-            let pins_after = (1..(b - p)).map(|d| wrap(p + d));
-            for q in pins_before.chain(pins_after) {
-                rows.push_row(&[(x(q), 1.0), (x(ip), -1.0)]);
-                rows.push_row(&[(y(q), 1.0), (y(ip), -1.0)]);
-            }
+        for row in t.rows(t.lengths) {
+            rows.push_row(&row);
         }
+        push_pins(&mut rows, &t);
     }
     rows
+}
+
+/// Pushes the pin rows `P_q' − P_p' = 0` of junction `t` (two per pinned point).
+pub(crate) fn push_pins(rows: &mut ConstraintRows, t: &TangentJunction) {
+    for &q in &t.pins {
+        rows.push_row(&[(2 * q, 1.0), (2 * t.p, -1.0)]);
+        rows.push_row(&[(2 * q + 1, 1.0), (2 * t.p + 1, -1.0)]);
+    }
 }
 
 #[cfg(test)]

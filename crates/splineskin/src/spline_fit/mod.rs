@@ -11,11 +11,13 @@
 //! See [`SplineRig`] for the precompute / update recipe.
 
 pub mod constraints;
+pub mod flexible;
 pub mod quadrature;
 mod rig;
 pub(crate) mod system;
 
 pub use constraints::ConstraintForm;
+pub use flexible::{FlexibleError, FlexibleOptions, FlexibleReport, FlexibleRule, FlexibleSolver};
 pub use quadrature::{Measure, Quadrature};
 pub use rig::{PoseError, SplineRig};
 

@@ -97,6 +97,26 @@ pub fn shepard_linear_cases(data_root: &std::path::Path) -> Vec<AuthorsCase> {
         .collect()
 }
 
+/// Every case of `authors-solver-outputs` with Shepard weights, the paper's engine and G¹ or
+/// angle joints (flexible in their solver: the `fixed` flag of `[kind, fixed]` pins a joint's
+/// position, and is false everywhere), sorted by name.
+pub fn shepard_flexible_cases(data_root: &std::path::Path) -> Vec<AuthorsCase> {
+    let dir = data_root.join("vectorskinning/authors-solver-outputs");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("authors-solver-outputs")
+        .map(|e| e.expect("dir entry").path())
+        .filter(|f| f.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    files
+        .iter()
+        .map(|f| AuthorsCase::load(f))
+        .filter(|c| {
+            c.weight_function == "shepard" && c.engine_type == "ours" && c.has_flexible_joints()
+        })
+        .collect()
+}
+
 /// Largest distance per path between `points` (flat, in the drawing's layout) and the
 /// authors' `deformed` chains, divided by `diag`.
 pub fn per_path_errors(

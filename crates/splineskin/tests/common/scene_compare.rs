@@ -5,7 +5,8 @@
 use kurbo::{CubicBez, ParamCurve, ParamCurveNearest, Point};
 use splineskin::drawing::{Drawing, Path};
 use splineskin::scene::{Compat, Scene};
-use splineskin::spline_fit::SplineRig;
+use splineskin::spline_fit::quadrature::SampledCurves;
+use splineskin::spline_fit::{FlexibleOptions, FlexibleReport, FlexibleSolver, SplineRig};
 
 use super::authors_outputs::AuthorsCase;
 
@@ -46,6 +47,30 @@ pub fn deform_with(
     rig.update(&scene.pose(0).expect("pose 0").transforms, &mut out)
         .expect("update");
     (setup.drawing, out, rig.rank_deficient_paths().to_vec())
+}
+
+/// [`deform`] with flexible G¹ and angle joints: the scene's flexible options for `compat`
+/// (ours, or the authors' rule in compatibility mode), or `options` if given. Also returns the
+/// solve's report.
+pub fn deform_flexible(
+    scene: &Scene,
+    compat: Compat,
+    options: Option<FlexibleOptions>,
+) -> (Drawing, Vec<Point>, Vec<usize>, FlexibleReport) {
+    let setup = scene.setup(compat).expect("setup");
+    let fit = setup.options;
+    let samples = SampledCurves::sample(&setup.drawing, setup.weights.as_ref(), &fit);
+    let options = options
+        .or_else(|| scene.flexible_options(compat))
+        .expect("a flexible scene");
+    let solver = FlexibleSolver::new(&setup.drawing, &samples, &fit.with_parallel(true), options)
+        .expect("precompute");
+    let mut out = vec![Point::ZERO; solver.rig().n_points()];
+    let report = solver
+        .solve(&scene.pose(0).expect("pose 0").transforms, None, &mut out)
+        .expect("flexible solve");
+    let singular = solver.rig().rank_deficient_paths().to_vec();
+    (setup.drawing, out, singular, report)
 }
 
 pub fn curve(points: &[Point], path: &Path, k: usize) -> CubicBez {
