@@ -14,7 +14,7 @@
 mod common;
 
 use common::authors_outputs::AuthorsCase;
-use common::scene_compare::{default_mode_distance, deform, scene_of};
+use common::scene_compare::{default_mode_distance, deform, deform_flexible, scene_of};
 use splineskin::scene::{Compat, Scene, WeightSpec};
 
 /// Agreement required, as a fraction of the bounding-box diagonal.
@@ -44,7 +44,8 @@ fn mesh_weight_cases(root: &std::path::Path) -> Vec<AuthorsCase> {
 
 /// Cases not within [`TOLERANCE`], with the figure measured when they were listed (they must
 /// not get worse, and must leave the list when they pass). Cases with the authors' flexible
-/// G¹/angle joints (solved by their nonlinear iteration, issue 5) are reported, not asserted.
+/// G¹/angle joints (solved by their nonlinear iteration) are compared with our flexible solve
+/// (`spline_fit::flexible`, default mode); the fixed-ratio figure is reported beside it.
 ///
 /// The two cases below cannot pass by any change of ours: their reference is not a BBW
 /// deformation. The authors' BBW solve failed on their own domain and their code fell back to
@@ -70,9 +71,20 @@ fn mesh_weight_cases(root: &std::path::Path) -> Vec<AuthorsCase> {
 ///   succeeds). Their 2014 overlay agrees with the Shepard output within 6.3e-5 px
 ///   (`comparison_with_stored_output`), so their editor fell back then too. Our domain is the
 ///   outline.
+///
+/// The two caterpillar cases have flexible G¹ joints. Our flexible solve brings them from
+/// 2.89e-2 and 1.90e-2 (fixed ratio) to 2.67e-2 and 2.02e-2. The rest is the weights, not the
+/// iteration: in compatibility mode, which reproduces the authors' flexible iteration on their
+/// Shepard scenes to 1e-4 of the diagonal or better (tests/flexible_g1.rs), their schedule on
+/// these scenes with our BBW weights is still 2.60e-2 and 1.90e-2 from their output, all of it
+/// on path 4, the body (paths 0–3 agree to 1.4e-15). Their 2014 BBW weights are not reproducible (README of
+/// `authors-solver-outputs`: target curves differ by 0.3–7 px), and the caterpillar's body is
+/// where the two weight solves differ most.
 const OPEN_CASES: &[(&str, f64)] = &[
     ("clam-songrun__reflexed-lookdown", 1.73e-1),
     ("turtle-seven-stack__wobble__2", 3.06e-2),
+    ("songrun-caterpillar__caterpillar-songrun1", 2.67e-2),
+    ("songrun-caterpillar__caterpillar-songrun2", 2.02e-2),
 ];
 
 /// The scene with the weights the authors' code falls back to: Shepard, `1/d²`.
@@ -89,6 +101,8 @@ struct Measured {
     name: String,
     default_mode: f64,
     flexible: bool,
+    /// Flexible cases: default mode with our flexible solve.
+    flexible_mode: Option<f64>,
     shepard: Option<(f64, f64)>,
 }
 
@@ -118,10 +132,16 @@ fn authors_bbw_scenes_deform_as_their_solver() {
                         distance(&s, Compat::VectorSkinning),
                     )
                 });
+                let flexible = case.has_flexible_joints();
+                let flexible_mode = flexible.then(|| {
+                    let (ours, points, _, _) = deform_flexible(&scene, Compat::None, None);
+                    default_mode_distance(case, &theirs, &ours, &points, &singular, diag)
+                });
                 Measured {
                     name: case.case.clone(),
                     default_mode: distance(&scene, Compat::None),
-                    flexible: case.has_flexible_joints(),
+                    flexible,
+                    flexible_mode,
                     shepard,
                 }
             })
@@ -135,10 +155,17 @@ fn authors_bbw_scenes_deform_as_their_solver() {
         all
     });
     for m in &report {
-        eprintln!(
-            "{}: default mode {:.2e} of the diagonal (flexible joints: {})",
-            m.name, m.default_mode, m.flexible
-        );
+        match m.flexible_mode {
+            Some(f) => eprintln!(
+                "{}: default mode {f:.2e} of the diagonal with flexible joints ({:.2e} with the \
+                 fixed-ratio fit)",
+                m.name, m.default_mode
+            ),
+            None => eprintln!(
+                "{}: default mode {:.2e} of the diagonal",
+                m.name, m.default_mode
+            ),
+        }
         if let Some((default_mode, compat)) = m.shepard {
             eprintln!(
                 "  their BBW fell back to Shepard; with Shepard weights: default mode {default_mode:.2e}, compatibility mode {compat:.2e}"
@@ -159,11 +186,9 @@ fn authors_bbw_scenes_deform_as_their_solver() {
         }
     }
     for m in &report {
-        if m.flexible {
-            continue;
-        }
-        let (name, d) = (&m.name, m.default_mode);
-        match OPEN_CASES.iter().find(|(open, _)| name.starts_with(open)) {
+        let (name, d) = (&m.name, m.flexible_mode.unwrap_or(m.default_mode));
+        let listed = |open: &str| name == open || name.starts_with(&format!("{open}__"));
+        match OPEN_CASES.iter().find(|(open, _)| listed(open)) {
             // Still open: must not get worse (and must be removed from the list when fixed).
             Some((_, measured)) => {
                 assert!(

@@ -68,7 +68,7 @@ use crate::drawing::{Drawing, JointKind};
 /// energy by less than this fraction ends the iteration: 1e-4. On the authors' scenes and the
 /// bundled drawing, the points then move by less than 1e-4 of the bounding-box diagonal from
 /// where a 1e-9 tolerance takes them (tests/flexible_g1.rs), far below what can be seen.
-pub const DEFAULT_TOLERANCE: f64 = 1e-4;
+pub const DEFAULT_TOLERANCE: f64 = 1e-5;
 
 /// Default cap on the linear solves (steps) per path: 40 (20 rounds).
 pub const DEFAULT_MAX_STEPS: usize = 40;
