@@ -5,8 +5,10 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use splineskin::drawing::Drawing;
+use splineskin::scene::Compat;
 use splineskin::scene::Scene;
-use splineskin::spline_fit::SplineRig;
+use splineskin::spline_fit::quadrature::SampledCurves;
+use splineskin::spline_fit::{FlexibleOptions, FlexibleSolver, SplineRig};
 
 use crate::output::write_deformed;
 use crate::CompatArg;
@@ -25,6 +27,11 @@ pub struct Args {
     /// Reproduce another implementation's discretisation exactly.
     #[arg(long, value_enum, default_value_t = CompatArg::None)]
     compat: CompatArg,
+    /// Flexible G¹ and fixed-angle junctions: parallel tangents (fixed angle: their angle) with
+    /// the tangent-length ratio free, fitted by iteration. Scenes can ask for it themselves
+    /// (`"flexible": true`; the authors' scenes always do).
+    #[arg(long)]
+    flexible: bool,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -43,15 +50,61 @@ pub fn run(args: Args) -> Result<()> {
             scene.poses.len().max(1)
         )
     })?;
-    let rig = SplineRig::precompute(&setup.drawing, setup.weights.as_ref(), &setup.options)
-        .with_context(|| format!("{}: building the rig", args.scene.display()))?;
+    let compat: Compat = args.compat.into();
+    let flexible = match args.flexible {
+        true => Some(match compat {
+            Compat::VectorSkinning => FlexibleOptions::vectorskinning(),
+            _ => FlexibleOptions::default(),
+        }),
+        false => scene.flexible_options(compat),
+    };
+    let building = || format!("{}: building the rig", args.scene.display());
+    let solver = match flexible {
+        Some(options) => {
+            let samples =
+                SampledCurves::sample(&setup.drawing, setup.weights.as_ref(), &setup.options);
+            Some(
+                FlexibleSolver::new(&setup.drawing, &samples, &setup.options, options)
+                    .with_context(building)?,
+            )
+        }
+        None => None,
+    };
+    let fixed_rig;
+    let rig: &SplineRig = match &solver {
+        Some(s) => s.rig(),
+        None => {
+            fixed_rig =
+                SplineRig::precompute(&setup.drawing, setup.weights.as_ref(), &setup.options)
+                    .with_context(building)?;
+            &fixed_rig
+        }
+    };
     for p in rig.rank_deficient_paths() {
         eprintln!(
             "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
         );
     }
     let mut points = vec![Point::ZERO; rig.n_points()];
-    rig.update(&pose.transforms, &mut points)?;
+    let flexible_note = match &solver {
+        Some(s) => {
+            let report = s
+                .solve(&pose.transforms, None, &mut points)
+                .with_context(|| format!("{}: flexible solve", args.scene.display()))?;
+            format!(
+                ", flexible: {} junctions on {} paths, {} steps, energy {:.4e} -> {:.4e}",
+                s.n_flexible_junctions(),
+                report.paths,
+                report.steps,
+                report.fixed_ratio_energy,
+                report.energy()
+            )
+        }
+        None => {
+            rig.update(&pose.transforms, &mut points)?;
+            String::new()
+        }
+    };
     check_finite(&args, &setup.drawing, &points, rig.rank_deficient_paths())?;
     write_deformed(&args.output, &setup.drawing, &points)?;
     let set = scene.handle_set();
@@ -75,7 +128,7 @@ pub fn run(args: Args) -> Result<()> {
         })
         .unwrap_or_default();
     eprintln!(
-        "{}: {} curves in {} paths, {} handles ({} points{kinds}){domain}, pose {} -> {}",
+        "{}: {} curves in {} paths, {} handles ({} points{kinds}){domain}{flexible_note}, pose {} -> {}",
         args.scene.display(),
         setup.drawing.n_curves(),
         setup.drawing.paths.len(),
