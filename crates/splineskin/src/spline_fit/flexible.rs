@@ -38,8 +38,11 @@
 //! iterate, in parallel with [`super::FitOptions::parallel`]. Other paths keep the rig's result.
 //!
 //! The result depends on the pose, not linearly: [`FlexibleSolver::solve`] starts, per path,
-//! from the rig's fixed-ratio result or from a previous solution (`warm`, for dragging),
-//! whichever has the lower energy, so the result is never worse than the rig's.
+//! from the rig's fixed-ratio result or, given a previous solution (`warm`, for dragging), from
+//! the ratio step with that solution's tangent lengths (its ratios, fitted to the new pose),
+//! whichever has the lower energy, so the result is never worse than the rig's. (Starting from
+//! the previous points themselves does not help: the fixed-ratio fit of the new pose is
+//! usually much closer than any solution of another pose.)
 //!
 //! **The authors' rule** ([`FlexibleRule::Authors`], compatibility mode): their solver starts
 //! with a direction step along the *input's* tangent directions, then alternates ratio and
@@ -158,7 +161,7 @@ pub struct FlexibleReport {
     pub fixed_ratio_energy: f64,
     /// Direction steps shortened to keep a tangent scalar positive.
     pub shortened_steps: usize,
-    /// Paths started from the `warm` solution (it had the lower energy).
+    /// Paths started from the `warm` solution's ratios (that had the lower energy).
     pub warm_started_paths: usize,
     /// `(path, steps)` for every path iterated, in drawing order.
     pub path_steps: Vec<(usize, usize)>,
@@ -535,9 +538,9 @@ impl FlexibleSolver {
     /// into `out` (length [`SplineRig::n_points`], layout of [`Drawing::flat_points`]).
     ///
     /// Paths without flexible junctions get the rig's result. The others start from the rig's
-    /// result or, if given, from `warm` (a previous solution, same layout), whichever has the
-    /// lower energy for `pose`, and iterate (module doc). With [`FlexibleRule::Authors`] `warm`
-    /// replaces the authors' first direction step.
+    /// result or, if `warm` (a previous solution, same layout) is given, from a ratio step with
+    /// its tangent lengths, whichever has the lower energy for `pose`, and iterate (module
+    /// doc). With [`FlexibleRule::Authors`] `warm` replaces the authors' first direction step.
     ///
     /// Allocates (each step refactors a sparse matrix); not for the allocation-free per-frame
     /// path of [`SplineRig::update`].
@@ -648,10 +651,12 @@ impl FlexibleSolver {
                     warm: false,
                 };
                 if let Some(w) = warm {
-                    let e_w = nodes.energy(&sc.target, &w);
+                    // The previous solution's tangent ratios, for this pose: one ratio step.
+                    let x_w = fp.ratio_step(nodes, &mut sc, &w)?;
+                    let e_w = nodes.energy(&sc.target, &x_w);
                     if e_w < e_start {
-                        run.x = w;
-                        run.energies[0] = e_w;
+                        run.x = x_w;
+                        run.energies.push(e_w);
                         run.warm = true;
                     }
                 }
