@@ -17,7 +17,11 @@
 //!    indexed by cage vertex and their order is the user's;
 //! 2. else the largest closed path of the drawing (by the area of its flattening), when it
 //!    contains all other geometry (curve samples within one sample spacing of it, handles and
-//!    bones strictly inside) — [`Boundary::ClosedCurve`];
+//!    bones strictly inside) — [`Boundary::ClosedCurve`]. Small loops where the path crosses
+//!    itself (at most 16, holding under 1 % of its area together: a closing curve that
+//!    overshoots its start, a twisted cusp) are cut off first
+//!    ([`polygon::without_small_loops`]); the path's own samples in them lie outside the domain
+//!    and take the weights of the nearest boundary point;
 //! 3. else the bounding box of the curves and handles, padded on every side by
 //!    [`DomainOptions::padding`] times the drawing's diagonal — [`Boundary::Padded`].
 //!

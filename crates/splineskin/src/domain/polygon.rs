@@ -254,6 +254,86 @@ pub fn check_cage(c: &[Point], coincident: f64) -> Result<(), DomainError> {
     Ok(())
 }
 
+/// The closed polygon with its small self-overlapping loops cut off: while two edges `k < l`
+/// intersect ([`self_intersection`]), the shorter of the two vertex runs between them (by
+/// vertex count) is replaced by the intersection point. `None` when the polygon stays
+/// non-simple after `max_cuts` cuts, or when the loops cut off hold more than
+/// `max_area_fraction` of the polygon's area (in absolute area of the removed loops, against
+/// `|signed_area|` of the input): then the crossing is not a small blemish but the shape.
+///
+/// Drawn outlines often have such blemishes: a closing curve that overshoots its start and
+/// crosses back, a tiny twisted loop at a cusp.
+///
+/// ```
+/// use kurbo::Point;
+/// use splineskin::domain::polygon::{without_small_loops, signed_area};
+/// // A 10 × 10 square whose last edge overshoots and crosses back over the first edge.
+/// let poly = [(0., 0.), (10., 0.), (10., 10.), (0., 10.), (0., -0.5), (0.5, 0.5)].map(Point::from);
+/// let cut = without_small_loops(&poly, 8, 0.01).unwrap();
+/// assert!((signed_area(&cut) - 100.0).abs() < 1.0);
+/// assert!(without_small_loops(&poly, 8, 1e-6).is_none());
+/// ```
+pub fn without_small_loops(
+    poly: &[Point],
+    max_cuts: usize,
+    max_area_fraction: f64,
+) -> Option<Vec<Point>> {
+    let total = signed_area(poly).abs();
+    let mut cut_area = 0.0;
+    let mut p = poly.to_vec();
+    for _ in 0..=max_cuts {
+        let Some((k, l)) = self_intersection(&p) else {
+            return (cut_area <= max_area_fraction * total).then_some(p);
+        };
+        let n = p.len();
+        let x = crossing_point(p[k], p[(k + 1) % n], p[l], p[(l + 1) % n]);
+        // Inner run: vertices k+1 ..= l; outer run: l+1 ..= k (wrapping).
+        let inner = l - k;
+        let outer = n - inner;
+        let (kept, loop_run): (Vec<Point>, Vec<Point>) = if inner <= outer {
+            let mut kept: Vec<Point> = p[..=k].to_vec();
+            kept.push(x);
+            kept.extend_from_slice(&p[l + 1..]);
+            let mut run = vec![x];
+            run.extend_from_slice(&p[k + 1..=l]);
+            (kept, run)
+        } else {
+            let mut kept = vec![x];
+            kept.extend_from_slice(&p[k + 1..=l]);
+            let mut run = vec![x];
+            run.extend_from_slice(&p[l + 1..]);
+            run.extend_from_slice(&p[..=k]);
+            (kept, run)
+        };
+        cut_area += signed_area(&loop_run).abs();
+        if kept.len() < 3 || cut_area > max_area_fraction * total {
+            return None;
+        }
+        p = kept;
+    }
+    None
+}
+
+/// A point common to the intersecting segments `a b` and `c d`: their crossing, or for
+/// touching or overlapping segments an end point lying on the other segment.
+fn crossing_point(a: Point, b: Point, c: Point, d: Point) -> Point {
+    let r = b - a;
+    let s = d - c;
+    let denom = r.cross(s);
+    if denom != 0.0 {
+        let t = ((c - a).cross(s) / denom).clamp(0.0, 1.0);
+        return a + r * t;
+    }
+    [a, b, c, d]
+        .into_iter()
+        .min_by(|&p, &q| {
+            let dp = segment_distance(p, a, b).0 + segment_distance(p, c, d).0;
+            let dq = segment_distance(q, a, b).0 + segment_distance(q, c, d).0;
+            dp.total_cmp(&dq)
+        })
+        .unwrap_or(a)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

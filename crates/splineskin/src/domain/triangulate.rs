@@ -579,8 +579,14 @@ fn dedup_consecutive(v: &mut Vec<Point>, closed: bool) {
     }
 }
 
-/// The largest closed path's flattening, counter-clockwise, if it is simple and contains all
-/// other geometry (see the module documentation).
+/// Most self-crossing loops cut off a closed path's flattening before it can be a boundary
+/// ([`polygon::without_small_loops`]).
+const MAX_LOOP_CUTS: usize = 16;
+/// Largest area those loops may hold, as a fraction of the path's: 1 %.
+const MAX_LOOP_AREA_FRACTION: f64 = 0.01;
+
+/// The largest closed path's flattening, counter-clockwise, with small self-crossing loops cut
+/// off, if it then contains all other geometry (see the module documentation).
 fn closed_curve_boundary(
     drawing: &Drawing,
     samples: &[Vec<Point>],
@@ -603,7 +609,7 @@ fn closed_curve_boundary(
         poly.reverse();
     }
     if self_intersection(&poly).is_some() {
-        return None;
+        poly = polygon::without_small_loops(&poly, MAX_LOOP_CUTS, MAX_LOOP_AREA_FRACTION)?;
     }
     let index = PolygonIndex::new(&[&poly]);
     let handles_inside = points
@@ -1022,6 +1028,75 @@ mod tests {
         let domain = Domain::build(&wave(), &handles, &[], &o).unwrap();
         check_domain(&domain, &handles, &o);
         assert!((domain.area - signed_area(&cage)).abs() < 1e-9 * domain.area);
+    }
+
+    #[test]
+    fn domain_closed_curve_with_a_small_overshoot_loop_is_the_boundary() {
+        // A closed square whose closing curve overshoots its start and crosses back: a loop of
+        // about 0.2 % of the area (as drawn outlines often have).
+        let outline = path(
+            &[
+                (0., 0.),
+                (33., 0.),
+                (67., 0.),
+                (100., 0.),
+                (100., 33.),
+                (100., 67.),
+                (100., 100.),
+                (67., 100.),
+                (33., 100.),
+                (0., 100.),
+                (-6., 30.),
+                (6., -8.),
+                (0., 0.),
+            ],
+            true,
+        );
+        let inner = path(&[(40., 50.), (45., 60.), (55., 60.), (60., 50.)], false);
+        let d = drawing(vec![inner, outline]);
+        assert!(self_intersection(&{
+            let mut p = Vec::new();
+            for j in 0..d.paths[1].n_curves() {
+                let c = d.paths[1].curve(j);
+                p.extend((0..50).map(|k| c.eval(k as f64 / 50.0)));
+            }
+            p
+        })
+        .is_some());
+        let handles = [Point::new(50.0, 50.0), Point::new(20.0, 40.0)];
+        let o = DomainOptions::default();
+        let domain = Domain::build(&d, &handles, &[], &o).unwrap();
+        assert_eq!(domain.boundary, Boundary::ClosedCurve { path: 1 });
+        assert!(
+            (domain.area / 10_000.0 - 1.0).abs() < 0.01,
+            "{}",
+            domain.area
+        );
+        // Control: a loop holding about 2 % of the area is the shape, not a blemish.
+        let big = path(
+            &[
+                (0., 0.),
+                (33., 0.),
+                (67., 0.),
+                (100., 0.),
+                (100., 33.),
+                (100., 67.),
+                (100., 100.),
+                (67., 100.),
+                (33., 100.),
+                (0., 100.),
+                (-20., 60.),
+                (80., -40.),
+                (0., 0.),
+            ],
+            true,
+        );
+        let d = drawing(vec![
+            path(&[(40., 50.), (45., 60.), (55., 60.), (60., 50.)], false),
+            big,
+        ]);
+        let padded = Domain::build(&d, &handles, &[], &o).unwrap();
+        assert_eq!(padded.boundary, Boundary::Padded);
     }
 
     #[test]
