@@ -18,6 +18,8 @@ pub mod domain;
 pub mod drawing;
 pub mod examples;
 pub mod mesh;
+pub mod metrics;
+pub mod naive;
 pub mod render;
 pub mod scene;
 pub mod spline_fit;

@@ -1,0 +1,1166 @@
+//! The naive baselines the paper compares its fit with (Liu, Jacobson & Gingold 2014, §5;
+//! DESIGN.md §1 "Naive baselines").
+//!
+//! All of them start from the skinning map
+//!
+//! ```text
+//! f(x) = Σ_i w_i(x) T_i x̄ = A(x) x̄,   A(x) = Σ_i w_i(x) T_i   (the blended transform)
+//! ```
+//!
+//! and apply it to something other than the whole curve:
+//!
+//! | function | the authors' `engineType` | what is skinned |
+//! |---|---|---|
+//! | [`skin_control_points`] | `fourcontrols` | every control point: `c_k' = f(c_k)` |
+//! | [`skin_on_curve_points`] | `twoendpoints` | on-curve points `f(q)`; an off-curve point `c` next to the on-curve point `q` takes `q`'s blended transform: `c' = A(q) c̄` |
+//! | [`skin_with_jacobian`] | `jacobian` | on-curve points `f(q)`; off-curve points `c' = f(q) + J(q) (c − q)`, `J` the Jacobian of `f` |
+//! | [`schneider_refit`] | — | dense samples of each path, mapped by `f` and refitted with Schneider's algorithm (the curve count changes) |
+//!
+//! Off-curve point `P_3j+1` belongs to on-curve point `P_3j`, `P_3j+2` to `P_3j+3` (the paper:
+//! "treating each off-curve point as a vector whose origin is the adjacent interpolated
+//! point"). The first three write the same layout as [`SplineRig::update`]: the chain points
+//! of every path concatenated, [`Drawing::n_points`] of them (a closed path's repeated last
+//! point equals its first). Since `Σ_i w_i ≡ 1` for every family here, one affine map `T` on
+//! every handle gives `A ≡ T` and `J ≡` its linear part, so all three reproduce `T` exactly,
+//! and the identity pose reproduces the input.
+//!
+//! The Jacobian of `f` at `x` is
+//!
+//! ```text
+//! J(x) = L(A(x)) + Σ_i (T_i x̄ − f(x)) ∇w_i(x)ᵀ
+//! ```
+//!
+//! (`L` the linear part; the `f(x)` term adds `f(x) Σ_i ∇w_iᵀ = 0` and makes a common `T`
+//! exact). The gradients come from a [`WeightGradient`]: analytic for [`Shepard`]
+//! ([`Shepard::eval_with_gradient`]), central differences of any [`WeightField`] with
+//! [`FiniteDifferences`] (mesh weights are piecewise linear: at a mesh edge the difference
+//! averages the gradients of the triangles on either side).
+//!
+//! [`SplineRig::update`]: crate::spline_fit::SplineRig::update
+
+use kurbo::{Affine, CubicBez, ParamCurve, Point, Vec2};
+
+use crate::bezier;
+use crate::drawing::{Drawing, JointKind, Path};
+use crate::spline_fit::PoseError;
+use crate::weights::{Shepard, WeightField};
+
+/// The blended transform `A(p) = Σ_i w_i(p) T_i`, with `w` (length `pose.len()`) as scratch
+/// for the weights (left holding `w_i(p)`).
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::naive::blended_transform;
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let field = Shepard::new(&[Point::new(0.0, 0.0), Point::new(2.0, 0.0)], ShepardOptions::default());
+/// let pose = [Affine::IDENTITY, Affine::translate((4.0, 0.0))];
+/// let a = blended_transform(&field, &pose, Point::new(1.0, 0.0), &mut [0.0; 2]);
+/// assert_eq!(a, Affine::translate((2.0, 0.0)));
+/// ```
+pub fn blended_transform(
+    field: &dyn WeightField,
+    pose: &[Affine],
+    p: Point,
+    w: &mut [f64],
+) -> Affine {
+    field.eval(p, w);
+    blend(pose, w)
+}
+
+/// The skinning map `f(p) = Σ_i w_i(p) T_i p̄`, with `w` as scratch as in
+/// [`blended_transform`].
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::naive::skin_point;
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let field = Shepard::new(&[Point::new(0.0, 0.0), Point::new(2.0, 0.0)], ShepardOptions::default());
+/// let pose = [Affine::IDENTITY, Affine::translate((4.0, 0.0))];
+/// assert_eq!(skin_point(&field, &pose, Point::new(2.0, 0.0), &mut [0.0; 2]), Point::new(6.0, 0.0));
+/// ```
+pub fn skin_point(field: &dyn WeightField, pose: &[Affine], p: Point, w: &mut [f64]) -> Point {
+    blended_transform(field, pose, p, w) * p
+}
+
+/// `Σ_i w_i T_i` (coefficient-wise: affine maps form a vector space).
+fn blend(pose: &[Affine], w: &[f64]) -> Affine {
+    let mut c = [0.0; 6];
+    for (t, &wi) in pose.iter().zip(w) {
+        if wi == 0.0 {
+            continue;
+        }
+        for (ck, tk) in c.iter_mut().zip(t.as_coeffs()) {
+            *ck += wi * tk;
+        }
+    }
+    Affine::new(c)
+}
+
+/// Checks the pose length against the field and the output length against the drawing.
+fn check_sizes(
+    drawing: &Drawing,
+    n_handles: usize,
+    pose: &[Affine],
+    out: &[Point],
+) -> Result<(), PoseError> {
+    if pose.len() != n_handles {
+        return Err(PoseError::Transforms {
+            got: pose.len(),
+            expected: n_handles,
+        });
+    }
+    if out.len() != drawing.n_points() {
+        return Err(PoseError::Output {
+            got: out.len(),
+            expected: drawing.n_points(),
+        });
+    }
+    Ok(())
+}
+
+/// The authors' `fourcontrols` baseline: every control point skinned as a point,
+/// `c_k' = Σ_i w_i(c_k) T_i c̄_k` (paper §5, "we apply the deformation directly to all control
+/// points"; its Fig. 1).
+///
+/// Writes into `out` (length [`Drawing::n_points`], the layout of
+/// [`crate::spline_fit::SplineRig::update`]). Errors if `pose` does not have one map per handle
+/// of `field` or `out` has the wrong length.
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::drawing::{Drawing, JunctionOptions, Path};
+/// use splineskin::naive::skin_control_points;
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let pts = [(0.0, 0.0), (1.0, 1.0), (2.0, 1.0), (3.0, 0.0)].map(Point::from).to_vec();
+/// let drawing = Drawing {
+///     paths: vec![Path::new(pts.clone(), false, &JunctionOptions::default()).unwrap()],
+///     ..Default::default()
+/// };
+/// let field = Shepard::new(&[Point::new(0.0, 0.0), Point::new(3.0, 0.0)], ShepardOptions::default());
+/// let t = Affine::rotate(0.3).then_translate((1.0, 2.0).into());
+/// let mut out = vec![Point::ZERO; drawing.n_points()];
+/// skin_control_points(&drawing, &field, &[t, t], &mut out).unwrap();
+/// for (p, q) in pts.iter().zip(&out) {
+///     assert!((t * *p - *q).hypot() < 1e-12);
+/// }
+/// ```
+pub fn skin_control_points(
+    drawing: &Drawing,
+    field: &dyn WeightField,
+    pose: &[Affine],
+    out: &mut [Point],
+) -> Result<(), PoseError> {
+    check_sizes(drawing, field.n_handles(), pose, out)?;
+    let mut w = vec![0.0; pose.len()];
+    for (p, o) in drawing.paths.iter().flat_map(|p| &p.points).zip(out) {
+        *o = skin_point(field, pose, *p, &mut w);
+    }
+    Ok(())
+}
+
+/// The on-curve point an off-curve chain point belongs to: `P_3j+1 → P_3j`, `P_3j+2 → P_3j+3`
+/// (an on-curve point to itself).
+#[inline]
+fn owner(k: usize) -> usize {
+    match k % 3 {
+        0 => k,
+        1 => k - 1,
+        _ => k + 1,
+    }
+}
+
+/// The authors' `twoendpoints` baseline: on-curve points skinned, `q' = A(q) q̄`; each off-curve
+/// point `c` carried by the blended transform of its on-curve neighbour `q`, `c' = A(q) c̄`
+/// (paper §5: "we apply the interpolated point's transformation", treating the off-curve point
+/// as a vector from `q`: `A(q) c̄ = q' + L(A(q)) (c − q)`).
+///
+/// Both tangents at a junction are mapped by the same linear map, so a G¹ junction stays G¹
+/// with its tangent-length ratio (a fixed-angle one does not, unless `L(A(q))` is a
+/// similarity). Output and errors as [`skin_control_points`].
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::drawing::{Drawing, JunctionOptions, Path};
+/// use splineskin::naive::skin_on_curve_points;
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let pts = [(0.0, 0.0), (1.0, 1.0), (2.0, 1.0), (3.0, 0.0)].map(Point::from).to_vec();
+/// let drawing = Drawing {
+///     paths: vec![Path::new(pts, false, &JunctionOptions::default()).unwrap()],
+///     ..Default::default()
+/// };
+/// // Handles on the two ends: each end, and its off-curve neighbour, follows its handle.
+/// let field = Shepard::new(&[Point::new(0.0, 0.0), Point::new(3.0, 0.0)], ShepardOptions::default());
+/// let pose = [Affine::IDENTITY, Affine::translate((0.0, 5.0))];
+/// let mut out = vec![Point::ZERO; 4];
+/// skin_on_curve_points(&drawing, &field, &pose, &mut out).unwrap();
+/// assert_eq!(out, [(0.0, 0.0), (1.0, 1.0), (2.0, 6.0), (3.0, 5.0)].map(Point::from));
+/// ```
+pub fn skin_on_curve_points(
+    drawing: &Drawing,
+    field: &dyn WeightField,
+    pose: &[Affine],
+    out: &mut [Point],
+) -> Result<(), PoseError> {
+    check_sizes(drawing, field.n_handles(), pose, out)?;
+    let mut w = vec![0.0; pose.len()];
+    let mut offset = 0;
+    for path in &drawing.paths {
+        let n = path.points.len();
+        let chunk = &mut out[offset..offset + n];
+        // Each on-curve point's transform, applied to it and its (up to two) neighbours.
+        for q in (0..n).step_by(3) {
+            let a = blended_transform(field, pose, path.points[q], &mut w);
+            for k in q.saturating_sub(1)..(q + 2).min(n) {
+                if owner(k) == q {
+                    chunk[k] = a * path.points[k];
+                }
+            }
+        }
+        offset += n;
+    }
+    Ok(())
+}
+
+/// Weight functions with gradients: what [`skin_with_jacobian`] needs.
+pub trait WeightGradient: Send + Sync {
+    /// Number of handles `h`.
+    fn n_handles(&self) -> usize;
+
+    /// Writes `w_i(p)` into `w` and `∇w_i(p)` into `grad` for every handle `i` (both of
+    /// length [`WeightGradient::n_handles`]).
+    fn eval_with_gradient(&self, p: Point, w: &mut [f64], grad: &mut [Vec2]);
+}
+
+impl WeightGradient for Shepard {
+    fn n_handles(&self) -> usize {
+        WeightField::n_handles(self)
+    }
+
+    /// Analytic: [`Shepard::eval_with_gradient`].
+    fn eval_with_gradient(&self, p: Point, w: &mut [f64], grad: &mut [Vec2]) {
+        Shepard::eval_with_gradient(self, p, w, grad);
+    }
+}
+
+/// Default step of [`FiniteDifferences`], as a fraction of the drawing's bounding-box diagonal:
+/// 1e-5. Central differences err by `O(step²)` from curvature and `O(ε / step)` from rounding
+/// (`ε` ≈ 1e-16 relative); this step balances them near 1e-10 relative for smooth weights.
+pub const DEFAULT_RELATIVE_STEP: f64 = 1e-5;
+
+/// Gradients of any [`WeightField`] by central differences,
+/// `∂w_i/∂x ≈ (w_i(x + h e_x) − w_i(x − h e_x)) / 2h` (and likewise in `y`), for families
+/// without an analytic gradient (mesh weights: harmonic, biharmonic, BBW).
+///
+/// `step` `h` is in drawing units (see [`DEFAULT_RELATIVE_STEP`]). For piecewise linear mesh
+/// weights the difference is exact inside a triangle farther than `h` from its edges, and the
+/// average of the neighbouring triangles' gradients across an edge.
+///
+/// ```
+/// use kurbo::{Point, Vec2};
+/// use splineskin::naive::{FiniteDifferences, WeightGradient};
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let shepard = Shepard::new(&[Point::new(0.0, 0.0), Point::new(2.0, 0.0)], ShepardOptions::default());
+/// let fd = FiniteDifferences::new(&shepard, 1e-5);
+/// let (mut w, mut g) = ([0.0; 2], [Vec2::ZERO; 2]);
+/// fd.eval_with_gradient(Point::new(1.0, 0.0), &mut w, &mut g);
+/// // Along the axis w_0(x) = (2 − x)² / (x² + (2 − x)²), so w_0'(1) = −1.
+/// assert!((g[0] - Vec2::new(-1.0, 0.0)).hypot() < 1e-9);
+/// ```
+#[derive(Clone, Copy)]
+pub struct FiniteDifferences<'a> {
+    field: &'a dyn WeightField,
+    step: f64,
+}
+
+impl<'a> FiniteDifferences<'a> {
+    /// Central differences of `field` with step `step` (drawing units, positive).
+    pub fn new(field: &'a dyn WeightField, step: f64) -> Self {
+        FiniteDifferences { field, step }
+    }
+
+    /// Central differences with the step [`DEFAULT_RELATIVE_STEP`] times `drawing`'s diagonal.
+    pub fn for_drawing(field: &'a dyn WeightField, drawing: &Drawing) -> Self {
+        Self::new(field, DEFAULT_RELATIVE_STEP * drawing.diagonal().max(1.0))
+    }
+}
+
+impl WeightGradient for FiniteDifferences<'_> {
+    fn n_handles(&self) -> usize {
+        self.field.n_handles()
+    }
+
+    fn eval_with_gradient(&self, p: Point, w: &mut [f64], grad: &mut [Vec2]) {
+        let h = self.field.n_handles();
+        self.field.eval(p, w);
+        let mut plus = vec![0.0; h];
+        let mut minus = vec![0.0; h];
+        grad.fill(Vec2::ZERO);
+        for e in [Vec2::new(self.step, 0.0), Vec2::new(0.0, self.step)] {
+            self.field.eval(p + e, &mut plus);
+            self.field.eval(p - e, &mut minus);
+            let unit = e / self.step;
+            for ((g, a), b) in grad.iter_mut().zip(&plus).zip(&minus) {
+                *g += unit * ((a - b) / (2.0 * self.step));
+            }
+        }
+    }
+}
+
+/// The image `f(q)` and the Jacobian `J(q)` (as the linear part of an [`Affine`] with no
+/// translation) of the skinning map at `q`. Formula in the module doc.
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::naive::skinning_jacobian;
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let field = Shepard::new(&[Point::new(0.0, 0.0), Point::new(2.0, 0.0)], ShepardOptions::default());
+/// // Handle 1 moves right by 4: along the axis f(x) = x + 4 w_1(x), and w_1'(1) = 1
+/// // (w_1(x) = x² / (x² + (2 − x)²)), so f'(1) = 5.
+/// let pose = [Affine::IDENTITY, Affine::translate((4.0, 0.0))];
+/// let (fq, j) = skinning_jacobian(&field, &pose, Point::new(1.0, 0.0));
+/// assert_eq!(fq, Point::new(3.0, 0.0));
+/// assert!((j.as_coeffs()[0] - 5.0).abs() < 1e-12);
+/// ```
+pub fn skinning_jacobian(field: &dyn WeightGradient, pose: &[Affine], q: Point) -> (Point, Affine) {
+    let mut w = vec![0.0; pose.len()];
+    let mut g = vec![Vec2::ZERO; pose.len()];
+    jacobian_at(field, pose, q, &mut w, &mut g)
+}
+
+fn jacobian_at(
+    field: &dyn WeightGradient,
+    pose: &[Affine],
+    q: Point,
+    w: &mut [f64],
+    g: &mut [Vec2],
+) -> (Point, Affine) {
+    field.eval_with_gradient(q, w, g);
+    let a = blend(pose, w);
+    let fq = a * q;
+    let c = a.as_coeffs();
+    // Columns of J: [[j0, j2], [j1, j3]] in Affine's (a, b, c, d) order.
+    let mut j = [c[0], c[1], c[2], c[3]];
+    for (t, gi) in pose.iter().zip(g.iter()) {
+        let d = *t * q - fq;
+        j[0] += d.x * gi.x;
+        j[1] += d.y * gi.x;
+        j[2] += d.x * gi.y;
+        j[3] += d.y * gi.y;
+    }
+    (fq, Affine::new([j[0], j[1], j[2], j[3], 0.0, 0.0]))
+}
+
+/// The authors' `jacobian` baseline ("Interpolated Jacobian", paper §5 and Fig. 7): on-curve
+/// points skinned, `q' = f(q)`; each off-curve point `c` moved as a vector from its on-curve
+/// neighbour `q` by the Jacobian of the skinning map there, `c' = f(q) + J(q) (c − q)`.
+///
+/// `J(q)` is shared by both tangents at a junction, so G¹ junctions stay G¹ with their ratio.
+/// Output and errors as [`skin_control_points`].
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::drawing::{Drawing, JunctionOptions, Path};
+/// use splineskin::naive::skin_with_jacobian;
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let pts = [(0.0, 0.0), (1.0, 1.0), (2.0, 1.0), (3.0, 0.0)].map(Point::from).to_vec();
+/// let drawing = Drawing {
+///     paths: vec![Path::new(pts.clone(), false, &JunctionOptions::default()).unwrap()],
+///     ..Default::default()
+/// };
+/// let field = Shepard::new(&[Point::new(0.0, 0.0), Point::new(3.0, 0.0)], ShepardOptions::default());
+/// let mut out = vec![Point::ZERO; 4];
+/// skin_with_jacobian(&drawing, &field, &[Affine::IDENTITY; 2], &mut out).unwrap();
+/// assert_eq!(out, pts);
+/// ```
+pub fn skin_with_jacobian(
+    drawing: &Drawing,
+    field: &dyn WeightGradient,
+    pose: &[Affine],
+    out: &mut [Point],
+) -> Result<(), PoseError> {
+    check_sizes(drawing, field.n_handles(), pose, out)?;
+    let mut w = vec![0.0; pose.len()];
+    let mut g = vec![Vec2::ZERO; pose.len()];
+    let mut offset = 0;
+    for path in &drawing.paths {
+        let n = path.points.len();
+        let chunk = &mut out[offset..offset + n];
+        for q in (0..n).step_by(3) {
+            let on = path.points[q];
+            let (fq, j) = jacobian_at(field, pose, on, &mut w, &mut g);
+            for k in q.saturating_sub(1)..(q + 2).min(n) {
+                if owner(k) == q {
+                    chunk[k] = fq + (j * (path.points[k] - on).to_point()).to_vec2();
+                }
+            }
+        }
+        offset += n;
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sample and refit: Schneider (1990).
+
+/// Default samples per input curve of [`schneider_refit`]: 64. Dense enough that the refit
+/// follows the target between samples too: with the default tolerance, the target's largest
+/// distance from the refit (101 samples per curve, [`crate::metrics::refit_metrics`]) is below
+/// 0.1 % of the diagonal on the bundled drawing and the authors' clam and turtles
+/// (`tests/naive_baselines.rs`).
+pub const DEFAULT_REFIT_SAMPLES: usize = 64;
+
+/// Default error tolerance of [`schneider_refit`]: 0.5 drawing units (half a pixel at 1:1).
+pub const DEFAULT_REFIT_TOLERANCE: f64 = 0.5;
+
+/// Default Newton reparametrisation rounds per fit in [`schneider_refit`]: 4, as in
+/// Schneider's published code.
+pub const DEFAULT_REPARAMETRISATION_ROUNDS: usize = 4;
+
+/// Largest recursion depth of the split in [`fit_cubics`]: 64. Both halves of a split have
+/// fewer samples than the whole, so the depth is bounded by the sample count anyway; the cap
+/// only bounds the stack on pathological input (a run past it ends with the heuristic cubic).
+pub const MAX_SPLIT_DEPTH: usize = 64;
+
+/// Options of [`schneider_refit`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct RefitOptions {
+    /// Largest distance between a sample and the fitted curve (at the sample's parameter),
+    /// in drawing units. Default: [`DEFAULT_REFIT_TOLERANCE`].
+    pub tolerance: f64,
+    /// Samples per input curve (uniform in its parameter). Default: [`DEFAULT_REFIT_SAMPLES`].
+    pub samples_per_curve: usize,
+    /// Newton reparametrisation rounds before splitting. Default:
+    /// [`DEFAULT_REPARAMETRISATION_ROUNDS`].
+    pub reparametrisation_rounds: usize,
+}
+
+impl Default for RefitOptions {
+    fn default() -> Self {
+        RefitOptions {
+            tolerance: DEFAULT_REFIT_TOLERANCE,
+            samples_per_curve: DEFAULT_REFIT_SAMPLES,
+            reparametrisation_rounds: DEFAULT_REPARAMETRISATION_ROUNDS,
+        }
+    }
+}
+
+impl RefitOptions {
+    /// Sets [`RefitOptions::tolerance`].
+    pub fn with_tolerance(mut self, tolerance: f64) -> Self {
+        self.tolerance = tolerance;
+        self
+    }
+    /// Sets [`RefitOptions::samples_per_curve`].
+    pub fn with_samples_per_curve(mut self, samples: usize) -> Self {
+        self.samples_per_curve = samples;
+        self
+    }
+    /// Sets [`RefitOptions::reparametrisation_rounds`].
+    pub fn with_reparametrisation_rounds(mut self, rounds: usize) -> Self {
+        self.reparametrisation_rounds = rounds;
+        self
+    }
+}
+
+/// The result of [`schneider_refit`]: one chain per input path, with its own number of curves.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Refit {
+    /// The refitted paths, in the input's order.
+    pub paths: Vec<RefitPath>,
+}
+
+/// One refitted path: a chain of `3n + 1` points (closed: the last equals the first), as
+/// [`Path::points`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RefitPath {
+    /// The chain points.
+    pub points: Vec<Point>,
+    /// Whether the path is closed.
+    pub closed: bool,
+}
+
+impl RefitPath {
+    /// Number of cubic curves.
+    pub fn n_curves(&self) -> usize {
+        self.points.len().saturating_sub(1) / 3
+    }
+
+    /// Curve `j` as a kurbo cubic.
+    pub fn curve(&self, j: usize) -> CubicBez {
+        let p = &self.points[3 * j..3 * j + 4];
+        CubicBez::new(p[0], p[1], p[2], p[3])
+    }
+}
+
+impl Refit {
+    /// Total number of curves.
+    pub fn n_curves(&self) -> usize {
+        self.paths.iter().map(RefitPath::n_curves).sum()
+    }
+
+    /// Wraps chain points in the layout of [`crate::spline_fit::SplineRig::update`] (any
+    /// result of the same structure as `drawing`), e.g. to measure them by closest point with
+    /// [`crate::metrics::refit_metrics`]. `None` on a length mismatch.
+    pub fn from_chains(drawing: &Drawing, points: &[Point]) -> Option<Refit> {
+        if points.len() != drawing.n_points() {
+            return None;
+        }
+        let mut offset = 0;
+        let paths = drawing
+            .paths
+            .iter()
+            .map(|p| {
+                let n = p.points.len();
+                offset += n;
+                RefitPath {
+                    points: points[offset - n..offset].to_vec(),
+                    closed: p.closed,
+                }
+            })
+            .collect();
+        Some(Refit { paths })
+    }
+}
+
+/// An error of [`schneider_refit`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum RefitError {
+    /// The pose does not have one map per handle.
+    #[error(transparent)]
+    Pose(#[from] PoseError),
+    /// The tolerance is not a positive finite number of drawing units.
+    #[error("refit tolerance {0} is not positive and finite")]
+    Tolerance(f64),
+    /// Fewer than 2 samples per curve were asked for.
+    #[error("{0} samples per curve asked for: at least 2 are needed")]
+    Samples(usize),
+    /// A deformed sample is not finite (a non-finite transform or weight).
+    #[error("path {path}: a deformed sample is not finite")]
+    NotFinite {
+        /// The input path.
+        path: usize,
+    },
+}
+
+/// Sample-and-refit baseline (paper §5 and Fig. 3): each path is sampled densely
+/// (`samples_per_curve` uniform parameters per curve), the samples are mapped by the skinning
+/// map `f`, and the resulting polyline is refitted with Schneider's algorithm ([`fit_cubics`]),
+/// which changes the number of curves.
+///
+/// The path is cut at its corners (joints of kind [`JointKind::C0`] and
+/// [`JointKind::FixedAngle`], and open ends), where the fit keeps a corner; each smooth run
+/// between corners is fitted as one digitised curve (a closed path without corners as one loop,
+/// with a common tangent at its seam; a closed path with corners starts at its first corner).
+/// End tangents are estimated from the samples as in Schneider's method. Errors: a pose of the
+/// wrong length, a tolerance that is not positive and finite, fewer than 2 samples per curve,
+/// non-finite deformed samples.
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::drawing::{Drawing, JunctionOptions, Path};
+/// use splineskin::naive::{schneider_refit, RefitOptions};
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let pts = [(0.0, 0.0), (1.0, 1.0), (2.0, 1.0), (3.0, 0.0)].map(Point::from).to_vec();
+/// let drawing = Drawing {
+///     paths: vec![Path::new(pts, false, &JunctionOptions::default()).unwrap()],
+///     ..Default::default()
+/// };
+/// let field = Shepard::new(&[Point::new(0.0, 0.0), Point::new(3.0, 0.0)], ShepardOptions::default());
+/// let pose = [Affine::IDENTITY, Affine::rotate_about(0.5, Point::new(3.0, 0.0))];
+/// let refit = schneider_refit(&drawing, &field, &pose, &RefitOptions::default().with_tolerance(1e-3)).unwrap();
+/// assert_eq!(refit.paths.len(), 1);
+/// assert!(refit.n_curves() >= 1);
+/// ```
+pub fn schneider_refit(
+    drawing: &Drawing,
+    field: &dyn WeightField,
+    pose: &[Affine],
+    options: &RefitOptions,
+) -> Result<Refit, RefitError> {
+    if pose.len() != field.n_handles() {
+        return Err(PoseError::Transforms {
+            got: pose.len(),
+            expected: field.n_handles(),
+        }
+        .into());
+    }
+    if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
+        return Err(RefitError::Tolerance(options.tolerance));
+    }
+    if options.samples_per_curve < 2 {
+        return Err(RefitError::Samples(options.samples_per_curve));
+    }
+    let mut w = vec![0.0; pose.len()];
+    let mut paths = Vec::with_capacity(drawing.paths.len());
+    for (index, path) in drawing.paths.iter().enumerate() {
+        let samples = deformed_samples(path, field, pose, options.samples_per_curve, &mut w);
+        if samples.iter().any(|p| !p.is_finite()) {
+            return Err(RefitError::NotFinite { path: index });
+        }
+        paths.push(refit_path(path, &samples, options));
+    }
+    Ok(Refit { paths })
+}
+
+/// `f(B_j(t))` at `t = k / m`, `k = 0..m−1`, for every curve `j`, and the path's last point:
+/// `n·m + 1` samples; sample `j·m` is on-curve point `j`.
+fn deformed_samples(
+    path: &Path,
+    field: &dyn WeightField,
+    pose: &[Affine],
+    m: usize,
+    w: &mut [f64],
+) -> Vec<Point> {
+    let n = path.n_curves();
+    let mut out = Vec::with_capacity(n * m + 1);
+    for j in 0..n {
+        let c = path.curve_points(j);
+        for k in 0..m {
+            out.push(skin_point(
+                field,
+                pose,
+                bezier::eval(&c, k as f64 / m as f64),
+                w,
+            ));
+        }
+    }
+    out.push(skin_point(
+        field,
+        pose,
+        path.points[path.points.len() - 1],
+        w,
+    ));
+    out
+}
+
+/// Whether the path keeps a corner at joint `k`.
+fn is_corner(kind: JointKind) -> bool {
+    matches!(kind, JointKind::C0 | JointKind::FixedAngle | JointKind::End)
+}
+
+/// Refits one path from its deformed samples (`n·m + 1`, on-curve point `j` at `j·m`).
+fn refit_path(path: &Path, samples: &[Point], options: &RefitOptions) -> RefitPath {
+    let m = options.samples_per_curve;
+    let n = path.n_curves();
+    let mut chain = Vec::new();
+    if path.closed {
+        let corners: Vec<usize> = (0..n).filter(|&k| is_corner(path.joints[k])).collect();
+        // The loop's samples without the repeated last one, starting at `start`.
+        let ring = &samples[..n * m];
+        let rotated = |start: usize| -> Vec<Point> {
+            let mut v: Vec<Point> = ring[start..]
+                .iter()
+                .chain(&ring[..start])
+                .copied()
+                .collect();
+            v.push(ring[start]);
+            v
+        };
+        match corners.first() {
+            None => {
+                // One smooth loop: both ends share the centre tangent at the seam.
+                let d = rotated(0);
+                let last = d.len() - 1;
+                let centre = centre_tangent(d[last - 1], d[1]);
+                let (t1, t2) = match centre {
+                    Some(c) => (-c, c),
+                    None => (
+                        left_tangent(&d, 0, last).unwrap_or(Vec2::ZERO),
+                        right_tangent(&d, 0, last).unwrap_or(Vec2::ZERO),
+                    ),
+                };
+                chain.push(d[0]);
+                fit_cubics(&d, t1, t2, options, &mut chain);
+            }
+            Some(&first) => {
+                let d = rotated(first * m);
+                chain.push(d[0]);
+                let mut bounds: Vec<usize> =
+                    corners.iter().map(|&k| (k + n - first) % n * m).collect();
+                bounds.push(n * m);
+                for run in bounds.windows(2) {
+                    fit_run(&d[run[0]..=run[1]], options, &mut chain);
+                }
+            }
+        }
+    } else {
+        let mut bounds: Vec<usize> = (0..=n)
+            .filter(|&k| is_corner(path.joints[k]))
+            .map(|k| k * m)
+            .collect();
+        if bounds.last() != Some(&(n * m)) {
+            bounds.push(n * m);
+        }
+        chain.push(samples[0]);
+        for run in bounds.windows(2) {
+            fit_run(&samples[run[0]..=run[1]], options, &mut chain);
+        }
+    }
+    RefitPath {
+        points: chain,
+        closed: path.closed,
+    }
+}
+
+/// Fits an open run of samples with tangents estimated at its ends.
+fn fit_run(d: &[Point], options: &RefitOptions, chain: &mut Vec<Point>) {
+    let last = d.len() - 1;
+    let t1 = left_tangent(d, 0, last).unwrap_or(Vec2::ZERO);
+    let t2 = right_tangent(d, 0, last).unwrap_or(Vec2::ZERO);
+    fit_cubics(d, t1, t2, options, chain);
+}
+
+/// Unit vector from `d[first]` towards the first later sample distinct from it (Schneider's
+/// `ComputeLeftTangent`, skipping repeated samples).
+fn left_tangent(d: &[Point], first: usize, last: usize) -> Option<Vec2> {
+    d[first + 1..=last]
+        .iter()
+        .map(|p| *p - d[first])
+        .find(|v| v.hypot2() > 0.0)
+        .map(Vec2::normalize)
+}
+
+/// Unit vector from `d[last]` towards the first earlier sample distinct from it
+/// (`ComputeRightTangent`).
+fn right_tangent(d: &[Point], first: usize, last: usize) -> Option<Vec2> {
+    d[first..last]
+        .iter()
+        .rev()
+        .map(|p| *p - d[last])
+        .find(|v| v.hypot2() > 0.0)
+        .map(Vec2::normalize)
+}
+
+/// Unit tangent at a split sample from its neighbours `before` and `after`, pointing backwards
+/// (`ComputeCenterTangent`: `(d[i−1] − d[i+1])` normalised).
+fn centre_tangent(before: Point, after: Point) -> Option<Vec2> {
+    let v = before - after;
+    (v.hypot2() > 0.0).then(|| v.normalize())
+}
+
+/// Schneider's algorithm (*An algorithm for automatically fitting digitized curves*, Graphics
+/// Gems, 1990): fits the samples `d` (at least 2) with a G¹ chain of cubics whose samples lie
+/// within `options.tolerance` of it, and appends the chain's points after `d[0]` to `chain`
+/// (the caller pushed `d[0]`). `t1` is the unit tangent leaving `d[0]`, `t2` the unit tangent
+/// leaving `d[last]` backwards (zero if unknown: the heuristic control points are used).
+///
+/// ```text
+/// FitCubic(d, t̂1, t̂2):
+///   u ← chord-length parameters of d
+///   Q ← least-squares cubic with Q(0) = d_0, Q(1) = d_last, Q₁ = d_0 + α₁t̂1, Q₂ = d_last + α₂t̂2
+///   if max_i ‖Q(u_i) − d_i‖ < ε: done
+///   if it is < 2ε: up to `rounds` times u_i ← u_i − (Q(u_i) − d_i)·Q'(u_i) /
+///                  (Q'(u_i)·Q'(u_i) + (Q(u_i) − d_i)·Q''(u_i)),  refit, done if < ε
+///   split at the sample of largest error, t̂c from its neighbours:
+///   FitCubic(d[..=split], t̂1, t̂c);  FitCubic(d[split..], −t̂c, t̂2)
+/// ```
+///
+/// The least-squares step solves Schneider's 2×2 normal equations for `α₁, α₂`; when they are
+/// singular or give `α < 1e-6 · ‖d_last − d_0‖`, the Wu–Barsky heuristic
+/// `α₁ = α₂ = ‖d_last − d_0‖ / 3` is used (as in the published code).
+///
+/// ```
+/// use kurbo::{Point, Vec2};
+/// use splineskin::naive::{fit_cubics, RefitOptions};
+/// // Samples of a quarter circle of radius 10: within 0.01 with a few cubics.
+/// let d: Vec<Point> = (0..=50)
+///     .map(|k| {
+///         let a = std::f64::consts::FRAC_PI_2 * k as f64 / 50.0;
+///         Point::new(10.0 * a.cos(), 10.0 * a.sin())
+///     })
+///     .collect();
+/// let mut chain = vec![d[0]];
+/// let opts = RefitOptions::default().with_tolerance(0.01);
+/// fit_cubics(&d, Vec2::new(0.0, 1.0), Vec2::new(1.0, 0.0), &opts, &mut chain);
+/// assert_eq!((chain.len() - 1) % 3, 0);
+/// assert_eq!(*chain.last().unwrap(), d[50]);
+/// ```
+pub fn fit_cubics(d: &[Point], t1: Vec2, t2: Vec2, options: &RefitOptions, chain: &mut Vec<Point>) {
+    fit_cubic(d, t1, t2, options, chain, 0);
+}
+
+fn fit_cubic(
+    d: &[Point],
+    t1: Vec2,
+    t2: Vec2,
+    options: &RefitOptions,
+    chain: &mut Vec<Point>,
+    depth: usize,
+) {
+    let last = d.len() - 1;
+    let tol2 = options.tolerance * options.tolerance;
+    if last == 1 || depth >= MAX_SPLIT_DEPTH {
+        let dist = (d[last] - d[0]).hypot() / 3.0;
+        chain.extend([d[0] + t1 * dist, d[last] + t2 * dist, d[last]]);
+        return;
+    }
+    let mut u = chord_length_parameters(d);
+    let mut bez = generate_bezier(d, &u, t1, t2);
+    let (mut max_err, mut split) = max_error(d, &bez, &u);
+    if max_err < tol2 {
+        chain.extend([bez[1], bez[2], bez[3]]);
+        return;
+    }
+    // Schneider's iterationError: ε² · 4 (twice the distance tolerance).
+    if max_err < 4.0 * tol2 {
+        for _ in 0..options.reparametrisation_rounds {
+            reparametrise(d, &bez, &mut u);
+            bez = generate_bezier(d, &u, t1, t2);
+            (max_err, split) = max_error(d, &bez, &u);
+            if max_err < tol2 {
+                chain.extend([bez[1], bez[2], bez[3]]);
+                return;
+            }
+        }
+    }
+    let tc = centre_tangent(d[split - 1], d[split + 1])
+        .or_else(|| left_tangent(d, split, last).map(|v| -v))
+        .unwrap_or(Vec2::ZERO);
+    fit_cubic(&d[..=split], t1, tc, options, chain, depth + 1);
+    fit_cubic(&d[split..], -tc, t2, options, chain, depth + 1);
+}
+
+/// Parameters `u_i ∈ [0, 1]` proportional to the polyline length up to `d_i`; uniform when the
+/// polyline has zero length.
+fn chord_length_parameters(d: &[Point]) -> Vec<f64> {
+    let mut u = Vec::with_capacity(d.len());
+    u.push(0.0);
+    for w in d.windows(2) {
+        let prev = u[u.len() - 1];
+        u.push(prev + (w[1] - w[0]).hypot());
+    }
+    let total = u[u.len() - 1];
+    let n = (d.len() - 1) as f64;
+    for (i, v) in u.iter_mut().enumerate() {
+        *v = if total > 0.0 {
+            *v / total
+        } else {
+            i as f64 / n
+        };
+    }
+    u
+}
+
+/// Least-squares cubic through `d[0]` and `d[last]` with inner control points along `t1`, `t2`
+/// (Schneider's `GenerateBezier`).
+fn generate_bezier(d: &[Point], u: &[f64], t1: Vec2, t2: Vec2) -> [Point; 4] {
+    let (p0, p3) = (d[0], d[d.len() - 1]);
+    let mut c = [[0.0; 2]; 2];
+    let mut x = [0.0; 2];
+    for (p, &t) in d.iter().zip(u) {
+        let b = bezier::bernstein(t);
+        let a1 = t1 * b[1];
+        let a2 = t2 * b[2];
+        c[0][0] += a1.dot(a1);
+        c[0][1] += a1.dot(a2);
+        c[1][1] += a2.dot(a2);
+        // The part of d_i not explained by the fixed end points.
+        let tmp = *p - (p0.to_vec2() * (b[0] + b[1]) + p3.to_vec2() * (b[2] + b[3])).to_point();
+        x[0] += a1.dot(tmp);
+        x[1] += a2.dot(tmp);
+    }
+    c[1][0] = c[0][1];
+    let det = c[0][0] * c[1][1] - c[1][0] * c[0][1];
+    let (mut alpha1, mut alpha2) = (0.0, 0.0);
+    if det != 0.0 {
+        alpha1 = (x[0] * c[1][1] - x[1] * c[0][1]) / det;
+        alpha2 = (c[0][0] * x[1] - c[1][0] * x[0]) / det;
+    }
+    let seg = (p3 - p0).hypot();
+    let eps = 1e-6 * seg;
+    if det == 0.0 || !(alpha1 >= eps && alpha2 >= eps) {
+        alpha1 = seg / 3.0;
+        alpha2 = alpha1;
+    }
+    [p0, p0 + t1 * alpha1, p3 + t2 * alpha2, p3]
+}
+
+/// Largest squared distance `‖Q(u_i) − d_i‖²` over the inner samples, and where (Schneider's
+/// `ComputeMaxError`; the split sample is inner, `1 ≤ split ≤ last − 1`).
+fn max_error(d: &[Point], bez: &[Point; 4], u: &[f64]) -> (f64, usize) {
+    let last = d.len() - 1;
+    let mut worst = (0.0, last / 2);
+    for i in 1..last {
+        let e = (bezier::eval(bez, u[i]) - d[i]).hypot2();
+        if e >= worst.0 {
+            worst = (e, i);
+        }
+    }
+    worst
+}
+
+/// One Newton step per sample on `(Q(u) − d)·Q'(u) = 0` (Schneider's `Reparameterize`), kept in
+/// `[0, 1]`.
+fn reparametrise(d: &[Point], bez: &[Point; 4], u: &mut [f64]) {
+    let curve = CubicBez::new(bez[0], bez[1], bez[2], bez[3]);
+    for (p, t) in d.iter().zip(u.iter_mut()) {
+        let q = curve.eval(*t) - *p;
+        let q1 = bezier::derivative(bez, *t);
+        let q2 = second_derivative(bez, *t);
+        let den = q1.dot(q1) + q.dot(q2);
+        if den != 0.0 && den.is_finite() {
+            *t = (*t - q.dot(q1) / den).clamp(0.0, 1.0);
+        }
+    }
+}
+
+/// `B''(t) = 6[(1−t)(c2 − 2c1 + c0) + t(c3 − 2c2 + c1)]`.
+fn second_derivative(c: &[Point; 4], t: f64) -> Vec2 {
+    let a = c[2].to_vec2() - c[1].to_vec2() * 2.0 + c[0].to_vec2();
+    let b = c[3].to_vec2() - c[2].to_vec2() * 2.0 + c[1].to_vec2();
+    (a * (1.0 - t) + b * t) * 6.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::JunctionOptions;
+    use crate::weights::ShepardOptions;
+    use kurbo::ParamCurveNearest;
+
+    fn drop_drawing() -> Drawing {
+        // A closed drop (C⁰ tip, smooth elsewhere) and an open S curve.
+        let drop = [
+            (0.0, 0.0),
+            (20.0, 10.0),
+            (30.0, 30.0),
+            (20.0, 40.0),
+            (15.0, 45.0),
+            (-15.0, 45.0),
+            (-20.0, 40.0),
+            (-30.0, 30.0),
+            (-20.0, 10.0),
+            (0.0, 0.0),
+        ]
+        .map(Point::from)
+        .to_vec();
+        let s = [(50.0, 0.0), (60.0, 20.0), (70.0, -20.0), (80.0, 0.0)]
+            .map(Point::from)
+            .to_vec();
+        let o = JunctionOptions::default();
+        Drawing {
+            paths: vec![
+                Path::new(drop, true, &o).unwrap(),
+                Path::new(s, false, &o).unwrap(),
+            ],
+            ..Default::default()
+        }
+    }
+
+    fn field() -> Shepard {
+        Shepard::new(
+            &[
+                Point::new(0.0, 10.0),
+                Point::new(0.0, 45.0),
+                Point::new(75.0, 0.0),
+            ],
+            ShepardOptions::default(),
+        )
+    }
+
+    #[test]
+    fn second_derivative_matches_differences() {
+        let c = [(0.0, 0.0), (1.0, 3.0), (4.0, -1.0), (5.0, 2.0)].map(Point::from);
+        let h = 1e-5;
+        for t in [0.1, 0.5, 0.9] {
+            let fd = (bezier::derivative(&c, t + h) - bezier::derivative(&c, t - h)) / (2.0 * h);
+            assert!((fd - second_derivative(&c, t)).hypot() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn jacobian_matches_differences_of_the_skinning_map() {
+        let f = field();
+        let pose = [
+            Affine::rotate(0.3),
+            Affine::translate((5.0, -3.0)),
+            Affine::scale_non_uniform(1.2, 0.8),
+        ];
+        let q = Point::new(12.0, 20.0);
+        let (fq, j) = skinning_jacobian(&f, &pose, q);
+        let h = 1e-5;
+        let mut w = [0.0; 3];
+        for (axis, e) in [Vec2::new(h, 0.0), Vec2::new(0.0, h)]
+            .into_iter()
+            .enumerate()
+        {
+            let col = (skin_point(&f, &pose, q + e, &mut w) - skin_point(&f, &pose, q - e, &mut w))
+                / (2.0 * h);
+            let c = j.as_coeffs();
+            let want = if axis == 0 {
+                Vec2::new(c[0], c[1])
+            } else {
+                Vec2::new(c[2], c[3])
+            };
+            assert!((col - want).hypot() < 1e-7, "{col:?} vs {want:?}");
+        }
+        assert_eq!(fq, skin_point(&f, &pose, q, &mut w));
+        // Finite differences of the weights give the same Jacobian.
+        let fd = FiniteDifferences::new(&f, 1e-5);
+        let (_, j2) = skinning_jacobian(&fd, &pose, q);
+        for (a, b) in j.as_coeffs().iter().zip(j2.as_coeffs()) {
+            assert!((a - b).abs() < 1e-7);
+        }
+    }
+
+    #[test]
+    fn baselines_reproduce_identity_and_a_common_affine_map() {
+        let d = drop_drawing();
+        let f = field();
+        let input = d.flat_points();
+        let t = Affine::new([1.1, 0.2, -0.3, 0.9, 4.0, -7.0]);
+        for (pose, map) in [([Affine::IDENTITY; 3], Affine::IDENTITY), ([t; 3], t)] {
+            let mut out = vec![Point::ZERO; d.n_points()];
+            for method in 0..3 {
+                match method {
+                    0 => skin_control_points(&d, &f, &pose, &mut out).unwrap(),
+                    1 => skin_on_curve_points(&d, &f, &pose, &mut out).unwrap(),
+                    _ => skin_with_jacobian(&d, &f, &pose, &mut out).unwrap(),
+                }
+                for (p, q) in input.iter().zip(&out) {
+                    // Rounding of Σ w_i T_i with coordinates of order 100.
+                    assert!(
+                        (map * *p - *q).hypot() < 1e-12,
+                        "method {method}: {p:?} -> {q:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn twoendpoints_and_jacobian_keep_g1_ratios() {
+        let d = drop_drawing();
+        let f = field();
+        let pose = [
+            Affine::rotate(0.4),
+            Affine::translate((5.0, -3.0)),
+            Affine::IDENTITY,
+        ];
+        let mut out = vec![Point::ZERO; d.n_points()];
+        for method in 0..2 {
+            if method == 0 {
+                skin_on_curve_points(&d, &f, &pose, &mut out).unwrap();
+            } else {
+                skin_with_jacobian(&d, &f, &pose, &mut out).unwrap();
+            }
+            // Joint 1 of the drop (point 3) is smooth: in (2 → 3) and out (3 → 4) stay parallel.
+            let a = out[3] - out[2];
+            let b = out[4] - out[3];
+            assert!(a.cross(b).abs() < 1e-9 * a.hypot() * b.hypot());
+        }
+    }
+
+    #[test]
+    fn sizes_are_checked() {
+        let d = drop_drawing();
+        let f = field();
+        let mut out = vec![Point::ZERO; d.n_points()];
+        assert_eq!(
+            skin_control_points(&d, &f, &[Affine::IDENTITY; 2], &mut out),
+            Err(PoseError::Transforms {
+                got: 2,
+                expected: 3
+            })
+        );
+        assert_eq!(
+            skin_with_jacobian(&d, &f, &[Affine::IDENTITY; 3], &mut out[1..]),
+            Err(PoseError::Output {
+                got: d.n_points() - 1,
+                expected: d.n_points()
+            })
+        );
+        assert!(matches!(
+            schneider_refit(
+                &d,
+                &f,
+                &[Affine::IDENTITY; 3],
+                &RefitOptions::default().with_tolerance(0.0)
+            ),
+            Err(RefitError::Tolerance(_))
+        ));
+    }
+
+    #[test]
+    fn schneider_fits_within_tolerance_and_lines_with_one_curve() {
+        // Collinear samples: one curve, on the line.
+        let line: Vec<Point> = (0..=20)
+            .map(|k| Point::new(k as f64, 2.0 * k as f64))
+            .collect();
+        let mut chain = vec![line[0]];
+        let t = Vec2::new(1.0, 2.0).normalize();
+        fit_cubics(
+            &line,
+            t,
+            -t,
+            &RefitOptions::default().with_tolerance(1e-6),
+            &mut chain,
+        );
+        assert_eq!(chain.len(), 4, "{chain:?}");
+        assert!(chain.iter().all(|p| (p.y - 2.0 * p.x).abs() < 1e-12));
+        // Samples of a cubic (uniform in t, not in arc length): every sample within the
+        // tolerance of the fit, more curves for a tighter tolerance.
+        let c = [(0.0, 0.0), (10.0, 20.0), (30.0, 20.0), (40.0, 0.0)].map(Point::from);
+        let d: Vec<Point> = (0..=40)
+            .map(|k| bezier::eval(&c, k as f64 / 40.0))
+            .collect();
+        let t1 = (c[1] - c[0]).normalize();
+        let t2 = (c[2] - c[3]).normalize();
+        let mut counts = Vec::new();
+        for tolerance in [1e-3, 1e-1, 1.0] {
+            let mut chain = vec![d[0]];
+            fit_cubics(
+                &d,
+                t1,
+                t2,
+                &RefitOptions::default().with_tolerance(tolerance),
+                &mut chain,
+            );
+            let n = (chain.len() - 1) / 3;
+            for p in &d {
+                let dist = (0..n)
+                    .map(|j| {
+                        CubicBez::new(
+                            chain[3 * j],
+                            chain[3 * j + 1],
+                            chain[3 * j + 2],
+                            chain[3 * j + 3],
+                        )
+                        .nearest(*p, 1e-12)
+                        .distance_sq
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                assert!(dist.sqrt() <= tolerance, "{tolerance}: {}", dist.sqrt());
+            }
+            counts.push(n);
+        }
+        assert!(counts[0] > counts[2], "{counts:?}");
+        assert_eq!(counts[2], 1, "{counts:?}");
+    }
+
+    #[test]
+    fn schneider_refit_keeps_corners_and_closes_loops() {
+        let d = drop_drawing();
+        let f = field();
+        let pose = [
+            Affine::rotate(0.4),
+            Affine::translate((5.0, -3.0)),
+            Affine::IDENTITY,
+        ];
+        let refit =
+            schneider_refit(&d, &f, &pose, &RefitOptions::default().with_tolerance(0.05)).unwrap();
+        let mut w = [0.0; 3];
+        let tip = skin_point(&f, &pose, Point::ZERO, &mut w);
+        let drop = &refit.paths[0];
+        assert!(drop.closed);
+        assert_eq!(drop.points[0], tip);
+        assert_eq!(drop.points[drop.points.len() - 1], tip);
+        let s = &refit.paths[1];
+        assert_eq!(
+            s.points[0],
+            skin_point(&f, &pose, Point::new(50.0, 0.0), &mut w)
+        );
+    }
+}
