@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result};
 use kurbo::{Affine, Point};
 use serde::Serialize;
-use splineskin::scene::{HandleSet, Scene, Setup};
+use splineskin::scene::{Engine, HandleSet, Scene, Setup};
 use splineskin::spline_fit::quadrature::SampledCurves;
 use splineskin::spline_fit::SplineRig;
 
@@ -91,6 +91,12 @@ pub fn run(args: Args) -> Result<()> {
     }
     for path in &args.scenes {
         let scene = Scene::load(path)?;
+        anyhow::ensure!(
+            scene.engine == Engine::Ours,
+            "{}: engine '{}' is a naive baseline; bench times engine 'ours' only",
+            path.display(),
+            scene.engine.name()
+        );
         let mut setup_times = Vec::with_capacity(SETUPS);
         let mut setup = None;
         for _ in 0..SETUPS {

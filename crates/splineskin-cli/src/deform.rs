@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use splineskin::drawing::Drawing;
-use splineskin::scene::Compat;
-use splineskin::scene::Scene;
+use splineskin::naive::{self, FiniteDifferences};
+use splineskin::scene::{Compat, Engine, Scene, Setup};
 use splineskin::spline_fit::quadrature::SampledCurves;
 use splineskin::spline_fit::{FlexibleOptions, FlexibleSolver, SplineRig};
 
@@ -51,6 +51,9 @@ pub fn run(args: Args) -> Result<()> {
         )
     })?;
     let compat: Compat = args.compat.into();
+    if scene.engine != Engine::Ours {
+        return run_naive(&args, &scene, &setup, &pose.transforms, compat);
+    }
     let flexible = match args.flexible {
         true => Some(match compat {
             Compat::VectorSkinning => FlexibleOptions::vectorskinning(),
@@ -134,6 +137,57 @@ pub fn run(args: Args) -> Result<()> {
         setup.drawing.paths.len(),
         rig.n_handles(),
         set.points.len(),
+        args.pose,
+        args.output.display()
+    );
+    Ok(())
+}
+
+/// `deform` for a scene whose engine is a naive baseline ([`splineskin::naive`]): every control
+/// point skinned (`fourcontrols`), on-curve points skinned and off-curve points carried by
+/// their neighbour's blended transform (`twoendpoints`), or carried by the skinning map's
+/// Jacobian there (`jacobian`: analytic for Shepard weights of point handles, central
+/// differences otherwise).
+fn run_naive(
+    args: &Args,
+    scene: &Scene,
+    setup: &Setup,
+    pose: &[kurbo::Affine],
+    compat: Compat,
+) -> Result<()> {
+    if args.flexible {
+        bail!(
+            "{}: --flexible applies to engine 'ours'; this scene's engine is '{}'",
+            args.scene.display(),
+            scene.engine.name()
+        );
+    }
+    let drawing = &setup.drawing;
+    let field = setup.weights.as_ref();
+    let mut points = vec![Point::ZERO; drawing.n_points()];
+    let solved = match scene.engine {
+        Engine::FourControls => naive::skin_control_points(drawing, field, pose, &mut points),
+        Engine::TwoEndpoints => naive::skin_on_curve_points(drawing, field, pose, &mut points),
+        Engine::Jacobian => match scene.point_shepard(compat) {
+            Some(shepard) => naive::skin_with_jacobian(drawing, &shepard, pose, &mut points),
+            None => {
+                let gradient = FiniteDifferences::for_drawing(field, drawing);
+                naive::skin_with_jacobian(drawing, &gradient, pose, &mut points)
+            }
+        },
+        Engine::Ours => unreachable!("run_naive is only called for the naive engines"),
+    };
+    solved
+        .with_context(|| format!("{}: engine '{}'", args.scene.display(), scene.engine.name()))?;
+    check_finite(args, drawing, &points, &[])?;
+    write_deformed(&args.output, drawing, &points)?;
+    eprintln!(
+        "{}: {} curves in {} paths, {} handles, engine {} (a naive baseline), pose {} -> {}",
+        args.scene.display(),
+        drawing.n_curves(),
+        drawing.paths.len(),
+        field.n_handles(),
+        scene.engine.name(),
         args.pose,
         args.output.display()
     );

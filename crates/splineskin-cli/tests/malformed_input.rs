@@ -529,10 +529,14 @@ fn malformed_deform_scene_of_ours() {
             &["scene.json", "weights.exponent", "not in (0, 64]"],
         ),
         deform(
-            "engine-jacobian",
+            "engine-jacobian-flexible",
             vec![file("scene.json", ours(r#", "engine": "jacobian""#))],
-            &[],
-            &["scene.json", "engine 'jacobian'", "not implemented"],
+            &["--flexible"],
+            &[
+                "scene.json",
+                "--flexible applies to engine 'ours'",
+                "'jacobian'",
+            ],
         ),
         deform(
             "engine-garbage",
@@ -772,12 +776,6 @@ fn malformed_deform_authors_scene() {
                 authors(&svg, r#", "weightFunction": "magic""#),
                 args,
                 &["scene.json", "unknown weight family 'magic'", "expected shepard"],
-            ),
-            scene(
-                n("engine-fourcontrols"),
-                authors(&svg, r#", "engineType": "fourcontrols""#),
-                args,
-                &["scene.json", "engine 'fourcontrols'", "not implemented"],
             ),
             scene(
                 n("engine-garbage"),
@@ -1058,7 +1056,11 @@ fn malformed_bench() {
                 authors(SVG, r#", "engineType": "jacobian""#),
             )],
             &["scene.json"],
-            &["scene.json", "engine 'jacobian'", "not implemented"],
+            &[
+                "scene.json",
+                "engine 'jacobian'",
+                "bench times engine 'ours' only",
+            ],
         ),
         bench(
             "bench-synthetic-too-big",

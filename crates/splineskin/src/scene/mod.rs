@@ -410,22 +410,14 @@ impl Scene {
         }
     }
 
-    /// Errors if the scene asks for a weight family or engine not implemented in this version.
+    /// Errors if the scene asks for a weight family not implemented in this version. (Every
+    /// engine is: the naive baselines are in [`crate::naive`].)
     pub fn check_supported(&self) -> Result<(), SceneError> {
         if let WeightSpec::NotImplemented(name) = &self.weights {
             return Err(SceneError::NotImplemented {
                 origin: self.origin.clone(),
                 what: format!(
                     "weight function '{name}' (available: shepard, harmonic, biharmonic, bbw, mvc)"
-                ),
-            });
-        }
-        if self.engine != Engine::Ours {
-            return Err(SceneError::NotImplemented {
-                origin: self.origin.clone(),
-                what: format!(
-                    "engine '{}' (a naive baseline; only 'ours' is available in this version)",
-                    self.engine.name()
                 ),
             });
         }

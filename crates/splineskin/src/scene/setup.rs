@@ -210,13 +210,7 @@ pub fn handle_weights(
     }
     match inputs.family {
         WeightSpec::Shepard { exponent } => {
-            let snap = match inputs.compat {
-                Compat::None => 0.0,
-                Compat::VectorSkinning => AUTHORS_SHEPARD_SNAP,
-            };
-            let options = ShepardOptions::default()
-                .with_exponent(*exponent)
-                .with_snap_distance_squared(snap);
+            let options = shepard_options(*exponent, inputs.compat);
             let field: Box<dyn WeightField> = if handles.bones.is_empty() {
                 Box::new(Shepard::new(handles.points, options))
             } else {
@@ -249,6 +243,44 @@ pub fn handle_weights(
             origin: inputs.origin.to_string(),
             what: format!("weight function '{name}'"),
         }),
+    }
+}
+
+/// The Shepard options of a scene: its exponent, and in compatibility mode the authors' snap
+/// ([`AUTHORS_SHEPARD_SNAP`]).
+fn shepard_options(exponent: f64, compat: Compat) -> ShepardOptions {
+    let snap = match compat {
+        Compat::None => 0.0,
+        Compat::VectorSkinning => AUTHORS_SHEPARD_SNAP,
+    };
+    ShepardOptions::default()
+        .with_exponent(exponent)
+        .with_snap_distance_squared(snap)
+}
+
+impl Scene {
+    /// The Shepard weights [`Scene::setup`] builds for `compat`, as the concrete
+    /// [`Shepard`] (whose analytic gradient the Jacobian baseline uses), when the scene's
+    /// family is Shepard and its handles are points only; else `None`.
+    ///
+    /// ```
+    /// use splineskin::scene::{Compat, Scene};
+    /// let scene = Scene::from_json(r#"{"splineskin_scene": 1,
+    ///     "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 L10 0'/></svg>",
+    ///     "handles": [{"position": [0, 0]}, {"position": [10, 0]}]}"#, "inline", None)?;
+    /// assert!(scene.point_shepard(Compat::None).is_some());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn point_shepard(&self, compat: Compat) -> Option<Shepard> {
+        match self.weights {
+            WeightSpec::Shepard { exponent } if self.bones.is_empty() && self.cage.is_none() => {
+                Some(Shepard::new(
+                    &self.handles,
+                    shepard_options(exponent, compat),
+                ))
+            }
+            _ => None,
+        }
     }
 }
 

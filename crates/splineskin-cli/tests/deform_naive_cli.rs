@@ -1,0 +1,127 @@
+//! `splineskin deform` on scenes whose engine is a naive baseline (`fourcontrols`,
+//! `twoendpoints`, `jacobian`): every such case of the paper authors' solver outputs
+//! (../shared/data/vectorskinning/authors-solver-outputs), deformed through the binary in
+//! compatibility mode to JSON, agrees with their output to 1e-6 of the bounding-box diagonal
+//! (the library measures 3.9e-16: tests/naive_baselines.rs). Skipped, with a message, without
+//! ../shared/data.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde::Deserialize;
+
+/// Agreement required, as a fraction of the diagonal.
+const TOLERANCE: f64 = 1e-6;
+
+#[derive(Deserialize)]
+struct InputPath {
+    cubic_bezier_chain: Vec<[f64; 2]>,
+}
+
+#[derive(Deserialize)]
+struct Case {
+    case: String,
+    source_json: String,
+    engine_type: String,
+    input_paths: Vec<InputPath>,
+    deformed_paths: Vec<Vec<[f64; 2]>>,
+}
+
+#[derive(Deserialize)]
+struct Output {
+    paths: Vec<OutputPath>,
+}
+
+#[derive(Deserialize)]
+struct OutputPath {
+    points: Vec<[f64; 2]>,
+}
+
+fn data_root() -> Option<PathBuf> {
+    let data = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
+    data.is_dir().then_some(data)
+}
+
+fn naive_cases(root: &Path) -> Vec<Case> {
+    let dir = root.join("vectorskinning/authors-solver-outputs");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("authors-solver-outputs")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    files
+        .iter()
+        .map(|f| {
+            let text = std::fs::read_to_string(f).expect("case file");
+            serde_json::from_str::<Case>(&text).expect("case JSON")
+        })
+        .filter(|c| ["fourcontrols", "twoendpoints", "jacobian"].contains(&c.engine_type.as_str()))
+        .collect()
+}
+
+#[test]
+fn deform_naive_engines_reproduce_the_authors_solver() {
+    let Some(root) = data_root() else {
+        eprintln!("skipped: ../shared/data not found next to the repository");
+        return;
+    };
+    let cases = naive_cases(&root);
+    let engines: std::collections::BTreeSet<&str> =
+        cases.iter().map(|c| c.engine_type.as_str()).collect();
+    assert_eq!(
+        engines.len(),
+        3,
+        "every naive engine has cases: {engines:?}"
+    );
+    for case in &cases {
+        let source = case
+            .source_json
+            .strip_prefix("tests-and-results/")
+            .expect("source under tests-and-results/");
+        let scene = root.join("vectorskinning").join(source);
+        let out = std::env::temp_dir().join(format!(
+            "splineskin-deform-naive-{}-{}.json",
+            std::process::id(),
+            case.case
+        ));
+        let run = Command::new(env!("CARGO_BIN_EXE_splineskin"))
+            .arg("deform")
+            .arg(&scene)
+            .args(["--compat", "vectorskinning", "-o"])
+            .arg(&out)
+            .output()
+            .expect("run splineskin");
+        assert!(
+            run.status.success(),
+            "{}: {}",
+            case.case,
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let text = std::fs::read_to_string(&out).expect("output");
+        std::fs::remove_file(&out).ok();
+        let ours: Output = serde_json::from_str(&text).expect("output JSON");
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in case.input_paths.iter().flat_map(|p| &p.cubic_bezier_chain) {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let diagonal = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        assert_eq!(ours.paths.len(), case.deformed_paths.len(), "{}", case.case);
+        let mut worst: f64 = 0.0;
+        for (a, b) in ours.paths.iter().zip(&case.deformed_paths) {
+            assert_eq!(a.points.len(), b.len(), "{}", case.case);
+            for (p, q) in a.points.iter().zip(b) {
+                worst = worst.max((p[0] - q[0]).hypot(p[1] - q[1]));
+            }
+        }
+        let relative = worst / diagonal;
+        eprintln!(
+            "{} ({}): {relative:.2e} of the diagonal",
+            case.case, case.engine_type
+        );
+        assert!(relative <= TOLERANCE, "{}: {relative:e}", case.case);
+    }
+}
