@@ -11,6 +11,7 @@
 
 use kurbo::Point;
 
+use super::shepard::weights_from_squared_distances;
 use super::{ShepardOptions, WeightField};
 use crate::domain::polygon::segment_distance;
 
@@ -62,32 +63,10 @@ impl WeightField for SegmentShepard {
                     let d = segment_distance(p, s[0], s[1]).0;
                     d * d
                 }));
-        let mut nearest = 0;
-        let mut d2_min = f64::INFINITY;
-        for (i, (d2, o)) in distances2.zip(out.iter_mut()).enumerate() {
+        for (d2, o) in distances2.zip(out.iter_mut()) {
             *o = d2;
-            if d2 < d2_min {
-                d2_min = d2;
-                nearest = i;
-            }
         }
-        if d2_min <= self.options.snap_distance_squared || d2_min == 0.0 {
-            out.fill(0.0);
-            if let Some(o) = out.get_mut(nearest) {
-                *o = 1.0;
-            }
-            return;
-        }
-        let half_a = 0.5 * self.options.exponent;
-        let mut sum = 0.0;
-        for o in out.iter_mut() {
-            let r = d2_min / *o;
-            *o = if half_a == 1.0 { r } else { r.powf(half_a) };
-            sum += *o;
-        }
-        for o in out.iter_mut() {
-            *o /= sum;
-        }
+        weights_from_squared_distances(out, &self.options);
     }
 }
 

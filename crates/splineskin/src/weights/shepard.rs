@@ -146,33 +146,44 @@ impl WeightField for Shepard {
 
     fn eval(&self, p: Point, out: &mut [f64]) {
         debug_assert_eq!(out.len(), self.positions.len());
-        let mut nearest = 0;
-        let mut d2_min = f64::INFINITY;
-        for (i, (h, o)) in self.positions.iter().zip(out.iter_mut()).enumerate() {
-            let d2 = (p - *h).hypot2();
-            *o = d2;
-            if d2 < d2_min {
-                d2_min = d2;
-                nearest = i;
-            }
+        for (h, o) in self.positions.iter().zip(out.iter_mut()) {
+            *o = (p - *h).hypot2();
         }
-        if d2_min <= self.options.snap_distance_squared || d2_min == 0.0 {
-            out.fill(0.0);
-            if let Some(o) = out.get_mut(nearest) {
-                *o = 1.0;
-            }
-            return;
+        weights_from_squared_distances(out, &self.options);
+    }
+}
+
+/// Turns the squared distances `d_i²` in `out` into the normalised Shepard weights
+/// `w_i = (d_min/d_i)^a / Σ_k (d_min/d_k)^a` (the module's formula, scaled by the smallest
+/// distance so no power overflows), or, when the smallest `d²` is zero or within
+/// [`ShepardOptions::snap_distance_squared`], into 1 for the nearest handle and 0 for the
+/// others. Shared by [`Shepard`] and [`super::SegmentShepard`], which differ only in the
+/// distance.
+pub(crate) fn weights_from_squared_distances(out: &mut [f64], options: &ShepardOptions) {
+    let mut nearest = 0;
+    let mut d2_min = f64::INFINITY;
+    for (i, &d2) in out.iter().enumerate() {
+        if d2 < d2_min {
+            d2_min = d2;
+            nearest = i;
         }
-        let half_a = 0.5 * self.options.exponent;
-        let mut sum = 0.0;
-        for o in out.iter_mut() {
-            let r = d2_min / *o;
-            *o = if half_a == 1.0 { r } else { r.powf(half_a) };
-            sum += *o;
+    }
+    if d2_min <= options.snap_distance_squared || d2_min == 0.0 {
+        out.fill(0.0);
+        if let Some(o) = out.get_mut(nearest) {
+            *o = 1.0;
         }
-        for o in out.iter_mut() {
-            *o /= sum;
-        }
+        return;
+    }
+    let half_a = 0.5 * options.exponent;
+    let mut sum = 0.0;
+    for o in out.iter_mut() {
+        let r = d2_min / *o;
+        *o = if half_a == 1.0 { r } else { r.powf(half_a) };
+        sum += *o;
+    }
+    for o in out.iter_mut() {
+        *o /= sum;
     }
 }
 
