@@ -1,6 +1,7 @@
 //! `splineskin bench SCENE… [--json]`: medians of the scene's setup (reading the drawing and,
 //! for the mesh families, building the domain and solving the weights), weight sampling,
-//! precomputation and per-frame update, separately.
+//! precomputation and per-frame update, separately; for drawings with G¹ or fixed-angle
+//! junctions also the flexible solve, cold and warm-started.
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -8,9 +9,9 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result};
 use kurbo::{Affine, Point};
 use serde::Serialize;
-use splineskin::scene::{Engine, HandleSet, Scene, Setup};
+use splineskin::scene::{Compat, Engine, HandleSet, Scene, Setup};
 use splineskin::spline_fit::quadrature::SampledCurves;
-use splineskin::spline_fit::SplineRig;
+use splineskin::spline_fit::{FlexibleOptions, FlexibleSolver, SplineRig};
 
 use crate::CompatArg;
 
@@ -20,6 +21,8 @@ const MIN_UPDATES: usize = 200;
 const MIN_PRECOMPUTES: usize = 3;
 /// Timed scene setups per scene (each solves the weights: seconds for big mesh domains).
 const SETUPS: usize = 3;
+/// Timed flexible solves per scene (cold, and warm-started from the previous pose's).
+const FLEXIBLE_SOLVES: usize = 21;
 /// Precomputations are repeated until this much time has been spent (or 50 runs).
 const PRECOMPUTE_BUDGET: Duration = Duration::from_secs(2);
 const MAX_PRECOMPUTES: usize = 50;
@@ -62,6 +65,13 @@ struct Row {
     weights_s: f64,
     precompute_s: f64,
     update_s: f64,
+    /// Median seconds of a flexible G¹ solve from the rig's result (scenes with G¹ or
+    /// fixed-angle junctions only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    flexible_s: Option<f64>,
+    /// The same, warm-started from the previous pose's flexible solution (a drag).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    flexible_warm_s: Option<f64>,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -108,12 +118,20 @@ pub fn run(args: Args) -> Result<()> {
         let mut setup = setup.expect("SETUPS > 0");
         setup.options = setup.options.with_parallel(true);
         let base = scene.pose(0).map(|p| p.transforms).unwrap_or_default();
+        let flexible =
+            scene
+                .flexible_options(args.compat.into())
+                .unwrap_or(match args.compat.into() {
+                    Compat::VectorSkinning => FlexibleOptions::vectorskinning(),
+                    _ => FlexibleOptions::default(),
+                });
         let mut row = measure(
             &path.display().to_string(),
             &setup,
             &base,
             &scene.handle_set(),
             args.updates,
+            flexible,
         )
         .with_context(|| format!("{}: building the rig", path.display()))?;
         row.setup_s = median(setup_times);
@@ -140,7 +158,14 @@ pub fn run(args: Args) -> Result<()> {
             cage: None,
         };
         let setup_s = start.elapsed().as_secs_f64();
-        let mut row = measure(&name, &setup, &base, &set, args.updates)?;
+        let mut row = measure(
+            &name,
+            &setup,
+            &base,
+            &set,
+            args.updates,
+            FlexibleOptions::default(),
+        )?;
         row.setup_s = setup_s;
         print_row(&row, args.json);
     }
@@ -186,6 +211,7 @@ fn measure(
     base: &[Affine],
     handles: &HandleSet<'_>,
     updates: usize,
+    flexible: FlexibleOptions,
 ) -> Result<Row> {
     let drawing = &setup.drawing;
     let weights = setup.weights.as_ref();
@@ -234,6 +260,7 @@ fn measure(
         update_times.push(t.elapsed().as_secs_f64());
         std::hint::black_box(&out);
     }
+    let (flexible_s, flexible_warm_s) = measure_flexible(setup, &samples, &rig, &poses, flexible)?;
     Ok(Row {
         scene: name.to_string(),
         curves: drawing.n_curves(),
@@ -245,5 +272,46 @@ fn measure(
         weights_s: median(weight_times),
         precompute_s: median(pre_times),
         update_s: median(update_times),
+        flexible_s,
+        flexible_warm_s,
     })
+}
+
+/// Medians of the flexible solve over the first [`FLEXIBLE_SOLVES`] of `poses` (consecutive
+/// poses differ by a small rotation, as in a drag): cold (from the rig's result) and warm
+/// (from the previous pose's flexible solution). `None` when the drawing has no G¹ or
+/// fixed-angle junction.
+fn measure_flexible(
+    setup: &Setup,
+    samples: &SampledCurves,
+    rig: &SplineRig,
+    poses: &[Vec<Affine>],
+    options: FlexibleOptions,
+) -> Result<(Option<f64>, Option<f64>)> {
+    let solver = FlexibleSolver::from_rig(
+        rig.clone(),
+        &setup.drawing,
+        samples,
+        &setup.options,
+        options,
+    )?;
+    if solver.n_flexible_junctions() == 0 {
+        return Ok((None, None));
+    }
+    let n = FLEXIBLE_SOLVES.min(poses.len());
+    let mut out = vec![Point::ZERO; rig.n_points()];
+    let mut previous = vec![Point::ZERO; rig.n_points()];
+    let (mut cold, mut warm) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    for (k, pose) in poses.iter().take(n).enumerate() {
+        let t = Instant::now();
+        solver.solve(pose, None, &mut out)?;
+        cold.push(t.elapsed().as_secs_f64());
+        if k > 0 {
+            let t = Instant::now();
+            solver.solve(pose, Some(&previous), &mut out)?;
+            warm.push(t.elapsed().as_secs_f64());
+        }
+        std::mem::swap(&mut previous, &mut out);
+    }
+    Ok((Some(median(cold)), Some(median(warm))))
 }

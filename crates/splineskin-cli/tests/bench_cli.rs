@@ -1,6 +1,7 @@
 //! `splineskin bench --json` through the binary: one JSON object per scene with the counts of
 //! the scene (checked against the library's own reading of it) and finite, positive medians;
-//! mesh families also report the size of their domain (checked against `Scene::setup`).
+//! mesh families also report the size of their domain (checked against `Scene::setup`), and
+//! drawings with G¹ junctions the flexible solve's medians.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -21,6 +22,8 @@ struct Row {
     weights_s: f64,
     precompute_s: f64,
     update_s: f64,
+    flexible_s: Option<f64>,
+    flexible_warm_s: Option<f64>,
 }
 
 /// A two-curve drawing with three point handles and the weight family `family`; the mesh
@@ -33,7 +36,7 @@ fn scene_file(family: &str) -> PathBuf {
     };
     let text = format!(
         r#"{{"splineskin_scene": 1,
-            "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C30 40 70 40 100 0 S170 -40 200 0'/></svg>",
+            "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C30 40 70 40 100 0 C160 -80 170 -40 200 0'/></svg>",
             "handles": [{{"position": [0, 0]}}, {{"position": [100, 10]}}, {{"position": [200, 0]}}],
             "weights": {{"family": "{family}"}}{domain},
             "pose": [{{"rotate": 10}}, {{}}, {{"translate": [5, 5]}}]}}"#
@@ -75,17 +78,22 @@ fn bench_json_reports_counts_and_medians() {
         assert_eq!(row.curves, setup.drawing.n_curves(), "{family}");
         assert_eq!(row.paths, setup.drawing.paths.len(), "{family}");
         assert_eq!(row.handles, 3, "{family}");
-        assert!(
-            row.constraints > 0,
-            "{family}: the S-curve has a smooth joint"
-        );
+        assert!(row.constraints > 0, "{family}: the S-curve has a G1 joint");
         assert_eq!(
             row.domain_vertices,
             setup.domain.as_ref().map(|d| d.mesh.n_vertices()),
             "{family}"
         );
         assert_eq!(row.domain_vertices.is_some(), family != "shepard");
+        // The S-curve's middle joint is G¹ (outgoing tangent twice the incoming): the flexible
+        // solve is timed, cold and warm.
+        let flexible = row
+            .flexible_s
+            .expect("flexible_s for a drawing with a G1 joint");
+        let warm = row.flexible_warm_s.expect("flexible_warm_s");
         for (name, t) in [
+            ("flexible_s", flexible),
+            ("flexible_warm_s", warm),
             ("setup_s", row.setup_s),
             ("weights_s", row.weights_s),
             ("precompute_s", row.precompute_s),
