@@ -613,3 +613,69 @@ fn scene_handles_puppet_caches_weights() {
     assert!(!puppet.is_stale());
     assert!(puppet.domain().is_none(), "Shepard has no domain");
 }
+
+/// A puppet with flexible junctions: its first update is exactly the flexible solver's cold
+/// solve, a small drag is warm-started from the previous frame and lands where a cold solve of
+/// the new pose does (to the iteration's tolerance), pose changes rebuild nothing, and turning
+/// flexible off gives exactly the rig's fixed-ratio result.
+#[test]
+fn scene_handles_puppet_flexible_junctions() {
+    use splineskin::spline_fit::quadrature::SampledCurves;
+    use splineskin::spline_fit::{FlexibleOptions, FlexibleSolver};
+    // A G1 S-curve (outgoing tangent twice the incoming) and two point handles.
+    let json = r#"{"splineskin_scene": 1, "flexible": true,
+        "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C30 40 70 40 100 0 C160 -80 170 -40 200 0'/></svg>",
+        "handles": [{"position": [0, 0]}, {"position": [200, 0]}]}"#;
+    let s = Scene::from_json(json, "flex.json", None).unwrap();
+    let mut puppet = Puppet::from_scene(&s, Compat::None).unwrap();
+    assert!(puppet.flexible().is_some());
+    let setup = s.setup(Compat::None).unwrap();
+    let samples = SampledCurves::sample(&setup.drawing, setup.weights.as_ref(), &setup.options);
+    let solver = FlexibleSolver::new(
+        &setup.drawing,
+        &samples,
+        &setup.options,
+        FlexibleOptions::default(),
+    )
+    .unwrap();
+    assert!(solver.n_flexible_junctions() > 0);
+    let pose = |a: f64| [Affine::IDENTITY, Affine::rotate_about(a, (200.0, 0.0))];
+    let n = puppet.n_points();
+    let (mut out, mut cold) = (vec![Point::ZERO; n], vec![Point::ZERO; n]);
+
+    puppet.set_pose(&pose(0.6)).unwrap();
+    puppet.update(&mut out).unwrap();
+    let report = solver.solve(&pose(0.6), None, &mut cold).unwrap();
+    assert_eq!(out, cold, "first update: the cold flexible solve");
+    assert!(
+        report.energy() < report.fixed_ratio_energy,
+        "flexible lowers the energy"
+    );
+
+    // A small drag: warm-started, close to the cold solve of the new pose.
+    puppet.set_pose(&pose(0.62)).unwrap();
+    puppet.update(&mut out).unwrap();
+    solver.solve(&pose(0.62), None, &mut cold).unwrap();
+    let size = 200.0;
+    let gap = out
+        .iter()
+        .zip(&cold)
+        .map(|(a, b)| (*a - *b).hypot())
+        .fold(0.0, f64::max);
+    assert!(gap < 1e-3 * size, "warm vs cold: {gap}");
+    assert_eq!(puppet.stats().rig_builds, 1);
+    assert_eq!(puppet.stats().weight_builds, 1);
+
+    // Flexible off: the rig's fixed-ratio result exactly, after one rig rebuild.
+    puppet.set_flexible(None);
+    puppet.update(&mut out).unwrap();
+    let mut fixed = vec![Point::ZERO; n];
+    solver.rig().update(&pose(0.62), &mut fixed).unwrap();
+    assert_eq!(out, fixed);
+    assert_eq!(puppet.stats().rig_builds, 2);
+    assert_eq!(puppet.stats().weight_builds, 1);
+    assert_ne!(
+        fixed, cold,
+        "the flexible result differs from the fixed-ratio one"
+    );
+}

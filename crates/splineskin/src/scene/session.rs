@@ -10,7 +10,8 @@ use super::setup::{check_rest_handles, handle_weights, Compat, WeightInputs};
 use super::{Bone, HandleKind, Scene, SceneError, SceneFormat, WeightSpec};
 use crate::domain::{Domain, DomainOptions};
 use crate::drawing::Drawing;
-use crate::spline_fit::{FitOptions, SplineRig};
+use crate::spline_fit::quadrature::SampledCurves;
+use crate::spline_fit::{FitOptions, FlexibleOptions, FlexibleSolver, SplineRig};
 use crate::weights::WeightField;
 
 /// How often a [`Puppet`] has computed its weights and its rig, and run its update.
@@ -33,7 +34,13 @@ pub struct PuppetStats {
 /// |---|---|---|
 /// | a pose ([`Puppet::set_pose`], [`Puppet::set_transform`]) | kept | kept |
 /// | a rest position, adding or removing a handle, the cage, the family, the domain options | recomputed | recomputed |
-/// | the fit options ([`Puppet::set_fit_options`]) | kept | recomputed |
+/// | the fit options ([`Puppet::set_fit_options`]), flexible on or off ([`Puppet::set_flexible`]) | kept | recomputed |
+///
+/// **Flexible junctions.** When the scene asks for them (`"flexible": true`, the authors'
+/// scenes) or [`Puppet::set_flexible`] turns them on, [`Puppet::update`] runs the flexible
+/// solve ([`FlexibleSolver`]) instead of the mat-vec, warm-started from the previous update's
+/// result (a drag moves the pose a little between frames); this allocates and costs a few
+/// sparse refactorisations per frame.
 ///
 /// Recomputation is **lazy**: an edit marks what it invalidates as stale (and is checked at
 /// once: an edit that would make the handles invalid is refused and changes nothing); the
@@ -86,6 +93,12 @@ pub struct Puppet {
     weights: Option<(Box<dyn WeightField>, Option<Domain>)>,
     /// `None`: stale.
     rig: Option<SplineRig>,
+    /// Flexible G¹ options, `None` for the fixed-ratio fit.
+    flexible: Option<FlexibleOptions>,
+    /// The flexible solver (flexible only; `None`: stale).
+    solver: Option<FlexibleSolver>,
+    /// The last flexible result, the next solve's warm start (empty: none).
+    last: Vec<Point>,
     stats: PuppetStats,
 }
 
@@ -111,6 +124,9 @@ impl Puppet {
                 .unwrap_or_else(|| vec![Affine::IDENTITY; scene.n_handles()]),
             weights: Some((setup.weights, setup.domain)),
             rig: None,
+            flexible: scene.flexible_options(compat),
+            solver: None,
+            last: Vec::new(),
             stats: PuppetStats {
                 weight_builds: 1,
                 ..PuppetStats::default()
@@ -127,7 +143,8 @@ impl Puppet {
         self.fresh_rig().map(|_| ())
     }
 
-    /// The rig, recomputing what is stale first.
+    /// The rig (and with flexible junctions the flexible solver), recomputing what is stale
+    /// first.
     fn fresh_rig(&mut self) -> Result<&SplineRig, SceneError> {
         let weights = match self.weights.take() {
             Some(w) => w,
@@ -138,35 +155,75 @@ impl Puppet {
             }
         };
         let weights = self.weights.insert(weights);
-        let rig = match self.rig.take() {
-            Some(rig) => rig,
-            None => {
-                let rig =
-                    SplineRig::precompute(&self.drawing, weights.0.as_ref(), &self.fit_options)
-                        .map_err(|e| SceneError::Rig {
-                            origin: self.origin.clone(),
-                            source: Box::new(e),
-                        })?;
-                self.stats.rig_builds += 1;
-                rig
-            }
+        let rig_error = |origin: &str, e: crate::spline_fit::FitError| SceneError::Rig {
+            origin: origin.to_string(),
+            source: Box::new(e),
         };
-        Ok(self.rig.insert(rig))
+        if self.rig.is_none() {
+            let (rig, solver) = match self.flexible {
+                None => (
+                    SplineRig::precompute(&self.drawing, weights.0.as_ref(), &self.fit_options)
+                        .map_err(|e| rig_error(&self.origin, e))?,
+                    None,
+                ),
+                Some(options) => {
+                    let samples =
+                        SampledCurves::sample(&self.drawing, weights.0.as_ref(), &self.fit_options);
+                    let solver =
+                        FlexibleSolver::new(&self.drawing, &samples, &self.fit_options, options)
+                            .map_err(|e| rig_error(&self.origin, e))?;
+                    (solver.rig().clone(), Some(solver))
+                }
+            };
+            self.solver = solver;
+            self.last.clear();
+            self.stats.rig_builds += 1;
+            self.rig = Some(rig);
+        }
+        Ok(self.rig.as_ref().expect("just built"))
     }
 
     /// Writes the drawing deformed by the current pose into `out` (length
     /// [`Puppet::n_points`], layout of [`Drawing::flat_points`]). Recomputes stale weights and
-    /// rig first ([`Puppet::rebuild`]); otherwise one matrix–vector product, no allocation.
+    /// rig first ([`Puppet::rebuild`]); otherwise one matrix–vector product, no allocation —
+    /// or, with flexible junctions, the flexible solve warm-started from the previous result.
     pub fn update(&mut self, out: &mut [Point]) -> Result<(), SceneError> {
         self.fresh_rig()?;
-        if let Some(rig) = &self.rig {
-            rig.update(&self.pose, out).map_err(|e| SceneError::Rig {
-                origin: self.origin.clone(),
-                source: Box::new(e),
-            })?;
-            self.stats.updates += 1;
+        let fit_error =
+            |origin: &str, e: Box<dyn std::error::Error + Send + Sync>| SceneError::Rig {
+                origin: origin.to_string(),
+                source: e,
+            };
+        match (&self.solver, &self.rig) {
+            (Some(solver), _) => {
+                let warm = (self.last.len() == out.len()).then_some(self.last.as_slice());
+                solver
+                    .solve(&self.pose, warm, out)
+                    .map_err(|e| fit_error(&self.origin, Box::new(e)))?;
+                self.last.clear();
+                self.last.extend_from_slice(out);
+            }
+            (None, Some(rig)) => rig
+                .update(&self.pose, out)
+                .map_err(|e| fit_error(&self.origin, Box::new(e)))?,
+            (None, None) => return Ok(()),
         }
+        self.stats.updates += 1;
         Ok(())
+    }
+
+    /// Turns flexible G¹ and fixed-angle junctions on (`Some`) or off. Invalidates the rig
+    /// (not the weights) when it changes something.
+    pub fn set_flexible(&mut self, options: Option<FlexibleOptions>) {
+        if options != self.flexible {
+            self.flexible = options;
+            self.invalidate_rig();
+        }
+    }
+
+    /// The flexible options, `None` when junctions keep their ratio.
+    pub fn flexible(&self) -> Option<&FlexibleOptions> {
+        self.flexible.as_ref()
     }
 
     /// Sets every handle's map (one per handle, rig order). Invalidates nothing.
@@ -311,7 +368,7 @@ impl Puppet {
     pub fn set_fit_options(&mut self, options: FitOptions) {
         if options != self.fit_options {
             self.fit_options = options;
-            self.rig = None;
+            self.invalidate_rig();
         }
     }
 
@@ -438,7 +495,13 @@ impl Puppet {
 
     fn invalidate_weights(&mut self) {
         self.weights = None;
+        self.invalidate_rig();
+    }
+
+    fn invalidate_rig(&mut self) {
         self.rig = None;
+        self.solver = None;
+        self.last.clear();
     }
 
     fn inputs(&self) -> WeightInputs<'_> {
