@@ -3,6 +3,7 @@
 //! One file per subcommand; the library does all the computing, this crate parses arguments,
 //! formats results and writes files atomically.
 
+mod animate;
 mod bench;
 mod deform;
 mod demo;
@@ -24,6 +25,8 @@ struct Cli {
 enum Command {
     /// Deform a scene's drawing by one of its poses and write SVG, PNG or JSON.
     Deform(deform::Args),
+    /// Animate a scene's keyframes: an animated SVG (SMIL) or a folder of numbered frames.
+    Animate(animate::Args),
     /// Summarise a drawing: paths, curves and junction kinds.
     Info(info::Args),
     /// Time precomputation and per-frame update on scenes.
@@ -38,6 +41,7 @@ fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Deform(a) => deform::run(a),
+        Command::Animate(a) => animate::run(a),
         Command::Info(a) => info::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Demo(a) => demo::run(a),

@@ -13,6 +13,7 @@
 //! ```
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
+pub mod animation;
 pub mod bezier;
 pub mod domain;
 pub mod drawing;

@@ -8,6 +8,7 @@
 
 pub mod authors_svg;
 pub mod junction;
+pub mod svg_animate;
 pub mod svg_in;
 pub mod svg_out;
 

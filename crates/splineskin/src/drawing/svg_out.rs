@@ -82,6 +82,21 @@ const SINGULAR_DETERMINANT: f64 = 1e-12;
 /// assert!(out.contains(r#"<path id="box" fill="red" d="M6 1 C"#));
 /// ```
 pub fn write_svg(drawing: &Drawing, points: &[Point]) -> Result<String, SvgError> {
+    let offsets = chain_offsets(drawing, points)?;
+    match &drawing.source {
+        Some(source) => {
+            let data = element_path_data(drawing, points, &offsets, source)?;
+            export_geometry(source, data, Vec::new())
+        }
+        None => Ok(write_standalone(drawing, points, &offsets, &[])),
+    }
+}
+
+/// Where each path's chain points start in `points` (laid out like [`Drawing::flat_points`]),
+/// after checking that there are `drawing.n_points()` of them and all are finite.
+///
+/// Errors: [`SvgError::PointCount`], [`SvgError::NonFinitePoint`] (naming the element).
+pub(crate) fn chain_offsets(drawing: &Drawing, points: &[Point]) -> Result<Vec<usize>, SvgError> {
     let origin = drawing
         .source
         .as_ref()
@@ -114,14 +129,17 @@ pub fn write_svg(drawing: &Drawing, points: &[Point]) -> Result<String, SvgError
         offsets.push(offset);
         offset += path.points.len();
     }
-    match &drawing.source {
-        Some(source) => write_into_source(drawing, points, &offsets, source),
-        None => Ok(write_standalone(drawing, points, &offsets)),
-    }
+    Ok(offsets)
 }
 
-/// A standalone document for a drawing built in code.
-fn write_standalone(drawing: &Drawing, points: &[Point], offsets: &[usize]) -> String {
+/// A standalone document for a drawing built in code. `children[i]`, when present and not
+/// empty, is written as the content of path `i`'s element (e.g. an `<animate>`).
+pub(crate) fn write_standalone(
+    drawing: &Drawing,
+    points: &[Point],
+    offsets: &[usize],
+    children: &[String],
+) -> String {
     let bounds = points
         .iter()
         .fold(None, |r: Option<Rect>, &p| {
@@ -134,7 +152,7 @@ fn write_standalone(drawing: &Drawing, points: &[Point], offsets: &[usize]) -> S
     let mut out = String::from("<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"");
     push_numbers(&mut out, &[view.x0, view.y0, view.width(), view.height()]);
     out.push_str("\">\n");
-    for (path, &offset) in drawing.paths.iter().zip(offsets) {
+    for (i, (path, &offset)) in drawing.paths.iter().zip(offsets).enumerate() {
         out.push_str("  <path d=\"");
         push_path_data(
             &mut out,
@@ -145,7 +163,14 @@ fn write_standalone(drawing: &Drawing, points: &[Point], offsets: &[usize]) -> S
         );
         out.push_str("\" fill=\"none\" stroke=\"black\" stroke-width=\"");
         push_number(&mut out, STANDALONE_STROKE * side);
-        out.push_str("\"/>\n");
+        match children.get(i).filter(|c| !c.is_empty()) {
+            Some(child) => {
+                out.push_str("\">");
+                out.push_str(child);
+                out.push_str("</path>\n");
+            }
+            None => out.push_str("\"/>\n"),
+        }
     }
     out.push_str("</svg>\n");
     out
@@ -158,6 +183,8 @@ struct ExportPolicy<'e> {
     element_of_key: HashMap<&'e ElementKey, usize>,
     instances: HashSet<&'e [usize]>,
     data: Vec<String>,
+    /// Content written inside each element (empty: none).
+    children: Vec<String>,
 }
 
 impl RewritePolicy for ExportPolicy<'_> {
@@ -176,7 +203,15 @@ impl RewritePolicy for ExportPolicy<'_> {
                 what: format!("{}: its byte range moved", self.source.elements[i].label),
             });
         }
-        Ok(GeometryEdit::ToPath(std::mem::take(&mut self.data[i])))
+        let child = self
+            .children
+            .get_mut(i)
+            .map(std::mem::take)
+            .filter(|c| !c.is_empty());
+        Ok(GeometryEdit::ToPath(
+            std::mem::take(&mut self.data[i]),
+            child,
+        ))
     }
 
     fn expand_use(&mut self, instance: &[usize]) -> bool {
@@ -184,12 +219,17 @@ impl RewritePolicy for ExportPolicy<'_> {
     }
 }
 
-fn write_into_source(
+/// The new `d` of every imported element of `source` (in [`SvgSource::elements`] order): its
+/// subpaths' deformed points mapped back to the element's local coordinates. `offsets` from
+/// [`chain_offsets`].
+///
+/// Errors: [`SvgError::SourceMismatch`], [`SvgError::SingularTransform`].
+pub(crate) fn element_path_data(
     drawing: &Drawing,
     points: &[Point],
     offsets: &[usize],
     source: &SvgSource,
-) -> Result<String, SvgError> {
+) -> Result<Vec<String>, SvgError> {
     let origin = source.origin.as_str();
     let mismatch = |what: String| SvgError::SourceMismatch {
         file: origin.to_string(),
@@ -231,6 +271,18 @@ fn write_into_source(
         }
         data.push(d);
     }
+    Ok(data)
+}
+
+/// The document of `source` with every imported element's geometry replaced by `data` (one `d`
+/// per element, [`element_path_data`]) and, where `children` (one per element, or empty for
+/// none) holds text, that text written as the element's first content.
+pub(crate) fn export_geometry(
+    source: &SvgSource,
+    data: Vec<String>,
+    children: Vec<String>,
+) -> Result<String, SvgError> {
+    let origin = source.origin.as_str();
     let mut policy = ExportPolicy {
         source,
         element_of_key: source
@@ -245,6 +297,7 @@ fn write_into_source(
             .flat_map(|e| (1..=e.key.uses.len()).map(|n| &e.key.uses[..n]))
             .collect(),
         data,
+        children,
     };
     let doc = super::svg_in::parse_xml(&source.text, origin)?;
     let viewport = source.view_box.size();
@@ -254,7 +307,7 @@ fn write_into_source(
 /// Appends one subpath as `M x y C x1 y1 x2 y2 x y … [Z]`, each point mapped by `to_local`.
 /// `points` has `path.points.len()` entries; a closed path's last cubic ends on `points[0]`,
 /// followed by `Z` when `close_with_z` (a closed path whose source had no `Z` gets none).
-fn push_path_data(
+pub(crate) fn push_path_data(
     out: &mut String,
     path: &Path,
     points: &[Point],
@@ -340,8 +393,8 @@ pub(crate) enum GeometryEdit {
     Keep,
     /// Set its `id` (replacing one, or adding it).
     SetId(String),
-    /// Make it a `<path>` with this `d`.
-    ToPath(String),
+    /// Make it a `<path>` with this `d` and, if given, this text as its first content.
+    ToPath(String, Option<String>),
 }
 
 /// The decisions that differ between preparing the import text and exporting.
@@ -474,6 +527,8 @@ struct TagSpec<'s> {
     strip_ids: bool,
     /// Attributes (no namespace) to set: replaced if present, else added.
     set: Vec<(&'s str, String)>,
+    /// Text written as the element's first content (a self-closing element gets an end tag).
+    child: Option<String>,
 }
 
 /// Where the rewriter is.
@@ -552,12 +607,13 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
             match self.policy.geometry(&key, node, ctx.in_copy)? {
                 GeometryEdit::Keep => {}
                 GeometryEdit::SetId(id) => spec.set.push(("id", id)),
-                GeometryEdit::ToPath(d) => {
+                GeometryEdit::ToPath(d, child) => {
                     if kind != ElementKind::Path {
                         spec.rename = Some("path");
                         spec.remove = kind.geometry_attributes();
                     }
                     spec.set.push(("d", d));
+                    spec.child = child;
                 }
             }
         }
@@ -686,7 +742,18 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
         let pos = self.positions(node)?;
         self.write_start_tag(node, spec, &pos);
         if pos.self_closing {
+            if let Some(child) = &spec.child {
+                // `<name …/>` becomes `<name …>child</name>`.
+                self.out.truncate(self.out.len() - "/>".len());
+                self.out.push('>');
+                self.out.push_str(child);
+                let name = spec.rename.unwrap_or(node.tag_name().name());
+                let _ = write!(self.out, "</{}{}>", pos.prefix, name);
+            }
             return Ok(());
+        }
+        if let Some(child) = &spec.child {
+            self.out.push_str(child);
         }
         let end = node.range().end;
         let end_tag = match self.src[pos.tag_end..end].rfind("</") {
@@ -878,6 +945,7 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
                 remove: SYMBOL_ONLY,
                 strip_ids: true,
                 set: Vec::new(),
+                child: None,
             };
             self.write_with(target, &spec, &inner, None)?;
         } else {

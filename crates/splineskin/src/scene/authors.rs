@@ -12,12 +12,23 @@
 //!
 //! Pose 0 is the handles' saved transforms; animation frames follow as poses 1, 2, ….
 //!
+//! The animation frames are also the scene's [`Scene::animation`]: frame `k` is a keyframe at
+//! time `k / AUTHORS_FPS` seconds (the file records no rate; their editor stored one entry per
+//! drawn frame, which we take as 30 per second), sampled at [`AUTHORS_FPS`]. A scene whose
+//! `animationFrames` is empty or missing has no animation.
+//!
 //! Their solver treats every `G1` and `A` joint as flexible (its tangent-length ratio free,
 //! iterated; [`crate::spline_fit::flexible`]), so these scenes are read with
 //! [`Scene::flexible`] set.
 
 use kurbo::Affine;
 use serde::Deserialize;
+
+use crate::animation::{Animation, Keyframe, DEFAULT_FPS};
+
+/// The time between the authors' `animationFrames` entries is `1 / AUTHORS_FPS` seconds:
+/// [`DEFAULT_FPS`], 30 frames per second (their files record no rate).
+pub const AUTHORS_FPS: f64 = DEFAULT_FPS;
 
 use super::{
     check_affine, check_point, json_error, Engine, Pose, Scene, SceneError, SceneFormat, WeightSpec,
@@ -137,6 +148,26 @@ pub(crate) fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
             transforms,
         });
     }
+    let animation = match poses.len() {
+        1 => None,
+        _ => {
+            let keyframes = poses[1..]
+                .iter()
+                .enumerate()
+                .map(|(k, p)| Keyframe {
+                    time: k as f64 / AUTHORS_FPS,
+                    transforms: p.transforms.clone(),
+                })
+                .collect();
+            Some(
+                Animation::new(AUTHORS_FPS, keyframes).map_err(|e| SceneError::Invalid {
+                    origin: origin.to_string(),
+                    element: "animationFrames (keyframes[k] is animationFrames[k])".into(),
+                    message: e.to_string(),
+                })?,
+            )
+        }
+    };
     let joints = file
         .constraints
         .iter()
@@ -185,6 +216,7 @@ pub(crate) fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
         authors_joints: Some(joints),
         poses,
         flexible: true,
+        animation,
         format: SceneFormat::Authors,
     })
 }

@@ -80,6 +80,9 @@ pub struct Scene {
     /// free ([`crate::spline_fit::flexible`]). Our format's `flexible` key (default false);
     /// always true in the authors' format (their solver iterates every G¹ and angle joint).
     pub flexible: bool,
+    /// Keyframed poses, if the scene has any (our `animation` key; the authors'
+    /// `animationFrames`, [`authors`]).
+    pub animation: Option<crate::animation::Animation>,
     /// Which format the scene was read from.
     pub format: SceneFormat,
 }

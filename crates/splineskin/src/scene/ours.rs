@@ -14,7 +14,11 @@
 //!     { "name": "wave", "transforms": [
 //!         { "rotate": 20 }, { "translate": [40, -10], "scale": 1.2 },
 //!         { "ends": [[150, 200], [240, 150]] } ] }
-//!   ]
+//!   ],
+//!   "animation": { "fps": 30, "keyframes": [
+//!       { "time": 0, "pose": 0 },
+//!       { "time": 1.5, "pose": "wave" },
+//!       { "time": 2, "pose": [ {}, { "translate": [0, 40] }, { "rotate": -30 } ] } ] }
 //! }
 //! ```
 //!
@@ -42,6 +46,7 @@
 //! | `flexible` | `true`: G¹ and fixed-angle junctions keep parallel tangents (fixed angle: their angle) but not their tangent-length ratio, fitted by iteration ([`crate::spline_fit::flexible`]). Default false: the ratio is the input's, a linear fit |
 //! | `junctions` | overrides: path index (subpaths in document order), joint index (joint `k` starts curve `k`), `kind` ∈ `C0`, `C1`, `G1`, `angle` |
 //! | `pose` / `poses` | one pose (a list of transforms) or a list of `{name?, transforms, cage_positions?}` |
+//! | `animation` | keyframed poses: `fps` (frames per second sampled, default 30, at most 1000) and `keyframes`, a non-empty list of `{time, pose}`: `time` in seconds, ≥ 0, strictly increasing (uneven spacing is fine); `pose` is an index into `poses` (`0` is the identity in a scene without poses), a pose's `name`, a list of transforms (as in `pose`), or `{transforms, cage_positions?}` (as in `poses`). The animation runs from time 0 to the last keyframe; between keyframes each handle's map is interpolated by parts about its pivot ([`crate::animation`]), so every map must be invertible. Default: none |
 //!
 //! **Handle order.** The rig and every pose number the handles: point handles first (in
 //! `handles` order), then bones, then cage vertices ([`super::handles`]). A pose's
@@ -77,6 +82,7 @@ use super::{
     check_affine, check_point, handle_element, json_error, Bone, BoneTransform, Engine, HandleKind,
     HandleSet, JunctionOverride, Pose, Scene, SceneError, SceneFormat, WeightSpec, MAX_SCENE_BYTES,
 };
+use crate::animation::{Animation, AnimationError, Keyframe, DEFAULT_FPS};
 use crate::domain::DomainOptions;
 use crate::drawing::JointKind;
 use crate::spline_fit::Measure;
@@ -114,6 +120,34 @@ struct SceneFile {
     pose: Option<Vec<TransformFile>>,
     #[serde(default)]
     poses: Option<Vec<PoseFile>>,
+    #[serde(default)]
+    animation: Option<AnimationFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AnimationFile {
+    #[serde(default)]
+    fps: Option<f64>,
+    keyframes: Vec<KeyframeFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct KeyframeFile {
+    time: f64,
+    pose: KeyframePoseFile,
+}
+
+/// A keyframe's pose: an index into `poses`, a pose's name, a list of transforms, or a pose
+/// object (`{"transforms": …, "cage_positions": …}`).
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum KeyframePoseFile {
+    Index(usize),
+    Name(String),
+    Transforms(Vec<TransformFile>),
+    Pose(PoseFile),
 }
 
 #[derive(Deserialize)]
@@ -542,9 +576,20 @@ pub(crate) fn parse(
     for (k, (name, transforms, cage_positions)) in pose_files.into_iter().enumerate() {
         poses.push(Pose {
             name,
-            transforms: pose_transforms(&set, transforms, cage_positions, origin, k)?,
+            transforms: pose_transforms(
+                &set,
+                transforms,
+                cage_positions,
+                origin,
+                &format!("poses[{k}]"),
+            )?,
         });
     }
+    let animation = file
+        .animation
+        .as_ref()
+        .map(|a| animation(a, &poses, &set, origin))
+        .transpose()?;
     Ok(Scene {
         origin: origin.to_string(),
         svg_text,
@@ -560,7 +605,80 @@ pub(crate) fn parse(
         authors_joints: None,
         poses,
         flexible: file.flexible,
+        animation,
         format: SceneFormat::Ours,
+    })
+}
+
+/// The scene's animation: each keyframe's pose resolved (a pose of `poses` by index or name,
+/// or inline transforms), then checked by [`Animation::new`].
+fn animation(
+    file: &AnimationFile,
+    poses: &[Pose],
+    set: &HandleSet<'_>,
+    origin: &str,
+) -> Result<Animation, SceneError> {
+    let invalid = |element: String, message: String| SceneError::Invalid {
+        origin: origin.to_string(),
+        element,
+        message,
+    };
+    let n_poses = poses.len().max(1);
+    let mut keyframes = Vec::with_capacity(file.keyframes.len());
+    for (k, key) in file.keyframes.iter().enumerate() {
+        let element = format!("animation.keyframes[{k}].pose");
+        let transforms = match &key.pose {
+            KeyframePoseFile::Index(p) => match poses.get(*p) {
+                Some(pose) => pose.transforms.clone(),
+                // As everywhere, a scene without poses has the identity pose 0.
+                None if poses.is_empty() && *p == 0 => vec![Affine::IDENTITY; set.n_handles()],
+                None => {
+                    return Err(invalid(
+                        element,
+                        format!(
+                            "pose {p} does not exist (the scene has {n_poses}, numbered from 0)"
+                        ),
+                    ))
+                }
+            },
+            KeyframePoseFile::Name(name) => {
+                let mut named = poses.iter().filter(|p| p.name.as_deref() == Some(name));
+                match (named.next(), named.next()) {
+                    (Some(pose), None) => pose.transforms.clone(),
+                    (None, _) => {
+                        return Err(invalid(element, format!("no pose is named '{name}'")))
+                    }
+                    (Some(_), Some(_)) => {
+                        return Err(invalid(
+                            element,
+                            format!("several poses are named '{name}'; refer to one by index"),
+                        ))
+                    }
+                }
+            }
+            KeyframePoseFile::Transforms(list) => {
+                pose_transforms(set, list, None, origin, &element)?
+            }
+            KeyframePoseFile::Pose(pose) => pose_transforms(
+                set,
+                &pose.transforms,
+                pose.cage_positions.as_deref(),
+                origin,
+                &element,
+            )?,
+        };
+        keyframes.push(Keyframe {
+            time: key.time,
+            transforms,
+        });
+    }
+    let fps = file.fps.unwrap_or(DEFAULT_FPS);
+    Animation::new(fps, keyframes).map_err(|e| {
+        let element = match &e {
+            AnimationError::Fps { .. } => "animation.fps".to_string(),
+            _ => "animation".to_string(),
+        };
+        invalid(element, e.to_string())
     })
 }
 
@@ -580,7 +698,7 @@ fn pose_transforms(
     transforms: &[TransformFile],
     cage_positions: Option<&[[f64; 2]]>,
     origin: &str,
-    k: usize,
+    pose: &str,
 ) -> Result<Vec<Affine>, SceneError> {
     let invalid = |element: String, message: String| SceneError::Invalid {
         origin: origin.to_string(),
@@ -609,7 +727,7 @@ fn pose_transforms(
             "handles"
         };
         return Err(invalid(
-            format!("poses[{k}]"),
+            pose.to_string(),
             format!(
                 "{} transforms for {listed} {what} (one per handle expected, in the order {parts})",
                 transforms.len()
@@ -619,7 +737,7 @@ fn pose_transforms(
     let mut out = Vec::with_capacity(set.n_handles());
     for (i, t) in transforms.iter().enumerate() {
         let kind = set.kind(i).expect("i < n_handles");
-        let mut element = format!("poses[{k}].transforms[{i}]");
+        let mut element = format!("{pose}.transforms[{i}]");
         if !matches!(kind, HandleKind::Point(_)) {
             element = format!("{element} ({})", handle_element(SceneFormat::Ours, kind));
         }
@@ -628,13 +746,13 @@ fn pose_transforms(
     if let Some(positions) = cage_positions {
         let Some(cage) = set.cage else {
             return Err(invalid(
-                format!("poses[{k}].cage_positions"),
+                format!("{pose}.cage_positions"),
                 "the scene has no cage".into(),
             ));
         };
         if positions.len() != n_c {
             return Err(invalid(
-                format!("poses[{k}].cage_positions"),
+                format!("{pose}.cage_positions"),
                 format!(
                     "{} positions for {n_c} cage vertices (one per vertex expected)",
                     positions.len()
@@ -642,7 +760,7 @@ fn pose_transforms(
             ));
         }
         for (v, (q, &rest)) in positions.iter().zip(cage).enumerate() {
-            let q: Point = check_point(*q, origin, format!("poses[{k}].cage_positions[{v}]"))?;
+            let q: Point = check_point(*q, origin, format!("{pose}.cage_positions[{v}]"))?;
             out.push(translation_to(rest, q));
         }
     }

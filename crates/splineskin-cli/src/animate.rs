@@ -1,0 +1,288 @@
+//! `splineskin animate SCENE -o out.svg | -o frames/`.
+//!
+//! The scene's keyframes ([`splineskin::animation`]) are sampled at its frame rate; each frame's
+//! pose is deformed with the rig built once (fixed ratio: one mat-vec per frame; flexible: one
+//! flexible solve per frame), frames in parallel.
+//!
+//! * `-o NAME.svg`: one SVG whose deformed paths carry SMIL `<animate>` of their `d`
+//!   ([`splineskin::drawing::svg_animate`]); written atomically (temporary file, rename).
+//! * `-o DIR` (any other name): `DIR/frame-0000.svg`, … and with `--png` also
+//!   `frame-0000.png`, …. The frames are written into a temporary folder beside `DIR`, which is
+//!   then renamed to `DIR`. An existing `DIR` is replaced only if it holds nothing but
+//!   `frame-*.svg`/`frame-*.png` files (an earlier run's output); otherwise it is an error and
+//!   nothing is touched.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+use kurbo::{Affine, Point};
+use splineskin::animation::deform_frames;
+use splineskin::drawing::svg_animate::write_animated_svg;
+use splineskin::drawing::svg_out::write_svg;
+use splineskin::scene::{Compat, Engine, Scene};
+use splineskin::spline_fit::quadrature::SampledCurves;
+use splineskin::spline_fit::{FlexibleOptions, FlexibleSolver, SplineRig};
+
+use crate::output::{write_atomic, PNG_SIZE};
+use crate::CompatArg;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene: our JSON format (with an `animation`) or the paper authors'
+    /// `*-deformation.json` (with `animationFrames`).
+    scene: PathBuf,
+    /// `NAME.svg`: an animated SVG (SMIL, plays in browsers). Any other name: a folder of
+    /// numbered frames `frame-0000.svg`, … (replaced if it holds only an earlier run's frames).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Also write `frame-NNNN.png` into the frames folder.
+    #[arg(long)]
+    png: bool,
+    /// Frames per second sampled (default: the scene's `animation.fps`, else 30).
+    #[arg(long)]
+    fps: Option<f64>,
+    /// Play the animation in this many seconds: keyframe times are scaled so that the last
+    /// keyframe falls at the end (default: the last keyframe's time).
+    #[arg(long)]
+    duration: Option<f64>,
+    /// Reproduce another implementation's discretisation exactly.
+    #[arg(long, value_enum, default_value_t = CompatArg::None)]
+    compat: CompatArg,
+    /// Flexible G¹ and fixed-angle junctions (as in `deform --flexible`).
+    #[arg(long)]
+    flexible: bool,
+}
+
+/// The per-frame deformation: the rig's mat-vec, or a flexible solve.
+enum Deformer {
+    Fixed(SplineRig),
+    Flexible(Box<FlexibleSolver>),
+}
+
+impl Deformer {
+    fn rig(&self) -> &SplineRig {
+        match self {
+            Deformer::Fixed(rig) => rig,
+            Deformer::Flexible(s) => s.rig(),
+        }
+    }
+
+    fn deform(&self, pose: &[Affine], out: &mut [Point]) -> Result<()> {
+        match self {
+            Deformer::Fixed(rig) => rig.update(pose, out)?,
+            Deformer::Flexible(s) => {
+                s.solve(pose, None, out)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let as_svg = is_svg_name(&args.output);
+    if as_svg && args.png {
+        bail!(
+            "{}: --png writes PNG frames into a folder; give a folder name instead of an .svg file",
+            args.output.display()
+        );
+    }
+    let scene = Scene::load(&args.scene)?;
+    let scene_name = args.scene.display().to_string();
+    let Some(animation) = &scene.animation else {
+        bail!(
+            "{scene_name}: the scene has no animation (expected an \"animation\" with keyframes \
+             in our format, or a non-empty \"animationFrames\" in the authors')"
+        );
+    };
+    let mut animation = animation.clone();
+    if let Some(fps) = args.fps {
+        animation = animation
+            .with_fps(fps)
+            .with_context(|| format!("{scene_name}: --fps"))?;
+    }
+    if let Some(duration) = args.duration {
+        animation = animation
+            .with_duration(duration)
+            .with_context(|| format!("{scene_name}: --duration"))?;
+    }
+    let times = animation
+        .frame_times()
+        .with_context(|| format!("{scene_name}: animation"))?;
+    let sampler = animation
+        .sampler(&scene.handle_set().pivots())
+        .with_context(|| format!("{scene_name}: animation"))?;
+    if scene.engine != Engine::Ours {
+        bail!(
+            "{scene_name}: animate deforms with engine 'ours'; this scene's engine is '{}' (a \
+             naive baseline: use deform for single poses)",
+            scene.engine.name()
+        );
+    }
+
+    let compat: Compat = args.compat.into();
+    let mut setup = scene.setup(compat)?;
+    setup.options = setup.options.with_parallel(false);
+    for w in &setup.warnings {
+        eprintln!("warning: {w}");
+    }
+    let flexible = match args.flexible {
+        true => Some(match compat {
+            Compat::VectorSkinning => FlexibleOptions::vectorskinning(),
+            _ => FlexibleOptions::default(),
+        }),
+        false => scene.flexible_options(compat),
+    };
+    let building = || format!("{scene_name}: building the rig");
+    let deformer = match flexible {
+        Some(options) => {
+            let samples =
+                SampledCurves::sample(&setup.drawing, setup.weights.as_ref(), &setup.options);
+            Deformer::Flexible(Box::new(
+                FlexibleSolver::new(&setup.drawing, &samples, &setup.options, options)
+                    .with_context(building)?,
+            ))
+        }
+        None => Deformer::Fixed(
+            SplineRig::precompute(&setup.drawing, setup.weights.as_ref(), &setup.options)
+                .with_context(building)?,
+        ),
+    };
+    let rig = deformer.rig();
+    for p in rig.rank_deficient_paths() {
+        eprintln!(
+            "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
+        );
+    }
+    let frames = deform_frames(&sampler, &times, rig.n_points(), true, |pose, out| {
+        deformer.deform(pose, out)
+    })
+    .map_err(|e| anyhow::anyhow!("{scene_name}: {e:#}"))?;
+
+    let drawing = &setup.drawing;
+    if as_svg {
+        let svg = write_animated_svg(drawing, &frames, &times)
+            .with_context(|| format!("{scene_name}: writing the animated SVG"))?;
+        write_atomic(&args.output, svg.as_bytes())?;
+    } else {
+        write_frames(&args, &scene_name, drawing, &frames)?;
+    }
+    eprintln!(
+        "{scene_name}: {} curves in {} paths, {} handles, {} keyframes, {} frames at {} fps over {} s{} -> {}",
+        drawing.n_curves(),
+        drawing.paths.len(),
+        rig.n_handles(),
+        animation.keyframes().len(),
+        frames.len(),
+        animation.fps(),
+        animation.duration(),
+        if matches!(deformer, Deformer::Flexible(_)) {
+            " (flexible)"
+        } else {
+            ""
+        },
+        args.output.display()
+    );
+    Ok(())
+}
+
+/// Whether `path` names an `.svg` file (otherwise it names a frames folder).
+fn is_svg_name(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+}
+
+/// The name of frame `f` with extension `ext`: `frame-0000.svg`, … (at least four digits).
+pub fn frame_name(f: usize, ext: &str) -> String {
+    format!("frame-{f:04}.{ext}")
+}
+
+/// Whether `name` is one this command writes into a frames folder.
+fn is_frame_file(name: &str) -> bool {
+    let Some(rest) = name.strip_prefix("frame-") else {
+        return false;
+    };
+    let Some((digits, ext)) = rest.split_once('.') else {
+        return false;
+    };
+    !digits.is_empty()
+        && digits.bytes().all(|b| b.is_ascii_digit())
+        && (ext == "svg" || ext == "png")
+}
+
+/// Writes the frames into a temporary folder beside `args.output`, then renames it into place
+/// (module doc).
+fn write_frames(
+    args: &Args,
+    scene_name: &str,
+    drawing: &splineskin::drawing::Drawing,
+    frames: &[Vec<Point>],
+) -> Result<()> {
+    let dir = &args.output;
+    let name = dir
+        .file_name()
+        .with_context(|| format!("{}: not a folder name", dir.display()))?
+        .to_string_lossy()
+        .into_owned();
+    let parent = match dir.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if dir.exists() {
+        if !dir.is_dir() {
+            bail!(
+                "{}: exists and is not a folder (expected a new folder, or one holding only frame-*.svg/png files)",
+                dir.display()
+            );
+        }
+        for entry in
+            std::fs::read_dir(dir).with_context(|| format!("{}: cannot read", dir.display()))?
+        {
+            let entry = entry?;
+            let file = entry.file_name().to_string_lossy().into_owned();
+            if !(is_frame_file(&file) && entry.file_type()?.is_file()) {
+                bail!(
+                    "{}: exists and holds {file}, which is not a frame; choose another folder \
+                     (a folder holding only frame-*.svg/png files is replaced)",
+                    dir.display()
+                );
+            }
+        }
+    }
+    let tmp = parent.join(format!(".{name}.tmp-{}", std::process::id()));
+    let old = parent.join(format!(".{name}.old-{}", std::process::id()));
+    let result = (|| -> Result<()> {
+        std::fs::create_dir(&tmp).with_context(|| format!("{}: cannot create", tmp.display()))?;
+        let write_one = |f: usize, points: &Vec<Point>| -> Result<()> {
+            let svg = write_svg(drawing, points)
+                .with_context(|| format!("{scene_name}: frame {f}: writing the SVG"))?;
+            std::fs::write(tmp.join(frame_name(f, "svg")), svg.as_bytes())?;
+            if args.png {
+                let png = splineskin::render::render_png(&svg, PNG_SIZE)
+                    .with_context(|| format!("{scene_name}: frame {f}: rendering the PNG"))?;
+                std::fs::write(tmp.join(frame_name(f, "png")), png)?;
+            }
+            Ok(())
+        };
+        for (f, points) in frames.iter().enumerate() {
+            write_one(f, points)?;
+        }
+        if dir.exists() {
+            std::fs::rename(dir, &old).with_context(|| {
+                format!("{}: cannot move the earlier frames aside", dir.display())
+            })?;
+        }
+        std::fs::rename(&tmp, dir).with_context(|| format!("{}: cannot write", dir.display()))?;
+        Ok(())
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_dir_all(&tmp);
+        if old.exists() && !dir.exists() {
+            let _ = std::fs::rename(&old, dir);
+        }
+    }
+    if old.exists() {
+        let _ = std::fs::remove_dir_all(&old);
+    }
+    result
+}

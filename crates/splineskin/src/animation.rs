@@ -1,0 +1,614 @@
+//! Keyframed animation of handle poses: each handle's affine map is decomposed into a
+//! translation of its pivot, a rotation, scales and a shear, and the parts are interpolated
+//! between keyframes — not the matrix entries, which would shrink a turning handle (a half
+//! turn lerped entry-wise passes through the zero matrix).
+//!
+//! ```text
+//! once:        Animation (keyframes, fps) ──► sampler(pivots) ──► PoseSampler (parts per keyframe)
+//!              rig = SplineRig::precompute(…)
+//! each frame:  sampler.pose_at(t, &mut pose);  rig.update(&pose, &mut points)   (a mat-vec)
+//! ```
+//!
+//! **Decomposition** (translate · rotate · scale · shear about the handle's pivot `c`). A map
+//! `T(x) = A x + t` with invertible linear part `A` (SVG coefficients `a b c d e f`, columns
+//! `(a, b)` and `(c, d)`) is written
+//!
+//! ```text
+//! T(x) = q + R(θ) · diag(s_x, s_y) · [[1, k], [0, 1]] · (x − c)
+//!
+//! q   = T(c)                                  where the pivot goes
+//! s_x = |(a, b)| > 0,  θ = atan2(b, a)        length and angle of the first column
+//! s_y = det A / s_x                           negative iff A reflects
+//! k   = ((a, b) · (c, d)) / s_x²              shear
+//! ```
+//!
+//! It is exact (a QR factorisation of `A`): `compose(decompose(T)) = T` up to rounding.
+//! **Reflections** are carried by the sign of `s_y` (a flip across the rotated first axis);
+//! `s_x` and `θ` are those of the first column as for any map.
+//!
+//! **Interpolation** between keyframes `(t₀, T₀)` and `(t₁, T₁)` at `u = (t − t₀)/(t₁ − t₀)`:
+//!
+//! ```text
+//! q(u)   = (1 − u) q₀ + u q₁                          linear
+//! θ(u)   = θ₀ + u Δ,  Δ = θ₁ − θ₀ wrapped to (−π, π]   shortest arc (a half turn goes +π)
+//! s_x(u) = s_x₀ (s_x₁ / s_x₀)^u                        geometric
+//! s_y(u) = s_y₀ (s_y₁ / s_y₀)^u  if s_y₀ s_y₁ > 0      geometric;
+//!          (1 − u) s_y₀ + u s_y₁ otherwise             linear through 0 when a reflection
+//!                                                      starts or ends (the drawing turns over)
+//! k(u)   = (1 − u) k₀ + u k₁                          linear
+//! ```
+//!
+//! At `u = 0` and `u = 1` the keyframe's own map is returned, bit for bit. Rotations about the
+//! pivot stay rotations about it (a bone's rigid maps stay rigid); translations stay
+//! translations. Keyframe times may be uneven; before the first keyframe its pose holds, after
+//! the last the last pose holds. A turn of more than half a circle between two keyframes needs
+//! a keyframe in between (the shortest arc is taken).
+
+use kurbo::{Affine, Point, Vec2};
+
+/// Frames per second when a scene does not say: 30.
+pub const DEFAULT_FPS: f64 = 30.0;
+
+/// Largest frame rate accepted: 1000 frames per second (more is never visible and is always a
+/// typing mistake).
+pub const MAX_FPS: f64 = 1000.0;
+
+/// Most frames one sampling may produce: 100 000 (at 30 fps, almost an hour).
+pub const MAX_FRAMES: usize = 100_000;
+
+/// Slack when counting frame intervals in a duration, in frames: `1e-9`. A duration of
+/// `n / fps` seconds computed in floating point may exceed `n / fps` by an ulp; it is `n`
+/// intervals, not `n + 1` with a vanishing last one.
+const FRAME_COUNT_SLACK: f64 = 1e-9;
+
+/// One keyframe: a time and one affine map per handle (rig order).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Keyframe {
+    /// Time in seconds (≥ 0).
+    pub time: f64,
+    /// One map per handle.
+    pub transforms: Vec<Affine>,
+}
+
+/// Keyframes with strictly increasing times, and a frame rate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Animation {
+    fps: f64,
+    keyframes: Vec<Keyframe>,
+}
+
+/// Why an animation is invalid or cannot be sampled. Keyframes are numbered from 0.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum AnimationError {
+    /// No keyframes.
+    #[error("no keyframes (expected at least one, at time 0 or later)")]
+    NoKeyframes,
+    /// A frame rate that is not in `(0, MAX_FPS]`.
+    #[error("frame rate {fps} is not in (0, {MAX_FPS}] frames per second")]
+    Fps {
+        /// The rate given.
+        fps: f64,
+    },
+    /// A keyframe time that is NaN, infinite or negative.
+    #[error("keyframes[{keyframe}]: time {time} is not a finite number of seconds ≥ 0")]
+    Time {
+        /// The keyframe.
+        keyframe: usize,
+        /// Its time.
+        time: f64,
+    },
+    /// A keyframe not later than the one before.
+    #[error("keyframes[{keyframe}]: time {time} is not after keyframes[{}]'s {previous} (times must increase)", keyframe - 1)]
+    NotIncreasing {
+        /// The keyframe.
+        keyframe: usize,
+        /// Its time.
+        time: f64,
+        /// The time of the keyframe before.
+        previous: f64,
+    },
+    /// Keyframes with different numbers of maps, or not one per pivot.
+    #[error("keyframes[{keyframe}]: {got} transforms for {expected} handles")]
+    TransformCount {
+        /// The keyframe.
+        keyframe: usize,
+        /// Maps it has.
+        got: usize,
+        /// Maps expected.
+        expected: usize,
+    },
+    /// A map that is not finite or whose linear part is singular: it has no rotation and
+    /// scale to interpolate.
+    #[error("keyframes[{keyframe}].transforms[{handle}]: {coefficients:?} is not finite or its linear part is singular (determinant 0), so it cannot be interpolated")]
+    Singular {
+        /// The keyframe.
+        keyframe: usize,
+        /// The handle.
+        handle: usize,
+        /// The map's coefficients `[a, b, c, d, e, f]`.
+        coefficients: [f64; 6],
+    },
+    /// The animation lasts no time (its last keyframe is at 0): there is nothing to play.
+    #[error(
+        "the animation lasts 0 s (its last keyframe is at time 0); give a keyframe at a later time"
+    )]
+    ZeroDuration,
+    /// A playing duration that is not finite and positive.
+    #[error("duration {duration} s is not a finite positive number of seconds")]
+    Duration {
+        /// The duration given.
+        duration: f64,
+    },
+    /// Sampling would produce more than [`MAX_FRAMES`] frames.
+    #[error("{n_frames} frames is more than the limit of {MAX_FRAMES}; lower the frame rate or the duration")]
+    TooManyFrames {
+        /// Frames asked for.
+        n_frames: usize,
+    },
+}
+
+impl Animation {
+    /// Checks and builds an animation: at least one keyframe, `fps` in `(0, MAX_FPS]`, times
+    /// finite, ≥ 0 and strictly increasing, the same number of maps in every keyframe, every
+    /// map finite with an invertible linear part ([`AffineParts::decompose`]).
+    ///
+    /// ```
+    /// use kurbo::Affine;
+    /// use splineskin::animation::{Animation, AnimationError, Keyframe};
+    /// let key = |time: f64| Keyframe { time, transforms: vec![Affine::IDENTITY] };
+    /// assert!(Animation::new(30.0, vec![key(0.0), key(0.5), key(2.0)]).is_ok());
+    /// assert_eq!(
+    ///     Animation::new(30.0, vec![key(0.0), key(0.0)]),
+    ///     Err(AnimationError::NotIncreasing { keyframe: 1, time: 0.0, previous: 0.0 })
+    /// );
+    /// ```
+    pub fn new(fps: f64, keyframes: Vec<Keyframe>) -> Result<Animation, AnimationError> {
+        if !(fps > 0.0 && fps <= MAX_FPS) {
+            return Err(AnimationError::Fps { fps });
+        }
+        let first = keyframes.first().ok_or(AnimationError::NoKeyframes)?;
+        let n_handles = first.transforms.len();
+        for (k, key) in keyframes.iter().enumerate() {
+            if !(key.time.is_finite() && key.time >= 0.0) {
+                return Err(AnimationError::Time {
+                    keyframe: k,
+                    time: key.time,
+                });
+            }
+            if k > 0 && key.time <= keyframes[k - 1].time {
+                return Err(AnimationError::NotIncreasing {
+                    keyframe: k,
+                    time: key.time,
+                    previous: keyframes[k - 1].time,
+                });
+            }
+            if key.transforms.len() != n_handles {
+                return Err(AnimationError::TransformCount {
+                    keyframe: k,
+                    got: key.transforms.len(),
+                    expected: n_handles,
+                });
+            }
+            for (i, &t) in key.transforms.iter().enumerate() {
+                if AffineParts::decompose(t, Point::ZERO).is_none() {
+                    return Err(AnimationError::Singular {
+                        keyframe: k,
+                        handle: i,
+                        coefficients: t.as_coeffs(),
+                    });
+                }
+            }
+        }
+        Ok(Animation { fps, keyframes })
+    }
+
+    /// The frame rate, frames per second.
+    pub fn fps(&self) -> f64 {
+        self.fps
+    }
+
+    /// The keyframes, times increasing.
+    pub fn keyframes(&self) -> &[Keyframe] {
+        &self.keyframes
+    }
+
+    /// Number of handles (maps per keyframe).
+    pub fn n_handles(&self) -> usize {
+        self.keyframes[0].transforms.len()
+    }
+
+    /// How long the animation plays: from time 0 to its last keyframe, seconds.
+    pub fn duration(&self) -> f64 {
+        self.keyframes[self.keyframes.len() - 1].time
+    }
+
+    /// The same animation at another frame rate.
+    pub fn with_fps(&self, fps: f64) -> Result<Animation, AnimationError> {
+        Animation::new(fps, self.keyframes.clone())
+    }
+
+    /// The same animation retimed to last `duration` seconds: every keyframe time is scaled by
+    /// `duration / self.duration()`.
+    ///
+    /// Errors: [`AnimationError::Duration`] for a duration that is not finite and positive,
+    /// [`AnimationError::ZeroDuration`] when the animation has no length to scale.
+    pub fn with_duration(&self, duration: f64) -> Result<Animation, AnimationError> {
+        if !(duration.is_finite() && duration > 0.0) {
+            return Err(AnimationError::Duration { duration });
+        }
+        let old = self.duration();
+        if old <= 0.0 {
+            return Err(AnimationError::ZeroDuration);
+        }
+        let keyframes = self
+            .keyframes
+            .iter()
+            .map(|k| Keyframe {
+                time: k.time * (duration / old),
+                transforms: k.transforms.clone(),
+            })
+            .collect();
+        Animation::new(self.fps, keyframes)
+    }
+
+    /// The times of the frames, seconds: `f / fps` for `f = 0, 1, …` while below the duration
+    /// `D`, then `D` itself, so the first frame is at 0 and the last at `D` (`⌈D · fps⌉ + 1`
+    /// frames).
+    ///
+    /// Errors: [`AnimationError::ZeroDuration`], [`AnimationError::TooManyFrames`].
+    ///
+    /// ```
+    /// use kurbo::Affine;
+    /// use splineskin::animation::{Animation, Keyframe};
+    /// let key = |time: f64| Keyframe { time, transforms: vec![Affine::IDENTITY] };
+    /// let a = Animation::new(4.0, vec![key(0.0), key(0.6)])?;
+    /// assert_eq!(a.frame_times()?, vec![0.0, 0.25, 0.5, 0.6]);
+    /// # Ok::<(), splineskin::animation::AnimationError>(())
+    /// ```
+    pub fn frame_times(&self) -> Result<Vec<f64>, AnimationError> {
+        let duration = self.duration();
+        if duration <= 0.0 {
+            return Err(AnimationError::ZeroDuration);
+        }
+        let intervals = (duration * self.fps - FRAME_COUNT_SLACK).ceil().max(1.0);
+        if intervals >= MAX_FRAMES as f64 {
+            return Err(AnimationError::TooManyFrames {
+                n_frames: if intervals < usize::MAX as f64 {
+                    intervals as usize + 1
+                } else {
+                    usize::MAX
+                },
+            });
+        }
+        let n = intervals as usize;
+        let mut times: Vec<f64> = (0..n).map(|f| f as f64 / self.fps).collect();
+        times.push(duration);
+        Ok(times)
+    }
+
+    /// Decomposes every keyframe map about its handle's pivot (`pivots`, rig order: a point
+    /// handle's rest position, a bone's first end, a cage vertex) once, for [`PoseSampler`].
+    ///
+    /// Errors: [`AnimationError::TransformCount`] if `pivots` is not one per handle.
+    pub fn sampler(&self, pivots: &[Point]) -> Result<PoseSampler, AnimationError> {
+        if pivots.len() != self.n_handles() {
+            return Err(AnimationError::TransformCount {
+                keyframe: 0,
+                got: self.n_handles(),
+                expected: pivots.len(),
+            });
+        }
+        let mut parts = Vec::with_capacity(self.keyframes.len() * pivots.len());
+        for (k, key) in self.keyframes.iter().enumerate() {
+            for (i, (&t, &c)) in key.transforms.iter().zip(pivots).enumerate() {
+                parts.push(
+                    AffineParts::decompose(t, c).ok_or(AnimationError::Singular {
+                        keyframe: k,
+                        handle: i,
+                        coefficients: t.as_coeffs(),
+                    })?,
+                );
+            }
+        }
+        Ok(PoseSampler {
+            animation: self.clone(),
+            pivots: pivots.to_vec(),
+            parts,
+        })
+    }
+}
+
+/// An [`Animation`] with its keyframe maps decomposed ([`AffineParts`]): evaluates the pose at
+/// any time without allocating.
+#[derive(Clone, Debug)]
+pub struct PoseSampler {
+    animation: Animation,
+    pivots: Vec<Point>,
+    /// `parts[k · n_handles + i]`: keyframe `k`, handle `i`.
+    parts: Vec<AffineParts>,
+}
+
+impl PoseSampler {
+    /// The animation sampled.
+    pub fn animation(&self) -> &Animation {
+        &self.animation
+    }
+
+    /// Number of handles: the length of a pose.
+    pub fn n_handles(&self) -> usize {
+        self.pivots.len()
+    }
+
+    /// Writes the pose at time `t` (seconds) into `out` (length [`PoseSampler::n_handles`]):
+    /// each handle's map interpolated between the keyframes around `t` (module doc). At a
+    /// keyframe's time, and before the first or after the last keyframe, a keyframe's maps
+    /// are copied exactly. No allocation.
+    ///
+    /// Panics if `out` has the wrong length (a caller's bug, not data).
+    ///
+    /// ```
+    /// use kurbo::{Affine, Point};
+    /// use splineskin::animation::{Animation, Keyframe};
+    /// let c = Point::new(10.0, 0.0);
+    /// let quarter = Affine::rotate_about(std::f64::consts::FRAC_PI_2, c);
+    /// let a = Animation::new(30.0, vec![
+    ///     Keyframe { time: 0.0, transforms: vec![Affine::IDENTITY] },
+    ///     Keyframe { time: 2.0, transforms: vec![quarter] },
+    /// ])?;
+    /// let sampler = a.sampler(&[c])?;
+    /// let mut pose = [Affine::IDENTITY];
+    /// sampler.pose_at(1.0, &mut pose);
+    /// // Halfway: the eighth turn about the pivot.
+    /// let eighth = Affine::rotate_about(std::f64::consts::FRAC_PI_4, c);
+    /// for (g, w) in pose[0].as_coeffs().iter().zip(eighth.as_coeffs()) {
+    ///     assert!((g - w).abs() < 1e-14);
+    /// }
+    /// # Ok::<(), splineskin::animation::AnimationError>(())
+    /// ```
+    pub fn pose_at(&self, t: f64, out: &mut [Affine]) {
+        let n = self.n_handles();
+        assert_eq!(out.len(), n, "pose_at: output length");
+        let keys = &self.animation.keyframes;
+        // First keyframe later than t.
+        let next = keys.partition_point(|k| k.time <= t);
+        if next == 0 || next == keys.len() || keys[next - 1].time == t {
+            let k = next.saturating_sub(1);
+            out.copy_from_slice(&keys[k].transforms);
+            return;
+        }
+        let (k0, k1) = (next - 1, next);
+        let u = (t - keys[k0].time) / (keys[k1].time - keys[k0].time);
+        for (i, (slot, &c)) in out.iter_mut().zip(&self.pivots).enumerate() {
+            let p0 = &self.parts[k0 * n + i];
+            let p1 = &self.parts[k1 * n + i];
+            *slot = p0.interpolate(p1, u).compose(c);
+        }
+    }
+}
+
+/// An affine map split about a pivot `c`: `T(x) = q + R(θ) · diag(s_x, s_y) · [[1, k], [0, 1]] ·
+/// (x − c)` (module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AffineParts {
+    /// `q = T(c)`: where the pivot goes.
+    pub pivot_image: Point,
+    /// `θ`, radians in `(−π, π]`: the angle of the first column (SVG's y-down frame: positive
+    /// turns x towards y, clockwise on screen).
+    pub angle: f64,
+    /// `(s_x, s_y)`: `s_x > 0`; `s_y < 0` for a reflection.
+    pub scale: Vec2,
+    /// `k`: the shear of the second axis along the first, applied before scaling.
+    pub shear: f64,
+}
+
+impl AffineParts {
+    /// Splits `map` about `pivot`; `None` if `map` is not finite or its linear part is
+    /// singular.
+    ///
+    /// ```
+    /// use kurbo::{Affine, Point, Vec2};
+    /// use splineskin::animation::AffineParts;
+    /// let c = Point::new(3.0, 4.0);
+    /// // Scale by (2, −1) (a reflection), turn by 0.5 rad about c, then move by (1, 0).
+    /// let map = Affine::translate(c.to_vec2() + Vec2::new(1.0, 0.0))
+    ///     * Affine::rotate(0.5)
+    ///     * Affine::scale_non_uniform(2.0, -1.0)
+    ///     * Affine::translate(-c.to_vec2());
+    /// let parts = AffineParts::decompose(map, c).unwrap();
+    /// assert!((parts.angle - 0.5).abs() < 1e-15);
+    /// assert!((parts.scale - Vec2::new(2.0, -1.0)).hypot() < 1e-15);
+    /// assert!(parts.shear.abs() < 1e-15);
+    /// assert!((parts.pivot_image - Point::new(4.0, 4.0)).hypot() < 1e-14);
+    /// let back = parts.compose(c);
+    /// for (g, w) in back.as_coeffs().iter().zip(map.as_coeffs()) {
+    ///     assert!((g - w).abs() < 1e-14);
+    /// }
+    /// assert!(AffineParts::decompose(Affine::scale_non_uniform(1.0, 0.0), c).is_none());
+    /// ```
+    pub fn decompose(map: Affine, pivot: Point) -> Option<AffineParts> {
+        let coeffs = map.as_coeffs();
+        if !coeffs.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        let [a, b, c, d, _, _] = coeffs;
+        let det = a * d - b * c;
+        let sx = a.hypot(b);
+        if !(det != 0.0 && det.is_finite() && sx > 0.0) {
+            return None;
+        }
+        let (cos, sin) = (a / sx, b / sx);
+        // Rᵀ · (c, d) = (s_x k, s_y).
+        let along = cos * c + sin * d;
+        let across = -sin * c + cos * d;
+        Some(AffineParts {
+            pivot_image: map * pivot,
+            angle: b.atan2(a),
+            scale: Vec2::new(sx, across),
+            shear: along / sx,
+        })
+    }
+
+    /// The map `x ↦ q + R(θ) · diag(s_x, s_y) · [[1, k], [0, 1]] · (x − pivot)`.
+    pub fn compose(&self, pivot: Point) -> Affine {
+        let (sin, cos) = self.angle.sin_cos();
+        let (sx, sy, k) = (self.scale.x, self.scale.y, self.shear);
+        // Columns of R · [[s_x, s_x k], [0, s_y]].
+        let (a, b) = (cos * sx, sin * sx);
+        let (c, d) = (cos * sx * k - sin * sy, sin * sx * k + cos * sy);
+        let linear = Affine::new([a, b, c, d, 0.0, 0.0]);
+        let moved = linear * pivot;
+        Affine::new([
+            a,
+            b,
+            c,
+            d,
+            self.pivot_image.x - moved.x,
+            self.pivot_image.y - moved.y,
+        ])
+    }
+
+    /// The parts at fraction `u` from `self` (`u = 0`) to `other` (`u = 1`), by the module
+    /// doc's rules: pivot image and shear linear, angle along the shortest arc, scales
+    /// geometric (`s_y` linear when its sign changes). `u = 0` and `u = 1` return `self` and
+    /// `other` exactly.
+    pub fn interpolate(&self, other: &AffineParts, u: f64) -> AffineParts {
+        if u == 0.0 {
+            return *self;
+        }
+        if u == 1.0 {
+            return *other;
+        }
+        let lerp = |x: f64, y: f64| x + u * (y - x);
+        let geometric = |x: f64, y: f64| x * (y / x).powf(u);
+        AffineParts {
+            pivot_image: self.pivot_image.lerp(other.pivot_image, u),
+            angle: self.angle + u * shortest_turn(self.angle, other.angle),
+            scale: Vec2::new(
+                geometric(self.scale.x, other.scale.x),
+                if self.scale.y * other.scale.y > 0.0 {
+                    geometric(self.scale.y, other.scale.y)
+                } else {
+                    lerp(self.scale.y, other.scale.y)
+                },
+            ),
+            shear: lerp(self.shear, other.shear),
+        }
+    }
+}
+
+/// `to − from` wrapped to `(−π, π]`, radians: the shortest turn, a half turn counted positive.
+///
+/// ```
+/// use std::f64::consts::PI;
+/// use splineskin::animation::shortest_turn;
+/// assert!((shortest_turn(0.9 * PI, -0.9 * PI) - 0.2 * PI).abs() < 1e-15);
+/// assert_eq!(shortest_turn(0.0, PI), PI);
+/// assert_eq!(shortest_turn(0.0, -PI), PI);
+/// ```
+pub fn shortest_turn(from: f64, to: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    PI - (PI - (to - from)).rem_euclid(TAU)
+}
+
+/// Interpolates one map: [`AffineParts::decompose`] both about `pivot`, interpolate at `u`,
+/// compose. `None` if either map is singular. Exact at `u = 0` and `u = 1`.
+pub fn interpolate_map(from: Affine, to: Affine, pivot: Point, u: f64) -> Option<Affine> {
+    if u == 0.0 {
+        return Some(from);
+    }
+    if u == 1.0 {
+        return Some(to);
+    }
+    let p0 = AffineParts::decompose(from, pivot)?;
+    let p1 = AffineParts::decompose(to, pivot)?;
+    Some(p0.interpolate(&p1, u).compose(pivot))
+}
+
+/// Deforming frame `frame` (at `time` seconds) failed.
+#[derive(Debug, thiserror::Error)]
+#[error("frame {frame} (t = {time} s): {error}")]
+pub struct FrameError<E: std::fmt::Display + std::fmt::Debug> {
+    /// The frame index.
+    pub frame: usize,
+    /// Its time.
+    pub time: f64,
+    /// What the deformer reported.
+    pub error: E,
+}
+
+/// Deforms the drawing at every time in `times`: the pose from `sampler`, then
+/// `deform(pose, out)` (e.g. [`crate::spline_fit::SplineRig::update`], a mat-vec), into one
+/// buffer of `n_points` points per frame. Frames are independent; with `parallel` they run on
+/// rayon's pool.
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::animation::{deform_frames, Animation, Keyframe};
+/// let a = Animation::new(2.0, vec![
+///     Keyframe { time: 0.0, transforms: vec![Affine::IDENTITY] },
+///     Keyframe { time: 1.0, transforms: vec![Affine::translate((4.0, 0.0))] },
+/// ])?;
+/// let sampler = a.sampler(&[Point::ZERO])?;
+/// // A toy deformer: the handle's map applied to one point.
+/// let frames = deform_frames(&sampler, &a.frame_times()?, 1, false, |pose, out| {
+///     out[0] = pose[0] * Point::new(1.0, 1.0);
+///     Ok::<(), std::convert::Infallible>(())
+/// }).unwrap();
+/// assert_eq!(frames, vec![vec![Point::new(1.0, 1.0)], vec![Point::new(3.0, 1.0)], vec![Point::new(5.0, 1.0)]]);
+/// # Ok::<(), splineskin::animation::AnimationError>(())
+/// ```
+pub fn deform_frames<E, F>(
+    sampler: &PoseSampler,
+    times: &[f64],
+    n_points: usize,
+    parallel: bool,
+    deform: F,
+) -> Result<Vec<Vec<Point>>, FrameError<E>>
+where
+    E: std::fmt::Display + std::fmt::Debug + Send,
+    F: Fn(&[Affine], &mut [Point]) -> Result<(), E> + Sync,
+{
+    let one = |(frame, &time): (usize, &f64)| {
+        let mut pose = vec![Affine::IDENTITY; sampler.n_handles()];
+        sampler.pose_at(time, &mut pose);
+        let mut points = vec![Point::ZERO; n_points];
+        deform(&pose, &mut points).map_err(|error| FrameError { frame, time, error })?;
+        Ok(points)
+    };
+    if parallel {
+        use rayon::prelude::*;
+        times.par_iter().enumerate().map(one).collect()
+    } else {
+        times.iter().enumerate().map(one).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn shortest_turn_wraps() {
+        assert!((shortest_turn(-0.1, 2.0 * PI - 0.1)).abs() < 1e-15);
+        assert!((shortest_turn(3.0, -3.0) - (2.0 * PI - 6.0)).abs() < 1e-15);
+        assert!((shortest_turn(-3.0, 3.0) + (2.0 * PI - 6.0)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn frame_times_end_on_duration() {
+        let key = |time: f64| Keyframe {
+            time,
+            transforms: vec![Affine::IDENTITY],
+        };
+        // 2143 / 30 s at 30 fps: 2143 intervals, not 2144 with a sliver.
+        let a = Animation::new(30.0, vec![key(0.0), key(2143.0 / 30.0)]).unwrap();
+        let t = a.frame_times().unwrap();
+        assert_eq!(t.len(), 2144);
+        assert_eq!(t[2143], 2143.0 / 30.0);
+        assert_eq!(t[15], 0.5);
+        let single = Animation::new(30.0, vec![key(0.0)]).unwrap();
+        assert_eq!(single.frame_times(), Err(AnimationError::ZeroDuration));
+    }
+}
