@@ -229,7 +229,7 @@ impl Animation {
     }
 
     /// The same animation retimed to last `duration` seconds: every keyframe time is scaled by
-    /// `duration / self.duration()`.
+    /// `duration / self.duration()` (the last becomes `duration` exactly).
     ///
     /// Errors: [`AnimationError::Duration`] for a duration that is not finite and positive,
     /// [`AnimationError::ZeroDuration`] when the animation has no length to scale.
@@ -241,12 +241,19 @@ impl Animation {
         if old <= 0.0 {
             return Err(AnimationError::ZeroDuration);
         }
+        let last = self.keyframes.len() - 1;
         let keyframes = self
             .keyframes
             .iter()
-            .map(|k| Keyframe {
-                time: k.time * (duration / old),
-                transforms: k.transforms.clone(),
+            .enumerate()
+            .map(|(k, key)| Keyframe {
+                // The last lands on `duration` exactly, not on `old · (duration / old)`.
+                time: if k == last {
+                    duration
+                } else {
+                    key.time * (duration / old)
+                },
+                transforms: key.transforms.clone(),
             })
             .collect();
         Animation::new(self.fps, keyframes)

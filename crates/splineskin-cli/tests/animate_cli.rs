@@ -1,0 +1,253 @@
+//! `splineskin animate` through the command line: an animated SVG with one `<animate>` per
+//! deformed element, a frames folder with the expected files (and PNGs), the authors' zooming
+//! animation, and errors that name the scene and the element, exit non-zero and leave nothing.
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+const SVG: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100">
+  <path id="a" d="M10 50 C20 30 40 50 50 50 C70 50 80 30 90 50"/>
+  <rect id="b" x="20" y="60" width="30" height="20"/>
+</svg>"#;
+
+fn scene(animation: &str) -> String {
+    format!(
+        r#"{{"splineskin_scene": 1, "svg": "drawing.svg",
+  "handles": [{{"position": [10, 50]}}, {{"position": [90, 50]}}],
+  "poses": [{{"name": "bend", "transforms": [{{}}, {{"rotate": 60}}]}}],
+  "animation": {animation}}}"#
+    )
+}
+
+const GOOD: &str = r#"{"fps": 10, "keyframes": [{"time": 0, "pose": [{}, {}]}, {"time": 0.3, "pose": "bend"}, {"time": 1, "pose": [{}, {"rotate": -90}]}]}"#;
+
+/// A fresh folder holding `scene.json` and `drawing.svg`.
+fn folder(name: &str, scene: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "splineskin-animate-cli-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("drawing.svg"), SVG).unwrap();
+    std::fs::write(dir.join("scene.json"), scene).unwrap();
+    dir
+}
+
+fn animate(dir: &Path, args: &[&str]) -> Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_splineskin"))
+        .current_dir(dir)
+        .arg("animate")
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// The value of attribute `name` in `tag` (the text of one start tag).
+fn attribute<'t>(tag: &'t str, name: &str) -> &'t str {
+    let start = tag.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+    let len = tag[start..].find('"').unwrap();
+    &tag[start..start + len]
+}
+
+/// Each `<path …><animate …/>` pair of `text`: the path's start tag and the animate's.
+fn animated_paths(text: &str) -> Vec<(&str, &str)> {
+    text.match_indices("<path ")
+        .map(|(i, _)| {
+            let path_end = i + text[i..].find('>').unwrap() + 1;
+            let rest = &text[path_end..];
+            assert!(rest.starts_with("<animate "), "{}", &text[i..path_end]);
+            (&text[i..path_end], &rest[..rest.find("/>").unwrap()])
+        })
+        .collect()
+}
+
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn animate_cli_writes_an_animated_svg() {
+    let dir = folder("svg", &scene(GOOD));
+    let out = animate(&dir, &["scene.json", "-o", "out.svg"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(dir.join("out.svg")).unwrap();
+    let paths = animated_paths(&text);
+    assert_eq!(paths.len(), 2, "the rect became a path");
+    assert_eq!(text.matches("<animate ").count(), 2);
+    assert_eq!(text.matches("</path>").count(), 2);
+    for (path, anim) in paths {
+        let values: Vec<&str> = attribute(anim, "values").split(';').collect();
+        assert_eq!(values.len(), 11, "0, 0.1, …, 1 s at 10 fps");
+        assert_eq!(attribute(anim, "keyTimes").split(';').count(), 11);
+        assert_eq!(attribute(anim, "dur"), "1s");
+        assert_eq!(attribute(anim, "attributeName"), "d");
+        assert_eq!(values[0], attribute(path, "d"));
+        let n_c = |d: &str| d.matches('C').count();
+        assert!(values.iter().all(|v| n_c(v) == n_c(values[0])));
+    }
+    // The fps and duration overrides.
+    let out = animate(
+        &dir,
+        &[
+            "scene.json",
+            "-o",
+            "out.svg",
+            "--fps",
+            "4",
+            "--duration",
+            "2",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(dir.join("out.svg")).unwrap();
+    assert!(text.contains(r#"dur="2s""#));
+    assert_eq!(text.matches("<animate ").count(), 2);
+    let (_, anim) = animated_paths(&text)[0];
+    assert_eq!(attribute(anim, "values").split(';').count(), 9);
+    assert_eq!(listing(&dir), ["drawing.svg", "out.svg", "scene.json"]);
+}
+
+#[test]
+fn animate_cli_writes_a_frames_folder() {
+    let dir = folder("frames", &scene(GOOD));
+    let out = animate(&dir, &["scene.json", "-o", "frames", "--png", "--fps", "5"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let want: Vec<String> = (0..6)
+        .flat_map(|f| [format!("frame-{f:04}.png"), format!("frame-{f:04}.svg")])
+        .collect();
+    assert_eq!(listing(&dir.join("frames")), want);
+    let png = std::fs::read(dir.join("frames/frame-0003.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    // Again, without PNGs: the earlier frames folder is replaced.
+    let out = animate(&dir, &["scene.json", "-o", "frames", "--fps", "2"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        listing(&dir.join("frames")),
+        ["frame-0000.svg", "frame-0001.svg", "frame-0002.svg"]
+    );
+    // A folder holding anything else is not touched.
+    std::fs::write(dir.join("frames/notes.txt"), "mine").unwrap();
+    let out = animate(&dir, &["scene.json", "-o", "frames"]);
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("holds notes.txt, which is not a frame"),
+        "{stderr}"
+    );
+    assert!(dir.join("frames/notes.txt").exists());
+    assert_eq!(listing(&dir), ["drawing.svg", "frames", "scene.json"]);
+}
+
+#[test]
+fn animate_cli_authors_zooming_animation() {
+    let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
+    let scene = root.join(
+        "vectorskinning/turtle-seven-stack/zooming animation/after-zoomout/turtles-seven-deformation2.json",
+    );
+    if !scene.is_file() {
+        eprintln!("skipped: ../shared/data not found next to the repository");
+        return;
+    }
+    let dir = folder("authors", "{}");
+    let out = animate(
+        &dir,
+        &[
+            scene.to_str().unwrap(),
+            "-o",
+            "zoom.svg",
+            "--duration",
+            "4",
+            "--fps",
+            "2",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("1200 keyframes, 9 frames at 2 fps over 4 s"),
+        "{stderr}"
+    );
+    let text = std::fs::read_to_string(dir.join("zoom.svg")).unwrap();
+    let animates = text.matches("<animate ").count();
+    assert!(animates > 100, "{animates}");
+    for (_, anim) in animated_paths(&text) {
+        assert_eq!(attribute(anim, "values").split(';').count(), 9);
+    }
+}
+
+#[test]
+fn animate_cli_errors_name_scene_and_element_and_write_nothing() {
+    let cases = [
+        (
+            "none",
+            scene("null"),
+            "scene.json: the scene has no animation",
+        ),
+        (
+            "empty",
+            scene(r#"{"keyframes": []}"#),
+            "scene.json: animation: no keyframes",
+        ),
+        (
+            "order",
+            scene(r#"{"keyframes": [{"time": 0.5, "pose": 0}, {"time": 0.2, "pose": 0}]}"#),
+            "scene.json: animation: keyframes[1]: time 0.2 is not after keyframes[0]'s 0.5",
+        ),
+        (
+            "missing",
+            scene(r#"{"keyframes": [{"time": 0, "pose": 3}]}"#),
+            "scene.json: animation.keyframes[0].pose: pose 3 does not exist",
+        ),
+        (
+            "single",
+            scene(r#"{"keyframes": [{"time": 0, "pose": 0}]}"#),
+            "scene.json: animation: the animation lasts 0 s",
+        ),
+        (
+            "nan",
+            scene(r#"{"keyframes": [{"time": 0, "pose": [[NaN, 0, 0, 1, 0, 0], {}]}]}"#),
+            "scene.json: invalid scene JSON",
+        ),
+    ];
+    for (name, text, want) in cases {
+        let dir = folder(name, &text);
+        for target in ["out.svg", "frames"] {
+            let out = animate(&dir, &["scene.json", "-o", target]);
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert!(!out.status.success(), "{name}");
+            assert!(stderr.contains(want), "{name}: {stderr}");
+            assert_eq!(listing(&dir), ["drawing.svg", "scene.json"], "{name}");
+        }
+    }
+    // A bad override.
+    let dir = folder("fps", &scene(GOOD));
+    let out = animate(&dir, &["scene.json", "-o", "out.svg", "--fps=-3"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("scene.json: --fps: frame rate -3 is not in (0, 1000]"),
+        "{stderr}"
+    );
+    assert_eq!(listing(&dir), ["drawing.svg", "scene.json"]);
+}
