@@ -5,6 +5,7 @@
 
 mod animate;
 mod bench;
+mod compare;
 mod deform;
 mod demo;
 mod info;
@@ -27,6 +28,8 @@ enum Command {
     Deform(deform::Args),
     /// Animate a scene's keyframes: an animated SVG (SMIL) or a folder of numbered frames.
     Animate(animate::Args),
+    /// Draw the spline fit beside the naive baselines (PNG) and print their metrics.
+    Compare(compare::Args),
     /// Summarise a drawing: paths, curves and junction kinds.
     Info(info::Args),
     /// Time precomputation and per-frame update on scenes.
@@ -42,6 +45,7 @@ fn main() -> std::process::ExitCode {
     let result = match cli.command {
         Command::Deform(a) => deform::run(a),
         Command::Animate(a) => animate::run(a),
+        Command::Compare(a) => compare::run(a),
         Command::Info(a) => info::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Demo(a) => demo::run(a),

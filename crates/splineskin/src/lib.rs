@@ -15,9 +15,11 @@
 
 pub mod animation;
 pub mod bezier;
+pub mod compare;
 pub mod domain;
 pub mod drawing;
 pub mod examples;
+pub mod figure;
 pub mod mesh;
 pub mod metrics;
 pub mod naive;

@@ -225,7 +225,7 @@ pub fn refit_metrics(
 }
 
 /// The result path's curves with their control-point boxes (each contains its curve).
-fn hulls(path: &RefitPath) -> Vec<(CubicBez, Rect)> {
+pub(crate) fn hulls(path: &RefitPath) -> Vec<(CubicBez, Rect)> {
     (0..path.n_curves())
         .map(|j| {
             let c = path.curve(j);
@@ -237,7 +237,7 @@ fn hulls(path: &RefitPath) -> Vec<(CubicBez, Rect)> {
 
 /// Distance from `p` to the nearest of `curves`, skipping curves whose box is farther than the
 /// best so far.
-fn nearest_distance(curves: &[(CubicBez, Rect)], p: Point, accuracy: f64) -> f64 {
+pub(crate) fn nearest_distance(curves: &[(CubicBez, Rect)], p: Point, accuracy: f64) -> f64 {
     let box_distance = |r: &Rect| {
         let dx = (r.x0 - p.x).max(p.x - r.x1).max(0.0);
         let dy = (r.y0 - p.y).max(p.y - r.y1).max(0.0);

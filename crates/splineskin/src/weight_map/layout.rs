@@ -5,49 +5,16 @@ use kurbo::{ParamCurveExtrema, Point, Rect};
 
 use super::{HandleMarker, WeightMapError, WeightMapOptions};
 use crate::drawing::Drawing;
+use crate::figure::grid::{GridError, PanelGrid};
 use crate::mesh::TriMesh;
 
-/// Margin around the frame's content (curves, handles, mesh), on every side, as a fraction of
-/// the content's larger side: 0.05. Leaves room for handle markers at the edge, and bounds a
-/// panel's aspect ratio at 1 : 11 for the thinnest drawings.
-pub const FRAME_MARGIN: f64 = 0.05;
+pub use crate::figure::grid::{
+    FRAME_MARGIN, LINE_SCALE_RANGE, MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MIN_PANEL_WIDTH,
+    REFERENCE_PANEL_WIDTH, TICK_LENGTH,
+};
 
-/// Largest side of a weight map, in pixels: [`crate::render::MAX_RENDER_SIZE`].
-pub const MAX_IMAGE_SIDE: u32 = crate::render::MAX_RENDER_SIZE;
-
-/// Largest number of pixels of a weight map: 2²⁶ (about 67 million, e.g. 8192 × 8192). The
-/// samples take 8 bytes per panel pixel on top of the image's 4.
-pub const MAX_IMAGE_PIXELS: u64 = 1 << 26;
-
-/// Smallest panel width, in pixels: 32 (a panel must hold its label and a handle marker).
-pub const MIN_PANEL_WIDTH: u32 = 32;
-
-/// Panel width at which line widths, marker radii, gutters and labels have their nominal
-/// sizes: 512 px. They scale with the panel width, within [`LINE_SCALE_RANGE`].
-pub const REFERENCE_PANEL_WIDTH: f64 = 512.0;
-
-/// Range of the line scale (panel width / [`REFERENCE_PANEL_WIDTH`]): lines stay at least
-/// half and at most four times their nominal width.
-pub const LINE_SCALE_RANGE: (f64, f64) = (0.5, 4.0);
-
-/// Rounding slack when making the panel height a whole number of pixels: 1e-6 px.
-const PIXEL_SLACK: f64 = 1e-6;
-
-/// Smallest size of a font pixel, in pixels: 2 (digits 6 × 10 px, legible at any panel
-/// width).
-const MIN_GLYPH_SCALE: u32 = 2;
-
-/// Nominal gutter between panels and around the image, in pixels.
-const GUTTER: f64 = 12.0;
-/// Nominal height of the colour bar, in pixels.
-const BAR_HEIGHT: f64 = 14.0;
-/// Fraction of a panel's width taken by the colour bar's `[0, 1]` section; the out-of-range
-/// extensions take [`BAR_EXTENSION_FRACTION`] each on either side.
-const BAR_MAIN_FRACTION: f64 = 0.6;
 /// Fraction of a panel's width taken by each out-of-range extension of the colour bar.
 const BAR_EXTENSION_FRACTION: f64 = 0.15;
-/// Nominal length of the colour bar's major ticks, in pixels.
-pub(crate) const TICK_LENGTH: f64 = 5.0;
 
 /// One panel: the weights of `handle`, with its top-left corner at pixel `(x, y)`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -130,109 +97,49 @@ impl WeightMapLayout {
                 n_handles: handles.len(),
             });
         }
-        let pw = options.panel_width;
-        if !(MIN_PANEL_WIDTH..=MAX_IMAGE_SIDE).contains(&pw) {
-            return Err(WeightMapError::InvalidPanelWidth {
-                width: pw,
-                min: MIN_PANEL_WIDTH,
-                max: MAX_IMAGE_SIDE,
-            });
-        }
-
-        let content = content_bounds(drawing, handles, mesh);
-        let finite = [content.x0, content.y0, content.x1, content.y1]
-            .iter()
-            .all(|v| v.is_finite());
-        if !finite {
-            return Err(WeightMapError::NonFiniteGeometry);
-        }
-        let side = content.width().max(content.height());
-        // A lone handle and no curves: a frame of one drawing unit around it.
-        let side = if side > 0.0 { side } else { 1.0 };
-        let margin = FRAME_MARGIN * side;
-        let frame = content.inflate(margin, margin);
-        let scale = f64::from(pw) / frame.width();
-        let ph_exact = frame.height() * scale;
-        if !(scale.is_finite() && ph_exact.is_finite() && scale > 0.0) {
-            return Err(WeightMapError::NonFiniteGeometry);
-        }
-        // Bounded by the aspect ratio (at most 1 : 11) times the panel width. Rounded up (the
-        // slack absorbs the rounding of `scale`), so that the frame only ever grows.
-        let ph = ((ph_exact - PIXEL_SLACK).ceil() as u32).max(1);
-        let centre_y = 0.5 * (frame.y0 + frame.y1);
-        let half = 0.5 * f64::from(ph) / scale;
-        let frame = Rect::new(frame.x0, centre_y - half, frame.x1, centre_y + half);
-
         let shown: Vec<usize> = match options.handle {
             Some(i) => vec![i],
             None => (0..handles.len()).collect(),
         };
-        let n = shown.len();
-        let columns = best_columns(n, f64::from(pw), f64::from(ph));
-        let rows = n.div_ceil(columns);
-
-        let line_scale =
-            (f64::from(pw) / REFERENCE_PANEL_WIDTH).clamp(LINE_SCALE_RANGE.0, LINE_SCALE_RANGE.1);
-        let gutter = ((GUTTER * line_scale).round() as u32).max(4);
-        let glyph_scale = ((2.0 * line_scale).round() as u32).max(MIN_GLYPH_SCALE);
-        let bar_height = (BAR_HEIGHT * line_scale).round();
-        let tick_label_height = f64::from(super::glyphs::GLYPH_HEIGHT * glyph_scale);
-        // The panel label: glyphs one step larger, over a gap of one of their pixels.
-        let label_height = (super::glyphs::GLYPH_HEIGHT + 1) * (glyph_scale + 1);
-
-        let size = |count: usize, panel: u32| -> u64 {
-            u64::from(gutter) + count as u64 * (u64::from(panel) + u64::from(gutter))
-        };
-        let width = size(columns, pw);
-        let grid_height = size(rows, label_height + ph);
-        let bar_top = grid_height as f64;
-        let height = grid_height as f64
-            + bar_height
-            + (TICK_LENGTH * line_scale).round()
-            + f64::from(glyph_scale) * 2.0
-            + tick_label_height
-            + f64::from(gutter);
-        let height = height as u64;
-        if width > u64::from(MAX_IMAGE_SIDE)
-            || height > u64::from(MAX_IMAGE_SIDE)
-            || width * height > MAX_IMAGE_PIXELS
-        {
-            return Err(WeightMapError::TooLarge {
-                width,
-                height,
-                max_side: MAX_IMAGE_SIDE,
-                max_pixels: MAX_IMAGE_PIXELS,
-            });
-        }
-        let (width, height) = (width as u32, height as u32);
-
+        let content = content_bounds(drawing, handles, mesh);
+        let grid =
+            PanelGrid::new(content, shown.len(), options.panel_width, 1).map_err(|e| match e {
+                GridError::InvalidPanelWidth { width, min, max } => {
+                    WeightMapError::InvalidPanelWidth { width, min, max }
+                }
+                GridError::TooLarge {
+                    width,
+                    height,
+                    max_side,
+                    max_pixels,
+                } => WeightMapError::TooLarge {
+                    width,
+                    height,
+                    max_side,
+                    max_pixels,
+                },
+                _ => WeightMapError::NonFiniteGeometry,
+            })?;
         let panels = shown
             .iter()
-            .enumerate()
-            .map(|(k, &handle)| Panel {
-                handle,
-                x: gutter + (k % columns) as u32 * (pw + gutter),
-                y: gutter + label_height + (k / columns) as u32 * (label_height + ph + gutter),
-            })
+            .zip(&grid.corners)
+            .map(|(&handle, &(x, y))| Panel { handle, x, y })
             .collect();
-        let main = (BAR_MAIN_FRACTION * f64::from(pw)).round();
-        let bar_x0 = ((f64::from(width) - main) / 2.0).round();
-        let colour_bar = Rect::new(bar_x0, bar_top, bar_x0 + main, bar_top + bar_height);
         Ok(WeightMapLayout {
-            frame,
-            scale,
-            panel_width: pw,
-            panel_height: ph,
+            frame: grid.frame,
+            scale: grid.scale,
+            panel_width: grid.panel_width,
+            panel_height: grid.panel_height,
             panels,
-            columns,
-            width,
-            height,
-            colour_bar,
-            bar_extension: (BAR_EXTENSION_FRACTION * f64::from(pw)).round(),
-            line_scale,
-            gutter,
-            glyph_scale,
-            label_height,
+            columns: grid.columns,
+            width: grid.width,
+            height: grid.height,
+            colour_bar: grid.colour_bar,
+            bar_extension: (BAR_EXTENSION_FRACTION * f64::from(grid.panel_width)).round(),
+            line_scale: grid.line_scale,
+            gutter: grid.gutter,
+            glyph_scale: grid.glyph_scale,
+            label_height: grid.label_height,
         })
     }
 
@@ -286,36 +193,4 @@ fn content_bounds(drawing: &Drawing, handles: &[HandleMarker], mesh: Option<&Tri
         }
     }
     bounds
-}
-
-/// The number of columns, among `1..=n`, whose grid of `n` panels of `pw × ph` is closest to
-/// square (smallest `|ln(width / height)|`); more columns on a tie.
-fn best_columns(n: usize, pw: f64, ph: f64) -> usize {
-    let mut best = (f64::INFINITY, 1);
-    for columns in (1..=n).rev() {
-        let rows = n.div_ceil(columns);
-        let cost = ((columns as f64 * pw) / (rows as f64 * ph)).ln().abs();
-        if cost < best.0 - 1e-12 {
-            best = (cost, columns);
-        }
-    }
-    best.1
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn layout_best_columns_square_panels() {
-        assert_eq!(best_columns(1, 1.0, 1.0), 1);
-        assert_eq!(best_columns(2, 1.0, 1.0), 2); // tie 2:1 vs 1:2 → more columns
-        assert_eq!(best_columns(4, 1.0, 1.0), 2);
-        assert_eq!(best_columns(5, 1.0, 1.0), 3);
-        assert_eq!(best_columns(9, 1.0, 1.0), 3);
-        // Wide panels stack: 2 panels of 2:1 → one column, square grid.
-        assert_eq!(best_columns(2, 2.0, 1.0), 1);
-        // Tall panels line up: 3 panels of 1:3 → one row.
-        assert_eq!(best_columns(3, 1.0, 3.0), 3);
-    }
 }

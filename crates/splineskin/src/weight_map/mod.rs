@@ -24,16 +24,19 @@
 //! families are exactly 0 or 1 on whole regions), anti-aliased from the distance to the level
 //! estimated as `|w − level| / |∇w|` with `∇w` by central differences of the pixel samples.
 
-pub mod colour_map;
-mod glyphs;
 pub mod layout;
+
+/// The colour maps, shared with the other pictures ([`crate::figure::colour_map`]).
+pub use crate::figure::colour_map;
 
 pub use layout::{Panel, WeightMapLayout};
 
 use kurbo::Point;
-use resvg::tiny_skia::{self, LineCap, Paint, PathBuilder, Pixmap, PixmapPaint, Stroke, Transform};
+use resvg::tiny_skia::{self, PathBuilder, Pixmap, PixmapPaint, Stroke, Transform};
 
 use crate::drawing::Drawing;
+use crate::figure::glyphs;
+use crate::figure::strokes::{self, paint, stroke, Line};
 use crate::mesh::TriMesh;
 use crate::weights::WeightField;
 use colour_map::{luma, range_of, weight_colour, Range, OUT_OF_RANGE_FULL};
@@ -647,22 +650,6 @@ fn mesh_paths(
     (all.finish(), boundary.finish())
 }
 
-/// A paint of 8-bit RGBA, anti-aliased.
-fn paint(rgba: [u8; 4]) -> Paint<'static> {
-    let mut paint = Paint::default();
-    paint.set_color_rgba8(rgba[0], rgba[1], rgba[2], rgba[3]);
-    paint.anti_alias = true;
-    paint
-}
-
-/// A line style: 8-bit sRGB colour with alpha, and width in pixels at the nominal size
-/// ([`layout::REFERENCE_PANEL_WIDTH`]), multiplied by the line scale when drawn.
-#[derive(Clone, Copy, Debug)]
-struct Line {
-    rgba: [u8; 4],
-    width: f64,
-}
-
 /// Mesh edges: faint white, thinner than a pixel, so that a dense mesh tints rather than
 /// hides the colours.
 const MESH_EDGE: Line = Line {
@@ -726,39 +713,9 @@ const LABEL_TEXT: [u8; 4] = [0, 0, 0, 255];
 /// The colour bar's tick values.
 const TICK_TEXT: [u8; 4] = [40, 40, 40, 255];
 
-/// Strokes `path` (pixel coordinates) in `line`, its width times `scale`, with round caps and
-/// joins.
-fn stroke(pixmap: &mut Pixmap, path: &tiny_skia::Path, line: Line, scale: f64) {
-    let stroke = Stroke {
-        width: (line.width * scale) as f32,
-        line_cap: LineCap::Round,
-        line_join: tiny_skia::LineJoin::Round,
-        ..Stroke::default()
-    };
-    pixmap.stroke_path(
-        path,
-        &paint(line.rgba),
-        &stroke,
-        Transform::identity(),
-        None,
-    );
-}
-
 /// Strokes `path` dashed by [`DASH`].
 fn dashed(pixmap: &mut Pixmap, path: &tiny_skia::Path, line: Line, scale: f64) {
-    let width = line.width * scale;
-    let stroke = Stroke {
-        width: width as f32,
-        dash: tiny_skia::StrokeDash::new(DASH.map(|d| (d * width) as f32).to_vec(), 0.0),
-        ..Stroke::default()
-    };
-    pixmap.stroke_path(
-        path,
-        &paint(line.rgba),
-        &stroke,
-        Transform::identity(),
-        None,
-    );
+    strokes::dashed(pixmap, path, line, scale, DASH);
 }
 
 /// Nominal ring radius of the panel's own handle, pixels.
@@ -769,6 +726,19 @@ const OTHER_RING_RADIUS: f64 = 4.5;
 /// A handle, white under black so that it reads on every colour: a ring around a point (the
 /// centre stays clear), the segment of a bone. The panel's own handle is drawn larger.
 fn handle_marker(pixmap: &mut Pixmap, marker: &HandleMarker, own: bool, layout: &WeightMapLayout) {
+    let to_panel = |p: Point| layout.panel_pixel(p);
+    draw_handle_marker(pixmap, marker, own, &to_panel, layout.line_scale);
+}
+
+/// [`handle_marker`] with drawing points placed by `to_panel` (drawing → panel pixels) and
+/// lines scaled by `line_scale`: shared with [`crate::compare`].
+pub(crate) fn draw_handle_marker(
+    pixmap: &mut Pixmap,
+    marker: &HandleMarker,
+    own: bool,
+    to_panel: &dyn Fn(Point) -> Point,
+    line_scale: f64,
+) {
     let (radius, lines) = if own {
         (OWN_RING_RADIUS, OWN_HANDLE)
     } else {
@@ -776,12 +746,12 @@ fn handle_marker(pixmap: &mut Pixmap, marker: &HandleMarker, own: bool, layout: 
     };
     let path = match *marker {
         HandleMarker::Point(p) => {
-            let at = layout.panel_pixel(p);
-            let radius = radius * layout.line_scale;
+            let at = to_panel(p);
+            let radius = radius * line_scale;
             PathBuilder::from_circle(at.x as f32, at.y as f32, radius as f32)
         }
         HandleMarker::Segment([a, b]) => {
-            let (a, b) = (layout.panel_pixel(a), layout.panel_pixel(b));
+            let (a, b) = (to_panel(a), to_panel(b));
             let mut builder = PathBuilder::new();
             builder.move_to(a.x as f32, a.y as f32);
             builder.line_to(b.x as f32, b.y as f32);
@@ -796,7 +766,7 @@ fn handle_marker(pixmap: &mut Pixmap, marker: &HandleMarker, own: bool, layout: 
         HandleMarker::Segment(_) => BONE_WIDEN,
     };
     for line in lines {
-        stroke(pixmap, &path, line, widen * layout.line_scale);
+        stroke(pixmap, &path, line, widen * line_scale);
     }
 }
 
@@ -809,16 +779,8 @@ fn panel_label(image: &mut Pixmap, text: &str, panel: &Panel, layout: &WeightMap
 
 /// A one-pixel grey frame just outside the panel.
 fn panel_border(image: &mut Pixmap, panel: &Panel, layout: &WeightMapLayout) {
-    let rect = tiny_skia::Rect::from_xywh(
-        panel.x as f32 - 0.5,
-        panel.y as f32 - 0.5,
-        layout.panel_width as f32 + 1.0,
-        layout.panel_height as f32 + 1.0,
-    );
-    if let Some(rect) = rect {
-        let path = PathBuilder::from_rect(rect);
-        stroke(image, &path, PANEL_BORDER, 1.0);
-    }
+    let size = (layout.panel_width, layout.panel_height);
+    strokes::frame(image, (panel.x, panel.y), size, PANEL_BORDER);
 }
 
 /// The colour bar: viridis from 0 to 1, the out-of-range ramps at its ends when such values

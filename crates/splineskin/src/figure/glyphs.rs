@@ -1,6 +1,7 @@
-//! A 3 × 5 pixel font of digits, minus sign and decimal point, for panel labels and colour-bar
-//! ticks: the renderer has no font (usvg's `text` feature is off), and numbers are all it
-//! writes. Each font pixel is drawn as a `scale × scale` square.
+//! A 3 × 5 pixel font of digits, capital letters (lower case is drawn as capitals) and a few
+//! signs (`- . % : = + / ( )`), for panel labels and colour-bar ticks: the renderer has no
+//! font (usvg's `text` feature is off), and short labels and numbers are all it writes. Each
+//! font pixel is drawn as a `scale × scale` square.
 
 use resvg::tiny_skia::{Paint, Pixmap, Rect, Transform};
 
@@ -11,9 +12,10 @@ pub const GLYPH_HEIGHT: u32 = 5;
 /// Space between glyphs, in font pixels.
 const GLYPH_SPACING: u32 = 1;
 
-/// Rows of a glyph, top first, bit 2 the leftmost column.
+/// Rows of a glyph, top first, bit 2 the leftmost column (bit 0 for the one-column glyphs
+/// `.` and `:`). Lower-case letters take the capitals' rows.
 fn rows(c: char) -> Option<[u8; 5]> {
-    Some(match c {
+    Some(match c.to_ascii_uppercase() {
         '0' => [0b010, 0b101, 0b101, 0b101, 0b010],
         '1' => [0b010, 0b110, 0b010, 0b010, 0b111],
         '2' => [0b111, 0b001, 0b111, 0b100, 0b111],
@@ -26,13 +28,46 @@ fn rows(c: char) -> Option<[u8; 5]> {
         '9' => [0b111, 0b101, 0b111, 0b001, 0b111],
         '-' => [0b000, 0b000, 0b111, 0b000, 0b000],
         '.' => [0b0, 0b0, 0b0, 0b0, 0b1],
+        ':' => [0b0, 0b1, 0b0, 0b1, 0b0],
+        '%' => [0b101, 0b001, 0b010, 0b100, 0b101],
+        '=' => [0b000, 0b111, 0b000, 0b111, 0b000],
+        '+' => [0b000, 0b010, 0b111, 0b010, 0b000],
+        '/' => [0b001, 0b001, 0b010, 0b100, 0b100],
+        '(' => [0b010, 0b100, 0b100, 0b100, 0b010],
+        ')' => [0b010, 0b001, 0b001, 0b001, 0b010],
+        'A' => [0b010, 0b101, 0b111, 0b101, 0b101],
+        'B' => [0b110, 0b101, 0b110, 0b101, 0b110],
+        'C' => [0b011, 0b100, 0b100, 0b100, 0b011],
+        'D' => [0b110, 0b101, 0b101, 0b101, 0b110],
+        'E' => [0b111, 0b100, 0b110, 0b100, 0b111],
+        'F' => [0b111, 0b100, 0b110, 0b100, 0b100],
+        'G' => [0b011, 0b100, 0b101, 0b101, 0b011],
+        'H' => [0b101, 0b101, 0b111, 0b101, 0b101],
+        'I' => [0b111, 0b010, 0b010, 0b010, 0b111],
+        'J' => [0b001, 0b001, 0b001, 0b101, 0b010],
+        'K' => [0b101, 0b101, 0b110, 0b101, 0b101],
+        'L' => [0b100, 0b100, 0b100, 0b100, 0b111],
+        'M' => [0b101, 0b111, 0b111, 0b101, 0b101],
+        'N' => [0b110, 0b101, 0b101, 0b101, 0b101],
+        'O' => [0b111, 0b101, 0b101, 0b101, 0b111],
+        'P' => [0b110, 0b101, 0b110, 0b100, 0b100],
+        'Q' => [0b010, 0b101, 0b101, 0b110, 0b011],
+        'R' => [0b110, 0b101, 0b110, 0b101, 0b101],
+        'S' => [0b011, 0b100, 0b010, 0b001, 0b110],
+        'T' => [0b111, 0b010, 0b010, 0b010, 0b010],
+        'U' => [0b101, 0b101, 0b101, 0b101, 0b111],
+        'V' => [0b101, 0b101, 0b101, 0b101, 0b010],
+        'W' => [0b101, 0b101, 0b111, 0b111, 0b101],
+        'X' => [0b101, 0b101, 0b010, 0b101, 0b101],
+        'Y' => [0b101, 0b101, 0b010, 0b010, 0b010],
+        'Z' => [0b111, 0b001, 0b010, 0b100, 0b111],
         _ => return None,
     })
 }
 
 /// Width of glyph `c` in font pixels.
 fn glyph_width(c: char) -> u32 {
-    if c == '.' {
+    if c == '.' || c == ':' {
         1
     } else {
         GLYPH_WIDTH
@@ -77,8 +112,11 @@ mod tests {
     use super::*;
 
     #[test]
-    fn glyphs_every_digit_is_distinct() {
-        let all: Vec<[u8; 5]> = "0123456789-.".chars().map(|c| rows(c).unwrap()).collect();
+    fn glyphs_every_glyph_is_distinct() {
+        let all: Vec<[u8; 5]> = "0123456789-.%=+/()ABCDEFGHIJKLMNOPQRSTUVWXYZ"
+            .chars()
+            .map(|c| rows(c).unwrap())
+            .collect();
         for i in 0..all.len() {
             for j in 0..i {
                 assert_ne!(all[i], all[j], "glyphs {i} and {j}");
@@ -103,5 +141,8 @@ mod tests {
         assert!(inked(14, 3) && inked(19, 3));
         // nothing right of the text
         assert!((0..20).all(|y| !inked(2 + text_width("1.5", 2), y)));
+        // Lower case is drawn as capitals; unknown characters are blank, as wide as a digit.
+        assert_eq!(rows('m'), rows('M'));
+        assert_eq!(text_width("a b", 1), text_width("a9b", 1));
     }
 }

@@ -1,4 +1,6 @@
-//! The colours of weight values: viridis on `[0, 1]`, and two ramps of hues viridis never uses
+//! Colour maps of the pictures.
+//!
+//! **Weights** ([`weight_colour`]): viridis on `[0, 1]`, and two ramps of hues viridis never uses
 //! for values below 0 and above 1 (the negative lobes and overshoots of unbounded families such
 //! as biharmonic weights), so that out-of-range values cannot be mistaken for in-range ones.
 //!
@@ -12,6 +14,12 @@
 //! colour-vision deficiencies. Here it is its nine colours at `t = 0, 1/8, …, 1` (matplotlib's
 //! published values, rounded to 8 bits), interpolated linearly in sRGB: lightness stays
 //! monotone, which is what reading a weight off the picture needs.
+//!
+//! **Errors** ([`error_colour`], the comparison pictures of [`crate::compare`]): plasma (the
+//! same authors' sibling map, dark blue → magenta → orange) on its range `[0, 7/8]`, so that the
+//! largest error is a saturated orange that reads on a white background, where viridis's and
+//! plasma's pale yellow ends would not. Its dark blue zero is far from the grey of the curves
+//! drawn with it.
 
 /// Viridis at `t = k/8`, `k = 0…8`, 8-bit sRGB.
 pub const VIRIDIS_KNOTS: [[u8; 3]; 9] = [
@@ -24,6 +32,19 @@ pub const VIRIDIS_KNOTS: [[u8; 3]; 9] = [
     [92, 200, 99],
     [170, 220, 50],
     [253, 231, 37],
+];
+
+/// Plasma at `t = k/8`, `k = 0…7`, 8-bit sRGB (matplotlib's published values, rounded); its
+/// pale yellow end (`t = 1`) is left out: see the module doc.
+pub const PLASMA_KNOTS: [[u8; 3]; 8] = [
+    [13, 8, 135],
+    [75, 3, 161],
+    [125, 3, 168],
+    [168, 34, 150],
+    [203, 70, 121],
+    [229, 107, 93],
+    [248, 148, 65],
+    [253, 195, 40],
 ];
 
 /// How far out of `[0, 1]` a value must be to be drawn as out of range: 1e-6 weight units.
@@ -49,18 +70,39 @@ pub const ABOVE_DEEP: [u8; 3] = [190, 0, 160];
 /// Viridis at `t`, clamped to `[0, 1]` (NaN gives the colour of 0).
 ///
 /// ```
-/// use splineskin::weight_map::colour_map::{viridis, VIRIDIS_KNOTS};
+/// use splineskin::figure::colour_map::{viridis, VIRIDIS_KNOTS};
 /// assert_eq!(viridis(0.0), VIRIDIS_KNOTS[0]);
 /// assert_eq!(viridis(1.0), [253, 231, 37]);
 /// assert_eq!(viridis(0.5), VIRIDIS_KNOTS[4]);
 /// assert_eq!(viridis(7.0), viridis(1.0));
 /// ```
 pub fn viridis(t: f64) -> [u8; 3] {
+    piecewise_linear(&VIRIDIS_KNOTS, t)
+}
+
+/// The colour of a normalised error `e` (0 exact, 1 the largest error shown): plasma's knots
+/// [`PLASMA_KNOTS`] spread evenly over `[0, 1]`, `e` clamped to `[0, 1]` (NaN gives the colour
+/// of 0).
+///
+/// ```
+/// use splineskin::figure::colour_map::{error_colour, PLASMA_KNOTS};
+/// assert_eq!(error_colour(0.0), PLASMA_KNOTS[0]);
+/// assert_eq!(error_colour(1.0), PLASMA_KNOTS[7]);
+/// assert_eq!(error_colour(3.0 / 7.0), PLASMA_KNOTS[3]);
+/// assert_eq!(error_colour(-1.0), error_colour(0.0));
+/// ```
+pub fn error_colour(e: f64) -> [u8; 3] {
+    piecewise_linear(&PLASMA_KNOTS, e)
+}
+
+/// The colour at `t` (clamped to `[0, 1]`, NaN as 0) of the map through `knots` at even
+/// spacing, interpolated linearly in sRGB.
+fn piecewise_linear(knots: &[[u8; 3]], t: f64) -> [u8; 3] {
     let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
-    let last = VIRIDIS_KNOTS.len() - 1;
+    let last = knots.len() - 1;
     let x = t * last as f64;
     let k = (x.floor() as usize).min(last - 1);
-    mix(VIRIDIS_KNOTS[k], VIRIDIS_KNOTS[k + 1], x - k as f64)
+    mix(knots[k], knots[k + 1], x - k as f64)
 }
 
 /// Where a weight value falls.
@@ -90,7 +132,7 @@ pub fn range_of(w: f64) -> Range {
 /// end [`OUT_OF_RANGE_FULL`] beyond it.
 ///
 /// ```
-/// use splineskin::weight_map::colour_map::*;
+/// use splineskin::figure::colour_map::*;
 /// assert_eq!(weight_colour(1.0), viridis(1.0));
 /// assert_eq!(weight_colour(-1e-12), viridis(0.0)); // rounding is not a lobe
 /// assert_eq!(weight_colour(-0.5), BELOW_DEEP);
@@ -136,6 +178,20 @@ mod tests {
             previous = l;
         }
         assert!(luma(viridis(1.0)) - luma(viridis(0.0)) > 0.7);
+    }
+
+    #[test]
+    fn error_colour_lightness_is_monotone_and_reads_on_white() {
+        let mut previous = -1.0;
+        for k in 0..=1000 {
+            // BT.709 luma on encoded values is a rough lightness: plasma's first knots trade
+            // blue for red and dip by 2e-3 in it.
+            let l = luma(error_colour(f64::from(k) / 1000.0));
+            assert!(l >= previous - 5e-3, "e = {}: {l} < {previous}", k);
+            previous = l;
+        }
+        // The largest error is no lighter than 0.8 (white is 1).
+        assert!(luma(error_colour(1.0)) < 0.8);
     }
 
     #[test]

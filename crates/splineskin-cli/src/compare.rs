@@ -1,0 +1,205 @@
+//! `splineskin compare SCENE -o compare.png [--json] [--pose N] [--flexible]`: the spline fit
+//! beside the naive baselines, drawn by [`splineskin::compare`], with a table of the metrics
+//! on stdout (or, with `--json`, one JSON object per line and method:
+//!
+//! ```text
+//! {"scene": "…", "pose": 0, "method": "ours", "curves": 38, "energy": 1.2e2,
+//!  "max": 1.5e-3, "rms": 4.1e-4, "distance": "parametric", "diagonal": 512.3,
+//!  "refit_tolerance": null}
+//! ```
+//!
+//! `max` and `rms` are fractions of the diagonal, `energy` in drawing units² · length,
+//! `distance` is `parametric` or `closest_point` (the Schneider refit), `refit_tolerance` its
+//! tolerance in drawing units, `null` for the other methods).
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use serde::Serialize;
+use splineskin::compare::{
+    compare_methods, posed_markers, render_comparison, CompareInputs, CompareOptions, Comparison,
+    Method, PictureOptions, DEFAULT_COMPARE_PANEL_WIDTH, DEFAULT_REFIT_TOLERANCE_FRACTION,
+};
+use splineskin::metrics::MetricsOptions;
+use splineskin::naive::{FiniteDifferences, WeightGradient};
+use splineskin::scene::{Compat, Scene};
+use splineskin::spline_fit::FlexibleOptions;
+
+use crate::output::{write_atomic, Format};
+use crate::CompatArg;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene: our JSON format or the paper authors' `*-deformation.json`.
+    scene: PathBuf,
+    /// Output picture (`.png`): one panel per method, the target dashed and coloured by the
+    /// distance to the result.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Which of the scene's poses to apply (0 is the first).
+    #[arg(long, default_value_t = 0)]
+    pose: usize,
+    /// Also show the flexible fit (G¹ and fixed-angle tangent ratios free); shown anyway when
+    /// the scene asks for it.
+    #[arg(long)]
+    flexible: bool,
+    /// Print one JSON object per method instead of the table.
+    #[arg(long)]
+    json: bool,
+    /// Tolerance of the Schneider refit, as a fraction of the drawing's diagonal.
+    #[arg(long, value_name = "FRACTION", default_value_t = DEFAULT_REFIT_TOLERANCE_FRACTION)]
+    refit_tolerance: f64,
+    /// Width of each panel in pixels.
+    #[arg(long, value_name = "PX", default_value_t = DEFAULT_COMPARE_PANEL_WIDTH)]
+    width: u32,
+    /// Reproduce another implementation's discretisation exactly.
+    #[arg(long, value_enum, default_value_t = CompatArg::None)]
+    compat: CompatArg,
+}
+
+/// One line of `--json`.
+#[derive(Serialize)]
+struct JsonRow<'a> {
+    scene: String,
+    pose: usize,
+    method: &'a str,
+    curves: usize,
+    energy: f64,
+    max: f64,
+    rms: f64,
+    distance: &'a str,
+    diagonal: f64,
+    refit_tolerance: Option<f64>,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    if Format::of(&args.output).ok() != Some(Format::Png) {
+        bail!(
+            "{}: the comparison is a picture (expected a name ending in .png)",
+            args.output.display()
+        );
+    }
+    let scene = Scene::load(&args.scene)?;
+    let compat: Compat = args.compat.into();
+    let pose = scene.pose(args.pose).with_context(|| {
+        format!(
+            "{}: pose {} does not exist (the scene has {}, numbered from 0)",
+            args.scene.display(),
+            args.pose,
+            scene.poses.len().max(1)
+        )
+    })?;
+    let mut setup = scene.setup(compat)?;
+    setup.options = setup.options.with_parallel(true);
+    for w in &setup.warnings {
+        eprintln!("warning: {w}");
+    }
+    let flexible = match (args.flexible, compat) {
+        (true, Compat::VectorSkinning) => Some(FlexibleOptions::vectorskinning()),
+        (true, _) => Some(FlexibleOptions::default()),
+        (false, _) => scene.flexible_options(compat),
+    };
+    let shepard = scene.point_shepard(compat);
+    let differences;
+    let gradient: &dyn WeightGradient = match &shepard {
+        Some(s) => s,
+        None => {
+            differences = FiniteDifferences::for_drawing(setup.weights.as_ref(), &setup.drawing);
+            &differences
+        }
+    };
+    let inputs = CompareInputs {
+        drawing: &setup.drawing,
+        weights: setup.weights.as_ref(),
+        gradient,
+        fit: setup.options,
+        flexible,
+        pose: &pose.transforms,
+    };
+    let options = CompareOptions::default()
+        .with_refit_tolerance(args.refit_tolerance)
+        .with_metrics(MetricsOptions::default().with_fit(setup.options));
+    let comparison = compare_methods(&inputs, &options)
+        .with_context(|| format!("{}: pose {}", args.scene.display(), args.pose))?;
+    let markers = posed_markers(&scene.handle_set(), &pose.transforms);
+    let picture = render_comparison(
+        &comparison,
+        &markers,
+        &PictureOptions::default().with_panel_width(args.width),
+    )
+    .with_context(|| format!("{}: drawing the comparison", args.scene.display()))?;
+    write_atomic(&args.output, &picture.png)?;
+    if args.json {
+        for row in json_rows(&args, &comparison) {
+            println!("{}", serde_json::to_string(&row)?);
+        }
+    } else {
+        print_table(&args, &comparison, pose.name.as_deref());
+    }
+    eprintln!(
+        "{}: pose {}: {} methods -> {} ({}×{} px; colour 1 = {:.3}% of the diagonal)",
+        args.scene.display(),
+        args.pose,
+        comparison.methods.len(),
+        args.output.display(),
+        picture.grid.width,
+        picture.grid.height,
+        100.0 * picture.error_scale / comparison.diagonal.max(f64::MIN_POSITIVE)
+    );
+    Ok(())
+}
+
+fn json_rows<'a>(args: &Args, comparison: &'a Comparison) -> Vec<JsonRow<'a>> {
+    comparison
+        .methods
+        .iter()
+        .map(|m| JsonRow {
+            scene: args.scene.display().to_string(),
+            pose: args.pose,
+            method: m.method.name(),
+            curves: m.result.n_curves(),
+            energy: m.metrics.overall.energy,
+            max: m.metrics.overall.max,
+            rms: m.metrics.overall.rms,
+            distance: if m.method.keeps_structure() {
+                "parametric"
+            } else {
+                "closest_point"
+            },
+            diagonal: comparison.diagonal,
+            refit_tolerance: (m.method == Method::Schneider).then_some(comparison.refit_tolerance),
+        })
+        .collect()
+}
+
+fn print_table(args: &Args, comparison: &Comparison, pose_name: Option<&str>) {
+    let name = pose_name.map(|n| format!(" '{n}'")).unwrap_or_default();
+    println!(
+        "{} pose {}{name}: distances as % of the diagonal ({:.4} units)",
+        args.scene.display(),
+        args.pose,
+        comparison.diagonal
+    );
+    println!(
+        "{:<15} {:>12} {:>9} {:>9} {:>7}",
+        "method", "energy", "max %", "rms %", "curves"
+    );
+    for m in &comparison.methods {
+        let o = m.metrics.overall;
+        let note = match m.method {
+            Method::Schneider => format!(
+                "  (tolerance {:.4} units; closest-point distances)",
+                comparison.refit_tolerance
+            ),
+            _ => String::new(),
+        };
+        println!(
+            "{:<15} {:>12.4e} {:>9.4} {:>9.4} {:>7}{note}",
+            m.method.name(),
+            o.energy,
+            100.0 * o.max,
+            100.0 * o.rms,
+            m.result.n_curves()
+        );
+    }
+}

@@ -1,0 +1,588 @@
+//! Side-by-side comparison of the spline fit with the naive baselines (paper §5 and its
+//! Figs. 1, 3, 7): every method deforms the same drawing by the same pose, and each result is
+//! measured against the same target, the exactly skinned input curves
+//! `s_j(t) = Σ_i w_i(B_j(t)) T_i B̄_j(t)` ([`crate::metrics`]).
+//!
+//! | [`Method`] | result | distance to the target |
+//! |---|---|---|
+//! | `ours` | [`SplineRig`]: fixed tangent-length ratios | parametric |
+//! | `ours-flexible` | [`FlexibleSolver`]: G¹ and fixed-angle ratios free | parametric |
+//! | `fourcontrols` | [`naive::skin_control_points`] | parametric |
+//! | `twoendpoints` | [`naive::skin_on_curve_points`] | parametric |
+//! | `jacobian` | [`naive::skin_with_jacobian`] | parametric |
+//! | `schneider` | [`naive::schneider_refit`] (more curves) | closest point |
+//!
+//! "Parametric" is `‖R_j(t) − s_j(t)‖` at equal `t` ([`metrics::chain_metrics`]); "closest
+//! point" is the distance from `s_j(t)` to the nearest point of the refitted path
+//! ([`metrics::refit_metrics`]): a refit has its own curves and parametrisation. The distances
+//! along the target ([`MethodResult::distances`]) are exactly those the metrics' max and RMS
+//! are taken over (uniform `t_k = k / (S − 1)`, `S` = [`MetricsOptions::samples_per_curve`]),
+//! so the picture ([`render_comparison`]) and the table show the same numbers.
+//!
+//! ```text
+//! once per comparison:  drawing + weights + pose ──► compare_methods ──► Comparison
+//!                       Comparison + posed handle markers ──► render_comparison ──► PNG
+//! ```
+
+mod picture;
+
+pub use picture::{
+    render_comparison, ComparePicture, PictureOptions, DEFAULT_COMPARE_PANEL_WIDTH, ERROR_FLOOR,
+};
+
+use kurbo::{Affine, Point};
+
+use crate::bezier;
+use crate::drawing::Drawing;
+use crate::metrics::{self, Metrics, MetricsError, MetricsOptions};
+use crate::naive::{self, Refit, RefitError, RefitOptions, WeightGradient};
+use crate::scene::HandleSet;
+use crate::spline_fit::quadrature::SampledCurves;
+use crate::spline_fit::{
+    FitError, FitOptions, FlexibleError, FlexibleOptions, FlexibleSolver, PoseError, SplineRig,
+};
+use crate::weight_map::HandleMarker;
+use crate::weights::WeightField;
+
+/// Default tolerance of the Schneider refit, as a fraction of the drawing's bounding-box
+/// diagonal: 1e-3 (half a pixel when the drawing is drawn about 500 px across). At this
+/// tolerance the refit follows the target closely, at the price of several times the input's
+/// curve count, which is what it is compared on.
+pub const DEFAULT_REFIT_TOLERANCE_FRACTION: f64 = 1e-3;
+
+/// One of the compared methods.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// The spline fit with the input's tangent-length ratios (the paper's fixed-ratio G¹).
+    Ours,
+    /// The spline fit with flexible G¹ and fixed-angle junctions.
+    OursFlexible,
+    /// Every control point skinned (the authors' `fourcontrols`).
+    FourControls,
+    /// On-curve points skinned, off-curve points carried by their neighbour's transform (the
+    /// authors' `twoendpoints`).
+    TwoEndpoints,
+    /// On-curve points skinned, off-curve points carried by the Jacobian (the authors'
+    /// `jacobian`).
+    Jacobian,
+    /// Dense samples skinned and refitted by Schneider's algorithm.
+    Schneider,
+}
+
+impl Method {
+    /// The method's name in tables and JSON: `ours`, `ours-flexible`, `fourcontrols`,
+    /// `twoendpoints`, `jacobian`, `schneider`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Ours => "ours",
+            Method::OursFlexible => "ours-flexible",
+            Method::FourControls => "fourcontrols",
+            Method::TwoEndpoints => "twoendpoints",
+            Method::Jacobian => "jacobian",
+            Method::Schneider => "schneider",
+        }
+    }
+
+    /// Whether the result keeps the input's curves (measured parametrically), rather than
+    /// refitting them (measured by closest point).
+    pub fn keeps_structure(self) -> bool {
+        self != Method::Schneider
+    }
+}
+
+/// What is compared: a drawing, its weights, a pose and how the fit is set up.
+#[derive(Clone, Copy)]
+pub struct CompareInputs<'a> {
+    /// The input drawing (junction kinds as the fit should keep them).
+    pub drawing: &'a Drawing,
+    /// One weight function per handle.
+    pub weights: &'a dyn WeightField,
+    /// The same weights with gradients, for the Jacobian baseline (e.g. the analytic
+    /// [`crate::weights::Shepard`], or [`naive::FiniteDifferences`] of `weights`).
+    pub gradient: &'a dyn WeightGradient,
+    /// The fit's options (also the energy's measure and quadrature, as in the metrics).
+    pub fit: FitOptions,
+    /// Also compare the flexible fit, with these options.
+    pub flexible: Option<FlexibleOptions>,
+    /// One map per handle.
+    pub pose: &'a [Affine],
+}
+
+/// Options of [`compare_methods`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct CompareOptions {
+    /// Tolerance of the Schneider refit, as a fraction of the drawing's diagonal. Default:
+    /// [`DEFAULT_REFIT_TOLERANCE_FRACTION`].
+    pub refit_tolerance: f64,
+    /// The metrics' options. Default: [`MetricsOptions::default`] (the energy on the fit's
+    /// default measure: pass [`MetricsOptions::with_fit`] to match another fit).
+    pub metrics: MetricsOptions,
+}
+
+impl Default for CompareOptions {
+    fn default() -> Self {
+        CompareOptions {
+            refit_tolerance: DEFAULT_REFIT_TOLERANCE_FRACTION,
+            metrics: MetricsOptions::default(),
+        }
+    }
+}
+
+impl CompareOptions {
+    /// Sets [`CompareOptions::refit_tolerance`].
+    pub fn with_refit_tolerance(mut self, fraction: f64) -> Self {
+        self.refit_tolerance = fraction;
+        self
+    }
+    /// Sets [`CompareOptions::metrics`].
+    pub fn with_metrics(mut self, metrics: MetricsOptions) -> Self {
+        self.metrics = metrics;
+        self
+    }
+}
+
+/// One method's result and figures.
+#[derive(Clone, Debug)]
+pub struct MethodResult {
+    /// Which method.
+    pub method: Method,
+    /// The result: one chain per input path.
+    pub result: Refit,
+    /// Its figures against the target ([`metrics::chain_metrics`] for methods that keep the
+    /// input's structure, [`metrics::refit_metrics`] for the refit).
+    pub metrics: Metrics,
+    /// Distance from the target to the result at the target samples
+    /// ([`Comparison::target`]'s layout), drawing units.
+    pub distances: Vec<f64>,
+}
+
+/// Every method's result on one drawing and pose.
+#[derive(Clone, Debug)]
+pub struct Comparison {
+    /// The methods, in the order of [`Method`] (the flexible fit only when asked for).
+    pub methods: Vec<MethodResult>,
+    /// The target at `samples_per_curve` uniform parameters of every input curve (all paths in
+    /// order): entry `j · S + k` is `s_j(k / (S − 1))`.
+    pub target: Vec<Point>,
+    /// Samples per input curve `S`.
+    pub samples_per_curve: usize,
+    /// Number of input curves per path.
+    pub path_curves: Vec<usize>,
+    /// The input drawing's bounding-box diagonal (drawing units).
+    pub diagonal: f64,
+    /// The Schneider refit's tolerance, in drawing units.
+    pub refit_tolerance: f64,
+}
+
+impl Comparison {
+    /// The largest distance from the target over every method and sample (drawing units).
+    pub fn largest_distance(&self) -> f64 {
+        self.methods
+            .iter()
+            .flat_map(|m| m.distances.iter().copied())
+            .fold(0.0, f64::max)
+    }
+
+    /// The result of `method`, if compared.
+    pub fn get(&self, method: Method) -> Option<&MethodResult> {
+        self.methods.iter().find(|m| m.method == method)
+    }
+}
+
+/// Why a comparison cannot be made or drawn.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CompareError {
+    /// The pose does not fit the weights.
+    #[error(transparent)]
+    Pose(#[from] PoseError),
+    /// The spline fit cannot be built.
+    #[error("ours: {0}")]
+    Fit(#[from] FitError),
+    /// The flexible fit failed.
+    #[error("ours-flexible: {0}")]
+    Flexible(#[from] FlexibleError),
+    /// The refit failed.
+    #[error("schneider: {0}")]
+    Refit(#[from] RefitError),
+    /// The refit tolerance is not a positive finite fraction of the diagonal.
+    #[error("refit tolerance {0} (fraction of the diagonal) is not positive and finite")]
+    RefitTolerance(f64),
+    /// The metrics cannot be computed.
+    #[error("{method}: metrics: {source}")]
+    Metrics {
+        /// The method.
+        method: &'static str,
+        /// The metrics' error.
+        source: MetricsError,
+    },
+    /// A result has a point that is not finite.
+    #[error("{method}: path {path}: the result has a point that is not finite")]
+    NotFinite {
+        /// The method.
+        method: &'static str,
+        /// The input path.
+        path: usize,
+    },
+    /// The picture cannot be laid out.
+    #[error("picture: {0}")]
+    Grid(#[from] crate::figure::GridError),
+    /// The pixmap cannot be allocated.
+    #[error("picture: cannot allocate a {width}×{height} pixmap")]
+    Pixmap {
+        /// Width in pixels.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+    },
+    /// PNG encoding failed.
+    #[error("picture: cannot encode the PNG: {message}")]
+    Encode {
+        /// The encoder's description.
+        message: String,
+    },
+}
+
+/// Deforms `inputs.drawing` by `inputs.pose` with every [`Method`] (the flexible fit when
+/// `inputs.flexible` is given) and measures each against the target (module doc).
+///
+/// Errors: a pose of the wrong length, a fit that cannot be built, a refit tolerance that is
+/// not positive and finite, a result that is not finite (naming the method and path).
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::compare::{compare_methods, CompareInputs, CompareOptions, Method};
+/// use splineskin::drawing::{read_svg, ImportOptions};
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 C30 40 70 40 100 0"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default())?;
+/// let weights = Shepard::new(&[Point::new(0.0, 0.0), Point::new(100.0, 0.0)], ShepardOptions::default());
+/// let pose = [Affine::IDENTITY, Affine::rotate_about(0.6, Point::new(100.0, 0.0))];
+/// let inputs = CompareInputs {
+///     drawing: &drawing, weights: &weights, gradient: &weights,
+///     fit: Default::default(), flexible: None, pose: &pose,
+/// };
+/// let c = compare_methods(&inputs, &CompareOptions::default())?;
+/// assert_eq!(c.methods.len(), 5);
+/// let energy = |m| c.get(m).unwrap().metrics.overall.energy;
+/// assert!(energy(Method::Ours) < energy(Method::FourControls));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn compare_methods(
+    inputs: &CompareInputs<'_>,
+    options: &CompareOptions,
+) -> Result<Comparison, CompareError> {
+    let CompareInputs {
+        drawing,
+        weights,
+        gradient,
+        fit,
+        flexible,
+        pose,
+    } = *inputs;
+    if pose.len() != weights.n_handles() {
+        return Err(PoseError::Transforms {
+            got: pose.len(),
+            expected: weights.n_handles(),
+        }
+        .into());
+    }
+    let tolerance = options.refit_tolerance;
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(CompareError::RefitTolerance(tolerance));
+    }
+    let diagonal = drawing.diagonal();
+    let refit_tolerance = tolerance * diagonal.max(f64::MIN_POSITIVE);
+    let metrics_options = options.metrics;
+    let s = metrics_options.samples_per_curve.max(2);
+
+    // The structured results, each in the rig's layout.
+    let mut chains: Vec<(Method, Vec<Point>)> = Vec::new();
+    let solver = match flexible {
+        Some(flex) => {
+            let samples = SampledCurves::sample(drawing, weights, &fit);
+            Some(FlexibleSolver::new(drawing, &samples, &fit, flex)?)
+        }
+        None => None,
+    };
+    let fixed_rig;
+    let rig = match &solver {
+        Some(s) => s.rig(),
+        None => {
+            fixed_rig = SplineRig::precompute(drawing, weights, &fit)?;
+            &fixed_rig
+        }
+    };
+    let mut points = vec![Point::ZERO; drawing.n_points()];
+    rig.update(pose, &mut points)?;
+    chains.push((Method::Ours, points.clone()));
+    if let Some(solver) = &solver {
+        solver.solve(pose, None, &mut points)?;
+        chains.push((Method::OursFlexible, points.clone()));
+    }
+    naive::skin_control_points(drawing, weights, pose, &mut points)?;
+    chains.push((Method::FourControls, points.clone()));
+    naive::skin_on_curve_points(drawing, weights, pose, &mut points)?;
+    chains.push((Method::TwoEndpoints, points.clone()));
+    naive::skin_with_jacobian(drawing, gradient, pose, &mut points)?;
+    chains.push((Method::Jacobian, points));
+
+    let target = target_samples(drawing, weights, pose, s);
+    let mut methods = Vec::with_capacity(chains.len() + 1);
+    for (method, points) in chains {
+        let result = Refit::from_chains(drawing, &points).ok_or(PoseError::Output {
+            got: points.len(),
+            expected: drawing.n_points(),
+        })?;
+        check_finite(method, &result)?;
+        let metrics = metrics::chain_metrics(drawing, weights, pose, &points, &metrics_options)
+            .map_err(|source| CompareError::Metrics {
+                method: method.name(),
+                source,
+            })?;
+        let distances = parametric_distances(&result, &target, s);
+        methods.push(MethodResult {
+            method,
+            result,
+            metrics,
+            distances,
+        });
+    }
+    let refit_options = RefitOptions::default().with_tolerance(refit_tolerance);
+    let refit = naive::schneider_refit(drawing, weights, pose, &refit_options)?;
+    check_finite(Method::Schneider, &refit)?;
+    let metrics = metrics::refit_metrics(drawing, weights, pose, &refit, &metrics_options)
+        .map_err(|source| CompareError::Metrics {
+            method: Method::Schneider.name(),
+            source,
+        })?;
+    let accuracy = metrics_options.nearest_accuracy * diagonal.max(f64::MIN_POSITIVE);
+    let distances = closest_distances(drawing, &refit, &target, s, accuracy);
+    methods.push(MethodResult {
+        method: Method::Schneider,
+        result: refit,
+        metrics,
+        distances,
+    });
+    Ok(Comparison {
+        methods,
+        target,
+        samples_per_curve: s,
+        path_curves: drawing.paths.iter().map(|p| p.n_curves()).collect(),
+        diagonal,
+        refit_tolerance,
+    })
+}
+
+/// `s_j(k / (S − 1))` for every curve `j` and `k = 0 … S − 1`, as the metrics sample it.
+fn target_samples(
+    drawing: &Drawing,
+    weights: &dyn WeightField,
+    pose: &[Affine],
+    s: usize,
+) -> Vec<Point> {
+    let mut w = vec![0.0; pose.len()];
+    let mut out = Vec::with_capacity(drawing.n_curves() * s);
+    for path in &drawing.paths {
+        for j in 0..path.n_curves() {
+            let c = path.curve_points(j);
+            for k in 0..s {
+                let x = bezier::eval(&c, k as f64 / (s - 1) as f64);
+                out.push(naive::skin_point(weights, pose, x, &mut w));
+            }
+        }
+    }
+    out
+}
+
+/// `‖R_j(t_k) − s_j(t_k)‖` for a result with the input's curves.
+fn parametric_distances(result: &Refit, target: &[Point], s: usize) -> Vec<f64> {
+    let mut out = Vec::with_capacity(target.len());
+    for path in &result.paths {
+        for j in 0..path.n_curves() {
+            let c = &path.points[3 * j..3 * j + 4];
+            let c = [c[0], c[1], c[2], c[3]];
+            for k in 0..s {
+                let t = k as f64 / (s - 1) as f64;
+                out.push((bezier::eval(&c, t) - target[out.len()]).hypot());
+            }
+        }
+    }
+    out
+}
+
+/// Distance from each target sample to the nearest point of its path's refit.
+fn closest_distances(
+    drawing: &Drawing,
+    refit: &Refit,
+    target: &[Point],
+    s: usize,
+    accuracy: f64,
+) -> Vec<f64> {
+    let mut out = Vec::with_capacity(target.len());
+    for (path, result) in drawing.paths.iter().zip(&refit.paths) {
+        let candidates = metrics::hulls(result);
+        for _ in 0..path.n_curves() * s {
+            out.push(metrics::nearest_distance(
+                &candidates,
+                target[out.len()],
+                accuracy,
+            ));
+        }
+    }
+    out
+}
+
+/// The handles of `handles` moved by `pose` (rig order, one map each), as drawn in the
+/// comparison: a point handle or cage vertex at `T_i p_i`, a bone from `T_i a` to `T_i b`.
+/// Extra or missing maps are ignored (only the handles with a map are returned).
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::compare::posed_markers;
+/// use splineskin::scene::HandleSet;
+/// use splineskin::weight_map::HandleMarker;
+/// let points = [Point::new(1.0, 0.0)];
+/// let set = HandleSet { points: &points, bones: &[], cage: None };
+/// let m = posed_markers(&set, &[Affine::translate((0.0, 2.0))]);
+/// assert_eq!(m, [HandleMarker::Point(Point::new(1.0, 2.0))]);
+/// ```
+pub fn posed_markers(handles: &HandleSet<'_>, pose: &[Affine]) -> Vec<HandleMarker> {
+    let points = handles.points.iter().map(|&p| HandleMarker::Point(p));
+    let bones = handles.bones.iter().map(|b| HandleMarker::Segment(b.ends));
+    let cage = handles
+        .cage
+        .unwrap_or(&[])
+        .iter()
+        .map(|&p| HandleMarker::Point(p));
+    points
+        .chain(bones)
+        .chain(cage)
+        .zip(pose)
+        .map(|(m, &t)| match m {
+            HandleMarker::Point(p) => HandleMarker::Point(t * p),
+            HandleMarker::Segment([a, b]) => HandleMarker::Segment([t * a, t * b]),
+        })
+        .collect()
+}
+
+fn check_finite(method: Method, result: &Refit) -> Result<(), CompareError> {
+    match result.paths.iter().position(|p| {
+        p.points
+            .iter()
+            .any(|q| !(q.x.is_finite() && q.y.is_finite()))
+    }) {
+        Some(path) => Err(CompareError::NotFinite {
+            method: method.name(),
+            path,
+        }),
+        None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::{read_svg, ImportOptions};
+    use crate::weights::{Shepard, ShepardOptions};
+
+    fn arc() -> (Drawing, Shepard) {
+        let svg = r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 C30 40 70 40 100 0 S170 -40 200 0"/></svg>"#;
+        let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+        let handles = [
+            Point::new(0.0, 0.0),
+            Point::new(100.0, 0.0),
+            Point::new(200.0, 0.0),
+        ];
+        (drawing, Shepard::new(&handles, ShepardOptions::default()))
+    }
+
+    #[test]
+    fn compare_distances_are_what_the_metrics_measure() {
+        let (drawing, weights) = arc();
+        let pose = [
+            Affine::IDENTITY,
+            Affine::rotate_about(0.4, Point::new(100.0, 0.0)),
+            Affine::translate((0.0, 30.0)),
+        ];
+        let inputs = CompareInputs {
+            drawing: &drawing,
+            weights: &weights,
+            gradient: &weights,
+            fit: FitOptions::default(),
+            flexible: Some(FlexibleOptions::default()),
+            pose: &pose,
+        };
+        let c = compare_methods(&inputs, &CompareOptions::default()).unwrap();
+        let names: Vec<&str> = c.methods.iter().map(|m| m.method.name()).collect();
+        assert_eq!(
+            names,
+            [
+                "ours",
+                "ours-flexible",
+                "fourcontrols",
+                "twoendpoints",
+                "jacobian",
+                "schneider"
+            ]
+        );
+        assert_eq!(c.target.len(), 2 * c.samples_per_curve);
+        for m in &c.methods {
+            // The largest sampled distance is the metrics' max (the same samples, the same
+            // arithmetic, up to the rounding of dividing by the diagonal), and the RMS pools
+            // the same squares.
+            let max = m.distances.iter().fold(0.0, |a: f64, &d| a.max(d));
+            let relative = (max / c.diagonal - m.metrics.overall.max).abs() / max;
+            assert!(relative < 1e-14, "{:?}", m.method);
+            let rms =
+                (m.distances.iter().map(|d| d * d).sum::<f64>() / m.distances.len() as f64).sqrt();
+            assert!((rms / c.diagonal - m.metrics.overall.rms).abs() < 1e-15);
+        }
+        let energy = |m| c.get(m).unwrap().metrics.overall.energy;
+        assert!(energy(Method::OursFlexible) <= energy(Method::Ours));
+        for m in [Method::FourControls, Method::TwoEndpoints, Method::Jacobian] {
+            assert!(energy(Method::Ours) < energy(m), "{m:?}");
+        }
+        // The refit is within its tolerance at its own samples, so near the target.
+        let refit = c.get(Method::Schneider).unwrap();
+        assert!(c.refit_tolerance == 1e-3 * c.diagonal);
+        assert!(
+            refit.metrics.overall.max < 5e-3,
+            "{:?}",
+            refit.metrics.overall
+        );
+    }
+
+    #[test]
+    fn compare_rejects_bad_pose_and_tolerance() {
+        let (drawing, weights) = arc();
+        let pose = [Affine::IDENTITY; 2];
+        let inputs = CompareInputs {
+            drawing: &drawing,
+            weights: &weights,
+            gradient: &weights,
+            fit: FitOptions::default(),
+            flexible: None,
+            pose: &pose,
+        };
+        assert!(matches!(
+            compare_methods(&inputs, &CompareOptions::default()),
+            Err(CompareError::Pose(PoseError::Transforms {
+                got: 2,
+                expected: 3
+            }))
+        ));
+        let pose = [Affine::IDENTITY; 3];
+        let inputs = CompareInputs {
+            pose: &pose,
+            ..inputs
+        };
+        for t in [0.0, -1.0, f64::NAN] {
+            assert!(matches!(
+                compare_methods(&inputs, &CompareOptions::default().with_refit_tolerance(t)),
+                Err(CompareError::RefitTolerance(_))
+            ));
+        }
+    }
+}
