@@ -160,6 +160,7 @@ pub fn render_comparison(
         height: ph,
     })?;
     let to_panel = |p: Point| grid.panel_pixel(p);
+    let text_scale = label_scale(comparison, &grid);
     for (m, &(x, y)) in comparison.methods.iter().zip(&grid.corners) {
         panel.fill(tiny_skia::Color::WHITE);
         if let Some(path) = chains_path(&m.result, &to_panel) {
@@ -179,7 +180,13 @@ pub fn render_comparison(
             None,
         );
         strokes::frame(&mut image, (x, y), (pw, ph), PANEL_BORDER);
-        draw_label(&mut image, comparison, m, (x, y), &grid);
+        draw_label(
+            &mut image,
+            &label_lines(comparison, m),
+            (x, y),
+            text_scale,
+            &grid,
+        );
     }
     colour_bar(
         &mut image,
@@ -362,16 +369,8 @@ fn draw_target(
     }
 }
 
-/// The method's name, and its figures, in the strip above its panel.
-fn draw_label(
-    image: &mut Pixmap,
-    comparison: &Comparison,
-    m: &MethodResult,
-    (x, y): (u32, u32),
-    grid: &PanelGrid,
-) {
-    let s = grid.glyph_scale + 1;
-    let top = f64::from(y) - f64::from(grid.label_height);
+/// The two label lines of a panel: the method's name, then its figures.
+fn label_lines(comparison: &Comparison, m: &MethodResult) -> [String; 2] {
     let title = match m.method {
         Method::Ours => "ours (fixed ratio)".to_string(),
         Method::OursFlexible => "ours (flexible)".to_string(),
@@ -381,7 +380,6 @@ fn draw_label(
         ),
         other => other.name().to_string(),
     };
-    glyphs::draw_text(image, &title, f64::from(x), top, s, &paint(TITLE_TEXT));
     let o = m.metrics.overall;
     let figures = format!(
         "max {}%  rms {}%  {} curves",
@@ -389,10 +387,39 @@ fn draw_label(
         percent(o.rms),
         m.result.n_curves()
     );
+    [title, figures]
+}
+
+/// The labels' font pixel: one step larger than the colour bar's, smaller if some panel's
+/// label line would not fit the panel's width (the same in every panel).
+fn label_scale(comparison: &Comparison, grid: &PanelGrid) -> u32 {
+    let longest = comparison
+        .methods
+        .iter()
+        .flat_map(|m| label_lines(comparison, m))
+        .map(|t| glyphs::text_width(&t, 1))
+        .max()
+        .unwrap_or(0)
+        .max(1);
+    (grid.glyph_scale + 1)
+        .min(grid.panel_width / longest)
+        .max(1)
+}
+
+/// The method's name, and its figures, in the strip above its panel, font pixel `s`.
+fn draw_label(
+    image: &mut Pixmap,
+    lines: &[String; 2],
+    (x, y): (u32, u32),
+    s: u32,
+    grid: &PanelGrid,
+) {
+    let top = f64::from(y) - f64::from(grid.label_height);
+    glyphs::draw_text(image, &lines[0], f64::from(x), top, s, &paint(TITLE_TEXT));
     let line = f64::from(grid.label_line_height);
     glyphs::draw_text(
         image,
-        &figures,
+        &lines[1],
         f64::from(x),
         top + line,
         s,
