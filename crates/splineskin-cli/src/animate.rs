@@ -15,13 +15,11 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
-use kurbo::{Affine, Point};
+use kurbo::Point;
 use splineskin::animation::deform_frames;
 use splineskin::drawing::svg_animate::write_animated_svg;
 use splineskin::drawing::svg_out::write_svg;
-use splineskin::scene::{Compat, Engine, Scene};
-use splineskin::spline_fit::quadrature::SampledCurves;
-use splineskin::spline_fit::{FlexibleOptions, FlexibleSolver, SplineRig};
+use splineskin::scene::{Compat, Deformer, Scene};
 
 use crate::output::{write_atomic, PNG_SIZE};
 use crate::CompatArg;
@@ -51,31 +49,6 @@ pub struct Args {
     /// Flexible G¹ and fixed-angle junctions (as in `deform --flexible`).
     #[arg(long)]
     flexible: bool,
-}
-
-/// The per-frame deformation: the rig's mat-vec, or a flexible solve.
-enum Deformer {
-    Fixed(SplineRig),
-    Flexible(Box<FlexibleSolver>),
-}
-
-impl Deformer {
-    fn rig(&self) -> &SplineRig {
-        match self {
-            Deformer::Fixed(rig) => rig,
-            Deformer::Flexible(s) => s.rig(),
-        }
-    }
-
-    fn deform(&self, pose: &[Affine], out: &mut [Point]) -> Result<()> {
-        match self {
-            Deformer::Fixed(rig) => rig.update(pose, out)?,
-            Deformer::Flexible(s) => {
-                s.solve(pose, None, out)?;
-            }
-        }
-        Ok(())
-    }
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -111,51 +84,31 @@ pub fn run(args: Args) -> Result<()> {
     let sampler = animation
         .sampler(&scene.handle_set().pivots())
         .with_context(|| format!("{scene_name}: animation"))?;
-    if scene.engine != Engine::Ours {
-        bail!(
-            "{scene_name}: animate deforms with engine 'ours'; this scene's engine is '{}' (a \
-             naive baseline: use deform for single poses)",
-            scene.engine.name()
-        );
-    }
-
     let compat: Compat = args.compat.into();
     let mut setup = scene.setup(compat)?;
     setup.options = setup.options.with_parallel(false);
     for w in &setup.warnings {
         eprintln!("warning: {w}");
     }
-    let flexible = match args.flexible {
-        true => Some(match compat {
-            Compat::VectorSkinning => FlexibleOptions::vectorskinning(),
-            _ => FlexibleOptions::default(),
-        }),
-        false => scene.flexible_options(compat),
-    };
-    let building = || format!("{scene_name}: building the rig");
-    let deformer = match flexible {
-        Some(options) => {
-            let samples =
-                SampledCurves::sample(&setup.drawing, setup.weights.as_ref(), &setup.options);
-            Deformer::Flexible(Box::new(
-                FlexibleSolver::new(&setup.drawing, &samples, &setup.options, options)
-                    .with_context(building)?,
-            ))
+    let deformer = Deformer::new(&scene, &setup, compat, args.flexible)?;
+    if let Some(rig) = deformer.rig() {
+        for p in rig.rank_deficient_paths() {
+            eprintln!(
+                "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
+            );
         }
-        None => Deformer::Fixed(
-            SplineRig::precompute(&setup.drawing, setup.weights.as_ref(), &setup.options)
-                .with_context(building)?,
-        ),
-    };
-    let rig = deformer.rig();
-    for p in rig.rank_deficient_paths() {
-        eprintln!(
-            "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
-        );
     }
-    let frames = deform_frames(&sampler, &times, rig.n_points(), true, |pose, out| {
-        deformer.deform(pose, out)
-    })
+    let frames = deform_frames(
+        &sampler,
+        &times,
+        setup.drawing.n_points(),
+        true,
+        |pose, out| {
+            deformer
+                .deform(&setup, pose, out)
+                .map_err(|e| anyhow::anyhow!("{e}"))
+        },
+    )
     .map_err(|e| anyhow::anyhow!("{scene_name}: {e:#}"))?;
 
     let drawing = &setup.drawing;
@@ -170,7 +123,7 @@ pub fn run(args: Args) -> Result<()> {
         "{scene_name}: {} curves in {} paths, {} handles, {} keyframes, {} frames at {} fps over {} s{} -> {}",
         drawing.n_curves(),
         drawing.paths.len(),
-        rig.n_handles(),
+        setup.weights.n_handles(),
         animation.keyframes().len(),
         frames.len(),
         animation.fps(),

@@ -5,10 +5,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use splineskin::drawing::Drawing;
-use splineskin::naive::{self, FiniteDifferences};
-use splineskin::scene::{Compat, Engine, Scene, Setup};
-use splineskin::spline_fit::quadrature::SampledCurves;
-use splineskin::spline_fit::{FlexibleOptions, FlexibleSolver, SplineRig};
+use splineskin::scene::{Compat, Deformer, Scene};
 
 use crate::output::write_deformed;
 use crate::CompatArg;
@@ -51,46 +48,20 @@ pub fn run(args: Args) -> Result<()> {
         )
     })?;
     let compat: Compat = args.compat.into();
-    if scene.engine != Engine::Ours {
-        return run_naive(&args, &scene, &setup, &pose.transforms, compat);
-    }
-    let flexible = match args.flexible {
-        true => Some(match compat {
-            Compat::VectorSkinning => FlexibleOptions::vectorskinning(),
-            _ => FlexibleOptions::default(),
-        }),
-        false => scene.flexible_options(compat),
-    };
-    let building = || format!("{}: building the rig", args.scene.display());
-    let solver = match flexible {
-        Some(options) => {
-            let samples =
-                SampledCurves::sample(&setup.drawing, setup.weights.as_ref(), &setup.options);
-            Some(
-                FlexibleSolver::new(&setup.drawing, &samples, &setup.options, options)
-                    .with_context(building)?,
-            )
-        }
-        None => None,
-    };
-    let fixed_rig;
-    let rig: &SplineRig = match &solver {
-        Some(s) => s.rig(),
-        None => {
-            fixed_rig =
-                SplineRig::precompute(&setup.drawing, setup.weights.as_ref(), &setup.options)
-                    .with_context(building)?;
-            &fixed_rig
-        }
-    };
-    for p in rig.rank_deficient_paths() {
+    let deformer = Deformer::new(&scene, &setup, compat, args.flexible)?;
+    let rank_deficient = deformer
+        .rig()
+        .map(|rig| rig.rank_deficient_paths().to_vec())
+        .unwrap_or_default();
+    for p in &rank_deficient {
         eprintln!(
             "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
         );
     }
-    let mut points = vec![Point::ZERO; rig.n_points()];
-    let flexible_note = match &solver {
-        Some(s) => {
+    let mut points = vec![Point::ZERO; setup.drawing.n_points()];
+    let engine_note = match &deformer {
+        // The flexible solve is run here rather than through Deformer::deform, for its report.
+        Deformer::Flexible(s) => {
             let report = s
                 .solve(&pose.transforms, None, &mut points)
                 .with_context(|| format!("{}: flexible solve", args.scene.display()))?;
@@ -103,12 +74,22 @@ pub fn run(args: Args) -> Result<()> {
                 report.energy()
             )
         }
-        None => {
-            rig.update(&pose.transforms, &mut points)?;
+        Deformer::Naive { engine, .. } => {
+            deformer
+                .deform(&setup, &pose.transforms, &mut points)
+                .map_err(|e| {
+                    anyhow::anyhow!("{}: engine '{}': {e}", args.scene.display(), engine.name())
+                })?;
+            format!(", engine {} (a naive baseline)", engine.name())
+        }
+        Deformer::Fixed(_) => {
+            deformer
+                .deform(&setup, &pose.transforms, &mut points)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", args.scene.display()))?;
             String::new()
         }
     };
-    check_finite(&args, &setup.drawing, &points, rig.rank_deficient_paths())?;
+    check_finite(&args, &setup.drawing, &points, &rank_deficient)?;
     write_deformed(&args.output, &setup.drawing, &points)?;
     let set = scene.handle_set();
     let kinds = [
@@ -131,63 +112,12 @@ pub fn run(args: Args) -> Result<()> {
         })
         .unwrap_or_default();
     eprintln!(
-        "{}: {} curves in {} paths, {} handles ({} points{kinds}){domain}{flexible_note}, pose {} -> {}",
+        "{}: {} curves in {} paths, {} handles ({} points{kinds}){domain}{engine_note}, pose {} -> {}",
         args.scene.display(),
         setup.drawing.n_curves(),
         setup.drawing.paths.len(),
-        rig.n_handles(),
+        setup.weights.n_handles(),
         set.points.len(),
-        args.pose,
-        args.output.display()
-    );
-    Ok(())
-}
-
-/// `deform` for a scene whose engine is a naive baseline ([`splineskin::naive`]): every control
-/// point skinned (`fourcontrols`), on-curve points skinned and off-curve points carried by
-/// their neighbour's blended transform (`twoendpoints`), or carried by the skinning map's
-/// Jacobian there (`jacobian`: analytic for Shepard weights of point handles, central
-/// differences otherwise).
-fn run_naive(
-    args: &Args,
-    scene: &Scene,
-    setup: &Setup,
-    pose: &[kurbo::Affine],
-    compat: Compat,
-) -> Result<()> {
-    if args.flexible {
-        bail!(
-            "{}: --flexible applies to engine 'ours'; this scene's engine is '{}'",
-            args.scene.display(),
-            scene.engine.name()
-        );
-    }
-    let drawing = &setup.drawing;
-    let field = setup.weights.as_ref();
-    let mut points = vec![Point::ZERO; drawing.n_points()];
-    let solved = match scene.engine {
-        Engine::FourControls => naive::skin_control_points(drawing, field, pose, &mut points),
-        Engine::TwoEndpoints => naive::skin_on_curve_points(drawing, field, pose, &mut points),
-        Engine::Jacobian => match scene.point_shepard(compat) {
-            Some(shepard) => naive::skin_with_jacobian(drawing, &shepard, pose, &mut points),
-            None => {
-                let gradient = FiniteDifferences::for_drawing(field, drawing);
-                naive::skin_with_jacobian(drawing, &gradient, pose, &mut points)
-            }
-        },
-        Engine::Ours => unreachable!("run_naive is only called for the naive engines"),
-    };
-    solved
-        .with_context(|| format!("{}: engine '{}'", args.scene.display(), scene.engine.name()))?;
-    check_finite(args, drawing, &points, &[])?;
-    write_deformed(&args.output, drawing, &points)?;
-    eprintln!(
-        "{}: {} curves in {} paths, {} handles, engine {} (a naive baseline), pose {} -> {}",
-        args.scene.display(),
-        drawing.n_curves(),
-        drawing.paths.len(),
-        field.n_handles(),
-        scene.engine.name(),
         args.pose,
         args.output.display()
     );

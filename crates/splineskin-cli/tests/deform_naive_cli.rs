@@ -125,3 +125,44 @@ fn deform_naive_engines_reproduce_the_authors_solver() {
         assert!(relative <= TOLERANCE, "{}: {relative:e}", case.case);
     }
 }
+
+/// `animate` accepts a naive engine too (through the same `Deformer` as `deform`; it used to
+/// refuse them): frame 0 of a two-keyframe animation of a `fourcontrols` scene is the first
+/// keyframe's deformation — a common translation by (5, 0), which every engine reproduces
+/// exactly.
+#[test]
+fn animate_naive_engine() {
+    let dir = std::env::temp_dir().join(format!("splineskin-animate-naive-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let scene = dir.join("scene.json");
+    std::fs::write(
+        &scene,
+        r#"{"splineskin_scene": 1, "engine": "fourcontrols",
+            "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C10 10 20 10 30 0'/></svg>",
+            "handles": [{"position": [0, 0]}, {"position": [30, 0]}],
+            "animation": {"fps": 4, "keyframes": [
+                {"time": 0, "pose": [{"translate": [5, 0]}, {"translate": [5, 0]}]},
+                {"time": 1, "pose": [{}, {"rotate": 30}]}]}}"#,
+    )
+    .expect("scene");
+    let frames = dir.join("frames");
+    let run = Command::new(env!("CARGO_BIN_EXE_splineskin"))
+        .arg("animate")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&frames)
+        .output()
+        .expect("run splineskin");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let first = std::fs::read_to_string(frames.join("frame-0000.svg")).expect("frame 0");
+    std::fs::remove_dir_all(&dir).ok();
+    let compact: String = first.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(
+        compact.contains("M5 0 C15 10 25 10 35 0") || compact.contains("M5,0 C15,10 25,10 35,0"),
+        "frame 0 is the translated curve: {first}"
+    );
+}

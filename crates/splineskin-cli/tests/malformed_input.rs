@@ -534,7 +534,7 @@ fn malformed_deform_scene_of_ours() {
             &["--flexible"],
             &[
                 "scene.json",
-                "--flexible applies to engine 'ours'",
+                "flexible junctions apply to engine 'ours'",
                 "'jacobian'",
             ],
         ),

@@ -19,11 +19,13 @@
 //! that order. [`Puppet`] keeps a scene's weights and rig cached while only its pose changes.
 
 pub mod authors;
+mod deformer;
 pub mod handles;
 pub mod ours;
 mod session;
 mod setup;
 
+pub use deformer::Deformer;
 pub use handles::{Bone, BonePoseError, BoneTransform, HandleKind, HandleSet};
 pub use session::{Puppet, PuppetStats};
 pub use setup::{handle_weights, mesh_weights, Compat, Setup, AUTHORS_SHEPARD_SNAP};
