@@ -305,68 +305,86 @@ fn draw_target(
             }
         }
         first += n_curves;
-        // Walk the polyline; `phase` is the arc length into the current on + off period.
-        let mut phase = 0.0;
-        let mut dash: Vec<Point> = Vec::new();
-        let mut dash_errors: Vec<f64> = Vec::new();
-        let flush = |dash: &mut Vec<Point>, errors: &mut Vec<f64>, panel: &mut Pixmap| {
-            if dash.len() >= 2 {
-                let e = errors[errors.len() / 2] / error_scale;
-                let [r, g, b] = error_colour(e);
-                let mut pb = PathBuilder::new();
-                pb.move_to(dash[0].x as f32, dash[0].y as f32);
-                for p in &dash[1..] {
-                    pb.line_to(p.x as f32, p.y as f32);
-                }
-                if let Some(path) = pb.finish() {
-                    panel.stroke_path(
-                        &path,
-                        &paint([r, g, b, 255]),
-                        &style,
-                        Transform::identity(),
-                        None,
-                    );
-                }
+        for (dash, errors) in dashes(&points, on, off) {
+            if dash.len() < 2 {
+                continue;
             }
-            dash.clear();
-            errors.clear();
-        };
-        for pair in points.windows(2) {
-            let ((a, ea), (b, eb)) = (pair[0], pair[1]);
-            let length = (b - a).hypot();
-            let mut u = 0.0;
-            while u < length {
-                let at = |u: f64| {
-                    let f = if length > 0.0 { u / length } else { 0.0 };
-                    (a.lerp(b, f), ea + f * (eb - ea))
-                };
-                if phase < on {
-                    let end = (u + on - phase).min(length);
-                    if dash.is_empty() {
-                        let (p, e) = at(u);
-                        dash.push(p);
-                        dash_errors.push(e);
-                    }
-                    let (p, e) = at(end);
-                    dash.push(p);
-                    dash_errors.push(e);
-                    phase += end - u;
-                    u = end;
-                    if phase >= on {
-                        flush(&mut dash, &mut dash_errors, panel);
-                    }
-                } else {
-                    let end = (u + on + off - phase).min(length);
-                    phase += end - u;
-                    u = end;
-                    if phase >= on + off {
-                        phase = 0.0;
-                    }
-                }
+            let e = errors[errors.len() / 2] / error_scale;
+            let [r, g, b] = error_colour(e);
+            let mut pb = PathBuilder::new();
+            pb.move_to(dash[0].x as f32, dash[0].y as f32);
+            for p in &dash[1..] {
+                pb.line_to(p.x as f32, p.y as f32);
+            }
+            if let Some(path) = pb.finish() {
+                panel.stroke_path(
+                    &path,
+                    &paint([r, g, b, 255]),
+                    &style,
+                    Transform::identity(),
+                    None,
+                );
             }
         }
-        flush(&mut dash, &mut dash_errors, panel);
     }
+}
+
+/// The dashes of the polyline `points` (each with the error at it) for a pattern of `on`
+/// drawn and `off` skipped (arc length, starting with a dash): each dash as its polyline and
+/// the errors interpolated along it. Every pass of the walk reaches either the end of a
+/// segment or the next boundary of the pattern, with the state changes made explicitly, so
+/// rounding (a position far from the origin plus a remainder below its ulp) cannot stall it.
+fn dashes(points: &[(Point, f64)], on: f64, off: f64) -> Vec<(Vec<Point>, Vec<f64>)> {
+    let mut out = Vec::new();
+    if !(on > 0.0 && off >= 0.0) {
+        return out;
+    }
+    // `phase`: the arc length into the current on + off period.
+    let mut phase = 0.0;
+    let mut dash: Vec<Point> = Vec::new();
+    let mut errors: Vec<f64> = Vec::new();
+    for pair in points.windows(2) {
+        let ((a, ea), (b, eb)) = (pair[0], pair[1]);
+        let length = (b - a).hypot();
+        let at = |u: f64| {
+            let f = if length > 0.0 { u / length } else { 0.0 };
+            (a.lerp(b, f), ea + f * (eb - ea))
+        };
+        let mut u = 0.0;
+        while u < length {
+            let in_dash = phase < on;
+            let to_boundary = if in_dash { on } else { on + off } - phase;
+            let rest = length - u;
+            let end = if to_boundary >= rest {
+                length
+            } else {
+                u + to_boundary
+            };
+            if in_dash {
+                if dash.is_empty() {
+                    let (p, e) = at(u);
+                    dash.push(p);
+                    errors.push(e);
+                }
+                let (p, e) = at(end);
+                dash.push(p);
+                errors.push(e);
+            }
+            if to_boundary > rest {
+                phase += rest;
+            } else if in_dash {
+                phase = on;
+                out.push((std::mem::take(&mut dash), std::mem::take(&mut errors)));
+            } else {
+                phase = 0.0;
+            }
+            u = end;
+        }
+    }
+    if dash.len() >= 2 {
+        out.push((dash, errors));
+    }
+    out
 }
 
 /// The two label lines of a panel: the method's name, then its figures.
@@ -502,6 +520,57 @@ fn colour_bar(image: &mut Pixmap, grid: &PanelGrid, top: f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Total arc length of polylines.
+    fn drawn(dashes: &[(Vec<Point>, Vec<f64>)]) -> f64 {
+        dashes
+            .iter()
+            .flat_map(|(d, _)| d.windows(2).map(|w| (w[1] - w[0]).hypot()))
+            .sum()
+    }
+
+    #[test]
+    fn dashes_follow_the_pattern_exactly() {
+        // A straight line of length 100 in 7 uneven segments, pattern 4 on, 2 off: dashes
+        // [0,4], [6,10], …, [96,100]; the errors interpolate linearly (error = x here).
+        let xs = [0.0, 3.0, 4.0, 10.0, 33.3, 50.0, 77.7, 100.0];
+        let points: Vec<(Point, f64)> = xs.iter().map(|&x| (Point::new(x, 0.0), x)).collect();
+        let d = dashes(&points, 4.0, 2.0);
+        assert_eq!(d.len(), 17);
+        for (k, (dash, errors)) in d.iter().enumerate() {
+            let (x0, x1) = (6.0 * k as f64, (6.0 * k as f64 + 4.0).min(100.0));
+            assert!(
+                (dash[0].x - x0).abs() < 1e-12,
+                "dash {k} starts at {}",
+                dash[0].x
+            );
+            assert!((dash.last().unwrap().x - x1).abs() < 1e-12, "dash {k}");
+            for (p, e) in dash.iter().zip(errors) {
+                assert!((p.x - e).abs() < 1e-12);
+            }
+        }
+        assert!((drawn(&d) - (16.0 * 4.0 + 4.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn dashes_terminate_far_from_the_origin() {
+        // Thousands of short segments at coordinates around 1e6, where a remainder of the
+        // pattern can be below the ulp of the position (the walk used to stall there).
+        let points: Vec<(Point, f64)> = (0..20_000)
+            .map(|k| {
+                let t = k as f64 * 0.013_7;
+                (Point::new(1e6 + t, 1e6 - 0.3 * t), 0.0)
+            })
+            .collect();
+        let total: f64 = points.windows(2).map(|w| (w[1].0 - w[0].0).hypot()).sum();
+        let d = dashes(&points, 1.1, 0.7);
+        // About on / (on + off) of the length is drawn.
+        let share = drawn(&d) / total;
+        assert!((share - 1.1 / 1.8).abs() < 0.01, "{share}");
+        // Degenerate patterns draw nothing rather than loop.
+        assert!(dashes(&points, 0.0, 1.0).is_empty());
+        assert!(dashes(&points, f64::NAN, 1.0).is_empty());
+    }
 
     #[test]
     fn percent_has_two_significant_digits() {
