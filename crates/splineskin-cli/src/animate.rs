@@ -53,6 +53,17 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<()> {
     let as_svg = is_svg_name(&args.output);
+    if let Some(ext) = args
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .filter(|e| FILE_EXTENSIONS.iter().any(|f| e.eq_ignore_ascii_case(f)))
+    {
+        bail!(
+            "{}: an animation is written as an animated .svg file or as a folder of frames              (expected a name ending in .svg, or a folder name without a .{ext} extension)",
+            args.output.display()
+        );
+    }
     if as_svg && args.png {
         bail!(
             "{}: --png writes PNG frames into a folder; give a folder name instead of an .svg file",
@@ -138,6 +149,23 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
+/// Writes `bytes` to `path` and flushes it to disk (frames are complete before their folder is
+/// renamed into place); errors name the file.
+fn write_synced(path: &Path, bytes: &[u8]) -> Result<()> {
+    use std::io::Write;
+    let mut file = std::fs::File::create(path)
+        .with_context(|| format!("{}: cannot create", path.display()))?;
+    file.write_all(bytes)
+        .and_then(|()| file.sync_all())
+        .with_context(|| format!("{}: cannot write", path.display()))
+}
+
+/// Extensions of single files that are not an animated SVG: an output named so is refused
+/// rather than becoming a frames folder of that name.
+const FILE_EXTENSIONS: [&str; 9] = [
+    "png", "json", "jpg", "jpeg", "gif", "webp", "pdf", "html", "mp4",
+];
+
 /// Whether `path` names an `.svg` file (otherwise it names a frames folder).
 fn is_svg_name(path: &Path) -> bool {
     path.extension()
@@ -191,9 +219,13 @@ fn write_frames(
         for entry in
             std::fs::read_dir(dir).with_context(|| format!("{}: cannot read", dir.display()))?
         {
-            let entry = entry?;
+            let entry = entry.with_context(|| format!("{}: cannot read", dir.display()))?;
             let file = entry.file_name().to_string_lossy().into_owned();
-            if !(is_frame_file(&file) && entry.file_type()?.is_file()) {
+            let is_file = entry
+                .file_type()
+                .with_context(|| format!("{}: cannot read {file}", dir.display()))?
+                .is_file();
+            if !(is_frame_file(&file) && is_file) {
                 bail!(
                     "{}: exists and holds {file}, which is not a frame; choose another folder \
                      (a folder holding only frame-*.svg/png files is replaced)",
@@ -209,11 +241,11 @@ fn write_frames(
         let write_one = |f: usize, points: &Vec<Point>| -> Result<()> {
             let svg = write_svg(drawing, points)
                 .with_context(|| format!("{scene_name}: frame {f}: writing the SVG"))?;
-            std::fs::write(tmp.join(frame_name(f, "svg")), svg.as_bytes())?;
+            write_synced(&tmp.join(frame_name(f, "svg")), svg.as_bytes())?;
             if args.png {
                 let png = splineskin::render::render_png(&svg, PNG_SIZE)
                     .with_context(|| format!("{scene_name}: frame {f}: rendering the PNG"))?;
-                std::fs::write(tmp.join(frame_name(f, "png")), png)?;
+                write_synced(&tmp.join(frame_name(f, "png")), &png)?;
             }
             Ok(())
         };

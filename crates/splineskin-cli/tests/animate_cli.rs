@@ -250,4 +250,17 @@ fn animate_cli_errors_name_scene_and_element_and_write_nothing() {
         "{stderr}"
     );
     assert_eq!(listing(&dir), ["drawing.svg", "scene.json"]);
+    // A single-file name that is not .svg is refused, not made into a folder of that name.
+    for target in ["anim.png", "anim.JSON"] {
+        let out = animate(&dir, &["scene.json", "-o", target]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{target}");
+        assert!(
+            stderr.contains(&format!(
+                "{target}: an animation is written as an animated .svg"
+            )),
+            "{stderr}"
+        );
+        assert_eq!(listing(&dir), ["drawing.svg", "scene.json"]);
+    }
 }

@@ -230,7 +230,7 @@ fn flexible_bundled_drawing_energy_and_continuity() {
         );
         // Warm start from the solution of a pose 1 % of the way back to the previous one.
         let mut warm_note = String::new();
-        if let Some((prev_pose, prev)) = &previous {
+        if let Some((prev_pose, _)) = &previous {
             let near: Vec<Affine> = prev_pose
                 .iter()
                 .zip(pose)
@@ -240,13 +240,17 @@ fn flexible_bundled_drawing_energy_and_continuity() {
                     }))
                 })
                 .collect();
-            let _ = prev;
             let mut start = vec![Point::ZERO; n];
             solver.solve(&near, None, &mut start).expect("near");
             let warm = solver
                 .solve(pose, Some(&start), &mut warm_out)
                 .expect("warm");
             check_energies(&format!("pose {i}, warm"), &solver, pose, &warm_out, &warm);
+            // The warm start is taken (it is kept only where it beats the rig's start).
+            assert!(
+                warm.warm_started_paths > 0,
+                "pose {i}: no path started from the nearby solution"
+            );
             let d = distance(&warm_out, &reference, diag);
             assert!(d <= CONVERGED, "pose {i}: warm start {d:e} from converged");
             warm_note = format!(

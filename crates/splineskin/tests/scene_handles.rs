@@ -679,3 +679,19 @@ fn scene_handles_puppet_flexible_junctions() {
         "the flexible result differs from the fixed-ratio one"
     );
 }
+
+/// A puppet refuses a scene whose engine is a naive baseline (rather than silently deforming
+/// it with the rig), naming the element.
+#[test]
+fn scene_handles_puppet_refuses_naive_engines() {
+    let json = r#"{"splineskin_scene": 1, "engine": "jacobian",
+        "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C1 1 2 1 3 0'/></svg>",
+        "handles": [{"position": [0, 0]}]}"#;
+    let s = Scene::from_json(json, "naive.json", None).unwrap();
+    let e = Puppet::from_scene(&s, Compat::None).err().expect("refused");
+    let text = e.to_string();
+    assert!(
+        text.contains("naive.json") && text.contains("engine") && text.contains("'jacobian'"),
+        "{text}"
+    );
+}

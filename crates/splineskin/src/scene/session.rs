@@ -105,7 +105,20 @@ pub struct Puppet {
 impl Puppet {
     /// Sets up `scene` in `compat` ([`Scene::setup`]: drawing with its junction kinds, weights)
     /// and builds the rig at once. The pose is the scene's first (identity without poses).
+    /// Errors if the scene's engine is a naive baseline (those are not rigs:
+    /// [`super::Deformer`] applies them).
     pub fn from_scene(scene: &Scene, compat: Compat) -> Result<Puppet, SceneError> {
+        if scene.engine != super::Engine::Ours {
+            return Err(SceneError::Invalid {
+                origin: scene.origin.clone(),
+                element: "engine".into(),
+                message: format!(
+                    "a puppet deforms with engine 'ours'; this scene's engine is '{}' (a naive \
+                     baseline: apply it with scene::Deformer)",
+                    scene.engine.name()
+                ),
+            });
+        }
         let setup = scene.setup(compat)?;
         let mut puppet = Puppet {
             origin: scene.origin.clone(),
