@@ -118,13 +118,10 @@ pub fn run(args: Args) -> Result<()> {
         let mut setup = setup.expect("SETUPS > 0");
         setup.options = setup.options.with_parallel(true);
         let base = scene.pose(0).map(|p| p.transforms).unwrap_or_default();
-        let flexible =
-            scene
-                .flexible_options(args.compat.into())
-                .unwrap_or(match args.compat.into() {
-                    Compat::VectorSkinning => FlexibleOptions::vectorskinning(),
-                    _ => FlexibleOptions::default(),
-                });
+        let compat: Compat = args.compat.into();
+        let flexible = scene
+            .flexible_options_or(true, compat)
+            .unwrap_or_else(|| compat.flexible_options());
         let mut row = measure(
             &path.display().to_string(),
             &setup,

@@ -23,7 +23,6 @@ use splineskin::compare::{
 use splineskin::metrics::MetricsOptions;
 use splineskin::naive::{FiniteDifferences, WeightGradient};
 use splineskin::scene::{Compat, Scene};
-use splineskin::spline_fit::FlexibleOptions;
 
 use crate::output::{write_atomic, Format};
 use crate::CompatArg;
@@ -89,16 +88,16 @@ pub fn run(args: Args) -> Result<()> {
             scene.poses.len().max(1)
         )
     })?;
+    let picture_options = PictureOptions::default().with_panel_width(args.width);
+    picture_options
+        .check(6)
+        .with_context(|| format!("{}: --width {}", args.output.display(), args.width))?;
     let mut setup = scene.setup(compat)?;
     setup.options = setup.options.with_parallel(true);
     for w in &setup.warnings {
         eprintln!("warning: {w}");
     }
-    let flexible = match (args.flexible, compat) {
-        (true, Compat::VectorSkinning) => Some(FlexibleOptions::vectorskinning()),
-        (true, _) => Some(FlexibleOptions::default()),
-        (false, _) => scene.flexible_options(compat),
-    };
+    let flexible = scene.flexible_options_or(args.flexible, compat);
     let shepard = scene.point_shepard(compat);
     let differences;
     let gradient: &dyn WeightGradient = match &shepard {
@@ -122,12 +121,8 @@ pub fn run(args: Args) -> Result<()> {
     let comparison = compare_methods(&inputs, &options)
         .with_context(|| format!("{}: pose {}", args.scene.display(), args.pose))?;
     let markers = posed_markers(&scene.handle_set(), &pose.transforms);
-    let picture = render_comparison(
-        &comparison,
-        &markers,
-        &PictureOptions::default().with_panel_width(args.width),
-    )
-    .with_context(|| format!("{}: drawing the comparison", args.scene.display()))?;
+    let picture = render_comparison(&comparison, &markers, &picture_options)
+        .with_context(|| format!("{}: drawing the comparison", args.scene.display()))?;
     write_atomic(&args.output, &picture.png)?;
     if args.json {
         for row in json_rows(&args, &comparison) {

@@ -60,6 +60,25 @@ impl PictureOptions {
         self.panel_width = pixels;
         self
     }
+
+    /// Checks the options before any work (the panel width's range, as
+    /// [`render_comparison`] would), so that a command can refuse them before computing the
+    /// comparison. `n_methods` panels of a square drawing are laid out.
+    ///
+    /// ```
+    /// use splineskin::compare::PictureOptions;
+    /// assert!(PictureOptions::default().check(6).is_ok());
+    /// assert!(PictureOptions::default().with_panel_width(0).check(6).is_err());
+    /// ```
+    pub fn check(&self, n_methods: usize) -> Result<(), CompareError> {
+        PanelGrid::new(
+            Rect::new(0.0, 0.0, 1.0, 1.0),
+            n_methods.max(1),
+            self.panel_width,
+            LABEL_LINES,
+        )?;
+        Ok(())
+    }
 }
 
 /// A rendered comparison.

@@ -10,7 +10,7 @@ use super::setup::{Compat, Setup};
 use super::{Engine, Scene, SceneError};
 use crate::naive::{self, FiniteDifferences};
 use crate::spline_fit::quadrature::SampledCurves;
-use crate::spline_fit::{FlexibleOptions, FlexibleSolver, SplineRig};
+use crate::spline_fit::{FlexibleSolver, SplineRig};
 use crate::weights::Shepard;
 
 /// How a scene's poses are applied.
@@ -78,15 +78,7 @@ impl Deformer {
                 shepard: scene.point_shepard(compat),
             });
         }
-        let options = match (flexible, scene.flexible_options(compat)) {
-            (_, Some(options)) => Some(options),
-            (true, None) => Some(match compat {
-                Compat::VectorSkinning => FlexibleOptions::vectorskinning(),
-                _ => FlexibleOptions::default(),
-            }),
-            (false, None) => None,
-        };
-        Ok(match options {
+        Ok(match scene.flexible_options_or(flexible, compat) {
             Some(options) => {
                 let samples =
                     SampledCurves::sample(&setup.drawing, setup.weights.as_ref(), &setup.options);

@@ -38,6 +38,15 @@ pub enum Compat {
 }
 
 impl Compat {
+    /// The flexible solve's options of this mode: ours, or the authors' rule in compatibility
+    /// mode.
+    pub fn flexible_options(self) -> FlexibleOptions {
+        match self {
+            Compat::None => FlexibleOptions::default(),
+            Compat::VectorSkinning => FlexibleOptions::vectorskinning(),
+        }
+    }
+
     /// Parses the CLI's name (`vectorskinning`).
     pub fn from_name(name: &str) -> Option<Compat> {
         match name {
@@ -128,10 +137,16 @@ impl Scene {
     /// The options of the flexible solve if the scene asks for flexible junctions
     /// ([`Scene::flexible`]): ours, or the authors' rule in compatibility mode.
     pub fn flexible_options(&self, compat: Compat) -> Option<FlexibleOptions> {
-        self.flexible.then(|| match compat {
-            Compat::None => FlexibleOptions::default(),
-            Compat::VectorSkinning => FlexibleOptions::vectorskinning(),
-        })
+        self.flexible.then(|| compat.flexible_options())
+    }
+
+    /// The options of the flexible solve when the scene asks for it or `flag` (a command
+    /// line's `--flexible`) does: [`Scene::flexible_options`], else `compat`'s
+    /// ([`Compat::flexible_options`]) when `flag`, else `None`. What `deform`, `animate`,
+    /// `compare` and `bench` use.
+    pub fn flexible_options_or(&self, flag: bool, compat: Compat) -> Option<FlexibleOptions> {
+        self.flexible_options(compat)
+            .or_else(|| flag.then(|| compat.flexible_options()))
     }
 
     /// What the scene's weights are built from, in `compat`.
