@@ -24,7 +24,7 @@ use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use serde::{Deserialize, Serialize};
 use splineskin::mesh::{MeshError, TriMesh};
-use splineskin::scene::{Compat, HandleSet, Scene};
+use splineskin::scene::{Compat, Scene};
 use splineskin::weight_map::{
     render_weight_map, HandleMarker, WeightMapOptions, DEFAULT_ISO_STEP, DEFAULT_PANEL_WIDTH,
 };
@@ -151,7 +151,7 @@ fn draw_scene(scene_path: &Path, args: &Args) -> Result<()> {
     if args.mesh_lines && mesh.is_none() {
         eprintln!("warning: --mesh-lines: {family} weights are not solved on a mesh; none drawn");
     }
-    let markers = handle_markers(&scene.handle_set());
+    let markers = HandleMarker::of_handles(&scene.handle_set());
     let options = WeightMapOptions::default()
         .with_panel_width(args.width)
         .with_handle(args.handle)
@@ -192,19 +192,6 @@ fn draw_scene(scene_path: &Path, args: &Args) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// How each handle is drawn, in rig order: point handles and cage vertices as points, bones
-/// as segments.
-fn handle_markers(handles: &HandleSet) -> Vec<HandleMarker> {
-    let points = handles.points.iter().map(|&p| HandleMarker::Point(p));
-    let bones = handles.bones.iter().map(|b| HandleMarker::Segment(b.ends));
-    let cage = handles
-        .cage
-        .unwrap_or(&[])
-        .iter()
-        .map(|&p| HandleMarker::Point(p));
-    points.chain(bones).chain(cage).collect()
 }
 
 fn kind_name(kind: Kind) -> &'static str {

@@ -449,16 +449,8 @@ fn closest_distances(
 /// assert_eq!(m, [HandleMarker::Point(Point::new(1.0, 2.0))]);
 /// ```
 pub fn posed_markers(handles: &HandleSet<'_>, pose: &[Affine]) -> Vec<HandleMarker> {
-    let points = handles.points.iter().map(|&p| HandleMarker::Point(p));
-    let bones = handles.bones.iter().map(|b| HandleMarker::Segment(b.ends));
-    let cage = handles
-        .cage
-        .unwrap_or(&[])
-        .iter()
-        .map(|&p| HandleMarker::Point(p));
-    points
-        .chain(bones)
-        .chain(cage)
+    HandleMarker::of_handles(handles)
+        .into_iter()
         .zip(pose)
         .map(|(m, &t)| match m {
             HandleMarker::Point(p) => HandleMarker::Point(t * p),
