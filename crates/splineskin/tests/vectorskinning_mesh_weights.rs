@@ -13,7 +13,7 @@
 
 mod common;
 
-use common::authors_outputs::AuthorsCase;
+use common::authors_outputs::{self, AuthorsCase};
 use common::scene_compare::{default_mode_distance, deform, deform_flexible, scene_of};
 use splineskin::scene::{Compat, Scene, WeightSpec};
 
@@ -25,21 +25,9 @@ const TOLERANCE: f64 = 2e-2;
 const EXACT: f64 = 1e-9;
 
 fn mesh_weight_cases(root: &std::path::Path) -> Vec<AuthorsCase> {
-    let dir = root.join("vectorskinning/authors-solver-outputs");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .expect("authors-solver-outputs")
-        .map(|e| e.expect("dir entry").path())
-        .filter(|f| f.extension().is_some_and(|e| e == "json"))
-        .collect();
-    files.sort();
-    files
-        .iter()
-        .map(|f| AuthorsCase::load(f))
-        .filter(|c| {
-            (c.weight_function == "bbw" || c.weight_function == "harmonic")
-                && c.engine_type == "ours"
-        })
-        .collect()
+    authors_outputs::cases_where(root, |c| {
+        (c.weight_function == "bbw" || c.weight_function == "harmonic") && c.engine_type == "ours"
+    })
 }
 
 /// Cases not within [`TOLERANCE`], with the figure measured when they were listed (they must

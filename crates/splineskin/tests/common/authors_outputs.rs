@@ -78,9 +78,11 @@ impl AuthorsCase {
     }
 }
 
-/// Every case of `authors-solver-outputs` with Shepard weights, the paper's engine and no G¹ or
-/// angle joints (the cases the linear fit must reproduce), sorted by name.
-pub fn shepard_linear_cases(data_root: &std::path::Path) -> Vec<AuthorsCase> {
+/// Every case of `authors-solver-outputs` for which `keep` holds, sorted by file name.
+pub fn cases_where(
+    data_root: &std::path::Path,
+    keep: impl Fn(&AuthorsCase) -> bool,
+) -> Vec<AuthorsCase> {
     let dir = data_root.join("vectorskinning/authors-solver-outputs");
     let mut files: Vec<_> = std::fs::read_dir(&dir)
         .expect("authors-solver-outputs")
@@ -91,30 +93,25 @@ pub fn shepard_linear_cases(data_root: &std::path::Path) -> Vec<AuthorsCase> {
     files
         .iter()
         .map(|f| AuthorsCase::load(f))
-        .filter(|c| {
-            c.weight_function == "shepard" && c.engine_type == "ours" && !c.has_flexible_joints()
-        })
+        .filter(|c| keep(c))
         .collect()
+}
+
+/// Every case of `authors-solver-outputs` with Shepard weights, the paper's engine and no G¹ or
+/// angle joints (the cases the linear fit must reproduce), sorted by name.
+pub fn shepard_linear_cases(data_root: &std::path::Path) -> Vec<AuthorsCase> {
+    cases_where(data_root, |c| {
+        c.weight_function == "shepard" && c.engine_type == "ours" && !c.has_flexible_joints()
+    })
 }
 
 /// Every case of `authors-solver-outputs` with Shepard weights, the paper's engine and G¹ or
 /// angle joints (flexible in their solver: the `fixed` flag of `[kind, fixed]` pins a joint's
 /// position, and is false everywhere), sorted by name.
 pub fn shepard_flexible_cases(data_root: &std::path::Path) -> Vec<AuthorsCase> {
-    let dir = data_root.join("vectorskinning/authors-solver-outputs");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .expect("authors-solver-outputs")
-        .map(|e| e.expect("dir entry").path())
-        .filter(|f| f.extension().is_some_and(|e| e == "json"))
-        .collect();
-    files.sort();
-    files
-        .iter()
-        .map(|f| AuthorsCase::load(f))
-        .filter(|c| {
-            c.weight_function == "shepard" && c.engine_type == "ours" && c.has_flexible_joints()
-        })
-        .collect()
+    cases_where(data_root, |c| {
+        c.weight_function == "shepard" && c.engine_type == "ours" && c.has_flexible_joints()
+    })
 }
 
 /// Largest distance per path between `points` (flat, in the drawing's layout) and the
