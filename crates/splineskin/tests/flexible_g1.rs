@@ -15,8 +15,8 @@
 
 mod common;
 
-use common::authors_outputs;
 use common::scene_compare::{deform_flexible, scene_of};
+use common::{authors_outputs, Rng};
 use kurbo::{Affine, Point, Vec2};
 use splineskin::drawing::{Drawing, JointKind};
 use splineskin::examples::demo_scene;
@@ -38,23 +38,7 @@ const CONVERGED: f64 = 1e-4;
 /// Random poses on the bundled drawing.
 const RANDOM_POSES: usize = 6;
 
-/// A small deterministic generator (SplitMix64).
-struct Rng(u64);
-
 impl Rng {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next_f64()
-    }
-
     /// A rotation by up to ±40°, a scale in [0.7, 1.3] and a translation within ±60 units per
     /// handle, about the handle.
     fn pose(&mut self, handles: &[Point]) -> Vec<Affine> {

@@ -27,6 +27,9 @@
 //!
 //! Every test prints the worst error it saw per invariant (`cargo test -- --nocapture`).
 
+mod common;
+
+use common::Rng;
 use kurbo::{Affine, Point, Vec2};
 use splineskin::drawing::svg_out::write_svg;
 use splineskin::drawing::{read_svg, Drawing, ImportOptions, JointKind, JunctionOptions, Path};
@@ -101,23 +104,7 @@ impl Worst {
     }
 }
 
-/// A small deterministic generator (SplitMix64), so that the random poses are reproducible.
-struct Rng(u64);
-
 impl Rng {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next_f64()
-    }
-
     /// A general affine map per handle: linear part within ±0.4 of the identity (so orientation
     /// is kept), translation within ±40 units, about the handle's position.
     fn pose(&mut self, handles: &[Point]) -> Vec<Affine> {

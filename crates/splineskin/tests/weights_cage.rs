@@ -5,6 +5,9 @@
 //! coordinates in a triangle, symmetry at the centre of a regular polygon, bilinear coordinates
 //! in a rectangle).
 
+mod common;
+
+use common::Rng;
 use kurbo::Point;
 use splineskin::domain::{Boundary, Domain, DomainError, DomainOptions};
 use splineskin::drawing::{read_svg, Drawing, ImportOptions};
@@ -63,19 +66,6 @@ fn regular(n: usize, phase: f64) -> Vec<Point> {
             Point::new(3.0 + 2.0 * a.cos(), -1.0 + 2.0 * a.sin())
         })
         .collect()
-}
-
-/// splitmix64: reproducible uniform numbers in [0, 1).
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
 }
 
 /// Even–odd containment (points exactly on the polygon are not drawn by the tests).
@@ -144,8 +134,8 @@ fn mvc_partition_of_unity_and_linear_precision() {
         for _ in 0..4000 {
             // The bounding box grown by its size on every side: about 8 of 9 points outside.
             let p = Point::new(
-                lo.x + (hi.x - lo.x) * (3.0 * rng.next() - 1.0),
-                lo.y + (hi.y - lo.y) * (3.0 * rng.next() - 1.0),
+                lo.x + (hi.x - lo.x) * (3.0 * rng.next_f64() - 1.0),
+                lo.y + (hi.y - lo.y) * (3.0 * rng.next_f64() - 1.0),
             );
             if inside(&cage, p) {
                 n_in += 1;
@@ -204,7 +194,7 @@ fn mvc_lagrange_at_vertices_and_linear_on_edges() {
         for k in 0..n {
             let (a, b) = (cage[k], cage[(k + 1) % n]);
             for _ in 0..20 {
-                let s = rng.next();
+                let s = rng.next_f64();
                 let p = a.lerp(b, s);
                 mvc.eval(p, &mut w);
                 // p is a + s(b − a) rounded: off the edge's line by ~1e-16 of the coordinates
@@ -240,8 +230,8 @@ fn mvc_positive_inside_convex_cages() {
         let mut n_in = 0;
         while n_in < 2000 {
             let p = Point::new(
-                lo.x + (hi.x - lo.x) * rng.next(),
-                lo.y + (hi.y - lo.y) * rng.next(),
+                lo.x + (hi.x - lo.x) * rng.next_f64(),
+                lo.y + (hi.y - lo.y) * rng.next_f64(),
             );
             if !inside(&cage, p) {
                 continue;

@@ -14,6 +14,27 @@ pub fn data_root() -> Option<PathBuf> {
         None
     }
 }
+/// A small deterministic generator (SplitMix64), so that random test inputs are reproducible.
+/// Test files add their own samplers (`impl Rng { fn pose(..) }`).
+pub struct Rng(pub u64);
+
+impl Rng {
+    /// Uniform in `[0, 1)`.
+    pub fn next_f64(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in `[lo, hi)`.
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next_f64()
+    }
+}
+
 pub mod authors_outputs;
 pub mod reference_igl;
 pub mod scene_compare;
