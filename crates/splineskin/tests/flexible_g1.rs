@@ -22,7 +22,7 @@ use splineskin::drawing::{Drawing, JointKind};
 use splineskin::examples::demo_scene;
 use splineskin::scene::{Compat, Scene};
 use splineskin::spline_fit::quadrature::SampledCurves;
-use splineskin::spline_fit::{FlexibleOptions, FlexibleReport, FlexibleSolver};
+use splineskin::spline_fit::{FlexibleOptions, FlexibleReport, FlexibleRule, FlexibleSolver};
 
 /// Accuracy of continuity after a flexible solve: radians for angles, fraction of the diagonal
 /// for positions.
@@ -175,14 +175,23 @@ fn distance(a: &[Point], b: &[Point], diag: f64) -> f64 {
 
 #[test]
 fn flexible_bundled_drawing_energy_and_continuity() {
+    bundled_drawing(FlexibleRule::Newton);
+}
+
+#[test]
+fn flexible_bundled_drawing_alternating_energy_and_continuity() {
+    bundled_drawing(FlexibleRule::Alternating);
+}
+
+/// The bundled drawing's checks (module doc) with `rule`.
+fn bundled_drawing(rule: FlexibleRule) {
     let scene = demo_scene();
-    let (drawing, solver) = solver(&scene, Compat::None, FlexibleOptions::default());
+    let options = FlexibleOptions::default().with_rule(rule);
+    let (drawing, solver) = solver(&scene, Compat::None, options);
     let (_, converged) = self::solver(
         &scene,
         Compat::None,
-        FlexibleOptions::default()
-            .with_tolerance(1e-9)
-            .with_max_steps(400),
+        options.with_tolerance(1e-9).with_max_steps(400),
     );
     assert!(solver.n_flexible_junctions() > 0);
     let diag = drawing.diagonal();
@@ -230,13 +239,26 @@ fn flexible_bundled_drawing_energy_and_continuity() {
                 .solve(pose, Some(&start), &mut warm_out)
                 .expect("warm");
             check_energies(&format!("pose {i}, warm"), &solver, pose, &warm_out, &warm);
-            // The warm start is taken (it is kept only where it beats the rig's start).
-            assert!(
-                warm.warm_started_paths > 0,
-                "pose {i}: no path started from the nearby solution"
-            );
+            if rule == FlexibleRule::Alternating {
+                // The ratio step with the nearby solution's ratios beats the rig's start.
+                assert!(
+                    warm.warm_started_paths > 0,
+                    "pose {i}: no path started from the nearby solution"
+                );
+            }
             let d = distance(&warm_out, &reference, diag);
             assert!(d <= CONVERGED, "pose {i}: warm start {d:e} from converged");
+            if rule == FlexibleRule::Newton {
+                // Newton starts from a previous solution only where it beats the fixed-ratio
+                // fit: the same pose's own result is taken on every path (counted as a step)
+                // and confirmed by at most one Newton step.
+                let mut again = vec![Point::ZERO; n];
+                let same = solver.solve(pose, Some(&out), &mut again).expect("same");
+                assert_eq!(same.warm_started_paths, same.paths, "pose {i}");
+                assert!(same.steps <= 2, "pose {i}: {:?}", same.path_steps);
+                let d = distance(&again, &reference, diag);
+                assert!(d <= CONVERGED, "pose {i}: re-solve {d:e} from converged");
+            }
             warm_note = format!(
                 "; warm start from a pose 1 % nearer the previous: {} steps (cold {}), {} paths warm, {d:.1e} from converged",
                 warm.steps, report.steps, warm.warm_started_paths

@@ -11,7 +11,28 @@
 //! E(x) = Σ_j ∫ ‖Σ_k x_jk b_k(t) − s_j(t)‖² dμ_j,     s_j(t) = Σ_i w_i(B_j(t)) T_i B̄_j(t)
 //! ```
 //!
-//! (the squared L² distance to the skinned target, by the fit's quadrature). Two linear
+//! (the squared L² distance to the skinned target, by the fit's quadrature).
+//!
+//! **Newton** ([`FlexibleRule::Newton`], the default). At a flexible junction with point `P_p`
+//! the two neighbours are `P_a = P_p + α R(φ) û`, `P_b = P_p + β R(φ) v̂`: the tangent scalars
+//! `α, β > 0` and a common turn `φ` of both tangents (G¹: `û = −v̂`; fixed angle:
+//! `û = −R(−θ) v̂`); every other point is free. `E` is quadratic in the points and scalars and
+//! smooth in `φ`. A step linearises the turn about the current directions,
+//! `P_a ≈ P_p + α û + α₀ δφ û⊥`, and solves one linear KKT system for all points, scalars and
+//! turns, with the neighbours' second derivatives `∂²P_a/∂φ² = −α û` and `∂²P_a/∂α∂φ = û⊥`
+//! weighted by the energy gradient at the neighbour (the exact Hessian of `E`). Where that
+//! step is not a descent direction (its predicted decrease `−gᵀΔx ≤ 0`: the Hessian is
+//! indefinite there) they are dropped (Gauss–Newton, always a descent). The step is shortened
+//! so that no scalar falls below [`MIN_SCALAR_FRACTION`] of its current value and no junction
+//! turns by more than [`MAX_TURN`], then halved until `E` decreases; the turn is applied as a
+//! rotation, so the new points satisfy every junction exactly. The iteration stops when a step
+//! lowers `E` by less than [`FlexibleOptions::tolerance`] relative, or when a whole Newton step
+//! lowered it by what its quadratic model predicted, to that tolerance (the model is then
+//! accurate, so the step landed at its minimiser). From the fixed-ratio fit of the pose it takes
+//! one or two solves per path (192 for the 140 flexible paths of the authors' turtles, where
+//! the alternation below takes about 1 100).
+//!
+//! **Alternation** ([`FlexibleRule::Alternating`], the method of the paper). Two linear
 //! problems alternate, each the minimiser of `E` over a set that contains the current
 //! solution `x⁽ᵏ⁾`:
 //!
@@ -32,17 +53,21 @@
 //! (one step of each kind) lowers `E` by less than [`FlexibleOptions::tolerance`] relative, or
 //! after [`FlexibleOptions::max_steps`] steps.
 //!
-//! Each step's KKT matrix has a fixed pattern per path and step kind (every row entry is kept,
-//! zero or not): its symbolic LU factorisation is computed once, in [`FlexibleSolver::new`];
-//! each step refactors numerically. Paths are independent; only those with a flexible junction
-//! iterate, in parallel with [`super::FitOptions::parallel`]. Other paths keep the rig's result.
+//! **Linear solves.** Each step's KKT matrix has a fixed pattern per path and step kind (every
+//! row entry is kept, zero or not): its symbolic factorisations are computed once, in
+//! [`FlexibleSolver::new`]; each step refactors numerically, by `LDLᵀ` in chain order with every
+//! constraint row after its unknowns, or by a pivoting LU where that fails (`Kkt`). Paths are
+//! independent; only those with a flexible junction iterate, in parallel with
+//! [`super::FitOptions::parallel`]. Other paths keep the rig's result.
 //!
-//! The result depends on the pose, not linearly: [`FlexibleSolver::solve`] starts, per path,
-//! from the rig's fixed-ratio result or, given a previous solution (`warm`, for dragging), from
-//! the ratio step with that solution's tangent lengths (its ratios, fitted to the new pose),
-//! whichever has the lower energy, so the result is never worse than the rig's. (Starting from
-//! the previous points themselves does not help: the fixed-ratio fit of the new pose is
-//! usually much closer than any solution of another pose.)
+//! **Warm start.** The result depends on the pose, not linearly: [`FlexibleSolver::solve`]
+//! starts, per path, from the rig's fixed-ratio result for the pose or, given a previous
+//! solution (`warm`, for dragging), from a start made from it where that has the lower energy,
+//! so the result is never worse than the rig's. Newton's is the previous solution itself: it
+//! wins when the pose barely moved; otherwise the fixed-ratio fit of the new pose is much closer
+//! to the new optimum (on the turtles, a Newton step from the previous solution lands further
+//! away than the fixed-ratio fit is). Alternation's is a ratio step with the previous solution's
+//! tangent ratios.
 //!
 //! **The authors' rule** ([`FlexibleRule::Authors`], compatibility mode): their solver starts
 //! with a direction step along the *input's* tangent directions, then alternates ratio and
@@ -54,10 +79,18 @@
 //! `authors-solver-outputs` were made without it: with it the clam scene moves by 1.3e-3 of the
 //! diagonal, without it it agrees to 2e-14. So it is not reproduced.)
 
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::linalg::solvers::Solve;
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::SymbolicCholesky;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymmetricOrdering,
+};
 use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
-use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
-use faer::MatMut;
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::{Argsort, Pair, SparseColMat, SparseColMatRef, SymbolicSparseColMat};
+use faer::{Conj, MatMut, Par, Side};
 use kurbo::{Affine, Point, Vec2};
 
 use super::constraints::{push_pins, tangent_junctions, ConstraintRows, TangentJunction};
@@ -80,6 +113,13 @@ pub const DEFAULT_MAX_STEPS: usize = 40;
 /// 0.5. Keeps the scalars positive (a negative one would reverse the tangent, a cusp).
 pub const MIN_SCALAR_FRACTION: f64 = 0.5;
 
+/// Largest turn of a junction's tangents in one Gauss–Newton step: π/4 (the linearisation
+/// of the turn is poor beyond).
+pub const MAX_TURN: f64 = std::f64::consts::FRAC_PI_4;
+
+/// Halvings of a Gauss–Newton step tried before the iteration stops: 30.
+const MAX_HALVINGS: usize = 30;
+
 /// The authors' cap on rounds (a direction and a ratio step each): 10.
 pub const AUTHORS_MAX_ROUNDS: usize = 10;
 
@@ -93,9 +133,15 @@ pub const AUTHORS_RTOL: f64 = 1e-3;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum FlexibleRule {
-    /// Ours: monotone steps, stop on the relative energy decrease of a round (module doc).
+    /// Ours, the default: Gauss–Newton steps on the junctions' directions and tangent
+    /// lengths together, monotone, stopping on the relative energy decrease of a step (module
+    /// doc, "Gauss–Newton").
     #[default]
-    Ours,
+    Newton,
+    /// Ours by alternation: monotone direction and ratio steps, stopping on the relative energy
+    /// decrease of a round (module doc). Converges to the same fits as [`FlexibleRule::Newton`],
+    /// in more (and cheaper-to-set-up) linear solves.
+    Alternating,
     /// The paper authors' schedule, resets and stopping test (module doc), for compatibility
     /// mode.
     Authors,
@@ -105,12 +151,13 @@ pub enum FlexibleRule {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct FlexibleOptions {
-    /// The schedule. Default: [`FlexibleRule::Ours`].
+    /// The schedule. Default: [`FlexibleRule::Newton`].
     pub rule: FlexibleRule,
-    /// Relative energy decrease per round under which the iteration stops ([`FlexibleRule::Ours`]
-    /// only). Default: [`DEFAULT_TOLERANCE`].
+    /// Relative energy decrease per step ([`FlexibleRule::Newton`]) or round
+    /// ([`FlexibleRule::Alternating`]) under which the iteration stops (not used by the authors'
+    /// rule). Default: [`DEFAULT_TOLERANCE`].
     pub tolerance: f64,
-    /// Largest number of steps per path ([`FlexibleRule::Ours`] only; the authors' rule does at
+    /// Largest number of steps per path (not the authors' rule, which does at
     /// most `1 + 2 ·` [`AUTHORS_MAX_ROUNDS`]). Default: [`DEFAULT_MAX_STEPS`].
     pub max_steps: usize,
 }
@@ -118,7 +165,7 @@ pub struct FlexibleOptions {
 impl Default for FlexibleOptions {
     fn default() -> Self {
         FlexibleOptions {
-            rule: FlexibleRule::Ours,
+            rule: FlexibleRule::Newton,
             tolerance: DEFAULT_TOLERANCE,
             max_steps: DEFAULT_MAX_STEPS,
         }
@@ -132,6 +179,11 @@ impl FlexibleOptions {
             rule: FlexibleRule::Authors,
             ..Default::default()
         }
+    }
+    /// Sets [`FlexibleOptions::rule`].
+    pub fn with_rule(mut self, rule: FlexibleRule) -> Self {
+        self.rule = rule;
+        self
     }
     /// Sets [`FlexibleOptions::tolerance`].
     pub fn with_tolerance(mut self, tolerance: f64) -> Self {
@@ -150,7 +202,8 @@ impl FlexibleOptions {
 pub struct FlexibleReport {
     /// Paths iterated (those with a flexible junction).
     pub paths: usize,
-    /// Steps (linear solves) of the path that took the most.
+    /// Steps of the path that took the most: its linear solves, plus one for a warm start taken
+    /// (module doc).
     pub steps: usize,
     /// Steps over all paths.
     pub total_steps: usize,
@@ -261,6 +314,22 @@ impl PathNodes {
         e
     }
 
+    /// `H x − b` per unknown point (`H` the Gram matrices, `b` the right-hand side of
+    /// [`PathNodes::rhs`]): half the gradient of `E` at `x`.
+    fn half_gradient(&self, x: &[Point], b: &[f64]) -> Vec<Vec2> {
+        let mut g: Vec<Vec2> = (0..self.m)
+            .map(|k| -Vec2::new(b[2 * k], b[2 * k + 1]))
+            .collect();
+        for (idx, gram) in self.curves.iter().zip(&self.grams) {
+            for (k, &pk) in idx.iter().enumerate() {
+                for (l, &pl) in idx.iter().enumerate() {
+                    g[pk] += gram[k][l] * x[pl].to_vec2();
+                }
+            }
+        }
+        g
+    }
+
     /// The path's unknown points read from a flat chain buffer.
     fn unknowns<'a>(&self, flat: &'a [Point]) -> &'a [Point] {
         &flat[self.offset..self.offset + self.m]
@@ -287,31 +356,85 @@ enum Slot {
     Along { base: usize, scalar: usize },
 }
 
-/// A KKT matrix of fixed pattern: the symbolic structure, the order of its values, and its
-/// symbolic LU factorisation, computed once.
+/// A KKT matrix `[H, Cᵀ; C, 0]` of fixed pattern (every entry is kept, zero or not): the
+/// symbolic structure, the order of its values, and its symbolic factorisations, computed once.
+///
+/// Each solve factors `LDLᵀ` without pivoting in an elimination order that puts every
+/// constraint row after all the unknowns it involves (the chain order of the points): with `H`
+/// positive definite, a row's pivot is then `−c H₁⁻¹ cᵀ < 0` for the part `H₁` already
+/// eliminated, so no pivot vanishes unless the rows are dependent. The sparse `LDLᵀ` reuses its
+/// elimination tree and is several times cheaper than a pivoting LU. A solve whose `LDLᵀ` fails
+/// or leaves a residual above [`KKT_RESIDUAL`] (dependent rows, or growth) is redone with a
+/// sparse LU with partial pivoting, whose symbolic analysis is also done once.
 #[derive(Clone, Debug)]
 struct Kkt {
     n: usize,
     symbolic: SymbolicSparseColMat<usize>,
     argsort: Argsort<usize>,
+    ldlt: std::sync::Arc<SymbolicCholesky<usize>>,
     lu: SymbolicLu<usize>,
+    /// Workspace needed by the `LDLᵀ` factorisation and solve.
+    stack_req: StackReq,
+}
+
+/// Largest residual `‖K z − r‖∞` of a KKT solve by `LDLᵀ`, relative to `‖K‖∞ ‖z‖∞ + ‖r‖∞`,
+/// accepted before the solve is redone by LU: 1e-11.
+const KKT_RESIDUAL: f64 = 1e-11;
+
+/// Reusable buffers of [`Kkt::solve`].
+#[derive(Default)]
+struct KktScratch {
+    values: Vec<f64>,
+    l_values: Vec<f64>,
+    rhs: Vec<f64>,
+    mem: Option<MemBuffer>,
 }
 
 impl Kkt {
-    fn new(n: usize, entries: &[(usize, usize, f64)], path: usize) -> Result<Kkt, FitError> {
+    /// The pattern of `entries` (both triangles), eliminated in the order of `keys` (one per
+    /// row/column; ties keep index order).
+    fn new(
+        n: usize,
+        entries: &[(usize, usize, f64)],
+        keys: &[f64],
+        path: usize,
+    ) -> Result<Kkt, FitError> {
         let pairs: Vec<Pair<usize, usize>> = entries
             .iter()
             .map(|&(row, col, _)| Pair { row, col })
             .collect();
         let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
             .map_err(|e| solver_error(path, "assembling the pattern", e))?;
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&i, &j| keys[i].total_cmp(&keys[j]).then(i.cmp(&j)));
+        let mut inverse = vec![0; n];
+        for (new, &old) in order.iter().enumerate() {
+            inverse[old] = new;
+        }
+        let perm = PermRef::new_checked(&order, &inverse, n);
+        let ldlt = factorize_symbolic_cholesky(
+            symbolic.as_ref(),
+            Side::Lower,
+            SymmetricOrdering::Custom(perm),
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| solver_error(path, "symbolic LDLT factorisation", e))?;
         let lu = SymbolicLu::try_new(symbolic.as_ref())
             .map_err(|e| solver_error(path, "symbolic LU factorisation", e))?;
+        let stack_req = StackReq::any_of(&[
+            ldlt.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default()),
+            ldlt.solve_in_place_scratch::<f64>(1, Par::Seq),
+        ]);
         Ok(Kkt {
             n,
             symbolic,
             argsort,
+            ldlt: std::sync::Arc::new(ldlt),
             lu,
+            stack_req,
         })
     }
 
@@ -320,22 +443,70 @@ impl Kkt {
     fn solve(
         &self,
         entries: &[(usize, usize, f64)],
-        values: &mut Vec<f64>,
+        sc: &mut KktScratch,
         rhs: &mut [f64],
         path: usize,
     ) -> Result<(), FitError> {
-        values.clear();
-        values.extend(entries.iter().map(|e| e.2));
-        let mat = SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, values)
+        sc.values.clear();
+        sc.values.extend(entries.iter().map(|e| e.2));
+        let mat = SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, &sc.values)
             .map_err(|e| solver_error(path, "filling the matrix", e))?;
-        let lu = Lu::try_new_with_symbolic(self.lu.clone(), mat.as_ref())
-            .map_err(|e| solver_error(path, "LU factorisation", e))?;
-        lu.solve_in_place(MatMut::from_column_major_slice_mut(rhs, self.n, 1));
+        sc.rhs.clear();
+        sc.rhs.extend_from_slice(rhs);
+        sc.l_values.resize(self.ldlt.len_val(), 0.0);
+        let mem = sc.mem.get_or_insert_with(|| MemBuffer::new(self.stack_req));
+        if mem.len() < self.stack_req.unaligned_bytes_required() {
+            *mem = MemBuffer::new(self.stack_req);
+        }
+        let stack = MemStack::new(mem);
+        let ok = match self.ldlt.factorize_numeric_ldlt(
+            &mut sc.l_values,
+            mat.as_ref(),
+            Side::Lower,
+            LdltRegularization::default(),
+            Par::Seq,
+            stack,
+            Default::default(),
+        ) {
+            Ok(ldlt) => {
+                ldlt.solve_in_place_with_conj(
+                    Conj::No,
+                    MatMut::from_column_major_slice_mut(rhs, self.n, 1),
+                    Par::Seq,
+                    stack,
+                );
+                residual_ok(mat.as_ref(), rhs, &sc.rhs)
+            }
+            Err(_) => false,
+        };
+        if !ok {
+            rhs.copy_from_slice(&sc.rhs);
+            let lu = Lu::try_new_with_symbolic(self.lu.clone(), mat.as_ref())
+                .map_err(|e| solver_error(path, "LU factorisation", e))?;
+            lu.solve_in_place(MatMut::from_column_major_slice_mut(rhs, self.n, 1));
+        }
         if rhs.iter().any(|v| !v.is_finite()) {
             return Err(FitError::Singular { path });
         }
         Ok(())
     }
+}
+
+/// Whether `z` solves `K z = r` to [`KKT_RESIDUAL`].
+fn residual_ok(k: SparseColMatRef<'_, usize, f64>, z: &[f64], r: &[f64]) -> bool {
+    let mut res = r.to_vec();
+    let mut norm_k: f64 = 0.0;
+    for j in 0..k.ncols() {
+        let mut col = 0.0;
+        for (i, v) in k.row_idx_of_col(j).zip(k.val_of_col(j)) {
+            res[i] -= v * z[j];
+            col += v.abs();
+        }
+        norm_k = norm_k.max(col);
+    }
+    let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let scale = norm_k * inf(z) + inf(r);
+    res.iter().all(|v| v.is_finite()) && inf(&res) <= KKT_RESIDUAL * scale
 }
 
 fn solver_error(path: usize, what: &str, e: impl std::fmt::Debug) -> FitError {
@@ -368,6 +539,8 @@ struct FlexPath {
     layout: Layout,
     ratio: Kkt,
     direction: Kkt,
+    /// The Gauss–Newton step's system: the direction step's plus a turn per junction.
+    newton: Kkt,
 }
 
 /// Scratch of one path's solve.
@@ -376,7 +549,7 @@ struct Scratch {
     target: Vec<Point>,
     b: Vec<f64>,
     entries: Vec<(usize, usize, f64)>,
-    values: Vec<f64>,
+    kkt: KktScratch,
     rhs: Vec<f64>,
 }
 
@@ -643,7 +816,7 @@ impl FlexibleSolver {
         let e_start = nodes.energy(&sc.target, &start);
         let warm = warm.map(|w| nodes.unknowns(w).to_vec());
         match self.options.rule {
-            FlexibleRule::Ours => {
+            FlexibleRule::Newton | FlexibleRule::Alternating => {
                 let mut run = PathRun {
                     x: start,
                     energies: vec![e_start],
@@ -651,23 +824,65 @@ impl FlexibleSolver {
                     warm: false,
                 };
                 if let Some(w) = warm {
-                    // The previous solution's tangent ratios, for this pose: one ratio step.
-                    let x_w = fp.ratio_step(nodes, &mut sc, &w)?;
-                    let e_w = nodes.energy(&sc.target, &x_w);
-                    if e_w < e_start {
-                        run.x = x_w;
-                        run.energies.push(e_w);
+                    // Newton: the previous solution itself, if it fits this pose better than
+                    // the fixed-ratio fit (a pose that barely moved); alternating: one ratio
+                    // step with its tangent ratios.
+                    let candidate = if self.options.rule == FlexibleRule::Newton {
+                        let e_w = nodes.energy(&sc.target, &w);
+                        (w, e_w)
+                    } else {
+                        let x = fp.ratio_step(nodes, &mut sc, &w)?;
+                        let e = nodes.energy(&sc.target, &x);
+                        (x, e)
+                    };
+                    if candidate.1 < e_start {
+                        run.x = candidate.0;
+                        run.energies.push(candidate.1);
                         run.warm = true;
                     }
                 }
-                self.iterate_ours(fp, nodes, &mut sc, run)
+                if self.options.rule == FlexibleRule::Newton {
+                    self.iterate_newton(fp, nodes, &mut sc, run)
+                } else {
+                    self.iterate_alternating(fp, nodes, &mut sc, run)
+                }
             }
             FlexibleRule::Authors => self.iterate_authors(fp, nodes, &mut sc, e_start, warm),
         }
     }
 
-    /// [`FlexibleRule::Ours`] from `run.x` (module doc).
-    fn iterate_ours(
+    /// [`FlexibleRule::Newton`] from `run.x` (module doc).
+    fn iterate_newton(
+        &self,
+        fp: &FlexPath,
+        nodes: &PathNodes,
+        sc: &mut Scratch,
+        mut run: PathRun,
+    ) -> Result<PathRun, FitError> {
+        let mut e = run.energies[run.energies.len() - 1];
+        while run.energies.len() <= self.options.max_steps {
+            // No decrease along the step (rounding, or NaN): converged as far as arithmetic goes.
+            let Some(u) = fp.newton_update(nodes, sc, &run.x, e)? else {
+                break;
+            };
+            // Converged when the step gained little, or when a whole Newton step did what its
+            // quadratic model said (the model is then accurate, and the step lands at its
+            // minimiser).
+            let tol = self.options.tolerance * e;
+            let done = e - u.energy <= tol || u.model_error.is_some_and(|m| m <= tol);
+            run.x = u.x;
+            run.shortened += usize::from(u.shortened);
+            e = u.energy;
+            run.energies.push(e);
+            if done {
+                break;
+            }
+        }
+        Ok(run)
+    }
+
+    /// [`FlexibleRule::Alternating`] from `run.x` (module doc).
+    fn iterate_alternating(
         &self,
         fp: &FlexPath,
         nodes: &PathNodes,
@@ -831,15 +1046,37 @@ impl Layout {
     /// The unknowns `z` that coordinate `d` of point `k` is made of, with their coefficients
     /// (`x = S z`): one for a free point, two for a neighbour along a direction.
     fn terms(&self, k: usize, d: usize, dirs: &[Vec2]) -> impl Iterator<Item = (usize, f64)> {
-        let (first, second) = match self.slots[k] {
-            Slot::Free(f) => ((2 * f + d, 1.0), None),
+        self.terms_turning(k, d, dirs, None)
+    }
+
+    /// [`Layout::terms`], and with `sigma` (the current scalars) the linearised turn of the
+    /// junction too: `P_a = P_p + α û + σ_a δφ û⊥` (Gauss–Newton step, module doc), `δφ` of
+    /// junction `q` at `z[2 n_free + n_scalars + q]`.
+    fn terms_turning(
+        &self,
+        k: usize,
+        d: usize,
+        dirs: &[Vec2],
+        sigma: Option<&[f64]>,
+    ) -> impl Iterator<Item = (usize, f64)> {
+        let coord = |v: Vec2| if d == 0 { v.x } else { v.y };
+        let terms = match self.slots[k] {
+            Slot::Free(f) => [Some((2 * f + d, 1.0)), None, None],
             Slot::Along { base, scalar } => {
                 let dir = dirs[scalar];
-                let c = if d == 0 { dir.x } else { dir.y };
-                ((2 * base + d, 1.0), Some((2 * self.n_free + scalar, c)))
+                [
+                    Some((2 * base + d, 1.0)),
+                    Some((2 * self.n_free + scalar, coord(dir))),
+                    sigma.map(|s| {
+                        (
+                            2 * self.n_free + self.n_scalars() + scalar / 2,
+                            s[scalar] * coord(dir.turn_90()),
+                        )
+                    }),
+                ]
             }
         };
-        std::iter::once(first).chain(second)
+        terms.into_iter().flatten()
     }
 
     /// Number of direction-step scalars (two per flexible junction).
@@ -849,19 +1086,27 @@ impl Layout {
 
     /// The direction step's KKT entries `[SᵀHS, (CS)ᵀ; CS, 0]` in a fixed order (`S` the
     /// substitution `x = S z`, `C` the fixed rows).
+    ///
+    /// With `turning` (the current scalars `σ` and the energy gradients `g` at the neighbours,
+    /// per side), the Newton step's entries: `S` then also maps each junction's turn `δφ` (see
+    /// [`Layout::terms_turning`]), and the second derivatives of the neighbours,
+    /// `∂²P/∂φ² = −σ d` and `∂²P/∂σ∂φ = d⊥`, add `−σ g·d` at `(δφ, δφ)` and `g·d⊥` at
+    /// `(σ, δφ)` (zero `g`: Gauss–Newton).
     fn direction_entries(
         &self,
         nodes: &PathNodes,
         dirs: &[Vec2],
+        turning: Option<(&[f64], &[Vec2])>,
         out: &mut Vec<(usize, usize, f64)>,
     ) {
+        let sigma = turning.map(|t| t.0);
         out.clear();
         for (idx, g) in nodes.curves.iter().zip(&nodes.grams) {
             for (k, &pk) in idx.iter().enumerate() {
                 for (l, &pl) in idx.iter().enumerate() {
                     for d in 0..2 {
-                        for (zi, ci) in self.terms(pk, d, dirs) {
-                            for (zj, cj) in self.terms(pl, d, dirs) {
+                        for (zi, ci) in self.terms_turning(pk, d, dirs, sigma) {
+                            for (zj, cj) in self.terms_turning(pl, d, dirs, sigma) {
                                 out.push((zi, zj, g[k][l] * ci * cj));
                             }
                         }
@@ -869,7 +1114,19 @@ impl Layout {
                 }
             }
         }
-        let base = 2 * self.n_free + self.n_scalars();
+        let mut turns = 0;
+        if let Some((sigma, grad)) = turning {
+            turns = self.flexible.len();
+            let first_turn = 2 * self.n_free + self.n_scalars();
+            for side in 0..self.n_scalars() {
+                let (d, g) = (dirs[side], grad[side]);
+                let (zs, zt) = (2 * self.n_free + side, first_turn + side / 2);
+                out.push((zs, zt, g.dot(d.turn_90())));
+                out.push((zt, zs, g.dot(d.turn_90())));
+                out.push((zt, zt, -sigma[side] * g.dot(d)));
+            }
+        }
+        let base = 2 * self.n_free + self.n_scalars() + turns;
         // By construction (`flex_path`) the fixed rows involve free points only.
         let push = |row: usize, col: usize, v: f64, out: &mut Vec<(usize, usize, f64)>| {
             for (zi, c) in self.terms(col / 2, col % 2, dirs) {
@@ -903,7 +1160,7 @@ impl FlexPath {
         sc.rhs.extend_from_slice(&sc.b);
         sc.rhs.resize(self.ratio.n, 0.0);
         self.ratio
-            .solve(&sc.entries, &mut sc.values, &mut sc.rhs, self.path)?;
+            .solve(&sc.entries, &mut sc.kkt, &mut sc.rhs, self.path)?;
         Ok((0..nodes.m)
             .map(|k| Point::new(sc.rhs[2 * k], sc.rhs[2 * k + 1]))
             .collect())
@@ -918,7 +1175,7 @@ impl FlexPath {
         dirs: &[Vec2],
     ) -> Result<(Vec<Point>, Vec<f64>), FitError> {
         let layout = &self.layout;
-        layout.direction_entries(nodes, dirs, &mut sc.entries);
+        layout.direction_entries(nodes, dirs, None, &mut sc.entries);
         // z right-hand side: Sᵀ b.
         sc.rhs.clear();
         sc.rhs.resize(self.direction.n, 0.0);
@@ -930,7 +1187,7 @@ impl FlexPath {
             }
         }
         self.direction
-            .solve(&sc.entries, &mut sc.values, &mut sc.rhs, self.path)?;
+            .solve(&sc.entries, &mut sc.kkt, &mut sc.rhs, self.path)?;
         let z = &sc.rhs;
         let point = |f: usize| Point::new(z[2 * f], z[2 * f + 1]);
         let scalars: Vec<f64> = (0..dirs.len()).map(|s| z[2 * layout.n_free + s]).collect();
@@ -943,6 +1200,216 @@ impl FlexPath {
             })
             .collect();
         Ok((x, scalars))
+    }
+}
+
+/// The result of [`FlexPath::newton_update`].
+struct NewtonUpdate {
+    /// The new points.
+    x: Vec<Point>,
+    /// Their energy.
+    energy: f64,
+    /// Whether the step was shortened to keep a scalar positive or a turn small.
+    shortened: bool,
+    /// For a whole Newton step, how far its energy decrease was from the quadratic model's.
+    model_error: Option<f64>,
+}
+
+/// The minimiser of the linearised Gauss–Newton problem ([`FlexPath::newton_step`]).
+struct NewtonStep {
+    /// The unknown points that stay free (direction-step numbering).
+    free: Vec<Point>,
+    /// The scalars, side `σ` at index `σ`.
+    scalars: Vec<f64>,
+    /// The turn `δφ` of each junction, radians counter-clockwise.
+    turns: Vec<f64>,
+}
+
+impl FlexPath {
+    /// One Newton step from `x` (on the constraint set, energy `e`), or a Gauss–Newton step
+    /// where Newton's is not a descent direction; shortened to keep every scalar above its floor
+    /// and every turn below [`MAX_TURN`], then halved until the energy is below `e` (module doc).
+    /// `None` if no length lowers the energy.
+    fn newton_update(
+        &self,
+        nodes: &PathNodes,
+        sc: &mut Scratch,
+        x: &[Point],
+        e: f64,
+    ) -> Result<Option<NewtonUpdate>, FitError> {
+        let layout = &self.layout;
+        let mut dirs = vec![Vec2::ZERO; layout.n_scalars()];
+        layout.joint_directions(x, Sides::Derived, &mut dirs);
+        let sigma: Vec<f64> = layout
+            .flexible
+            .iter()
+            .enumerate()
+            .flat_map(|(q, j)| {
+                [
+                    (x[j.a] - x[j.p]).dot(dirs[2 * q]),
+                    (x[j.b] - x[j.p]).dot(dirs[2 * q + 1]),
+                ]
+            })
+            .collect();
+        // g = H x − b (half the gradient of E) at every unknown point.
+        let g = nodes.half_gradient(x, &sc.b);
+        let grad: Vec<Vec2> = layout
+            .flexible
+            .iter()
+            .flat_map(|j| [g[j.a], g[j.b]])
+            .collect();
+        let mut exact = true;
+        let (step, predicted) = loop {
+            let zero = vec![Vec2::ZERO; grad.len()];
+            let step =
+                self.newton_step(nodes, sc, &dirs, &sigma, if exact { &grad } else { &zero })?;
+            // The model's decrease of E over the whole step: −gᵀ Δx (module doc).
+            let predicted = -layout
+                .linear_change(x, &step, &dirs, &sigma)
+                .iter()
+                .zip(&g)
+                .map(|(dx, gk)| dx.dot(*gk))
+                .sum::<f64>();
+            if predicted > 0.0 || !exact {
+                break (step, predicted);
+            }
+            exact = false;
+        };
+        let mut t: f64 = 1.0;
+        for (side, (&s0, &s1)) in sigma.iter().zip(&step.scalars).enumerate() {
+            let floor = MIN_SCALAR_FRACTION * s0;
+            if s1 < floor {
+                t = t.min(if s0 > 0.0 {
+                    (s0 - floor) / (s0 - s1)
+                } else {
+                    0.0
+                });
+            }
+            let turn = step.turns[side / 2].abs();
+            if turn * t > MAX_TURN {
+                t = MAX_TURN / turn;
+            }
+        }
+        let shortened = t < 1.0;
+        for _ in 0..MAX_HALVINGS {
+            if t <= 0.0 {
+                break;
+            }
+            let x_t = layout.newton_point(x, &step, &dirs, &sigma, t);
+            let e_t = nodes.energy(&sc.target, &x_t);
+            if e_t < e {
+                let model_error = (exact && t == 1.0).then(|| ((e - e_t) - predicted).abs());
+                return Ok(Some(NewtonUpdate {
+                    x: x_t,
+                    energy: e_t,
+                    shortened,
+                    model_error,
+                }));
+            }
+            t *= 0.5;
+        }
+        Ok(None)
+    }
+
+    /// The Gauss–Newton step at the current directions `dirs` and scalars `sigma`: the
+    /// direction step with each junction's turn `δφ` as one more unknown, linearised
+    /// (module doc).
+    fn newton_step(
+        &self,
+        nodes: &PathNodes,
+        sc: &mut Scratch,
+        dirs: &[Vec2],
+        sigma: &[f64],
+        grad: &[Vec2],
+    ) -> Result<NewtonStep, FitError> {
+        let layout = &self.layout;
+        layout.direction_entries(nodes, dirs, Some((sigma, grad)), &mut sc.entries);
+        sc.rhs.clear();
+        sc.rhs.resize(self.newton.n, 0.0);
+        for k in 0..nodes.m {
+            for d in 0..2 {
+                for (zi, c) in layout.terms_turning(k, d, dirs, Some(sigma)) {
+                    sc.rhs[zi] += c * sc.b[2 * k + d];
+                }
+            }
+        }
+        // Newton: K w = Jᵀb + M w₀, M the second-derivative part; w₀ has σ₀ and no turn.
+        let first_turn = 2 * layout.n_free + layout.n_scalars();
+        for side in 0..layout.n_scalars() {
+            sc.rhs[first_turn + side / 2] += grad[side].dot(dirs[side].turn_90()) * sigma[side];
+        }
+        self.newton
+            .solve(&sc.entries, &mut sc.kkt, &mut sc.rhs, self.path)?;
+        let z = &sc.rhs;
+        let (nf, ns) = (layout.n_free, layout.n_scalars());
+        Ok(NewtonStep {
+            free: (0..nf)
+                .map(|f| Point::new(z[2 * f], z[2 * f + 1]))
+                .collect(),
+            scalars: z[2 * nf..2 * nf + ns].to_vec(),
+            turns: z[2 * nf + ns..2 * nf + ns + layout.flexible.len()].to_vec(),
+        })
+    }
+}
+
+impl Layout {
+    /// The linearised change `Δx = J Δw` of every unknown point over the step: free points
+    /// move to their solution, a neighbour by `Δp + Δσ d + σ δφ d⊥`.
+    fn linear_change(
+        &self,
+        x: &[Point],
+        step: &NewtonStep,
+        dirs: &[Vec2],
+        sigma: &[f64],
+    ) -> Vec<Vec2> {
+        let mut free = vec![Vec2::ZERO; self.n_free];
+        for (k, slot) in self.slots.iter().enumerate() {
+            if let Slot::Free(f) = *slot {
+                free[f] = step.free[f] - x[k];
+            }
+        }
+        self.slots
+            .iter()
+            .map(|slot| match *slot {
+                Slot::Free(f) => free[f],
+                Slot::Along { base, scalar } => {
+                    let d = dirs[scalar];
+                    free[base]
+                        + (step.scalars[scalar] - sigma[scalar]) * d
+                        + sigma[scalar] * step.turns[scalar / 2] * d.turn_90()
+                }
+            })
+            .collect()
+    }
+
+    /// The point a fraction `t` of the way along the Gauss–Newton step from `x` (directions
+    /// `dirs`, scalars `sigma`): free points and scalars interpolated linearly, each junction
+    /// turned by `t δφ`. It satisfies every junction exactly (its tangents are parallel, or at
+    /// the input's angle).
+    fn newton_point(
+        &self,
+        x: &[Point],
+        step: &NewtonStep,
+        dirs: &[Vec2],
+        sigma: &[f64],
+        t: f64,
+    ) -> Vec<Point> {
+        let mut free = vec![Point::ZERO; self.n_free];
+        for (k, slot) in self.slots.iter().enumerate() {
+            if let Slot::Free(f) = *slot {
+                free[f] = x[k].lerp(step.free[f], t);
+            }
+        }
+        self.slots
+            .iter()
+            .map(|slot| match *slot {
+                Slot::Free(f) => free[f],
+                Slot::Along { base, scalar } => {
+                    let s = sigma[scalar] + t * (step.scalars[scalar] - sigma[scalar]);
+                    free[base] + s * rotate(dirs[scalar], t * step.turns[scalar / 2])
+                }
+            })
+            .collect()
     }
 }
 
@@ -997,6 +1464,32 @@ fn ratio_entries(
             row += 1;
         }
     }
+}
+
+/// Elimination keys of a KKT matrix of `n` rows whose first `n_unknowns` are unknowns (key
+/// `unknown_key(i)`) and the rest constraint rows: a row's key is half a place after the
+/// largest key of the unknowns in it (`entries`), so it is eliminated after all of them.
+fn elimination_keys(
+    n: usize,
+    n_unknowns: usize,
+    unknown_key: impl Fn(usize) -> f64,
+    entries: &[(usize, usize, f64)],
+) -> Vec<f64> {
+    let mut keys: Vec<f64> = (0..n)
+        .map(|i| {
+            if i < n_unknowns {
+                unknown_key(i)
+            } else {
+                f64::MIN
+            }
+        })
+        .collect();
+    for &(row, col, _) in entries {
+        if row >= n_unknowns && col < n_unknowns {
+            keys[row] = keys[row].max(keys[col] + 0.5);
+        }
+    }
+    keys
 }
 
 /// The quadrature data of `path` (whose first curve is curve `first_curve` of `samples` and
@@ -1129,18 +1622,46 @@ fn flex_path(
         &mut entries,
     );
     let n_rows = layout.fixed_rows.n_rows + 2 * layout.flexible.len();
-    let ratio = Kkt::new(2 * m + n_rows, &entries, pi)?;
+    let n = 2 * m + n_rows;
+    let keys = elimination_keys(n, 2 * m, |i| (i / 2) as f64, &entries);
+    let ratio = Kkt::new(n, &entries, &keys, pi)?;
     let dirs = vec![Vec2::new(1.0, 1.0); layout.n_scalars()];
-    layout.direction_entries(nodes, &dirs, &mut entries);
-    let direction = Kkt::new(
-        2 * n_free + layout.n_scalars() + layout.fixed_rows.n_rows,
-        &entries,
-        pi,
-    )?;
+    // Direction and Gauss–Newton unknowns in chain order too: a free point at its own place,
+    // a scalar at its neighbour's, a turn at its junction point's.
+    let mut chain_of_free = vec![0.0; n_free];
+    for (k, &f) in free_index.iter().enumerate() {
+        if f != usize::MAX {
+            chain_of_free[f] = k as f64;
+        }
+    }
+    let z_key = |i: usize| {
+        let (nf, ns) = (2 * n_free, layout.n_scalars());
+        if i < nf {
+            chain_of_free[i / 2]
+        } else if i < nf + ns {
+            let j = &layout.flexible[(i - nf) / 2];
+            (if (i - nf) % 2 == 0 { j.a } else { j.b }) as f64
+        } else {
+            layout.flexible[i - nf - ns].p as f64
+        }
+    };
+    layout.direction_entries(nodes, &dirs, None, &mut entries);
+    let n_z = 2 * n_free + layout.n_scalars();
+    let n = n_z + layout.fixed_rows.n_rows;
+    let keys = elimination_keys(n, n_z, z_key, &entries);
+    let direction = Kkt::new(n, &entries, &keys, pi)?;
+    let sigma = vec![1.0; layout.n_scalars()];
+    let grad = vec![Vec2::new(1.0, 1.0); layout.n_scalars()];
+    layout.direction_entries(nodes, &dirs, Some((&sigma, &grad)), &mut entries);
+    let n_z = n_z + layout.flexible.len();
+    let n = n_z + layout.fixed_rows.n_rows;
+    let keys = elimination_keys(n, n_z, z_key, &entries);
+    let newton = Kkt::new(n, &entries, &keys, pi)?;
     Ok(Some(FlexPath {
         path: pi,
         layout,
         ratio,
         direction,
+        newton,
     }))
 }
