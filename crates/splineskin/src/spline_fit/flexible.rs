@@ -28,7 +28,9 @@
 //! rotation, so the new points satisfy every junction exactly. The iteration stops when a step
 //! lowers `E` by less than [`FlexibleOptions::tolerance`] relative, or when a whole Newton step
 //! lowered it by what its quadratic model predicted, to that tolerance (the model is then
-//! accurate, so the step landed at its minimiser). From the fixed-ratio fit of the pose it takes
+//! accurate, so the step landed at its minimiser). Both tests (and alternation's) add the
+//! energy of a [`NOISE_DISTANCE`] deviation along the whole path to the tolerance: below it
+//! the energy is rounding (a target the curves can follow exactly has such an energy). From the fixed-ratio fit of the pose it takes
 //! one or two solves per path (192 for the 140 flexible paths of the authors' turtles, where
 //! the alternation below takes about 1 100).
 //!
@@ -116,6 +118,10 @@ pub const MIN_SCALAR_FRACTION: f64 = 0.5;
 /// Largest turn of a junction's tangents in one Gauss–Newton step: π/4 (the linearisation
 /// of the turn is poor beyond).
 pub const MAX_TURN: f64 = std::f64::consts::FRAC_PI_4;
+
+/// Distances below this fraction of a path's largest target coordinate are taken for
+/// rounding: 1e-10 (module doc, stopping).
+pub const NOISE_DISTANCE: f64 = 1e-10;
 
 /// Halvings of a Gauss–Newton step tried before the iteration stops: 30.
 const MAX_HALVINGS: usize = 30;
@@ -312,6 +318,18 @@ impl PathNodes {
             }
         }
         e
+    }
+
+    /// The energy of a distance of [`NOISE_DISTANCE`] times the target's largest coordinate
+    /// all along the path: decreases below it are rounding (a target the curves can follow
+    /// exactly, e.g. one affine map for the whole path, has an energy of that order), so the
+    /// iteration stops there.
+    fn noise_floor(&self, s: &[Point]) -> f64 {
+        let size = s
+            .iter()
+            .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+        let measure: f64 = self.omega.iter().sum();
+        (NOISE_DISTANCE * size).powi(2) * measure
     }
 
     /// `H x − b` per unknown point (`H` the Gram matrices, `b` the right-hand side of
@@ -551,6 +569,8 @@ struct Scratch {
     entries: Vec<(usize, usize, f64)>,
     kkt: KktScratch,
     rhs: Vec<f64>,
+    /// The energy under which the path counts as converged ([`PathNodes::noise_floor`]).
+    floor: f64,
 }
 
 /// The result of one path's iteration.
@@ -812,6 +832,7 @@ impl FlexibleSolver {
         let mut sc = Scratch::default();
         nodes.target(pose, &mut sc.target);
         nodes.rhs(&sc.target, &mut sc.b);
+        sc.floor = nodes.noise_floor(&sc.target);
         let start = nodes.unknowns(fixed).to_vec();
         let e_start = nodes.energy(&sc.target, &start);
         let warm = warm.map(|w| nodes.unknowns(w).to_vec());
@@ -860,7 +881,7 @@ impl FlexibleSolver {
         mut run: PathRun,
     ) -> Result<PathRun, FitError> {
         let mut e = run.energies[run.energies.len() - 1];
-        while run.energies.len() <= self.options.max_steps {
+        while run.energies.len() <= self.options.max_steps && e > sc.floor {
             // No decrease along the step (rounding, or NaN): converged as far as arithmetic goes.
             let Some(u) = fp.newton_update(nodes, sc, &run.x, e)? else {
                 break;
@@ -868,7 +889,7 @@ impl FlexibleSolver {
             // Converged when the step gained little, or when a whole Newton step did what its
             // quadratic model said (the model is then accurate, and the step lands at its
             // minimiser).
-            let tol = self.options.tolerance * e;
+            let tol = self.options.tolerance * e + sc.floor;
             let done = e - u.energy <= tol || u.model_error.is_some_and(|m| m <= tol);
             run.x = u.x;
             run.shortened += usize::from(u.shortened);
@@ -892,7 +913,7 @@ impl FlexibleSolver {
         let layout = &fp.layout;
         let mut e = run.energies[0];
         let mut dirs = vec![Vec2::ZERO; layout.n_scalars()];
-        'rounds: loop {
+        'rounds: while e > sc.floor {
             let e_round = e;
             for direction_step in [true, false] {
                 if run.energies.len() > self.options.max_steps {
@@ -936,7 +957,7 @@ impl FlexibleSolver {
                 e = e_new;
                 run.energies.push(e);
             }
-            if e_round - e <= self.options.tolerance * e_round {
+            if e_round - e <= self.options.tolerance * e_round + sc.floor {
                 break;
             }
         }
