@@ -67,6 +67,8 @@ struct JsonRow<'a> {
     max: f64,
     rms: f64,
     distance: &'a str,
+    closest_max: f64,
+    closest_rms: f64,
     diagonal: f64,
     refit_tolerance: Option<f64>,
 }
@@ -161,6 +163,8 @@ fn json_rows<'a>(args: &Args, comparison: &'a Comparison) -> Vec<JsonRow<'a>> {
             } else {
                 "closest_point"
             },
+            closest_max: m.closest.overall.max,
+            closest_rms: m.closest.overall.rms,
             diagonal: comparison.diagonal,
             refit_tolerance: (m.method == Method::Schneider).then_some(comparison.refit_tolerance),
         })
@@ -176,8 +180,8 @@ fn print_table(args: &Args, comparison: &Comparison, pose_name: Option<&str>) {
         comparison.diagonal
     );
     println!(
-        "{:<15} {:>12} {:>9} {:>9} {:>7}",
-        "method", "energy", "max %", "rms %", "curves"
+        "{:<20} {:>12} {:>9} {:>9} {:>11} {:>11} {:>7}",
+        "method", "energy", "max %", "rms %", "closest max", "closest rms", "curves"
     );
     for m in &comparison.methods {
         let o = m.metrics.overall;
@@ -186,14 +190,20 @@ fn print_table(args: &Args, comparison: &Comparison, pose_name: Option<&str>) {
                 "  (tolerance {:.4} units; closest-point distances)",
                 comparison.refit_tolerance
             ),
+            Method::SchneiderSameCount => {
+                "  (per path, the smallest tolerance within the input's curve count; closest-point distances)"
+                    .to_string()
+            }
             _ => String::new(),
         };
         println!(
-            "{:<15} {:>12.4e} {:>9.4} {:>9.4} {:>7}{note}",
+            "{:<20} {:>12.4e} {:>9.4} {:>9.4} {:>11.4} {:>11.4} {:>7}{note}",
             m.method.name(),
             o.energy,
             100.0 * o.max,
             100.0 * o.rms,
+            100.0 * m.closest.overall.max,
+            100.0 * m.closest.overall.rms,
             m.result.n_curves()
         );
     }

@@ -47,6 +47,8 @@ struct JsonRow {
     max: f64,
     rms: f64,
     distance: String,
+    closest_max: f64,
+    closest_rms: f64,
     diagonal: f64,
     refit_tolerance: Option<f64>,
 }
@@ -129,7 +131,8 @@ fn compare_json_and_picture_match_the_library() {
             "fourcontrols",
             "twoendpoints",
             "jacobian",
-            "schneider"
+            "schneider",
+            "schneider-same-count"
         ]
     );
     for (row, m) in rows.iter().zip(&c.methods) {
@@ -141,10 +144,18 @@ fn compare_json_and_picture_match_the_library() {
             row.method
         );
         assert_eq!(row.curves, m.result.n_curves());
+        assert_eq!(
+            (row.closest_max, row.closest_rms),
+            (m.closest.overall.max, m.closest.overall.rms)
+        );
+        // The nearest point is never further than the point at the same parameter (up to
+        // the nearest-point search's accuracy, 1e-6 of the diagonal).
+        assert!(row.closest_max <= row.max + 1e-6, "{}", row.method);
+        assert!(row.closest_rms <= row.rms + 1e-6, "{}", row.method);
         assert_eq!(row.pose, 1);
         assert_eq!(row.diagonal, c.diagonal);
         assert_eq!(row.scene, scene.display().to_string());
-        let closest = m.method == Method::Schneider;
+        let closest = !m.method.keeps_structure();
         assert_eq!(
             row.distance,
             if closest {
@@ -153,12 +164,20 @@ fn compare_json_and_picture_match_the_library() {
                 "parametric"
             }
         );
-        assert_eq!(row.refit_tolerance, closest.then_some(c.refit_tolerance));
+        assert_eq!(
+            row.refit_tolerance,
+            (m.method == Method::Schneider).then_some(c.refit_tolerance)
+        );
     }
     // The input has 2 + 3 curves (the blob closes on its start: Z adds none); the refit at
-    // least as many.
+    // least as many, the refit at the input's count no more, path by path.
     assert_eq!(rows[0].curves, 5);
     assert!(rows[4].curves >= rows[0].curves);
+    let same = c.get(Method::SchneiderSameCount).unwrap();
+    let input = c.get(Method::Ours).unwrap();
+    for (a, b) in same.result.paths.iter().zip(&input.result.paths) {
+        assert!(a.n_curves() <= b.n_curves());
+    }
     let markers = posed_markers(&scene_value.handle_set(), &pose);
     let picture = render_comparison(
         &c,
@@ -171,8 +190,8 @@ fn compare_json_and_picture_match_the_library() {
         (image.width, image.height),
         (picture.grid.width, picture.grid.height)
     );
-    // Five panels of 300 px in the grid closest to square.
-    assert_eq!(picture.grid.corners.len(), 5);
+    // Six panels of 300 px in the grid closest to square.
+    assert_eq!(picture.grid.corners.len(), 6);
     assert!(picture.grid.width >= 2 * 300);
     // No temporary file left beside the output.
     let names: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
@@ -196,15 +215,33 @@ fn compare_ours_has_the_least_energy_on_the_bundled_drawing() {
             pose,
             "--json",
         ]));
-        let energy = |name: &str| rows.iter().find(|r| r.method == name).unwrap().energy;
+        let row = |name: &str| rows.iter().find(|r| r.method == name).unwrap();
         for baseline in ["fourcontrols", "twoendpoints", "jacobian"] {
-            assert!(
-                energy("ours") < energy(baseline),
-                "pose {pose}: ours {} vs {baseline} {}",
-                energy("ours"),
-                energy(baseline)
-            );
+            for (what, f) in [
+                ("energy", (|r: &JsonRow| r.energy) as fn(&JsonRow) -> f64),
+                ("max", |r| r.max),
+                ("rms", |r| r.rms),
+            ] {
+                assert!(
+                    f(row("ours")) < f(row(baseline)),
+                    "pose {pose}: {what}: ours {} vs {baseline} {}",
+                    f(row("ours")),
+                    f(row(baseline))
+                );
+            }
         }
+        // With at most as many curves as the input, the refit stays further from the target than
+        // the fit (by the only measure they share, the nearest point).
+        let (ours, refit) = (row("ours"), row("schneider-same-count"));
+        assert!(refit.curves <= ours.curves, "pose {pose}");
+        assert!(
+            ours.closest_max < refit.closest_max && ours.closest_rms < refit.closest_rms,
+            "pose {pose}: ours {} {} vs refit {} {}",
+            ours.closest_max,
+            ours.closest_rms,
+            refit.closest_max,
+            refit.closest_rms
+        );
     }
 }
 

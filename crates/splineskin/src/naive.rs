@@ -579,6 +579,25 @@ pub fn schneider_refit(
     pose: &[Affine],
     options: &RefitOptions,
 ) -> Result<Refit, RefitError> {
+    check_refit_inputs(field, pose, options)?;
+    let mut w = vec![0.0; pose.len()];
+    let mut paths = Vec::with_capacity(drawing.paths.len());
+    for (index, path) in drawing.paths.iter().enumerate() {
+        let samples = deformed_samples(path, field, pose, options.samples_per_curve, &mut w);
+        if samples.iter().any(|p| !p.is_finite()) {
+            return Err(RefitError::NotFinite { path: index });
+        }
+        paths.push(refit_path(path, &samples, options));
+    }
+    Ok(Refit { paths })
+}
+
+/// The argument checks of [`schneider_refit`].
+fn check_refit_inputs(
+    field: &dyn WeightField,
+    pose: &[Affine],
+    options: &RefitOptions,
+) -> Result<(), RefitError> {
     if pose.len() != field.n_handles() {
         return Err(PoseError::Transforms {
             got: pose.len(),
@@ -592,16 +611,90 @@ pub fn schneider_refit(
     if options.samples_per_curve < 2 {
         return Err(RefitError::Samples(options.samples_per_curve));
     }
+    Ok(())
+}
+
+/// Bisection rounds on the tolerance of [`schneider_refit_same_count`]: 40 (in log scale from
+/// 1e-9 to 10 times the path's sample extent, the tolerance is then found to 1 %).
+pub const SAME_COUNT_ROUNDS: usize = 40;
+
+/// The sample-and-refit baseline at the input's curve budget: each path refitted (as in
+/// [`schneider_refit`], from the same samples) with the smallest tolerance, found by bisection
+/// in log scale, at which it has at most as many curves as the input path. This is the fair
+/// comparison for methods that keep the input's curves: the same number of curves, each placed
+/// where the refit likes. Returns the refit and each path's tolerance (drawing units).
+///
+/// `options.tolerance` is not used (it must still be positive and finite); the other options
+/// are. Errors as [`schneider_refit`].
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::drawing::{Drawing, JunctionOptions, Path};
+/// use splineskin::naive::{schneider_refit_same_count, RefitOptions};
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let pts = [(0., 0.), (1., 1.), (2., 1.), (3., 0.), (4., -1.), (5., -1.), (6., 0.)];
+/// let path = Path::new(pts.map(Point::from).to_vec(), false, &JunctionOptions::default()).unwrap();
+/// let drawing = Drawing { paths: vec![path], ..Default::default() };
+/// let field = Shepard::new(&[Point::new(0.0, 0.0), Point::new(6.0, 0.0)], ShepardOptions::default());
+/// let pose = [Affine::IDENTITY, Affine::rotate_about(0.8, Point::new(6.0, 0.0))];
+/// let (refit, tolerances) = schneider_refit_same_count(&drawing, &field, &pose, &RefitOptions::default()).unwrap();
+/// assert!(refit.paths[0].n_curves() <= 2);
+/// assert!(tolerances[0] > 0.0);
+/// ```
+pub fn schneider_refit_same_count(
+    drawing: &Drawing,
+    field: &dyn WeightField,
+    pose: &[Affine],
+    options: &RefitOptions,
+) -> Result<(Refit, Vec<f64>), RefitError> {
+    check_refit_inputs(field, pose, options)?;
     let mut w = vec![0.0; pose.len()];
     let mut paths = Vec::with_capacity(drawing.paths.len());
+    let mut tolerances = Vec::with_capacity(drawing.paths.len());
     for (index, path) in drawing.paths.iter().enumerate() {
         let samples = deformed_samples(path, field, pose, options.samples_per_curve, &mut w);
         if samples.iter().any(|p| !p.is_finite()) {
             return Err(RefitError::NotFinite { path: index });
         }
-        paths.push(refit_path(path, &samples, options));
+        let extent = kurbo::Rect::from_points(samples[0], samples[0]);
+        let extent = samples
+            .iter()
+            .fold(extent, |r, p| r.union_pt(*p))
+            .size()
+            .to_vec2()
+            .hypot()
+            .max(f64::MIN_POSITIVE);
+        let budget = path.n_curves();
+        let fit = |tolerance: f64| refit_path(path, &samples, &options.with_tolerance(tolerance));
+        let (mut lo, mut hi) = ((1e-9 * extent).ln(), (10.0 * extent).ln());
+        let mut best = fit(hi.exp());
+        if best.n_curves() > budget {
+            // Not even one curve per smooth run at this tolerance: no limit at all.
+            best = fit(f64::MAX);
+            paths.push(best);
+            tolerances.push(f64::INFINITY);
+            continue;
+        }
+        let mut best_tolerance = hi.exp();
+        let low = fit(lo.exp());
+        if low.n_curves() <= budget {
+            (best, best_tolerance) = (low, lo.exp());
+        } else {
+            for _ in 0..SAME_COUNT_ROUNDS {
+                let mid = 0.5 * (lo + hi);
+                let r = fit(mid.exp());
+                if r.n_curves() <= budget {
+                    hi = mid;
+                    (best, best_tolerance) = (r, mid.exp());
+                } else {
+                    lo = mid;
+                }
+            }
+        }
+        paths.push(best);
+        tolerances.push(best_tolerance);
     }
-    Ok(Refit { paths })
+    Ok((Refit { paths }, tolerances))
 }
 
 /// `f(B_j(t))` at `t = k / m`, `k = 0..m−1`, for every curve `j`, and the path's last point:

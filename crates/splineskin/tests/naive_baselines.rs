@@ -21,8 +21,8 @@ use serde::Deserialize;
 use splineskin::drawing::Drawing;
 use splineskin::metrics::{chain_metrics, refit_metrics, ErrorFigures, MetricsOptions};
 use splineskin::naive::{
-    schneider_refit, skin_control_points, skin_on_curve_points, skin_point, skin_with_jacobian,
-    FiniteDifferences, Refit, RefitOptions,
+    schneider_refit, schneider_refit_same_count, skin_control_points, skin_on_curve_points,
+    skin_point, skin_with_jacobian, FiniteDifferences, Refit, RefitOptions,
 };
 use splineskin::scene::{Compat, Engine, Scene, AUTHORS_SHEPARD_SNAP};
 use splineskin::spline_fit::SplineRig;
@@ -469,5 +469,47 @@ fn ours_beats_the_baselines_on_the_authors_clam_and_turtles() {
             &pose,
         );
         assert_ours_best(label, &rows);
+    }
+}
+
+#[test]
+fn schneider_refit_same_count_uses_the_smallest_tolerance_within_the_budget() {
+    let (scene, drawing, weights) = demo();
+    let options = RefitOptions::default();
+    for pose in &scene.poses {
+        let (refit, tolerances) =
+            schneider_refit_same_count(&drawing, weights.as_ref(), &pose.transforms, &options)
+                .expect("refit");
+        for (p, ((path, result), &tol)) in drawing
+            .paths
+            .iter()
+            .zip(&refit.paths)
+            .zip(&tolerances)
+            .enumerate()
+        {
+            assert!(result.n_curves() <= path.n_curves(), "path {p}");
+            assert!(tol.is_finite() && tol > 0.0, "path {p}: {tol}");
+            // The path's refit at that tolerance is the result; 2 % tighter it needs more
+            // curves than the input (unless the search's floor was already within budget).
+            let at = |t: f64| {
+                schneider_refit(
+                    &drawing,
+                    weights.as_ref(),
+                    &pose.transforms,
+                    &options.with_tolerance(t),
+                )
+                .unwrap()
+                .paths[p]
+                    .clone()
+            };
+            assert_eq!(&at(tol), result, "path {p}");
+            let floor = 1e-8 * drawing.diagonal();
+            if tol > floor {
+                assert!(
+                    at(0.98 * tol).n_curves() > path.n_curves(),
+                    "path {p}: tolerance {tol} is not the smallest within the budget"
+                );
+            }
+        }
     }
 }

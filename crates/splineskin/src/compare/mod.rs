@@ -11,6 +11,7 @@
 //! | `twoendpoints` | [`naive::skin_on_curve_points`] | parametric |
 //! | `jacobian` | [`naive::skin_with_jacobian`] | parametric |
 //! | `schneider` | [`naive::schneider_refit`] (more curves) | closest point |
+//! | `schneider-same-count` | [`naive::schneider_refit_same_count`] (at most the input's curves per path) | closest point |
 //!
 //! "Parametric" is `‖R_j(t) − s_j(t)‖` at equal `t` ([`metrics::chain_metrics`]); "closest
 //! point" is the distance from `s_j(t)` to the nearest point of the refitted path
@@ -67,11 +68,14 @@ pub enum Method {
     Jacobian,
     /// Dense samples skinned and refitted by Schneider's algorithm.
     Schneider,
+    /// The same refit with, per path, the smallest tolerance that needs no more curves than
+    /// the input: the refit at the budget of the methods that keep the curves.
+    SchneiderSameCount,
 }
 
 impl Method {
     /// The method's name in tables and JSON: `ours`, `ours-flexible`, `fourcontrols`,
-    /// `twoendpoints`, `jacobian`, `schneider`.
+    /// `twoendpoints`, `jacobian`, `schneider`, `schneider-same-count`.
     pub fn name(self) -> &'static str {
         match self {
             Method::Ours => "ours",
@@ -80,13 +84,14 @@ impl Method {
             Method::TwoEndpoints => "twoendpoints",
             Method::Jacobian => "jacobian",
             Method::Schneider => "schneider",
+            Method::SchneiderSameCount => "schneider-same-count",
         }
     }
 
     /// Whether the result keeps the input's curves (measured parametrically), rather than
     /// refitting them (measured by closest point).
     pub fn keeps_structure(self) -> bool {
-        self != Method::Schneider
+        !matches!(self, Method::Schneider | Method::SchneiderSameCount)
     }
 }
 
@@ -152,6 +157,10 @@ pub struct MethodResult {
     /// Its figures against the target ([`metrics::chain_metrics`] for methods that keep the
     /// input's structure, [`metrics::refit_metrics`] for the refit).
     pub metrics: Metrics,
+    /// Its figures by closest point for every method ([`metrics::refit_metrics`]; for a refit
+    /// the same as [`MethodResult::metrics`]): the one measure all methods share, since the
+    /// refit has no parametric correspondence with the input.
+    pub closest: Metrics,
     /// Distance from the target to the result at the target samples
     /// ([`Comparison::target`]'s layout), drawing units.
     pub distances: Vec<f64>,
@@ -264,7 +273,7 @@ pub enum CompareError {
 ///     fit: Default::default(), flexible: None, pose: &pose,
 /// };
 /// let c = compare_methods(&inputs, &CompareOptions::default())?;
-/// assert_eq!(c.methods.len(), 5);
+/// assert_eq!(c.methods.len(), 6);
 /// let energy = |m| c.get(m).unwrap().metrics.overall.energy;
 /// assert!(energy(Method::Ours) < energy(Method::FourControls));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -342,29 +351,43 @@ pub fn compare_methods(
                 source,
             })?;
         let distances = parametric_distances(&result, &target, s);
+        let closest = metrics::refit_metrics(drawing, weights, pose, &result, &metrics_options)
+            .map_err(|source| CompareError::Metrics {
+                method: method.name(),
+                source,
+            })?;
         methods.push(MethodResult {
             method,
             result,
             metrics,
+            closest,
             distances,
         });
     }
     let refit_options = RefitOptions::default().with_tolerance(refit_tolerance);
     let refit = naive::schneider_refit(drawing, weights, pose, &refit_options)?;
-    check_finite(Method::Schneider, &refit)?;
-    let metrics = metrics::refit_metrics(drawing, weights, pose, &refit, &metrics_options)
-        .map_err(|source| CompareError::Metrics {
-            method: Method::Schneider.name(),
-            source,
-        })?;
+    let (same_count, _) =
+        naive::schneider_refit_same_count(drawing, weights, pose, &refit_options)?;
     let accuracy = metrics_options.nearest_accuracy * diagonal.max(f64::MIN_POSITIVE);
-    let distances = closest_distances(drawing, &refit, &target, s, accuracy);
-    methods.push(MethodResult {
-        method: Method::Schneider,
-        result: refit,
-        metrics,
-        distances,
-    });
+    for (method, refit) in [
+        (Method::Schneider, refit),
+        (Method::SchneiderSameCount, same_count),
+    ] {
+        check_finite(method, &refit)?;
+        let metrics = metrics::refit_metrics(drawing, weights, pose, &refit, &metrics_options)
+            .map_err(|source| CompareError::Metrics {
+                method: method.name(),
+                source,
+            })?;
+        let distances = closest_distances(drawing, &refit, &target, s, accuracy);
+        methods.push(MethodResult {
+            method,
+            result: refit,
+            closest: metrics.clone(),
+            metrics,
+            distances,
+        });
+    }
     Ok(Comparison {
         methods,
         target,

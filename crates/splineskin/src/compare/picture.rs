@@ -415,6 +415,7 @@ fn label_lines(comparison: &Comparison, m: &MethodResult) -> [String; 2] {
             "schneider refit (tol {}%)",
             percent(comparison.refit_tolerance / comparison.diagonal.max(f64::MIN_POSITIVE))
         ),
+        Method::SchneiderSameCount => "schneider refit (input curve count)".to_string(),
         other => other.name().to_string(),
     };
     let o = m.metrics.overall;
