@@ -109,6 +109,10 @@ pub struct Metrics {
     pub overall: ErrorFigures,
     /// The diagonal the distances are divided by (drawing units).
     pub diagonal: f64,
+    /// Every sampled distance, in drawing units (not divided by the diagonal): entry
+    /// `j · S + k` is at `t_k = k / (S − 1)` of input curve `j` (all paths in order), the
+    /// target point there being entry `j · S + k` of [`target_samples`].
+    pub distances: Vec<f64>,
 }
 
 /// An error of the metrics.
@@ -225,7 +229,7 @@ pub fn refit_metrics(
 }
 
 /// The result path's curves with their control-point boxes (each contains its curve).
-pub(crate) fn hulls(path: &RefitPath) -> Vec<(CubicBez, Rect)> {
+fn hulls(path: &RefitPath) -> Vec<(CubicBez, Rect)> {
     (0..path.n_curves())
         .map(|j| {
             let c = path.curve(j);
@@ -237,7 +241,7 @@ pub(crate) fn hulls(path: &RefitPath) -> Vec<(CubicBez, Rect)> {
 
 /// Distance from `p` to the nearest of `curves`, skipping curves whose box is farther than the
 /// best so far.
-pub(crate) fn nearest_distance(curves: &[(CubicBez, Rect)], p: Point, accuracy: f64) -> f64 {
+fn nearest_distance(curves: &[(CubicBez, Rect)], p: Point, accuracy: f64) -> f64 {
     let box_distance = |r: &Rect| {
         let dx = (r.x0 - p.x).max(p.x - r.x1).max(0.0);
         let dy = (r.y0 - p.y).max(p.y - r.y1).max(0.0);
@@ -294,6 +298,7 @@ fn measure(
     let s = options.samples_per_curve;
     let mut w = vec![0.0; h];
     let mut per_curve = Vec::with_capacity(drawing.n_curves());
+    let mut distances = Vec::with_capacity(drawing.n_curves() * s);
     let mut overall = ErrorFigures::default();
     let mut sum_sq = 0.0;
     let mut n_samples = 0usize;
@@ -307,7 +312,7 @@ fn measure(
             let mut energy = 0.0;
             for (k, (&t, &omega)) in q.t.iter().zip(q.omega).enumerate() {
                 let x = bezier::eval(&c, t);
-                let target = blend_apply(pose, &q.weights[k * h..(k + 1) * h], x);
+                let target = crate::naive::blend(pose, &q.weights[k * h..(k + 1) * h]) * x;
                 let d = distance(p, offset, j, (t, target));
                 energy += omega * d * d;
             }
@@ -320,6 +325,7 @@ fn measure(
                 let d = distance(p, offset, j, (t, target));
                 max = max.max(d);
                 sq += d * d;
+                distances.push(d);
             }
             per_curve.push(ErrorFigures {
                 energy,
@@ -341,21 +347,47 @@ fn measure(
         per_curve,
         overall,
         diagonal,
+        distances,
     })
 }
 
-/// `Σ_i w_i T_i x̄`.
-fn blend_apply(pose: &[Affine], w: &[f64], x: Point) -> Point {
-    let (mut px, mut py) = (0.0, 0.0);
-    for (t, &wi) in pose.iter().zip(w) {
-        if wi == 0.0 {
-            continue;
+/// The target where the distances are sampled: `s_j(k / (S − 1))` for every input curve `j`
+/// (all paths in order) and `k = 0 … S − 1`, at entry `j · S + k` (`S = samples_per_curve`,
+/// at least 2).
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::drawing::{Drawing, JunctionOptions, Path};
+/// use splineskin::metrics::target_samples;
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let pts = [(0.0, 0.0), (1.0, 1.0), (2.0, 1.0), (3.0, 0.0)].map(Point::from).to_vec();
+/// let drawing = Drawing {
+///     paths: vec![Path::new(pts, false, &JunctionOptions::default()).unwrap()],
+///     ..Default::default()
+/// };
+/// let field = Shepard::new(&[Point::ZERO], ShepardOptions::default());
+/// let s = target_samples(&drawing, &field, &[Affine::translate((0.0, 1.0))], 3);
+/// assert_eq!(s, [Point::new(0.0, 1.0), Point::new(1.5, 1.75), Point::new(3.0, 1.0)]);
+/// ```
+pub fn target_samples(
+    drawing: &Drawing,
+    field: &dyn WeightField,
+    pose: &[Affine],
+    samples_per_curve: usize,
+) -> Vec<Point> {
+    let s = samples_per_curve.max(2);
+    let mut w = vec![0.0; pose.len()];
+    let mut out = Vec::with_capacity(drawing.n_curves() * s);
+    for path in &drawing.paths {
+        for j in 0..path.n_curves() {
+            let c = path.curve_points(j);
+            for k in 0..s {
+                let x = bezier::eval(&c, k as f64 / (s - 1) as f64);
+                out.push(crate::naive::skin_point(field, pose, x, &mut w));
+            }
         }
-        let y = *t * x;
-        px += wi * y.x;
-        py += wi * y.y;
     }
-    Point::new(px, py)
+    out
 }
 
 #[cfg(test)]

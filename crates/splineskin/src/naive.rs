@@ -83,7 +83,7 @@ pub fn skin_point(field: &dyn WeightField, pose: &[Affine], p: Point, w: &mut [f
 }
 
 /// `Σ_i w_i T_i` (coefficient-wise: affine maps form a vector space).
-fn blend(pose: &[Affine], w: &[f64]) -> Affine {
+pub(crate) fn blend(pose: &[Affine], w: &[f64]) -> Affine {
     let mut c = [0.0; 6];
     for (t, &wi) in pose.iter().zip(w) {
         if wi == 0.0 {

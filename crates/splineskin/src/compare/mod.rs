@@ -33,7 +33,6 @@ pub use picture::{
 
 use kurbo::{Affine, Point};
 
-use crate::bezier;
 use crate::drawing::Drawing;
 use crate::metrics::{self, Metrics, MetricsError, MetricsOptions};
 use crate::naive::{self, Refit, RefitError, RefitOptions, WeightGradient};
@@ -337,7 +336,7 @@ pub fn compare_methods(
     naive::skin_with_jacobian(drawing, gradient, pose, &mut points)?;
     chains.push((Method::Jacobian, points));
 
-    let target = target_samples(drawing, weights, pose, s);
+    let target = metrics::target_samples(drawing, weights, pose, s);
     let mut methods = Vec::with_capacity(chains.len() + 1);
     for (method, points) in chains {
         let result = Refit::from_chains(drawing, &points).ok_or(PoseError::Output {
@@ -350,7 +349,7 @@ pub fn compare_methods(
                 method: method.name(),
                 source,
             })?;
-        let distances = parametric_distances(&result, &target, s);
+        let distances = metrics.distances.clone();
         let closest = metrics::refit_metrics(drawing, weights, pose, &result, &metrics_options)
             .map_err(|source| CompareError::Metrics {
                 method: method.name(),
@@ -368,7 +367,6 @@ pub fn compare_methods(
     let refit = naive::schneider_refit(drawing, weights, pose, &refit_options)?;
     let (same_count, _) =
         naive::schneider_refit_same_count(drawing, weights, pose, &refit_options)?;
-    let accuracy = metrics_options.nearest_accuracy * diagonal.max(f64::MIN_POSITIVE);
     for (method, refit) in [
         (Method::Schneider, refit),
         (Method::SchneiderSameCount, same_count),
@@ -379,7 +377,7 @@ pub fn compare_methods(
                 method: method.name(),
                 source,
             })?;
-        let distances = closest_distances(drawing, &refit, &target, s, accuracy);
+        let distances = metrics.distances.clone();
         methods.push(MethodResult {
             method,
             result: refit,
@@ -396,65 +394,6 @@ pub fn compare_methods(
         diagonal,
         refit_tolerance,
     })
-}
-
-/// `s_j(k / (S − 1))` for every curve `j` and `k = 0 … S − 1`, as the metrics sample it.
-fn target_samples(
-    drawing: &Drawing,
-    weights: &dyn WeightField,
-    pose: &[Affine],
-    s: usize,
-) -> Vec<Point> {
-    let mut w = vec![0.0; pose.len()];
-    let mut out = Vec::with_capacity(drawing.n_curves() * s);
-    for path in &drawing.paths {
-        for j in 0..path.n_curves() {
-            let c = path.curve_points(j);
-            for k in 0..s {
-                let x = bezier::eval(&c, k as f64 / (s - 1) as f64);
-                out.push(naive::skin_point(weights, pose, x, &mut w));
-            }
-        }
-    }
-    out
-}
-
-/// `‖R_j(t_k) − s_j(t_k)‖` for a result with the input's curves.
-fn parametric_distances(result: &Refit, target: &[Point], s: usize) -> Vec<f64> {
-    let mut out = Vec::with_capacity(target.len());
-    for path in &result.paths {
-        for j in 0..path.n_curves() {
-            let c = &path.points[3 * j..3 * j + 4];
-            let c = [c[0], c[1], c[2], c[3]];
-            for k in 0..s {
-                let t = k as f64 / (s - 1) as f64;
-                out.push((bezier::eval(&c, t) - target[out.len()]).hypot());
-            }
-        }
-    }
-    out
-}
-
-/// Distance from each target sample to the nearest point of its path's refit.
-fn closest_distances(
-    drawing: &Drawing,
-    refit: &Refit,
-    target: &[Point],
-    s: usize,
-    accuracy: f64,
-) -> Vec<f64> {
-    let mut out = Vec::with_capacity(target.len());
-    for (path, result) in drawing.paths.iter().zip(&refit.paths) {
-        let candidates = metrics::hulls(result);
-        for _ in 0..path.n_curves() * s {
-            out.push(metrics::nearest_distance(
-                &candidates,
-                target[out.len()],
-                accuracy,
-            ));
-        }
-    }
-    out
 }
 
 /// The handles of `handles` moved by `pose` (rig order, one map each), as drawn in the
@@ -499,6 +438,7 @@ fn check_finite(method: Method, result: &Refit) -> Result<(), CompareError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bezier;
     use crate::drawing::{read_svg, ImportOptions};
     use crate::weights::{Shepard, ShepardOptions};
 
@@ -539,11 +479,43 @@ mod tests {
                 "fourcontrols",
                 "twoendpoints",
                 "jacobian",
-                "schneider"
+                "schneider",
+                "schneider-same-count"
             ]
         );
         assert_eq!(c.target.len(), 2 * c.samples_per_curve);
+        let s = c.samples_per_curve;
         for m in &c.methods {
+            if m.method.keeps_structure() {
+                // Parametric: the distance at t_k of curve j is ‖R_j(t_k) − target[j S + k]‖.
+                for (i, &d) in m.distances.iter().enumerate() {
+                    let (j, k) = (i / s, i % s);
+                    let p = &m.result.paths[0].points[3 * j..3 * j + 4];
+                    let r = bezier::eval(&[p[0], p[1], p[2], p[3]], k as f64 / (s - 1) as f64);
+                    assert_eq!(d, (r - c.target[i]).hypot(), "{:?} sample {i}", m.method);
+                }
+            } else {
+                // Closest point: never further than the nearest of dense samples of the refit.
+                for (i, &d) in m.distances.iter().enumerate() {
+                    let dense = m.result.paths[0]
+                        .points
+                        .windows(4)
+                        .step_by(3)
+                        .flat_map(|p| {
+                            (0..=200).map(move |k| {
+                                bezier::eval(&[p[0], p[1], p[2], p[3]], f64::from(k) / 200.0)
+                            })
+                        });
+                    let sampled = dense
+                        .map(|q| (q - c.target[i]).hypot())
+                        .fold(f64::INFINITY, f64::min);
+                    assert!(
+                        d <= sampled + 1e-9 * c.diagonal,
+                        "{:?} sample {i}",
+                        m.method
+                    );
+                }
+            }
             // The largest sampled distance is the metrics' max (the same samples, the same
             // arithmetic, up to the rounding of dividing by the diagonal), and the RMS pools
             // the same squares.
