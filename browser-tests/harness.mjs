@@ -1,0 +1,167 @@
+// What every browser test shares: the Debian chromium driven by playwright-core, a static file
+// server on 127.0.0.1, the splineskin binary, and a folder for screenshots.
+//
+// Environment:
+//   SPLINESKIN_BIN        the splineskin binary (default: debug/splineskin in CARGO_TARGET_DIR,
+//                         else in <repo>/target)
+//   CHROMIUM              the browser (default: /usr/bin/chromium, the Debian package)
+//   BROWSER_TESTS_OUT     keep screenshots in this folder (default: a temporary folder, removed
+//                         when the tests pass and kept, with its path printed, when one fails)
+
+import { execFile } from 'node:child_process';
+import { existsSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
+import { readFile } from 'node:fs/promises';
+import { createServer } from 'node:http';
+import { tmpdir } from 'node:os';
+import { dirname, extname, join, resolve, sep } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+export const REPO = resolve(dirname(fileURLToPath(import.meta.url)), '..');
+
+/**
+ * Flags beyond playwright's own: no sandbox (CI runs as root), software rendering, and none of
+ * the background traffic (updates, sync, QUIC probes) that otherwise fills a machine without
+ * network access with refused connections.
+ */
+export const CHROMIUM_ARGS = [
+  '--headless',
+  '--no-sandbox',
+  '--disable-gpu',
+  '--disable-quic',
+  '--no-first-run',
+  '--disable-background-networking',
+  '--disable-component-update',
+  '--disable-sync',
+];
+
+export function chromiumPath() {
+  const path = process.env.CHROMIUM || '/usr/bin/chromium';
+  if (!existsSync(path)) {
+    throw new Error(`${path}: no chromium (apt-get install -y chromium, or set CHROMIUM)`);
+  }
+  return path;
+}
+
+/**
+ * Starts chromium with a fresh profile in a temporary folder. Returns the playwright
+ * BrowserContext (open pages with `context.newPage()`) and `close()`, which ends the browser and
+ * removes the profile. `viewport` is in CSS pixels, drawn at one device pixel each.
+ */
+export async function launchBrowser({ viewport = { width: 800, height: 600 } } = {}) {
+  const profile = mkdtempSync(join(tmpdir(), 'splineskin-chromium-'));
+  let context;
+  try {
+    context = await chromium.launchPersistentContext(profile, {
+      executablePath: chromiumPath(),
+      headless: true,
+      args: CHROMIUM_ARGS,
+      viewport,
+      deviceScaleFactor: 1,
+      timeout: 60_000,
+    });
+  } catch (error) {
+    rmSync(profile, { recursive: true, force: true });
+    throw error;
+  }
+  return {
+    context,
+    async close() {
+      await context.close();
+      rmSync(profile, { recursive: true, force: true });
+    },
+  };
+}
+
+const MIME = {
+  '.svg': 'image/svg+xml',
+  '.html': 'text/html; charset=utf-8',
+  '.js': 'text/javascript; charset=utf-8',
+  '.mjs': 'text/javascript; charset=utf-8',
+  '.css': 'text/css; charset=utf-8',
+  '.json': 'application/json',
+  '.png': 'image/png',
+  '.wasm': 'application/wasm',
+};
+
+/**
+ * Serves the files under `root` on 127.0.0.1 (a free port). Returns `url(path)` for a path
+ * relative to `root` and `close()`. Only GET of existing files under `root`; no listings.
+ */
+export async function serveFolder(root) {
+  const base = resolve(root);
+  const server = createServer(async (req, res) => {
+    const path = decodeURIComponent(new URL(req.url, 'http://localhost').pathname);
+    const file = resolve(base, `.${path}`);
+    if (req.method !== 'GET' || !(file === base || file.startsWith(base + sep))) {
+      res.writeHead(req.method === 'GET' ? 403 : 405).end();
+      return;
+    }
+    try {
+      const body = await readFile(file);
+      res.writeHead(200, {
+        'content-type': MIME[extname(file).toLowerCase()] ?? 'application/octet-stream',
+        'cache-control': 'no-store',
+      });
+      res.end(body);
+    } catch {
+      res.writeHead(404).end();
+    }
+  });
+  await new Promise((ok, fail) => server.once('error', fail).listen(0, '127.0.0.1', ok));
+  const origin = `http://127.0.0.1:${server.address().port}`;
+  return {
+    origin,
+    url: (path) => `${origin}/${path.split(sep).map(encodeURIComponent).join('/')}`,
+    close: () => new Promise((ok) => server.close(ok)),
+  };
+}
+
+export function splineskinBinary() {
+  const target = process.env.CARGO_TARGET_DIR ? resolve(REPO, process.env.CARGO_TARGET_DIR) : join(REPO, 'target');
+  const path = process.env.SPLINESKIN_BIN || join(target, 'debug', 'splineskin');
+  if (!existsSync(path)) {
+    throw new Error(`${path}: no splineskin binary (cargo build -p splineskin-cli, or set SPLINESKIN_BIN)`);
+  }
+  return path;
+}
+
+/** Runs `splineskin ARGS…` in `cwd`; resolves to its stderr, rejects with it on failure. */
+export function runSplineskin(args, { cwd } = {}) {
+  const bin = splineskinBinary();
+  return new Promise((ok, fail) => {
+    execFile(bin, args, { cwd, maxBuffer: 16 << 20 }, (error, _stdout, stderr) => {
+      if (error) {
+        fail(new Error(`splineskin ${args.join(' ')} failed (${error.code ?? error.signal}):\n${stderr}`));
+      } else {
+        ok(stderr);
+      }
+    });
+  });
+}
+
+/**
+ * A folder for one test file's outputs (screenshots, generated files): BROWSER_TESTS_OUT/name
+ * if set (kept), else a temporary folder. `finish(passed)` removes the temporary folder when
+ * everything passed and otherwise tells where it is.
+ */
+export function outputFolder(name) {
+  const keep = process.env.BROWSER_TESTS_OUT;
+  const path = keep ? resolve(keep, name) : mkdtempSync(join(tmpdir(), `splineskin-${name}-`));
+  if (keep) {
+    rmSync(path, { recursive: true, force: true });
+    mkdirSync(path, { recursive: true });
+  }
+  return {
+    path,
+    finish(passed) {
+      if (keep) {
+        console.log(`${name}: outputs in ${path}`);
+      } else if (passed) {
+        rmSync(path, { recursive: true, force: true });
+      } else {
+        console.log(`${name}: a test failed; outputs kept in ${path}`);
+      }
+    },
+  };
+}
