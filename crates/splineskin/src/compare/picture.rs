@@ -481,45 +481,16 @@ fn percent(fraction: f64) -> String {
 /// to the left.
 fn colour_bar(image: &mut Pixmap, grid: &PanelGrid, top: f64) {
     let bar = grid.colour_bar;
-    let (y0, y1) = (bar.y0 as u32, bar.y1 as u32);
-    let width = image.width() as usize;
-    let data = image.data_mut();
-    for x in (bar.x0 as u32)..(bar.x1 as u32) {
-        let c = error_colour((f64::from(x) + 0.5 - bar.x0) / bar.width());
-        for y in y0..y1 {
-            let k = 4 * (y as usize * width + x as usize);
-            data[k..k + 4].copy_from_slice(&[c[0], c[1], c[2], 255]);
-        }
-    }
-    if let Some(rect) = tiny_skia::Rect::from_ltrb(
-        bar.x0 as f32 - 0.5,
-        bar.y0 as f32 - 0.5,
-        bar.x1 as f32 + 0.5,
-        bar.y1 as f32 + 0.5,
-    ) {
-        stroke(image, &PathBuilder::from_rect(rect), BAR_LINE, 1.0);
-    }
+    strokes::fill_columns(image, (bar.x0, bar.x1), (bar.y0, bar.y1), |x| {
+        error_colour((x - bar.x0) / bar.width())
+    });
+    strokes::outline(image, (bar.x0, bar.x1), (bar.y0, bar.y1), BAR_LINE);
     let ls = grid.line_scale;
     let s = grid.glyph_scale;
     let text_top = bar.y1 + (TICK_LENGTH * ls).round() + f64::from(s) * 2.0;
     for v in [0.0, 0.5, 1.0] {
         let x = (bar.x0 + v * bar.width()).floor().min(bar.x1 - 1.0) + 0.5;
-        let mut b = PathBuilder::new();
-        b.move_to(x as f32, bar.y1 as f32);
-        b.line_to(x as f32, (bar.y1 + TICK_LENGTH * ls) as f32);
-        if let Some(path) = b.finish() {
-            let tick = Stroke {
-                width: BAR_LINE.width as f32,
-                ..Stroke::default()
-            };
-            image.stroke_path(
-                &path,
-                &paint(BAR_LINE.rgba),
-                &tick,
-                Transform::identity(),
-                None,
-            );
-        }
+        strokes::tick(image, (x, bar.y1), TICK_LENGTH * ls, BAR_LINE);
         let text = format!("{}%", percent(v * top));
         let tx = x - f64::from(glyphs::text_width(&text, s)) / 2.0;
         glyphs::draw_text(image, &text, tx.round(), text_top, s, &paint(FIGURE_TEXT));

@@ -68,3 +68,58 @@ pub fn frame(pixmap: &mut Pixmap, (x, y): (u32, u32), (w, h): (u32, u32), line: 
         stroke(pixmap, &tiny_skia::PathBuilder::from_rect(rect), line, 1.0);
     }
 }
+
+/// Fills the pixel columns `x0 .. x1` between rows `y0 .. y1` (clipped to the pixmap), each
+/// column in the opaque colour `colour(x + ½)`: a colour bar's ramp.
+pub fn fill_columns(
+    pixmap: &mut Pixmap,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+    colour: impl Fn(f64) -> [u8; 3],
+) {
+    let (w, h) = (pixmap.width(), pixmap.height());
+    let clamp = |v: f64, max: u32| (v.max(0.0) as u32).min(max);
+    let (x0, x1, y0, y1) = (clamp(x0, w), clamp(x1, w), clamp(y0, h), clamp(y1, h));
+    let width = w as usize;
+    let data = pixmap.data_mut();
+    for x in x0..x1 {
+        let c = colour(f64::from(x) + 0.5);
+        for y in y0..y1 {
+            let k = 4 * (y as usize * width + x as usize);
+            data[k..k + 4].copy_from_slice(&[c[0], c[1], c[2], 255]);
+        }
+    }
+}
+
+/// The 1-pixel outline just outside the pixel box `x0 .. x1 × y0 .. y1` in `line`.
+pub fn outline(pixmap: &mut Pixmap, (x0, x1): (f64, f64), (y0, y1): (f64, f64), line: Line) {
+    if let Some(rect) = tiny_skia::Rect::from_ltrb(
+        x0 as f32 - 0.5,
+        y0 as f32 - 0.5,
+        x1 as f32 + 0.5,
+        y1 as f32 + 0.5,
+    ) {
+        stroke(pixmap, &tiny_skia::PathBuilder::from_rect(rect), line, 1.0);
+    }
+}
+
+/// A vertical tick of `length` pixels down from `(x, y)`, butt-capped, in `line` (its
+/// nominal width, unscaled): put `x` at a pixel column's middle for a crisp 1-pixel line.
+pub fn tick(pixmap: &mut Pixmap, (x, y): (f64, f64), length: f64, line: Line) {
+    let mut b = tiny_skia::PathBuilder::new();
+    b.move_to(x as f32, y as f32);
+    b.line_to(x as f32, (y + length) as f32);
+    if let Some(path) = b.finish() {
+        let stroke = Stroke {
+            width: line.width as f32,
+            ..Stroke::default()
+        };
+        pixmap.stroke_path(
+            &path,
+            &paint(line.rgba),
+            &stroke,
+            Transform::identity(),
+            None,
+        );
+    }
+}

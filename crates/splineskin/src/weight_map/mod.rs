@@ -32,7 +32,7 @@ pub use crate::figure::colour_map;
 pub use layout::{Panel, WeightMapLayout};
 
 use kurbo::Point;
-use resvg::tiny_skia::{self, PathBuilder, Pixmap, PixmapPaint, Stroke, Transform};
+use resvg::tiny_skia::{self, PathBuilder, Pixmap, PixmapPaint, Transform};
 
 use crate::drawing::Drawing;
 use crate::figure::glyphs;
@@ -819,25 +819,11 @@ fn colour_bar(
             (x - bar.x0) / bar.width()
         }
     };
-    let (y0, y1) = (bar.y0 as u32, bar.y1 as u32);
-    let width = image.width() as usize;
-    let data = image.data_mut();
-    for x in (x_start as u32)..(x_end as u32) {
-        let c = weight_colour(value_at(f64::from(x) + 0.5));
-        for y in y0..y1 {
-            let k = 4 * (y as usize * width + x as usize);
-            data[k..k + 4].copy_from_slice(&[c[0], c[1], c[2], 255]);
-        }
-    }
+    strokes::fill_columns(image, (x_start, x_end), (bar.y0, bar.y1), |x| {
+        weight_colour(value_at(x))
+    });
     let ls = layout.line_scale;
-    if let Some(rect) = tiny_skia::Rect::from_ltrb(
-        x_start as f32 - 0.5,
-        bar.y0 as f32 - 0.5,
-        x_end as f32 + 0.5,
-        bar.y1 as f32 + 0.5,
-    ) {
-        stroke(image, &PathBuilder::from_rect(rect), BAR_LINE, 1.0);
-    }
+    strokes::outline(image, (x_start, x_end), (bar.y0, bar.y1), BAR_LINE);
     let pixel_of = |w: f64| {
         if w < 0.0 {
             bar.x0 + w / OUT_OF_RANGE_FULL * ext
@@ -847,25 +833,9 @@ fn colour_bar(
             bar.x0 + w * bar.width()
         }
     };
+    // The middle of the pixel column holding `w`: a 1 px line covers it exactly.
     let tick = |image: &mut Pixmap, w: f64, length: f64| {
-        // The middle of the pixel column holding `w`: a 1 px line covers it exactly.
-        let x = (pixel_of(w).floor() + 0.5) as f32;
-        let mut b = PathBuilder::new();
-        b.move_to(x, bar.y1 as f32);
-        b.line_to(x, (bar.y1 + length) as f32);
-        if let Some(path) = b.finish() {
-            let stroke = Stroke {
-                width: BAR_LINE.width as f32,
-                ..Stroke::default()
-            };
-            image.stroke_path(
-                &path,
-                &paint(BAR_LINE.rgba),
-                &stroke,
-                Transform::identity(),
-                None,
-            );
-        }
+        strokes::tick(image, (pixel_of(w).floor() + 0.5, bar.y1), length, BAR_LINE);
     };
     let minor = iso.unwrap_or(DEFAULT_ISO_STEP);
     let n_minor = (1.0 / minor).floor() as usize;
