@@ -2,8 +2,12 @@
 //! deformed element, a frames folder with the expected files (and PNGs), the authors' zooming
 //! animation, and errors that name the scene and the element, exit non-zero and leave nothing.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Output;
+
+use common::test_dir::TestDir;
 
 const SVG: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100">
   <path id="a" d="M10 50 C20 30 40 50 50 50 C70 50 80 30 90 50"/>
@@ -22,13 +26,8 @@ fn scene(animation: &str) -> String {
 const GOOD: &str = r#"{"fps": 10, "keyframes": [{"time": 0, "pose": [{}, {}]}, {"time": 0.3, "pose": "bend"}, {"time": 1, "pose": [{}, {"rotate": -90}]}]}"#;
 
 /// A fresh folder holding `scene.json` and `drawing.svg`.
-fn folder(name: &str, scene: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "splineskin-animate-cli-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+fn folder(name: &str, scene: &str) -> TestDir {
+    let dir = TestDir::new(&format!("splineskin-animate-cli-{name}-"));
     std::fs::write(dir.join("drawing.svg"), SVG).unwrap();
     std::fs::write(dir.join("scene.json"), scene).unwrap();
     dir

@@ -3,9 +3,12 @@
 //! mesh families also report the size of their domain (checked against `Scene::setup`), and
 //! drawings with G¹ junctions the flexible solve's medians.
 
-use std::path::PathBuf;
+mod common;
+
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use common::test_dir::TestDir;
 use serde::Deserialize;
 use splineskin::scene::{Compat, Scene};
 
@@ -27,8 +30,8 @@ struct Row {
 }
 
 /// A two-curve drawing with three point handles and the weight family `family`; the mesh
-/// families get a coarse domain so the test stays quick.
-fn scene_file(family: &str) -> PathBuf {
+/// families get a coarse domain so the test stays quick; written as `scene-FAMILY.json` in `dir`.
+fn scene_file(dir: &Path, family: &str) -> PathBuf {
     let domain = if family == "shepard" {
         ""
     } else {
@@ -41,10 +44,7 @@ fn scene_file(family: &str) -> PathBuf {
             "weights": {{"family": "{family}"}}{domain},
             "pose": [{{"rotate": 10}}, {{}}, {{"translate": [5, 5]}}]}}"#
     );
-    let path = std::env::temp_dir().join(format!(
-        "splineskin-bench-cli-{}-{family}.json",
-        std::process::id()
-    ));
+    let path = dir.join(format!("scene-{family}.json"));
     std::fs::write(&path, text).expect("write the scene");
     path
 }
@@ -68,12 +68,12 @@ fn bench_json(scene: &PathBuf) -> Row {
 
 #[test]
 fn bench_json_reports_counts_and_medians() {
+    let dir = TestDir::new("splineskin-bench-cli-");
     for family in ["shepard", "harmonic", "bbw"] {
-        let path = scene_file(family);
+        let path = scene_file(&dir, family);
         let row = bench_json(&path);
         let scene = Scene::load(&path).expect("scene");
         let setup = scene.setup(Compat::None).expect("setup");
-        std::fs::remove_file(&path).ok();
         assert_eq!(row.scene, path.display().to_string());
         assert_eq!(row.curves, setup.drawing.n_curves(), "{family}");
         assert_eq!(row.paths, setup.drawing.paths.len(), "{family}");

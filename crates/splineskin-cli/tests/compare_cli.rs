@@ -10,8 +10,12 @@
 //! * a missing scene, a pose the scene does not have and an output that is not `.png` fail
 //!   with a message naming the file, a non-zero status, and no file written.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::process::{Command, Output};
+
+use common::test_dir::TestDir;
 
 use kurbo::Affine;
 use serde::Deserialize;
@@ -54,14 +58,8 @@ struct JsonRow {
 }
 
 /// A fresh folder for one test.
-fn folder(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "splineskin-compare-cli-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn folder(name: &str) -> TestDir {
+    TestDir::new(&format!("splineskin-compare-cli-{name}-"))
 }
 
 fn run(args: &[&str]) -> Output {

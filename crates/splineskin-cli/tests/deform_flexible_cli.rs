@@ -3,8 +3,11 @@
 //! an authors' pinned joint fail cleanly, naming the scene and what was wrong, and write
 //! nothing.
 
-use std::path::PathBuf;
+mod common;
+
 use std::process::Output;
+
+use common::test_dir::TestDir;
 
 /// A drawing with a smooth (G¹) junction of unequal tangents at (50, 50).
 const SVG: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100">
@@ -12,13 +15,8 @@ const SVG: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 10
 </svg>"#;
 
 /// A fresh folder holding `scene.json` (with `scene`) and `drawing.svg`.
-fn folder(name: &str, scene: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "splineskin-flexible-cli-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+fn folder(name: &str, scene: &str) -> TestDir {
+    let dir = TestDir::new(&format!("splineskin-flexible-cli-{name}-"));
     std::fs::write(dir.join("drawing.svg"), SVG).unwrap();
     std::fs::write(dir.join("scene.json"), scene).unwrap();
     dir

@@ -5,9 +5,12 @@
 //! (the library measures 3.9e-16: tests/naive_baselines.rs). Skipped, with a message, without
 //! ../shared/data.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use common::test_dir::TestDir;
 use serde::Deserialize;
 
 /// Agreement required, as a fraction of the diagonal.
@@ -67,6 +70,7 @@ fn deform_naive_engines_reproduce_the_authors_solver() {
         return;
     };
     let cases = naive_cases(&root);
+    let dir = TestDir::new("splineskin-deform-naive-");
     let engines: std::collections::BTreeSet<&str> =
         cases.iter().map(|c| c.engine_type.as_str()).collect();
     assert_eq!(
@@ -80,11 +84,7 @@ fn deform_naive_engines_reproduce_the_authors_solver() {
             .strip_prefix("tests-and-results/")
             .expect("source under tests-and-results/");
         let scene = root.join("vectorskinning").join(source);
-        let out = std::env::temp_dir().join(format!(
-            "splineskin-deform-naive-{}-{}.json",
-            std::process::id(),
-            case.case
-        ));
+        let out = dir.join(format!("{}.json", case.case));
         let run = Command::new(env!("CARGO_BIN_EXE_splineskin"))
             .arg("deform")
             .arg(&scene)
@@ -99,7 +99,6 @@ fn deform_naive_engines_reproduce_the_authors_solver() {
             String::from_utf8_lossy(&run.stderr)
         );
         let text = std::fs::read_to_string(&out).expect("output");
-        std::fs::remove_file(&out).ok();
         let ours: Output = serde_json::from_str(&text).expect("output JSON");
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for p in case.input_paths.iter().flat_map(|p| &p.cubic_bezier_chain) {
@@ -134,8 +133,7 @@ fn deform_naive_engines_reproduce_the_authors_solver() {
 fn animate_naive_engine() {
     use kurbo::{Affine, Point};
     use splineskin::scene::{Compat, Deformer, Scene};
-    let dir = std::env::temp_dir().join(format!("splineskin-animate-naive-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = TestDir::new("splineskin-animate-naive-");
     let text = r#"{"splineskin_scene": 1, "engine": "fourcontrols",
             "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C10 10 20 10 30 0'/></svg>",
             "handles": [{"position": [0, 0]}, {"position": [30, 0]}],
@@ -159,7 +157,6 @@ fn animate_naive_engine() {
     );
     // 1 s at 4 fps: frames 0..=4; the last is the last keyframe.
     let last = std::fs::read_to_string(frames.join("frame-0004.svg")).expect("last frame");
-    std::fs::remove_dir_all(&dir).ok();
     // The path's d attribute (quoted as in the input, ' or ").
     let at = last.find(" d=").expect("a path") + 3;
     let quote = last[at..].chars().next().expect("quote");

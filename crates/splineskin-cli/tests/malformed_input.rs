@@ -13,9 +13,12 @@
 //! harness sees success and files when they happen, and [`harness_rejects_a_successful_run`]
 //! shows that the failure check itself fails on a run that succeeds.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::process::{Command, Output};
-use std::sync::atomic::{AtomicUsize, Ordering};
+
+use common::test_dir::TestDir;
 
 /// A small valid drawing: one open cubic and a closed triangle.
 const SVG: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100">
@@ -70,16 +73,8 @@ fn svg_with(d: &str, transform: Option<&str>) -> String {
 }
 
 /// A fresh, empty folder for one case.
-fn case_dir(name: &str) -> PathBuf {
-    static NEXT: AtomicUsize = AtomicUsize::new(0);
-    let n = NEXT.fetch_add(1, Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!(
-        "splineskin-malformed-{}-{n}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn case_dir(name: &str) -> TestDir {
+    TestDir::new(&format!("splineskin-malformed-{name}-"))
 }
 
 /// One run of the binary.
@@ -98,7 +93,7 @@ struct Case<'a> {
 
 impl Case<'_> {
     /// Writes the files and runs the binary in a fresh folder.
-    fn run(&self) -> (PathBuf, Output) {
+    fn run(&self) -> (TestDir, Output) {
         let dir = case_dir(self.name);
         for (name, contents) in &self.files {
             let path = dir.join(name);
@@ -171,16 +166,16 @@ impl Case<'_> {
     }
 }
 
-/// Runs every case and reports all failures at once.
+/// Runs every case and reports all failures at once. The folders of the failed cases are kept
+/// (the failed assertion keeps them as it drops them); the others are removed.
 fn run_failures(cases: Vec<Case>) {
     let mut problems = Vec::new();
+    let mut failed = Vec::new();
     for case in &cases {
         let (dir, out) = case.run();
-        match case.check_failure(&dir, &out) {
-            Ok(()) => {
-                let _ = std::fs::remove_dir_all(&dir);
-            }
-            Err(e) => problems.push(e),
+        if let Err(e) = case.check_failure(&dir, &out) {
+            problems.push(e);
+            failed.push(dir);
         }
     }
     assert!(
@@ -1138,7 +1133,6 @@ fn malformed_harness_positive_controls() {
         assert!(leftovers.is_empty(), "{name}: {leftovers:?}");
         // The failure check rejects this successful run (the harness can fail).
         assert!(case.check_failure(&dir, &out).is_err(), "{name}");
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
 
@@ -1185,7 +1179,6 @@ fn malformed_harness_rejects_bad_outcomes() {
         .check_failure(&dir, &out)
         .unwrap_err()
         .contains("lacks"));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A scene of ours with the SVG file `drawing.svg` and the members `members` (handles of any
@@ -1483,6 +1476,5 @@ fn malformed_handle_kinds_positive_controls() {
             !name.ends_with("mvc"),
             "{name}: {stdout}"
         );
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

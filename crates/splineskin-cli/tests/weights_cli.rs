@@ -10,9 +10,12 @@
 //! and clean failures on bad input — each names the file and the element, exits with status 1
 //! without panicking, and leaves no output behind.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use common::test_dir::TestDir;
 use kurbo::Point;
 use serde::Deserialize;
 use splineskin::scene::{Compat, Scene};
@@ -49,19 +52,15 @@ fn mesh_file(v: Option<&str>, f: Option<&str>, handles: &str) -> String {
     )
 }
 
-/// The folder of one run.
-fn case_path(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!(
-        "splineskin-weights-cli-{}-{name}",
-        std::process::id()
-    ))
+/// A fresh folder for one run (or, holding one folder per case, for a set of failing runs).
+fn case_dir(name: &str) -> TestDir {
+    TestDir::new(&format!("splineskin-weights-cli-{name}-"))
 }
 
-/// A fresh folder for one run.
-fn case_dir(name: &str) -> PathBuf {
-    let dir = case_path(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+/// A fresh folder `name` in `root`, for one case of a set.
+fn case_subdir(root: &Path, name: &str) -> PathBuf {
+    let dir = root.join(name);
+    std::fs::create_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
     dir
 }
 
@@ -122,17 +121,19 @@ fn check_failure(case: &Failure, dir: &Path, out: &Output, output: &str) -> Resu
 }
 
 fn run_failures(cases: Vec<Failure>) {
+    let root = case_dir("failures");
     for case in &cases {
-        case_dir(case.name);
+        case_subdir(&root, case.name);
     }
-    run_failures_in_place(cases);
+    run_failures_in_place(&root, cases);
 }
 
-/// [`run_failures`] in the case folders as they are (files written there beforehand stay).
-fn run_failures_in_place(cases: Vec<Failure>) {
+/// [`run_failures`] in the case folders `root/NAME` as they are (files written there
+/// beforehand stay).
+fn run_failures_in_place(root: &Path, cases: Vec<Failure>) {
     let mut problems = Vec::new();
     for case in &cases {
-        let dir = case_path(case.name);
+        let dir = root.join(case.name);
         if let Some(mesh) = &case.mesh {
             std::fs::write(dir.join("mesh.json"), mesh).unwrap();
         }
@@ -206,7 +207,6 @@ fn weights_cli_small_mesh_every_kind() {
             }
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The reference files themselves, as input: the output matches libigl's weights.
@@ -271,7 +271,6 @@ fn weights_cli_reads_reference_igl_files() {
             assert!(worst <= tolerance, "{shape} {kind}: max |Δ| = {worst:e}");
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -495,7 +494,6 @@ fn weights_cli_scene_shepard_panels() {
     let at = |h: Point| one.colour_at(layout.to_pixel(0, h).unwrap());
     assert_eq!(at(ARC_HANDLES[1]), Some(viridis(1.0)));
     assert_eq!(at(ARC_HANDLES[0]), Some(viridis(0.0)));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Harmonic weights (a mesh family, solved on the triangulated domain): pixels away from the
@@ -563,7 +561,6 @@ fn weights_cli_scene_harmonic_mesh_lines() {
         // The mesh has thousands of edges; nine iso-levels cross each panel.
         assert!(n_changed > 2000, "{name}: {n_changed} pixels changed");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Bones and cage vertices are handles too: a bone gets a panel after the point handles (and
@@ -600,7 +597,6 @@ fn weights_cli_scene_bones_and_cage() {
     let at = |panel: usize| image.colour_at(layout.to_pixel(panel, ARC_HANDLES[0]).unwrap());
     assert_eq!(at(0), Some(viridis(1.0)));
     assert_eq!(at(1), Some(viridis(0.0)));
-    let _ = std::fs::remove_dir_all(&dir);
 
     // A cage alone, harmonic coordinates of the caged domain: four handles, four panels.
     let dir = case_dir("scene-cage");
@@ -631,7 +627,6 @@ fn weights_cli_scene_bones_and_cage() {
         "{stderr}"
     );
     assert!(!dir.join("x.png").exists());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -699,24 +694,25 @@ fn weights_cli_scene_bad_input_fails_cleanly() {
             expect: vec!["--mesh-lines", "cannot be used with"],
         },
     ];
+    let root = case_dir("scene-failures");
     for case in &cases {
-        let dir = case_dir(case.name);
+        let dir = case_subdir(&root, case.name);
         std::fs::write(dir.join("scene.json"), &scene).unwrap();
     }
-    run_failures_in_place(cases);
+    run_failures_in_place(&root, cases);
     let bad_json = Failure {
         name: "scene-bad-json",
         mesh: None,
         args: vec!["weights", "scene.json", "-o", "w.png"],
         expect: vec!["scene.json", "line 1"],
     };
-    let dir = case_dir(bad_json.name);
+    let dir = case_subdir(&root, bad_json.name);
     std::fs::write(
         dir.join("scene.json"),
         r#"{"splineskin_scene": 1, "handles": ["#,
     )
     .unwrap();
-    run_failures_in_place(vec![bad_json]);
+    run_failures_in_place(&root, vec![bad_json]);
 }
 
 /// The failure check itself fails on a successful run (so the cases above prove something).
@@ -734,5 +730,4 @@ fn weights_cli_failure_check_rejects_success() {
     assert!(out.status.success());
     assert!(dir.join("out.json").is_file());
     assert!(check_failure(&case, &dir, &out, "out.json").is_err());
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,6 +1,9 @@
 //! SVG import: coordinates, shapes, commands, `use`, degenerate input and errors, on the
 //! fixtures in `tests/fixtures/svg/` and inline documents.
 
+mod common;
+
+use common::test_dir::TestDir;
 use kurbo::{Affine, CubicBez, ParamCurve, Point, Rect, Size};
 use splineskin::drawing::svg_in::{read_svg, read_svg_file, ImportOptions, SvgError};
 use splineskin::drawing::{Drawing, JointKind};
@@ -435,8 +438,7 @@ fn svg_import_file_errors_name_the_file() {
     let path = fixture_path("does-not-exist.svg");
     let err = read_svg_file(&path, &ImportOptions::default()).unwrap_err();
     assert!(err.to_string().contains("does-not-exist.svg"), "{err}");
-    let dir = std::env::temp_dir().join(format!("splineskin-svg-import-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = TestDir::new("splineskin-svg-import-");
     let bad = dir.join("bad.svg");
     std::fs::write(
         &bad,
@@ -453,7 +455,6 @@ fn svg_import_file_errors_name_the_file() {
         read_svg_file(&bad, &ImportOptions::default()),
         Err(SvgError::NotUtf8 { .. })
     ));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

@@ -38,3 +38,4 @@ impl Rng {
 pub mod authors_outputs;
 pub mod reference_igl;
 pub mod scene_compare;
+pub mod test_dir;

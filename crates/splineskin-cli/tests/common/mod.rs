@@ -1,0 +1,3 @@
+//! Shared helpers of the command-line tests.
+
+pub mod test_dir;
