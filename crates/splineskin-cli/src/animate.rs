@@ -10,7 +10,9 @@
 //!   `frame-0000.png`, …. The frames are written into a temporary folder beside `DIR`, which is
 //!   then renamed to `DIR`. An existing `DIR` is replaced only if it holds nothing but
 //!   `frame-*.svg`/`frame-*.png` files (an earlier run's output); otherwise it is an error and
-//!   nothing is touched.
+//!   nothing is touched. Frames are deformed and written [`FRAME_CHUNK`] at a time, so memory
+//!   does not grow with the animation's length; an animated SVG holds every frame, and is
+//!   refused above [`MAX_ANIMATED_SVG_BYTES`] (estimated) with a message saying what to do.
 
 use std::path::{Path, PathBuf};
 
@@ -109,26 +111,42 @@ pub fn run(args: Args) -> Result<()> {
             );
         }
     }
-    let frames = deform_frames(
-        &sampler,
-        &times,
-        setup.drawing.n_points(),
-        true,
-        |pose, out| {
+    let drawing = &setup.drawing;
+    let n_points = drawing.n_points();
+    // Frames `first..first + times.len()`, deformed in parallel.
+    let deform_chunk = |first: usize, times: &[f64]| -> Result<Vec<Vec<Point>>> {
+        deform_frames(&sampler, times, n_points, true, |pose, out| {
             deformer
                 .deform(&setup, pose, out)
                 .map_err(|e| anyhow::anyhow!("{e}"))
-        },
-    )
-    .map_err(|e| anyhow::anyhow!("{scene_name}: {e:#}"))?;
-
-    let drawing = &setup.drawing;
+        })
+        .map_err(|e| {
+            anyhow::anyhow!(
+                "{scene_name}: frame {} (t = {} s): {:#}",
+                first + e.frame,
+                e.time,
+                e.error
+            )
+        })
+    };
     if as_svg {
+        // Every frame is in the one file: refuse what would not fit in memory.
+        let bytes = times.len() as f64 * n_points as f64 * BYTES_PER_ANIMATED_POINT;
+        if bytes > MAX_ANIMATED_SVG_BYTES as f64 {
+            bail!(
+                "{}: {} frames of {n_points} points make an animated SVG of about {:.1} GB,                  more than the limit of {:.1} GB (expected fewer frames: lower --fps or                  --duration, or write a frames folder, which is written frame by frame)",
+                args.output.display(),
+                times.len(),
+                bytes / 1e9,
+                MAX_ANIMATED_SVG_BYTES as f64 / 1e9
+            );
+        }
+        let frames = deform_chunk(0, &times)?;
         let svg = write_animated_svg(drawing, &frames, &times)
             .with_context(|| format!("{scene_name}: writing the animated SVG"))?;
         write_atomic(&args.output, svg.as_bytes())?;
     } else {
-        write_frames(&args, &scene_name, drawing, &frames)?;
+        write_frames(&args, &scene_name, drawing, &times, deform_chunk)?;
     }
     eprintln!(
         "{scene_name}: {} curves in {} paths, {} handles, {} keyframes, {} frames at {} fps over {} s{} -> {}",
@@ -136,7 +154,7 @@ pub fn run(args: Args) -> Result<()> {
         drawing.paths.len(),
         setup.weights.n_handles(),
         animation.keyframes().len(),
-        frames.len(),
+        times.len(),
         animation.fps(),
         animation.duration(),
         if matches!(deformer, Deformer::Flexible(_)) {
@@ -191,13 +209,25 @@ fn is_frame_file(name: &str) -> bool {
         && (ext == "svg" || ext == "png")
 }
 
-/// Writes the frames into a temporary folder beside `args.output`, then renames it into place
-/// (module doc).
+/// Frames deformed at a time when writing a frames folder: 64 (memory stays that of 64 frames
+/// however long the animation).
+const FRAME_CHUNK: usize = 64;
+
+/// Bytes of animated SVG text per point and frame, for the size check: about 40 (two numbers
+/// of up to 17 significant digits and separators).
+const BYTES_PER_ANIMATED_POINT: f64 = 40.0;
+
+/// Largest animated SVG written: 2 GB (every frame is held in memory and in the one file).
+const MAX_ANIMATED_SVG_BYTES: u64 = 2_000_000_000;
+
+/// Writes the frames (deformed [`FRAME_CHUNK`] at a time by `deform_chunk(first, times)`) into
+/// a temporary folder beside `args.output`, then renames it into place (module doc).
 fn write_frames(
     args: &Args,
     scene_name: &str,
     drawing: &splineskin::drawing::Drawing,
-    frames: &[Vec<Point>],
+    times: &[f64],
+    deform_chunk: impl Fn(usize, &[f64]) -> Result<Vec<Vec<Point>>>,
 ) -> Result<()> {
     let dir = &args.output;
     let name = dir
@@ -249,8 +279,11 @@ fn write_frames(
             }
             Ok(())
         };
-        for (f, points) in frames.iter().enumerate() {
-            write_one(f, points)?;
+        for (c, chunk) in times.chunks(FRAME_CHUNK).enumerate() {
+            let first = c * FRAME_CHUNK;
+            for (k, points) in deform_chunk(first, chunk)?.iter().enumerate() {
+                write_one(first + k, points)?;
+            }
         }
         if dir.exists() {
             std::fs::rename(dir, &old).with_context(|| {

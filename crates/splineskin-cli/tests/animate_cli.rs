@@ -263,3 +263,68 @@ fn animate_cli_errors_name_scene_and_element_and_write_nothing() {
         assert_eq!(listing(&dir), ["drawing.svg", "scene.json"]);
     }
 }
+
+/// Longer than one chunk of frames: every frame is written, in order, and each frame's paths
+/// are the animated SVG's value at that frame (both are deformed from the same poses).
+#[test]
+fn animate_cli_frames_past_one_chunk_match_the_animated_svg() {
+    let dir = folder("chunks", &scene(GOOD));
+    for args in [
+        &["scene.json", "-o", "frames", "--fps", "150"][..],
+        &["scene.json", "-o", "all.svg", "--fps", "150"][..],
+    ] {
+        let out = animate(&dir, args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let frames = listing(&dir.join("frames"));
+    assert_eq!(frames.len(), 151, "0, 1/150, …, 1 s");
+    let text = std::fs::read_to_string(dir.join("all.svg")).unwrap();
+    let animated = animated_paths(&text);
+    for (f, name) in frames.iter().enumerate() {
+        assert_eq!(name, &format!("frame-{f:04}.svg"));
+        let frame = std::fs::read_to_string(dir.join("frames").join(name)).unwrap();
+        let ds: Vec<&str> = frame
+            .match_indices("<path ")
+            .map(|(i, _)| attribute(&frame[i..i + frame[i..].find('>').unwrap()], "d"))
+            .collect();
+        for (k, (_, anim)) in animated.iter().enumerate() {
+            let value = attribute(anim, "values").split(';').nth(f).unwrap();
+            assert_eq!(ds[k], value, "frame {f}, path {k}");
+        }
+    }
+}
+
+/// An animated SVG that would not fit in memory is refused before anything is computed, with
+/// the way out in the message, and nothing is written.
+#[test]
+fn animate_cli_refuses_a_huge_animated_svg() {
+    let mut d = String::from("M0 0");
+    for k in 1..=3000 {
+        d.push_str(&format!(" L{k} {}", k % 7));
+    }
+    let dir = TestDir::new("splineskin-animate-cli-huge-");
+    std::fs::write(
+        dir.join("drawing.svg"),
+        format!(r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="{d}"/></svg>"#),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("scene.json"),
+        r#"{"splineskin_scene": 1, "svg": "drawing.svg",
+  "handles": [{"position": [0, 0]}, {"position": [3000, 0]}],
+  "animation": {"fps": 1000, "keyframes": [{"time": 0, "pose": [{}, {}]}, {"time": 60, "pose": [{}, {"rotate": 30}]}]}}"#,
+    )
+    .unwrap();
+    let out = animate(&dir, &["scene.json", "-o", "huge.svg"]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("huge.svg") && err.contains("frames folder"),
+        "{err}"
+    );
+    assert_eq!(listing(&dir), ["drawing.svg", "scene.json"]);
+}
