@@ -336,7 +336,7 @@ fn compare_errors_name_the_file_and_leave_nothing() {
     let scene = dir.join("scene.json");
     std::fs::write(&scene, SCENE).unwrap();
     let png = dir.join("out.png");
-    let cases: [(Vec<String>, &str); 3] = [
+    let cases: [(Vec<String>, &str); 5] = [
         (
             vec![dir.join("missing.json").display().to_string()],
             "missing.json",
@@ -352,6 +352,21 @@ fn compare_errors_name_the_file_and_leave_nothing() {
                 dir.join("out.svg").display().to_string(),
             ],
             "out.svg: the comparison is a picture (expected a name ending in .png)",
+        ),
+        (
+            vec![
+                scene.display().to_string(),
+                "--refit-tolerance".into(),
+                "1e307".into(),
+            ],
+            "refit tolerance 1e307 (fraction of the diagonal) is not positive and finite in drawing units",
+        ),
+        (
+            vec![
+                scene.display().to_string(),
+                "--refit-tolerance=-0.5".into(),
+            ],
+            "refit tolerance -5e-1",
         ),
     ];
     for (args, expected) in cases {

@@ -214,8 +214,11 @@ pub enum CompareError {
     /// The refit failed.
     #[error("schneider: {0}")]
     Refit(#[from] RefitError),
-    /// The refit tolerance is not a positive finite fraction of the diagonal.
-    #[error("refit tolerance {0} (fraction of the diagonal) is not positive and finite")]
+    /// The refit tolerance is not a positive fraction of the diagonal that is finite in
+    /// drawing units.
+    #[error(
+        "refit tolerance {0:e} (fraction of the diagonal) is not positive and finite in drawing units"
+    )]
     RefitTolerance(f64),
     /// The metrics cannot be computed.
     #[error("{method}: metrics: {source}")]
@@ -297,11 +300,11 @@ pub fn compare_methods(
         .into());
     }
     let tolerance = options.refit_tolerance;
-    if !(tolerance.is_finite() && tolerance > 0.0) {
-        return Err(CompareError::RefitTolerance(tolerance));
-    }
     let diagonal = drawing.diagonal();
     let refit_tolerance = tolerance * diagonal.max(f64::MIN_POSITIVE);
+    if !(tolerance > 0.0 && refit_tolerance.is_finite() && refit_tolerance > 0.0) {
+        return Err(CompareError::RefitTolerance(tolerance));
+    }
     let metrics_options = options.metrics;
     let s = metrics_options.samples_per_curve.max(2);
 
