@@ -26,6 +26,7 @@ pub mod naive;
 pub mod render;
 pub mod scene;
 pub mod spline_fit;
+pub mod subdiv;
 pub mod weight_map;
 pub mod weights;
 
