@@ -1,11 +1,46 @@
 //! Catmull–Clark subdivision surfaces with OpenSubdiv 3 semantics (DESIGN.md §3).
 //!
-//! A [`Cage`] is a control mesh with OpenSubdiv's subdivision tags (creases, corners, holes),
-//! read from and written to OBJ with [`read_obj`] and [`write_obj`].
+//! A [`Cage`] (read from OBJ with [`read_obj`], tags included) is refined and evaluated with the
+//! rules of Pixar's OpenSubdiv, with these fixed options (those of the references in
+//! `../shared/data/subdiv/reference`):
+//!
+//! | option | value |
+//! |---|---|
+//! | scheme | Catmark (`Sdc::SCHEME_CATMARK`); triangles and n-gons by the ordinary rules (`TRI_SUB_CATMARK`): centroid face point, n quads |
+//! | boundaries | `VTX_BOUNDARY_EDGE_AND_CORNER`: boundary edges are infinitely sharp creases, a boundary vertex with one face is an infinitely sharp corner |
+//! | creases | `CREASE_UNIFORM`: sharpness decreases by one per level; semi-sharp transitions blend the masks |
+//! | non-manifold | edges with more than two faces are infinitely sharp, as in OpenSubdiv |
+//!
+//! Option tags in the OBJ (`interpolateboundary`, `creasemethod`, …) are kept but not applied.
+//!
+//! | what | where |
+//! |---|---|
+//! | cage, tags, OBJ in/out | [`Cage`], [`read_obj`], [`write_obj`] |
+//! | uniform refinement, `f64` stencils over the cage | [`refine_uniform`], [`StencilTable`] |
+//! | limit stencils at `(face, u, v)` (the paper's `m_p`) and at cage vertices | [`LimitSurface`], [`LimitStencil`], [`VertexLimit`] |
+//!
+//! Topology (levels, sharpness and its decay, vertex rules, sparse adaptive levels) comes from
+//! the `opensubdiv-rs` port of OpenSubdiv's `Far`/`Vtr`/`Sdc` layers; every weight is computed
+//! here in `f64` (the port's weights are `f32`, about 1e-7 relative): the refinement masks in
+//! `masks.rs`, regular B-spline patches in `regular_patch.rs`.
 mod cage;
-mod obj;
+mod error;
+mod hierarchy;
+pub mod limit;
+mod masks;
+pub mod obj;
+mod regular_patch;
+mod stencil;
+mod uniform;
 
 pub use cage::{
     Cage, CageError, CornerTag, CreaseTag, OtherTag, Point3, SubdivTags, SHARPNESS_INFINITE,
 };
+pub use error::SubdivError;
+pub use limit::{
+    LimitOptions, LimitSurface, SurfaceLocation, VertexLimit, DEFAULT_ISOLATION_LEVEL,
+    MAX_ISOLATION_LEVEL,
+};
 pub use obj::{parse_obj, read_obj, to_obj_string, write_obj, ObjError, MAX_OBJ_BYTES};
+pub use stencil::{LimitStencil, StencilTable};
+pub use uniform::{refine_uniform, UniformLevel, UniformRefinement, MAX_UNIFORM_LEVEL};

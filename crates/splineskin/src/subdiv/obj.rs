@@ -122,7 +122,7 @@ pub enum ObjError {
     },
 }
 
-/// Reads the cage in the OBJ file `path` (see the [module documentation](self) for the
+/// Reads the cage in the OBJ file `path` (see the [module documentation](crate::subdiv::obj) for the
 /// dialect).
 ///
 /// ```no_run

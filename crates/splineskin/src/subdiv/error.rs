@@ -1,0 +1,71 @@
+//! Errors of refinement and limit evaluation.
+
+/// Why a cage cannot be refined, or a limit value cannot be given. Elements are named by their
+/// 0-based index in the cage.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SubdivError {
+    /// `opensubdiv-rs` refused the topology.
+    #[error("cannot build the subdivision topology: {what}")]
+    Topology {
+        /// Its message.
+        what: String,
+    },
+    /// A refinement level out of the supported range.
+    #[error("refinement level {level}; expected 1..={max}")]
+    BadLevel {
+        /// The level asked for.
+        level: usize,
+        /// The deepest supported level.
+        max: usize,
+    },
+    /// A surface location names a face or sub-face that does not exist, or `(u, v)` outside
+    /// `[0, 1]²`.
+    #[error("location face {face}, sub-face {subface}, (u, v) = ({u}, {v}): {what}")]
+    BadLocation {
+        /// The face.
+        face: u32,
+        /// The sub-face.
+        subface: u32,
+        /// The u parameter.
+        u: f64,
+        /// The v parameter.
+        v: f64,
+        /// What is wrong and what was expected.
+        what: String,
+    },
+    /// The location is on a hole face, which has no limit surface.
+    #[error("face {face} is a hole: it has no limit surface")]
+    InHole {
+        /// The face.
+        face: u32,
+    },
+    /// A vertex used by no face has no limit point.
+    #[error("vertex {vertex} belongs to no face: it has no limit point")]
+    NoSurface {
+        /// The vertex.
+        vertex: u32,
+    },
+    /// The location is within `2^-isolation` (in its face's parameters) of an irregular
+    /// feature that adaptive refinement does not resolve at the chosen isolation level.
+    #[error("location face {face}, sub-face {subface}, (u, v) = ({u}, {v}) lies next to an irregular feature that isolation level {isolation} does not resolve")]
+    Unresolved {
+        /// The face.
+        face: u32,
+        /// The sub-face.
+        subface: u32,
+        /// The u parameter.
+        u: f64,
+        /// The v parameter.
+        v: f64,
+        /// The isolation level used.
+        isolation: usize,
+    },
+    /// A refinement step produced something inconsistent: a bug in splineskin or in
+    /// `opensubdiv-rs`.
+    #[error("internal error (a bug, please report it): {what}")]
+    Internal {
+        /// What went wrong.
+        what: String,
+    },
+}

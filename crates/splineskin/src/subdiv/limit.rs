@@ -1,0 +1,531 @@
+//! The limit surface: limit stencils at arbitrary surface locations and at the cage vertices,
+//! in `f64`.
+//!
+//! # Method
+//!
+//! The cage is refined feature-adaptively by `opensubdiv-rs` (`RefineAdaptive`: only faces
+//! next to irregular features — extraordinary vertices, non-quads, semi-sharp creases, darts,
+//! irregular sharp features — are split, with their one-ring, down to the isolation level).
+//! A location `(face, u, v)` is followed down that hierarchy, quadrant by quadrant, until it
+//! lies in a face whose neighbourhood is regular; there the surface is exactly the bicubic
+//! B-spline patch of the face's 4×4 grid (`regular_patch.rs`), evaluated
+//! in `f64` and carried back to the cage vertices through the refinement masks
+//! (`masks.rs`), also in `f64`. The result is the **exact** limit surface (to
+//! rounding), like OpenSubdiv's regular patches — no approximation is made anywhere.
+//!
+//! A location within `2^-isolation` (in its face's parameters) of an irregular feature that
+//! never becomes regular — an extraordinary vertex, a dart, the centre of an n-gon — has no
+//! regular face around it at any depth; for those [`LimitSurface::stencil`] returns
+//! [`SubdivError::Unresolved`] rather than an approximation (OpenSubdiv would use a Gregory
+//! end cap there). With the default isolation ([`DEFAULT_ISOLATION_LEVEL`]) that region is a
+//! square of side `2^-10` at such corners. Exactly *at* a cage vertex use
+//! [`LimitSurface::vertex_limit`].
+//!
+//! Vertex limits use the limit masks (`masks.rs`) at the first level
+//! where the vertex has only quads around it and no semi-sharp feature left; they are exact
+//! except at darts and interior valence-2 vertices, whose Sdc masks are approximations
+//! ([`VertexLimit::exact`] is then `false`).
+//!
+//! # Parameterisation (OpenSubdiv's ptex faces)
+//!
+//! A quad face has one parametric square: `(u, v) = (0,0)` at its vertex 0, `(1,0)` at vertex
+//! 1, `(1,1)` at vertex 2, `(0,1)` at vertex 3. A face with `n ≠ 4` vertices has `n`
+//! sub-faces; sub-face `j` is the quad of the first refinement at its vertex `j`, with
+//! `(0,0)` at vertex `j`, `(1,0)` at the edge point towards vertex `j + 1`, `(1,1)` at the face
+//! point, `(0,1)` at the edge point towards vertex `j − 1`. Derivatives are with respect to
+//! these `(u, v)`.
+
+use super::cage::{Cage, Point3};
+use super::error::SubdivError;
+use super::hierarchy::{Hierarchy, Refine};
+use super::masks::{self, LimitExactness, Origin, Weights};
+use super::regular_patch::{bspline_basis, regular_grid};
+use super::stencil::LimitStencil;
+use opensubdiv_rs::INDEX_INVALID;
+
+/// The isolation level of [`LimitOptions`] by default: 10, OpenSubdiv's maximum, as used for
+/// the reference data. Semi-sharp creases of sharpness up to 9 resolve before it, and only
+/// locations within `2^-10` of an extraordinary vertex stay unresolved.
+pub const DEFAULT_ISOLATION_LEVEL: usize = 10;
+
+/// The deepest isolation level (`Far::AdaptiveOptions::MAX_ISOLATION_LEVEL`).
+pub const MAX_ISOLATION_LEVEL: usize = 10;
+
+/// Options of [`LimitSurface::new`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct LimitOptions {
+    /// How deep feature-adaptive refinement isolates irregular features (1..=10). Deeper
+    /// resolves locations closer to extraordinary vertices and semi-sharp creases of higher
+    /// sharpness, at the cost of more refined vertices. Default: [`DEFAULT_ISOLATION_LEVEL`].
+    pub isolation_level: usize,
+}
+
+impl Default for LimitOptions {
+    fn default() -> Self {
+        LimitOptions {
+            isolation_level: DEFAULT_ISOLATION_LEVEL,
+        }
+    }
+}
+
+impl LimitOptions {
+    /// Sets [`LimitOptions::isolation_level`].
+    pub fn with_isolation_level(mut self, level: usize) -> Self {
+        self.isolation_level = level;
+        self
+    }
+}
+
+/// A point of the surface's parameter domain: a cage face, the sub-face for non-quads
+/// (`0` for quads), and `(u, v) ∈ [0, 1]²` (module documentation: parameterisation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceLocation {
+    /// The cage face.
+    pub face: u32,
+    /// The sub-face (`0..n` for an n-gon, `0` for a quad).
+    pub subface: u32,
+    /// First parameter.
+    pub u: f64,
+    /// Second parameter.
+    pub v: f64,
+}
+
+/// The limit point of a cage vertex as weights over the cage vertices.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VertexLimit {
+    /// Control vertex indices, increasing.
+    pub indices: Vec<u32>,
+    /// Their weights (summing to 1).
+    pub weights: Vec<f64>,
+    /// `false` at darts and interior valence-2 vertices, where the mask is OpenSubdiv's
+    /// (Sdc's) approximation rather than the limit.
+    pub exact: bool,
+}
+
+impl VertexLimit {
+    /// The limit point for the cage positions `control`.
+    pub fn position(&self, control: &[Point3]) -> Point3 {
+        super::stencil::combine(&self.indices, &self.weights, control)
+    }
+}
+
+/// Limit-surface evaluation of one cage topology (module documentation). Built once per
+/// topology; the stencils it returns do not depend on positions, so a deformed cage reuses
+/// them.
+///
+/// ```
+/// use splineskin::subdiv::{parse_obj, LimitOptions, LimitSurface, SurfaceLocation};
+///
+/// // A 3×3 grid of quads: the middle face is regular, a bicubic B-spline patch.
+/// let mut text = String::new();
+/// for j in 0..4 { for i in 0..4 { text += &format!("v {i} {j} 0\n"); } }
+/// for j in 0..3 { for i in 0..3 {
+///     let a = 4 * j + i + 1;
+///     text += &format!("f {} {} {} {}\n", a, a + 1, a + 5, a + 4);
+/// } }
+/// let cage = parse_obj(&text, "grid.obj")?;
+/// let surface = LimitSurface::new(&cage, &LimitOptions::default())?;
+/// let stencil = surface.stencil(SurfaceLocation { face: 4, subface: 0, u: 0.5, v: 0.5 })?;
+/// let p = stencil.position(cage.positions());
+/// assert!((p[0] - 1.5).abs() < 1e-14 && (p[1] - 1.5).abs() < 1e-14);
+/// let (du, _) = stencil.derivatives(cage.positions());
+/// assert!((du[0] - 1.0).abs() < 1e-14);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct LimitSurface {
+    hierarchy: Hierarchy,
+    isolation: usize,
+    /// First ptex index of every face (1 per quad, n per n-gon).
+    ptex_first: Vec<u32>,
+}
+
+impl LimitSurface {
+    /// Refines `cage` adaptively for limit evaluation.
+    pub fn new(cage: &Cage, options: &LimitOptions) -> Result<Self, SubdivError> {
+        let isolation = options.isolation_level;
+        if isolation == 0 || isolation > MAX_ISOLATION_LEVEL {
+            return Err(SubdivError::BadLevel {
+                level: isolation,
+                max: MAX_ISOLATION_LEVEL,
+            });
+        }
+        let hierarchy = Hierarchy::new(cage, Refine::Adaptive(isolation))?;
+        let mut ptex_first = Vec::with_capacity(cage.n_faces());
+        let mut next = 0u32;
+        for n in cage.face_sizes() {
+            ptex_first.push(next);
+            next += if n == 4 { 1 } else { n as u32 };
+        }
+        Ok(LimitSurface {
+            hierarchy,
+            isolation,
+            ptex_first,
+        })
+    }
+
+    /// The number of refined vertices over all levels (a measure of the work done).
+    pub fn n_refined_vertices(&self) -> usize {
+        (0..=self.hierarchy.max_level())
+            .map(|l| self.hierarchy.level(l).num_vertices())
+            .sum()
+    }
+
+    /// The first ptex face index of every cage face (OpenSubdiv's `PtexIndices`).
+    pub fn ptex_first(&self) -> &[u32] {
+        &self.ptex_first
+    }
+
+    /// The limit stencil (position and derivative weights over the cage vertices) at `at`.
+    pub fn stencil(&self, at: SurfaceLocation) -> Result<LimitStencil, SubdivError> {
+        let h = &self.hierarchy;
+        let base = h.level(0);
+        let bad = |what: &str| SubdivError::BadLocation {
+            face: at.face,
+            subface: at.subface,
+            u: at.u,
+            v: at.v,
+            what: what.to_owned(),
+        };
+        if at.face as usize >= base.num_faces() {
+            return Err(bad(&format!("expected a face < {}", base.num_faces())));
+        }
+        if !(0.0..=1.0).contains(&at.u) || !(0.0..=1.0).contains(&at.v) {
+            return Err(bad("expected u and v in [0, 1]"));
+        }
+        if base.is_face_hole(at.face as usize) {
+            return Err(SubdivError::InHole { face: at.face });
+        }
+        let fv = base.face_vertices(at.face as usize);
+        let n = fv.len();
+        // The ptex root: the face itself for a quad, the level-1 child at corner `subface`
+        // otherwise.
+        let (mut level, mut face, mut frame) = if n == 4 {
+            if at.subface != 0 {
+                return Err(bad("a quad has only sub-face 0"));
+            }
+            (0, at.face, [fv[0], fv[1], fv[2], fv[3]])
+        } else {
+            let j = at.subface as usize;
+            if j >= n {
+                return Err(bad(&format!("expected a sub-face < {n} for this {n}-gon")));
+            }
+            let f = at.face as usize;
+            if h.max_level() == 0 {
+                return Err(self.unresolved(at));
+            }
+            let r = h.refiner.refinement(1);
+            let edges = base.face_edges(f);
+            let frame = [
+                r.vertex_child_vertex(fv[j] as usize),
+                r.edge_child_vertex(edges[j] as usize),
+                r.face_child_vertex(f),
+                r.edge_child_vertex(edges[(j + n - 1) % n] as usize),
+            ];
+            let child = child_face(h.level(1), frame).ok_or_else(|| self.unresolved(at))?;
+            (1, child, frame)
+        };
+        let (mut s, mut t) = (at.u, at.v);
+        let mut scale = 1.0;
+        loop {
+            let lv = h.level(level);
+            if let Some(grid) = regular_grid(lv, face as usize, frame) {
+                if grid
+                    .iter()
+                    .all(|p| p.iter().all(|&(v, _)| h.is_valid(level, v)))
+                {
+                    return Ok(self.patch_stencil(level, &grid, s, t, scale));
+                }
+            }
+            if level == h.max_level() {
+                return Err(self.unresolved(at));
+            }
+            let r = h.refiner.refinement(level + 1);
+            let vc = frame.map(|v| r.vertex_child_vertex(v as usize));
+            let ec: Vec<u32> = (0..4)
+                .map(|k| {
+                    lv.find_edge(frame[k], frame[(k + 1) % 4])
+                        .map_or(INDEX_INVALID, |e| r.edge_child_vertex(e as usize))
+                })
+                .collect();
+            let fc = r.face_child_vertex(face as usize);
+            // Quadrant k holds the corner k of the frame; its frame keeps the orientation.
+            let (right, top) = (s >= 0.5, t >= 0.5);
+            let sub = match (right, top) {
+                (false, false) => [vc[0], ec[0], fc, ec[3]],
+                (true, false) => [ec[0], vc[1], ec[1], fc],
+                (true, true) => [fc, ec[1], vc[2], ec[2]],
+                (false, true) => [ec[3], fc, ec[2], vc[3]],
+            };
+            if sub.contains(&INDEX_INVALID) {
+                return Err(self.unresolved(at));
+            }
+            let child = child_face(h.level(level + 1), sub).ok_or_else(|| self.unresolved(at))?;
+            s = if right { 2.0 * s - 1.0 } else { 2.0 * s };
+            t = if top { 2.0 * t - 1.0 } else { 2.0 * t };
+            scale *= 2.0;
+            level += 1;
+            face = child;
+            frame = sub;
+        }
+    }
+
+    fn unresolved(&self, at: SurfaceLocation) -> SubdivError {
+        SubdivError::Unresolved {
+            face: at.face,
+            subface: at.subface,
+            u: at.u,
+            v: at.v,
+            isolation: self.isolation,
+        }
+    }
+
+    /// The B-spline patch of `grid` (over vertices of `level`) at `(s, t)`, carried to the
+    /// cage; `scale` is `d(s,t)/d(u,v)`.
+    fn patch_stencil(
+        &self,
+        level: usize,
+        grid: &[Vec<(u32, f64)>; 16],
+        s: f64,
+        t: f64,
+        scale: f64,
+    ) -> LimitStencil {
+        let (bs, ds) = bspline_basis(s);
+        let (bt, dt) = bspline_basis(t);
+        let h = &self.hierarchy;
+        let mut scratch = Weights::new();
+        let mut one = |f: &dyn Fn(usize, usize) -> f64| -> Weights {
+            let mut w = Weights::new();
+            for j in 0..4 {
+                for i in 0..4 {
+                    let c = f(i, j);
+                    w.extend(grid[4 * j + i].iter().map(|&(v, x)| (v, c * x)));
+                }
+            }
+            h.to_base(level, &mut w, &mut scratch);
+            w
+        };
+        let pos = one(&|i, j| bs[i] * bt[j]);
+        let du = one(&|i, j| scale * ds[i] * bt[j]);
+        let dv = one(&|i, j| scale * bs[i] * dt[j]);
+        align(pos, du, dv)
+    }
+
+    /// The limit point of cage vertex `vertex` as weights over the cage vertices.
+    pub fn vertex_limit(&self, vertex: u32) -> Result<VertexLimit, SubdivError> {
+        let h = &self.hierarchy;
+        if vertex as usize >= h.level(0).num_vertices() {
+            return Err(SubdivError::BadLocation {
+                face: u32::MAX,
+                subface: 0,
+                u: 0.0,
+                v: 0.0,
+                what: format!("vertex {vertex} out of range"),
+            });
+        }
+        if h.level(0).vertex_faces(vertex as usize).is_empty() {
+            return Err(SubdivError::NoSurface { vertex });
+        }
+        let mut v = vertex;
+        let mut mask = Weights::new();
+        for level in 0..=h.max_level() {
+            let lv = h.level(level);
+            if let Some(exactness) = masks::limit_mask(&h.crease, lv, v as usize, &mut mask) {
+                if mask.iter().all(|&(x, _)| h.is_valid(level, x)) {
+                    let mut scratch = Weights::new();
+                    h.to_base(level, &mut mask, &mut scratch);
+                    let (indices, weights) = mask.into_iter().unzip();
+                    return Ok(VertexLimit {
+                        indices,
+                        weights,
+                        exact: exactness == LimitExactness::Exact,
+                    });
+                }
+            }
+            if level == h.max_level() {
+                break;
+            }
+            let child = h
+                .refiner
+                .refinement(level + 1)
+                .vertex_child_vertex(v as usize);
+            if child == INDEX_INVALID {
+                break;
+            }
+            debug_assert_eq!(h.origin(level + 1, child), Origin::Vertex(v));
+            v = child;
+        }
+        Err(SubdivError::Unresolved {
+            face: u32::MAX,
+            subface: 0,
+            u: 0.0,
+            v: 0.0,
+            isolation: self.isolation,
+        })
+    }
+
+    /// Evaluates position and derivatives at `at` for the cage positions `control`.
+    pub fn evaluate(
+        &self,
+        control: &[Point3],
+        at: SurfaceLocation,
+    ) -> Result<(Point3, Point3, Point3), SubdivError> {
+        let st = self.stencil(at)?;
+        let (du, dv) = st.derivatives(control);
+        Ok((st.position(control), du, dv))
+    }
+}
+
+/// The face of `level` whose corners are the four vertices of `frame` (in any rotation or
+/// orientation).
+fn child_face(level: opensubdiv_rs::far::TopologyLevel<'_>, frame: [u32; 4]) -> Option<u32> {
+    level
+        .vertex_faces(frame[0] as usize)
+        .iter()
+        .copied()
+        .find(|&f| {
+            let fv = level.face_vertices(f as usize);
+            fv.len() == 4 && frame.iter().all(|v| fv.contains(v))
+        })
+}
+
+/// Puts three weight lists (each sorted by vertex) on one common index list.
+fn align(pos: Weights, du: Weights, dv: Weights) -> LimitStencil {
+    let mut indices: Vec<u32> = pos.iter().chain(&du).chain(&dv).map(|&(v, _)| v).collect();
+    indices.sort_unstable();
+    indices.dedup();
+    let spread = |w: &Weights| {
+        let mut out = vec![0.0; indices.len()];
+        for &(v, x) in w {
+            if let Ok(k) = indices.binary_search(&v) {
+                out[k] = x;
+            }
+        }
+        out
+    };
+    LimitStencil {
+        weights: spread(&pos),
+        du_weights: spread(&du),
+        dv_weights: spread(&dv),
+        indices,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::subdiv::parse_obj;
+
+    /// A unit cube: every vertex extraordinary (valence 3); face 5 is a hole in `holed`.
+    const CUBE: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+                        f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+
+    fn cube() -> (Cage, LimitSurface) {
+        let cage = parse_obj(CUBE, "cube.obj").unwrap();
+        let surface = LimitSurface::new(&cage, &LimitOptions::default()).unwrap();
+        (cage, surface)
+    }
+
+    #[test]
+    fn limit_stencil_weights_and_finite_differences() {
+        let (cage, surface) = cube();
+        let p = cage.positions();
+        // Step of the central differences, in (u, v): small against the patch size near the
+        // corner (2^-6 at u = 0.03), large against rounding.
+        const H: f64 = 1e-6;
+        for &(face, u, v) in &[
+            (0, 0.5, 0.5),
+            (1, 0.03, 0.9),
+            (3, 0.71, 0.02),
+            (5, 0.25, 0.6),
+        ] {
+            let at = SurfaceLocation {
+                face,
+                subface: 0,
+                u,
+                v,
+            };
+            let st = surface.stencil(at).unwrap();
+            assert!((st.weights.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+            assert!(st.du_weights.iter().sum::<f64>().abs() < 1e-12);
+            assert!(st.dv_weights.iter().sum::<f64>().abs() < 1e-12);
+            let (du, dv) = st.derivatives(p);
+            let eval = |u: f64, v: f64| {
+                surface
+                    .stencil(SurfaceLocation {
+                        face,
+                        subface: 0,
+                        u,
+                        v,
+                    })
+                    .unwrap()
+                    .position(p)
+            };
+            let (a, b) = (eval(u + H, v), eval(u - H, v));
+            let (c, d) = (eval(u, v + H), eval(u, v - H));
+            for k in 0..3 {
+                assert!(
+                    ((a[k] - b[k]) / (2.0 * H) - du[k]).abs() < 1e-6,
+                    "du at {at:?}"
+                );
+                assert!(
+                    ((c[k] - d[k]) / (2.0 * H) - dv[k]).abs() < 1e-6,
+                    "dv at {at:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn limit_vertex_limit_of_valence_three() {
+        let (cage, surface) = cube();
+        // (n²·v + 4·Σ edge neighbours + Σ diagonals) / (n(n + 5)), n = 3, at vertex 0 = origin:
+        // per coordinate one edge neighbour and two of the three diagonals are at 1, so
+        // (9·0 + 4·1 + 2) / 24 = 1/4.
+        let limit = surface.vertex_limit(0).unwrap();
+        assert!(limit.exact);
+        let got = limit.position(cage.positions());
+        for c in got {
+            assert!((c - 0.25).abs() < 1e-15, "{got:?}");
+        }
+    }
+
+    #[test]
+    fn limit_errors_name_the_location() {
+        let (_, surface) = cube();
+        let at = |face, subface, u, v| SurfaceLocation {
+            face,
+            subface,
+            u,
+            v,
+        };
+        // At an extraordinary corner no regular face ever contains the location.
+        assert!(matches!(
+            surface.stencil(at(0, 0, 0.0, 0.0)),
+            Err(SubdivError::Unresolved {
+                face: 0,
+                isolation: 10,
+                ..
+            })
+        ));
+        assert!(matches!(
+            surface.stencil(at(6, 0, 0.5, 0.5)),
+            Err(SubdivError::BadLocation { .. })
+        ));
+        assert!(matches!(
+            surface.stencil(at(0, 1, 0.5, 0.5)),
+            Err(SubdivError::BadLocation { .. })
+        ));
+        assert!(matches!(
+            surface.stencil(at(0, 0, 1.5, 0.5)),
+            Err(SubdivError::BadLocation { .. })
+        ));
+        let holed = parse_obj(&format!("{CUBE}t hole 1/0/0 5\n"), "holed.obj").unwrap();
+        let surface = LimitSurface::new(&holed, &LimitOptions::default()).unwrap();
+        assert_eq!(
+            surface.stencil(at(5, 0, 0.5, 0.5)),
+            Err(SubdivError::InHole { face: 5 })
+        );
+        assert!(surface.stencil(at(4, 0, 0.5, 0.5)).is_ok());
+    }
+}
