@@ -61,6 +61,12 @@ pub enum SubdivError {
         /// The isolation level used.
         isolation: usize,
     },
+    /// Quadrature options out of range.
+    #[error("quadrature: {what}")]
+    BadQuadrature {
+        /// What is wrong and what was expected.
+        what: String,
+    },
     /// A refinement step produced something inconsistent: a bug in splineskin or in
     /// `opensubdiv-rs`.
     #[error("internal error (a bug, please report it): {what}")]

@@ -171,6 +171,36 @@ impl LimitSurface {
             .sum()
     }
 
+    /// Number of cage vertices (the length of the position arrays stencils apply to).
+    pub fn n_control(&self) -> usize {
+        self.hierarchy.level(0).num_vertices()
+    }
+
+    /// Number of cage faces.
+    pub fn n_faces(&self) -> usize {
+        self.hierarchy.level(0).num_faces()
+    }
+
+    /// Is cage face `face` a hole (no surface)?
+    ///
+    /// # Panics
+    /// If `face >= n_faces()`.
+    pub fn is_hole(&self, face: u32) -> bool {
+        self.hierarchy.level(0).is_face_hole(face as usize)
+    }
+
+    /// The number of parametric sub-faces of cage face `face`: 1 for a quad, `n` for an
+    /// n-gon.
+    ///
+    /// # Panics
+    /// If `face >= n_faces()`.
+    pub fn n_subfaces(&self, face: u32) -> u32 {
+        match self.hierarchy.level(0).face_vertices(face as usize).len() {
+            4 => 1,
+            n => n as u32,
+        }
+    }
+
     /// The first ptex face index of every cage face (OpenSubdiv's `PtexIndices`).
     pub fn ptex_first(&self) -> &[u32] {
         &self.ptex_first

@@ -18,6 +18,7 @@
 //! | cage, tags, OBJ in/out | [`Cage`], [`read_obj`], [`write_obj`] |
 //! | uniform refinement, `f64` stencils over the cage | [`refine_uniform`], [`StencilTable`] |
 //! | limit stencils at `(face, u, v)` (the paper's `m_p`) and at cage vertices | [`LimitSurface`], [`LimitStencil`], [`VertexLimit`] |
+//! | Gauss nodes per face and the fit's Gram matrices `Â`, `∫ f m mᵀ` | [`LimitQuadrature`] |
 //!
 //! Topology (levels, sharpness and its decay, vertex rules, sparse adaptive levels) comes from
 //! the `opensubdiv-rs` port of OpenSubdiv's `Far`/`Vtr`/`Sdc` layers; every weight is computed
@@ -29,6 +30,7 @@ mod hierarchy;
 pub mod limit;
 mod masks;
 pub mod obj;
+mod quadrature;
 mod regular_patch;
 mod stencil;
 mod uniform;
@@ -42,5 +44,6 @@ pub use limit::{
     MAX_ISOLATION_LEVEL,
 };
 pub use obj::{parse_obj, read_obj, to_obj_string, write_obj, ObjError, MAX_OBJ_BYTES};
+pub use quadrature::{LimitQuadrature, QuadratureNode, DEFAULT_GAUSS_POINTS};
 pub use stencil::{LimitStencil, StencilTable};
 pub use uniform::{refine_uniform, UniformLevel, UniformRefinement, MAX_UNIFORM_LEVEL};
