@@ -49,12 +49,6 @@ const EXCLUDED: &[(&str, &str)] = &[
     ("catmark_nonman_quadpole8", REPEATED_VERTEX),
     ("catmark_nonman_quadpole64", REPEATED_VERTEX),
     ("catmark_nonman_quadpole360", REPEATED_VERTEX),
-    (
-        "catmark_val2_nonman",
-        "two faces run along an edge in the same direction (and one face is repeated \
-         reversed); OpenSubdiv makes such an edge non-manifold and sharp, opensubdiv-rs \
-         treats it as a smooth manifold edge, so our OBJ reader refuses the orientation",
-    ),
 ];
 
 const REPEATED_VERTEX: &str = "faces with a repeated vertex (degenerate faces such as \

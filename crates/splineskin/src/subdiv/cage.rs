@@ -68,11 +68,13 @@ pub struct SubdivTags {
 ///
 /// Faces have at least 3 distinct vertices; a face's vertex order is its orientation.
 /// Accepted, as OpenSubdiv accepts them: boundaries, holes, polygons of any size, vertices used
-/// by no face, edges shared by more than two faces and vertices where separate fans of faces
-/// meet (both are then infinitely sharp, as in OpenSubdiv). Refused ([`CageError`]): a vertex
-/// repeated within a face, and an edge shared by exactly two faces that both run along it in
-/// the same direction (inconsistent orientation; OpenSubdiv would silently make it a sharp,
-/// non-manifold edge, which the refinement used here does not reproduce).
+/// by no face, non-manifold edges — shared by more than two faces, or by two faces that run
+/// along it in the same direction (inconsistent orientation, listed by
+/// [`Cage::inconsistent_edges`]) — and vertices where separate fans of faces meet. As in
+/// OpenSubdiv, non-manifold edges are infinitely sharp and non-manifold vertices infinitely
+/// sharp corners, unless on a crease of exactly two non-manifold edges. Refused
+/// ([`CageError`]): a vertex repeated within a face (OpenSubdiv accepts such degenerate faces;
+/// the `opensubdiv-rs` refiner used here does not).
 ///
 /// ```
 /// use splineskin::subdiv::{Cage, SubdivTags};
@@ -133,16 +135,6 @@ pub enum CageError {
         /// The repeated vertex.
         vertex: u32,
     },
-    /// Two faces run along their shared edge in the same direction.
-    #[error("faces {faces:?} both run from vertex {from} to vertex {to}; expected consistently oriented faces (one of them reversed)")]
-    InconsistentOrientation {
-        /// The two faces.
-        faces: [usize; 2],
-        /// The edge's start vertex in both faces.
-        from: u32,
-        /// The edge's end vertex in both faces.
-        to: u32,
-    },
     /// New positions for a cage do not match its vertex count.
     #[error("{found} positions for a cage of {expected} vertices")]
     PositionCount {
@@ -198,8 +190,6 @@ impl Cage {
             }
         }
         let n_vertices = self.n_vertices();
-        // Directed edge -> first face running along it; undirected edge -> face count.
-        let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
         let mut undirected: HashMap<(u32, u32), u32> = HashMap::new();
         for face in 0..self.n_faces() {
             let fv = self.face(face);
@@ -223,23 +213,6 @@ impl Cage {
             }
             for (a, b) in face_edges(fv) {
                 *undirected.entry((a.min(b), a.max(b))).or_default() += 1;
-                directed.entry((a, b)).or_insert(face);
-            }
-        }
-        // An edge with exactly two faces must be traversed once in each direction.
-        for face in 0..self.n_faces() {
-            for (a, b) in face_edges(self.face(face)) {
-                if undirected[&(a.min(b), a.max(b))] != 2 {
-                    continue;
-                }
-                let first = directed[&(a, b)];
-                if first != face {
-                    return Err(CageError::InconsistentOrientation {
-                        faces: [first, face],
-                        from: a,
-                        to: b,
-                    });
-                }
             }
         }
         for (index, c) in self.tags.creases.iter().enumerate() {
@@ -353,6 +326,43 @@ impl Cage {
         &self.tags
     }
 
+    /// The edges shared by exactly two faces that both run along them in the same direction
+    /// (inconsistent orientation), as `(from, to, [face, face])`. OpenSubdiv treats them as
+    /// non-manifold: infinitely sharp, their ends infinitely sharp corners unless on a
+    /// non-manifold crease. Usually a modelling error worth reporting to the user.
+    ///
+    /// ```
+    /// # use splineskin::subdiv::{Cage, SubdivTags};
+    /// let p = vec![[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0]];
+    /// // The second face runs from 1 to 2 as the first does.
+    /// let cage = Cage::new(p, vec![vec![0, 1, 2, 3], vec![1, 2, 5, 4]], SubdivTags::default())?;
+    /// assert_eq!(cage.inconsistent_edges(), vec![(1, 2, [0, 1])]);
+    /// # Ok::<(), splineskin::subdiv::CageError>(())
+    /// ```
+    pub fn inconsistent_edges(&self) -> Vec<(u32, u32, [usize; 2])> {
+        let mut faces_of: HashMap<(u32, u32), Vec<(usize, bool)>> = HashMap::new();
+        for face in 0..self.n_faces() {
+            for (a, b) in face_edges(self.face(face)) {
+                faces_of
+                    .entry((a.min(b), a.max(b)))
+                    .or_default()
+                    .push((face, a < b));
+            }
+        }
+        let mut out: Vec<(u32, u32, [usize; 2])> = faces_of
+            .into_iter()
+            .filter_map(|((lo, hi), f)| match f[..] {
+                [(f0, d0), (f1, d1)] if d0 == d1 => {
+                    let (from, to) = if d0 { (lo, hi) } else { (hi, lo) };
+                    Some((from, to, [f0, f1]))
+                }
+                _ => None,
+            })
+            .collect();
+        out.sort_unstable();
+        out
+    }
+
     /// The length of the diagonal of the axis-aligned bounding box of the positions: the
     /// length unit in which errors of this crate are reported.
     ///
@@ -407,28 +417,22 @@ mod tests {
     }
 
     #[test]
-    fn cage_refuses_inconsistent_orientation() {
-        let err = Cage::new(
+    fn cage_lists_inconsistent_orientation() {
+        let cage = Cage::new(
             square(),
             vec![vec![0, 1, 2, 3], vec![1, 2, 5, 4]],
             SubdivTags::default(),
         )
-        .unwrap_err();
-        assert_eq!(
-            err,
-            CageError::InconsistentOrientation {
-                faces: [0, 1],
-                from: 1,
-                to: 2
-            }
-        );
-        // Reversing the second face fixes it.
-        Cage::new(
+        .unwrap();
+        assert_eq!(cage.inconsistent_edges(), vec![(1, 2, [0, 1])]);
+        // Reversing the second face makes it consistent.
+        let cage = Cage::new(
             square(),
             vec![vec![0, 1, 2, 3], vec![4, 5, 2, 1]],
             SubdivTags::default(),
         )
         .unwrap();
+        assert!(cage.inconsistent_edges().is_empty());
     }
 
     #[test]

@@ -13,7 +13,9 @@ use opensubdiv_rs::far::{
 use opensubdiv_rs::sdc::{self, Crease};
 use opensubdiv_rs::INDEX_INVALID;
 
-use super::cage::Cage;
+use std::collections::HashMap;
+
+use super::cage::{face_edges, Cage};
 use super::error::SubdivError;
 use super::masks::{self, Origin, Weights};
 
@@ -46,20 +48,35 @@ pub(crate) struct Hierarchy {
 impl Hierarchy {
     pub(crate) fn new(cage: &Cage, refine: Refine) -> Result<Self, SubdivError> {
         let sizes: Vec<usize> = cage.face_sizes().collect();
-        let creases: Vec<[u32; 2]> = cage.tags().creases.iter().map(|c| c.vertices).collect();
-        let crease_weights: Vec<f32> = cage
+        let mut creases: Vec<[u32; 2]> = cage.tags().creases.iter().map(|c| c.vertices).collect();
+        let mut crease_weights: Vec<f32> = cage
             .tags()
             .creases
             .iter()
             .map(|c| c.sharpness as f32)
             .collect();
-        let corners: Vec<u32> = cage.tags().corners.iter().map(|c| c.vertex).collect();
-        let corner_weights: Vec<f32> = cage
+        let mut corners: Vec<u32> = cage.tags().corners.iter().map(|c| c.vertex).collect();
+        let mut corner_weights: Vec<f32> = cage
             .tags()
             .corners
             .iter()
             .map(|c| c.sharpness as f32)
             .collect();
+        // Inconsistently oriented edges: OpenSubdiv's non-manifold sharpening, which
+        // opensubdiv-rs applies only to edges with more than two faces.
+        let (sharp_edges, sharp_vertices) = orientation_sharpness(cage);
+        if !sharp_edges.is_empty() {
+            tracing::warn!(
+                n_edges = sharp_edges.len(),
+                first = ?sharp_edges[0],
+                "inconsistently oriented faces: their shared edges are made infinitely sharp, \
+                 as OpenSubdiv does (Cage::inconsistent_edges lists them)"
+            );
+        }
+        crease_weights.extend(sharp_edges.iter().map(|_| sdc::SHARPNESS_INFINITE));
+        creases.extend(sharp_edges);
+        corner_weights.extend(sharp_vertices.iter().map(|_| sdc::SHARPNESS_INFINITE));
+        corners.extend(sharp_vertices);
         let descriptor = TopologyDescriptor::new(cage.n_vertices(), &sizes, cage.face_vertices())
             .with_creases(&creases, &crease_weights)
             .with_corners(&corners, &corner_weights)
@@ -170,6 +187,86 @@ impl Hierarchy {
         }
         masks::merge(weights);
     }
+}
+
+/// OpenSubdiv's sharpening of inconsistently oriented edges (two faces running along the edge
+/// in the same direction; `Vtr` tags them non-manifold): the edges become infinitely sharp, and
+/// so does each of their end vertices unless it lies on a *non-manifold crease* — exactly two
+/// non-manifold edges, no boundary edge, and every fan of faces around the vertex (faces joined
+/// across its manifold edges) touching both. Returns the edges and the vertices to sharpen.
+fn orientation_sharpness(cage: &Cage) -> (Vec<[u32; 2]>, Vec<u32>) {
+    let inconsistent = cage.inconsistent_edges();
+    if inconsistent.is_empty() {
+        return (Vec::new(), Vec::new());
+    }
+    let key = |a: u32, b: u32| (a.min(b), a.max(b));
+    // Edge -> its faces with direction (true: from the smaller vertex).
+    let mut faces_of: HashMap<(u32, u32), Vec<(usize, bool)>> = HashMap::new();
+    for f in 0..cage.n_faces() {
+        for (a, b) in face_edges(cage.face(f)) {
+            faces_of.entry(key(a, b)).or_default().push((f, a < b));
+        }
+    }
+    let non_manifold = |e: &(u32, u32)| match faces_of[e][..] {
+        [(_, d0), (_, d1)] => d0 == d1,
+        ref f => f.len() > 2,
+    };
+    let mut vertices: Vec<u32> = inconsistent.iter().flat_map(|&(a, b, _)| [a, b]).collect();
+    vertices.sort_unstable();
+    vertices.dedup();
+    let sharp_vertices = vertices
+        .into_iter()
+        .filter(|&v| {
+            // The faces around v and its edges.
+            let faces: Vec<usize> = (0..cage.n_faces())
+                .filter(|&f| cage.face(f).contains(&v))
+                .collect();
+            let mut edges: Vec<(u32, u32)> = faces
+                .iter()
+                .flat_map(|&f| face_edges(cage.face(f)).filter(|&(a, b)| a == v || b == v))
+                .map(|(a, b)| key(a, b))
+                .collect();
+            edges.sort_unstable();
+            edges.dedup();
+            let crease: Vec<(u32, u32)> = edges.iter().copied().filter(non_manifold).collect();
+            if crease.len() != 2 || edges.iter().any(|e| faces_of[e].len() == 1) {
+                return true;
+            }
+            // Fans: union of faces across v's manifold edges.
+            let mut fan: Vec<usize> = (0..faces.len()).collect();
+            fn root(fan: &mut [usize], mut i: usize) -> usize {
+                while fan[i] != i {
+                    fan[i] = fan[fan[i]];
+                    i = fan[i];
+                }
+                i
+            }
+            for e in edges.iter().filter(|e| !non_manifold(e)) {
+                if let [(f0, _), (f1, _)] = faces_of[e][..] {
+                    let (i, j) = (
+                        faces.iter().position(|&f| f == f0).unwrap_or(0),
+                        faces.iter().position(|&f| f == f1).unwrap_or(0),
+                    );
+                    let (ri, rj) = (root(&mut fan, i), root(&mut fan, j));
+                    fan[ri] = rj;
+                }
+            }
+            // Every fan must touch both crease edges.
+            let mut touches: HashMap<usize, [bool; 2]> = HashMap::new();
+            for (i, &f) in faces.iter().enumerate() {
+                let r = root(&mut fan, i);
+                let t = touches.entry(r).or_default();
+                for (a, b) in face_edges(cage.face(f)) {
+                    if let Some(k) = crease.iter().position(|&c| c == key(a, b)) {
+                        t[k] = true;
+                    }
+                }
+            }
+            !touches.values().all(|t| t[0] && t[1])
+        })
+        .collect();
+    let edges = inconsistent.iter().map(|&(a, b, _)| [a, b]).collect();
+    (edges, sharp_vertices)
 }
 
 fn set_origin(origin: &mut [Origin], child: u32, o: Origin) {

@@ -9,7 +9,7 @@
 //! | scheme | Catmark (`Sdc::SCHEME_CATMARK`); triangles and n-gons by the ordinary rules (`TRI_SUB_CATMARK`): centroid face point, n quads |
 //! | boundaries | `VTX_BOUNDARY_EDGE_AND_CORNER`: boundary edges are infinitely sharp creases, a boundary vertex with one face is an infinitely sharp corner |
 //! | creases | `CREASE_UNIFORM`: sharpness decreases by one per level; semi-sharp transitions blend the masks |
-//! | non-manifold | edges with more than two faces are infinitely sharp, as in OpenSubdiv |
+//! | non-manifold | edges with more than two faces, or two faces running along them in the same direction, are infinitely sharp; non-manifold vertices are infinitely sharp corners unless on a crease of two non-manifold edges (OpenSubdiv's rule) |
 //!
 //! Option tags in the OBJ (`interpolateboundary`, `creasemethod`, …) are kept but not applied.
 //!

@@ -324,7 +324,6 @@ pub fn parse_obj(text: &str, file: &str) -> Result<Cage, ObjError> {
             CageError::FaceTooSmall { face, .. }
             | CageError::VertexOutOfRange { face, .. }
             | CageError::RepeatedVertex { face, .. } => face_lines[*face],
-            CageError::InconsistentOrientation { faces, .. } => face_lines[faces[1]],
             CageError::BadTag { tag, index, .. } => match *tag {
                 "crease" => crease_lines[*index],
                 "corner" => corner_lines[*index],
