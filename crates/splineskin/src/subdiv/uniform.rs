@@ -2,7 +2,7 @@
 //! `f64` stencil over the cage vertices (OpenSubdiv's `RefineUniform` +
 //! `StencilTableFactory`).
 
-use super::cage::{Cage, Point3};
+use super::cage::{Cage, CageError, CornerTag, CreaseTag, Point3, SubdivTags};
 use super::error::SubdivError;
 use super::hierarchy::{Hierarchy, Refine};
 use super::masks::{self, Origin, Weights};
@@ -26,6 +26,7 @@ pub struct UniformLevel {
     parent_faces: Vec<u32>,
     parent_edges: Vec<[u32; 2]>,
     holes: Vec<u32>,
+    tags: SubdivTags,
     stencils: StencilTable,
     positions: Vec<Point3>,
 }
@@ -61,6 +62,42 @@ impl UniformLevel {
     /// The faces that are holes (children of holes), increasing.
     pub fn holes(&self) -> &[u32] {
         &self.holes
+    }
+
+    /// The subdivision tags of this level as a cage of its own: the decayed sharpness of every
+    /// sharp edge with two faces (boundary and non-manifold edges are sharp by rule) and of
+    /// every sharp vertex, the hole faces, and the cage's kept option tags.
+    pub fn tags(&self) -> &SubdivTags {
+        &self.tags
+    }
+
+    /// This level as a cage of its own: positions, quads and [`UniformLevel::tags`]. Its limit
+    /// surface is the original cage's (the rules at every later level depend only on the
+    /// current level's topology and sharpness): what "refine a cage" means.
+    ///
+    /// ```
+    /// use splineskin::subdiv::{parse_obj, refine_uniform};
+    ///
+    /// // Two quads with a crease of sharpness 2.5 on their shared edge (vertices 1 and 4).
+    /// let text = "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\n\
+    ///             f 1 2 5 4\nf 2 3 6 5\nt crease 2/1/0 1 4 2.5\n";
+    /// let cage = parse_obj(text, "strip.obj")?;
+    /// let level1 = refine_uniform(&cage, 1)?.levels()[0].to_cage()?;
+    /// assert_eq!((level1.n_vertices(), level1.n_faces()), (15, 8));
+    /// // The crease's two halves keep sharpness 2.5 − 1; the four boundary corners are
+    /// // infinitely sharp corners (VTX_BOUNDARY_EDGE_AND_CORNER).
+    /// let creases = &level1.tags().creases;
+    /// assert_eq!(creases.len(), 2);
+    /// assert!(creases.iter().all(|c| c.sharpness == 1.5));
+    /// assert_eq!(level1.tags().corners.len(), 4);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn to_cage(&self) -> Result<Cage, CageError> {
+        Cage::new(
+            self.positions.clone(),
+            self.faces.iter().map(|f| f.to_vec()).collect(),
+            self.tags.clone(),
+        )
     }
 
     /// Every vertex as a stencil over the cage vertices.
@@ -200,7 +237,29 @@ pub fn refine_uniform(cage: &Cage, n_levels: usize) -> Result<UniformRefinement,
         let parent_edges = (0..parent.num_edges())
             .map(|e| parent.edge_vertices(e).map(|v| ours[v as usize]))
             .collect();
-        let holes = (0..child.num_faces() as u32)
+        let mut tags = SubdivTags {
+            other: cage.tags().other.clone(),
+            ..Default::default()
+        };
+        for e in 0..child.num_edges() {
+            let s = child.edge_sharpness(e);
+            if s > 0.0 && child.edge_faces(e).len() == 2 {
+                tags.creases.push(CreaseTag {
+                    vertices: child.edge_vertices(e).map(|v| child_ours[v as usize]),
+                    sharpness: f64::from(s),
+                });
+            }
+        }
+        for v in 0..child.num_vertices() {
+            let s = child.vertex_sharpness(v);
+            if s > 0.0 {
+                tags.corners.push(CornerTag {
+                    vertex: child_ours[v],
+                    sharpness: f64::from(s),
+                });
+            }
+        }
+        let holes: Vec<u32> = (0..child.num_faces() as u32)
             .filter(|&f| child.is_face_hole(f as usize))
             .collect();
         let mut positions = vec![[0.0; 3]; table.n_stencils()];
@@ -210,6 +269,10 @@ pub fn refine_uniform(cage: &Cage, n_levels: usize) -> Result<UniformRefinement,
             faces,
             parent_faces,
             parent_edges,
+            tags: SubdivTags {
+                holes: holes.clone(),
+                ..tags
+            },
             holes,
             stencils: table.clone(),
             positions,
