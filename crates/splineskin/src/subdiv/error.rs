@@ -67,6 +67,23 @@ pub enum SubdivError {
         /// What is wrong and what was expected.
         what: String,
     },
+    /// The inputs of a subdivision rig do not fit together, or its Gram matrix cannot be
+    /// factored.
+    #[error("subdivision rig: {what}")]
+    BadRig {
+        /// What is wrong and what was expected.
+        what: String,
+    },
+    /// A per-frame buffer or list of the wrong length.
+    #[error("{found} {what}; expected {expected}")]
+    SizeMismatch {
+        /// What was passed.
+        what: &'static str,
+        /// The length expected.
+        expected: usize,
+        /// The length passed.
+        found: usize,
+    },
     /// A refinement step produced something inconsistent: a bug in splineskin or in
     /// `opensubdiv-rs`.
     #[error("internal error (a bug, please report it): {what}")]

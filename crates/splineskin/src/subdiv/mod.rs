@@ -19,6 +19,7 @@
 //! | uniform refinement, `f64` stencils over the cage | [`refine_uniform`], [`StencilTable`] |
 //! | limit stencils at `(face, u, v)` (the paper's `m_p`) and at cage vertices | [`LimitSurface`], [`LimitStencil`], [`VertexLimit`] |
 //! | Gauss nodes per face and the fit's Gram matrices `Â`, `∫ f m mᵀ` | [`LimitQuadrature`] |
+//! | the rig: precompute `B_i = Â⁻¹ Ŵ_iᵀ`, update `C'ᵀ = Σ_i B_i T_iᵀ` | [`SubdivRig`] |
 //!
 //! Topology (levels, sharpness and its decay, vertex rules, sparse adaptive levels) comes from
 //! the `opensubdiv-rs` port of OpenSubdiv's `Far`/`Vtr`/`Sdc` layers; every weight is computed
@@ -32,6 +33,7 @@ mod masks;
 pub mod obj;
 mod quadrature;
 mod regular_patch;
+mod rig;
 mod stencil;
 mod uniform;
 
@@ -45,5 +47,6 @@ pub use limit::{
 };
 pub use obj::{parse_obj, read_obj, to_obj_string, write_obj, ObjError, MAX_OBJ_BYTES};
 pub use quadrature::{LimitQuadrature, QuadratureNode, DEFAULT_GAUSS_POINTS};
+pub use rig::{Affine3, SubdivRig, AFFINE3_IDENTITY, RIG_REGULARIZATION};
 pub use stencil::{LimitStencil, StencilTable};
 pub use uniform::{refine_uniform, UniformLevel, UniformRefinement, MAX_UNIFORM_LEVEL};
