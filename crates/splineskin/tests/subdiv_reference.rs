@@ -271,6 +271,11 @@ fn check_shape(path: &Path, reference: &Reference) -> Result<Errors, String> {
             u: s.u[k],
             v: s.v[k],
         };
+        assert_eq!(
+            surface.ptex_location(s.ptex[k], s.u[k], s.v[k]).unwrap(),
+            at,
+            "{name}: sample {k} ptex location"
+        );
         let st = surface
             .stencil(at)
             .unwrap_or_else(|e| panic!("{name}: sample {k}: {e}"));

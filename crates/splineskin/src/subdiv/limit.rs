@@ -206,6 +206,42 @@ impl LimitSurface {
         &self.ptex_first
     }
 
+    /// The location of ptex face `ptex` (OpenSubdiv's numbering: [`LimitSurface::ptex_first`]
+    /// of the face plus the sub-face) at `(u, v)`.
+    ///
+    /// ```
+    /// # use splineskin::subdiv::{parse_obj, LimitOptions, LimitSurface, SurfaceLocation};
+    /// // A quad (ptex 0) and a triangle (ptex 1, 2, 3).
+    /// let cage = parse_obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nf 1 2 3 4\nf 2 5 3\n", "t.obj")?;
+    /// let surface = LimitSurface::new(&cage, &LimitOptions::default())?;
+    /// let at = surface.ptex_location(2, 0.25, 0.5)?;
+    /// assert_eq!(at, SurfaceLocation { face: 1, subface: 1, u: 0.25, v: 0.5 });
+    /// assert!(surface.ptex_location(4, 0.5, 0.5).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn ptex_location(&self, ptex: u32, u: f64, v: f64) -> Result<SurfaceLocation, SubdivError> {
+        let face = self.ptex_first.partition_point(|&first| first <= ptex);
+        let n_ptex = self.ptex_first.last().map_or(0, |&f| {
+            f + self.n_subfaces(self.ptex_first.len() as u32 - 1)
+        });
+        if face == 0 || ptex >= n_ptex {
+            return Err(SubdivError::BadLocation {
+                face: u32::MAX,
+                subface: ptex,
+                u,
+                v,
+                what: format!("ptex face {ptex}; expected one < {n_ptex}"),
+            });
+        }
+        let face = face as u32 - 1;
+        Ok(SurfaceLocation {
+            face,
+            subface: ptex - self.ptex_first[face as usize],
+            u,
+            v,
+        })
+    }
+
     /// The limit stencil (position and derivative weights over the cage vertices) at `at`.
     pub fn stencil(&self, at: SurfaceLocation) -> Result<LimitStencil, SubdivError> {
         let h = &self.hierarchy;
