@@ -34,6 +34,22 @@ pub enum SubdivError {
         /// What is wrong and what was expected.
         what: String,
     },
+    /// A ptex face index out of range.
+    #[error("ptex face {ptex}; expected one < {n_ptex}")]
+    BadPtex {
+        /// The index given.
+        ptex: u32,
+        /// Number of ptex faces.
+        n_ptex: u32,
+    },
+    /// A cage vertex index out of range.
+    #[error("vertex {vertex}; expected one < {n_vertices}")]
+    BadVertex {
+        /// The index given.
+        vertex: u32,
+        /// Number of cage vertices.
+        n_vertices: usize,
+    },
     /// The location is on a hole face, which has no limit surface.
     #[error("face {face} is a hole: it has no limit surface")]
     InHole {
@@ -83,6 +99,15 @@ pub enum SubdivError {
         expected: usize,
         /// The length passed.
         found: usize,
+    },
+    /// The limit mask of a vertex is not reached by the chosen isolation level (a semi-sharp
+    /// feature at it that has not decayed).
+    #[error("vertex {vertex}: its limit mask is not reached at isolation level {isolation}")]
+    UnresolvedVertex {
+        /// The vertex.
+        vertex: u32,
+        /// The isolation level used.
+        isolation: usize,
     },
     /// A refinement step produced something inconsistent: a bug in splineskin or in
     /// `opensubdiv-rs`.

@@ -225,13 +225,7 @@ impl LimitSurface {
             f + self.n_subfaces(self.ptex_first.len() as u32 - 1)
         });
         if face == 0 || ptex >= n_ptex {
-            return Err(SubdivError::BadLocation {
-                face: u32::MAX,
-                subface: ptex,
-                u,
-                v,
-                what: format!("ptex face {ptex}; expected one < {n_ptex}"),
-            });
+            return Err(SubdivError::BadPtex { ptex, n_ptex });
         }
         let face = face as u32 - 1;
         Ok(SurfaceLocation {
@@ -381,12 +375,9 @@ impl LimitSurface {
     pub fn vertex_limit(&self, vertex: u32) -> Result<VertexLimit, SubdivError> {
         let h = &self.hierarchy;
         if vertex as usize >= h.level(0).num_vertices() {
-            return Err(SubdivError::BadLocation {
-                face: u32::MAX,
-                subface: 0,
-                u: 0.0,
-                v: 0.0,
-                what: format!("vertex {vertex} out of range"),
+            return Err(SubdivError::BadVertex {
+                vertex,
+                n_vertices: h.level(0).num_vertices(),
             });
         }
         if h.level(0).vertex_faces(vertex as usize).is_empty() {
@@ -421,11 +412,8 @@ impl LimitSurface {
             debug_assert_eq!(h.origin(level + 1, child), Origin::Vertex(v));
             v = child;
         }
-        Err(SubdivError::Unresolved {
-            face: u32::MAX,
-            subface: 0,
-            u: 0.0,
-            v: 0.0,
+        Err(SubdivError::UnresolvedVertex {
+            vertex,
             isolation: self.isolation,
         })
     }
