@@ -7,7 +7,9 @@
 //! * uniform levels 1 and 2 (level 1 only where the reference stops there): vertex and face
 //!   counts, every vertex position index by index and the face lists exactly, after mapping our
 //!   edge-point numbering onto the reference's through the parent edges;
-//! * `vertex_limit` where the reference is not null;
+//! * `vertex_limit` where the reference is not null, both from [`LimitSurface::vertex_limit`]
+//!   and by evaluating the surface exactly at the ptex corners (the corner approximation near
+//!   extraordinary vertices must give the limit point there);
 //! * limit position, `du`, `dv` at every stored sample (exact limit-surface values);
 //! * our limit stencils against the stored ones (largest weight difference, absolute).
 //!
@@ -121,6 +123,8 @@ struct LimitStencils {
 struct Errors {
     uniform: f64,
     vertex_limit: f64,
+    /// Limit evaluation exactly at ptex corners (cage vertices) against `vertex_limit`.
+    corner: f64,
     position: f64,
     derivative: f64,
     stencil: f64,
@@ -257,6 +261,42 @@ fn check_shape(path: &Path, reference: &Reference) -> Result<Errors, String> {
         errors.vertex_limit = errors.vertex_limit.max(e / diag);
         errors.printed = errors.printed.max(e / print_scale);
     }
+    // The surface evaluated at the ptex corners that are cage vertices: near irregular ones
+    // this is the corner approximation, whose value at the vertex is its limit point.
+    for face in 0..cage.n_faces() as u32 {
+        if surface.is_hole(face) {
+            continue;
+        }
+        let fv = cage.face(face as usize);
+        let corners: Vec<(u32, f64, f64, u32)> = if fv.len() == 4 {
+            vec![
+                (0, 0.0, 0.0, fv[0]),
+                (0, 1.0, 0.0, fv[1]),
+                (0, 1.0, 1.0, fv[2]),
+                (0, 0.0, 1.0, fv[3]),
+            ]
+        } else {
+            (0..fv.len() as u32)
+                .map(|j| (j, 0.0, 0.0, fv[j as usize]))
+                .collect()
+        };
+        for (subface, u, v, vertex) in corners {
+            let Some(expected) = reference.vertex_limit.position[vertex as usize] else {
+                continue;
+            };
+            let st = surface
+                .stencil(SurfaceLocation {
+                    face,
+                    subface,
+                    u,
+                    v,
+                })
+                .unwrap_or_else(|e| panic!("{name}: corner of face {face}: {e}"));
+            let e = dist(st.position(cage.positions()), expected);
+            errors.corner = errors.corner.max(e / diag);
+            errors.printed = errors.printed.max(e / print_scale);
+        }
+    }
     let s = &reference.samples;
     let mut stencils = Vec::with_capacity(s.face.len());
     for k in 0..s.face.len() {
@@ -345,6 +385,7 @@ fn subdiv_reference_all_shapes() {
     let mut worst: Vec<(&str, f64, f64, String)> = [
         ("uniform", TOLERANCE),
         ("vertex_limit", TOLERANCE),
+        ("ptex corner", TOLERANCE),
         ("position", TOLERANCE),
         ("du/dv", TOLERANCE),
         ("stencil", STENCIL_TOLERANCE),
@@ -356,8 +397,8 @@ fn subdiv_reference_all_shapes() {
     let mut failures = Vec::new();
     let mut n_checked = 0;
     println!(
-        "{:<28} {:>10} {:>10} {:>10} {:>10} {:>10} {:>11}",
-        "shape", "uniform", "vtx_limit", "position", "du/dv", "stencil w", "vs printing"
+        "{:<28} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>11}",
+        "shape", "uniform", "vtx_limit", "corner", "position", "du/dv", "stencil w", "vs printing"
     );
     for name in &names {
         if only.as_deref().is_some_and(|o| o != name) {
@@ -383,14 +424,15 @@ fn subdiv_reference_all_shapes() {
                 let values = [
                     e.uniform,
                     e.vertex_limit,
+                    e.corner,
                     e.position,
                     e.derivative,
                     e.stencil,
                     e.printed,
                 ];
                 println!(
-                    "{name:<28} {:>10.2e} {:>10.2e} {:>10.2e} {:>10.2e} {:>10.2e} {:>11.2e}",
-                    values[0], values[1], values[2], values[3], values[4], values[5]
+                    "{name:<28} {:>10.2e} {:>10.2e} {:>10.2e} {:>10.2e} {:>10.2e} {:>10.2e} {:>11.2e}",
+                    values[0], values[1], values[2], values[3], values[4], values[5], values[6]
                 );
                 for (slot, value) in worst.iter_mut().zip(values) {
                     if value > slot.1 {

@@ -62,8 +62,10 @@ pub enum SubdivError {
         /// The vertex.
         vertex: u32,
     },
-    /// The location is within `2^-isolation` (in its face's parameters) of an irregular
-    /// feature that adaptive refinement does not resolve at the chosen isolation level.
+    /// The location lies in a face of the isolation level where neither a regular patch nor
+    /// the corner approximation is available (a corner whose limit mask is undefined there, or
+    /// a face the sparse refinement did not refine: a bug if it ever happens at the default
+    /// isolation).
     #[error("location face {face}, sub-face {subface}, (u, v) = ({u}, {v}) lies next to an irregular feature that isolation level {isolation} does not resolve")]
     Unresolved {
         /// The face.

@@ -111,6 +111,10 @@ pub struct LimitStencil {
     pub du_weights: Vec<f64>,
     /// Weights of the derivative along the location's `v`.
     pub dv_weights: Vec<f64>,
+    /// `true` when this is the exact limit surface (a regular patch); `false` for the
+    /// approximation within `2^-isolation` of an extraordinary point (see
+    /// [`LimitSurface`](crate::subdiv::LimitSurface)).
+    pub exact: bool,
 }
 
 impl LimitStencil {
