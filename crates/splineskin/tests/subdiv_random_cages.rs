@@ -1,8 +1,9 @@
 //! Random small cages — arbitrary polygons over a few vertices, so non-manifold edges,
 //! bow-tie vertices, inconsistent orientation, boundaries and holes all occur — with random
 //! crease, corner and hole tags: refinement and limit evaluation never panic, every interior
-//! location is resolved at the default isolation level, and every stencil is a partition of
-//! unity with derivative weights summing to zero.
+//! location falls on a regular (exact) patch at the default isolation level, ptex corners are
+//! answered too, and every stencil is a partition of unity with derivative weights summing to
+//! zero.
 
 mod common;
 
@@ -94,6 +95,7 @@ fn subdiv_random_cages_evaluate_everywhere() {
                     match surface.stencil(at) {
                         Ok(st) => {
                             n_stencils += 1;
+                            assert!(st.exact, "{context}: {at:?} not on a regular patch");
                             let sum: f64 = st.weights.iter().sum();
                             assert!((sum - 1.0).abs() < 1e-12, "{context}: {at:?}: Σw = {sum}");
                             let du: f64 = st.du_weights.iter().sum();
@@ -104,13 +106,18 @@ fn subdiv_random_cages_evaluate_everywhere() {
                         Err(e) => panic!("{context}: {at:?}: {e}"),
                     }
                 }
-                // At a ptex corner the answer may be Unresolved, but never a panic.
-                let _ = surface.stencil(SurfaceLocation {
+                // At a ptex corner the corner approximation answers.
+                let corner = SurfaceLocation {
                     face,
                     subface,
                     u: 0.0,
                     v: 1.0,
-                });
+                };
+                match surface.stencil(corner) {
+                    Ok(st) => assert!((st.weights.iter().sum::<f64>() - 1.0).abs() < 1e-12),
+                    Err(SubdivError::InHole { .. }) => assert!(surface.is_hole(face)),
+                    Err(e) => panic!("{context}: {corner:?}: {e}"),
+                }
             }
         }
         for v in 0..cage.n_vertices() as u32 {
