@@ -36,6 +36,7 @@ pub(crate) fn sdc_options() -> sdc::Options {
         .with_triangle_subdivision(sdc::TriangleSubdivision::Catmark)
 }
 
+#[derive(Clone)]
 pub(crate) struct Hierarchy {
     pub(crate) refiner: TopologyRefiner,
     pub(crate) crease: Crease,

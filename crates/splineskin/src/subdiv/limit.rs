@@ -137,11 +137,24 @@ impl VertexLimit {
 /// assert!((du[0] - 1.0).abs() < 1e-14);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
+#[derive(Clone)]
 pub struct LimitSurface {
     hierarchy: Hierarchy,
     isolation: usize,
     /// First ptex index of every face (1 per quad, n per n-gon).
     ptex_first: Vec<u32>,
+}
+
+impl std::fmt::Debug for LimitSurface {
+    /// A summary: the refinement hierarchy itself is large.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LimitSurface")
+            .field("n_control", &self.n_control())
+            .field("n_faces", &self.n_faces())
+            .field("isolation", &self.isolation)
+            .field("n_refined_vertices", &self.n_refined_vertices())
+            .finish()
+    }
 }
 
 impl LimitSurface {
