@@ -217,7 +217,7 @@ impl PolygonIndex {
 }
 
 /// Checks a cage polygon: finite vertices, at least 3 of them, no edge of length `≤ coincident`,
-/// simple ([`self_intersection`]) and counter-clockwise (positive [`signed_area`]) — the rules of
+/// simple (`self_intersection`) and counter-clockwise (positive [`signed_area`]) — the rules of
 /// [`crate::domain::DomainOptions::cage`], shared by the domain, mean value coordinates and
 /// scenes.
 ///
@@ -255,7 +255,7 @@ pub fn check_cage(c: &[Point], coincident: f64) -> Result<(), DomainError> {
 }
 
 /// The closed polygon with its small self-overlapping loops cut off: while two edges `k < l`
-/// intersect ([`self_intersection`]), the shorter of the two vertex runs between them (by
+/// intersect (`self_intersection`), the shorter of the two vertex runs between them (by
 /// vertex count) is replaced by the intersection point. `None` when the polygon stays
 /// non-simple after `max_cuts` cuts, or when the loops cut off hold more than
 /// `max_area_fraction` of the polygon's area (in absolute area of the removed loops, against

@@ -20,7 +20,7 @@
 //! point (`P_0`, not `P_3n`), so that `Z` adds no closing segment. Reading the output back with
 //! [`super::svg_in::read_svg`] gives the same paths and curve counts.
 //!
-//! The same rewriting machinery (with another [`RewritePolicy`]) prepares the text usvg reads at
+//! The same rewriting machinery (with another `RewritePolicy`) prepares the text usvg reads at
 //! import: it injects ids and expands `use` elements exactly as export does, so that import and
 //! export agree on the structure of every instance.
 

@@ -74,7 +74,7 @@ pub struct Scene {
     /// Per-junction kinds set by the user: they replace the classification.
     pub junctions: Vec<JunctionOverride>,
     /// The authors' per-path, per-joint kinds (their format only): applied when the drawing's
-    /// structure matches theirs (see [`Scene::joint_overrides_for`]).
+    /// structure matches theirs (see [`Scene::setup`]).
     pub authors_joints: Option<Vec<Vec<JointKind>>>,
     /// Poses: one transform per handle each. A scene without poses has the identity pose.
     pub poses: Vec<Pose>,

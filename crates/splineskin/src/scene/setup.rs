@@ -302,7 +302,7 @@ impl Scene {
 /// Weights of a mesh `family` for the handles of `inputs`: the drawing's domain is triangulated
 /// ([`Domain::build`] with the scene's domain options and cage) with the point handles, bone
 /// chains and curve samples as vertices; the family is solved on that mesh with the Dirichlet
-/// data of [`handle_dirichlet_data`]; [`MeshWeights`] interpolates the vertex weights (exact
+/// data of `handle_dirichlet_data`; [`MeshWeights`] interpolates the vertex weights (exact
 /// piecewise-linear, with the mesh edges as quadrature kinks; outside the mesh a point takes
 /// the weights of the nearest boundary point). Returns the weights and the domain.
 ///

@@ -217,7 +217,7 @@ pub(crate) fn tangent_junctions(
 /// [`crate::drawing::Path`] for the layouts). `options.smooth_angle` is the G¹ tolerance
 /// (radians) under which the input's own angle is kept.
 ///
-/// Per junction: its two tangent rows with the input's lengths ([`TangentJunction::rows`], zero
+/// Per junction: its two tangent rows with the input's lengths (`TangentJunction::rows`, zero
 /// coefficients left out), then its pins `P_q' − P_p' = 0`. Junctions whose two tangents
 /// vanish (the authors' form) have no rows.
 pub fn junction_rows(

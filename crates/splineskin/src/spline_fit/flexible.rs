@@ -5,7 +5,7 @@
 //! fixed-angle junction, a linear row. Flexible, such a junction only asks the deformed tangents
 //! to be parallel (fixed angle: the outgoing one is the incoming one turned by the input's angle
 //! `θ`), which is not linear. The energy is the fit's own (per path, over its unknown points
-//! `x`, [`super::system`]):
+//! `x`, as in the rig's `system` module):
 //!
 //! ```text
 //! E(x) = Σ_j ∫ ‖Σ_k x_jk b_k(t) − s_j(t)‖² dμ_j,     s_j(t) = Σ_i w_i(B_j(t)) T_i B̄_j(t)

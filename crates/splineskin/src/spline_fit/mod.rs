@@ -3,8 +3,8 @@
 //!
 //! | paper (Liu et al. 2014 §4) | here |
 //! |---|---|
-//! | `Â` (Gram matrix of the Bernstein basis) | [`quadrature::CurveSamples::gram`] |
-//! | `Ŵ_i` (weighted Gram times `C̄`) | assembled in [`system`] from [`quadrature::CurveSamples::weighted_grams`] |
+//! | `Â` (Gram matrix of the Bernstein basis) | [`quadrature::CurveNodes::gram`] |
+//! | `Ŵ_i` (weighted Gram times `C̄`) | assembled in `system` from [`quadrature::CurveNodes::weighted_grams`] |
 //! | continuity constraints (Table 1) | [`constraints`] |
 //! | per-handle operators `O_i` | [`SplineRig`] rows |
 //!
