@@ -16,6 +16,7 @@
 pub mod animation;
 pub mod bezier;
 pub mod compare;
+pub mod defop;
 pub mod domain;
 pub mod drawing;
 pub mod examples;

@@ -19,6 +19,7 @@ pub struct ReferenceIgl {
     pub handles: Handles,
     pub operators: Operators,
     pub weights: Weights,
+    pub arap: Arap,
 }
 
 #[derive(Deserialize)]
@@ -81,6 +82,35 @@ pub struct KktCheck {
     pub max_grad_at_upper_bound_rel: f64,
     pub n_at_lower: usize,
     pub n_at_upper: usize,
+}
+
+/// libigl's ARAP with positional constraints at the handles, from the rest pose.
+#[derive(Deserialize)]
+pub struct Arap {
+    pub energy_type: String,
+    pub cases: Vec<ArapCase>,
+}
+
+/// One target configuration and libigl's iterates for it.
+#[derive(Deserialize)]
+pub struct ArapCase {
+    pub name: String,
+    pub description: String,
+    /// One target per handle.
+    pub targets: Vec<[f64; 2]>,
+    pub U_iter1: Vec<[f64; 2]>,
+    pub U_iter10: Vec<[f64; 2]>,
+    pub U_converged: Vec<[f64; 2]>,
+    pub iterations_to_converge: usize,
+    pub energy_iter1: f64,
+    pub energy_iter10: f64,
+    pub energy_converged: f64,
+    pub flipped_triangles_converged: usize,
+}
+
+/// Points from `[x, y]` pairs.
+pub fn points(xy: &[[f64; 2]]) -> Vec<Point> {
+    xy.iter().map(|&[x, y]| Point::new(x, y)).collect()
 }
 
 impl ReferenceIgl {

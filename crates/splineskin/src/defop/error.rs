@@ -1,0 +1,109 @@
+//! [`DefOpError`]: why a ground-truth deformation could not be set up or solved.
+
+use crate::mesh::MeshError;
+
+/// Why a point-handle deformation ([`super::Arap`], [`super::SymmetricArap`]) could not be set
+/// up or solved. Every variant names the handle, vertex or triangle at fault.
+#[derive(Debug, thiserror::Error, PartialEq)]
+#[non_exhaustive]
+pub enum DefOpError {
+    /// The mesh is not valid ([`crate::mesh::TriMesh::check`]).
+    #[error("invalid mesh: {0}")]
+    Mesh(#[from] MeshError),
+    /// No handle was given.
+    #[error("no handles: at least one handle vertex is needed")]
+    NoHandles,
+    /// A handle is not a vertex of the mesh.
+    #[error(
+        "handle {handle}: vertex index {vertex} out of range (the mesh has {n_vertices} vertices)"
+    )]
+    HandleOutOfRange {
+        /// Position of the handle in the list given.
+        handle: usize,
+        /// The index given.
+        vertex: usize,
+        /// Number of vertices of the mesh.
+        n_vertices: usize,
+    },
+    /// Two handles name the same vertex.
+    #[error("handles {first} and {second}: both at vertex {vertex} (expected distinct vertices)")]
+    DuplicateHandle {
+        /// The shared vertex.
+        vertex: usize,
+        /// The first handle at it.
+        first: usize,
+        /// The second handle at it.
+        second: usize,
+    },
+    /// A connected part of the mesh holds no handle, so nothing fixes its position and the
+    /// energy has no unique minimiser.
+    #[error("vertex {vertex}: its connected part of the mesh holds no handle (expected at least one handle per part)")]
+    PartWithoutHandle {
+        /// The smallest vertex of the part.
+        vertex: usize,
+    },
+    /// The number of targets is not the number of handles.
+    #[error("{given} targets for {n_handles} handles (expected one target per handle)")]
+    TargetCount {
+        /// Number of targets given.
+        given: usize,
+        /// Number of handles.
+        n_handles: usize,
+    },
+    /// A target is NaN or infinite.
+    #[error("handle {handle}: target ({x}, {y}) is not finite")]
+    NonFiniteTarget {
+        /// The handle.
+        handle: usize,
+        /// Its x.
+        x: f64,
+        /// Its y.
+        y: f64,
+    },
+    /// The positions buffer (initial guess in, result out) does not have one point per
+    /// vertex.
+    #[error("{given} positions for a mesh of {n_vertices} vertices (expected one per vertex)")]
+    PositionCount {
+        /// Number of positions given.
+        given: usize,
+        /// Number of vertices of the mesh.
+        n_vertices: usize,
+    },
+    /// An initial position is NaN or infinite.
+    #[error("vertex {vertex}: initial position ({x}, {y}) is not finite")]
+    NonFinitePosition {
+        /// The vertex.
+        vertex: usize,
+        /// Its x.
+        x: f64,
+        /// Its y.
+        y: f64,
+    },
+    /// The initial guess of a flip-preventing solve has a triangle that is flipped or
+    /// degenerate (signed area ≤ 0), where the energy is infinite.
+    #[error("triangle {triangle}: the initial guess gives it signed area {area:e} (expected a flip-free start, every area positive)")]
+    FlippedStart {
+        /// The triangle.
+        triangle: usize,
+        /// Its signed area in the initial guess.
+        area: f64,
+    },
+    /// An option has a value outside its range.
+    #[error("option {name} = {value}: expected {expected}")]
+    InvalidOption {
+        /// The option's field name.
+        name: &'static str,
+        /// The value given.
+        value: String,
+        /// What is allowed.
+        expected: &'static str,
+    },
+    /// The sparse Cholesky factorisation failed. The systems factored are positive definite
+    /// by construction (every part of the mesh holds a handle, Hessians are projected and
+    /// regularised), so this is a bug or a mesh so degenerate that rounding dominates.
+    #[error("sparse Cholesky factorisation failed ({detail}); the matrix should be positive definite by construction: a bug, or a degenerate mesh")]
+    Factorization {
+        /// Stage and faer's error.
+        detail: String,
+    },
+}

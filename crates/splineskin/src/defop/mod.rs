@@ -1,0 +1,64 @@
+//! Deformation operators (Poranne & Lipman 2016, *Simple Approximations of Planar Deformation
+//! Operators*; DESIGN.md §4): closed-form approximations of variational point-handle
+//! deformations. This first part is their **ground truth**: the variational deformations
+//! themselves, on a triangle mesh with point handles at vertices and hard positional
+//! constraints.
+//!
+//! | energy | formula (per triangle, times its rest area `A_t`) | solver | module |
+//! |---|---|---|---|
+//! | ARAP, Eq. (10) | `(Σ_t − 1)² + (σ_t − 1)² = ‖J_t − R_t‖²_F` | local–global, one Cholesky factor for all iterations and targets | [`arap_energy`](fn@arap_energy), [`Arap`] |
+//! | symmetric ARAP, Eq. (11) | `(Σ_t − 1)² + (1/σ_t − 1)²`, `+∞` on a flip | Newton, projected Hessian, flip-free line search | [`sarap_energy`](fn@sarap_energy), [`SymmetricArap`] |
+//!
+//! `J_t` is the deformation gradient on triangle `t`, `Σ_t ≥ σ_t` its singular values
+//! (`σ_t < 0` on a flip), `R_t` its closest rotation. Both solvers follow one recipe:
+//!
+//! ```text
+//! once per mesh and handle set:   Arap::new / SymmetricArap::new     (factor or analyse)
+//! per target configuration q:     solver.solve(&q, &mut positions)   (positions: initial guess in, result out)
+//! ```
+//!
+//! ```
+//! use kurbo::{Point, Rect};
+//! use splineskin::defop::{Arap, ArapOptions, SarapOptions, SymmetricArap, flipped_triangles};
+//! use splineskin::mesh::TriMesh;
+//! let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 16, 4)?;
+//! let handles = [34, 50]; // (0, 0.5) and (4, 0.5)
+//! let targets = [Point::new(0., 0.5), Point::new(3.2, 1.8)];
+//! // ARAP from the rest pose, then SARAP from the ARAP solution when it flips nothing.
+//! let mut arap_result = mesh.vertices.clone();
+//! Arap::new(&mesh, &handles, ArapOptions::default())?.solve(&targets, &mut arap_result)?;
+//! let mut sarap_result = if flipped_triangles(&mesh, &arap_result)?.is_empty() {
+//!     arap_result.clone()
+//! } else {
+//!     mesh.vertices.clone()
+//! };
+//! let report = SymmetricArap::new(&mesh, &handles, SarapOptions::default())?
+//!     .solve(&targets, &mut sarap_result)?;
+//! assert!(report.converged() && flipped_triangles(&mesh, &sarap_result)?.is_empty());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! Conformance: `tests/defop_ground_truth.rs` checks [`Arap`] against libigl 2.6.3's
+//! converged solutions in `../shared/data/reference-igl` and both solvers' invariants.
+
+mod arap;
+mod arap_energy;
+mod deformation_gradient;
+mod error;
+mod handles;
+mod orientation;
+mod sarap;
+mod sarap_energy;
+mod sparse_cholesky;
+
+pub use arap::{
+    Arap, ArapOptions, ArapReport, DEFAULT_ARAP_MAX_ITERATIONS, DEFAULT_ARAP_STEP_TOLERANCE,
+};
+pub use arap_energy::arap_energy;
+pub use error::DefOpError;
+pub use orientation::flipped_triangles;
+pub use sarap::{
+    SarapOptions, SarapReport, SarapStop, SymmetricArap, DEFAULT_SARAP_MAX_ITERATIONS,
+    DEFAULT_SARAP_STEP_TOLERANCE,
+};
+pub use sarap_energy::sarap_energy;
