@@ -470,3 +470,30 @@ fn bad_input_is_an_error_not_a_panic() {
         DefOpError::PartWithoutHandle { vertex: offset }
     );
 }
+
+#[test]
+fn a_vertex_in_no_triangle_keeps_its_position() {
+    let (mut mesh, handles) = jittered_bar();
+    let lonely = mesh.vertices.len();
+    mesh.vertices.push(Point::new(9.0, 9.0));
+    let targets: Vec<Point> = handles
+        .iter()
+        .map(|&v| mesh.vertices[v] + Vec2::new(0.0, 0.3))
+        .collect();
+    let mut u = mesh.vertices.clone();
+    u[lonely] = Point::new(-1.0, 2.0);
+    let report = Arap::new(&mesh, &handles, ArapOptions::default())
+        .unwrap()
+        .solve(&targets, &mut u)
+        .unwrap();
+    assert!(report.converged);
+    assert_eq!(u[lonely], Point::new(-1.0, 2.0));
+    // A translation of every handle translates the rest of the mesh.
+    assert!((u[0].y - 0.3).abs() < 1e-12, "{:?}", u[0]);
+    let report = SymmetricArap::new(&mesh, &handles, SarapOptions::default())
+        .unwrap()
+        .solve(&targets, &mut u)
+        .unwrap();
+    assert!(report.converged());
+    assert_eq!(u[lonely], Point::new(-1.0, 2.0));
+}

@@ -1,0 +1,184 @@
+//! Timings of the deformation operators' ground truth (issue 7, part 1) on an octopus-like
+//! domain of about 3 000 triangles with 9 point handles (the body's centre and the eight arm
+//! tips), the size the issue's training benchmark names:
+//!
+//! * `precompute_arap`: [`Arap::new`] (the Laplacian on the free vertices, AMD, Cholesky);
+//! * `precompute_sarap`: [`SymmetricArap::new`] (Hessian pattern, AMD, symbolic analysis);
+//! * `arap`: one configuration solved from the rest pose to the default tolerance;
+//! * `sarap_from_arap`: SARAP from that configuration's ARAP solution (from the rest pose if
+//!   it flips a triangle: the printout says);
+//! * `sarap_from_rest`: SARAP from the rest pose (the handles pulled on target first).
+//!
+//! Configurations move every handle uniformly in a disc of radius 0.4 (the arms are 2.2
+//! long), as the paper samples them; four fixed ones. The iteration counts of each are printed
+//! before the timings. Run with `cargo bench -p splineskin --bench defop`.
+
+use std::sync::OnceLock;
+
+use kurbo::{Point, Vec2};
+use splineskin::defop::{flipped_triangles, Arap, ArapOptions, SarapOptions, SymmetricArap};
+use splineskin::domain::{Domain, DomainOptions};
+use splineskin::drawing::{read_svg, ImportOptions};
+use splineskin::mesh::TriMesh;
+
+/// Arms of the octopus.
+const N_ARMS: usize = 8;
+/// Body radius and arm length (drawing units).
+const BODY: f64 = 1.0;
+const ARM: f64 = 2.2;
+/// Radius of the disc each handle's target is drawn from.
+const REACH: f64 = 0.4;
+/// Configurations benchmarked.
+const N_CONFIGURATIONS: usize = 4;
+
+struct Setup {
+    mesh: TriMesh,
+    handles: Vec<usize>,
+    arap: Arap,
+    sarap: SymmetricArap,
+    configurations: Vec<Vec<Point>>,
+    /// The ARAP solution of each configuration (the rest pose where it flips a triangle).
+    sarap_starts: Vec<Vec<Point>>,
+}
+
+/// The outline: eight tapering arms around a round body, counter-clockwise.
+fn outline() -> Vec<Point> {
+    let mut points = Vec::new();
+    for k in 0..N_ARMS {
+        let theta = std::f64::consts::TAU * k as f64 / N_ARMS as f64;
+        let at = |radius: f64, angle: f64| Point::new(radius * angle.cos(), radius * angle.sin());
+        points.push(at(BODY, theta - 0.25));
+        points.push(at(BODY + 0.5 * ARM, theta - 0.1));
+        points.push(at(BODY + ARM, theta - 0.03));
+        points.push(at(BODY + ARM, theta + 0.03));
+        points.push(at(BODY + 0.5 * ARM, theta + 0.1));
+        points.push(at(BODY, theta + 0.25));
+    }
+    points
+}
+
+fn setup() -> &'static Setup {
+    static SETUP: OnceLock<Setup> = OnceLock::new();
+    SETUP.get_or_init(|| {
+        let outline = outline();
+        let mut d = format!("M{} {}", outline[0].x, outline[0].y);
+        for p in &outline[1..] {
+            d += &format!(" L{} {}", p.x, p.y);
+        }
+        let svg = format!(
+            r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="{d} Z"/></svg>"#
+        );
+        let drawing = read_svg(&svg, &ImportOptions::default()).expect("octopus outline");
+        let mut points = vec![Point::ZERO];
+        for k in 0..N_ARMS {
+            let theta = std::f64::consts::TAU * k as f64 / N_ARMS as f64;
+            let r = BODY + ARM - 0.1;
+            points.push(Point::new(r * theta.cos(), r * theta.sin()));
+        }
+        let options = DomainOptions::default()
+            .with_samples_per_diagonal(120.0)
+            .with_max_area_fraction(1.0 / 1800.0);
+        let domain = Domain::build(&drawing, &points, &[], &options).expect("octopus domain");
+        let (mesh, handles) = (domain.mesh, domain.handle_vertices);
+        let arap = Arap::new(&mesh, &handles, ArapOptions::default()).expect("ARAP");
+        let sarap = SymmetricArap::new(&mesh, &handles, SarapOptions::default()).expect("SARAP");
+        let mut seed = 0x5eed_u64;
+        let mut uniform = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let configurations: Vec<Vec<Point>> = (0..N_CONFIGURATIONS)
+            .map(|_| {
+                points
+                    .iter()
+                    .map(|&p| {
+                        let (r, a) = (REACH * uniform().sqrt(), std::f64::consts::TAU * uniform());
+                        p + Vec2::new(r * a.cos(), r * a.sin())
+                    })
+                    .collect()
+            })
+            .collect();
+        eprintln!(
+            "octopus: {} vertices, {} triangles, {} handles",
+            mesh.n_vertices(),
+            mesh.n_triangles(),
+            handles.len()
+        );
+        let mut sarap_starts = Vec::new();
+        for (k, targets) in configurations.iter().enumerate() {
+            let mut u = mesh.vertices.clone();
+            let report = arap.solve(targets, &mut u).expect("ARAP solve");
+            let flips = flipped_triangles(&mesh, &u).expect("flips").len();
+            let start = if flips == 0 { u } else { mesh.vertices.clone() };
+            let mut s = start.clone();
+            let from_arap = sarap.solve(targets, &mut s).expect("SARAP solve");
+            let mut r = mesh.vertices.clone();
+            let from_rest = sarap.solve(targets, &mut r).expect("SARAP solve");
+            eprintln!(
+                "configuration {k}: ARAP {} iterations ({} flipped), SARAP {} from ARAP ({:?}), {} from rest ({:?})",
+                report.iterations,
+                flips,
+                from_arap.iterations,
+                from_arap.stop,
+                from_rest.iterations,
+                from_rest.stop
+            );
+            sarap_starts.push(start);
+        }
+        Setup {
+            mesh,
+            handles,
+            arap,
+            sarap,
+            configurations,
+            sarap_starts,
+        }
+    })
+}
+
+fn main() {
+    setup();
+    divan::main();
+}
+
+const CONFIGURATIONS: [usize; N_CONFIGURATIONS] = [0, 1, 2, 3];
+
+#[divan::bench(sample_count = 10)]
+fn precompute_arap(bencher: divan::Bencher) {
+    let s = setup();
+    bencher.bench_local(|| Arap::new(&s.mesh, &s.handles, ArapOptions::default()).expect("ARAP"));
+}
+
+#[divan::bench(sample_count = 10)]
+fn precompute_sarap(bencher: divan::Bencher) {
+    let s = setup();
+    bencher.bench_local(|| {
+        SymmetricArap::new(&s.mesh, &s.handles, SarapOptions::default()).expect("SARAP")
+    });
+}
+
+#[divan::bench(args = CONFIGURATIONS, sample_count = 5)]
+fn arap(bencher: divan::Bencher, k: usize) {
+    let s = setup();
+    bencher
+        .with_inputs(|| s.mesh.vertices.clone())
+        .bench_local_refs(|u| s.arap.solve(&s.configurations[k], u).expect("ARAP"));
+}
+
+#[divan::bench(args = CONFIGURATIONS, sample_count = 5)]
+fn sarap_from_arap(bencher: divan::Bencher, k: usize) {
+    let s = setup();
+    bencher
+        .with_inputs(|| s.sarap_starts[k].clone())
+        .bench_local_refs(|u| s.sarap.solve(&s.configurations[k], u).expect("SARAP"));
+}
+
+#[divan::bench(args = CONFIGURATIONS, sample_count = 5)]
+fn sarap_from_rest(bencher: divan::Bencher, k: usize) {
+    let s = setup();
+    bencher
+        .with_inputs(|| s.mesh.vertices.clone())
+        .bench_local_refs(|u| s.sarap.solve(&s.configurations[k], u).expect("SARAP"));
+}
