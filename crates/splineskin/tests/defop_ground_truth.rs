@@ -497,3 +497,38 @@ fn a_vertex_in_no_triangle_keeps_its_position() {
     assert!(report.converged());
     assert_eq!(u[lonely], Point::new(-1.0, 2.0));
 }
+
+/// The solvers are shared between threads when ground-truth samples are computed in parallel
+/// (`solve` takes `&self`): this fails to compile if they stop being `Send + Sync`.
+#[test]
+fn solvers_can_be_shared_between_threads() {
+    fn shareable<T: Send + Sync>(_: &T) {}
+    let (mesh, handles) = jittered_bar();
+    let arap = Arap::new(&mesh, &handles, ArapOptions::default()).unwrap();
+    let sarap = SymmetricArap::new(&mesh, &handles, SarapOptions::default()).unwrap();
+    shareable(&arap);
+    shareable(&sarap);
+    // Two threads solving different configurations with one solver agree with one thread.
+    let targets: Vec<Vec<Point>> = [0.2, -0.3]
+        .iter()
+        .map(|&dy| {
+            handles
+                .iter()
+                .enumerate()
+                .map(|(i, &v)| mesh.vertices[v] + Vec2::new(0.0, if i == 3 { dy } else { 0.0 }))
+                .collect()
+        })
+        .collect();
+    let solve = |q: &[Point]| {
+        let mut u = mesh.vertices.clone();
+        sarap.solve(q, &mut u).unwrap();
+        u
+    };
+    let parallel: Vec<Vec<Point>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = targets.iter().map(|q| scope.spawn(|| solve(q))).collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    for (q, u) in targets.iter().zip(&parallel) {
+        assert_eq!(&solve(q), u);
+    }
+}
