@@ -449,6 +449,17 @@ impl SvgSource {
         self.elements.get(element).map(|e| e.kind)
     }
 
+    /// The paths (indices into [`Drawing::paths`]) element `element` produced, if in range.
+    pub fn element_paths(&self, element: usize) -> Option<Range<usize>> {
+        self.elements.get(element).map(|e| e.paths.clone())
+    }
+
+    /// The map from element `element`'s local coordinates (those of its `d` or shape
+    /// attributes) to root user space, if in range.
+    pub fn element_local_to_root(&self, element: usize) -> Option<Affine> {
+        self.elements.get(element).map(|e| e.local_to_root)
+    }
+
     /// A human-readable name of the element that produced path `path_index`, for messages:
     /// `path#leaf (line 12)`, `rect (line 3) in use#u1 (line 9)` for a `use` instance, or
     /// `path index 7 (no such path)` when out of range.

@@ -82,11 +82,42 @@ const SINGULAR_DETERMINANT: f64 = 1e-12;
 /// assert!(out.contains(r#"<path id="box" fill="red" d="M6 1 C"#));
 /// ```
 pub fn write_svg(drawing: &Drawing, points: &[Point]) -> Result<String, SvgError> {
+    write_svg_impl(drawing, points, None)
+}
+
+/// [`write_svg`], with every imported element (each `use` instance separately) also given the
+/// attribute `marker="k"`, `k` its index in [`SvgSource`]'s elements
+/// ([`SvgSource::element_paths`] gives its paths): what an editor needs to find, in the
+/// document it shows, the element whose `d` to rewrite as the drawing deforms. `marker` must be
+/// a plain attribute name the document does not use (e.g. `data-splineskin-element`). A
+/// drawing without a source gets no marker.
+///
+/// ```
+/// use splineskin::drawing::svg_in::{read_svg, ImportOptions};
+/// use splineskin::drawing::svg_out::write_svg_marked;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg"><rect width="2" height="2"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let out = write_svg_marked(&drawing, &drawing.flat_points(), "data-k").unwrap();
+/// assert!(out.contains(r#"<path d="M0 0 C"#) && out.contains(r#" data-k="0"/>"#), "{out}");
+/// ```
+pub fn write_svg_marked(
+    drawing: &Drawing,
+    points: &[Point],
+    marker: &'static str,
+) -> Result<String, SvgError> {
+    write_svg_impl(drawing, points, Some(marker))
+}
+
+fn write_svg_impl(
+    drawing: &Drawing,
+    points: &[Point],
+    marker: Option<&'static str>,
+) -> Result<String, SvgError> {
     let offsets = chain_offsets(drawing, points)?;
     match &drawing.source {
         Some(source) => {
             let data = element_path_data(drawing, points, &offsets, source)?;
-            export_geometry(source, data, Vec::new())
+            export_geometry_marked(source, data, Vec::new(), marker)
         }
         None => Ok(write_standalone(drawing, points, &offsets, &[])),
     }
@@ -185,6 +216,8 @@ struct ExportPolicy<'e> {
     data: Vec<String>,
     /// Content written inside each element (empty: none).
     children: Vec<String>,
+    /// The attribute that receives each element's index, if any.
+    marker: Option<&'static str>,
 }
 
 impl RewritePolicy for ExportPolicy<'_> {
@@ -211,6 +244,7 @@ impl RewritePolicy for ExportPolicy<'_> {
         Ok(GeometryEdit::ToPath(
             std::mem::take(&mut self.data[i]),
             child,
+            self.marker.map(|name| (name, i.to_string())),
         ))
     }
 
@@ -282,6 +316,17 @@ pub(crate) fn export_geometry(
     data: Vec<String>,
     children: Vec<String>,
 ) -> Result<String, SvgError> {
+    export_geometry_marked(source, data, children, None)
+}
+
+/// [`export_geometry`], each element also given `marker="k"` when `marker` is set
+/// ([`write_svg_marked`]).
+fn export_geometry_marked(
+    source: &SvgSource,
+    data: Vec<String>,
+    children: Vec<String>,
+    marker: Option<&'static str>,
+) -> Result<String, SvgError> {
     let origin = source.origin.as_str();
     let mut policy = ExportPolicy {
         source,
@@ -298,6 +343,7 @@ pub(crate) fn export_geometry(
             .collect(),
         data,
         children,
+        marker,
     };
     let doc = super::svg_in::parse_xml(&source.text, origin)?;
     let viewport = source.view_box.size();
@@ -393,8 +439,9 @@ pub(crate) enum GeometryEdit {
     Keep,
     /// Set its `id` (replacing one, or adding it).
     SetId(String),
-    /// Make it a `<path>` with this `d` and, if given, this text as its first content.
-    ToPath(String, Option<String>),
+    /// Make it a `<path>` with this `d`, if given this text as its first content, and if given
+    /// this attribute (name, value) set.
+    ToPath(String, Option<String>, Option<(&'static str, String)>),
 }
 
 /// The decisions that differ between preparing the import text and exporting.
@@ -607,12 +654,13 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
             match self.policy.geometry(&key, node, ctx.in_copy)? {
                 GeometryEdit::Keep => {}
                 GeometryEdit::SetId(id) => spec.set.push(("id", id)),
-                GeometryEdit::ToPath(d, child) => {
+                GeometryEdit::ToPath(d, child, marker) => {
                     if kind != ElementKind::Path {
                         spec.rename = Some("path");
                         spec.remove = kind.geometry_attributes();
                     }
                     spec.set.push(("d", d));
+                    spec.set.extend(marker);
                     spec.child = child;
                 }
             }

@@ -78,6 +78,27 @@ impl Scene {
     /// ([`Scene::check_supported`]) or its drawing cannot be read.
     pub fn setup(&self, compat: Compat) -> Result<Setup, SceneError> {
         self.check_supported()?;
+        let (drawing, warnings) = self.drawing_with_junctions(compat)?;
+        let options = self.fit_options(compat);
+        let (weights, domain) = handle_weights(&drawing, &self.weight_inputs(compat))?;
+        Ok(Setup {
+            drawing,
+            weights,
+            options,
+            warnings,
+            domain,
+        })
+    }
+
+    /// The drawing [`Scene::setup`] rigs, without the weights: read with the importer of
+    /// `compat`, the authors' saved junction kinds applied (if they fit the drawing) and then
+    /// the scene's junction overrides ([`Scene::junctions`]). Returns it with what the user
+    /// should know (saved kinds that did not fit). Errors name a junction override that does
+    /// not exist or is an open end.
+    pub fn drawing_with_junctions(
+        &self,
+        compat: Compat,
+    ) -> Result<(Drawing, Vec<String>), SceneError> {
         let mut warnings = Vec::new();
         let mut drawing = self.drawing(compat)?;
         if let Some(kinds) = &self.authors_joints {
@@ -113,15 +134,7 @@ impl Scene {
             }
             *slot = o.kind;
         }
-        let options = self.fit_options(compat);
-        let (weights, domain) = handle_weights(&drawing, &self.weight_inputs(compat))?;
-        Ok(Setup {
-            drawing,
-            weights,
-            options,
-            warnings,
-            domain,
-        })
+        Ok((drawing, warnings))
     }
 
     /// The fit options of the scene's measure in `compat`.
