@@ -8,7 +8,7 @@
 //   BROWSER_TESTS_OUT     keep screenshots in this folder (default: a temporary folder, removed
 //                         when the tests pass and kept, with its path printed, when one fails)
 
-import { execFile } from 'node:child_process';
+import { execFile, spawn } from 'node:child_process';
 import { existsSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
 import { readFile } from 'node:fs/promises';
 import { createServer } from 'node:http';
@@ -164,4 +164,57 @@ export function outputFolder(name) {
       }
     },
   };
+}
+
+/**
+ * Starts `splineskin serve --port 0 ARGS…` (the editor) and waits for the URL it prints.
+ * Resolves to `{ url, stderr(), close() }`: `stderr()` is what the server wrote so far;
+ * `close()` stops it (SIGTERM) and resolves once it has exited.
+ */
+export function startEditor(args = [], { cwd } = {}) {
+  const bin = splineskinBinary();
+  const child = spawn(bin, ['serve', '--port', '0', ...args], { cwd, stdio: ['ignore', 'pipe', 'pipe'] });
+  let stdout = '';
+  let stderr = '';
+  child.stderr.on('data', (chunk) => (stderr += chunk));
+  const exited = new Promise((ok) => child.once('exit', (code, signal) => ok({ code, signal })));
+  return new Promise((ok, fail) => {
+    const timer = setTimeout(() => {
+      child.kill('SIGTERM');
+      fail(new Error(`splineskin serve printed no URL within 60 s:\n${stdout}\n${stderr}`));
+    }, 60_000);
+    exited.then(({ code, signal }) => {
+      clearTimeout(timer);
+      fail(new Error(`splineskin serve exited (${code ?? signal}) before printing its URL:\n${stderr}`));
+    });
+    child.stdout.on('data', (chunk) => {
+      stdout += chunk;
+      const match = /http:\/\/\S+\//.exec(stdout);
+      if (match) {
+        clearTimeout(timer);
+        ok({
+          url: match[0],
+          stderr: () => stderr,
+          async close() {
+            if (child.exitCode === null && child.signalCode === null) child.kill('SIGTERM');
+            await exited;
+          },
+        });
+      }
+    });
+  });
+}
+
+/** Runs `splineskin ARGS…`; resolves to its stdout, rejects with its stderr on failure. */
+export function splineskinOutput(args, { cwd } = {}) {
+  const bin = splineskinBinary();
+  return new Promise((ok, fail) => {
+    execFile(bin, args, { cwd, maxBuffer: 64 << 20 }, (error, stdout, stderr) => {
+      if (error) {
+        fail(new Error(`splineskin ${args.join(' ')} failed (${error.code ?? error.signal}):\n${stderr}`));
+      } else {
+        ok(stdout);
+      }
+    });
+  });
 }

@@ -10,6 +10,7 @@ mod deform;
 mod demo;
 mod info;
 mod output;
+mod serve;
 mod weights;
 
 use clap::{Parser, Subcommand};
@@ -38,6 +39,9 @@ enum Command {
     Demo(demo::Args),
     /// Draw a scene's handle weights as PNG, or compute weights on a triangle mesh.
     Weights(weights::Args),
+    /// Start the editor: a local web page to place and drag handles and watch the drawing
+    /// follow live.
+    Serve(serve::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -50,6 +54,7 @@ fn main() -> std::process::ExitCode {
         Command::Bench(a) => bench::run(a),
         Command::Demo(a) => demo::run(a),
         Command::Weights(a) => weights::run(a),
+        Command::Serve(a) => serve::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -1,0 +1,526 @@
+//! The HTTP routes of the editor.
+//!
+//! | route | request | response |
+//! |---|---|---|
+//! | `GET /`, `GET /{*path}` | | the page and its assets ([`super::assets`]) |
+//! | `GET /api/initial` | | the drawing given on the command line, [`DocumentInfo`] |
+//! | `POST /api/open` | the file's bytes (SVG or scene), `x-file-name` header | [`DocumentInfo`] |
+//! | `POST /api/rig` | [`SceneRequest`] | the operator `O`, `f64` LE row-major `(2 · n_points) × (6 · n_handles)`; header `x-splineskin-rig`: the rig's id |
+//! | `POST /api/rigs/{id}/solve` | [`PoseRequest`] | deformed points, `f64` LE `x0, y0, x1, y1, …` (flexible G¹ when the scene asks, warm-started from the previous solve) |
+//! | `GET /api/rigs/{id}/weights?handle&x0&y0&x1&y1&width&height` | | handle's weight at the centres of a `width × height` grid over the box, `f32` LE, row by row from `y0` |
+//! | `POST /api/documents/{id}/export` | deformed points, `f64` LE | the SVG document with them ([`write_svg`]) |
+//! | `POST /api/documents/{id}/scene` | [`EditScene`] | the scene file (ours, drawing inline) |
+//!
+//! Errors are JSON [`ErrorBody`] `{"error": "…"}` naming the file and element concerned, with
+//! status 400 (bad input), 404 (no such document or rig: dropped, [`super::store`]), 413 (too
+//! large) or 500 (a bug). Every `POST` must carry the header `x-splineskin: 1`, which a page of
+//! another site cannot send without a CORS preflight this server never grants; on loopback,
+//! requests whose `Host` is not the server's own are refused (DNS rebinding).
+//!
+//! Precomputation, solves, weight grids and exports run on blocking threads, at most
+//! [`MAX_JOBS`] at a time; a page that closes mid-request leaves the server as it was.
+
+use std::sync::{Arc, Mutex};
+
+use axum::body::{Body, Bytes};
+use axum::extract::rejection::{BytesRejection, JsonRejection};
+use axum::extract::{DefaultBodyLimit, Path, Query, Request, State};
+use axum::http::{header, HeaderMap, HeaderValue, Method, StatusCode};
+use axum::middleware::{self, Next};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use axum::{Json, Router};
+use kurbo::{Affine, Point};
+use serde::Deserialize;
+use splineskin::drawing::svg_out::write_svg;
+use splineskin::scene::{Compat, Puppet, Scene};
+use tokio::sync::Semaphore;
+
+use super::document::{Document, MAX_UPLOAD_BYTES};
+use super::scene_file::scene_json;
+use super::store::Store;
+use super::wire::{DocumentInfo, EditScene, ErrorBody, PoseRequest, SceneRequest};
+
+/// Heavy jobs (precomputation, solves, weight grids, exports) run at once: 2, the cores of the
+/// machines this is made for; more wait their turn.
+pub const MAX_JOBS: usize = 2;
+
+/// Largest JSON request: 16 MiB (a scene of the page holds handles, a pose and junction
+/// overrides, never the drawing).
+pub const MAX_JSON_BYTES: usize = 16 << 20;
+
+/// Most point handles a rig takes: 512.
+pub const MAX_HANDLES: usize = 512;
+
+/// Largest operator sent to the page: 512 MiB (`8 · 2 · n_points · 6 · n_handles` bytes), what
+/// a browser tab holds comfortably.
+pub const MAX_OPERATOR_BYTES: usize = 512 << 20;
+
+/// Largest side of a weight grid, in samples: 1024.
+pub const MAX_GRID_SIDE: u32 = 1024;
+
+/// The header every `POST` carries.
+pub const API_HEADER: &str = "x-splineskin";
+
+/// The header naming a rig in [`rig`]'s response.
+pub const RIG_HEADER: &str = "x-splineskin-rig";
+
+/// The server's state.
+pub struct App {
+    /// Documents and rigs.
+    pub store: Mutex<Store>,
+    /// Slots for heavy jobs.
+    pub jobs: Semaphore,
+    /// The `Host` values accepted (empty: any, when serving beyond loopback on request).
+    pub hosts: Vec<String>,
+}
+
+impl App {
+    /// A server state holding `initial` as the drawing shown first; `hosts` as in
+    /// [`App::hosts`].
+    pub fn new(initial: Document, hosts: Vec<String>) -> Arc<App> {
+        let mut store = Store::default();
+        store.set_initial(initial);
+        Arc::new(App {
+            store: Mutex::new(store),
+            jobs: Semaphore::new(MAX_JOBS),
+            hosts,
+        })
+    }
+
+    fn store(&self) -> std::sync::MutexGuard<'_, Store> {
+        // The store's methods do not panic midway; a poisoned lock holds consistent data.
+        self.store.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn document(&self, id: &str) -> Result<Arc<Document>, ApiError> {
+        self.store().document(id).ok_or_else(|| {
+            ApiError::new(
+                StatusCode::NOT_FOUND,
+                format!("document {id} is no longer open on the server: open the drawing again"),
+            )
+        })
+    }
+}
+
+/// The router of the editor on state `app`.
+pub fn router(app: Arc<App>) -> Router {
+    let json_limit = DefaultBodyLimit::max(MAX_JSON_BYTES);
+    Router::new()
+        .route("/api/initial", get(initial))
+        .route(
+            "/api/open",
+            post(open).layer(DefaultBodyLimit::max(MAX_UPLOAD_BYTES)),
+        )
+        .route("/api/rig", post(rig).layer(json_limit))
+        .route("/api/rigs/{id}/solve", post(solve).layer(json_limit))
+        .route("/api/rigs/{id}/weights", get(weights))
+        .route(
+            "/api/documents/{id}/export",
+            post(export).layer(DefaultBodyLimit::max(MAX_UPLOAD_BYTES)),
+        )
+        .route(
+            "/api/documents/{id}/scene",
+            post(save_scene).layer(json_limit),
+        )
+        .route("/api/{*rest}", get(no_route).post(no_route))
+        .route("/", get(super::assets::index))
+        .route("/{*path}", get(super::assets::asset))
+        .layer(middleware::from_fn_with_state(app.clone(), guard))
+        .with_state(app)
+}
+
+/// Refuses foreign `Host`s (on loopback) and `POST`s without [`API_HEADER`].
+async fn guard(State(app): State<Arc<App>>, request: Request, next: Next) -> Response {
+    if !app.hosts.is_empty() {
+        let host = request
+            .headers()
+            .get(header::HOST)
+            .and_then(|h| h.to_str().ok())
+            .unwrap_or("");
+        if !app.hosts.iter().any(|h| h.eq_ignore_ascii_case(host)) {
+            return ApiError::new(
+                StatusCode::FORBIDDEN,
+                format!(
+                    "host '{host}' is not this server (expected one of {})",
+                    app.hosts.join(", ")
+                ),
+            )
+            .into_response();
+        }
+    }
+    if request.method() == Method::POST && request.headers().get(API_HEADER).is_none() {
+        return ApiError::new(
+            StatusCode::FORBIDDEN,
+            format!("POST requests need the header '{API_HEADER}: 1' (sent by the editor's page)"),
+        )
+        .into_response();
+    }
+    let mut response = next.run(request).await;
+    let headers = response.headers_mut();
+    headers.insert(
+        "x-content-type-options",
+        HeaderValue::from_static("nosniff"),
+    );
+    headers
+        .entry(header::CACHE_CONTROL)
+        .or_insert(HeaderValue::from_static("no-store"));
+    response
+}
+
+/// An error response: a status and a message for the page.
+#[derive(Debug)]
+pub struct ApiError {
+    status: StatusCode,
+    message: String,
+}
+
+impl ApiError {
+    fn new(status: StatusCode, message: impl Into<String>) -> ApiError {
+        ApiError {
+            status,
+            message: message.into(),
+        }
+    }
+
+    fn bad(message: impl Into<String>) -> ApiError {
+        ApiError::new(StatusCode::BAD_REQUEST, message)
+    }
+}
+
+impl From<anyhow::Error> for ApiError {
+    fn from(e: anyhow::Error) -> ApiError {
+        ApiError::bad(crate::error_message(&e))
+    }
+}
+
+impl From<JsonRejection> for ApiError {
+    fn from(e: JsonRejection) -> ApiError {
+        ApiError::new(e.status(), format!("bad request: {}", e.body_text()))
+    }
+}
+
+impl From<BytesRejection> for ApiError {
+    fn from(e: BytesRejection) -> ApiError {
+        let message = if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
+            format!("the upload is larger than the {MAX_UPLOAD_BYTES}-byte limit")
+        } else {
+            format!("bad request: {}", e.body_text())
+        };
+        ApiError::new(e.status(), message)
+    }
+}
+
+impl IntoResponse for ApiError {
+    fn into_response(self) -> Response {
+        (
+            self.status,
+            Json(ErrorBody {
+                error: self.message,
+            }),
+        )
+            .into_response()
+    }
+}
+
+/// Runs `job` on a blocking thread once a job slot is free. A panic (a bug) becomes a 500.
+async fn run_job<T: Send + 'static>(
+    app: &App,
+    job: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
+) -> Result<T, ApiError> {
+    let _slot =
+        app.jobs.acquire().await.map_err(|_| {
+            ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the server is stopping")
+        })?;
+    match tokio::task::spawn_blocking(job).await {
+        Ok(result) => result,
+        Err(e) => Err(ApiError::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            format!("internal error (a bug in splineskin, please report it): {e}"),
+        )),
+    }
+}
+
+async fn no_route() -> ApiError {
+    ApiError::new(StatusCode::NOT_FOUND, "no such API route")
+}
+
+async fn initial(State(app): State<Arc<App>>) -> Result<Json<DocumentInfo>, ApiError> {
+    let document = app
+        .store()
+        .initial()
+        .ok_or_else(|| ApiError::new(StatusCode::NOT_FOUND, "no initial document"))?;
+    Ok(Json(document.info.clone()))
+}
+
+async fn open(
+    State(app): State<Arc<App>>,
+    headers: HeaderMap,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Json<DocumentInfo>, ApiError> {
+    let body = body?;
+    let name = headers
+        .get("x-file-name")
+        .and_then(|v| v.to_str().ok())
+        .map(percent_decode)
+        .filter(|n| !n.is_empty())
+        .unwrap_or_else(|| "upload".to_string());
+    let document = run_job(&app, move || Ok(Document::open(&name, &body)?)).await?;
+    let document = app.store().add_document(document);
+    Ok(Json(document.info.clone()))
+}
+
+/// Decodes `%XX` escapes (the page sends file names with `encodeURIComponent`); anything
+/// malformed is kept as it is.
+fn percent_decode(s: &str) -> String {
+    let bytes = s.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' && i + 2 < bytes.len() {
+            if let Some(b) = s
+                .get(i + 1..i + 3)
+                .and_then(|hex| u8::from_str_radix(hex, 16).ok())
+            {
+                out.push(b);
+                i += 3;
+                continue;
+            }
+        }
+        out.push(bytes[i]);
+        i += 1;
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// Reads the page's scene on `document` as a scene of ours (validating it like any scene
+/// file), refusing rigs larger than [`MAX_HANDLES`] or [`MAX_OPERATOR_BYTES`].
+fn page_scene(document: &Document, scene: &EditScene) -> Result<Scene, ApiError> {
+    let n_handles = scene.handles.len();
+    if n_handles > MAX_HANDLES {
+        return Err(ApiError::bad(format!(
+            "{}: {n_handles} handles (at most {MAX_HANDLES})",
+            document.name
+        )));
+    }
+    let bytes = 8 * 2 * document.drawing.n_points() * 6 * n_handles;
+    if bytes > MAX_OPERATOR_BYTES {
+        return Err(ApiError::bad(format!(
+            "{}: {n_handles} handles on {} points make a {} MiB operator (at most {} MiB): \
+             use fewer handles",
+            document.name,
+            document.drawing.n_points(),
+            bytes >> 20,
+            MAX_OPERATOR_BYTES >> 20
+        )));
+    }
+    let json = scene_json(&document.svg_text, scene, &document.extras);
+    Scene::from_json(&json, &document.name, None)
+        .map(|mut s| {
+            s.svg_origin = document.name.clone();
+            s
+        })
+        .map_err(|e| ApiError::bad(e.to_string()))
+}
+
+async fn rig(
+    State(app): State<Arc<App>>,
+    request: Result<Json<SceneRequest>, JsonRejection>,
+) -> Result<Response, ApiError> {
+    let Json(request) = request?;
+    let document = app.document(&request.document)?;
+    let (puppet, operator) = run_job(&app, move || {
+        let scene = page_scene(&document, &request.scene)?;
+        let puppet =
+            Puppet::from_scene(&scene, Compat::None).map_err(|e| ApiError::bad(e.to_string()))?;
+        let operator = f64_bytes(puppet.rig().map(|r| r.operator()).unwrap_or(&[]));
+        Ok((puppet, operator))
+    })
+    .await?;
+    let id = app.store().add_rig(puppet);
+    binary(operator, Some(&id))
+}
+
+async fn solve(
+    State(app): State<Arc<App>>,
+    Path(id): Path<String>,
+    request: Result<Json<PoseRequest>, JsonRejection>,
+) -> Result<Response, ApiError> {
+    let Json(request) = request?;
+    let rig = app.store().rig(&id).ok_or_else(|| gone_rig(&id))?;
+    let points = run_job(&app, move || {
+        let pose: Vec<Affine> = request.pose.iter().map(|&c| Affine::new(c)).collect();
+        if let Some(k) = pose
+            .iter()
+            .position(|t| !t.as_coeffs().iter().all(|v| v.is_finite()))
+        {
+            return Err(ApiError::bad(format!("pose[{k}]: not finite")));
+        }
+        let mut puppet = rig.puppet.lock().map_err(|_| {
+            ApiError::new(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                "the rig failed earlier (a bug): build it again",
+            )
+        })?;
+        puppet
+            .set_pose(&pose)
+            .map_err(|e| ApiError::bad(e.to_string()))?;
+        let mut points = vec![Point::ZERO; puppet.n_points()];
+        puppet
+            .update(&mut points)
+            .map_err(|e| ApiError::bad(e.to_string()))?;
+        let flat: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y]).collect();
+        Ok(f64_bytes(&flat))
+    })
+    .await;
+    if let Err(e) = &points {
+        if e.status == StatusCode::INTERNAL_SERVER_ERROR {
+            app.store().remove_rig(&id);
+        }
+    }
+    binary(points?, None)
+}
+
+fn gone_rig(id: &str) -> ApiError {
+    ApiError::new(
+        StatusCode::NOT_FOUND,
+        format!("rig {id} is no longer kept on the server: precompute again"),
+    )
+}
+
+/// The query of [`weights`].
+#[derive(Deserialize)]
+struct GridQuery {
+    handle: usize,
+    x0: f64,
+    y0: f64,
+    x1: f64,
+    y1: f64,
+    width: u32,
+    height: u32,
+}
+
+async fn weights(
+    State(app): State<Arc<App>>,
+    Path(id): Path<String>,
+    Query(q): Query<GridQuery>,
+) -> Result<Response, ApiError> {
+    let rig = app.store().rig(&id).ok_or_else(|| gone_rig(&id))?;
+    if !(1..=MAX_GRID_SIDE).contains(&q.width) || !(1..=MAX_GRID_SIDE).contains(&q.height) {
+        return Err(ApiError::bad(format!(
+            "grid {} × {}: each side must be in 1..={MAX_GRID_SIDE}",
+            q.width, q.height
+        )));
+    }
+    if ![q.x0, q.y0, q.x1, q.y1].iter().all(|v| v.is_finite()) {
+        return Err(ApiError::bad("grid box: not finite"));
+    }
+    let grid = run_job(&app, move || {
+        let puppet = rig.puppet.lock().map_err(|_| {
+            ApiError::new(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                "the rig failed earlier (a bug): build it again",
+            )
+        })?;
+        let field = puppet
+            .weights()
+            .ok_or_else(|| ApiError::bad("the rig's weights are not computed"))?;
+        let n = field.n_handles();
+        if q.handle >= n {
+            return Err(ApiError::bad(format!(
+                "handle {}: no such handle (the rig has {n})",
+                q.handle
+            )));
+        }
+        let mut w = vec![0.0; n];
+        let mut out = Vec::with_capacity(4 * (q.width * q.height) as usize);
+        for r in 0..q.height {
+            let y = q.y0 + (q.y1 - q.y0) * (r as f64 + 0.5) / q.height as f64;
+            for c in 0..q.width {
+                let x = q.x0 + (q.x1 - q.x0) * (c as f64 + 0.5) / q.width as f64;
+                field.eval(Point::new(x, y), &mut w);
+                out.extend_from_slice(&(w[q.handle] as f32).to_le_bytes());
+            }
+        }
+        Ok(out)
+    })
+    .await?;
+    binary(grid, None)
+}
+
+async fn export(
+    State(app): State<Arc<App>>,
+    Path(id): Path<String>,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Response, ApiError> {
+    let body = body?;
+    let document = app.document(&id)?;
+    let svg = run_job(&app, move || {
+        let n = document.drawing.n_points();
+        if body.len() != 16 * n {
+            return Err(ApiError::bad(format!(
+                "{}: {} bytes of points for a drawing of {n} points (expected {})",
+                document.name,
+                body.len(),
+                16 * n
+            )));
+        }
+        let points: Vec<Point> = body
+            .chunks_exact(16)
+            .map(|c| {
+                let x = f64::from_le_bytes(c[..8].try_into().expect("8 bytes"));
+                let y = f64::from_le_bytes(c[8..].try_into().expect("8 bytes"));
+                Point::new(x, y)
+            })
+            .collect();
+        write_svg(&document.drawing, &points).map_err(|e| ApiError::bad(e.to_string()))
+    })
+    .await?;
+    Ok((
+        [(header::CONTENT_TYPE, "image/svg+xml; charset=utf-8")],
+        svg,
+    )
+        .into_response())
+}
+
+async fn save_scene(
+    State(app): State<Arc<App>>,
+    Path(id): Path<String>,
+    request: Result<Json<EditScene>, JsonRejection>,
+) -> Result<Response, ApiError> {
+    let Json(scene) = request?;
+    let document = app.document(&id)?;
+    let json = run_job(&app, move || {
+        // Validated as it will be read back.
+        page_scene(&document, &scene)?;
+        Ok(scene_json(&document.svg_text, &scene, &document.extras))
+    })
+    .await?;
+    Ok(([(header::CONTENT_TYPE, "application/json")], json).into_response())
+}
+
+/// `values` as little-endian bytes.
+fn f64_bytes(values: &[f64]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(8 * values.len());
+    for v in values {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    out
+}
+
+/// A binary response, with the rig's id header when given.
+fn binary(bytes: Vec<u8>, rig: Option<&str>) -> Result<Response, ApiError> {
+    let mut response = Response::new(Body::from(bytes));
+    let headers = response.headers_mut();
+    headers.insert(
+        header::CONTENT_TYPE,
+        HeaderValue::from_static("application/octet-stream"),
+    );
+    if let Some(id) = rig {
+        headers.insert(
+            RIG_HEADER,
+            HeaderValue::from_str(id).map_err(|e| ApiError::bad(e.to_string()))?,
+        );
+    }
+    Ok(response)
+}

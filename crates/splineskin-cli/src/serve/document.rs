@@ -1,0 +1,232 @@
+//! An opened drawing: an SVG document or a scene (ours or the paper authors'), read by the
+//! library once, with what the page needs to show and deform it ([`DocumentInfo`]).
+
+use anyhow::{bail, Context, Result};
+use splineskin::drawing::svg_in::MAX_SVG_BYTES;
+use splineskin::drawing::svg_out::write_svg_marked;
+use splineskin::drawing::Drawing;
+use splineskin::scene::{Compat, Engine, Scene, WeightSpec};
+use splineskin::spline_fit::Measure;
+
+use super::scene_file::SceneExtras;
+use super::wire::{DocumentInfo, EditScene, ElementInfo, JunctionWire, PathInfo, WeightsWire};
+
+/// The attribute that marks each imported element in the shown document with its index
+/// ([`splineskin::drawing::svg_out::write_svg_marked`]).
+pub const ELEMENT_MARKER: &str = "data-splineskin-element";
+
+/// Largest upload: an SVG document or a scene, whichever limit is larger
+/// ([`MAX_SVG_BYTES`], 64 MiB; scenes of ours hold their drawing inline, so a scene may be a
+/// little larger than its drawing: 1 MiB more is allowed).
+pub const MAX_UPLOAD_BYTES: usize = MAX_SVG_BYTES + (1 << 20);
+
+/// A drawing opened in the editor.
+pub struct Document {
+    /// The file name, for messages.
+    pub name: String,
+    /// The SVG text.
+    pub svg_text: String,
+    /// What the scene carries besides the page's part.
+    pub extras: SceneExtras,
+    /// The drawing as imported (junction kinds classified from the geometry).
+    pub drawing: Drawing,
+    /// What the page is sent (its `id` set by the store).
+    pub info: DocumentInfo,
+}
+
+impl Document {
+    /// Opens an upload (or a file's contents) named `name`: a scene if it is a JSON object,
+    /// else an SVG document.
+    pub fn open(name: &str, bytes: &[u8]) -> Result<Document> {
+        if bytes.len() > MAX_UPLOAD_BYTES {
+            bail!(
+                "{name}: {} bytes is more than the {MAX_UPLOAD_BYTES}-byte limit",
+                bytes.len()
+            );
+        }
+        let text = std::str::from_utf8(bytes).map_err(|e| {
+            anyhow::anyhow!(
+                "{name}: not UTF-8 text (byte {}); expected an SVG document or a scene (JSON)",
+                e.valid_up_to()
+            )
+        })?;
+        if text.trim_start().starts_with('{') {
+            let scene = Scene::from_json(text, name, None)?;
+            Document::from_scene(scene, name)
+        } else {
+            Document::from_svg(name, text)
+        }
+    }
+
+    /// Opens an SVG document: no handles, Shepard weights.
+    pub fn from_svg(name: &str, text: &str) -> Result<Document> {
+        #[derive(serde::Serialize)]
+        struct Minimal<'a> {
+            splineskin_scene: u32,
+            svg_text: &'a str,
+        }
+        let json = serde_json::to_string(&Minimal {
+            splineskin_scene: splineskin::scene::ours::SCENE_VERSION,
+            svg_text: text,
+        })?;
+        let mut scene = Scene::from_json(&json, name, None)?;
+        scene.svg_origin = name.to_string();
+        Document::from_scene(scene, name)
+    }
+
+    /// Opens a loaded scene. Its first pose is the one shown. Errors for what the editor cannot
+    /// edit yet (bones, cages) and for drawings the library cannot read, naming the file.
+    pub fn from_scene(scene: Scene, name: &str) -> Result<Document> {
+        scene.check_supported()?;
+        let mut warnings = Vec::new();
+        if !scene.bones.is_empty() || scene.cage.is_some() {
+            bail!(
+                "{name}: the editor places point handles only; this scene has {} bones{} \
+                 (deform it with `splineskin deform`)",
+                scene.bones.len(),
+                if scene.cage.is_some() {
+                    " and a cage"
+                } else {
+                    ""
+                }
+            );
+        }
+        if scene.engine != Engine::Ours {
+            warnings.push(format!(
+                "{name}: engine '{}' (a naive baseline) is not used: the editor deforms with the \
+                 spline fit",
+                scene.engine.name()
+            ));
+        }
+        let weights = match &scene.weights {
+            WeightSpec::Shepard { exponent } => WeightsWire {
+                family: "shepard".into(),
+                exponent: Some(*exponent),
+            },
+            WeightSpec::Mesh(family) => WeightsWire {
+                family: family.name().into(),
+                exponent: None,
+            },
+            other => bail!(
+                "{name}: weight family '{}' needs a cage, which the editor does not edit yet",
+                other.name()
+            ),
+        };
+        // The kinds the rig uses (the authors' saved kinds, then the scene's overrides) and
+        // those classified from the geometry: the page gets the latter and, as overrides,
+        // every joint where the two differ.
+        let (rigged, more) = scene.drawing_with_junctions(Compat::None)?;
+        warnings.extend(more);
+        let drawing = scene.drawing(Compat::None)?;
+        let mut junctions = Vec::new();
+        for (p, (a, b)) in rigged.paths.iter().zip(&drawing.paths).enumerate() {
+            for (j, (&kind, &classified)) in a.joints.iter().zip(&b.joints).enumerate() {
+                if kind != classified {
+                    junctions.push(JunctionWire {
+                        path: p,
+                        joint: j,
+                        kind,
+                    });
+                }
+            }
+        }
+        let pose = scene
+            .pose(0)
+            .map(|p| p.transforms.iter().map(|t| t.as_coeffs()).collect())
+            .unwrap_or_default();
+        let edit = EditScene {
+            handles: scene.handles.iter().map(|p| [p.x, p.y]).collect(),
+            pose,
+            weights,
+            junctions,
+            flexible: scene.flexible,
+        };
+        let extras = SceneExtras {
+            arc_length: scene.measure == Measure::ArcLength,
+            domain: (scene.domain != Default::default()).then(|| scene.domain.clone()),
+        };
+        let rest = drawing.flat_points();
+        let svg = write_svg_marked(&drawing, &rest, ELEMENT_MARKER)
+            .with_context(|| format!("{name}: preparing the drawing for display"))?;
+        let source = drawing
+            .source
+            .as_ref()
+            .context("an imported drawing has its source")?;
+        let elements = (0..source.n_elements())
+            .map(|e| {
+                let paths = source.element_paths(e).unwrap_or(0..0);
+                let to_local = source
+                    .element_local_to_root(e)
+                    .map(|t| t.inverse().as_coeffs())
+                    .unwrap_or([1.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
+                ElementInfo {
+                    first_path: paths.start,
+                    end_path: paths.end,
+                    to_local,
+                }
+            })
+            .collect();
+        let paths = drawing
+            .paths
+            .iter()
+            .enumerate()
+            .map(|(i, p)| PathInfo {
+                closed: p.closed,
+                n_points: p.points.len(),
+                joints: p.joints.clone(),
+                close_with_z: p.closed && !source.is_closed_without_z(i),
+            })
+            .collect();
+        let info = DocumentInfo {
+            id: String::new(),
+            name: name.to_string(),
+            svg,
+            view_box: {
+                let b = source.view_box();
+                [b.x0, b.y0, b.width(), b.height()]
+            },
+            paths,
+            elements,
+            rest: rest.iter().flat_map(|p| [p.x, p.y]).collect(),
+            scene: edit,
+            warnings,
+            n_curves: drawing.n_curves(),
+        };
+        Ok(Document {
+            name: name.to_string(),
+            svg_text: scene.svg_text.clone(),
+            extras,
+            drawing,
+            info,
+        })
+    }
+
+    /// The bundled drawing with its handles (the fish of `splineskin demo`).
+    pub fn bundled() -> Result<Document> {
+        let scene = splineskin::examples::demo_scene();
+        let name = scene.origin.clone();
+        Document::from_scene(scene, &name)
+    }
+
+    /// Opens the file given on the command line.
+    pub fn from_path(path: &std::path::Path) -> Result<Document> {
+        let name = path.display().to_string();
+        let is_json = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        if is_json {
+            // Scene::load resolves an SVG file named relative to the scene.
+            let scene = Scene::load(path)?;
+            return Document::from_scene(scene, &name);
+        }
+        let size = std::fs::metadata(path)
+            .with_context(|| format!("{name}: cannot read"))?
+            .len();
+        if size > MAX_UPLOAD_BYTES as u64 {
+            bail!("{name}: {size} bytes is more than the {MAX_UPLOAD_BYTES}-byte limit");
+        }
+        let bytes = std::fs::read(path).with_context(|| format!("{name}: cannot read"))?;
+        Document::open(&name, &bytes)
+    }
+}

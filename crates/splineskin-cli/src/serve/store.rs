@@ -1,0 +1,102 @@
+//! What the server keeps between requests: opened documents and built rigs, each under an id,
+//! the oldest dropped past a fixed count so that a long session's memory stays bounded.
+
+use std::collections::VecDeque;
+use std::sync::{Arc, Mutex};
+
+use splineskin::scene::Puppet;
+
+use super::document::Document;
+
+/// Documents kept: 8 (the one given on the command line is kept besides).
+pub const MAX_DOCUMENTS: usize = 8;
+
+/// Rigs kept: 4. A page needs only its latest; a few more serve other tabs.
+pub const MAX_RIGS: usize = 4;
+
+/// A built rig: the puppet (weights, rig and, with flexible junctions, the solver and its warm
+/// start).
+pub struct Rig {
+    /// The puppet; locked while a solve runs.
+    pub puppet: Mutex<Puppet>,
+}
+
+/// Documents and rigs by id.
+#[derive(Default)]
+pub struct Store {
+    next_id: u64,
+    /// The document given on the command line (or the bundled one), never dropped.
+    initial: Option<(String, Arc<Document>)>,
+    documents: VecDeque<(String, Arc<Document>)>,
+    rigs: VecDeque<(String, Arc<Rig>)>,
+}
+
+impl Store {
+    fn new_id(&mut self, prefix: char) -> String {
+        self.next_id += 1;
+        format!("{prefix}{}", self.next_id)
+    }
+
+    /// Keeps `document` as the initial one; returns its id.
+    pub fn set_initial(&mut self, mut document: Document) -> String {
+        let id = self.new_id('d');
+        document.info.id = id.clone();
+        self.initial = Some((id.clone(), Arc::new(document)));
+        id
+    }
+
+    /// The initial document.
+    pub fn initial(&self) -> Option<Arc<Document>> {
+        self.initial.as_ref().map(|(_, d)| d.clone())
+    }
+
+    /// Keeps `document`, dropping the oldest past [`MAX_DOCUMENTS`]; returns it with its id
+    /// set.
+    pub fn add_document(&mut self, mut document: Document) -> Arc<Document> {
+        let id = self.new_id('d');
+        document.info.id = id.clone();
+        let document = Arc::new(document);
+        self.documents.push_back((id, document.clone()));
+        while self.documents.len() > MAX_DOCUMENTS {
+            self.documents.pop_front();
+        }
+        document
+    }
+
+    /// The document `id`, if kept.
+    pub fn document(&self, id: &str) -> Option<Arc<Document>> {
+        self.initial
+            .iter()
+            .chain(&self.documents)
+            .find(|(k, _)| k == id)
+            .map(|(_, d)| d.clone())
+    }
+
+    /// Keeps a rig, dropping the oldest past [`MAX_RIGS`]; returns its id.
+    pub fn add_rig(&mut self, puppet: Puppet) -> String {
+        let id = self.new_id('r');
+        self.rigs.push_back((
+            id.clone(),
+            Arc::new(Rig {
+                puppet: Mutex::new(puppet),
+            }),
+        ));
+        while self.rigs.len() > MAX_RIGS {
+            self.rigs.pop_front();
+        }
+        id
+    }
+
+    /// The rig `id`, if kept.
+    pub fn rig(&self, id: &str) -> Option<Arc<Rig>> {
+        self.rigs
+            .iter()
+            .find(|(k, _)| k == id)
+            .map(|(_, r)| r.clone())
+    }
+
+    /// Drops rig `id` (after a solve panicked while holding it).
+    pub fn remove_rig(&mut self, id: &str) {
+        self.rigs.retain(|(k, _)| k != id);
+    }
+}

@@ -1,0 +1,385 @@
+//! The editor's HTTP API, exercised through the router without a socket (tower's `oneshot`).
+
+use axum::body::Body;
+use axum::http::{header, Request, StatusCode};
+use axum::Router;
+use http_body_util::BodyExt;
+use kurbo::Point;
+use splineskin::drawing::{read_svg, ImportOptions};
+use splineskin::examples::DEMO_SVG;
+use tower::ServiceExt;
+
+use super::api::{router, App, API_HEADER, RIG_HEADER};
+use super::document::{Document, MAX_UPLOAD_BYTES};
+
+const HOST: &str = "127.0.0.1:7464";
+
+fn app() -> Router {
+    router(App::new(
+        Document::bundled().expect("the bundled drawing opens"),
+        vec![HOST.to_string()],
+    ))
+}
+
+async fn send(
+    app: &Router,
+    request: Request<Body>,
+) -> (StatusCode, axum::http::HeaderMap, Vec<u8>) {
+    let response = app
+        .clone()
+        .oneshot(request)
+        .await
+        .expect("the router answers");
+    let status = response.status();
+    let headers = response.headers().clone();
+    let body = response
+        .into_body()
+        .collect()
+        .await
+        .expect("a body")
+        .to_bytes()
+        .to_vec();
+    (status, headers, body)
+}
+
+fn get(uri: &str) -> Request<Body> {
+    Request::get(uri)
+        .header(header::HOST, HOST)
+        .body(Body::empty())
+        .expect("a request")
+}
+
+fn post(uri: &str) -> axum::http::request::Builder {
+    Request::post(uri)
+        .header(header::HOST, HOST)
+        .header(API_HEADER, "1")
+}
+
+fn post_json(uri: &str, json: &serde_json::Value) -> Request<Body> {
+    post(uri)
+        .header(header::CONTENT_TYPE, "application/json")
+        .body(Body::from(json.to_string()))
+        .expect("a request")
+}
+
+fn json(body: &[u8]) -> serde_json::Value {
+    serde_json::from_slice(body).expect("JSON")
+}
+
+fn f64s(bytes: &[u8]) -> Vec<f64> {
+    bytes
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .collect()
+}
+
+/// Opens the bundled SVG (no handles) and returns its description.
+async fn open_demo_svg(app: &Router) -> serde_json::Value {
+    let request = post("/api/open")
+        .header("x-file-name", "fish%20drawing.svg")
+        .body(Body::from(DEMO_SVG))
+        .expect("a request");
+    let (status, _, body) = send(app, request).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    json(&body)
+}
+
+fn two_handle_scene(document: &str, flexible: bool) -> serde_json::Value {
+    serde_json::json!({
+        "document": document,
+        "scene": {
+            "handles": [[440.0, 200.0], [110.0, 205.0]],
+            "pose": [[1.0, 0.0, 0.0, 1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 1.0, 0.0, 0.0]],
+            "weights": {"family": "shepard", "exponent": 2.0},
+            "junctions": [],
+            "flexible": flexible
+        }
+    })
+}
+
+#[tokio::test]
+async fn serve_initial_is_the_bundled_fish_marked_for_the_page() {
+    let app = app();
+    let (status, headers, body) = send(&app, get("/api/initial")).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(headers["x-content-type-options"], "nosniff");
+    let info = json(&body);
+    let drawing = read_svg(DEMO_SVG, &ImportOptions::default()).expect("the fish reads");
+    assert_eq!(
+        info["rest"].as_array().expect("rest").len(),
+        2 * drawing.n_points()
+    );
+    assert_eq!(info["n_curves"], drawing.n_curves());
+    assert_eq!(
+        info["scene"]["handles"].as_array().expect("handles").len(),
+        5
+    );
+    let n_elements = info["elements"].as_array().expect("elements").len();
+    let svg = info["svg"].as_str().expect("svg");
+    for k in 0..n_elements {
+        assert!(
+            svg.contains(&format!("data-splineskin-element=\"{k}\"")),
+            "element {k} marked"
+        );
+    }
+}
+
+#[tokio::test]
+async fn serve_page_and_assets_are_embedded_with_a_content_security_policy() {
+    let app = app();
+    let (status, headers, body) = send(&app, get("/")).await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(String::from_utf8_lossy(&body).contains("<script type=\"module\" src=\"main.js\">"));
+    assert!(headers[header::CONTENT_SECURITY_POLICY]
+        .to_str()
+        .expect("ascii")
+        .contains("script-src 'self'"));
+    let (status, headers, _) = send(&app, get("/main.js")).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(
+        headers[header::CONTENT_TYPE],
+        "text/javascript; charset=utf-8"
+    );
+    let (status, _, _) = send(&app, get("/../Cargo.toml")).await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+}
+
+#[tokio::test]
+async fn serve_rig_operator_reproduces_the_rest_pose_and_export_reads_back() {
+    let app = app();
+    let info = open_demo_svg(&app).await;
+    assert_eq!(info["name"], "fish drawing.svg");
+    let id = info["id"].as_str().expect("id");
+    let (status, headers, body) =
+        send(&app, post_json("/api/rig", &two_handle_scene(id, false))).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    assert!(headers[RIG_HEADER]
+        .to_str()
+        .expect("ascii")
+        .starts_with('r'));
+    let rest: Vec<f64> = info["rest"]
+        .as_array()
+        .expect("rest")
+        .iter()
+        .map(|v| v.as_f64().expect("a number"))
+        .collect();
+    let operator = f64s(&body);
+    let n_cols = 6 * 2;
+    assert_eq!(operator.len(), rest.len() * n_cols);
+    // O · vec(identity, identity) is the rest drawing.
+    let identity = [1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
+    for (r, &x) in rest.iter().enumerate() {
+        let y: f64 = (0..n_cols)
+            .map(|c| operator[r * n_cols + c] * identity[c])
+            .sum();
+        assert!(
+            (x - y).abs() < 1e-9 * (1.0 + x.abs()),
+            "row {r}: {y} for {x}"
+        );
+    }
+    // Exporting the rest points gives a document with the same curves.
+    let bytes: Vec<u8> = rest.iter().flat_map(|v| v.to_le_bytes()).collect();
+    let request = post(&format!("/api/documents/{id}/export"))
+        .body(Body::from(bytes))
+        .expect("a request");
+    let (status, _, body) = send(&app, request).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let svg = String::from_utf8(body).expect("text");
+    let back = read_svg(&svg, &ImportOptions::default()).expect("the export reads back");
+    assert_eq!(
+        back.n_curves(),
+        info["n_curves"].as_u64().expect("count") as usize
+    );
+    // Points of the wrong count are refused with a message.
+    let request = post(&format!("/api/documents/{id}/export"))
+        .body(Body::from(vec![0u8; 16]))
+        .expect("a request");
+    let (status, _, body) = send(&app, request).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(json(&body)["error"]
+        .as_str()
+        .expect("message")
+        .contains("expected"));
+}
+
+#[tokio::test]
+async fn serve_flexible_solve_translates_exactly_under_one_translation() {
+    let app = app();
+    let info = open_demo_svg(&app).await;
+    let id = info["id"].as_str().expect("id");
+    let (status, headers, body) =
+        send(&app, post_json("/api/rig", &two_handle_scene(id, true))).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let rig = headers[RIG_HEADER].to_str().expect("ascii").to_string();
+    let pose = serde_json::json!({"pose": [[1, 0, 0, 1, 12.5, -3], [1, 0, 0, 1, 12.5, -3]]});
+    let (status, _, body) = send(&app, post_json(&format!("/api/rigs/{rig}/solve"), &pose)).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let points = f64s(&body);
+    let rest = info["rest"].as_array().expect("rest");
+    assert_eq!(points.len(), rest.len());
+    for (k, (p, r)) in points.iter().zip(rest).enumerate() {
+        let shift = if k % 2 == 0 { 12.5 } else { -3.0 };
+        let r = r.as_f64().expect("a number");
+        assert!(
+            (p - (r + shift)).abs() < 1e-6,
+            "coordinate {k}: {p} for {r} + {shift}"
+        );
+    }
+    // A rig that was never built is reported as gone.
+    let (status, _, body) = send(&app, post_json("/api/rigs/r999/solve", &pose)).await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    assert!(json(&body)["error"]
+        .as_str()
+        .expect("message")
+        .contains("precompute again"));
+}
+
+#[tokio::test]
+async fn serve_weight_grid_is_one_at_its_handle() {
+    let app = app();
+    let info = open_demo_svg(&app).await;
+    let id = info["id"].as_str().expect("id");
+    let (_, headers, _) = send(&app, post_json("/api/rig", &two_handle_scene(id, false))).await;
+    let rig = headers[RIG_HEADER].to_str().expect("ascii").to_string();
+    // A 3 × 3 grid whose centre sample is handle 1's rest position.
+    let uri =
+        format!("/api/rigs/{rig}/weights?handle=1&x0=107&y0=202&x1=113&y1=208&width=3&height=3");
+    let (status, _, body) = send(&app, get(&uri)).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let grid: Vec<f32> = body
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes(c.try_into().expect("4 bytes")))
+        .collect();
+    assert_eq!(grid.len(), 9);
+    assert_eq!(grid[4], 1.0, "Shepard weights interpolate: {grid:?}");
+    assert!(grid.iter().all(|&w| w > 0.9 && w <= 1.0), "{grid:?}");
+    let uri = format!("/api/rigs/{rig}/weights?handle=2&x0=0&y0=0&x1=1&y1=1&width=3&height=3");
+    let (status, _, body) = send(&app, get(&uri)).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(json(&body)["error"]
+        .as_str()
+        .expect("message")
+        .contains("no such handle"));
+}
+
+#[tokio::test]
+async fn serve_malformed_upload_is_a_message_and_the_server_goes_on() {
+    let app = app();
+    let request = post("/api/open")
+        .header("x-file-name", "broken.svg")
+        .body(Body::from(
+            "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C 1",
+        ))
+        .expect("a request");
+    let (status, _, body) = send(&app, request).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    let message = json(&body)["error"].as_str().expect("message").to_string();
+    assert!(message.starts_with("broken.svg"), "{message}");
+    // Binary garbage, a scene of the wrong shape.
+    for (name, bytes) in [
+        ("x.svg", vec![0xff, 0xfe, 0x00]),
+        ("s.json", b"{\"splineskin_scene\": 1}".to_vec()),
+    ] {
+        let request = post("/api/open")
+            .header("x-file-name", name)
+            .body(Body::from(bytes))
+            .expect("a request");
+        let (status, _, body) = send(&app, request).await;
+        assert_eq!(status, StatusCode::BAD_REQUEST, "{name}");
+        assert!(json(&body)["error"]
+            .as_str()
+            .expect("message")
+            .contains(name));
+    }
+    open_demo_svg(&app).await;
+}
+
+#[tokio::test]
+async fn serve_refuses_oversized_uploads_foreign_hosts_and_bare_posts() {
+    let app = app();
+    let request = post("/api/open")
+        .body(Body::from(vec![b' '; MAX_UPLOAD_BYTES + 1]))
+        .expect("a request");
+    let (status, _, body) = send(&app, request).await;
+    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE);
+    assert!(json(&body)["error"]
+        .as_str()
+        .expect("message")
+        .contains("limit"));
+    let request = Request::post("/api/open")
+        .header(header::HOST, HOST)
+        .body(Body::from(DEMO_SVG))
+        .expect("a request");
+    let (status, _, _) = send(&app, request).await;
+    assert_eq!(
+        status,
+        StatusCode::FORBIDDEN,
+        "a POST without the editor's header"
+    );
+    let request = Request::get("/api/initial")
+        .header(header::HOST, "evil.example:7464")
+        .body(Body::empty())
+        .expect("a request");
+    let (status, _, _) = send(&app, request).await;
+    assert_eq!(status, StatusCode::FORBIDDEN, "a foreign Host");
+}
+
+#[tokio::test]
+async fn serve_saved_scene_reads_back_as_the_page_left_it() {
+    let app = app();
+    let info = open_demo_svg(&app).await;
+    let id = info["id"].as_str().expect("id");
+    let mut scene = two_handle_scene(id, true)["scene"].clone();
+    scene["pose"][1] = serde_json::json!([0.0, 1.0, -1.0, 0.0, 300.0, 100.0]);
+    // A smooth junction made a corner.
+    let (path, joint) = info["paths"]
+        .as_array()
+        .expect("paths")
+        .iter()
+        .enumerate()
+        .find_map(|(p, path)| {
+            let joints = path["joints"].as_array().expect("joints");
+            joints.iter().position(|k| k == "G1").map(|j| (p, j))
+        })
+        .expect("the fish has a G1 junction");
+    scene["junctions"] = serde_json::json!([{"path": path, "joint": joint, "kind": "C0"}]);
+    let (status, _, body) = send(
+        &app,
+        post_json(&format!("/api/documents/{id}/scene"), &scene),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let text = String::from_utf8(body).expect("text");
+    let read = splineskin::scene::Scene::from_json(&text, "saved", None).expect("it reads");
+    assert_eq!(
+        read.handles,
+        vec![Point::new(440.0, 200.0), Point::new(110.0, 205.0)]
+    );
+    assert!(read.flexible);
+    assert_eq!(read.junctions.len(), 1);
+    assert_eq!(
+        read.poses[0].transforms[1].as_coeffs(),
+        [0.0, 1.0, -1.0, 0.0, 300.0, 100.0]
+    );
+    // Reopening it gives the page the same scene.
+    let request = post("/api/open")
+        .header("x-file-name", "saved.json")
+        .body(Body::from(text))
+        .expect("a request");
+    let (status, _, body) = send(&app, request).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let reopened = json(&body);
+    assert_eq!(reopened["scene"], scene);
+    // Coincident handles are refused, naming the handle.
+    scene["handles"][1] = serde_json::json!([440.0, 200.0]);
+    let (status, _, body) = send(
+        &app,
+        post_json(&format!("/api/documents/{id}/scene"), &scene),
+    )
+    .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(json(&body)["error"]
+        .as_str()
+        .expect("message")
+        .contains("handles[1]"));
+}

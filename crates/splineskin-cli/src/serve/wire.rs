@@ -1,0 +1,128 @@
+//! What the server and the page exchange as JSON: the editable part of a scene
+//! ([`EditScene`]), and what the page learns about an opened drawing ([`DocumentInfo`]).
+//!
+//! Binary bodies (the rig operator, deformed points, weight grids) are little-endian
+//! `f64`/`f32` arrays without a header; their layouts are documented on the routes
+//! ([`super::api`]).
+
+use serde::{Deserialize, Serialize};
+use splineskin::drawing::JointKind;
+
+/// The part of a scene the page edits: point handles, their pose, the weight family, junction
+/// overrides and flexible G¹. Together with a document's SVG text it is a scene of ours
+/// ([`super::scene_file`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EditScene {
+    /// Rest positions of the point handles, root user units.
+    pub handles: Vec<[f64; 2]>,
+    /// One map per handle, SVG order `[a, b, c, d, e, f]`.
+    pub pose: Vec<[f64; 6]>,
+    /// The weight family.
+    pub weights: WeightsWire,
+    /// Junction kinds the user chose, replacing the drawing's classification.
+    pub junctions: Vec<JunctionWire>,
+    /// Whether G¹ and fixed-angle junctions are flexible (solved by the server on mouse-up).
+    pub flexible: bool,
+}
+
+/// A weight family by name (`shepard`, `harmonic`, `biharmonic`, `bbw`), with Shepard's
+/// exponent.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WeightsWire {
+    /// The family's name, as in scenes.
+    pub family: String,
+    /// Shepard's exponent (default 2).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exponent: Option<f64>,
+}
+
+/// One junction override: joint `joint` of path `path` takes `kind`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JunctionWire {
+    /// Path index (subpaths in document order).
+    pub path: usize,
+    /// On-curve point index within the path (joint `k` starts curve `k`).
+    pub joint: usize,
+    /// The kind: `C0`, `C1`, `G1` or `angle`.
+    pub kind: JointKind,
+}
+
+/// A request naming a document and carrying the page's scene.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneRequest {
+    /// The document's id ([`DocumentInfo::id`]).
+    pub document: String,
+    /// The page's scene.
+    pub scene: EditScene,
+}
+
+/// A pose for a flexible solve.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PoseRequest {
+    /// One map per handle, SVG order `[a, b, c, d, e, f]`.
+    pub pose: Vec<[f64; 6]>,
+}
+
+/// What the page needs to show and deform an opened drawing.
+#[derive(Clone, Debug, Serialize)]
+pub struct DocumentInfo {
+    /// The server's id of the document.
+    pub id: String,
+    /// The file it came from (or the bundled drawing's name).
+    pub name: String,
+    /// The document to show: the original text with every imported element written as a
+    /// `<path>` at rest and marked with [`super::document::ELEMENT_MARKER`]`="k"`.
+    pub svg: String,
+    /// The root viewBox `[x, y, width, height]` (root user units): the frame the drawing's
+    /// coordinates are in.
+    pub view_box: [f64; 4],
+    /// Every subpath of the drawing, in order.
+    pub paths: Vec<PathInfo>,
+    /// The imported elements, in marker order.
+    pub elements: Vec<ElementInfo>,
+    /// Rest chain points of all paths, concatenated: `x0, y0, x1, y1, …` (root user units).
+    pub rest: Vec<f64>,
+    /// The scene as opened (a drawing alone: no handles, Shepard weights).
+    pub scene: EditScene,
+    /// Things the user should know about what was opened.
+    pub warnings: Vec<String>,
+    /// Number of cubic curves.
+    pub n_curves: usize,
+}
+
+/// One subpath.
+#[derive(Clone, Debug, Serialize)]
+pub struct PathInfo {
+    /// Whether the last curve joins the first.
+    pub closed: bool,
+    /// Number of chain points (`3n + 1`).
+    pub n_points: usize,
+    /// Junction kinds as classified from the geometry (before the scene's overrides).
+    pub joints: Vec<JointKind>,
+    /// Whether its path data ends with `Z` (closed paths whose source had a `Z`).
+    pub close_with_z: bool,
+}
+
+/// One imported element: the paths it produced and the map from root user space to its local
+/// coordinates (in which its `d` is written).
+#[derive(Clone, Debug, Serialize)]
+pub struct ElementInfo {
+    /// First path.
+    pub first_path: usize,
+    /// One past the last path.
+    pub end_path: usize,
+    /// Root user space → local coordinates, `[a, b, c, d, e, f]`.
+    pub to_local: [f64; 6],
+}
+
+/// An error as the page receives it.
+#[derive(Clone, Debug, Serialize)]
+pub struct ErrorBody {
+    /// The message, naming the file and element concerned.
+    pub error: String,
+}

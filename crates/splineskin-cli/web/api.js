@@ -1,0 +1,82 @@
+// Calls to the editor's server (routes in crates/splineskin-cli/src/serve/api.rs). Every POST
+// carries `x-splineskin: 1`; errors come back as {"error": "…"} and are thrown as Error.
+
+const HEADERS = { 'x-splineskin': '1' };
+
+async function failure(response) {
+  let message = `${response.status} ${response.statusText}`;
+  try {
+    const body = await response.json();
+    if (body && body.error) message = body.error;
+  } catch {
+    // not JSON: keep the status
+  }
+  const error = new Error(message);
+  error.status = response.status;
+  return error;
+}
+
+async function call(path, options = {}) {
+  const response = await fetch(path, options);
+  if (!response.ok) throw await failure(response);
+  return response;
+}
+
+function postJson(path, body, signal) {
+  return call(path, {
+    method: 'POST',
+    headers: { ...HEADERS, 'content-type': 'application/json' },
+    body: JSON.stringify(body),
+    signal,
+  });
+}
+
+/** The drawing the server was started with. */
+export async function initialDocument() {
+  return (await call('/api/initial')).json();
+}
+
+/** Uploads a file (SVG or scene); resolves to the document's description. */
+export async function openFile(file) {
+  const response = await call('/api/open', {
+    method: 'POST',
+    headers: { ...HEADERS, 'x-file-name': encodeURIComponent(file.name) },
+    body: file,
+  });
+  return response.json();
+}
+
+/** Precomputes the rig of `scene` on document `id`: { id, operator: Float64Array }. */
+export async function precompute(document, scene, signal) {
+  const response = await postJson('/api/rig', { document, scene }, signal);
+  const operator = new Float64Array(await response.arrayBuffer());
+  return { id: response.headers.get('x-splineskin-rig'), operator };
+}
+
+/** The flexible G¹ solve of `pose` on rig `rig`: the deformed points, Float64Array. */
+export async function solve(rig, pose, signal) {
+  const response = await postJson(`/api/rigs/${encodeURIComponent(rig)}/solve`, { pose }, signal);
+  return new Float64Array(await response.arrayBuffer());
+}
+
+/** Handle `handle`'s weight on a width × height grid over box [x0, y0, x1, y1]: Float32Array. */
+export async function weightGrid(rig, handle, [x0, y0, x1, y1], width, height) {
+  const query = new URLSearchParams({ handle, x0, y0, x1, y1, width, height });
+  const response = await call(`/api/rigs/${encodeURIComponent(rig)}/weights?${query}`);
+  return new Float32Array(await response.arrayBuffer());
+}
+
+/** The deformed SVG document for `points` (Float64Array x0, y0, …). */
+export async function exportSvg(document, points) {
+  const response = await call(`/api/documents/${encodeURIComponent(document)}/export`, {
+    method: 'POST',
+    headers: { ...HEADERS, 'content-type': 'application/octet-stream' },
+    body: points,
+  });
+  return response.text();
+}
+
+/** The scene file (JSON text) of `scene`. */
+export async function sceneFile(document, scene) {
+  return (await postJson(`/api/documents/${encodeURIComponent(document)}/scene`, scene)).text();
+}

@@ -1,0 +1,639 @@
+// The editor: opens a drawing, places and drags handles, and keeps the drawing following
+// them — one matrix–vector product per frame in the page, precomputation on the server.
+//
+// State: `editor.scene` is what a scene file holds and the undo history snapshots (rest
+// handles, one map per handle, weight family, junction overrides, flexible G¹); the rig is
+// precomputed for the scene's rest part (`rigKey`) and reused while only the pose changes.
+
+import * as api from './api.js';
+import * as affine from './affine.js';
+import { weightImage } from './colour.js';
+import { History } from './history.js';
+import { LiveRig, littleEndian } from './rig.js';
+import { DrawingView, JUNCTION_KINDS, HANDLE_RADIUS, RING_RADIUS, KNOB_SIZE, posedHandles } from './view.js';
+
+const $ = (id) => document.getElementById(id);
+
+/** Frames kept for the frame-time figure in the status bar. */
+const FRAME_WINDOW = 120;
+/** Pointer travel, in CSS pixels, below which a press is a click. */
+const CLICK_SLOP = 3;
+/** Samples on the long side of the weight grid. */
+const WEIGHT_GRID = 200;
+/** Junction markers shown on opening up to this many junctions (more: the checkbox). */
+const MAX_JUNCTIONS_SHOWN = 400;
+/** Smallest scale factor a scale drag sets (a map must stay invertible). */
+const MIN_SCALE = 0.05;
+
+const editor = {
+  info: null,
+  view: null,
+  scene: null,
+  rig: null,
+  rigKey: null,
+  rest: null,
+  points: null,
+  selected: null,
+  history: new History(),
+  /** Milliseconds of each frame drawn while dragging (product + path data). */
+  frameTimes: [],
+  /** Milliseconds of the product alone, same frames. */
+  productTimes: [],
+  precomputeSeq: 0,
+  solveSeq: 0,
+  abort: null,
+  weightsShown: null,
+};
+// For the browser tests and the console.
+window.splineskinEditor = editor;
+
+// ---------------------------------------------------------------------------------------------
+// Messages
+
+function showError(error) {
+  const box = $('error');
+  box.textContent = error instanceof Error ? error.message : String(error);
+  box.hidden = false;
+  document.body.dataset.error = '1';
+}
+
+function clearError() {
+  $('error').hidden = true;
+  delete document.body.dataset.error;
+}
+
+function say(text) {
+  $('message').textContent = text;
+}
+
+let progressTimer = null;
+function progress(label) {
+  const box = $('progress');
+  clearInterval(progressTimer);
+  if (!label) {
+    box.hidden = true;
+    return;
+  }
+  const start = performance.now();
+  const tick = () => {
+    $('progress-text').textContent = `${label} ${((performance.now() - start) / 1000).toFixed(1)} s`;
+  };
+  tick();
+  box.hidden = false;
+  progressTimer = setInterval(tick, 100);
+}
+
+function median(values) {
+  if (!values.length) return NaN;
+  const s = [...values].sort((a, b) => a - b);
+  const m = s.length >> 1;
+  return s.length % 2 ? s[m] : (s[m - 1] + s[m]) / 2;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Opening
+
+function show(info) {
+  const view = new DrawingView($('canvas'), info);
+  editor.info = info;
+  editor.view = view;
+  editor.scene = structuredClone(info.scene);
+  editor.rest = Float64Array.from(info.rest);
+  editor.points = Float64Array.from(info.rest);
+  editor.rig = null;
+  editor.rigKey = null;
+  editor.selected = null;
+  editor.weightsShown = null;
+  editor.history.clear();
+  editor.frameTimes = [];
+  editor.productTimes = [];
+  document.body.dataset.rig = 'none';
+  document.title = `${info.name} — splineskin editor`;
+  clearError();
+  // Junction markers by default only where they do not bury the drawing.
+  $('show-junctions').checked = view.junctions().length <= MAX_JUNCTIONS_SHOWN;
+  say(`${shortName()}: ${info.n_curves} curves in ${info.paths.length} paths`);
+  if (info.warnings.length) showError(info.warnings.join('\n'));
+  syncControls();
+  sceneChanged();
+}
+
+async function open(file) {
+  say(`opening ${file.name}…`);
+  progress(`reading ${file.name}`);
+  try {
+    show(await api.openFile(file));
+  } catch (e) {
+    showError(e);
+    say(`${file.name} was not opened`);
+  } finally {
+    progress(null);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene changes, rig and drawing
+
+/** What the rig depends on (everything but the pose). */
+function rigKeyOf(scene) {
+  return JSON.stringify([scene.handles, scene.weights, scene.junctions, scene.flexible]);
+}
+
+/** After any change of the scene: precompute if its rest part changed, else redraw. */
+function sceneChanged() {
+  const key = rigKeyOf(editor.scene);
+  if (editor.scene.handles.length === 0) {
+    editor.abort?.abort();
+    editor.rig = null;
+    editor.rigKey = key;
+    document.body.dataset.rig = 'none';
+    progress(null);
+    render();
+  } else if (key !== editor.rigKey) {
+    precompute();
+  } else {
+    render();
+    flexibleSolve();
+  }
+  syncControls();
+  updateWeights();
+}
+
+async function precompute() {
+  const seq = ++editor.precomputeSeq;
+  editor.abort?.abort();
+  const abort = new AbortController();
+  editor.abort = abort;
+  const scene = structuredClone(editor.scene);
+  const key = rigKeyOf(scene);
+  document.body.dataset.rig = 'computing';
+  progress('precomputing');
+  render();
+  try {
+    const started = performance.now();
+    const { id, operator } = await api.precompute(editor.info.id, scene, abort.signal);
+    if (seq !== editor.precomputeSeq) return;
+    editor.rig = new LiveRig(id, operator, editor.view.nPoints, scene.handles.length);
+    editor.rigKey = key;
+    document.body.dataset.rig = 'ready';
+    const size = operator.byteLength < 1 << 20
+      ? `${(operator.byteLength / 1024).toFixed(0)} KiB`
+      : `${(operator.byteLength / (1 << 20)).toFixed(1)} MiB`;
+    say(
+      `${shortName()}: ${editor.info.n_curves} curves, ${scene.handles.length} handles ` +
+        `(${scene.weights.family}); rig of ${size} in ${((performance.now() - started) / 1000).toFixed(2)} s`,
+    );
+    clearError();
+  } catch (e) {
+    if (abort.signal.aborted || seq !== editor.precomputeSeq) return;
+    editor.rig = null;
+    editor.rigKey = null;
+    document.body.dataset.rig = 'error';
+    showError(e);
+  } finally {
+    if (seq === editor.precomputeSeq) progress(null);
+  }
+  if (seq !== editor.precomputeSeq) return;
+  render();
+  flexibleSolve();
+  updateWeights();
+}
+
+/** Whether the rig matches the scene's rest part. */
+function rigReady() {
+  return editor.rig !== null && editor.rigKey === rigKeyOf(editor.scene);
+}
+
+/** Deforms (if the rig is ready) and draws everything; returns the time taken in ms. */
+function render({ timed = false } = {}) {
+  const { view, scene } = editor;
+  const t0 = performance.now();
+  if (scene.handles.length === 0) {
+    editor.points.set(editor.rest);
+  } else if (rigReady()) {
+    editor.rig.deform(scene.pose, editor.points);
+  }
+  const t1 = performance.now();
+  view.writePaths(editor.points);
+  const t2 = performance.now();
+  drawOverlay();
+  if (timed) {
+    editor.productTimes.push(t1 - t0);
+    editor.frameTimes.push(t2 - t0);
+    if (editor.frameTimes.length > 4 * FRAME_WINDOW) {
+      editor.frameTimes.splice(0, FRAME_WINDOW);
+      editor.productTimes.splice(0, FRAME_WINDOW);
+    }
+    const recent = editor.frameTimes.slice(-FRAME_WINDOW);
+    $('frame-time').textContent = `frame ${median(recent).toFixed(2)} ms`;
+  }
+  return t2 - t0;
+}
+
+function junctionKind(j) {
+  const o = editor.scene.junctions.find((x) => x.path === j.path && x.joint === j.joint);
+  return o ? o.kind : editor.info.paths[j.path].joints[j.joint];
+}
+
+function drawOverlay() {
+  const { view } = editor;
+  view.drawJunctions(editor.points, junctionKind, $('show-junctions').checked);
+  view.drawHandles(posedHandles(editor.scene), editor.selected);
+}
+
+let frameRequested = false;
+function scheduleFrame() {
+  if (frameRequested) return;
+  frameRequested = true;
+  requestAnimationFrame(() => {
+    frameRequested = false;
+    render({ timed: true });
+  });
+}
+
+/** With flexible G¹ on, the server's solve of the current pose replaces the drawn points. */
+async function flexibleSolve() {
+  const { scene } = editor;
+  if (!scene.flexible || !rigReady() || scene.pose.every((T) => affine.isIdentity(T))) {
+    delete document.body.dataset.solve;
+    return;
+  }
+  const seq = ++editor.solveSeq;
+  const pose = structuredClone(scene.pose);
+  const rig = editor.rig;
+  document.body.dataset.solve = 'running';
+  try {
+    const points = await api.solve(rig.id, pose);
+    if (seq !== editor.solveSeq || rig !== editor.rig) return;
+    if (JSON.stringify(pose) !== JSON.stringify(editor.scene.pose)) return;
+    editor.points.set(points);
+    editor.view.writePaths(editor.points);
+    drawOverlay();
+    document.body.dataset.solve = 'done';
+  } catch (e) {
+    if (seq !== editor.solveSeq) return;
+    document.body.dataset.solve = 'error';
+    if (e.status === 404) {
+      editor.rigKey = null;
+      precompute();
+    } else {
+      showError(e);
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Edits
+
+function edit(change) {
+  editor.history.record(editor.scene);
+  change(editor.scene);
+  sceneChanged();
+}
+
+/**
+ * The rest position and map of a handle added where the posed drawing shows point q: with
+ * every handle at rest, q itself and the identity; otherwise the point p whose skinned image
+ * Σ wᵢ(p) Tᵢ p is q (Newton steps on Shepard weights of the rest handles, an approximation of
+ * the rig's family good enough to place a handle) and the blended map Σ wᵢ(p) Tᵢ there, so
+ * that adding the handle leaves the drawing nearly where it is.
+ */
+function placeHandle(q) {
+  const { handles, pose } = editor.scene;
+  if (pose.every((T) => affine.isIdentity(T))) return { rest: q, map: [...affine.IDENTITY] };
+  const blend = (p) => {
+    const w = handles.map(([x, y]) => 1 / Math.max(1e-12, (x - p[0]) ** 2 + (y - p[1]) ** 2));
+    const total = w.reduce((a, b) => a + b, 0);
+    const T = [0, 0, 0, 0, 0, 0];
+    pose.forEach((Ti, i) => Ti.forEach((v, c) => (T[c] += (w[i] / total) * v)));
+    return T;
+  };
+  let p = [...q];
+  for (let step = 0; step < 30; step++) {
+    const T = blend(p);
+    const s = affine.apply(T, p);
+    const inv = affine.inverse([T[0], T[1], T[2], T[3], 0, 0]);
+    if (!inv) break;
+    const [dx, dy] = affine.apply(inv, [q[0] - s[0], q[1] - s[1]]);
+    p = [p[0] + dx, p[1] + dy];
+    if (Math.hypot(dx, dy) < 1e-9 * (1 + Math.hypot(p[0], p[1]))) break;
+  }
+  return { rest: p, map: blend(p) };
+}
+
+function addHandle(q) {
+  const { rest, map } = placeHandle(q);
+  if (!rest.every(Number.isFinite)) return;
+  if (editor.scene.handles.some(([x, y]) => x === rest[0] && y === rest[1])) return;
+  edit((scene) => {
+    scene.handles.push(rest);
+    scene.pose.push(map);
+  });
+  editor.selected = editor.scene.handles.length - 1;
+  drawOverlay();
+  updateWeights();
+}
+
+function deleteHandle() {
+  const i = editor.selected;
+  if (i === null) return;
+  editor.selected = null;
+  edit((scene) => {
+    scene.handles.splice(i, 1);
+    scene.pose.splice(i, 1);
+  });
+}
+
+function cycleJunction(j) {
+  const current = junctionKind(j);
+  const next = JUNCTION_KINDS[(JUNCTION_KINDS.indexOf(current) + 1) % JUNCTION_KINDS.length];
+  const classified = editor.info.paths[j.path].joints[j.joint];
+  edit((scene) => {
+    scene.junctions = scene.junctions.filter((x) => !(x.path === j.path && x.joint === j.joint));
+    if (next !== classified) scene.junctions.push({ path: j.path, joint: j.joint, kind: next });
+  });
+  say(`junction ${j.joint} of path ${j.path}: ${next}`);
+}
+
+function undo() {
+  const previous = editor.history.undo(editor.scene);
+  if (!previous) return;
+  editor.scene = previous;
+  if (editor.selected !== null && editor.selected >= previous.handles.length) editor.selected = null;
+  sceneChanged();
+}
+
+function redo() {
+  const next = editor.history.redo(editor.scene);
+  if (!next) return;
+  editor.scene = next;
+  if (editor.selected !== null && editor.selected >= next.handles.length) editor.selected = null;
+  sceneChanged();
+}
+
+function syncControls() {
+  const { scene } = editor;
+  $('family').value = scene.weights.family;
+  $('flexible').checked = scene.flexible;
+  $('undo').disabled = !editor.history.canUndo;
+  $('redo').disabled = !editor.history.canRedo;
+  $('delete-handle').disabled = editor.selected === null;
+  $('reset-pose').disabled = scene.pose.every((T) => affine.isIdentity(T));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Weight field
+
+async function updateWeights() {
+  const wanted = $('show-weights').checked && editor.selected !== null && rigReady();
+  $('weight-legend').hidden = !wanted;
+  if (!wanted) {
+    editor.weightsShown = null;
+    editor.view?.showWeights(null);
+    return;
+  }
+  const key = `${editor.rig.id}/${editor.selected}`;
+  if (editor.weightsShown === key) return;
+  editor.weightsShown = key;
+  const [x, y, w, h] = editor.info.view_box;
+  const box = [x, y, x + w, y + h];
+  const scale = WEIGHT_GRID / Math.max(w, h);
+  const width = Math.max(1, Math.round(w * scale));
+  const height = Math.max(1, Math.round(h * scale));
+  try {
+    const values = await api.weightGrid(editor.rig.id, editor.selected, box, width, height);
+    if (editor.weightsShown !== key) return;
+    editor.view.showWeights(weightImage(values, width, height), box);
+  } catch (e) {
+    editor.weightsShown = null;
+    showError(e);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Pointer: add, select, drag (translate / rotate / scale), junction clicks
+
+let gesture = null;
+
+function hitHandle(p) {
+  const u = editor.view.unitsPerPixel();
+  const posed = posedHandles(editor.scene);
+  let best = null;
+  let bestDistance = (HANDLE_RADIUS + 3) * u;
+  posed.forEach(([x, y], i) => {
+    const d = Math.hypot(x - p[0], y - p[1]);
+    if (d <= bestDistance) {
+      best = i;
+      bestDistance = d;
+    }
+  });
+  return best;
+}
+
+/** 'knob', 'ring' or null: the widgets of the selected handle under p. */
+function hitWidget(p) {
+  if (editor.selected === null) return null;
+  const u = editor.view.unitsPerPixel();
+  const [cx, cy] = posedHandles(editor.scene)[editor.selected];
+  if (Math.max(Math.abs(p[0] - (cx + RING_RADIUS * u)), Math.abs(p[1] - cy)) <= (KNOB_SIZE / 2 + 2) * u) return 'knob';
+  if (Math.abs(Math.hypot(p[0] - cx, p[1] - cy) - RING_RADIUS * u) <= 4 * u) return 'ring';
+  return null;
+}
+
+function onPointerDown(event) {
+  if (event.button !== 0 || !editor.view) return;
+  const p = editor.view.toUser(event.clientX, event.clientY);
+  const widget = hitWidget(p);
+  const handle = widget ? editor.selected : hitHandle(p);
+  gesture = { start: p, client: [event.clientX, event.clientY], moved: false, handle, mode: null };
+  if (handle !== null) {
+    gesture.mode = widget === 'knob' || (!widget && (event.altKey || event.ctrlKey))
+      ? 'scale'
+      : widget === 'ring' || event.shiftKey
+        ? 'rotate'
+        : 'translate';
+    gesture.before = structuredClone(editor.scene);
+    gesture.map = [...editor.scene.pose[handle]];
+    gesture.centre = affine.apply(gesture.map, editor.scene.handles[handle]);
+    if (editor.selected !== handle) {
+      editor.selected = handle;
+      drawOverlay();
+      syncControls();
+      updateWeights();
+    }
+  }
+  editor.view.root.setPointerCapture(event.pointerId);
+  event.preventDefault();
+}
+
+function onPointerMove(event) {
+  if (!gesture) return;
+  const [cx0, cy0] = gesture.client;
+  if (Math.hypot(event.clientX - cx0, event.clientY - cy0) > CLICK_SLOP) gesture.moved = true;
+  if (gesture.handle === null || !gesture.moved) return;
+  const p = editor.view.toUser(event.clientX, event.clientY);
+  const s = gesture.start;
+  const c = gesture.centre;
+  let M;
+  if (gesture.mode === 'translate') {
+    M = affine.translation(p[0] - s[0], p[1] - s[1]);
+  } else if (gesture.mode === 'rotate') {
+    const angle = Math.atan2(p[1] - c[1], p[0] - c[0]) - Math.atan2(s[1] - c[1], s[0] - c[0]);
+    M = affine.rotationAbout(angle, c);
+  } else {
+    const d0 = Math.hypot(s[0] - c[0], s[1] - c[1]);
+    const factor = d0 > 0 ? Math.max(MIN_SCALE, Math.hypot(p[0] - c[0], p[1] - c[1]) / d0) : 1;
+    M = affine.scaleAbout(factor, c);
+  }
+  editor.scene.pose[gesture.handle] = affine.compose(M, gesture.map);
+  editor.solveSeq++; // a solve of an older pose must not land now
+  scheduleFrame();
+}
+
+function onPointerUp(event) {
+  if (!gesture) return;
+  const g = gesture;
+  gesture = null;
+  if (g.handle !== null) {
+    if (g.moved) {
+      editor.history.record(g.before);
+      sceneChanged();
+    }
+    return;
+  }
+  if (g.moved) return;
+  const p = editor.view.toUser(event.clientX, event.clientY);
+  const junction = $('show-junctions').checked ? editor.view.junctionAt(editor.points, p) : null;
+  if (junction) {
+    cycleJunction(junction);
+  } else {
+    addHandle(p);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Files out
+
+function download(text, name, type) {
+  const url = URL.createObjectURL(new Blob([text], { type }));
+  const a = document.createElement('a');
+  a.href = url;
+  a.download = name;
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 10_000);
+}
+
+/** The opened file's name without its folder. */
+function shortName() {
+  return editor.info.name.split(/[\\/]/).pop() || editor.info.name;
+}
+
+function baseName() {
+  const name = editor.info.name.split(/[\\/]/).pop() || 'drawing';
+  return name.replace(/\.(svg|json)$/i, '').replace(/\s*\(bundled\)$/, '');
+}
+
+async function exportSvg() {
+  try {
+    const svg = await api.exportSvg(editor.info.id, editor.points);
+    download(svg, `${baseName()}-deformed.svg`, 'image/svg+xml');
+    say(`exported ${baseName()}-deformed.svg`);
+  } catch (e) {
+    showError(e);
+  }
+}
+
+async function saveScene() {
+  try {
+    const json = await api.sceneFile(editor.info.id, editor.scene);
+    download(json, `${baseName()}-scene.json`, 'application/json');
+    say(`saved ${baseName()}-scene.json`);
+  } catch (e) {
+    showError(e);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Wiring
+
+function wire() {
+  const canvas = $('canvas');
+  canvas.addEventListener('pointerdown', onPointerDown);
+  canvas.addEventListener('pointermove', onPointerMove);
+  canvas.addEventListener('pointerup', onPointerUp);
+  canvas.addEventListener('pointercancel', () => (gesture = null));
+
+  $('open-file').addEventListener('change', (event) => {
+    const file = event.target.files[0];
+    event.target.value = '';
+    if (file) open(file);
+  });
+  const stage = $('stage');
+  stage.addEventListener('dragover', (event) => {
+    event.preventDefault();
+    stage.classList.add('dragging-file');
+  });
+  stage.addEventListener('dragleave', () => stage.classList.remove('dragging-file'));
+  stage.addEventListener('drop', (event) => {
+    event.preventDefault();
+    stage.classList.remove('dragging-file');
+    const file = event.dataTransfer?.files?.[0];
+    if (file) open(file);
+  });
+
+  $('export-svg').addEventListener('click', exportSvg);
+  $('save-scene').addEventListener('click', saveScene);
+  $('undo').addEventListener('click', undo);
+  $('redo').addEventListener('click', redo);
+  $('delete-handle').addEventListener('click', deleteHandle);
+  $('reset-pose').addEventListener('click', () =>
+    edit((scene) => (scene.pose = scene.pose.map(() => [...affine.IDENTITY]))),
+  );
+  $('family').addEventListener('change', (event) =>
+    edit((scene) => {
+      const family = event.target.value;
+      scene.weights = family === 'shepard' ? { family, exponent: 2 } : { family };
+    }),
+  );
+  $('flexible').addEventListener('change', (event) => edit((scene) => (scene.flexible = event.target.checked)));
+  $('show-junctions').addEventListener('change', drawOverlay);
+  $('show-weights').addEventListener('change', updateWeights);
+  $('error').addEventListener('click', clearError);
+  window.addEventListener('resize', () => editor.view && drawOverlay());
+  window.addEventListener('keydown', (event) => {
+    if (event.target instanceof HTMLInputElement || event.target instanceof HTMLSelectElement) return;
+    const key = event.key.toLowerCase();
+    if ((event.ctrlKey || event.metaKey) && key === 'z') {
+      event.preventDefault();
+      event.shiftKey ? redo() : undo();
+    } else if ((event.ctrlKey || event.metaKey) && key === 'y') {
+      event.preventDefault();
+      redo();
+    } else if (key === 'delete' || key === 'backspace') {
+      deleteHandle();
+    } else if (key === 'escape') {
+      editor.selected = null;
+      drawOverlay();
+      syncControls();
+      updateWeights();
+    }
+  });
+}
+
+async function boot() {
+  wire();
+  if (!littleEndian()) {
+    showError('this browser stores numbers big-endian; the editor reads little-endian data');
+    return;
+  }
+  try {
+    show(await api.initialDocument());
+  } catch (e) {
+    showError(e);
+  }
+  document.body.dataset.booted = '1';
+}
+
+boot();

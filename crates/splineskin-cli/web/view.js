@@ -1,0 +1,246 @@
+// The drawing on screen: the opened document inside the page (its own <svg>, styles and all),
+// the `d` of its imported elements rewritten from deformed chain points, and an overlay in the
+// same user space with the handles, the junction markers and the weight field.
+
+import { apply, isIdentity } from './affine.js';
+
+const SVG_NS = 'http://www.w3.org/2000/svg';
+const MARKER = 'data-splineskin-element';
+
+/** Junction kinds in the order a click cycles through them. */
+export const JUNCTION_KINDS = ['C0', 'C1', 'G1', 'angle'];
+
+/** Sizes of the overlay, in CSS pixels. */
+export const HANDLE_RADIUS = 7;
+export const RING_RADIUS = 34;
+export const KNOB_SIZE = 9;
+export const JUNCTION_RADIUS = 3.5;
+
+/**
+ * A formatter writing numbers with `digits` decimals, as toFixed does (half away from zero
+ * aside), about twice as fast: the per-frame path data of big drawings is mostly numbers.
+ */
+export function fixedFormatter(digits) {
+  if (digits === 0) return (v) => String(Math.round(v));
+  const scale = 10 ** digits;
+  const zeros = '0'.repeat(digits);
+  return (v) => {
+    const r = Math.round(v * scale);
+    const m = r < 0 ? -r : r;
+    const whole = Math.trunc(m / scale);
+    const fraction = String(m - whole * scale);
+    return (r < 0 ? '-' : '') + whole + '.' + (fraction.length < digits ? zeros.slice(fraction.length) + fraction : fraction);
+  };
+}
+
+function svgElement(name, attributes = {}) {
+  const e = document.createElementNS(SVG_NS, name);
+  for (const [k, v] of Object.entries(attributes)) e.setAttribute(k, v);
+  return e;
+}
+
+export class DrawingView {
+  /** Shows document `info` (the server's DocumentInfo) in `container`. */
+  constructor(container, info) {
+    const parsed = new DOMParser().parseFromString(info.svg, 'image/svg+xml');
+    const failed = parsed.querySelector('parsererror');
+    if (failed || parsed.documentElement.localName !== 'svg') {
+      throw new Error(`${info.name}: the browser cannot show this document (${failed?.textContent ?? 'no <svg> root'})`);
+    }
+    // The page's content security policy already keeps a drawing's scripts from running;
+    // they are removed too, so that nothing in the document reacts to the editor's events.
+    for (const s of parsed.querySelectorAll('script')) s.remove();
+    const root = document.importNode(parsed.documentElement, true);
+    const [x, y, w, h] = info.view_box;
+    if (!root.hasAttribute('viewBox')) root.setAttribute('viewBox', `${x} ${y} ${w} ${h}`);
+    root.setAttribute('width', '100%');
+    root.setAttribute('height', '100%');
+    container.replaceChildren(root);
+    this.root = root;
+    this.info = info;
+
+    this.elements = new Array(info.elements.length).fill(null);
+    for (const e of root.querySelectorAll(`[${MARKER}]`)) {
+      const k = Number(e.getAttribute(MARKER));
+      if (Number.isInteger(k) && k >= 0 && k < this.elements.length) this.elements[k] = e;
+    }
+    this.offsets = [];
+    let offset = 0;
+    for (const p of info.paths) {
+      this.offsets.push(offset);
+      offset += p.n_points;
+    }
+    this.nPoints = offset;
+    // Decimals of the written coordinates: 1e-5 of the view box's diagonal or finer.
+    const diagonal = Math.hypot(w, h) || 1;
+    this.digits = Math.min(8, Math.max(0, Math.ceil(5 - Math.log10(diagonal))));
+    this.format = fixedFormatter(this.digits);
+    this.localMaps = info.elements.map((e) => (isIdentity(e.to_local) ? null : e.to_local));
+
+    this.overlay = svgElement('g', { class: 'ss-overlay' });
+    this.weightImage = svgElement('image', { class: 'ss-weights', preserveAspectRatio: 'none' });
+    this.weightImage.style.display = 'none';
+    this.junctionPaths = Object.fromEntries(
+      JUNCTION_KINDS.map((k) => [k, svgElement('path', { class: `ss-junctions ${k}` })]),
+    );
+    this.handleLayer = svgElement('g', { class: 'ss-handles' });
+    this.overlay.append(this.weightImage, ...Object.values(this.junctionPaths), this.handleLayer);
+    root.append(this.overlay);
+  }
+
+  /** User units per CSS pixel at the current size. */
+  unitsPerPixel() {
+    const m = this.overlay.getScreenCTM();
+    if (!m) return 1;
+    return 1 / Math.sqrt(Math.abs(m.a * m.d - m.b * m.c) || 1);
+  }
+
+  /** The root user space point under client coordinates (x, y). */
+  toUser(clientX, clientY) {
+    const m = this.overlay.getScreenCTM();
+    if (!m) return [clientX, clientY];
+    const p = new DOMPoint(clientX, clientY).matrixTransform(m.inverse());
+    return [p.x, p.y];
+  }
+
+  /** Rewrites the `d` of every imported element from chain points x0, y0, x1, y1, …. */
+  writePaths(points) {
+    const { info, offsets, format } = this;
+    for (let k = 0; k < info.elements.length; k++) {
+      const element = this.elements[k];
+      if (!element) continue;
+      const { first_path: first, end_path: end } = info.elements[k];
+      const T = this.localMaps[k];
+      let d = '';
+      for (let p = first; p < end; p++) {
+        const path = info.paths[p];
+        const o = offsets[p];
+        const n = path.n_points;
+        if (d) d += ' ';
+        for (let i = 0; i < n; i++) {
+          // A closed path's last point is its first (so that Z adds no segment).
+          const q = path.closed && i === n - 1 ? o : o + i;
+          let x = points[2 * q];
+          let y = points[2 * q + 1];
+          if (T) {
+            const lx = T[0] * x + T[2] * y + T[4];
+            y = T[1] * x + T[3] * y + T[5];
+            x = lx;
+          }
+          d += (i === 0 ? 'M' : i % 3 === 1 ? ' C' : ' ') + format(x) + ' ' + format(y);
+        }
+        if (path.close_with_z) d += ' Z';
+      }
+      element.setAttribute('d', d);
+    }
+  }
+
+  /**
+   * The junctions: [{ path, joint, point }] for every joint that is not an open end, `point`
+   * the chain point index.
+   */
+  junctions() {
+    if (!this._junctions) {
+      this._junctions = [];
+      this.info.paths.forEach((path, p) => {
+        path.joints.forEach((kind, joint) => {
+          if (kind !== 'end') this._junctions.push({ path: p, joint, point: this.offsets[p] + 3 * joint });
+        });
+      });
+    }
+    return this._junctions;
+  }
+
+  /** Draws the junction markers at `points` with kinds from `kindOf(junction)`, or hides them. */
+  drawJunctions(points, kindOf, visible) {
+    const r = JUNCTION_RADIUS * this.unitsPerPixel();
+    const data = Object.fromEntries(JUNCTION_KINDS.map((k) => [k, []]));
+    if (visible) {
+      const f = this.format;
+      for (const j of this.junctions()) {
+        const x = points[2 * j.point];
+        const y = points[2 * j.point + 1];
+        const kind = kindOf(j);
+        const list = data[kind];
+        if (!list) continue;
+        if (kind === 'C0') {
+          list.push(`M${f(x - r)} ${f(y - r)}h${f(2 * r)}v${f(2 * r)}h${f(-2 * r)}z`);
+        } else if (kind === 'angle') {
+          const s = 1.3 * r;
+          list.push(`M${f(x)} ${f(y - s)}l${f(s)} ${f(s)}l${f(-s)} ${f(s)}l${f(-s)} ${f(-s)}z`);
+        } else {
+          list.push(`M${f(x - r)} ${f(y)}a${f(r)} ${f(r)} 0 1 0 ${f(2 * r)} 0a${f(r)} ${f(r)} 0 1 0 ${f(-2 * r)} 0z`);
+        }
+      }
+    }
+    for (const k of JUNCTION_KINDS) this.junctionPaths[k].setAttribute('d', data[k].join(''));
+  }
+
+  /** The junction within `radius` pixels of user point p at `points`, or null. */
+  junctionAt(points, p, radius = JUNCTION_RADIUS + 2) {
+    const limit = radius * this.unitsPerPixel();
+    let best = null;
+    let bestDistance = limit;
+    for (const j of this.junctions()) {
+      const d = Math.hypot(points[2 * j.point] - p[0], points[2 * j.point + 1] - p[1]);
+      if (d <= bestDistance) {
+        best = j;
+        bestDistance = d;
+      }
+    }
+    return best;
+  }
+
+  /** Draws handle markers at `positions` (posed), `selected` with its rotate ring and scale knob. */
+  drawHandles(positions, selected) {
+    const u = this.unitsPerPixel();
+    const layer = this.handleLayer;
+    layer.replaceChildren();
+    if (selected !== null && positions[selected]) {
+      const [x, y] = positions[selected];
+      layer.append(
+        svgElement('circle', { class: 'ss-ring', cx: x, cy: y, r: RING_RADIUS * u, 'stroke-width': 5 * u }),
+        svgElement('rect', {
+          class: 'ss-knob',
+          x: x + RING_RADIUS * u - (KNOB_SIZE / 2) * u,
+          y: y - (KNOB_SIZE / 2) * u,
+          width: KNOB_SIZE * u,
+          height: KNOB_SIZE * u,
+          'stroke-width': 1.5 * u,
+        }),
+      );
+    }
+    positions.forEach(([x, y], i) => {
+      layer.append(
+        svgElement('circle', {
+          class: i === selected ? 'ss-handle selected' : 'ss-handle',
+          cx: x,
+          cy: y,
+          r: HANDLE_RADIUS * u,
+          'stroke-width': 2 * u,
+          'data-handle': i,
+        }),
+      );
+    });
+  }
+
+  /** Shows the image at `url` over box [x0, y0, x1, y1] (user units), or hides it (null). */
+  showWeights(url, box) {
+    if (!url) {
+      this.weightImage.style.display = 'none';
+      return;
+    }
+    const [x0, y0, x1, y1] = box;
+    this.weightImage.setAttribute('href', url);
+    this.weightImage.setAttribute('x', x0);
+    this.weightImage.setAttribute('y', y0);
+    this.weightImage.setAttribute('width', x1 - x0);
+    this.weightImage.setAttribute('height', y1 - y0);
+    this.weightImage.style.display = '';
+  }
+}
+
+/** Handle positions as posed: T_i applied to rest position p_i. */
+export function posedHandles(scene) {
+  return scene.handles.map((p, i) => apply(scene.pose[i], p));
+}
