@@ -22,6 +22,10 @@ const CLICK_SLOP = 3;
 const WEIGHT_GRID = 200;
 /** Junction markers shown on opening up to this many junctions (more: the checkbox). */
 const MAX_JUNCTIONS_SHOWN = 400;
+/** Rotation per pixel of horizontal travel of a Shift-drag started on a handle: 0.5°. */
+const RADIANS_PER_PIXEL = Math.PI / 360;
+/** Horizontal travel that doubles the scale in an Alt-drag started on a handle. */
+const PIXELS_PER_DOUBLING = 100;
 /** Smallest scale factor a scale drag sets (a map must stay invertible). */
 const MIN_SCALE = 0.05;
 
@@ -474,16 +478,23 @@ function onPointerMove(event) {
   const p = editor.view.toUser(event.clientX, event.clientY);
   const s = gesture.start;
   const c = gesture.centre;
+  // A rotation or scale that starts on the handle itself has no lever: horizontal travel
+  // sets it. One that starts away from it (the ring, the square) follows the pointer about it.
+  const pixels = 1 / editor.view.unitsPerPixel();
+  const onHandle = Math.hypot(s[0] - c[0], s[1] - c[1]) * pixels <= HANDLE_RADIUS + 3;
+  const travel = event.clientX - gesture.client[0];
   let M;
   if (gesture.mode === 'translate') {
     M = affine.translation(p[0] - s[0], p[1] - s[1]);
   } else if (gesture.mode === 'rotate') {
-    const angle = Math.atan2(p[1] - c[1], p[0] - c[0]) - Math.atan2(s[1] - c[1], s[0] - c[0]);
+    const angle = onHandle
+      ? travel * RADIANS_PER_PIXEL
+      : Math.atan2(p[1] - c[1], p[0] - c[0]) - Math.atan2(s[1] - c[1], s[0] - c[0]);
     M = affine.rotationAbout(angle, c);
   } else {
     const d0 = Math.hypot(s[0] - c[0], s[1] - c[1]);
-    const factor = d0 > 0 ? Math.max(MIN_SCALE, Math.hypot(p[0] - c[0], p[1] - c[1]) / d0) : 1;
-    M = affine.scaleAbout(factor, c);
+    const factor = onHandle ? 2 ** (travel / PIXELS_PER_DOUBLING) : Math.hypot(p[0] - c[0], p[1] - c[1]) / d0;
+    M = affine.scaleAbout(Math.max(MIN_SCALE, factor), c);
   }
   editor.scene.pose[gesture.handle] = affine.compose(M, gesture.map);
   editor.solveSeq++; // a solve of an older pose must not land now

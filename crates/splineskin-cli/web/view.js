@@ -15,6 +15,8 @@ export const HANDLE_RADIUS = 7;
 export const RING_RADIUS = 34;
 export const KNOB_SIZE = 9;
 export const JUNCTION_RADIUS = 3.5;
+/** Margin shown around the drawing's viewBox, relative to its larger side. */
+const VIEW_MARGIN = 0.05;
 
 /**
  * A formatter writing numbers with `digits` decimals, as toFixed does (half away from zero
@@ -51,8 +53,11 @@ export class DrawingView {
     // they are removed too, so that nothing in the document reacts to the editor's events.
     for (const s of parsed.querySelectorAll('script')) s.remove();
     const root = document.importNode(parsed.documentElement, true);
+    // The drawing's own frame with a margin, so that a deformation may leave it a little;
+    // user units (the drawing's coordinates) stay what they are.
     const [x, y, w, h] = info.view_box;
-    if (!root.hasAttribute('viewBox')) root.setAttribute('viewBox', `${x} ${y} ${w} ${h}`);
+    const m = VIEW_MARGIN * Math.max(w, h);
+    root.setAttribute('viewBox', `${x - m} ${y - m} ${w + 2 * m} ${h + 2 * m}`);
     root.setAttribute('width', '100%');
     root.setAttribute('height', '100%');
     container.replaceChildren(root);

@@ -1,0 +1,239 @@
+// The editor's tools in a real browser, on the bundled fish (`splineskin serve` without a file:
+// five handles, its first pose): reset, rotate and scale (modifier keys and on-canvas widgets),
+// undo and redo, delete, changing a junction's kind by clicking it, another weight family with
+// its weight field, flexible G¹ solved on mouse-up, and a saved scene reopened by drag and drop.
+
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { after, before, test } from 'node:test';
+
+import { launchBrowser, outputFolder, startEditor } from './harness.mjs';
+
+const VIEWPORT = { width: 1100, height: 760 };
+const WAIT = 60_000;
+// Angles and scales read back from a map set by a mouse drag: the pointer moves by whole CSS
+// pixels, about 0.6 drawing units here, so a few hundredths.
+const DRAG_TOLERANCE = 0.03;
+
+const out = outputFolder('editor-tools');
+let passed = true;
+let browser;
+let server;
+let page;
+
+function check(name, body) {
+  test(name, async (t) => {
+    try {
+      await body(t);
+    } catch (error) {
+      passed = false;
+      throw error;
+    }
+  });
+}
+
+before(async () => {
+  browser = await launchBrowser({ viewport: VIEWPORT });
+  server = await startEditor([]);
+  page = await browser.context.newPage();
+  page.on('pageerror', (e) => console.log(`page error: ${e.message}`));
+  await page.goto(server.url);
+  await page.waitForSelector('body[data-booted]', { timeout: WAIT });
+  await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+});
+
+after(async () => {
+  await browser?.close();
+  await server?.close();
+  out.finish(passed);
+});
+
+const scene = () => page.evaluate(() => structuredClone(window.splineskinEditor.scene));
+const shownData = () =>
+  page.evaluate(() => [...document.querySelectorAll('#canvas [data-splineskin-element]')].map((e) => e.getAttribute('d')));
+
+/** Client coordinates of drawing point p. */
+function client(p) {
+  return page.evaluate(([x, y]) => {
+    const m = document.querySelector('#canvas .ss-overlay').getScreenCTM();
+    const q = new DOMPoint(x, y).matrixTransform(m);
+    return [q.x, q.y];
+  }, p);
+}
+
+/** Handle i's posed position (drawing units). */
+async function posed(i) {
+  const s = await scene();
+  const [T, [x, y]] = [s.pose[i], s.handles[i]];
+  return [T[0] * x + T[2] * y + T[4], T[1] * x + T[3] * y + T[5]];
+}
+
+/** Units per CSS pixel. */
+const unitsPerPixel = () => page.evaluate(() => window.splineskinEditor.view.unitsPerPixel());
+
+async function mouseDrag(from, to, { steps = 8, modifier } = {}) {
+  if (modifier) await page.keyboard.down(modifier);
+  await page.mouse.move(...from);
+  await page.mouse.down();
+  for (let k = 1; k <= steps; k++) {
+    await page.mouse.move(from[0] + ((to[0] - from[0]) * k) / steps, from[1] + ((to[1] - from[1]) * k) / steps);
+  }
+  await page.mouse.up();
+  if (modifier) await page.keyboard.up(modifier);
+}
+
+async function waitRig() {
+  await page.waitForFunction(() => document.body.dataset.rig === 'ready' || document.body.dataset.rig === 'error', null, {
+    timeout: WAIT,
+  });
+  const error = await page.evaluate(() => (document.body.dataset.rig === 'error' ? document.getElementById('error').textContent : null));
+  assert.equal(error, null);
+}
+
+check('the bundled fish opens posed; reset pose brings back the rest drawing', async () => {
+  const s = await scene();
+  assert.equal(s.handles.length, 5);
+  assert.ok(s.pose.some((T) => T.some((v, k) => Math.abs(v - [1, 0, 0, 1, 0, 0][k]) > 1e-9)), 'posed');
+  const restShown = await page.evaluate(() => {
+    const e = window.splineskinEditor;
+    return e.info.rest.every((v, k) => Math.abs(v - e.points[k]) < 1e-9);
+  });
+  assert.equal(restShown, false, 'the pose deforms the drawing');
+  await page.click('#reset-pose');
+  const atRest = await page.evaluate(() => {
+    const e = window.splineskinEditor;
+    return e.info.rest.every((v, k) => Math.abs(v - e.points[k]) < 1e-9 * (1 + Math.abs(v)));
+  });
+  assert.equal(atRest, true, 'reset: the drawing is at rest');
+});
+
+check('Shift-drag rotates a handle about itself, the square scales it, undo and redo step back and forth', async () => {
+  const centre = await client(await posed(1));
+  // Select handle 1 with a click (no move), then Shift-drag from it: 90 pixels of horizontal
+  // travel turn it by 45°.
+  await page.mouse.click(...centre);
+  await mouseDrag(centre, [centre[0] + 90, centre[1] + 20], { modifier: 'Shift' });
+  let T = (await scene()).pose[1];
+  assert.ok(Math.abs(Math.atan2(T[1], T[0]) - Math.PI / 4) < 1e-9, `Shift-drag: rotated by ${Math.atan2(T[1], T[0])} rad`);
+  await page.click('#undo');
+  // The ring: dragged a quarter turn around the handle.
+  const u = await unitsPerPixel();
+  const ring = await page.evaluate(() => Number(document.querySelector('.ss-ring').getAttribute('r')));
+  const r = ring / u;
+  await mouseDrag([centre[0] - r, centre[1]], [centre[0], centre[1] - r], { steps: 12 });
+  let s = await scene();
+  T = s.pose[1];
+  const angle = Math.atan2(T[1], T[0]);
+  assert.ok(Math.abs(angle - Math.PI / 2) < DRAG_TOLERANCE, `ring: rotated by ${angle} rad`);
+  assert.ok(Math.abs(Math.hypot(T[0], T[1]) - 1) < 1e-9, 'a rotation, no scale');
+  const [px, py] = await posed(1);
+  const [hx, hy] = s.handles[1];
+  assert.ok(Math.hypot(px - hx, py - hy) < 1e-6, 'about the handle itself');
+
+  // The scale knob: the square on the ring, to the right of the handle; dragged outwards by half
+  // the ring's radius.
+  const knob = [centre[0] + r, centre[1]];
+  await mouseDrag(knob, [knob[0] + r / 2, knob[1]]);
+  s = await scene();
+  T = s.pose[1];
+  const scale = Math.hypot(T[0], T[1]);
+  assert.ok(Math.abs(scale - 1.5) < DRAG_TOLERANCE, `scaled by ${scale}`);
+  assert.ok(Math.abs(Math.atan2(T[1], T[0]) - angle) < 1e-9, 'the rotation is kept');
+  await page.screenshot({ path: join(out.path, 'rotated-scaled.png') });
+
+  await page.click('#undo');
+  T = (await scene()).pose[1];
+  assert.ok(Math.abs(Math.hypot(T[0], T[1]) - 1) < 1e-9, 'undo: the scale is gone');
+  await page.click('#undo');
+  T = (await scene()).pose[1];
+  assert.deepEqual(T, [1, 0, 0, 1, 0, 0], 'undo: the rotation is gone');
+  await page.keyboard.press('Control+Shift+Z');
+  T = (await scene()).pose[1];
+  assert.ok(Math.abs(Math.atan2(T[1], T[0]) - angle) < 1e-12, 'redo: rotated again');
+});
+
+check('delete removes the selected handle; undo brings it back', async () => {
+  const centre = await client(await posed(4));
+  await page.mouse.click(...centre);
+  assert.equal(await page.evaluate(() => window.splineskinEditor.selected), 4);
+  await page.keyboard.press('Delete');
+  await waitRig();
+  assert.equal((await scene()).handles.length, 4);
+  await page.keyboard.press('Control+Z');
+  await waitRig();
+  assert.equal((await scene()).handles.length, 5);
+});
+
+check('clicking a junction changes its kind, and the rig is built with it', async () => {
+  await page.keyboard.press('Escape');
+  // The G¹ junction farthest from every handle (a click near a handle selects the handle).
+  const target = await page.evaluate(() => {
+    const e = window.splineskinEditor;
+    const handles = e.scene.handles.map(([x, y], i) => {
+      const T = e.scene.pose[i];
+      return [T[0] * x + T[2] * y + T[4], T[1] * x + T[3] * y + T[5]];
+    });
+    let best = null;
+    for (const j of e.view.junctions()) {
+      if (e.info.paths[j.path].joints[j.joint] !== 'G1') continue;
+      const at = [e.points[2 * j.point], e.points[2 * j.point + 1]];
+      const d = Math.min(...handles.map(([x, y]) => Math.hypot(x - at[0], y - at[1])));
+      if (!best || d > best.d) best = { path: j.path, joint: j.joint, at, d };
+    }
+    return best;
+  });
+  await page.mouse.click(...(await client(target.at)));
+  await waitRig();
+  const s = await scene();
+  assert.deepEqual(s.junctions, [{ path: target.path, joint: target.joint, kind: 'angle' }], 'G¹ → fixed angle');
+  assert.equal(s.handles.length, 5, 'no handle added');
+});
+
+check('another weight family: harmonic weights are computed and the weight field is shown', async () => {
+  await page.selectOption('#family', 'harmonic');
+  await waitRig();
+  assert.equal((await scene()).weights.family, 'harmonic');
+  await page.mouse.click(...(await client(await posed(2))));
+  await page.check('#show-weights');
+  await page.waitForFunction(() => {
+    const image = document.querySelector('.ss-weights');
+    return image.style.display !== 'none' && image.getAttribute('href')?.startsWith('data:image/png');
+  }, null, { timeout: WAIT });
+  // Under handle 2 the field is bright (weight near 1: the yellow end of viridis).
+  const shot = join(out.path, 'weight-field.png');
+  await page.screenshot({ path: shot });
+  console.log(`editor-tools: screenshot ${shot}`);
+  await page.uncheck('#show-weights');
+});
+
+check('flexible G¹: the server solves each pose on mouse-up and the page shows it', async () => {
+  await page.check('#flexible');
+  await waitRig();
+  const before = await shownData();
+  const centre = await client(await posed(0));
+  await mouseDrag(centre, [centre[0] + 40, centre[1] - 30]);
+  await page.waitForSelector('body[data-solve="done"]', { timeout: WAIT });
+  const after = await shownData();
+  assert.notDeepEqual(after, before);
+  const finite = await page.evaluate(() => window.splineskinEditor.points.every(Number.isFinite));
+  assert.ok(finite);
+});
+
+check('a saved scene reopens by drag and drop as it was', async () => {
+  const saved = await scene();
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#save-scene')]);
+  const file = join(out.path, 'fish-scene.json');
+  await download.saveAs(file);
+  const text = readFileSync(file, 'utf8');
+  assert.equal(JSON.parse(text).splineskin_scene, 1);
+  await page.evaluate((t) => {
+    const transfer = new DataTransfer();
+    transfer.items.add(new File([t], 'fish-scene.json', { type: 'application/json' }));
+    document.getElementById('stage').dispatchEvent(new DragEvent('drop', { dataTransfer: transfer, bubbles: true, cancelable: true }));
+  }, text);
+  await page.waitForFunction(() => document.title.startsWith('fish-scene.json'), null, { timeout: WAIT });
+  await waitRig();
+  const reopened = await scene();
+  assert.deepEqual(reopened, saved);
+});
