@@ -372,6 +372,13 @@ check('turtles: frame time while dragging (the authors\' 1 300-curve drawing, 3 
     const shot = join(out.path, 'editor-turtles-dragged.png');
     await p.screenshot({ path: shot });
     console.log(`turtles: screenshot ${shot}`);
+    // A reload while the server precomputes (harmonic weights on the turtles' domain): the
+    // page comes back and the server serves it.
+    await p.selectOption('#family', 'harmonic');
+    assert.equal(await p.evaluate(() => document.body.dataset.rig), 'computing');
+    await p.reload();
+    await p.waitForSelector('body[data-booted]', { timeout: WAIT });
+    await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
   } finally {
     await p.close();
     await turtles.close();

@@ -69,8 +69,9 @@ pub const RIG_HEADER: &str = "x-splineskin-rig";
 pub struct App {
     /// Documents and rigs.
     pub store: Mutex<Store>,
-    /// Slots for heavy jobs.
-    pub jobs: Semaphore,
+    /// Slots for heavy jobs (a job holds its slot until it ends, even when its request is
+    /// gone).
+    pub jobs: Arc<Semaphore>,
     /// The `Host` values accepted (empty: any, when serving beyond loopback on request).
     pub hosts: Vec<String>,
 }
@@ -83,7 +84,7 @@ impl App {
         store.set_initial(initial);
         Arc::new(App {
             store: Mutex::new(store),
-            jobs: Semaphore::new(MAX_JOBS),
+            jobs: Arc::new(Semaphore::new(MAX_JOBS)),
             hosts,
         })
     }
@@ -223,15 +224,22 @@ impl IntoResponse for ApiError {
     }
 }
 
-/// Runs `job` on a blocking thread once a job slot is free. A panic (a bug) becomes a 500.
+/// Runs `job` on a blocking thread once a job slot is free. The job keeps its slot until it
+/// ends, also when the request is dropped midway (a page reloaded or closed), so that at most
+/// [`MAX_JOBS`] run at once whatever pages do. A panic (a bug) becomes a 500.
 async fn run_job<T: Send + 'static>(
     app: &App,
     job: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
 ) -> Result<T, ApiError> {
-    let _slot =
-        app.jobs.acquire().await.map_err(|_| {
+    let slot =
+        app.jobs.clone().acquire_owned().await.map_err(|_| {
             ApiError::new(StatusCode::SERVICE_UNAVAILABLE, "the server is stopping")
         })?;
+    let job = move || {
+        let result = job();
+        drop(slot);
+        result
+    };
     match tokio::task::spawn_blocking(job).await {
         Ok(result) => result,
         Err(e) => Err(ApiError::new(

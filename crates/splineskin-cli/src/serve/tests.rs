@@ -9,7 +9,7 @@ use splineskin::drawing::{read_svg, ImportOptions};
 use splineskin::examples::DEMO_SVG;
 use tower::ServiceExt;
 
-use super::api::{router, App, API_HEADER, RIG_HEADER};
+use super::api::{router, App, API_HEADER, MAX_JOBS, RIG_HEADER};
 use super::document::{Document, MAX_UPLOAD_BYTES};
 
 const HOST: &str = "127.0.0.1:7464";
@@ -382,4 +382,33 @@ async fn serve_saved_scene_reads_back_as_the_page_left_it() {
         .as_str()
         .expect("message")
         .contains("handles[1]"));
+}
+
+#[tokio::test]
+async fn serve_requests_dropped_midway_leave_the_server_serving() {
+    let state = App::new(
+        Document::bundled().expect("the bundled drawing opens"),
+        vec![HOST.to_string()],
+    );
+    let app = router(state.clone());
+    let info = open_demo_svg(&app).await;
+    let id = info["id"].as_str().expect("id").to_string();
+    // Rig requests abandoned right after they start (a page reloaded mid-request).
+    for _ in 0..4 {
+        let request = post_json("/api/rig", &two_handle_scene(&id, true));
+        let pending = app.clone().oneshot(request);
+        let _ = tokio::time::timeout(std::time::Duration::from_micros(1), pending).await;
+    }
+    // The server answers as before, and the abandoned jobs give their slots back when done.
+    let (status, _, body) = send(&app, post_json("/api/rig", &two_handle_scene(&id, false))).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    for _ in 0..500 {
+        if state.jobs.available_permits() == MAX_JOBS {
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(10)).await;
+    }
+    assert_eq!(state.jobs.available_permits(), MAX_JOBS);
+    let (status, _, _) = send(&app, get("/api/initial")).await;
+    assert_eq!(status, StatusCode::OK);
 }
