@@ -237,3 +237,22 @@ check('a saved scene reopens by drag and drop as it was', async () => {
   const reopened = await scene();
   assert.deepEqual(reopened, saved);
 });
+
+check('the wheel zooms about the pointer and Fit shows the whole drawing again', async () => {
+  const at = await client(await posed(0));
+  const before = await unitsPerPixel();
+  await page.mouse.move(...at);
+  await page.mouse.wheel(0, -400);
+  await page.waitForFunction((u) => window.splineskinEditor.view.unitsPerPixel() < u * 0.9, before);
+  const after = await unitsPerPixel();
+  console.log(`editor-tools: zoomed in ${(before / after).toFixed(2)}×`);
+  const still = await client(await posed(0));
+  assert.ok(Math.hypot(still[0] - at[0], still[1] - at[1]) < 1, 'the point under the pointer stays');
+  // Handles still follow the pointer when zoomed.
+  const s0 = await scene();
+  await mouseDrag(still, [still[0] + 50, still[1]]);
+  const T = (await scene()).pose[0];
+  assert.ok(Math.abs(T[4] - s0.pose[0][4] - 50 * after) < 2 * after, 'a 50-pixel drag moves by 50 pixels of the zoomed view');
+  await page.click('#fit');
+  assert.ok(Math.abs((await unitsPerPixel()) - before) < 1e-9 * before);
+});

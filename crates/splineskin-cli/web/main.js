@@ -26,6 +26,8 @@ const MAX_JUNCTIONS_SHOWN = 400;
 const RADIANS_PER_PIXEL = Math.PI / 360;
 /** Horizontal travel that doubles the scale in an Alt-drag started on a handle. */
 const PIXELS_PER_DOUBLING = 100;
+/** Zoom per unit of wheel travel (a wheel notch of 100 units zooms by about 1.2). */
+const ZOOM_PER_WHEEL_UNIT = 0.0018;
 /** Smallest scale factor a scale drag sets (a map must stay invertible). */
 const MIN_SCALE = 0.05;
 
@@ -64,6 +66,13 @@ function showError(error) {
 function clearError() {
   $('error').hidden = true;
   delete document.body.dataset.error;
+}
+
+/** Something the user should know about what was opened; stays until clicked. */
+function showNotice(text) {
+  const box = $('notice');
+  box.textContent = text;
+  box.hidden = !text;
 }
 
 function say(text) {
@@ -117,7 +126,7 @@ function show(info) {
   // Junction markers by default only where they do not bury the drawing.
   $('show-junctions').checked = view.junctions().length <= MAX_JUNCTIONS_SHOWN;
   say(`${shortName()}: ${info.n_curves} curves in ${info.paths.length} paths`);
-  if (info.warnings.length) showError(info.warnings.join('\n'));
+  showNotice(info.warnings.join('\n'));
   syncControls();
   sceneChanged();
 }
@@ -418,6 +427,8 @@ async function updateWeights() {
 // Pointer: add, select, drag (translate / rotate / scale), junction clicks
 
 let gesture = null;
+/** Whether Space is held (Space-drag pans). */
+let spaceHeld = false;
 
 function hitHandle(p) {
   const u = editor.view.unitsPerPixel();
@@ -445,7 +456,14 @@ function hitWidget(p) {
 }
 
 function onPointerDown(event) {
-  if (event.button !== 0 || !editor.view) return;
+  if (!editor.view) return;
+  if (event.button === 1 || (event.button === 0 && spaceHeld)) {
+    gesture = { pan: [event.clientX, event.clientY] };
+    editor.view.root.setPointerCapture(event.pointerId);
+    event.preventDefault();
+    return;
+  }
+  if (event.button !== 0) return;
   const p = editor.view.toUser(event.clientX, event.clientY);
   const widget = hitWidget(p);
   const handle = widget ? editor.selected : hitHandle(p);
@@ -472,6 +490,11 @@ function onPointerDown(event) {
 
 function onPointerMove(event) {
   if (!gesture) return;
+  if (gesture.pan) {
+    editor.view.pan(event.clientX - gesture.pan[0], event.clientY - gesture.pan[1]);
+    gesture.pan = [event.clientX, event.clientY];
+    return;
+  }
   const [cx0, cy0] = gesture.client;
   if (Math.hypot(event.clientX - cx0, event.clientY - cy0) > CLICK_SLOP) gesture.moved = true;
   if (gesture.handle === null || !gesture.moved) return;
@@ -505,6 +528,7 @@ function onPointerUp(event) {
   if (!gesture) return;
   const g = gesture;
   gesture = null;
+  if (g.pan) return;
   if (g.handle !== null) {
     if (g.moved) {
       editor.history.record(g.before);
@@ -612,10 +636,33 @@ function wire() {
   $('show-junctions').addEventListener('change', drawOverlay);
   $('show-weights').addEventListener('change', updateWeights);
   $('error').addEventListener('click', clearError);
+  $('notice').addEventListener('click', () => showNotice(''));
+  $('fit').addEventListener('click', () => {
+    editor.view?.fit();
+    editor.view && drawOverlay();
+  });
+  $('canvas').addEventListener(
+    'wheel',
+    (event) => {
+      if (!editor.view) return;
+      event.preventDefault();
+      editor.view.zoom(Math.exp(-event.deltaY * ZOOM_PER_WHEEL_UNIT), event.clientX, event.clientY);
+      drawOverlay();
+    },
+    { passive: false },
+  );
   window.addEventListener('resize', () => editor.view && drawOverlay());
+  window.addEventListener('keyup', (event) => {
+    if (event.key === ' ') spaceHeld = false;
+  });
   window.addEventListener('keydown', (event) => {
     if (event.target instanceof HTMLInputElement || event.target instanceof HTMLSelectElement) return;
     const key = event.key.toLowerCase();
+    if (key === ' ') {
+      spaceHeld = true;
+      event.preventDefault();
+      return;
+    }
     if ((event.ctrlKey || event.metaKey) && key === 'z') {
       event.preventDefault();
       event.shiftKey ? redo() : undo();

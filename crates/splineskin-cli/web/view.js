@@ -17,6 +17,9 @@ export const KNOB_SIZE = 9;
 export const JUNCTION_RADIUS = 3.5;
 /** Margin shown around the drawing's viewBox, relative to its larger side. */
 const VIEW_MARGIN = 0.05;
+/** Closest and farthest zoom, as fractions of the opening frame's width shown. */
+const MIN_ZOOM = 1 / 64;
+const MAX_ZOOM = 8;
 
 /**
  * A formatter writing numbers with `digits` decimals, as toFixed does (half away from zero
@@ -57,7 +60,9 @@ export class DrawingView {
     // user units (the drawing's coordinates) stay what they are.
     const [x, y, w, h] = info.view_box;
     const m = VIEW_MARGIN * Math.max(w, h);
-    root.setAttribute('viewBox', `${x - m} ${y - m} ${w + 2 * m} ${h + 2 * m}`);
+    this.home = [x - m, y - m, w + 2 * m, h + 2 * m];
+    this.frame = [...this.home];
+    root.setAttribute('viewBox', this.frame.join(' '));
     root.setAttribute('width', '100%');
     root.setAttribute('height', '100%');
     container.replaceChildren(root);
@@ -91,6 +96,32 @@ export class DrawingView {
     this.handleLayer = svgElement('g', { class: 'ss-handles' });
     this.overlay.append(this.weightImage, ...Object.values(this.junctionPaths), this.handleLayer);
     root.append(this.overlay);
+  }
+
+  /** Shows the whole drawing again (the viewBox the document opened with). */
+  fit() {
+    this.frame = [...this.home];
+    this.root.setAttribute('viewBox', this.frame.join(' '));
+  }
+
+  /**
+   * Zooms by `factor` (> 1: closer) keeping the drawing point under client (x, y) in place.
+   * Only the shown frame (the root's viewBox) changes: the drawing's coordinates do not.
+   */
+  zoom(factor, clientX, clientY) {
+    const [px, py] = this.toUser(clientX, clientY);
+    const [x, y, w, h] = this.frame;
+    const scale = Math.min(Math.max(1 / factor, (this.home[2] * MIN_ZOOM) / w), (this.home[2] * MAX_ZOOM) / w);
+    this.frame = [px - (px - x) * scale, py - (py - y) * scale, w * scale, h * scale];
+    this.root.setAttribute('viewBox', this.frame.join(' '));
+  }
+
+  /** Moves the shown frame by (dx, dy) CSS pixels. */
+  pan(dx, dy) {
+    const u = this.unitsPerPixel();
+    this.frame[0] -= dx * u;
+    this.frame[1] -= dy * u;
+    this.root.setAttribute('viewBox', this.frame.join(' '));
   }
 
   /** User units per CSS pixel at the current size. */
