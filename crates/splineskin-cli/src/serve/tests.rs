@@ -275,8 +275,12 @@ async fn serve_malformed_upload_is_a_message_and_the_server_goes_on() {
     assert_eq!(status, StatusCode::BAD_REQUEST);
     let message = json(&body)["error"].as_str().expect("message").to_string();
     assert!(message.starts_with("broken.svg"), "{message}");
-    // Binary garbage, a scene of the wrong shape.
+    // Binary garbage, a scene of the wrong shape, a scene naming a file on the server.
     for (name, bytes) in [
+        (
+            "f.json",
+            b"{\"splineskin_scene\": 1, \"svg\": \"/etc/hostname\"}".to_vec(),
+        ),
         ("x.svg", vec![0xff, 0xfe, 0x00]),
         ("s.json", b"{\"splineskin_scene\": 1}".to_vec()),
     ] {
@@ -286,10 +290,11 @@ async fn serve_malformed_upload_is_a_message_and_the_server_goes_on() {
             .expect("a request");
         let (status, _, body) = send(&app, request).await;
         assert_eq!(status, StatusCode::BAD_REQUEST, "{name}");
-        assert!(json(&body)["error"]
-            .as_str()
-            .expect("message")
-            .contains(name));
+        let message = json(&body)["error"].as_str().expect("message").to_string();
+        assert!(message.contains(name), "{message}");
+        if name == "f.json" {
+            assert!(message.contains("no file is read"), "{message}");
+        }
     }
     open_demo_svg(&app).await;
 }

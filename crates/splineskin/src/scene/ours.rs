@@ -445,10 +445,17 @@ pub(crate) fn parse(
         }
         (None, Some(text)) => (text, format!("{origin} (svg_text)")),
         (Some(name), None) => {
-            let path = match base_dir {
-                Some(dir) => dir.join(&name),
-                None => FsPath::new(&name).to_path_buf(),
+            // Without a folder (inline text, an upload) no file is read, as Scene::from_json
+            // documents: the scene's text alone must not open files.
+            let Some(dir) = base_dir else {
+                return Err(invalid(
+                    "svg",
+                    format!(
+                        "names the file {name}, but this scene was not read from a folder, so                          no file is read: give the drawing inline as svg_text"
+                    ),
+                ));
             };
+            let path = dir.join(&name);
             // The message names the scene and its `svg` field as well as the file: a missing
             // drawing is an error in the scene.
             let unreadable = |e: std::io::Error| {
