@@ -10,26 +10,17 @@ import * as affine from './affine.js';
 import { weightImage } from './colour.js';
 import { History } from './history.js';
 import { LiveRig, littleEndian } from './rig.js';
-import { DrawingView, JUNCTION_KINDS, HANDLE_RADIUS, RING_RADIUS, KNOB_SIZE, posedHandles } from './view.js';
+import { installGestures } from './gestures.js';
+import { DrawingView, JUNCTION_KINDS, posedHandles } from './view.js';
 
 const $ = (id) => document.getElementById(id);
 
 /** Frames kept for the frame-time figure in the status bar. */
 const FRAME_WINDOW = 120;
-/** Pointer travel, in CSS pixels, below which a press is a click. */
-const CLICK_SLOP = 3;
 /** Samples on the long side of the weight grid. */
 const WEIGHT_GRID = 200;
 /** Junction markers shown on opening up to this many junctions (more: the checkbox). */
 const MAX_JUNCTIONS_SHOWN = 400;
-/** Rotation per pixel of horizontal travel of a Shift-drag started on a handle: 0.5°. */
-const RADIANS_PER_PIXEL = Math.PI / 360;
-/** Horizontal travel that doubles the scale in an Alt-drag started on a handle. */
-const PIXELS_PER_DOUBLING = 100;
-/** Zoom per unit of wheel travel (a wheel notch of 100 units zooms by about 1.2). */
-const ZOOM_PER_WHEEL_UNIT = 0.0018;
-/** Smallest scale factor a scale drag sets (a map must stay invertible). */
-const MIN_SCALE = 0.05;
 
 const editor = {
   info: null,
@@ -424,127 +415,36 @@ async function updateWeights() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Pointer: add, select, drag (translate / rotate / scale), junction clicks
+// Pointer gestures (gestures.js): what they do to the editor
 
-let gesture = null;
-/** Whether Space is held (Space-drag pans). */
-let spaceHeld = false;
-
-function hitHandle(p) {
-  const u = editor.view.unitsPerPixel();
-  const posed = posedHandles(editor.scene);
-  let best = null;
-  let bestDistance = (HANDLE_RADIUS + 3) * u;
-  posed.forEach(([x, y], i) => {
-    const d = Math.hypot(x - p[0], y - p[1]);
-    if (d <= bestDistance) {
-      best = i;
-      bestDistance = d;
+const gestureActions = {
+  selected(i) {
+    editor.selected = i;
+    drawOverlay();
+    syncControls();
+    updateWeights();
+  },
+  posed(i, map) {
+    editor.scene.pose[i] = map;
+    editor.solveSeq++; // a solve of an older pose must not land now
+    scheduleFrame();
+  },
+  dragged(before) {
+    editor.history.record(before);
+    sceneChanged();
+  },
+  clicked(p) {
+    const junction = $('show-junctions').checked ? editor.view.junctionAt(editor.points, p) : null;
+    if (junction) {
+      cycleJunction(junction);
+    } else {
+      addHandle(p);
     }
-  });
-  return best;
-}
-
-/** 'knob', 'ring' or null: the widgets of the selected handle under p. */
-function hitWidget(p) {
-  if (editor.selected === null) return null;
-  const u = editor.view.unitsPerPixel();
-  const [cx, cy] = posedHandles(editor.scene)[editor.selected];
-  if (Math.max(Math.abs(p[0] - (cx + RING_RADIUS * u)), Math.abs(p[1] - cy)) <= (KNOB_SIZE / 2 + 2) * u) return 'knob';
-  if (Math.abs(Math.hypot(p[0] - cx, p[1] - cy) - RING_RADIUS * u) <= 4 * u) return 'ring';
-  return null;
-}
-
-function onPointerDown(event) {
-  if (!editor.view) return;
-  if (event.button === 1 || (event.button === 0 && spaceHeld)) {
-    gesture = { pan: [event.clientX, event.clientY] };
-    editor.view.root.setPointerCapture(event.pointerId);
-    event.preventDefault();
-    return;
-  }
-  if (event.button !== 0) return;
-  const p = editor.view.toUser(event.clientX, event.clientY);
-  const widget = hitWidget(p);
-  const handle = widget ? editor.selected : hitHandle(p);
-  gesture = { start: p, client: [event.clientX, event.clientY], moved: false, handle, mode: null };
-  if (handle !== null) {
-    gesture.mode = widget === 'knob' || (!widget && (event.altKey || event.ctrlKey))
-      ? 'scale'
-      : widget === 'ring' || event.shiftKey
-        ? 'rotate'
-        : 'translate';
-    gesture.before = structuredClone(editor.scene);
-    gesture.map = [...editor.scene.pose[handle]];
-    gesture.centre = affine.apply(gesture.map, editor.scene.handles[handle]);
-    if (editor.selected !== handle) {
-      editor.selected = handle;
-      drawOverlay();
-      syncControls();
-      updateWeights();
-    }
-  }
-  editor.view.root.setPointerCapture(event.pointerId);
-  event.preventDefault();
-}
-
-function onPointerMove(event) {
-  if (!gesture) return;
-  if (gesture.pan) {
-    editor.view.pan(event.clientX - gesture.pan[0], event.clientY - gesture.pan[1]);
-    gesture.pan = [event.clientX, event.clientY];
-    return;
-  }
-  const [cx0, cy0] = gesture.client;
-  if (Math.hypot(event.clientX - cx0, event.clientY - cy0) > CLICK_SLOP) gesture.moved = true;
-  if (gesture.handle === null || !gesture.moved) return;
-  const p = editor.view.toUser(event.clientX, event.clientY);
-  const s = gesture.start;
-  const c = gesture.centre;
-  // A rotation or scale that starts on the handle itself has no lever: horizontal travel
-  // sets it. One that starts away from it (the ring, the square) follows the pointer about it.
-  const pixels = 1 / editor.view.unitsPerPixel();
-  const onHandle = Math.hypot(s[0] - c[0], s[1] - c[1]) * pixels <= HANDLE_RADIUS + 3;
-  const travel = event.clientX - gesture.client[0];
-  let M;
-  if (gesture.mode === 'translate') {
-    M = affine.translation(p[0] - s[0], p[1] - s[1]);
-  } else if (gesture.mode === 'rotate') {
-    const angle = onHandle
-      ? travel * RADIANS_PER_PIXEL
-      : Math.atan2(p[1] - c[1], p[0] - c[0]) - Math.atan2(s[1] - c[1], s[0] - c[0]);
-    M = affine.rotationAbout(angle, c);
-  } else {
-    const d0 = Math.hypot(s[0] - c[0], s[1] - c[1]);
-    const factor = onHandle ? 2 ** (travel / PIXELS_PER_DOUBLING) : Math.hypot(p[0] - c[0], p[1] - c[1]) / d0;
-    M = affine.scaleAbout(Math.max(MIN_SCALE, factor), c);
-  }
-  editor.scene.pose[gesture.handle] = affine.compose(M, gesture.map);
-  editor.solveSeq++; // a solve of an older pose must not land now
-  scheduleFrame();
-}
-
-function onPointerUp(event) {
-  if (!gesture) return;
-  const g = gesture;
-  gesture = null;
-  if (g.pan) return;
-  if (g.handle !== null) {
-    if (g.moved) {
-      editor.history.record(g.before);
-      sceneChanged();
-    }
-    return;
-  }
-  if (g.moved) return;
-  const p = editor.view.toUser(event.clientX, event.clientY);
-  const junction = $('show-junctions').checked ? editor.view.junctionAt(editor.points, p) : null;
-  if (junction) {
-    cycleJunction(junction);
-  } else {
-    addHandle(p);
-  }
-}
+  },
+  viewChanged() {
+    drawOverlay();
+  },
+};
 
 // ---------------------------------------------------------------------------------------------
 // Files out
@@ -594,11 +494,7 @@ async function saveScene() {
 // Wiring
 
 function wire() {
-  const canvas = $('canvas');
-  canvas.addEventListener('pointerdown', onPointerDown);
-  canvas.addEventListener('pointermove', onPointerMove);
-  canvas.addEventListener('pointerup', onPointerUp);
-  canvas.addEventListener('pointercancel', () => (gesture = null));
+  installGestures($('canvas'), editor, gestureActions);
 
   $('open-file').addEventListener('change', (event) => {
     const file = event.target.files[0];
@@ -641,28 +537,11 @@ function wire() {
     editor.view?.fit();
     editor.view && drawOverlay();
   });
-  $('canvas').addEventListener(
-    'wheel',
-    (event) => {
-      if (!editor.view) return;
-      event.preventDefault();
-      editor.view.zoom(Math.exp(-event.deltaY * ZOOM_PER_WHEEL_UNIT), event.clientX, event.clientY);
-      drawOverlay();
-    },
-    { passive: false },
-  );
+
   window.addEventListener('resize', () => editor.view && drawOverlay());
-  window.addEventListener('keyup', (event) => {
-    if (event.key === ' ') spaceHeld = false;
-  });
   window.addEventListener('keydown', (event) => {
     if (event.target instanceof HTMLInputElement || event.target instanceof HTMLSelectElement) return;
     const key = event.key.toLowerCase();
-    if (key === ' ') {
-      spaceHeld = true;
-      event.preventDefault();
-      return;
-    }
     if ((event.ctrlKey || event.metaKey) && key === 'z') {
       event.preventDefault();
       event.shiftKey ? redo() : undo();

@@ -22,24 +22,21 @@
 
 use std::sync::{Arc, Mutex};
 
-use axum::body::{Body, Bytes};
+use axum::body::Body;
 use axum::extract::rejection::{BytesRejection, JsonRejection};
-use axum::extract::{DefaultBodyLimit, Path, Query, Request, State};
-use axum::http::{header, HeaderMap, HeaderValue, Method, StatusCode};
+use axum::extract::{DefaultBodyLimit, Request, State};
+use axum::http::{header, HeaderValue, Method, StatusCode};
 use axum::middleware::{self, Next};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::{Json, Router};
-use kurbo::{Affine, Point};
-use serde::Deserialize;
-use splineskin::drawing::svg_out::write_svg;
-use splineskin::scene::{Compat, Puppet, Scene};
 use tokio::sync::Semaphore;
 
 use super::document::{Document, MAX_UPLOAD_BYTES};
-use super::scene_file::scene_json;
+use super::document_routes::{export, initial, open, save_scene};
+use super::rig_routes::{rig, solve, weights};
 use super::store::Store;
-use super::wire::{DocumentInfo, EditScene, ErrorBody, PoseRequest, SceneRequest};
+use super::wire::ErrorBody;
 
 /// Heavy jobs (precomputation, solves, weight grids, exports) run at once: 2, the cores of the
 /// machines this is made for; more wait their turn.
@@ -62,7 +59,7 @@ pub const MAX_GRID_SIDE: u32 = 1024;
 /// The header every `POST` carries.
 pub const API_HEADER: &str = "x-splineskin";
 
-/// The header naming a rig in [`rig`]'s response.
+/// The header naming a rig in [`rig`]'s response (the rig's id).
 pub const RIG_HEADER: &str = "x-splineskin-rig";
 
 /// The server's state.
@@ -89,12 +86,12 @@ impl App {
         })
     }
 
-    fn store(&self) -> std::sync::MutexGuard<'_, Store> {
+    pub(super) fn store(&self) -> std::sync::MutexGuard<'_, Store> {
         // The store's methods do not panic midway; a poisoned lock holds consistent data.
         self.store.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    fn document(&self, id: &str) -> Result<Arc<Document>, ApiError> {
+    pub(super) fn document(&self, id: &str) -> Result<Arc<Document>, ApiError> {
         self.store().document(id).ok_or_else(|| {
             ApiError::new(
                 StatusCode::NOT_FOUND,
@@ -172,19 +169,19 @@ async fn guard(State(app): State<Arc<App>>, request: Request, next: Next) -> Res
 /// An error response: a status and a message for the page.
 #[derive(Debug)]
 pub struct ApiError {
-    status: StatusCode,
+    pub(super) status: StatusCode,
     message: String,
 }
 
 impl ApiError {
-    fn new(status: StatusCode, message: impl Into<String>) -> ApiError {
+    pub(super) fn new(status: StatusCode, message: impl Into<String>) -> ApiError {
         ApiError {
             status,
             message: message.into(),
         }
     }
 
-    fn bad(message: impl Into<String>) -> ApiError {
+    pub(super) fn bad(message: impl Into<String>) -> ApiError {
         ApiError::new(StatusCode::BAD_REQUEST, message)
     }
 }
@@ -227,7 +224,7 @@ impl IntoResponse for ApiError {
 /// Runs `job` on a blocking thread once a job slot is free. The job keeps its slot until it
 /// ends, also when the request is dropped midway (a page reloaded or closed), so that at most
 /// [`MAX_JOBS`] run at once whatever pages do. A panic (a bug) becomes a 500.
-async fn run_job<T: Send + 'static>(
+pub(super) async fn run_job<T: Send + 'static>(
     app: &App,
     job: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
 ) -> Result<T, ApiError> {
@@ -253,262 +250,8 @@ async fn no_route() -> ApiError {
     ApiError::new(StatusCode::NOT_FOUND, "no such API route")
 }
 
-async fn initial(State(app): State<Arc<App>>) -> Result<Json<DocumentInfo>, ApiError> {
-    let document = app
-        .store()
-        .initial()
-        .ok_or_else(|| ApiError::new(StatusCode::NOT_FOUND, "no initial document"))?;
-    Ok(Json(document.info.clone()))
-}
-
-async fn open(
-    State(app): State<Arc<App>>,
-    headers: HeaderMap,
-    body: Result<Bytes, BytesRejection>,
-) -> Result<Json<DocumentInfo>, ApiError> {
-    let body = body?;
-    let name = headers
-        .get("x-file-name")
-        .and_then(|v| v.to_str().ok())
-        .map(percent_decode)
-        .filter(|n| !n.is_empty())
-        .unwrap_or_else(|| "upload".to_string());
-    let document = run_job(&app, move || Ok(Document::open(&name, &body)?)).await?;
-    let document = app.store().add_document(document);
-    Ok(Json(document.info.clone()))
-}
-
-/// Decodes `%XX` escapes (the page sends file names with `encodeURIComponent`); anything
-/// malformed is kept as it is.
-fn percent_decode(s: &str) -> String {
-    let bytes = s.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'%' && i + 2 < bytes.len() {
-            if let Some(b) = s
-                .get(i + 1..i + 3)
-                .and_then(|hex| u8::from_str_radix(hex, 16).ok())
-            {
-                out.push(b);
-                i += 3;
-                continue;
-            }
-        }
-        out.push(bytes[i]);
-        i += 1;
-    }
-    String::from_utf8_lossy(&out).into_owned()
-}
-
-/// Reads the page's scene on `document` as a scene of ours (validating it like any scene
-/// file), refusing rigs larger than [`MAX_HANDLES`] or [`MAX_OPERATOR_BYTES`].
-fn page_scene(document: &Document, scene: &EditScene) -> Result<Scene, ApiError> {
-    let n_handles = scene.handles.len();
-    if n_handles > MAX_HANDLES {
-        return Err(ApiError::bad(format!(
-            "{}: {n_handles} handles (at most {MAX_HANDLES})",
-            document.name
-        )));
-    }
-    let bytes = 8 * 2 * document.drawing.n_points() * 6 * n_handles;
-    if bytes > MAX_OPERATOR_BYTES {
-        return Err(ApiError::bad(format!(
-            "{}: {n_handles} handles on {} points make a {} MiB operator (at most {} MiB): \
-             use fewer handles",
-            document.name,
-            document.drawing.n_points(),
-            bytes >> 20,
-            MAX_OPERATOR_BYTES >> 20
-        )));
-    }
-    let json = scene_json(&document.svg_text, scene, &document.extras);
-    Scene::from_json(&json, &document.name, None)
-        .map(|mut s| {
-            s.svg_origin = document.name.clone();
-            s
-        })
-        .map_err(|e| ApiError::bad(e.to_string()))
-}
-
-async fn rig(
-    State(app): State<Arc<App>>,
-    request: Result<Json<SceneRequest>, JsonRejection>,
-) -> Result<Response, ApiError> {
-    let Json(request) = request?;
-    let document = app.document(&request.document)?;
-    let (puppet, operator) = run_job(&app, move || {
-        let scene = page_scene(&document, &request.scene)?;
-        let puppet =
-            Puppet::from_scene(&scene, Compat::None).map_err(|e| ApiError::bad(e.to_string()))?;
-        let operator = f64_bytes(puppet.rig().map(|r| r.operator()).unwrap_or(&[]));
-        Ok((puppet, operator))
-    })
-    .await?;
-    let id = app.store().add_rig(puppet);
-    binary(operator, Some(&id))
-}
-
-async fn solve(
-    State(app): State<Arc<App>>,
-    Path(id): Path<String>,
-    request: Result<Json<PoseRequest>, JsonRejection>,
-) -> Result<Response, ApiError> {
-    let Json(request) = request?;
-    let rig = app.store().rig(&id).ok_or_else(|| gone_rig(&id))?;
-    let points = run_job(&app, move || {
-        let pose: Vec<Affine> = request.pose.iter().map(|&c| Affine::new(c)).collect();
-        if let Some(k) = pose
-            .iter()
-            .position(|t| !t.as_coeffs().iter().all(|v| v.is_finite()))
-        {
-            return Err(ApiError::bad(format!("pose[{k}]: not finite")));
-        }
-        let mut puppet = rig.puppet.lock().map_err(|_| {
-            ApiError::new(
-                StatusCode::INTERNAL_SERVER_ERROR,
-                "the rig failed earlier (a bug): build it again",
-            )
-        })?;
-        puppet
-            .set_pose(&pose)
-            .map_err(|e| ApiError::bad(e.to_string()))?;
-        let mut points = vec![Point::ZERO; puppet.n_points()];
-        puppet
-            .update(&mut points)
-            .map_err(|e| ApiError::bad(e.to_string()))?;
-        let flat: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y]).collect();
-        Ok(f64_bytes(&flat))
-    })
-    .await;
-    if let Err(e) = &points {
-        if e.status == StatusCode::INTERNAL_SERVER_ERROR {
-            app.store().remove_rig(&id);
-        }
-    }
-    binary(points?, None)
-}
-
-fn gone_rig(id: &str) -> ApiError {
-    ApiError::new(
-        StatusCode::NOT_FOUND,
-        format!("rig {id} is no longer kept on the server: precompute again"),
-    )
-}
-
-/// The query of [`weights`].
-#[derive(Deserialize)]
-struct GridQuery {
-    handle: usize,
-    x0: f64,
-    y0: f64,
-    x1: f64,
-    y1: f64,
-    width: u32,
-    height: u32,
-}
-
-async fn weights(
-    State(app): State<Arc<App>>,
-    Path(id): Path<String>,
-    Query(q): Query<GridQuery>,
-) -> Result<Response, ApiError> {
-    let rig = app.store().rig(&id).ok_or_else(|| gone_rig(&id))?;
-    if !(1..=MAX_GRID_SIDE).contains(&q.width) || !(1..=MAX_GRID_SIDE).contains(&q.height) {
-        return Err(ApiError::bad(format!(
-            "grid {} × {}: each side must be in 1..={MAX_GRID_SIDE}",
-            q.width, q.height
-        )));
-    }
-    if ![q.x0, q.y0, q.x1, q.y1].iter().all(|v| v.is_finite()) {
-        return Err(ApiError::bad("grid box: not finite"));
-    }
-    let grid = run_job(&app, move || {
-        let puppet = rig.puppet.lock().map_err(|_| {
-            ApiError::new(
-                StatusCode::INTERNAL_SERVER_ERROR,
-                "the rig failed earlier (a bug): build it again",
-            )
-        })?;
-        let field = puppet
-            .weights()
-            .ok_or_else(|| ApiError::bad("the rig's weights are not computed"))?;
-        let n = field.n_handles();
-        if q.handle >= n {
-            return Err(ApiError::bad(format!(
-                "handle {}: no such handle (the rig has {n})",
-                q.handle
-            )));
-        }
-        let mut w = vec![0.0; n];
-        let mut out = Vec::with_capacity(4 * (q.width * q.height) as usize);
-        for r in 0..q.height {
-            let y = q.y0 + (q.y1 - q.y0) * (r as f64 + 0.5) / q.height as f64;
-            for c in 0..q.width {
-                let x = q.x0 + (q.x1 - q.x0) * (c as f64 + 0.5) / q.width as f64;
-                field.eval(Point::new(x, y), &mut w);
-                out.extend_from_slice(&(w[q.handle] as f32).to_le_bytes());
-            }
-        }
-        Ok(out)
-    })
-    .await?;
-    binary(grid, None)
-}
-
-async fn export(
-    State(app): State<Arc<App>>,
-    Path(id): Path<String>,
-    body: Result<Bytes, BytesRejection>,
-) -> Result<Response, ApiError> {
-    let body = body?;
-    let document = app.document(&id)?;
-    let svg = run_job(&app, move || {
-        let n = document.drawing.n_points();
-        if body.len() != 16 * n {
-            return Err(ApiError::bad(format!(
-                "{}: {} bytes of points for a drawing of {n} points (expected {})",
-                document.name,
-                body.len(),
-                16 * n
-            )));
-        }
-        let points: Vec<Point> = body
-            .chunks_exact(16)
-            .map(|c| {
-                let x = f64::from_le_bytes(c[..8].try_into().expect("8 bytes"));
-                let y = f64::from_le_bytes(c[8..].try_into().expect("8 bytes"));
-                Point::new(x, y)
-            })
-            .collect();
-        write_svg(&document.drawing, &points).map_err(|e| ApiError::bad(e.to_string()))
-    })
-    .await?;
-    Ok((
-        [(header::CONTENT_TYPE, "image/svg+xml; charset=utf-8")],
-        svg,
-    )
-        .into_response())
-}
-
-async fn save_scene(
-    State(app): State<Arc<App>>,
-    Path(id): Path<String>,
-    request: Result<Json<EditScene>, JsonRejection>,
-) -> Result<Response, ApiError> {
-    let Json(scene) = request?;
-    let document = app.document(&id)?;
-    let json = run_job(&app, move || {
-        // Validated as it will be read back.
-        page_scene(&document, &scene)?;
-        Ok(scene_json(&document.svg_text, &scene, &document.extras))
-    })
-    .await?;
-    Ok(([(header::CONTENT_TYPE, "application/json")], json).into_response())
-}
-
 /// `values` as little-endian bytes.
-fn f64_bytes(values: &[f64]) -> Vec<u8> {
+pub(super) fn f64_bytes(values: &[f64]) -> Vec<u8> {
     let mut out = Vec::with_capacity(8 * values.len());
     for v in values {
         out.extend_from_slice(&v.to_le_bytes());
@@ -517,7 +260,7 @@ fn f64_bytes(values: &[f64]) -> Vec<u8> {
 }
 
 /// A binary response, with the rig's id header when given.
-fn binary(bytes: Vec<u8>, rig: Option<&str>) -> Result<Response, ApiError> {
+pub(super) fn binary(bytes: Vec<u8>, rig: Option<&str>) -> Result<Response, ApiError> {
     let mut response = Response::new(Body::from(bytes));
     let headers = response.headers_mut();
     headers.insert(

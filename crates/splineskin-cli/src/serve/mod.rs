@@ -11,7 +11,8 @@
 //!   export ─────────────────── POST /api/documents/{id}/export ─► write_svg (styles kept)
 //! ```
 //!
-//! Files: [`api`] (routes), [`document`] (an opened drawing), [`store`] (documents and rigs
+//! Files: [`api`] (the router, its guard, errors and job slots), [`document_routes`] and
+//! [`rig_routes`] (the routes), [`document`] (an opened drawing), [`store`] (documents and rigs
 //! by id, bounded), [`wire`] (JSON exchanged with the page), [`scene_file`] (the page's scene
 //! as a scene file of ours), [`assets`] (the embedded page).
 //!
@@ -22,6 +23,8 @@
 pub mod api;
 mod assets;
 pub mod document;
+mod document_routes;
+mod rig_routes;
 mod scene_file;
 mod store;
 pub mod wire;

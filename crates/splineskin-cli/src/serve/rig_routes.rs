@@ -1,0 +1,180 @@
+//! The routes about rigs: precomputation, flexible solves and weight grids ([`super::api`] has
+//! the table of routes).
+
+use axum::extract::rejection::JsonRejection;
+use axum::extract::{Path, Query, State};
+use axum::http::StatusCode;
+use axum::response::Response;
+use axum::Json;
+use kurbo::{Affine, Point};
+use serde::Deserialize;
+use splineskin::scene::{Compat, Puppet, Scene};
+use std::sync::Arc;
+
+use super::api::{
+    binary, f64_bytes, run_job, ApiError, App, MAX_GRID_SIDE, MAX_HANDLES, MAX_OPERATOR_BYTES,
+};
+use super::document::Document;
+use super::scene_file::scene_json;
+use super::wire::{EditScene, PoseRequest, SceneRequest};
+
+/// Reads the page's scene on `document` as a scene of ours (validating it like any scene
+/// file), refusing rigs larger than [`MAX_HANDLES`] or [`MAX_OPERATOR_BYTES`].
+pub(super) fn page_scene(document: &Document, scene: &EditScene) -> Result<Scene, ApiError> {
+    let n_handles = scene.handles.len();
+    if n_handles > MAX_HANDLES {
+        return Err(ApiError::bad(format!(
+            "{}: {n_handles} handles (at most {MAX_HANDLES})",
+            document.name
+        )));
+    }
+    let bytes = 8 * 2 * document.drawing.n_points() * 6 * n_handles;
+    if bytes > MAX_OPERATOR_BYTES {
+        return Err(ApiError::bad(format!(
+            "{}: {n_handles} handles on {} points make a {} MiB operator (at most {} MiB): \
+             use fewer handles",
+            document.name,
+            document.drawing.n_points(),
+            bytes >> 20,
+            MAX_OPERATOR_BYTES >> 20
+        )));
+    }
+    let json = scene_json(&document.svg_text, scene, &document.extras);
+    Scene::from_json(&json, &document.name, None)
+        .map(|mut s| {
+            s.svg_origin = document.name.clone();
+            s
+        })
+        .map_err(|e| ApiError::bad(e.to_string()))
+}
+
+/// `POST /api/rig`.
+pub async fn rig(
+    State(app): State<Arc<App>>,
+    request: Result<Json<SceneRequest>, JsonRejection>,
+) -> Result<Response, ApiError> {
+    let Json(request) = request?;
+    let document = app.document(&request.document)?;
+    let (puppet, operator) = run_job(&app, move || {
+        let scene = page_scene(&document, &request.scene)?;
+        let puppet =
+            Puppet::from_scene(&scene, Compat::None).map_err(|e| ApiError::bad(e.to_string()))?;
+        let operator = f64_bytes(puppet.rig().map(|r| r.operator()).unwrap_or(&[]));
+        Ok((puppet, operator))
+    })
+    .await?;
+    let id = app.store().add_rig(puppet);
+    binary(operator, Some(&id))
+}
+
+/// `POST /api/rigs/{id}/solve`.
+pub async fn solve(
+    State(app): State<Arc<App>>,
+    Path(id): Path<String>,
+    request: Result<Json<PoseRequest>, JsonRejection>,
+) -> Result<Response, ApiError> {
+    let Json(request) = request?;
+    let rig = app.store().rig(&id).ok_or_else(|| gone_rig(&id))?;
+    let points = run_job(&app, move || {
+        let pose: Vec<Affine> = request.pose.iter().map(|&c| Affine::new(c)).collect();
+        if let Some(k) = pose
+            .iter()
+            .position(|t| !t.as_coeffs().iter().all(|v| v.is_finite()))
+        {
+            return Err(ApiError::bad(format!("pose[{k}]: not finite")));
+        }
+        let mut puppet = rig.puppet.lock().map_err(|_| {
+            ApiError::new(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                "the rig failed earlier (a bug): build it again",
+            )
+        })?;
+        puppet
+            .set_pose(&pose)
+            .map_err(|e| ApiError::bad(e.to_string()))?;
+        let mut points = vec![Point::ZERO; puppet.n_points()];
+        puppet
+            .update(&mut points)
+            .map_err(|e| ApiError::bad(e.to_string()))?;
+        let flat: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y]).collect();
+        Ok(f64_bytes(&flat))
+    })
+    .await;
+    if let Err(e) = &points {
+        if e.status == StatusCode::INTERNAL_SERVER_ERROR {
+            app.store().remove_rig(&id);
+        }
+    }
+    binary(points?, None)
+}
+
+fn gone_rig(id: &str) -> ApiError {
+    ApiError::new(
+        StatusCode::NOT_FOUND,
+        format!("rig {id} is no longer kept on the server: precompute again"),
+    )
+}
+
+/// The query of [`weights`].
+#[derive(Deserialize)]
+pub struct GridQuery {
+    /// The handle whose weight is sampled.
+    handle: usize,
+    /// The box sampled, `[x0, x1] × [y0, y1]` (root user units).
+    x0: f64,
+    y0: f64,
+    x1: f64,
+    y1: f64,
+    /// Samples per row and rows.
+    width: u32,
+    height: u32,
+}
+
+/// `GET /api/rigs/{id}/weights`.
+pub async fn weights(
+    State(app): State<Arc<App>>,
+    Path(id): Path<String>,
+    Query(q): Query<GridQuery>,
+) -> Result<Response, ApiError> {
+    let rig = app.store().rig(&id).ok_or_else(|| gone_rig(&id))?;
+    if !(1..=MAX_GRID_SIDE).contains(&q.width) || !(1..=MAX_GRID_SIDE).contains(&q.height) {
+        return Err(ApiError::bad(format!(
+            "grid {} × {}: each side must be in 1..={MAX_GRID_SIDE}",
+            q.width, q.height
+        )));
+    }
+    if ![q.x0, q.y0, q.x1, q.y1].iter().all(|v| v.is_finite()) {
+        return Err(ApiError::bad("grid box: not finite"));
+    }
+    let grid = run_job(&app, move || {
+        let puppet = rig.puppet.lock().map_err(|_| {
+            ApiError::new(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                "the rig failed earlier (a bug): build it again",
+            )
+        })?;
+        let field = puppet
+            .weights()
+            .ok_or_else(|| ApiError::bad("the rig's weights are not computed"))?;
+        let n = field.n_handles();
+        if q.handle >= n {
+            return Err(ApiError::bad(format!(
+                "handle {}: no such handle (the rig has {n})",
+                q.handle
+            )));
+        }
+        let mut w = vec![0.0; n];
+        let mut out = Vec::with_capacity(4 * (q.width * q.height) as usize);
+        for r in 0..q.height {
+            let y = q.y0 + (q.y1 - q.y0) * (r as f64 + 0.5) / q.height as f64;
+            for c in 0..q.width {
+                let x = q.x0 + (q.x1 - q.x0) * (c as f64 + 0.5) / q.width as f64;
+                field.eval(Point::new(x, y), &mut w);
+                out.extend_from_slice(&(w[q.handle] as f32).to_le_bytes());
+            }
+        }
+        Ok(out)
+    })
+    .await?;
+    binary(grid, None)
+}
