@@ -51,12 +51,12 @@ after(async () => {
 
 const scene = () => page.evaluate(() => structuredClone(window.splineskinEditor.scene));
 const shownData = () =>
-  page.evaluate(() => [...document.querySelectorAll('#canvas [data-splineskin-element]')].map((e) => e.getAttribute('d')));
+  page.evaluate(() => [...document.getElementById('canvas').shadowRoot.querySelectorAll('[data-splineskin-element]')].map((e) => e.getAttribute('d')));
 
 /** Client coordinates of drawing point p. */
 function client(p) {
   return page.evaluate(([x, y]) => {
-    const m = document.querySelector('#canvas .ss-overlay').getScreenCTM();
+    const m = document.getElementById('canvas').shadowRoot.querySelector('.ss-overlay').getScreenCTM();
     const q = new DOMPoint(x, y).matrixTransform(m);
     return [q.x, q.y];
   }, p);
@@ -119,7 +119,7 @@ check('Shift-drag rotates a handle about itself, the square scales it, undo and 
   await page.click('#undo');
   // The ring: dragged a quarter turn around the handle.
   const u = await unitsPerPixel();
-  const ring = await page.evaluate(() => Number(document.querySelector('.ss-ring').getAttribute('r')));
+  const ring = await page.evaluate(() => Number(document.getElementById('canvas').shadowRoot.querySelector('.ss-ring').getAttribute('r')));
   const r = ring / u;
   await mouseDrag([centre[0] - r, centre[1]], [centre[0], centre[1] - r], { steps: 12 });
   let s = await scene();
@@ -197,7 +197,7 @@ check('another weight family: harmonic weights are computed and the weight field
   await page.mouse.click(...(await client(await posed(2))));
   await page.check('#show-weights');
   await page.waitForFunction(() => {
-    const image = document.querySelector('.ss-weights');
+    const image = document.getElementById('canvas').shadowRoot.querySelector('.ss-weights');
     return image.style.display !== 'none' && image.getAttribute('href')?.startsWith('data:image/png');
   }, null, { timeout: WAIT });
   // Under handle 2 the field is bright (weight near 1: the yellow end of viridis).

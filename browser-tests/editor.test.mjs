@@ -86,7 +86,7 @@ function editorState(p) {
 function pathData(p) {
   return p.evaluate(() => {
     const d = [];
-    for (const e of document.querySelectorAll('#canvas [data-splineskin-element]')) {
+    for (const e of document.getElementById('canvas').shadowRoot.querySelectorAll('[data-splineskin-element]')) {
       d[Number(e.getAttribute('data-splineskin-element'))] = e.getAttribute('d');
     }
     return d;
@@ -96,7 +96,7 @@ function pathData(p) {
 /** Client (CSS pixel) coordinates of drawing point [x, y]. */
 function clientPoint(p, [x, y]) {
   return p.evaluate(([x, y]) => {
-    const m = document.querySelector('#canvas .ss-overlay').getScreenCTM();
+    const m = document.getElementById('canvas').shadowRoot.querySelector('.ss-overlay').getScreenCTM();
     const q = new DOMPoint(x, y).matrixTransform(m);
     return [q.x, q.y];
   }, [x, y]);
@@ -289,7 +289,7 @@ check('the exported SVG reads back with the same curves and the geometry shown',
   // in the same order, and each imported element's points agree to the page's rounding.
   const pairs = await page.evaluate((t) => {
     const exported = [...new DOMParser().parseFromString(t, 'image/svg+xml').querySelectorAll('path')];
-    const shown = [...document.querySelectorAll('#canvas path')].filter((e) => !e.closest('.ss-overlay'));
+    const shown = [...document.getElementById('canvas').shadowRoot.querySelectorAll('path')].filter((e) => !e.closest('.ss-overlay'));
     return {
       counts: [exported.length, shown.length],
       pairs: shown
@@ -330,6 +330,23 @@ check('a malformed SVG upload shows an error and the server keeps serving', {}, 
   assert.equal(response.status, 200);
   await openThroughPicker(page, DEMO_SVG);
   assert.equal((await editorState(page)).info.name, 'demo.svg');
+});
+
+check('a drawing\'s CSS and ids stay inside it: the page keeps its toolbar and buttons', {}, async () => {
+  const hostile = join(out.path, 'hostile.svg');
+  writeFileSync(
+    hostile,
+    '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100">' +
+      '<style>button, header, #toolbar { display: none !important } path { stroke: red }</style>' +
+      '<path id="export-svg" d="M10 50 C30 10 70 10 90 50" fill="none" stroke="black"/>' +
+      '<script>document.title = "script ran"</script></svg>',
+  );
+  await openThroughPicker(page, hostile);
+  assert.ok(await page.isVisible('#toolbar'), 'the toolbar is shown');
+  assert.ok(await page.isVisible('button#export-svg'), 'the export button is shown');
+  assert.equal(await page.evaluate(() => document.getElementById('export-svg').localName), 'button');
+  assert.equal(await page.evaluate(() => document.title), 'hostile.svg — splineskin editor', 'no script ran');
+  await openThroughPicker(page, DEMO_SVG);
 });
 
 check('turtles: frame time while dragging (the authors\' 1 300-curve drawing, 3 handles)', { skip: !existsSync(TURTLES) && `${TURTLES} is missing` }, async () => {

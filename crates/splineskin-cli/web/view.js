@@ -45,7 +45,7 @@ function svgElement(name, attributes = {}) {
 }
 
 export class DrawingView {
-  /** Shows document `info` (the server's DocumentInfo) in `container`. */
+  /** Shows document `info` (the server's DocumentInfo) in `container` (its shadow root). */
   constructor(container, info) {
     const parsed = new DOMParser().parseFromString(info.svg, 'image/svg+xml');
     const failed = parsed.querySelector('parsererror');
@@ -56,6 +56,13 @@ export class DrawingView {
     // they are removed too, so that nothing in the document reacts to the editor's events.
     for (const s of parsed.querySelectorAll('script')) s.remove();
     const root = document.importNode(parsed.documentElement, true);
+    // The drawing lives in the container's shadow tree: its CSS and ids stay there (a drawing's
+    // `<style>` cannot restyle the page, its ids cannot shadow the page's), and the page's CSS
+    // stays out of it but for overlay.css.
+    const shadow = container.shadowRoot ?? container.attachShadow({ mode: 'open' });
+    const sheet = document.createElement('link');
+    sheet.rel = 'stylesheet';
+    sheet.href = 'overlay.css';
     // The drawing's own frame with a margin, so that a deformation may leave it a little;
     // user units (the drawing's coordinates) stay what they are.
     const [x, y, w, h] = info.view_box;
@@ -65,7 +72,7 @@ export class DrawingView {
     root.setAttribute('viewBox', this.frame.join(' '));
     root.setAttribute('width', '100%');
     root.setAttribute('height', '100%');
-    container.replaceChildren(root);
+    shadow.replaceChildren(sheet, root);
     this.root = root;
     this.info = info;
 
