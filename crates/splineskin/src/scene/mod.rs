@@ -27,7 +27,7 @@ mod setup;
 
 pub use deformer::Deformer;
 pub use handles::{Bone, BonePoseError, BoneTransform, HandleKind, HandleSet};
-pub use session::{Puppet, PuppetStats};
+pub use session::{Puppet, PuppetStage, PuppetStats};
 pub use setup::{handle_weights, mesh_weights, Compat, Setup, AUTHORS_SHEPARD_SNAP};
 
 use std::path::{Path as FsPath, PathBuf};

@@ -27,6 +27,16 @@ pub struct PuppetStats {
     pub updates: u64,
 }
 
+/// The part of [`Puppet::from_scene_staged`]'s work that starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum PuppetStage {
+    /// Reading the drawing and computing the weights (mesh families: the domain and its solve).
+    Weights,
+    /// Precomputing the rig (with flexible junctions, the flexible solver too).
+    Rig,
+}
+
 /// A rigged drawing whose handles can be edited: the weights and the rig are cached and only
 /// recomputed when what they depend on changes.
 ///
@@ -108,6 +118,28 @@ impl Puppet {
     /// Errors if the scene's engine is a naive baseline (those are not rigs:
     /// [`super::Deformer`] applies them).
     pub fn from_scene(scene: &Scene, compat: Compat) -> Result<Puppet, SceneError> {
+        Puppet::from_scene_staged(scene, compat, &mut |_| {})
+    }
+
+    /// [`Puppet::from_scene`], calling `stage` as each part of the work starts (for a progress
+    /// display: the weights of mesh families and the rig of big drawings take seconds).
+    ///
+    /// ```
+    /// use splineskin::scene::{Compat, Puppet, PuppetStage, Scene};
+    /// let json = r#"{"splineskin_scene": 1,
+    ///   "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C1 1 2 1 3 0'/></svg>",
+    ///   "handles": [{"position": [0, 0]}, {"position": [3, 0]}]}"#;
+    /// let scene = Scene::from_json(json, "example", None)?;
+    /// let mut stages = Vec::new();
+    /// Puppet::from_scene_staged(&scene, Compat::None, &mut |s| stages.push(s))?;
+    /// assert_eq!(stages, [PuppetStage::Weights, PuppetStage::Rig]);
+    /// # Ok::<(), splineskin::scene::SceneError>(())
+    /// ```
+    pub fn from_scene_staged(
+        scene: &Scene,
+        compat: Compat,
+        stage: &mut dyn FnMut(PuppetStage),
+    ) -> Result<Puppet, SceneError> {
         if scene.engine != super::Engine::Ours {
             return Err(SceneError::Invalid {
                 origin: scene.origin.clone(),
@@ -119,6 +151,7 @@ impl Puppet {
                 ),
             });
         }
+        stage(PuppetStage::Weights);
         let setup = scene.setup(compat)?;
         let mut puppet = Puppet {
             origin: scene.origin.clone(),
@@ -145,6 +178,7 @@ impl Puppet {
                 ..PuppetStats::default()
             },
         };
+        stage(PuppetStage::Rig);
         puppet.rebuild()?;
         Ok(puppet)
     }
