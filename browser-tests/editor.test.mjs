@@ -396,6 +396,14 @@ check('turtles: frame time while dragging (the authors\' 1 300-curve drawing, 3 
     await p.reload();
     await p.waitForSelector('body[data-booted]', { timeout: WAIT });
     await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+    // Bounded biharmonic weights: the progress bar names the stages the server reports
+    // (printed; how many a poll catches depends on the machine).
+    await p.evaluate(() => (window.splineskinEditor.stagesSeen.length = 0));
+    const started = Date.now();
+    await p.selectOption('#family', 'bbw');
+    await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+    const stages = await p.evaluate(() => window.splineskinEditor.stagesSeen.join(', '));
+    console.log(`turtles: bbw weights and rig in ${((Date.now() - started) / 1000).toFixed(1)} s; stages shown: ${stages || 'none'}`);
   } finally {
     await p.close();
     await turtles.close();

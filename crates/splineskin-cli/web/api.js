@@ -22,10 +22,10 @@ async function call(path, options = {}) {
   return response;
 }
 
-function postJson(path, body, signal) {
+function postJson(path, body, signal, headers = {}) {
   return call(path, {
     method: 'POST',
-    headers: { ...HEADERS, 'content-type': 'application/json' },
+    headers: { ...HEADERS, 'content-type': 'application/json', ...headers },
     body: JSON.stringify(body),
     signal,
   });
@@ -46,9 +46,12 @@ export async function openFile(file) {
   return response.json();
 }
 
-/** Precomputes the rig of `scene` on document `id`: { id, operator: Float64Array }. */
-export async function precompute(document, scene, signal) {
-  const response = await postJson('/api/rig', { document, scene }, signal);
+/**
+ * Precomputes the rig of `scene` on document `id`: { id, operator: Float64Array }. `job` names
+ * the request for `progressOf`.
+ */
+export async function precompute(document, scene, signal, job) {
+  const response = await postJson('/api/rig', { document, scene }, signal, { 'x-splineskin-job': job });
   const operator = new Float64Array(await response.arrayBuffer());
   return { id: response.headers.get('x-splineskin-rig'), operator };
 }
@@ -79,4 +82,9 @@ export async function exportSvg(document, points) {
 /** The scene file (JSON text) of `scene`. */
 export async function sceneFile(document, scene) {
   return (await postJson(`/api/documents/${encodeURIComponent(document)}/scene`, scene)).text();
+}
+
+/** The stage of precomputation `job`: { stage: 'queued' | 'weights' | 'rig' | null, seconds }. */
+export async function progressOf(job) {
+  return (await call(`/api/progress/${encodeURIComponent(job)}`)).json();
 }

@@ -19,6 +19,8 @@ const $ = (id) => document.getElementById(id);
 const FRAME_WINDOW = 120;
 /** Samples on the long side of the weight grid. */
 const WEIGHT_GRID = 200;
+/** How often the progress of a precomputation is asked for, ms. */
+const PROGRESS_POLL_MS = 150;
 /** Junction markers shown on opening up to this many junctions (more: the checkbox). */
 const MAX_JUNCTIONS_SHOWN = 400;
 
@@ -37,6 +39,8 @@ const editor = {
   /** Milliseconds of the product alone, same frames. */
   productTimes: [],
   precomputeSeq: 0,
+  /** Stages the server reported for precomputations, in order (for the tests). */
+  stagesSeen: [],
   solveSeq: 0,
   abort: null,
   weightsShown: null,
@@ -173,9 +177,11 @@ async function precompute() {
   document.body.dataset.rig = 'computing';
   progress('precomputing');
   render();
+  const job = `rig-${seq}-${Math.random().toString(36).slice(2, 10)}`;
+  const follow = followProgress(job, seq);
   try {
     const started = performance.now();
-    const { id, operator } = await api.precompute(editor.info.id, scene, abort.signal);
+    const { id, operator } = await api.precompute(editor.info.id, scene, abort.signal, job);
     if (seq !== editor.precomputeSeq) return;
     editor.rig = new LiveRig(id, operator, editor.view.nPoints, scene.handles.length);
     editor.rigKey = key;
@@ -195,12 +201,46 @@ async function precompute() {
     document.body.dataset.rig = 'error';
     showError(e);
   } finally {
+    follow.stop();
     if (seq === editor.precomputeSeq) progress(null);
   }
   if (seq !== editor.precomputeSeq) return;
   render();
   flexibleSolve();
   updateWeights();
+}
+
+/** What the progress bar says in each stage the server reports. */
+const STAGE_LABELS = { queued: 'waiting for the server', weights: 'computing the weights', rig: 'precomputing the rig' };
+
+/**
+ * Asks the server every PROGRESS_POLL_MS where precomputation `job` is and shows it, while
+ * precomputation `seq` is the current one; `stop()` ends it.
+ */
+function followProgress(job, seq) {
+  let stopped = false;
+  let shown = null;
+  const poll = async () => {
+    if (stopped || seq !== editor.precomputeSeq) return;
+    try {
+      const { stage } = await api.progressOf(job);
+      if (!stopped && stage && stage !== shown && seq === editor.precomputeSeq) {
+        shown = stage;
+        editor.stagesSeen.push(stage);
+        progress(STAGE_LABELS[stage] ?? stage);
+      }
+    } catch {
+      // A missed poll only delays the label.
+    }
+    if (!stopped) timer = setTimeout(poll, PROGRESS_POLL_MS);
+  };
+  let timer = setTimeout(poll, PROGRESS_POLL_MS);
+  return {
+    stop() {
+      stopped = true;
+      clearTimeout(timer);
+    },
+  };
 }
 
 /** Whether the rig matches the scene's rest part. */

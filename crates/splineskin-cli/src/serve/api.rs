@@ -7,6 +7,7 @@
 //! | `POST /api/open` | the file's bytes (SVG or scene), `x-file-name` header | [`DocumentInfo`] |
 //! | `POST /api/rig` | [`SceneRequest`] | the operator `O`, `f64` LE row-major `(2 · n_points) × (6 · n_handles)`; header `x-splineskin-rig`: the rig's id |
 //! | `POST /api/rigs/{id}/solve` | [`PoseRequest`] | deformed points, `f64` LE `x0, y0, x1, y1, …` (flexible G¹ when the scene asks, warm-started from the previous solve) |
+//! | `GET /api/progress/{job}` | | the stage of the precomputation whose request carried `x-splineskin-job: {job}`: `{"stage": "queued" \| "weights" \| "rig", "seconds": …}`, or `{"stage": null}` when none runs |
 //! | `GET /api/rigs/{id}/weights?handle&x0&y0&x1&y1&width&height` | | handle's weight at the centres of a `width × height` grid over the box, `f32` LE, row by row from `y0` |
 //! | `POST /api/documents/{id}/export` | deformed points, `f64` LE | the SVG document with them ([`write_svg`]) |
 //! | `POST /api/documents/{id}/scene` | [`EditScene`] | the scene file (ours, drawing inline) |
@@ -34,7 +35,8 @@ use tokio::sync::Semaphore;
 
 use super::document::{Document, MAX_UPLOAD_BYTES};
 use super::document_routes::{export, initial, open, save_scene};
-use super::rig_routes::{rig, solve, weights};
+use super::progress::ProgressBoard;
+use super::rig_routes::{progress, rig, solve, weights};
 use super::store::Store;
 use super::wire::ErrorBody;
 
@@ -71,6 +73,8 @@ pub struct App {
     pub jobs: Arc<Semaphore>,
     /// The `Host` values accepted (empty: any, when serving beyond loopback on request).
     pub hosts: Vec<String>,
+    /// The stages of the precomputations pages follow.
+    pub progress: Arc<ProgressBoard>,
 }
 
 impl App {
@@ -83,6 +87,7 @@ impl App {
             store: Mutex::new(store),
             jobs: Arc::new(Semaphore::new(MAX_JOBS)),
             hosts,
+            progress: Arc::default(),
         })
     }
 
@@ -113,6 +118,7 @@ pub fn router(app: Arc<App>) -> Router {
         .route("/api/rig", post(rig).layer(json_limit))
         .route("/api/rigs/{id}/solve", post(solve).layer(json_limit))
         .route("/api/rigs/{id}/weights", get(weights))
+        .route("/api/progress/{job}", get(progress))
         .route(
             "/api/documents/{id}/export",
             post(export).layer(DefaultBodyLimit::max(MAX_UPLOAD_BYTES)),

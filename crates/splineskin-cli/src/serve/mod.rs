@@ -13,8 +13,9 @@
 //!
 //! Files: [`api`] (the router, its guard, errors and job slots), [`document_routes`] and
 //! [`rig_routes`] (the routes), [`document`] (an opened drawing), [`store`] (documents and rigs
-//! by id, bounded), [`wire`] (JSON exchanged with the page), [`scene_file`] (the page's scene
-//! as a scene file of ours), [`assets`] (the embedded page).
+//! by id, bounded), [`progress`] (stages of running precomputations), [`wire`] (JSON exchanged
+//! with the page), [`scene_file`] (the page's scene as a scene file of ours), [`assets`] (the
+//! embedded page).
 //!
 //! The server listens on 127.0.0.1 unless `--host` names another address; it reads no file
 //! but the one given on the command line (and the SVG a scene names next to it) and what the
@@ -24,6 +25,7 @@ pub mod api;
 mod assets;
 pub mod document;
 mod document_routes;
+mod progress;
 mod rig_routes;
 mod scene_file;
 mod store;

@@ -3,18 +3,19 @@
 
 use axum::extract::rejection::JsonRejection;
 use axum::extract::{Path, Query, State};
-use axum::http::StatusCode;
+use axum::http::{HeaderMap, StatusCode};
 use axum::response::Response;
 use axum::Json;
 use kurbo::{Affine, Point};
 use serde::Deserialize;
-use splineskin::scene::{Compat, Puppet, Scene};
+use splineskin::scene::{Compat, Puppet, PuppetStage, Scene};
 use std::sync::Arc;
 
 use super::api::{
     binary, f64_bytes, run_job, ApiError, App, MAX_GRID_SIDE, MAX_HANDLES, MAX_OPERATOR_BYTES,
 };
 use super::document::Document;
+use super::progress::JOB_HEADER;
 use super::scene_file::scene_json;
 use super::wire::{EditScene, PoseRequest, SceneRequest};
 
@@ -51,14 +52,29 @@ pub(super) fn page_scene(document: &Document, scene: &EditScene) -> Result<Scene
 /// `POST /api/rig`.
 pub async fn rig(
     State(app): State<Arc<App>>,
+    headers: HeaderMap,
     request: Result<Json<SceneRequest>, JsonRejection>,
 ) -> Result<Response, ApiError> {
     let Json(request) = request?;
     let document = app.document(&request.document)?;
+    // Followed until this request ends, however it ends.
+    let followed = headers
+        .get(JOB_HEADER)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|name| app.progress.follow(name));
+    let report = followed.as_ref().map(|f| f.reporter());
     let (puppet, operator) = run_job(&app, move || {
         let scene = page_scene(&document, &request.scene)?;
-        let puppet =
-            Puppet::from_scene(&scene, Compat::None).map_err(|e| ApiError::bad(e.to_string()))?;
+        let mut stage = |s: PuppetStage| {
+            if let Some(report) = &report {
+                report(match s {
+                    PuppetStage::Weights => "weights",
+                    _ => "rig",
+                });
+            }
+        };
+        let puppet = Puppet::from_scene_staged(&scene, Compat::None, &mut stage)
+            .map_err(|e| ApiError::bad(e.to_string()))?;
         let operator = f64_bytes(puppet.rig().map(|r| r.operator()).unwrap_or(&[]));
         Ok((puppet, operator))
     })
@@ -177,4 +193,15 @@ pub async fn weights(
     })
     .await?;
     binary(grid, None)
+}
+
+/// `GET /api/progress/{job}`.
+pub async fn progress(
+    State(app): State<Arc<App>>,
+    Path(job): Path<String>,
+) -> Json<serde_json::Value> {
+    Json(match app.progress.stage(&job) {
+        Some((stage, seconds)) => serde_json::json!({"stage": stage, "seconds": seconds}),
+        None => serde_json::json!({"stage": null}),
+    })
 }

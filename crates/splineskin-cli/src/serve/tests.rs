@@ -417,3 +417,37 @@ async fn serve_requests_dropped_midway_leave_the_server_serving() {
     let (status, _, _) = send(&app, get("/api/initial")).await;
     assert_eq!(status, StatusCode::OK);
 }
+
+#[tokio::test]
+async fn serve_progress_follows_a_precomputation_until_it_ends() {
+    let state = App::new(
+        Document::bundled().expect("the bundled drawing opens"),
+        vec![HOST.to_string()],
+    );
+    let app = router(state.clone());
+    let info = open_demo_svg(&app).await;
+    let id = info["id"].as_str().expect("id").to_string();
+    // While followed, the board gives the stage the job told it; after, nothing.
+    let followed = state.progress.follow("job-1").expect("a valid name");
+    assert!(
+        state.progress.follow("job-1").is_none(),
+        "one follower per name"
+    );
+    assert!(state.progress.follow("no spaces").is_none());
+    let (_, _, body) = send(&app, get("/api/progress/job-1")).await;
+    assert_eq!(json(&body)["stage"], "queued");
+    followed.reporter()("weights");
+    let (_, _, body) = send(&app, get("/api/progress/job-1")).await;
+    assert_eq!(json(&body)["stage"], "weights");
+    drop(followed);
+    let (_, _, body) = send(&app, get("/api/progress/job-1")).await;
+    assert!(json(&body)["stage"].is_null());
+    // A rig request naming its job is followed while it runs and forgotten when it ends.
+    let mut request = post_json("/api/rig", &two_handle_scene(&id, false));
+    request
+        .headers_mut()
+        .insert("x-splineskin-job", "job-2".parse().expect("a header"));
+    let (status, _, _) = send(&app, request).await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(state.progress.stage("job-2").is_none());
+}
