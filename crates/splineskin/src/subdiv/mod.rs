@@ -20,33 +20,56 @@
 //! | limit stencils at `(face, u, v)` (the paper's `m_p`) and at cage vertices | [`LimitSurface`], [`LimitStencil`], [`VertexLimit`] |
 //! | Gauss nodes per face and the fit's Gram matrices `Â`, `∫ f m mᵀ` | [`LimitQuadrature`] |
 //! | the rig: precompute `B_i = Â⁻¹ Ŵ_iᵀ`, update `C'ᵀ = Σ_i B_i T_iᵀ` | [`SubdivRig`] |
+//! | 3D affine maps `T_i` (3 × 4) | [`Affine3`], [`affine3_about`], [`rotation_axis_angle`], [`rotation_quaternion`] |
+//! | point handles and bones | [`Handles3`] |
+//! | handle weights: Shepard, bone heat, per cage vertex from a file | [`surface_weights`]: [`Shepard3`], [`BoneHeat`], [`CageVertexWeights`]; [`node_weights`] |
+//! | the limit surface on a uniform grid, as a quad mesh | [`LimitMesh`] |
 //!
 //! Topology (levels, sharpness and its decay, vertex rules, sparse adaptive levels) comes from
 //! the `opensubdiv-rs` port of OpenSubdiv's `Far`/`Vtr`/`Sdc` layers; every weight is computed
 //! here in `f64` (the port's weights are `f32`, about 1e-7 relative): the refinement masks in
 //! `masks.rs`, regular B-spline patches in `regular_patch.rs`.
+mod affine3;
 mod cage;
+mod cotangent_laplacian;
 mod error;
+mod handles;
 mod hierarchy;
 pub mod limit;
+mod limit_mesh;
 mod masks;
 pub mod obj;
 mod quadrature;
 mod regular_patch;
 mod rig;
+mod sparse_cholesky;
 mod stencil;
+pub mod surface_weights;
 mod uniform;
+mod visibility;
 
+pub use affine3::{
+    affine3_about, affine3_apply, affine3_compose, affine3_is_finite, affine3_translation,
+    linear3_mul, rotation_axis_angle, rotation_quaternion, Affine3, Linear3, AFFINE3_IDENTITY,
+    LINEAR3_IDENTITY,
+};
 pub use cage::{
     Cage, CageError, CornerTag, CreaseTag, OtherTag, Point3, SubdivTags, SHARPNESS_INFINITE,
 };
 pub use error::SubdivError;
+pub use handles::Handles3;
 pub use limit::{
     LimitOptions, LimitSurface, SurfaceLocation, VertexLimit, DEFAULT_ISOLATION_LEVEL,
     MAX_ISOLATION_LEVEL,
 };
+pub use limit_mesh::{LimitMesh, MAX_LIMIT_MESH_LEVEL};
 pub use obj::{parse_obj, read_obj, to_obj_string, write_obj, ObjError, MAX_OBJ_BYTES};
 pub use quadrature::{LimitQuadrature, QuadratureNode, DEFAULT_GAUSS_POINTS};
-pub use rig::{Affine3, SubdivRig, AFFINE3_IDENTITY, RIG_REGULARIZATION};
+pub use rig::{SubdivRig, RIG_REGULARIZATION};
 pub use stencil::{LimitStencil, StencilTable};
+pub use surface_weights::{
+    cage_weights, node_weights, parse_weight_csv, read_weight_csv, sample_weights, BoneHeat,
+    BoneHeatOptions, CageVertexWeights, Shepard3, SurfaceSample, SurfaceWeights,
+    SurfaceWeightsError,
+};
 pub use uniform::{refine_uniform, UniformLevel, UniformRefinement, MAX_UNIFORM_LEVEL};

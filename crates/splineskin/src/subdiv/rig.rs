@@ -44,28 +44,11 @@
 //! partition of unity, precompute hands it back to the handles by their projected weights, so
 //! both invariants hold to rounding.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymmetricOrdering,
-};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par, Side};
-
+use super::affine3::Affine3;
 use super::cage::{Cage, Point3};
 use super::error::SubdivError;
 use super::quadrature::LimitQuadrature;
-
-/// A 3D affine map as 3 rows of 4: `x' = T[0][0] x + T[0][1] y + T[0][2] z + T[0][3]`, and so
-/// on for `y'`, `z'` (the 3 × 4 matrix `T_i` acting on `(x, y, z, 1)`).
-pub type Affine3 = [[f64; 4]; 3];
-
-/// The identity map.
-pub const AFFINE3_IDENTITY: Affine3 = [
-    [1.0, 0.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0, 0.0],
-    [0.0, 0.0, 1.0, 0.0],
-];
+use super::sparse_cholesky::{solve_spd_in_place, UpperCsc};
 
 /// Weight `ε` of the regularisation, relative to the diagonal of `Â` (module documentation):
 /// small enough that the fit to the skinned surface changes by about that fraction, large
@@ -76,9 +59,6 @@ pub const RIG_REGULARIZATION: f64 = 1e-6;
 /// them as a partition of unity (and make the identity pose exact to rounding): a few ulps of
 /// a normalised sum.
 const PARTITION_TOLERANCE: f64 = 1e-12;
-
-/// Number of right-hand sides solved together (columns of `B`).
-const SOLVE_BLOCK: usize = 64;
 
 /// A precomputed subdivision-surface rig (module documentation): `update` is `h` products of
 /// `N × 4` by `4 × 3` and allocates nothing.
@@ -297,72 +277,15 @@ impl SubdivRig {
 }
 
 /// Solves `(Â + ε·diag(Â)) X = R` in place for the columns of `rhs` (column-major, `N` rows)
-/// with one sparse Cholesky factorisation (AMD ordering, sequential: STACK.md).
+/// with one sparse Cholesky factorisation.
 fn solve_gram(
     gram: &faer::sparse::SparseColMat<usize, f64>,
     diagonal: &[f64],
     rhs: &mut [f64],
 ) -> Result<(), SubdivError> {
-    let n = gram.nrows();
-    // faer's numeric factorisation reads every stored entry as part of the side it is told:
-    // give it the upper triangle only.
-    let mut col_ptr = Vec::with_capacity(n + 1);
-    let mut row_idx = Vec::new();
-    let mut values = Vec::new();
-    col_ptr.push(0);
-    for j in 0..n {
-        let range = gram.col_range(j);
-        for (&i, &x) in gram.symbolic().row_idx()[range.clone()]
-            .iter()
-            .zip(&gram.val()[range])
-        {
-            if i <= j {
-                row_idx.push(i);
-                values.push(if i == j {
-                    x + RIG_REGULARIZATION * diagonal[j]
-                } else {
-                    x
-                });
-            }
-        }
-        col_ptr.push(row_idx.len());
-    }
-    let upper = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-    let failed = |stage: &str, e: &dyn std::fmt::Debug| SubdivError::BadRig {
-        what: format!("the Gram matrix Â: {stage} failed ({e:?}); expected it positive definite"),
-    };
-    let symbolic = factorize_symbolic_cholesky(
-        upper,
-        Side::Upper,
-        SymmetricOrdering::Amd,
-        CholeskySymbolicParams::default(),
-    )
-    .map_err(|e| failed("symbolic analysis", &e))?;
-    let mut l_values = vec![0.0; symbolic.len_val()];
-    let scratch = symbolic
-        .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
-        .or(symbolic.solve_in_place_scratch::<f64>(SOLVE_BLOCK, Par::Seq));
-    let mut memory = MemBuffer::try_new(scratch).map_err(|e| failed("workspace", &e))?;
-    symbolic
-        .factorize_numeric_llt(
-            &mut l_values,
-            SparseColMatRef::new(upper, &values),
-            Side::Upper,
-            LltRegularization::default(),
-            Par::Seq,
-            MemStack::new(&mut memory),
-            Default::default(),
-        )
-        .map_err(|e| failed("numeric factorisation", &e))?;
-    let llt = LltRef::new(&symbolic, &l_values);
-    for block in rhs.chunks_mut(n * SOLVE_BLOCK) {
-        let k = block.len() / n;
-        llt.solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(block, n, k),
-            Par::Seq,
-            MemStack::new(&mut memory),
-        );
-    }
-    Ok(())
+    let shift: Vec<f64> = diagonal.iter().map(|d| RIG_REGULARIZATION * d).collect();
+    let upper = UpperCsc::from_symmetric(gram, &shift);
+    solve_spd_in_place(&upper, rhs).map_err(|e| SubdivError::BadRig {
+        what: format!("the Gram matrix Â: {e}; expected it positive definite"),
+    })
 }
