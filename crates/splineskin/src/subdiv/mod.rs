@@ -24,6 +24,7 @@
 //! | point handles and bones | [`Handles3`] |
 //! | handle weights: Shepard, bone heat, per cage vertex from a file | [`surface_weights`]: [`Shepard3`], [`BoneHeat`], [`CageVertexWeights`]; [`node_weights`] |
 //! | the limit surface on a uniform grid, as a quad mesh | [`LimitMesh`] |
+//! | scenes (JSON: OBJ, handles, weights, poses) | [`SubdivScene`], [`mod@scene`] |
 //!
 //! Topology (levels, sharpness and its decay, vertex rules, sparse adaptive levels) comes from
 //! the `opensubdiv-rs` port of OpenSubdiv's `Far`/`Vtr`/`Sdc` layers; every weight is computed
@@ -42,6 +43,7 @@ pub mod obj;
 mod quadrature;
 mod regular_patch;
 mod rig;
+pub mod scene;
 mod sparse_cholesky;
 mod stencil;
 pub mod surface_weights;
@@ -66,6 +68,10 @@ pub use limit_mesh::{LimitMesh, MAX_LIMIT_MESH_LEVEL};
 pub use obj::{parse_obj, read_obj, to_obj_string, write_obj, ObjError, MAX_OBJ_BYTES};
 pub use quadrature::{LimitQuadrature, QuadratureNode, DEFAULT_GAUSS_POINTS};
 pub use rig::{SubdivRig, RIG_REGULARIZATION};
+pub use scene::{
+    Pose3, SubdivScene, SubdivSceneError, SubdivSetup, SurfaceWeightSpec, MAX_QUADRATURE_POINTS,
+    SUBDIV_SCENE_VERSION,
+};
 pub use stencil::{LimitStencil, StencilTable};
 pub use surface_weights::{
     cage_weights, node_weights, parse_weight_csv, read_weight_csv, sample_weights, BoneHeat,
