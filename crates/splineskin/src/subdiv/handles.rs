@@ -111,3 +111,45 @@ fn closest_on_segment([a, b]: [Point3; 2], x: Point3) -> Point3 {
     let t = (dot(sub(x, a), ab) / dot(ab, ab)).clamp(0.0, 1.0);
     std::array::from_fn(|k| a[k] + t * ab[k])
 }
+
+/// `n` indices into `points` spread by farthest-point sampling: first the point farthest from
+/// the points' centroid, then each time the point farthest from those chosen (ties to the
+/// lowest index). Fewer than `n` if there are fewer distinct points.
+///
+/// ```
+/// use splineskin::subdiv::farthest_point_sample;
+/// let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [10.0, 0.0, 0.0], [4.0, 0.0, 0.0]];
+/// assert_eq!(farthest_point_sample(&points, 3), vec![2, 0, 3]);
+/// ```
+pub fn farthest_point_sample(points: &[Point3], n: usize) -> Vec<usize> {
+    if points.is_empty() || n == 0 {
+        return Vec::new();
+    }
+    let m = points.len() as f64;
+    let centroid: Point3 = std::array::from_fn(|k| points.iter().map(|p| p[k]).sum::<f64>() / m);
+    let farthest = |d: &[f64]| {
+        let mut best = 0;
+        for (i, &x) in d.iter().enumerate() {
+            if x > d[best] {
+                best = i;
+            }
+        }
+        best
+    };
+    let mut d: Vec<f64> = points.iter().map(|p| distance2(*p, centroid)).collect();
+    let mut chosen = vec![farthest(&d)];
+    d.iter_mut()
+        .zip(points)
+        .for_each(|(x, p)| *x = distance2(*p, points[chosen[0]]));
+    while chosen.len() < n {
+        let next = farthest(&d);
+        if d[next] == 0.0 {
+            break;
+        }
+        chosen.push(next);
+        for (x, p) in d.iter_mut().zip(points) {
+            *x = x.min(distance2(*p, points[next]));
+        }
+    }
+    chosen
+}

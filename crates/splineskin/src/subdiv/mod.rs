@@ -25,6 +25,7 @@
 //! | handle weights: Shepard, bone heat, per cage vertex from a file | [`surface_weights`]: [`Shepard3`], [`BoneHeat`], [`CageVertexWeights`]; [`node_weights`] |
 //! | the limit surface on a uniform grid, as a quad mesh | [`LimitMesh`] |
 //! | scenes (JSON: OBJ, handles, weights, poses) | [`SubdivScene`], [`mod@scene`] |
+//! | ours against naive, each against the skinned limit surface; the picture | [`compare_subdiv`], [`render_comparison_png`]; rasteriser [`Raster`] |
 //!
 //! Topology (levels, sharpness and its decay, vertex rules, sparse adaptive levels) comes from
 //! the `opensubdiv-rs` port of OpenSubdiv's `Far`/`Vtr`/`Sdc` layers; every weight is computed
@@ -32,6 +33,8 @@
 //! `masks.rs`, regular B-spline patches in `regular_patch.rs`.
 mod affine3;
 mod cage;
+mod compare;
+mod comparison_picture;
 mod cotangent_laplacian;
 mod error;
 mod handles;
@@ -41,6 +44,7 @@ mod limit_mesh;
 mod masks;
 pub mod obj;
 mod quadrature;
+mod raster;
 mod regular_patch;
 mod rig;
 pub mod scene;
@@ -58,8 +62,15 @@ pub use affine3::{
 pub use cage::{
     Cage, CageError, CornerTag, CreaseTag, OtherTag, Point3, SubdivTags, SHARPNESS_INFINITE,
 };
+pub use compare::{
+    compare_subdiv, skin_points, ComparisonSamples, ErrorSummary, MethodResult, SubdivCompareError,
+    SubdivComparison, DEFAULT_COMPARE_LEVEL,
+};
+pub use comparison_picture::{
+    render_comparison_png, ComparisonPictureOptions, DEFAULT_PANEL_WIDTH,
+};
 pub use error::SubdivError;
-pub use handles::Handles3;
+pub use handles::{farthest_point_sample, Handles3};
 pub use limit::{
     LimitOptions, LimitSurface, SurfaceLocation, VertexLimit, DEFAULT_ISOLATION_LEVEL,
     MAX_ISOLATION_LEVEL,
@@ -67,6 +78,7 @@ pub use limit::{
 pub use limit_mesh::{LimitMesh, MAX_LIMIT_MESH_LEVEL};
 pub use obj::{parse_obj, read_obj, to_obj_string, write_obj, ObjError, MAX_OBJ_BYTES};
 pub use quadrature::{LimitQuadrature, QuadratureNode, DEFAULT_GAUSS_POINTS};
+pub use raster::{Camera, Raster};
 pub use rig::{SubdivRig, RIG_REGULARIZATION};
 pub use scene::{
     Pose3, SubdivScene, SubdivSceneError, SubdivSetup, SurfaceWeightSpec, MAX_QUADRATURE_POINTS,
