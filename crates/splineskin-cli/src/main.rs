@@ -11,6 +11,7 @@ mod demo;
 mod info;
 mod output;
 mod serve;
+mod subdiv;
 mod weights;
 
 use clap::{Parser, Subcommand};
@@ -42,6 +43,8 @@ enum Command {
     /// Start the editor: a local web page to place and drag handles and watch the drawing
     /// follow live.
     Serve(serve::Args),
+    /// Catmull–Clark cages (OBJ): deform, compare with skinning the cage, benchmark, refine.
+    Subdiv(subdiv::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -55,6 +58,7 @@ fn main() -> std::process::ExitCode {
         Command::Demo(a) => demo::run(a),
         Command::Weights(a) => weights::run(a),
         Command::Serve(a) => serve::run(a),
+        Command::Subdiv(a) => subdiv::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

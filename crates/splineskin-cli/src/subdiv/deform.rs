@@ -1,0 +1,94 @@
+//! `splineskin subdiv deform SCENE -o OUT.obj [--pose N] [--limit-mesh MESH.obj --level K]`:
+//! the cage fitted so that its limit surface follows the skinned surface, as OBJ with the
+//! input's faces and tags; optionally the deformed limit surface itself, sampled as a quad
+//! mesh (the topology of the `K`-th uniform refinement, vertices on the limit surface).
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use splineskin::subdiv::{to_obj_string, LimitMesh, SubdivScene, MAX_LIMIT_MESH_LEVEL};
+
+use crate::output::write_atomic;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene (JSON, `"splineskin_subdiv_scene": 1`).
+    scene: PathBuf,
+    /// The deformed cage (`.obj`).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Which of the scene's poses to apply (0 is the first; the identity if it has none).
+    #[arg(long, default_value_t = 0)]
+    pose: usize,
+    /// Also write the deformed limit surface as a quad mesh (`.obj`).
+    #[arg(long, value_name = "MESH.obj")]
+    limit_mesh: Option<PathBuf>,
+    /// Level of `--limit-mesh`: (2^K)² quads per cage quad.
+    #[arg(long, default_value_t = 3, requires = "limit_mesh",
+          value_parser = clap::value_parser!(u8).range(1..=MAX_LIMIT_MESH_LEVEL as i64))]
+    level: u8,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    super::require_extension(&args.output, "obj")?;
+    if let Some(mesh) = &args.limit_mesh {
+        super::require_extension(mesh, "obj")?;
+        if mesh == &args.output {
+            bail!(
+                "{}: the cage and the limit mesh would overwrite each other",
+                mesh.display()
+            );
+        }
+    }
+    let scene = SubdivScene::load(&args.scene)?;
+    let pose = scene.pose(args.pose)?;
+    let setup = scene.setup()?;
+    let mut deformed = vec![[0.0; 3]; setup.cage.n_vertices()];
+    setup
+        .rig
+        .update(&pose, &mut deformed)
+        .with_context(|| format!("{}: pose {}", args.scene.display(), args.pose))?;
+    let mut cage = setup.cage.clone();
+    cage.set_positions(deformed.clone()).with_context(|| {
+        format!(
+            "{}: pose {}: the deformed cage is not finite",
+            args.scene.display(),
+            args.pose
+        )
+    })?;
+    let cage_text = to_obj_string(&cage);
+    let mesh_text = match &args.limit_mesh {
+        None => None,
+        Some(path) => {
+            let mesh = LimitMesh::new(&setup.cage, &setup.surface, usize::from(args.level))
+                .with_context(|| format!("{}: sampling the limit surface", args.scene.display()))?;
+            let mut positions = vec![[0.0; 3]; mesh.n_vertices()];
+            mesh.positions(&deformed, &mut positions);
+            let quads = mesh
+                .to_cage(positions)
+                .with_context(|| format!("{}: the limit mesh", path.display()))?;
+            Some((path, to_obj_string(&quads), mesh.quads().len()))
+        }
+    };
+    write_atomic(&args.output, cage_text.as_bytes())?;
+    if let Some((path, text, n_quads)) = &mesh_text {
+        if let Err(e) = write_atomic(path, text.as_bytes()) {
+            // Leave nothing half done: the cage without the mesh asked for.
+            let _ = std::fs::remove_file(&args.output);
+            return Err(e);
+        }
+        eprintln!(
+            "{}: {n_quads} quads of the deformed limit surface",
+            path.display()
+        );
+    }
+    eprintln!(
+        "{}: pose {} of {} handles, {} vertices, {} faces",
+        args.output.display(),
+        args.pose,
+        scene.handles.n_handles(),
+        cage.n_vertices(),
+        cage.n_faces()
+    );
+    Ok(())
+}
