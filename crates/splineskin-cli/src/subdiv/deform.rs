@@ -60,7 +60,10 @@ pub fn run(args: Args) -> Result<()> {
     let mesh_text = match &args.limit_mesh {
         None => None,
         Some(path) => {
-            let mesh = LimitMesh::new(&setup.cage, &setup.surface, usize::from(args.level))
+            let surface = setup
+                .full_surface()
+                .with_context(|| format!("{}: the limit surface", args.scene.display()))?;
+            let mesh = LimitMesh::new(&setup.cage, &surface, usize::from(args.level))
                 .with_context(|| format!("{}: sampling the limit surface", args.scene.display()))?;
             let mut positions = vec![[0.0; 3]; mesh.n_vertices()];
             mesh.positions(&deformed, &mut positions);

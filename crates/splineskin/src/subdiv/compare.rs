@@ -60,7 +60,8 @@ impl ComparisonSamples {
     /// Samples `setup`'s limit surface at `level` and evaluates its weights there and at the
     /// cage vertices.
     pub fn new(setup: &SubdivSetup, level: usize) -> Result<Self, SubdivCompareError> {
-        let mesh = LimitMesh::new(&setup.cage, &setup.surface, level)?;
+        let surface = setup.full_surface()?;
+        let mesh = LimitMesh::new(&setup.cage, &surface, level)?;
         let mut rest = vec![[0.0; 3]; mesh.n_vertices()];
         mesh.positions(setup.cage.positions(), &mut rest);
         let weights = sample_weights(setup.weights.as_ref(), &setup.cage, &mesh)?;

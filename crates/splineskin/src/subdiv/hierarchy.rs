@@ -190,6 +190,98 @@ impl Hierarchy {
     }
 }
 
+/// Reusable buffers of [`Hierarchy::to_base_columns`].
+#[derive(Default)]
+pub(crate) struct ColumnScratch {
+    keys: Vec<u64>,
+    verts: Vec<u32>,
+    vals: Vec<f64>,
+    mask: Weights,
+}
+
+impl Hierarchy {
+    /// [`Hierarchy::to_base`] for `cols` weight lists at once: entry `e` is vertex `verts[e]`
+    /// of `level` with the weights `vals[e·cols .. (e+1)·cols]`, one per list. The lists share
+    /// every expansion and sort, so carrying 16 patch points costs little more than carrying
+    /// their sum. On return the entries are base vertices, increasing, with entries whose
+    /// weights are all zero dropped.
+    pub(crate) fn to_base_columns(
+        &self,
+        level: usize,
+        verts: &mut Vec<u32>,
+        vals: &mut Vec<f64>,
+        cols: usize,
+        scratch: &mut ColumnScratch,
+    ) {
+        for l in (1..=level).rev() {
+            merge_columns(verts, vals, cols, scratch);
+            scratch.verts.clear();
+            scratch.vals.clear();
+            let parent = self.level(l - 1);
+            let refinement = self.refiner.refinement(l);
+            for (e, &v) in verts.iter().enumerate() {
+                masks::child_mask(
+                    &self.crease,
+                    parent,
+                    refinement,
+                    self.origin(l, v),
+                    &mut scratch.mask,
+                );
+                let row = &vals[e * cols..][..cols];
+                for &(p, m) in &scratch.mask {
+                    scratch.verts.push(p);
+                    scratch.vals.extend(row.iter().map(|x| m * x));
+                }
+            }
+            std::mem::swap(verts, &mut scratch.verts);
+            std::mem::swap(vals, &mut scratch.vals);
+        }
+        merge_columns(verts, vals, cols, scratch);
+    }
+}
+
+/// Sorts the entries of [`Hierarchy::to_base_columns`] by vertex, sums repeated vertices and
+/// drops entries whose weights are all exactly zero (summing in entry order within a vertex).
+fn merge_columns(
+    verts: &mut Vec<u32>,
+    vals: &mut Vec<f64>,
+    cols: usize,
+    scratch: &mut ColumnScratch,
+) {
+    scratch.keys.clear();
+    scratch.keys.extend(
+        verts
+            .iter()
+            .enumerate()
+            .map(|(e, &v)| (u64::from(v) << 32) | e as u64),
+    );
+    scratch.keys.sort_unstable();
+    scratch.verts.clear();
+    scratch.vals.clear();
+    for &key in &scratch.keys {
+        let (v, e) = ((key >> 32) as u32, (key & 0xffff_ffff) as usize);
+        let row = &vals[e * cols..][..cols];
+        if scratch.verts.last() == Some(&v) {
+            let start = scratch.vals.len() - cols;
+            for (o, x) in scratch.vals[start..].iter_mut().zip(row) {
+                *o += x;
+            }
+        } else {
+            scratch.verts.push(v);
+            scratch.vals.extend_from_slice(row);
+        }
+    }
+    verts.clear();
+    vals.clear();
+    for (e, &v) in scratch.verts.iter().enumerate() {
+        let row = &scratch.vals[e * cols..][..cols];
+        if row.iter().any(|&x| x != 0.0) {
+            verts.push(v);
+            vals.extend_from_slice(row);
+        }
+    }
+}
+
 /// OpenSubdiv's sharpening of inconsistently oriented edges (two faces running along the edge
 /// in the same direction; `Vtr` tags them non-manifold): the edges become infinitely sharp, and
 /// so does each of their end vertices unless it lies on a *non-manifold crease* — exactly two

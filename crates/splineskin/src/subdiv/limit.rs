@@ -13,6 +13,12 @@
 //! (`masks.rs`), also in `f64`. The result is the **exact** limit surface (to
 //! rounding), like OpenSubdiv's regular patches — no approximation is made anywhere.
 //!
+//! Carrying a patch to the cage follows the refinement masks level by level; position and
+//! both derivatives are carried together. [`LimitSurface::stencils`] evaluates a batch: a
+//! patch met a second time on the same ptex face has its 16 control points carried to the
+//! cage once, and every further location on it is a 16-term sum (OpenSubdiv's patch tables
+//! do the same). With 4 × 4 Gauss nodes a regular cage face is one patch for its 16 nodes.
+//!
 //! A location within `2^-isolation` (in its face's parameters) of an irregular feature that
 //! never becomes regular — an extraordinary vertex, a dart, the centre of an n-gon — has no
 //! regular face around it at any depth. There [`LimitSurface::stencil`] interpolates the limit
@@ -40,9 +46,9 @@
 
 use super::cage::{Cage, Point3};
 use super::error::SubdivError;
-use super::hierarchy::{Hierarchy, Refine};
+use super::hierarchy::{ColumnScratch, Hierarchy, Refine};
 use super::masks::{self, LimitExactness, Origin, Weights};
-use super::regular_patch::{bspline_basis, regular_grid};
+use super::regular_patch::{bspline_basis, regular_grid, Grid};
 use super::stencil::LimitStencil;
 use opensubdiv_rs::INDEX_INVALID;
 
@@ -193,6 +199,11 @@ impl LimitSurface {
         self.hierarchy.level(0).num_vertices()
     }
 
+    /// The isolation level the surface was refined to.
+    pub fn isolation_level(&self) -> usize {
+        self.isolation
+    }
+
     /// Number of cage faces.
     pub fn n_faces(&self) -> usize {
         self.hierarchy.level(0).num_faces()
@@ -255,6 +266,118 @@ impl LimitSurface {
 
     /// The limit stencil (position and derivative weights over the cage vertices) at `at`.
     pub fn stencil(&self, at: SurfaceLocation) -> Result<LimitStencil, SubdivError> {
+        self.stencil_cached(at, &mut PatchCache::default())
+    }
+
+    /// The limit stencils at every location of `locations`, in order. Faster than one
+    /// [`LimitSurface::stencil`] per location when consecutive locations share ptex faces (as
+    /// quadrature nodes and grid samples do): each regular patch met is carried to the cage
+    /// vertices once and kept while the ptex face does not change.
+    ///
+    /// ```
+    /// # use splineskin::subdiv::{parse_obj, LimitOptions, LimitSurface, SurfaceLocation};
+    /// # let cage = parse_obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", "quad.obj")?;
+    /// let surface = LimitSurface::new(&cage, &LimitOptions::default())?;
+    /// let at = |u, v| SurfaceLocation { face: 0, subface: 0, u, v };
+    /// let batch = surface.stencils(&[at(0.2, 0.3), at(0.7, 0.9)])?;
+    /// assert_eq!(batch[1], surface.stencil(at(0.7, 0.9))?);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn stencils(
+        &self,
+        locations: &[SurfaceLocation],
+    ) -> Result<Vec<LimitStencil>, SubdivError> {
+        let mut cache = PatchCache::default();
+        locations
+            .iter()
+            .map(|&at| self.stencil_cached(at, &mut cache))
+            .collect()
+    }
+
+    /// [`LimitSurface::stencil`] with the carried patches of `cache`, which is emptied when
+    /// `at` is on another ptex face than its last use.
+    fn stencil_cached(
+        &self,
+        at: SurfaceLocation,
+        cache: &mut PatchCache,
+    ) -> Result<LimitStencil, SubdivError> {
+        if cache.ptex != Some((at.face, at.subface)) {
+            cache.ptex = Some((at.face, at.subface));
+            cache.patches.clear();
+        }
+        let landing = self.descend(at, Some(&cache.patches))?;
+        let (level, face, s, t, scale) = (
+            landing.level,
+            landing.face,
+            landing.s,
+            landing.t,
+            landing.scale,
+        );
+        match landing.kind {
+            Kind::Cached => match cache
+                .patches
+                .iter_mut()
+                .find(|(k, _)| *k == (level, face))
+                .map(|(_, p)| p)
+            {
+                Some(CachedPatch::Carried(patch)) => Ok(patch.evaluate(s, t, scale)),
+                Some(seen) => {
+                    // A second location on this patch: carry its 16 points once for all.
+                    let CachedPatch::Seen(grid) = seen else {
+                        unreachable!("matched above")
+                    };
+                    let patch = self.carried_patch(level, grid, &mut cache.scratch);
+                    let stencil = patch.evaluate(s, t, scale);
+                    *seen = CachedPatch::Carried(patch);
+                    Ok(stencil)
+                }
+                None => Err(SubdivError::Internal {
+                    what: "a cached patch went missing".into(),
+                }),
+            },
+            Kind::Regular(grid) => {
+                let stencil = self.patch_stencil(level, &grid, s, t, scale, &mut cache.scratch);
+                cache.patches.push(((level, face), CachedPatch::Seen(grid)));
+                Ok(stencil)
+            }
+            Kind::Corner(frame) => self
+                .corner_stencil(level, frame, s, t, scale)
+                .ok_or_else(|| self.unresolved(at)),
+        }
+    }
+
+    /// Is the limit surface at `at` a regular patch at this isolation level, so that
+    /// [`LimitSurface::stencil`] is exact there ([`LimitStencil::exact`])? Follows the
+    /// refinement down as `stencil` does, without computing any weight.
+    ///
+    /// ```
+    /// # use splineskin::subdiv::{parse_obj, LimitOptions, LimitSurface, SurfaceLocation};
+    /// let cube = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+    ///             f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+    /// let cage = parse_obj(cube, "cube.obj")?;
+    /// // At isolation 2 a point 0.1 from a valence-3 corner is not yet on a regular patch.
+    /// let shallow = LimitSurface::new(&cage, &LimitOptions::default().with_isolation_level(2))?;
+    /// let at = SurfaceLocation { face: 0, subface: 0, u: 0.1, v: 0.1 };
+    /// assert!(!shallow.is_exact_at(at)?);
+    /// let deep = LimitSurface::new(&cage, &LimitOptions::default().with_isolation_level(5))?;
+    /// assert!(deep.is_exact_at(at)?);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn is_exact_at(&self, at: SurfaceLocation) -> Result<bool, SubdivError> {
+        match self.descend(at, None) {
+            Ok(landing) => Ok(matches!(landing.kind, Kind::Regular(_))),
+            Err(SubdivError::Unresolved { .. }) => Ok(false),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Follows `at` down the refinement to the first face that is in `cached` or regular, or
+    /// to the isolation level.
+    fn descend(
+        &self,
+        at: SurfaceLocation,
+        cached: Option<&[((usize, u32), CachedPatch)]>,
+    ) -> Result<Landing, SubdivError> {
         let h = &self.hierarchy;
         let base = h.level(0);
         let bad = |what: &str| SubdivError::BadLocation {
@@ -305,28 +428,35 @@ impl LimitSurface {
         let (mut s, mut t) = (at.u, at.v);
         let mut scale = 1.0;
         loop {
+            let landing = |kind| Landing {
+                kind,
+                level,
+                face,
+                s,
+                t,
+                scale,
+            };
+            if cached.is_some_and(|c| c.iter().any(|(k, _)| *k == (level, face))) {
+                return Ok(landing(Kind::Cached));
+            }
             let lv = h.level(level);
             if let Some(grid) = regular_grid(lv, face as usize, frame) {
                 if grid
                     .iter()
                     .all(|p| p.iter().all(|&(v, _)| h.is_valid(level, v)))
                 {
-                    return Ok(self.patch_stencil(level, &grid, s, t, scale));
+                    return Ok(landing(Kind::Regular(Box::new(grid))));
                 }
             }
             if level == h.max_level() {
-                return self
-                    .corner_stencil(level, frame, s, t, scale)
-                    .ok_or_else(|| self.unresolved(at));
+                return Ok(landing(Kind::Corner(frame)));
             }
             let r = h.refiner.refinement(level + 1);
             let vc = frame.map(|v| r.vertex_child_vertex(v as usize));
-            let ec: Vec<u32> = (0..4)
-                .map(|k| {
-                    lv.find_edge(frame[k], frame[(k + 1) % 4])
-                        .map_or(INDEX_INVALID, |e| r.edge_child_vertex(e as usize))
-                })
-                .collect();
+            let ec: [u32; 4] = std::array::from_fn(|k| {
+                lv.find_edge(frame[k], frame[(k + 1) % 4])
+                    .map_or(INDEX_INVALID, |e| r.edge_child_vertex(e as usize))
+            });
             let fc = r.face_child_vertex(face as usize);
             // Quadrant k holds the corner k of the frame; its frame keeps the orientation.
             let (right, top) = (s >= 0.5, t >= 0.5);
@@ -360,34 +490,66 @@ impl LimitSurface {
     }
 
     /// The B-spline patch of `grid` (over vertices of `level`) at `(s, t)`, carried to the
-    /// cage; `scale` is `d(s,t)/d(u,v)`.
+    /// cage; `scale` is `d(s,t)/d(u,v)`. Position and both derivatives are carried together
+    /// ([`Hierarchy::to_base_columns`]).
     fn patch_stencil(
         &self,
         level: usize,
-        grid: &[Vec<(u32, f64)>; 16],
+        grid: &Grid,
         s: f64,
         t: f64,
         scale: f64,
+        scratch: &mut ColumnScratch,
     ) -> LimitStencil {
         let (bs, ds) = bspline_basis(s);
         let (bt, dt) = bspline_basis(t);
-        let h = &self.hierarchy;
-        let mut scratch = Weights::new();
-        let mut one = |f: &dyn Fn(usize, usize) -> f64| -> Weights {
-            let mut w = Weights::new();
-            for j in 0..4 {
-                for i in 0..4 {
-                    let c = f(i, j);
-                    w.extend(grid[4 * j + i].iter().map(|&(v, x)| (v, c * x)));
+        let (mut verts, mut vals) = (Vec::with_capacity(64), Vec::with_capacity(192));
+        for j in 0..4 {
+            for i in 0..4 {
+                let c = [bs[i] * bt[j], scale * ds[i] * bt[j], scale * bs[i] * dt[j]];
+                for &(v, w) in &grid[4 * j + i] {
+                    verts.push(v);
+                    vals.extend(c.map(|x| x * w));
                 }
             }
-            h.to_base(level, &mut w, &mut scratch);
-            w
-        };
-        let pos = one(&|i, j| bs[i] * bt[j]);
-        let du = one(&|i, j| scale * ds[i] * bt[j]);
-        let dv = one(&|i, j| scale * bs[i] * dt[j]);
-        align(pos, du, dv, true)
+        }
+        self.hierarchy
+            .to_base_columns(level, &mut verts, &mut vals, 3, scratch);
+        LimitStencil {
+            weights: vals.iter().step_by(3).copied().collect(),
+            du_weights: vals.iter().skip(1).step_by(3).copied().collect(),
+            dv_weights: vals.iter().skip(2).step_by(3).copied().collect(),
+            indices: verts,
+            exact: true,
+        }
+    }
+
+    /// The B-spline patch of `grid` (over vertices of `level`) carried to the cage: each of its
+    /// 16 control points as weights over the cage vertices.
+    fn carried_patch(
+        &self,
+        level: usize,
+        grid: &Grid,
+        scratch: &mut ColumnScratch,
+    ) -> CarriedPatch {
+        let (mut verts, mut vals) = (Vec::new(), Vec::new());
+        for (k, point) in grid.iter().enumerate() {
+            for &(v, w) in point {
+                verts.push(v);
+                vals.extend((0..16).map(|c| if c == k { w } else { 0.0 }));
+            }
+        }
+        self.hierarchy
+            .to_base_columns(level, &mut verts, &mut vals, 16, scratch);
+        let m = verts.len();
+        let mut rows = vec![0.0; 16 * m];
+        for j in 0..m {
+            for k in 0..16 {
+                rows[k * m + j] = vals[j * 16 + k];
+            }
+        }
+        let support = verts;
+        CarriedPatch { support, rows }
     }
 
     /// The approximation on a face of the isolation level that never became regular: the
@@ -480,6 +642,92 @@ impl LimitSurface {
         let st = self.stencil(at)?;
         let (du, dv) = st.derivatives(control);
         Ok((st.position(control), du, dv))
+    }
+}
+
+/// The regular patches met on the ptex face `ptex`, by `(level, face)` (a face of a refined
+/// level lies in exactly one ptex face and is reached with one frame, so the key determines
+/// the patch): seen once (its grid kept; the location was evaluated directly, which is cheaper
+/// than carrying 16 points), or met again and carried to the cage once for all.
+#[derive(Default)]
+struct PatchCache {
+    ptex: Option<(u32, u32)>,
+    /// A ptex face meets a few dozen patches at most: a list searched linearly beats hashing.
+    patches: Vec<((usize, u32), CachedPatch)>,
+    scratch: ColumnScratch,
+}
+
+enum CachedPatch {
+    Seen(Box<Grid>),
+    Carried(CarriedPatch),
+}
+
+/// Where [`LimitSurface::descend`] stopped: a face of `level` and the location's parameters
+/// `(s, t)` in it (`scale = d(s,t)/d(u,v)`).
+struct Landing {
+    kind: Kind,
+    level: usize,
+    face: u32,
+    s: f64,
+    t: f64,
+    scale: f64,
+}
+
+enum Kind {
+    /// A patch of the cache.
+    Cached,
+    /// A regular face, with its control grid.
+    Regular(Box<Grid>),
+    /// A face of the isolation level that is not regular, with its frame: the corner
+    /// approximation.
+    Corner([u32; 4]),
+}
+
+/// A bicubic B-spline patch whose 16 control points `P(i, j)` are given as weights over the
+/// cage vertices `support` (row `4·j + i` of `rows`, dense over the support).
+struct CarriedPatch {
+    support: Vec<u32>,
+    rows: Vec<f64>,
+}
+
+impl CarriedPatch {
+    /// The limit stencil at `(s, t)`; `scale` is `d(s,t)/d(u,v)`. Cage vertices whose three
+    /// weights are all zero are left out.
+    fn evaluate(&self, s: f64, t: f64, scale: f64) -> LimitStencil {
+        let (bs, ds) = bspline_basis(s);
+        let (bt, dt) = bspline_basis(t);
+        let m = self.support.len();
+        let mut out = LimitStencil {
+            indices: self.support.clone(),
+            weights: vec![0.0; m],
+            du_weights: vec![0.0; m],
+            dv_weights: vec![0.0; m],
+            exact: true,
+        };
+        for j in 0..4 {
+            for i in 0..4 {
+                let row = &self.rows[(4 * j + i) * m..][..m];
+                let (cp, cu, cv) = (bs[i] * bt[j], scale * ds[i] * bt[j], scale * bs[i] * dt[j]);
+                for (k, &x) in row.iter().enumerate() {
+                    out.weights[k] += cp * x;
+                    out.du_weights[k] += cu * x;
+                    out.dv_weights[k] += cv * x;
+                }
+            }
+        }
+        let zero = |k: usize| {
+            out.weights[k] == 0.0 && out.du_weights[k] == 0.0 && out.dv_weights[k] == 0.0
+        };
+        if (0..m).any(zero) {
+            let keep: Vec<bool> = (0..m).map(|k| !zero(k)).collect();
+            let mut k = 0;
+            out.indices.retain(|_| (keep[k], k += 1).0);
+            for w in [&mut out.weights, &mut out.du_weights, &mut out.dv_weights] {
+                let mut k = 0;
+                w.retain(|_| (keep[k], k += 1).0);
+            }
+        }
+        out
     }
 }
 

@@ -169,8 +169,7 @@ impl LimitMesh {
         }
         let mut stencils = StencilTable::new(cage.n_vertices());
         let mut pairs = Vec::new();
-        for &at in &locations {
-            let st = surface.stencil(at)?;
+        for st in surface.stencils(&locations)? {
             pairs.clear();
             pairs.extend(st.indices.iter().copied().zip(st.weights.iter().copied()));
             stencils.push(&pairs);

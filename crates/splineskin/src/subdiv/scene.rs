@@ -40,6 +40,7 @@
 //!
 //! Every error names the scene file and the element (`poses[1].transforms[2].rotate`).
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
@@ -51,7 +52,7 @@ use super::affine3::{
 use super::cage::{Cage, Point3};
 use super::error::SubdivError;
 use super::handles::Handles3;
-use super::limit::{LimitOptions, LimitSurface};
+use super::limit::{LimitOptions, LimitSurface, DEFAULT_ISOLATION_LEVEL};
 use super::obj::{read_obj, ObjError};
 use super::quadrature::{LimitQuadrature, DEFAULT_GAUSS_POINTS};
 use super::rig::SubdivRig;
@@ -153,7 +154,8 @@ impl SurfaceWeightSpec {
         }
     }
 
-    /// Builds the weights of `handles` on `cage` (with its limit surface `surface`).
+    /// Builds the weights of `handles` on `cage` (with its limit surface `surface`; bone heat
+    /// samples it on a grid, which needs the default isolation: [`LimitQuadrature::for_cage`]).
     pub fn build(
         &self,
         cage: &Cage,
@@ -203,7 +205,9 @@ pub struct SubdivScene {
 pub struct SubdivSetup {
     /// The cage.
     pub cage: Cage,
-    /// Its limit surface.
+    /// Its limit surface, refined as deep as the quadrature needs
+    /// ([`LimitQuadrature::for_cage`]); [`SubdivSetup::full_surface`] for sampling it on a
+    /// grid.
     pub surface: LimitSurface,
     /// The quadrature of the fit.
     pub quadrature: LimitQuadrature,
@@ -211,6 +215,20 @@ pub struct SubdivSetup {
     pub weights: Box<dyn SurfaceWeights>,
     /// The rig.
     pub rig: SubdivRig,
+}
+
+impl SubdivSetup {
+    /// The limit surface at the default isolation ([`DEFAULT_ISOLATION_LEVEL`]), which
+    /// resolves grid samples on ptex edges and near irregular features
+    /// ([`LimitMesh`](super::LimitMesh)): [`SubdivSetup::surface`] itself when it is that
+    /// deep, else built.
+    pub fn full_surface(&self) -> Result<Cow<'_, LimitSurface>, SubdivError> {
+        if self.surface.isolation_level() >= DEFAULT_ISOLATION_LEVEL {
+            Ok(Cow::Borrowed(&self.surface))
+        } else {
+            LimitSurface::new(&self.cage, &LimitOptions::default()).map(Cow::Owned)
+        }
+    }
 }
 
 impl SubdivScene {
@@ -398,12 +416,19 @@ impl SubdivScene {
             file: self.file.clone(),
             source,
         };
-        let surface = LimitSurface::new(&cage, &LimitOptions::default()).map_err(subdiv)?;
-        let quadrature = LimitQuadrature::new(&surface, self.quadrature).map_err(subdiv)?;
-        let weights = self
-            .weights
-            .build(&cage, &surface, &self.handles)
-            .map_err(weights_error)?;
+        let (surface, quadrature) =
+            LimitQuadrature::for_cage(&cage, self.quadrature).map_err(subdiv)?;
+        let weights = match &self.weights {
+            // Bone heat samples the surface on a grid: at the default isolation.
+            SurfaceWeightSpec::BoneHeat(_)
+                if surface.isolation_level() < DEFAULT_ISOLATION_LEVEL =>
+            {
+                let full = LimitSurface::new(&cage, &LimitOptions::default()).map_err(subdiv)?;
+                self.weights.build(&cage, &full, &self.handles)
+            }
+            _ => self.weights.build(&cage, &surface, &self.handles),
+        }
+        .map_err(weights_error)?;
         let w = node_weights(weights.as_ref(), &cage, &quadrature).map_err(weights_error)?;
         let rig = SubdivRig::precompute(&cage, &quadrature, &w, self.handles.n_handles())
             .map_err(subdiv)?;
