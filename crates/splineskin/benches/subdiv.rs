@@ -1,13 +1,15 @@
 //! Timings of the subdivision rig (issue 6's benchmark: a cage of about 4 000 vertices with
 //! 4 handles, precompute ≤ 0.5 s, update ≤ 50 µs), phase by phase:
 //!
-//! * `limit_surface`: [`LimitSurface::new`] (feature-adaptive refinement to level 10);
-//! * `quadrature`: [`LimitQuadrature::new`] (4 × 4 Gauss nodes per ptex face, their limit
-//!   stencils);
+//! * `limit_surface`: [`LimitSurface::new`] at the default isolation (level 10), for
+//!   comparison: the rig does not need it;
+//! * `for_cage`: [`LimitQuadrature::for_cage`] (the limit surface refined as deep as the 4 × 4
+//!   Gauss nodes per ptex face need, and their limit stencils);
 //! * `node_weights`: Shepard weights of 4 farthest-point handles at the nodes;
 //! * `rig`: [`SubdivRig::precompute`] (`Â` and `Ŵ_i` assembled, one sparse Cholesky, 16
 //!   solves);
-//! * `precompute`: all four, what `splineskin subdiv bench` reports as `precompute_s`;
+//! * `precompute`: `for_cage`, `node_weights` and `rig`, what `splineskin subdiv bench`
+//!   reports as `precompute_s`;
 //! * `update`: [`SubdivRig::update`] for one pose.
 //!
 //! on OpenSubdiv's `catmark_bishop` refined once (3 767 vertices, 3 740 quads) and
@@ -82,17 +84,22 @@ fn limit_surface(bencher: divan::Bencher, name: &str) {
 }
 
 #[divan::bench(args = NAMES)]
-fn quadrature(bencher: divan::Bencher, name: &str) {
+fn for_cage(bencher: divan::Bencher, name: &str) {
     let Some(cage) = cage(name) else { return };
-    let surface = LimitSurface::new(cage, &LimitOptions::default()).expect("surface");
-    bencher.bench(|| LimitQuadrature::new(&surface, DEFAULT_GAUSS_POINTS).expect("quadrature"));
+    bencher.bench(|| LimitQuadrature::for_cage(cage, DEFAULT_GAUSS_POINTS).expect("quadrature"));
+}
+
+/// The rig's quadrature and its surface.
+fn quadrature(cage: &Cage) -> LimitQuadrature {
+    LimitQuadrature::for_cage(cage, DEFAULT_GAUSS_POINTS)
+        .expect("quadrature")
+        .1
 }
 
 #[divan::bench(args = NAMES)]
 fn node_weights_shepard(bencher: divan::Bencher, name: &str) {
     let Some(cage) = cage(name) else { return };
-    let surface = LimitSurface::new(cage, &LimitOptions::default()).expect("surface");
-    let q = LimitQuadrature::new(&surface, DEFAULT_GAUSS_POINTS).expect("quadrature");
+    let q = quadrature(cage);
     let w = shepard(cage);
     bencher.bench(|| node_weights(&w, cage, &q).expect("weights"));
 }
@@ -100,8 +107,7 @@ fn node_weights_shepard(bencher: divan::Bencher, name: &str) {
 #[divan::bench(args = NAMES)]
 fn rig(bencher: divan::Bencher, name: &str) {
     let Some(cage) = cage(name) else { return };
-    let surface = LimitSurface::new(cage, &LimitOptions::default()).expect("surface");
-    let q = LimitQuadrature::new(&surface, DEFAULT_GAUSS_POINTS).expect("quadrature");
+    let q = quadrature(cage);
     let w = node_weights(&shepard(cage), cage, &q).expect("weights");
     bencher.bench(|| SubdivRig::precompute(cage, &q, &w, N_HANDLES).expect("rig"));
 }
@@ -111,8 +117,7 @@ fn precompute(bencher: divan::Bencher, name: &str) {
     let Some(cage) = cage(name) else { return };
     let field = shepard(cage);
     bencher.bench(|| {
-        let surface = LimitSurface::new(cage, &LimitOptions::default()).expect("surface");
-        let q = LimitQuadrature::new(&surface, DEFAULT_GAUSS_POINTS).expect("quadrature");
+        let q = quadrature(cage);
         let w = node_weights(&field, cage, &q).expect("weights");
         SubdivRig::precompute(cage, &q, &w, N_HANDLES).expect("rig")
     });
@@ -121,8 +126,7 @@ fn precompute(bencher: divan::Bencher, name: &str) {
 #[divan::bench(args = NAMES)]
 fn update(bencher: divan::Bencher, name: &str) {
     let Some(cage) = cage(name) else { return };
-    let surface = LimitSurface::new(cage, &LimitOptions::default()).expect("surface");
-    let q = LimitQuadrature::new(&surface, DEFAULT_GAUSS_POINTS).expect("quadrature");
+    let q = quadrature(cage);
     let w = node_weights(&shepard(cage), cage, &q).expect("weights");
     let rig = SubdivRig::precompute(cage, &q, &w, N_HANDLES).expect("rig");
     let mut pose = [AFFINE3_IDENTITY; N_HANDLES];
