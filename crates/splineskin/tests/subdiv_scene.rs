@@ -157,3 +157,28 @@ fn subdiv_scene_on_the_car() {
         }
     }
 }
+
+/// The bundled example (`assets/subdiv/tube-scene.json`, the README's pictures): it sets up,
+/// and on both poses ours is closer to the skinned surface than naive, in max and RMS.
+#[test]
+fn subdiv_scene_bundled_tube() {
+    let path = std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/subdiv/tube-scene.json"
+    ));
+    let scene = SubdivScene::load(path).unwrap();
+    assert_eq!(scene.poses.len(), 2);
+    let setup = scene.setup().unwrap();
+    assert_eq!((setup.cage.n_vertices(), setup.cage.n_faces()), (72, 66));
+    let samples = splineskin::subdiv::ComparisonSamples::new(&setup, 3).unwrap();
+    for pose in 0..2 {
+        let c = splineskin::subdiv::compare_subdiv(&setup, &samples, &scene.pose(pose).unwrap())
+            .unwrap();
+        assert!(
+            c.ours.summary.max < c.naive.summary.max && c.ours.summary.rms < c.naive.summary.rms,
+            "pose {pose}: {:?} vs {:?}",
+            c.ours.summary,
+            c.naive.summary
+        );
+    }
+}
