@@ -9,7 +9,7 @@
 //! shade           AMBIENT + (1 − AMBIENT)·|n̂·l̂|   (two-sided; l̂ the light, from over the viewer's left shoulder)
 //! ```
 //!
-//! A [`Camera`] is fitted to a set of points so that their bounding sphere fills the image
+//! A [`Camera`] is fitted to a set of points so that their bounding box fills the image
 //! with a margin. Pixels are sampled at their centres; [`Raster::to_rgba`] downsamples a
 //! supersampled raster by box filtering.
 
@@ -19,8 +19,12 @@ use super::cage::Point3;
 /// Share of light every lit surface gets whatever its orientation: 0.35.
 pub const AMBIENT: f64 = 0.35;
 
-/// Fraction of the image the fitted bounding sphere's diameter spans: 0.92.
+/// Fraction of the image the fitted bounding box's extent spans: 0.92.
 pub const FILL: f64 = 0.92;
+
+/// Direction towards the light in camera coordinates (right, up, towards the viewer), before
+/// normalisation: from the upper left, in front (the usual key light of product shots).
+pub const LIGHT: [f64; 3] = [-0.4, 0.6, 0.7];
 
 /// An orthographic camera (module documentation).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -121,8 +125,9 @@ impl Camera {
 
     /// The light direction: from the upper left, in front of the viewer.
     fn light(&self) -> Point3 {
-        let l: Point3 =
-            std::array::from_fn(|k| -0.4 * self.right[k] + 0.6 * self.up[k] + 0.7 * self.back[k]);
+        let l: Point3 = std::array::from_fn(|k| {
+            LIGHT[0] * self.right[k] + LIGHT[1] * self.up[k] + LIGHT[2] * self.back[k]
+        });
         let n = norm(l);
         l.map(|x| x / n)
     }
