@@ -43,7 +43,7 @@ impl Camera {
     /// A camera looking at `points` from azimuth `az` and elevation `el` (radians) about the
     /// up axis `up` (0, 1, 2 for x, y, z; module documentation), fitted to their bounding
     /// box: its centre in the middle of the image, the box's extent along the image axes
-    /// filling [`FILL`] of it.
+    /// filling `FILL` (0.92) of it.
     pub fn fit(points: &[Point3], up: usize, az: f64, el: f64, width: u32, height: u32) -> Camera {
         let axis = |k: usize| {
             let mut e = [0.0; 3];

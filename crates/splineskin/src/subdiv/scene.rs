@@ -23,7 +23,7 @@
 //! | `obj` | the cage, an OBJ file relative to the scene's folder ([`super::obj`]: polygons of any size, `t crease`/`corner`/`hole` tags) |
 //! | `handles` | point handles: `position` = `[x, y, z]` in the OBJ's units. Default: none |
 //! | `bones` | segment handles: `ends` = `[[x, y, z], [x, y, z]]`, distinct. Default: none |
-//! | `weights` | `family`: `shepard` (`exponent`, default 2: inverse distance to points and to bones' segments, [`Shepard3`]), `bone_heat` (`level` of the limit mesh, default automatic; `visibility`, default true: [`BoneHeat`]) or `file` (`path`: a CSV file relative to the scene's folder, one row per cage vertex, one column per handle: [`CageVertexWeights`]). Default: `shepard` |
+//! | `weights` | `family`: `shepard` (`exponent`, default 2: inverse distance to points and to bones' segments, [`Shepard3`]), `bone_heat` (`level` of the limit mesh, default automatic; `visibility`, default true: [`BoneHeat`]) or `file` (`path`: a CSV file relative to the scene's folder, one row per cage vertex, one column per handle: [`CageVertexWeights`](super::CageVertexWeights)). Default: `shepard` |
 //! | `quadrature` | Gauss–Legendre nodes per axis per ptex face, 1 ..= [`MAX_QUADRATURE_POINTS`]. Default: [`DEFAULT_GAUSS_POINTS`] (exact on regular faces) |
 //! | `poses` | a list of `{name?, transforms}`, `transforms` one per handle. Default: none (pose 0 is then the identity) |
 //!

@@ -4,7 +4,7 @@
 //! | family | module | handles | defined |
 //! |---|---|---|---|
 //! | Shepard (inverse distance; to a bone: to its segment) | [`Shepard3`] | points, bones | everywhere in space |
-//! | bone heat (Baran & Popović 2007) | [`BoneHeat`] | points, bones | on the limit surface (a [`LimitMesh`](super::LimitMesh)) |
+//! | bone heat (Baran & Popović 2007) | [`BoneHeat`] | points, bones | on the limit surface (a [`LimitMesh`]) |
 //! | per cage vertex, from a file | [`CageVertexWeights`] | any | on the cage vertices, carried to the surface by the limit stencils |
 //!
 //! Every family implements [`SurfaceWeights`]: weights at a point of the surface (given by its
@@ -19,7 +19,9 @@ mod error;
 mod shepard;
 mod vertex_table;
 
-pub use bone_heat::{BoneHeat, BoneHeatOptions, BONE_HEAT_MAX_LEVEL, BONE_HEAT_MIN_QUADS};
+pub use bone_heat::{
+    BoneHeat, BoneHeatOptions, BONE_HEAT_MAX_LEVEL, BONE_HEAT_MIN_LEVEL, BONE_HEAT_MIN_QUADS,
+};
 pub use error::SurfaceWeightsError;
 pub use shepard::Shepard3;
 pub use vertex_table::{parse_weight_csv, read_weight_csv, CageVertexWeights};
