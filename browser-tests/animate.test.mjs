@@ -6,7 +6,7 @@
 import assert from 'node:assert/strict';
 import { readFileSync, readdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { after, before, test } from 'node:test';
+import { after, before } from 'node:test';
 
 import { launchBrowser, outputFolder, REPO, runSplineskin, serveFolder } from './harness.mjs';
 import { compareImages, decodePng, encodePng, inkFraction } from './png.mjs';
@@ -41,7 +41,6 @@ const CLEARLY_MOVED = 2;
 const VIEWPORT = { width: 600, height: 400 }; // the drawing's width and height
 
 const out = outputFolder('animate');
-let passed = true;
 let browser;
 let server;
 let page; // the animated SVG
@@ -49,16 +48,7 @@ let framePage; // the static frames
 let frameFiles;
 
 /** A test whose failure keeps the outputs folder. */
-function check(name, body) {
-  test(name, async (t) => {
-    try {
-      await body(t);
-    } catch (error) {
-      passed = false;
-      throw error;
-    }
-  });
-}
+const check = (...args) => out.check(...args);
 
 before(async () => {
   try {
@@ -75,7 +65,7 @@ before(async () => {
     framePage = await browser.context.newPage();
     await page.goto(server.url('animated.svg'));
   } catch (error) {
-    passed = false;
+    out.failed();
     throw error;
   }
 });
@@ -83,7 +73,7 @@ before(async () => {
 after(async () => {
   await browser?.close();
   await server?.close();
-  out.finish(passed);
+  out.finish();
 });
 
 /** Pauses the animated document's timeline at `t` seconds and waits for it to be drawn. */

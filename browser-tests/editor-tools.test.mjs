@@ -6,7 +6,7 @@
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { after, before, test } from 'node:test';
+import { after, before } from 'node:test';
 
 import { launchBrowser, outputFolder, startEditor } from './harness.mjs';
 
@@ -17,21 +17,12 @@ const WAIT = 60_000;
 const DRAG_TOLERANCE = 0.03;
 
 const out = outputFolder('editor-tools');
-let passed = true;
 let browser;
 let server;
 let page;
 
-function check(name, body) {
-  test(name, async (t) => {
-    try {
-      await body(t);
-    } catch (error) {
-      passed = false;
-      throw error;
-    }
-  });
-}
+/** A test whose failure keeps the outputs folder. */
+const check = (...args) => out.check(...args);
 
 before(async () => {
   browser = await launchBrowser({ viewport: VIEWPORT });
@@ -46,7 +37,7 @@ before(async () => {
 after(async () => {
   await browser?.close();
   await server?.close();
-  out.finish(passed);
+  out.finish();
 });
 
 const scene = () => page.evaluate(() => structuredClone(window.splineskinEditor.scene));

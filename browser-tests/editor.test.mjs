@@ -9,7 +9,7 @@
 import assert from 'node:assert/strict';
 import { existsSync, readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { after, before, test } from 'node:test';
+import { after, before } from 'node:test';
 
 import { launchBrowser, outputFolder, REPO, splineskinOutput, startEditor } from './harness.mjs';
 
@@ -32,22 +32,12 @@ const MOVED = 1;
 const WAIT = 60_000;
 
 const out = outputFolder('editor');
-let passed = true;
 let browser;
 let server;
 let page;
 
 /** A test whose failure keeps the outputs folder. */
-function check(name, options, body) {
-  test(name, options, async (t) => {
-    try {
-      await body(t);
-    } catch (error) {
-      passed = false;
-      throw error;
-    }
-  });
-}
+const check = (...args) => out.check(...args);
 
 before(async () => {
   browser = await launchBrowser({ viewport: VIEWPORT });
@@ -61,7 +51,7 @@ before(async () => {
 after(async () => {
   await browser?.close();
   await server?.close();
-  out.finish(passed);
+  out.finish();
 });
 
 // ---------------------------------------------------------------------------------------------

@@ -14,6 +14,7 @@ import { readFile } from 'node:fs/promises';
 import { createServer } from 'node:http';
 import { tmpdir } from 'node:os';
 import { dirname, extname, join, resolve, sep } from 'node:path';
+import { test } from 'node:test';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
 
@@ -142,8 +143,11 @@ export function runSplineskin(args, { cwd } = {}) {
 
 /**
  * A folder for one test file's outputs (screenshots, generated files): BROWSER_TESTS_OUT/name
- * if set (kept), else a temporary folder. `finish(passed)` removes the temporary folder when
- * everything passed and otherwise tells where it is.
+ * if set (kept), else a temporary folder, removed by `finish()` when nothing failed and kept
+ * (its path printed) otherwise.
+ *
+ * `check(name, [options], body)` declares a test (node:test) whose failure keeps the folder;
+ * `failed()` marks a failure outside a test (e.g. in `before`).
  */
 export function outputFolder(name) {
   const keep = process.env.BROWSER_TESTS_OUT;
@@ -152,9 +156,26 @@ export function outputFolder(name) {
     rmSync(path, { recursive: true, force: true });
     mkdirSync(path, { recursive: true });
   }
+  let passed = true;
   return {
     path,
-    finish(passed) {
+    failed() {
+      passed = false;
+    },
+    check(testName, options, body) {
+      if (body === undefined) {
+        [options, body] = [{}, options];
+      }
+      test(testName, options, async (t) => {
+        try {
+          await body(t);
+        } catch (error) {
+          passed = false;
+          throw error;
+        }
+      });
+    },
+    finish() {
       if (keep) {
         console.log(`${name}: outputs in ${path}`);
       } else if (passed) {
