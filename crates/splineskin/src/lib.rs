@@ -26,6 +26,7 @@ pub mod metrics;
 pub mod naive;
 pub mod render;
 pub mod scene;
+mod sparse_cholesky;
 pub mod spline_fit;
 pub mod subdiv;
 pub mod weight_map;

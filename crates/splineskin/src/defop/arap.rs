@@ -32,10 +32,10 @@ use kurbo::{Point, Vec2};
 use super::arap_energy::arap_energy_of;
 use super::deformation_gradient::TriangleGradients;
 use super::handles::{bounding_box_diagonal, HandleSet, NOT_FREE};
-use super::sparse_cholesky::CholeskyAnalysis;
 use super::DefOpError;
 use crate::mesh::operators::laplacian_csc;
 use crate::mesh::TriMesh;
+use crate::sparse_cholesky::{CholeskyAnalysis, Ordering};
 
 /// Default [`ArapOptions::max_iterations`]: 10 000 local–global iterations. libigl's
 /// reference solutions converged in 135–610 iterations on meshes of 575 and 1091 vertices
@@ -201,7 +201,7 @@ impl Arap {
             }
             col_ptr.push(row_idx.len());
         }
-        let analysis = CholeskyAnalysis::new(m, col_ptr, row_idx)?;
+        let analysis = CholeskyAnalysis::new(m, col_ptr, row_idx, Ordering::Amd)?;
         let mut factor = vec![0.0; analysis.factor_len()];
         if m > 0 {
             let mut workspace = analysis.workspace(0)?;

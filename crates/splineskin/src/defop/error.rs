@@ -1,6 +1,7 @@
 //! [`DefOpError`]: why a ground-truth deformation could not be set up or solved.
 
 use crate::mesh::MeshError;
+use crate::sparse_cholesky::CholeskyError;
 
 /// Why a point-handle deformation ([`super::Arap`], [`super::SymmetricArap`]) could not be set
 /// up or solved. Every variant names the handle, vertex or triangle at fault.
@@ -106,4 +107,12 @@ pub enum DefOpError {
         /// Stage and faer's error.
         detail: String,
     },
+}
+
+impl From<CholeskyError> for DefOpError {
+    fn from(e: CholeskyError) -> Self {
+        DefOpError::Factorization {
+            detail: e.to_string(),
+        }
+    }
 }

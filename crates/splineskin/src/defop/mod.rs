@@ -49,7 +49,6 @@ mod handles;
 mod orientation;
 mod sarap;
 mod sarap_energy;
-mod sparse_cholesky;
 
 pub use arap::{
     Arap, ArapOptions, ArapReport, DEFAULT_ARAP_MAX_ITERATIONS, DEFAULT_ARAP_STEP_TOLERANCE,

@@ -42,10 +42,10 @@ use super::deformation_gradient::TriangleGradients;
 use super::handles::{bounding_box_diagonal, HandleSet, NOT_FREE};
 use super::orientation::{double_area, max_orientation_preserving_step};
 use super::sarap_energy::{sarap_energy_of, triangle_derivatives};
-use super::sparse_cholesky::CholeskyAnalysis;
 use super::DefOpError;
 use crate::mesh::operators::laplacian_csc;
 use crate::mesh::TriMesh;
+use crate::sparse_cholesky::{CholeskyAnalysis, Ordering};
 
 /// Default [`SarapOptions::max_iterations`]: 1 000 Newton iterations. Solves from the rest
 /// pose take the most: up to 20 on the reference shapes and the benchmark's octopus (rigid
@@ -284,7 +284,7 @@ impl SymmetricArap {
                 col_ptr.push(row_idx.len());
             }
         }
-        let analysis = CholeskyAnalysis::new(2 * m, col_ptr, row_idx)?;
+        let analysis = CholeskyAnalysis::new(2 * m, col_ptr, row_idx, Ordering::Amd)?;
         let mut scatter = Vec::with_capacity(rest.n_triangles());
         for tri in &rest.triangles {
             let mut slots = [NOT_STORED; 36];
@@ -569,7 +569,7 @@ impl SymmetricArap {
                 .factor(&work.values, &mut work.factor, &mut work.memory)
             {
                 Ok(()) => return Ok(()),
-                Err(e) if attempt == MAX_REGULARISATIONS => return Err(e),
+                Err(e) if attempt == MAX_REGULARISATIONS => return Err(e.into()),
                 Err(_) => {
                     let next = if shift == 0.0 {
                         FIRST_REGULARISATION * largest

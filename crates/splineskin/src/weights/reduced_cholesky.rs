@@ -9,8 +9,9 @@
 //! ```
 //!
 //! (libigl's `min_quad_with_fixed` without linear term or equality rows). `Q_ff` is positive
-//! definite when every connected part of the mesh holds a fixed vertex, and is factored by a
-//! sparse Cholesky (faer, supernodal or simplicial as faer chooses, sequential).
+//! definite when every connected part of the mesh holds a fixed vertex, and is factored by the
+//! crate's sparse Cholesky (`crate::sparse_cholesky`: faer, supernodal or simplicial as faer
+//! chooses, sequential) in the order described next.
 //!
 //! **Orderings.** The fill-reducing ordering is computed once, by AMD on the pattern of the
 //! whole `Q` ([`EnergySystem::new`]), and every `Q_ff` is factored in the order it induces on
@@ -22,17 +23,12 @@
 //! pass per iteration, only the (linear-time) symbolic analysis.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::amd;
-use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
-    SymmetricOrdering,
-};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par, Side};
+use faer::sparse::SymbolicSparseColMatRef;
 
 use super::WeightsError;
 use crate::mesh::operators::Csc;
+use crate::sparse_cholesky::{CholeskyAnalysis, CholeskyError, Ordering};
 
 /// Right-hand sides solved together: the workspace is sized for this many columns.
 const SOLVE_BLOCK: usize = 8;
@@ -154,36 +150,15 @@ impl EnergySystem {
             }
             col_ptr.push(row_idx.len());
         }
-        let pattern = SymbolicSparseColMatRef::new_checked(m, m, &col_ptr, None, &row_idx);
-        let symbolic = factorize_symbolic_cholesky(
-            pattern,
-            Side::Upper,
-            SymmetricOrdering::Identity,
-            CholeskySymbolicParams::default(),
-        )
-        .map_err(|e| factorization_error("symbolic analysis", e))?;
-        let mut l_values = vec![0.0; symbolic.len_val()];
-        let scratch = symbolic
-            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
-            .or(symbolic.solve_in_place_scratch::<f64>(SOLVE_BLOCK, Par::Seq));
-        let mut memory =
-            MemBuffer::try_new(scratch).map_err(|e| factorization_error("workspace", e))?;
-        symbolic
-            .factorize_numeric_llt(
-                &mut l_values,
-                SparseColMatRef::new(pattern, &values),
-                Side::Upper,
-                LltRegularization::default(),
-                Par::Seq,
-                MemStack::new(&mut memory),
-                Default::default(),
-            )
-            .map_err(|e| factorization_error("numeric factorisation", e))?;
+        let analysis = CholeskyAnalysis::new(m, col_ptr, row_idx, Ordering::Identity)?;
+        let mut factor = vec![0.0; analysis.factor_len()];
+        let mut memory = analysis.workspace(SOLVE_BLOCK)?;
+        analysis.factor(&values, &mut factor, &mut memory)?;
         Ok(ReducedCholesky {
             vertices,
             position,
-            symbolic,
-            l_values,
+            analysis,
+            factor,
             memory,
         })
     }
@@ -198,14 +173,23 @@ fn factorization_error(stage: &str, e: impl std::fmt::Debug) -> WeightsError {
     }
 }
 
+impl From<CholeskyError> for WeightsError {
+    fn from(e: CholeskyError) -> Self {
+        WeightsError::Factorization {
+            detail: e.to_string(),
+        }
+    }
+}
+
 /// The Cholesky factor of `Q_ff` for one set of free vertices `f`.
 pub(crate) struct ReducedCholesky {
     /// `vertices[r]`: the free vertex of reduced index `r` (in elimination order).
     vertices: Vec<usize>,
     /// Reduced index of each vertex, [`NOT_FREE`] for fixed ones.
     position: Vec<usize>,
-    symbolic: SymbolicCholesky<usize>,
-    l_values: Vec<f64>,
+    analysis: CholeskyAnalysis,
+    /// The Cholesky factor's values.
+    factor: Vec<f64>,
     /// Workspace of the solves.
     memory: MemBuffer,
 }
@@ -235,13 +219,8 @@ impl ReducedCholesky {
                         .sum::<f64>();
                 }
             }
-            let llt = LltRef::new(&self.symbolic, &self.l_values);
-            llt.solve_in_place_with_conj(
-                Conj::No,
-                MatMut::from_column_major_slice_mut(&mut rhs, m, k),
-                Par::Seq,
-                MemStack::new(&mut self.memory),
-            );
+            self.analysis
+                .solve(&self.factor, &mut rhs, &mut self.memory);
             for (j, w) in block.chunks_mut(n).enumerate() {
                 for (r, &v) in self.vertices.iter().enumerate() {
                     w[v] = rhs[j * m + r];
