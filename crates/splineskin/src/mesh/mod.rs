@@ -7,6 +7,7 @@
 //! [`operators`] builds the discrete operators on a mesh: the cotangent Laplacian, the lumped
 //! mass matrices and the polyharmonic energies the weight families minimise.
 
+pub(crate) mod crouzeix_raviart;
 pub mod operators;
 
 use std::collections::HashMap;

@@ -308,6 +308,39 @@ impl Csc {
         }
     }
 
+    /// The square matrix of order `n` whose entry `(row, col)` is the sum of the triplets
+    /// `(row, col, value)` given for it (sorted rows, explicit zeros kept).
+    pub fn from_triplets(n: usize, mut triplets: Vec<(usize, usize, f64)>) -> Csc {
+        triplets.sort_unstable_by_key(|&(row, col, _)| (col, row));
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx: Vec<usize> = Vec::new();
+        let mut values: Vec<f64> = Vec::new();
+        col_ptr.push(0);
+        let mut next = 0;
+        for col in 0..n {
+            let start = row_idx.len();
+            while next < triplets.len() && triplets[next].1 == col {
+                let (row, _, value) = triplets[next];
+                if row_idx.len() > start && row_idx.last() == Some(&row) {
+                    if let Some(last) = values.last_mut() {
+                        *last += value;
+                    }
+                } else {
+                    row_idx.push(row);
+                    values.push(value);
+                }
+                next += 1;
+            }
+            col_ptr.push(row_idx.len());
+        }
+        Csc {
+            n,
+            col_ptr,
+            row_idx,
+            values,
+        }
+    }
+
     /// The matrix as faer's.
     pub fn into_faer(self) -> SparseColMat<usize, f64> {
         csc(self.n, self.col_ptr, self.row_idx, self.values)

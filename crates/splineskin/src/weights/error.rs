@@ -96,6 +96,17 @@ pub enum WeightsError {
         /// The smallest vertex of that part.
         vertex: usize,
     },
+    /// A connected part of the mesh holds fewer than three handles not on one line: an energy
+    /// that is zero on every linear function (the linearly precise biharmonic coordinates)
+    /// does not determine the weights there (a linear function vanishing at the handles can
+    /// be added to any minimiser).
+    #[error("vertex {vertex}: its connected part of the mesh holds {n_handles} handle(s), all on one line (expected at least three handles not on a line)")]
+    CollinearHandles {
+        /// The smallest vertex of that part.
+        vertex: usize,
+        /// Number of handles in that part.
+        n_handles: usize,
+    },
     /// The requested polyharmonic order is not supported.
     #[error("harmonic order {order} is not supported (expected 1 ..= {max})")]
     UnsupportedOrder {

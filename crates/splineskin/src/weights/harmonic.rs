@@ -108,6 +108,14 @@ pub(crate) fn prepare(
             max: MAX_ORDER,
         });
     }
+    check_problem(mesh, data)?;
+    EnergySystem::new(polyharmonic_csc(mesh, k))
+}
+
+/// Checks that the energy minimisation of `data` on `mesh` is well posed for an energy whose
+/// null space is the constants: a valid mesh, the fixed vertices in range, every vertex in a
+/// triangle, and a fixed vertex in every connected part.
+pub(crate) fn check_problem(mesh: &TriMesh, data: &DirichletData) -> Result<(), WeightsError> {
     mesh.check()?;
     let n = mesh.n_vertices();
     data.check_range(n)?;
@@ -125,7 +133,7 @@ pub(crate) fn prepare(
         let vertex = components.iter().position(|&x| x == c).unwrap_or(0);
         return Err(WeightsError::UnconstrainedComponent { vertex });
     }
-    EnergySystem::new(polyharmonic_csc(mesh, k))
+    Ok(())
 }
 
 /// The unbounded minimisers, column-major (`n_columns` contiguous columns of `n_vertices`),

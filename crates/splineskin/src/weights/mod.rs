@@ -12,6 +12,7 @@
 //! | Shepard with bones (distance to the segment) | [`segment_shepard`] | points and bones |
 //! | harmonic (`k = 1`), biharmonic (`k = 2`) | [`mod@harmonic`] | vertices of a mesh (points, or any Dirichlet data) |
 //! | bounded biharmonic (BBW) | [`bbw`] | vertices of a mesh |
+//! | linearly precise biharmonic coordinates (Wang et al. 2015) | [`mod@biharmonic_coordinates`] | vertices of a mesh (at least three, not on a line) |
 //! | mean value coordinates (closed form, whole plane) | [`mvc`] | vertices of a cage polygon |
 //! | harmonic coordinates (`k = 1`, piecewise linear data along the cage) | [`cage`] | vertices of a cage polygon (on a caged [`crate::domain::Domain`]) |
 //!
@@ -19,6 +20,7 @@
 //! [`DirichletData`]; [`crate::domain::MeshWeights`] evaluates them anywhere in the plane.
 
 pub mod bbw;
+pub mod biharmonic_coordinates;
 pub mod cage;
 mod dirichlet;
 mod error;
@@ -30,6 +32,7 @@ pub mod shepard;
 mod vertex_weights;
 
 pub use bbw::{bbw_weights, bounded_biharmonic, bounded_biharmonic_from, BbwOptions};
+pub use biharmonic_coordinates::biharmonic_coordinates;
 pub use cage::{cage_boundary_data, harmonic_coordinates};
 pub use dirichlet::DirichletData;
 pub use error::WeightsError;

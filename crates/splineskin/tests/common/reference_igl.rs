@@ -59,6 +59,7 @@ pub struct Weights {
     pub harmonic_k2: Matrix,
     pub bbw_raw: BbwRaw,
     pub bbw_normalized: Matrix,
+    pub biharmonic_coordinates_wang2015: Matrix,
 }
 
 /// `W`: `n_vertices` rows of one weight per handle.
