@@ -17,15 +17,12 @@ use std::sync::OnceLock;
 
 use kurbo::{Point, Vec2};
 use splineskin::defop::{flipped_triangles, Arap, ArapOptions, SarapOptions, SymmetricArap};
-use splineskin::domain::{Domain, DomainOptions};
-use splineskin::drawing::{read_svg, ImportOptions};
+use splineskin::examples::{octopus_domain, octopus_handles};
 use splineskin::mesh::TriMesh;
 
-/// Arms of the octopus.
-const N_ARMS: usize = 8;
-/// Body radius and arm length (drawing units).
-const BODY: f64 = 1.0;
-const ARM: f64 = 2.2;
+/// Largest triangle of the octopus mesh, as a fraction of its bounding box: 1 991 vertices and
+/// 3 377 triangles ([`octopus_domain`]).
+const OCTOPUS_AREA_FRACTION: f64 = 1.0 / 1800.0;
 /// Radius of the disc each handle's target is drawn from.
 const REACH: f64 = 0.4;
 /// Configurations benchmarked.
@@ -41,44 +38,11 @@ struct Setup {
     sarap_starts: Vec<Vec<Point>>,
 }
 
-/// The outline: eight tapering arms around a round body, counter-clockwise.
-fn outline() -> Vec<Point> {
-    let mut points = Vec::new();
-    for k in 0..N_ARMS {
-        let theta = std::f64::consts::TAU * k as f64 / N_ARMS as f64;
-        let at = |radius: f64, angle: f64| Point::new(radius * angle.cos(), radius * angle.sin());
-        points.push(at(BODY, theta - 0.25));
-        points.push(at(BODY + 0.5 * ARM, theta - 0.1));
-        points.push(at(BODY + ARM, theta - 0.03));
-        points.push(at(BODY + ARM, theta + 0.03));
-        points.push(at(BODY + 0.5 * ARM, theta + 0.1));
-        points.push(at(BODY, theta + 0.25));
-    }
-    points
-}
-
 fn setup() -> &'static Setup {
     static SETUP: OnceLock<Setup> = OnceLock::new();
     SETUP.get_or_init(|| {
-        let outline = outline();
-        let mut d = format!("M{} {}", outline[0].x, outline[0].y);
-        for p in &outline[1..] {
-            d += &format!(" L{} {}", p.x, p.y);
-        }
-        let svg = format!(
-            r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="{d} Z"/></svg>"#
-        );
-        let drawing = read_svg(&svg, &ImportOptions::default()).expect("octopus outline");
-        let mut points = vec![Point::ZERO];
-        for k in 0..N_ARMS {
-            let theta = std::f64::consts::TAU * k as f64 / N_ARMS as f64;
-            let r = BODY + ARM - 0.1;
-            points.push(Point::new(r * theta.cos(), r * theta.sin()));
-        }
-        let options = DomainOptions::default()
-            .with_samples_per_diagonal(120.0)
-            .with_max_area_fraction(1.0 / 1800.0);
-        let domain = Domain::build(&drawing, &points, &[], &options).expect("octopus domain");
+        let points = octopus_handles();
+        let domain = octopus_domain(OCTOPUS_AREA_FRACTION).expect("octopus domain");
         let (mesh, handles) = (domain.mesh, domain.handle_vertices);
         let arap = Arap::new(&mesh, &handles, ArapOptions::default()).expect("ARAP");
         let sarap = SymmetricArap::new(&mesh, &handles, SarapOptions::default()).expect("SARAP");

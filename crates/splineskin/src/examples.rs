@@ -8,6 +8,10 @@
 //!   text label.
 //! * [`tile`]: copies of a drawing on a grid, to make drawings of any size for benchmarks and
 //!   scaling tests.
+//! * [`octopus_outline`], [`octopus_handles`], [`octopus_domain`]: an octopus-like shape of
+//!   ours (a round body and eight tapering arms) with nine point handles, the size of the
+//!   deformation-operator paper's octopus (Poranne & Lipman 2016, Fig. 1), for the
+//!   deformation-operator tests, benchmarks and study.
 
 use kurbo::{Point, Vec2};
 
@@ -139,6 +143,78 @@ pub fn demo_scene() -> crate::scene::Scene {
     let json = DEMO_SCENE.replacen("\"svg\": \"demo.svg\"", &format!("\"svg_text\": {svg}"), 1);
     crate::scene::Scene::from_json(&json, "demo-scene.json (bundled)", None)
         .expect("the bundled scene is valid (tested)")
+}
+
+/// Arms of [`octopus_outline`].
+pub const OCTOPUS_ARMS: usize = 8;
+/// Body radius of [`octopus_outline`] (drawing units).
+pub const OCTOPUS_BODY: f64 = 1.0;
+/// Arm length of [`octopus_outline`], from the body's rim to the tip (drawing units).
+pub const OCTOPUS_ARM: f64 = 2.2;
+
+/// The outline of an octopus-like shape, counter-clockwise: eight arms of length
+/// [`OCTOPUS_ARM`] around a body of radius [`OCTOPUS_BODY`] centred at the origin, each arm
+/// tapering from 0.5 rad wide at the body to 0.06 rad at its tip (48 points).
+pub fn octopus_outline() -> Vec<Point> {
+    let mut points = Vec::with_capacity(6 * OCTOPUS_ARMS);
+    for k in 0..OCTOPUS_ARMS {
+        let theta = std::f64::consts::TAU * k as f64 / OCTOPUS_ARMS as f64;
+        let at = |radius: f64, angle: f64| Point::new(radius * angle.cos(), radius * angle.sin());
+        points.push(at(OCTOPUS_BODY, theta - 0.25));
+        points.push(at(OCTOPUS_BODY + 0.5 * OCTOPUS_ARM, theta - 0.1));
+        points.push(at(OCTOPUS_BODY + OCTOPUS_ARM, theta - 0.03));
+        points.push(at(OCTOPUS_BODY + OCTOPUS_ARM, theta + 0.03));
+        points.push(at(OCTOPUS_BODY + 0.5 * OCTOPUS_ARM, theta + 0.1));
+        points.push(at(OCTOPUS_BODY, theta + 0.25));
+    }
+    points
+}
+
+/// The nine point handles of the octopus: the body's centre, then the eight arm tips (0.1
+/// inside the tip), in the arms' order.
+pub fn octopus_handles() -> Vec<Point> {
+    let mut points = vec![Point::ZERO];
+    for k in 0..OCTOPUS_ARMS {
+        let theta = std::f64::consts::TAU * k as f64 / OCTOPUS_ARMS as f64;
+        let r = OCTOPUS_BODY + OCTOPUS_ARM - 0.1;
+        points.push(Point::new(r * theta.cos(), r * theta.sin()));
+    }
+    points
+}
+
+/// The octopus triangulated with its handles as vertices ([`crate::domain::Domain::build`]
+/// on the outline as one closed SVG polygon path): triangles of at most `max_area_fraction` of the
+/// bounding box's area, boundary samples `1/120` of its diagonal apart. `1.0 / 1800.0` gives
+/// 1 991 vertices and 3 377 triangles (the deformation-operator benchmark's mesh), `1.0 / 300.0`
+/// about 600 triangles (tests).
+///
+/// ```
+/// use splineskin::examples::octopus_domain;
+/// let domain = octopus_domain(1.0 / 300.0)?;
+/// assert_eq!(domain.handle_vertices.len(), 9);
+/// # Ok::<(), splineskin::domain::DomainError>(())
+/// ```
+pub fn octopus_domain(
+    max_area_fraction: f64,
+) -> Result<crate::domain::Domain, crate::domain::DomainError> {
+    use crate::domain::{Domain, DomainOptions};
+    use crate::drawing::{read_svg, ImportOptions};
+    use std::fmt::Write;
+    let outline = octopus_outline();
+    let mut d = format!("M{} {}", outline[0].x, outline[0].y);
+    for p in &outline[1..] {
+        let _ = write!(d, " L{} {}", p.x, p.y);
+    }
+    let svg = format!(r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="{d} Z"/></svg>"#);
+    let drawing = read_svg(&svg, &ImportOptions::default()).map_err(|_| {
+        crate::domain::DomainError::EmptyDomain {
+            reason: "the octopus outline did not parse (a bug)",
+        }
+    })?;
+    let options = DomainOptions::default()
+        .with_samples_per_diagonal(120.0)
+        .with_max_area_fraction(max_area_fraction);
+    Domain::build(&drawing, &octopus_handles(), &[], &options)
 }
 
 #[cfg(test)]

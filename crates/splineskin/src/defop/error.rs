@@ -70,6 +70,14 @@ pub enum DefOpError {
         /// Number of vertices of the mesh.
         n_vertices: usize,
     },
+    /// An output or scratch buffer does not have the length the call needs.
+    #[error("buffer of length {given} (expected {expected})")]
+    BufferLength {
+        /// Its length.
+        given: usize,
+        /// The length needed.
+        expected: usize,
+    },
     /// An initial position is NaN or infinite.
     #[error("vertex {vertex}: initial position ({x}, {y}) is not finite")]
     NonFinitePosition {
@@ -98,6 +106,22 @@ pub enum DefOpError {
         value: String,
         /// What is allowed.
         expected: &'static str,
+    },
+    /// A vertex belongs to no triangle: a spatial basis has no value to give it.
+    #[error("vertex {vertex} belongs to no triangle (a spatial basis needs every vertex in a triangle; remove it from the mesh)")]
+    UnreferencedVertex {
+        /// The vertex.
+        vertex: usize,
+    },
+    /// The linearly precise biharmonic coordinates of a spatial basis could not be computed.
+    #[error("biharmonic coordinates: {0}")]
+    Weights(#[from] crate::weights::WeightsError),
+    /// The Krylov–Schur eigensolver of a Laplacian eigenfunction basis did not converge (or
+    /// could not get its workspace).
+    #[error("Laplacian eigenfunctions: {detail}")]
+    Eigensolver {
+        /// What failed.
+        detail: String,
     },
     /// The sparse Cholesky factorisation failed. The systems factored are positive definite
     /// by construction (every part of the mesh holds a handle, Hessians are projected and

@@ -46,18 +46,22 @@ mod arap_energy;
 mod deformation_gradient;
 mod error;
 mod handles;
+mod laplacian_eigen;
 mod orientation;
 mod sarap;
 mod sarap_energy;
+mod spatial_basis;
 
 pub use arap::{
     Arap, ArapOptions, ArapReport, DEFAULT_ARAP_MAX_ITERATIONS, DEFAULT_ARAP_STEP_TOLERANCE,
 };
 pub use arap_energy::arap_energy;
 pub use error::DefOpError;
+pub use laplacian_eigen::{EigenOperator, SHIFT_FRACTION};
 pub use orientation::flipped_triangles;
 pub use sarap::{
     SarapOptions, SarapReport, SarapStop, SymmetricArap, DEFAULT_SARAP_MAX_ITERATIONS,
     DEFAULT_SARAP_STEP_TOLERANCE,
 };
 pub use sarap_energy::sarap_energy;
+pub use spatial_basis::{SpatialBasis, SpatialBasisKind};
