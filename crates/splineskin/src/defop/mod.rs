@@ -45,6 +45,7 @@ mod arap;
 mod arap_energy;
 mod deformation_gradient;
 mod error;
+mod handle_basis;
 mod handles;
 mod laplacian_eigen;
 mod orientation;
@@ -57,6 +58,7 @@ pub use arap::{
 };
 pub use arap_energy::arap_energy;
 pub use error::DefOpError;
+pub use handle_basis::{HandleBasis, HandleBasisKind};
 pub use laplacian_eigen::{EigenOperator, SHIFT_FRACTION};
 pub use orientation::flipped_triangles;
 pub use sarap::{
