@@ -49,6 +49,7 @@ mod handle_basis;
 mod handles;
 mod laplacian_eigen;
 mod orientation;
+mod sample;
 mod sarap;
 mod sarap_energy;
 mod spatial_basis;
@@ -61,6 +62,7 @@ pub use error::DefOpError;
 pub use handle_basis::{HandleBasis, HandleBasisKind};
 pub use laplacian_eigen::{EigenOperator, SHIFT_FRACTION};
 pub use orientation::flipped_triangles;
+pub use sample::{SampleRegion, Sampler};
 pub use sarap::{
     SarapOptions, SarapReport, SarapStop, SymmetricArap, DEFAULT_SARAP_MAX_ITERATIONS,
     DEFAULT_SARAP_STEP_TOLERANCE,
