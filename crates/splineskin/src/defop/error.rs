@@ -123,6 +123,53 @@ pub enum DefOpError {
         /// What failed.
         detail: String,
     },
+    /// A spatial basis was built on a mesh with another number of vertices.
+    #[error("the spatial basis has {basis_vertices} vertices, the mesh {n_vertices} (expected the basis of this mesh)")]
+    BasisMismatch {
+        /// Vertices of the basis.
+        basis_vertices: usize,
+        /// Vertices of the mesh.
+        n_vertices: usize,
+    },
+    /// No training samples, or not one solution per configuration.
+    #[error("{configurations} configurations and {solutions} solutions (expected at least one sample, one solution per configuration)")]
+    SampleCount {
+        /// Configurations given.
+        configurations: usize,
+        /// Solutions given.
+        solutions: usize,
+    },
+    /// A training sample is unusable.
+    #[error("sample {sample}: {reason}")]
+    BadSample {
+        /// Index of the sample.
+        sample: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The samples are too few or too degenerate for the handle basis.
+    #[error("degenerate samples: {detail}")]
+    DegenerateSamples {
+        /// What is degenerate.
+        detail: String,
+    },
+    /// The spatial basis cannot take arbitrary values at the handles (`Φ(P)` has rank below
+    /// the number of handles), so handle interpolation (the paper's Proposition 2) is out of
+    /// reach: use more functions, or control vertices at the handles.
+    #[error("the spatial basis can interpolate {rank} independent values at the {n_handles} handles (expected all: add functions, or put control vertices at the handles)")]
+    HandlesNotInterpolable {
+        /// Rank of `Φ(P)`.
+        rank: usize,
+        /// Number of handles.
+        n_handles: usize,
+    },
+    /// The spatial basis does not hold the coordinate functions `x` and `y`, so the rest pose
+    /// cannot be reproduced.
+    #[error("the spatial basis reproduces x and y only to {residual:e} (expected the linear functions in the basis)")]
+    NotLinearlyPrecise {
+        /// Largest error of the best approximation of `x` or `y`, drawing units.
+        residual: f64,
+    },
     /// The sparse Cholesky factorisation failed. The systems factored are positive definite
     /// by construction (every part of the mesh holds a handle, Hessians are projected and
     /// regularised), so this is a bug or a mesh so degenerate that rounding dominates.

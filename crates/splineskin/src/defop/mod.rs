@@ -1,8 +1,23 @@
 //! Deformation operators (Poranne & Lipman 2016, *Simple Approximations of Planar Deformation
 //! Operators*; DESIGN.md §4): closed-form approximations of variational point-handle
-//! deformations. This first part is their **ground truth**: the variational deformations
-//! themselves, on a triangle mesh with point handles at vertices and hard positional
-//! constraints.
+//! deformations,
+//!
+//! ```text
+//! D(x, Q) = Σ_i Σ_j C_ij φ_i(x) ψ_j(Q)        spatial basis Φ, handle basis Ψ, Q = handle configuration
+//! ```
+//!
+//! | part | what | items |
+//! |---|---|---|
+//! | ground truth | the variational deformations (below) | [`Arap`], [`SymmetricArap`] |
+//! | spatial bases `Φ` | hats, Laplacian eigenfunctions, linearly precise biharmonic coordinates | [`SpatialBasis`], [`EigenOperator`] |
+//! | handle bases `Ψ` | linear, quadratic, cubic polynomials, thin-plate splines | [`HandleBasis`], [`HandleBasisKind`] |
+//! | samples | configurations in discs, circles, Gaussians, Voronoi cells | [`Sampler`], [`SampleRegion`] |
+//! | fit | constrained least squares through its Kronecker structure | [`DefOp::fit`], [`DefOpOptions`] |
+//! | evaluation | `positions = Dᵀ G ψ(Q)`, allocation-free | [`DefOp`], [`DefOpEvaluator`] |
+//! | error measure | root-mean-square distance over the shape | [`l2_distance`] |
+//!
+//! **Ground truth**: the variational deformations themselves, on a triangle mesh with point
+//! handles at vertices and hard positional constraints.
 //!
 //! | energy | formula (per triangle, times its rest area `A_t`) | solver | module |
 //! |---|---|---|---|
@@ -44,10 +59,13 @@
 mod arap;
 mod arap_energy;
 mod deformation_gradient;
+mod distance;
 mod error;
+mod fit;
 mod handle_basis;
 mod handles;
 mod laplacian_eigen;
+mod operator;
 mod orientation;
 mod sample;
 mod sarap;
@@ -58,9 +76,12 @@ pub use arap::{
     Arap, ArapOptions, ArapReport, DEFAULT_ARAP_MAX_ITERATIONS, DEFAULT_ARAP_STEP_TOLERANCE,
 };
 pub use arap_energy::arap_energy;
+pub use distance::l2_distance;
 pub use error::DefOpError;
+pub use fit::{DefOpOptions, DEFAULT_RANK_TOLERANCE};
 pub use handle_basis::{HandleBasis, HandleBasisKind};
 pub use laplacian_eigen::{EigenOperator, SHIFT_FRACTION};
+pub use operator::{DefOp, DefOpEvaluator};
 pub use orientation::flipped_triangles;
 pub use sample::{SampleRegion, Sampler};
 pub use sarap::{

@@ -9,6 +9,7 @@
 //! | [`cotangent_laplacian`] `L` | `L_ij = ½ (cot α_ij + cot β_ij)` over the edge `ij`'s one or two opposite angles, `L_ii = −Σ_{j≠i} L_ij` | `n_vertices × n_vertices`, symmetric, negative semidefinite |
 //! | [`lumped_mass`] `M` (Voronoi) | Meyer et al. 2003 hybrid Voronoi areas, per corner: see [`MassKind::Voronoi`] | diagonal, `n_vertices` |
 //! | [`lumped_mass`] `M` (barycentric) | a third of each triangle's area to each corner | diagonal, `n_vertices` |
+//! | [`consistent_mass`] `M` | `M_ij = Σ_t ∫_t φ_i φ_j = Σ_t A_t (1 + δ_ij) / 12` over the triangles holding `i` and `j` | `n_vertices × n_vertices`, symmetric positive semidefinite |
 //! | [`polyharmonic_energy`] `Q_k` | `Q_1 = −L`, `Q_k = Q_{k−1} M⁻¹ (−L)` (Voronoi `M`) | `n_vertices × n_vertices`, symmetric positive semidefinite |
 //!
 //! `−L` discretises `∫ ‖∇w‖²` for piecewise linear `w` (`wᵀ(−L)w` is exactly that integral;
@@ -181,6 +182,40 @@ pub fn lumped_mass(mesh: &TriMesh, kind: MassKind) -> Vec<f64> {
         }
     }
     mass
+}
+
+/// The consistent (finite-element) mass matrix of `mesh` (`n_vertices × n_vertices`, full
+/// symmetric storage, sorted rows): `M_ij = ∫ φ_i φ_j` for the hat functions, so `uᵀ M v` is
+/// exactly `∫ u v` for the piecewise linear functions with vertex values `u` and `v`. On a
+/// triangle of area `A` it is `A/6` on the diagonal and `A/12` off it. A vertex in no triangle
+/// gets an empty row and column.
+///
+/// ```
+/// use kurbo::Point;
+/// use splineskin::mesh::{operators::consistent_mass, TriMesh};
+/// let v = vec![Point::new(0., 0.), Point::new(1., 0.), Point::new(0., 1.)];
+/// let m = consistent_mass(&TriMesh::new(v, vec![[0, 1, 2]])?).to_dense();
+/// // ∫ φ_0² = A/6 and ∫ φ_0 φ_1 = A/12 with A = ½.
+/// assert!((m[(0, 0)] - 1.0 / 12.0).abs() < 1e-16 && (m[(0, 1)] - 1.0 / 24.0).abs() < 1e-16);
+/// # Ok::<(), splineskin::mesh::MeshError>(())
+/// ```
+pub fn consistent_mass(mesh: &TriMesh) -> SparseColMat<usize, f64> {
+    consistent_mass_csc(mesh).into_faer()
+}
+
+/// [`consistent_mass`] in our working form.
+pub(crate) fn consistent_mass_csc(mesh: &TriMesh) -> Csc {
+    let mut triplets = Vec::with_capacity(9 * mesh.n_triangles());
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        let area = mesh.signed_area(t);
+        for &i in tri {
+            for &j in tri {
+                let share = if i == j { area / 6.0 } else { area / 12.0 };
+                triplets.push((i, j, share));
+            }
+        }
+    }
+    Csc::from_triplets(mesh.n_vertices(), triplets)
 }
 
 /// The three corners' shares of triangle `p`'s area under [`MassKind::Voronoi`].
@@ -512,6 +547,33 @@ mod tests {
                 assert_eq!(q1[(i, j)], -l[(i, j)]);
             }
         }
+    }
+
+    #[test]
+    fn consistent_mass_integrates_products_of_linear_functions() {
+        // The consistent mass integrates products of piecewise linear functions exactly: over
+        // the grid's [0, 5] × [0, 3.5], ∫ 1 = 17.5, ∫ x = 12.5 · 3.5, ∫ x² = (125/3) · 3.5.
+        let mesh = grid(5);
+        let m = Csc::from_faer(&consistent_mass(&mesh));
+        let n = mesh.n_vertices();
+        let apply = |u: &[f64], v: &[f64]| -> f64 {
+            (0..n)
+                .map(|j| {
+                    let (is, vs) = m.column(j);
+                    is.iter()
+                        .zip(vs)
+                        .map(|(&i, &x)| u[i] * x * v[j])
+                        .sum::<f64>()
+                })
+                .sum()
+        };
+        let one = vec![1.0; n];
+        let x: Vec<f64> = mesh.vertices.iter().map(|p| p.x).collect();
+        assert!((apply(&one, &one) - mesh.total_area()).abs() < ROUNDING);
+        // ∫ x = 12.5 · 3.5 (x ranges over [0, 5], y over [0, 3.5]).
+        assert!((apply(&one, &x) - 12.5 * 3.5).abs() < ROUNDING * 100.0);
+        // ∫ x² = (125 / 3) · 3.5: exact for the linear x on each triangle.
+        assert!((apply(&x, &x) - 125.0 / 3.0 * 3.5).abs() < ROUNDING * 100.0);
     }
 
     #[test]
