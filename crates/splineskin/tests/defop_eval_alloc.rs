@@ -1,0 +1,133 @@
+//! `DefOpEvaluator::eval` and `spatial_coefficients` allocate nothing (STYLE.md: no allocation
+//! per frame), for the hat basis and a reduced one, polynomial and thin-plate handle bases, and
+//! when they reject a configuration or buffer of the wrong size.
+//!
+//! Its own test binary: the counting global allocator applies to the whole binary.
+
+use counting_alloc::{count, CountingAlloc, Counts};
+use kurbo::{Point, Rect, Vec2};
+use splineskin::defop::{
+    Arap, ArapOptions, DefOp, DefOpOptions, EigenOperator, HandleBasisKind, SampleRegion, Sampler,
+    SpatialBasis,
+};
+use splineskin::mesh::TriMesh;
+use std::hint::black_box;
+
+#[global_allocator]
+static ALLOCATOR: CountingAlloc = CountingAlloc;
+
+#[test]
+fn defop_evaluation_allocates_nothing() {
+    // The counter sees an allocation made on purpose (else the test could not fail).
+    let (_, counts) = count(|| black_box(vec![0u8; 16]));
+    assert_eq!(counts.allocations, 1);
+
+    let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 16, 4).unwrap();
+    let handles = [34, 50, 76];
+    let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+    let arap = Arap::new(&mesh, &handles, ArapOptions::default()).unwrap();
+    let mut sampler = Sampler::new(&rest, &[(SampleRegion::Disc { radius: 0.5 }, 1.0)], 5).unwrap();
+    let mut configurations = vec![rest.clone()];
+    configurations.extend(sampler.configurations(20));
+    let solutions: Vec<Vec<Point>> = configurations
+        .iter()
+        .map(|q| {
+            let mut u = mesh.vertices.clone();
+            arap.solve(q, &mut u).unwrap();
+            u
+        })
+        .collect();
+    let bases = [
+        SpatialBasis::hats(&mesh).unwrap(),
+        SpatialBasis::laplacian_eigenfunctions(&mesh, 12, EigenOperator::LinearlyPrecise).unwrap(),
+    ];
+    let q: Vec<Point> = rest.iter().map(|&p| p + Vec2::new(0.2, -0.1)).collect();
+    for spatial in &bases {
+        for kind in [HandleBasisKind::Cubic, HandleBasisKind::ThinPlateSpline] {
+            let options = DefOpOptions::default().with_handle_basis(kind);
+            let op = DefOp::fit(
+                &mesh,
+                &handles,
+                spatial,
+                &configurations,
+                &solutions,
+                &options,
+            )
+            .unwrap();
+            let mut evaluator = op.evaluator();
+            let mut positions = vec![Point::ZERO; mesh.n_vertices()];
+            evaluator.eval(&q, &mut positions).unwrap(); // warm-up
+            positions.fill(Point::new(f64::NAN, f64::NAN));
+            let (result, counts) =
+                count(|| evaluator.eval(black_box(&q), black_box(&mut positions)));
+            result.unwrap();
+            assert_eq!(counts, Counts::default(), "{:?}/{kind:?}", spatial.kind());
+            assert!(positions.iter().all(|p| p.is_finite()));
+            let (result, counts) = count(|| {
+                evaluator
+                    .spatial_coefficients(black_box(&q))
+                    .map(|c| c.len())
+            });
+            assert_eq!(result.unwrap(), 2 * spatial.n_functions());
+            assert_eq!(counts, Counts::default());
+            let (result, counts) =
+                count(|| evaluator.eval(black_box(&q[1..]), black_box(&mut positions)));
+            assert!(result.is_err());
+            assert_eq!(counts, Counts::default(), "rejected configuration");
+            let (result, counts) =
+                count(|| evaluator.eval(black_box(&q), black_box(&mut positions[1..])));
+            assert!(result.is_err());
+            assert_eq!(counts, Counts::default(), "rejected buffer");
+        }
+    }
+}
+
+/// A large operator (3 721 vertices, 9 handles, 400 thin-plate centres: `G` is 7 442 × 419),
+/// where faer's matrix product takes its blocked path, allocates nothing either. Its training
+/// data are made up (any deformation that puts the handles on their targets fits).
+#[test]
+fn defop_evaluation_of_a_large_operator_allocates_nothing() {
+    let mesh = TriMesh::grid(Rect::new(0., 0., 6., 6.), 60, 60).unwrap();
+    let handles: Vec<usize> = (0..9)
+        .map(|k| 61 * (10 + 20 * (k / 3)) + 10 + 20 * (k % 3))
+        .collect();
+    let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+    let mut sampler = Sampler::new(&rest, &[(SampleRegion::Disc { radius: 0.5 }, 1.0)], 8).unwrap();
+    let mut configurations = vec![rest.clone()];
+    configurations.extend(sampler.configurations(399));
+    let solutions: Vec<Vec<Point>> = configurations
+        .iter()
+        .map(|q| {
+            let shift = q[4] - rest[4];
+            let mut u: Vec<Point> = mesh
+                .vertices
+                .iter()
+                .map(|&p| p + shift + Vec2::new((p.y * shift.x).sin(), (p.x * shift.y).cos() - 1.0))
+                .collect();
+            for (&h, &target) in handles.iter().zip(q) {
+                u[h] = target;
+            }
+            u
+        })
+        .collect();
+    let spatial = SpatialBasis::hats(&mesh).unwrap();
+    let op = DefOp::fit(
+        &mesh,
+        &handles,
+        &spatial,
+        &configurations,
+        &solutions,
+        &DefOpOptions::default(),
+    )
+    .unwrap();
+    let mut evaluator = op.evaluator();
+    let mut positions = vec![Point::ZERO; mesh.n_vertices()];
+    let q: Vec<Point> = rest.iter().map(|&p| p + Vec2::new(0.2, -0.1)).collect();
+    evaluator.eval(&q, &mut positions).unwrap(); // warm-up
+    let (result, counts) = count(|| evaluator.eval(black_box(&q), black_box(&mut positions)));
+    result.unwrap();
+    assert_eq!(counts, Counts::default());
+    for (&h, &target) in handles.iter().zip(&q) {
+        assert!((positions[h] - target).hypot() < 1e-9);
+    }
+}
