@@ -48,6 +48,18 @@ pub const DEFAULT_ARAP_MAX_ITERATIONS: usize = 10_000;
 /// sits within about `1e-12` of its fixed point (it contracts by about 0.95 per iteration).
 pub const DEFAULT_ARAP_STEP_TOLERANCE: f64 = 2.5e-14;
 
+/// [`ArapOptions::anderson_depth`] used for training deformation operators: Anderson
+/// acceleration over the last 5 iterates. Measured, iterations to the default tolerance from
+/// the rest pose: 45–80 instead of 135–610 on the ten reference-igl cases, and 102–501 instead
+/// of 798–3 686 on ten configurations of the benchmark octopus (1 991 vertices, 9 handles),
+/// about 7 times fewer at a slightly higher cost per iteration; depths 3 and 10 gave within
+/// 10 % of depth 5.
+pub const TRAINING_ANDERSON_DEPTH: usize = 5;
+
+/// Relative ridge added to the Anderson least-squares normal equations' diagonal, so nearly
+/// dependent residual differences do not blow the mixing coefficients up (dimensionless).
+const ANDERSON_RIDGE: f64 = 1e-10;
+
 /// Options of [`Arap`].
 ///
 /// ```
@@ -64,6 +76,13 @@ pub struct ArapOptions {
     /// mesh's bounding-box diagonal (dimensionless; `0` runs exactly `max_iterations`).
     /// Default: [`DEFAULT_ARAP_STEP_TOLERANCE`].
     pub step_tolerance: f64,
+    /// Anderson acceleration of the local–global map over this many previous iterates (Walker
+    /// & Ni 2011), with Peng et al.'s 2018 energy safeguard; `0` runs the plain iteration,
+    /// libigl's. Both stop on the same test (one plain local–global step from the iterate
+    /// moves nothing more than the tolerance) and return that step's result, so they end at
+    /// the same fixed point to the tolerance. Default: `0`; training uses
+    /// [`TRAINING_ANDERSON_DEPTH`].
+    pub anderson_depth: usize,
 }
 
 impl Default for ArapOptions {
@@ -71,6 +90,7 @@ impl Default for ArapOptions {
         ArapOptions {
             max_iterations: DEFAULT_ARAP_MAX_ITERATIONS,
             step_tolerance: DEFAULT_ARAP_STEP_TOLERANCE,
+            anderson_depth: 0,
         }
     }
 }
@@ -84,6 +104,11 @@ impl ArapOptions {
     /// Sets [`ArapOptions::step_tolerance`].
     pub fn with_step_tolerance(mut self, tolerance: f64) -> Self {
         self.step_tolerance = tolerance;
+        self
+    }
+    /// Sets [`ArapOptions::anderson_depth`].
+    pub fn with_anderson_depth(mut self, depth: usize) -> Self {
+        self.anderson_depth = depth;
         self
     }
 
@@ -248,6 +273,9 @@ impl Arap {
         positions: &mut [Point],
     ) -> Result<ArapReport, DefOpError> {
         self.handles.check_inputs(targets, positions)?;
+        if self.options.anderson_depth > 0 {
+            return self.solve_anderson(targets, positions);
+        }
         let m = self.handles.n_free();
         let mut rhs = vec![0.0; 2 * m];
         let mut workspace = self.analysis.workspace(2)?;
@@ -283,12 +311,16 @@ impl Arap {
     }
 
     /// The global step's right-hand side `b_f + L_fc q` (x column then y column) for the
-    /// rotations closest to the current `J_t` (the local step).
-    fn global_right_hand_side(&self, u: &[Point], targets: &[Point], rhs: &mut [f64]) {
+    /// rotations closest to the current `J_t` (the local step). Returns `E_ARAP(u)`, which
+    /// those rotations attain.
+    fn global_right_hand_side(&self, u: &[Point], targets: &[Point], rhs: &mut [f64]) -> f64 {
         let m = self.handles.n_free();
         rhs.fill(0.0);
+        let mut energy = 0.0;
         for t in 0..self.rest.n_triangles() {
-            let (cos, sin) = self.rest.jacobian(t, u).split().closest_rotation();
+            let split = self.rest.jacobian(t, u).split();
+            energy += self.rest.area[t] * split.arap_density();
+            let (cos, sin) = split.closest_rotation();
             let tri = self.rest.triangles[t];
             for k in 0..3 {
                 let r = self.handles.free_index[tri[k]];
@@ -303,7 +335,182 @@ impl Arap {
             rhs[r] -= x * targets[l].x;
             rhs[m + r] -= x * targets[l].y;
         }
+        energy
     }
+
+    /// [`Arap::solve`] with Anderson acceleration (type II, Walker & Ni 2011) of the fixed
+    /// point map `g` = local step then global step, on the free coordinates `x`:
+    ///
+    /// ```text
+    /// f_k = g(x_k) − x_k;   γ = argmin ‖f_k − ΔF γ‖   (ΔF, ΔG: the last differences of f, g)
+    /// x_{k+1} = g(x_k) − ΔG γ
+    /// ```
+    ///
+    /// Safeguard (Peng, Deng, Zhang & Zhang 2018, *Anderson acceleration for geometry
+    /// optimization and physics simulation*, §4): an accelerated iterate whose energy exceeds
+    /// the previous iterate's is replaced by the plain step `g(x_k)` (which never raises it)
+    /// and the history is cleared, so the energy decreases monotonically as in the plain
+    /// iteration. Stop when `max |f_k| ≤ tolerance`, returning `g(x_k)`.
+    fn solve_anderson(
+        &self,
+        targets: &[Point],
+        positions: &mut [Point],
+    ) -> Result<ArapReport, DefOpError> {
+        let m = self.handles.n_free();
+        let dim = 2 * m;
+        let depth = self.options.anderson_depth;
+        let mut workspace = self.analysis.workspace(2)?;
+        let tolerance = self.options.step_tolerance * self.diagonal;
+        let mut report = ArapReport {
+            iterations: 0,
+            converged: false,
+            last_step: f64::INFINITY,
+            energy: f64::NAN,
+        };
+        let mut handle_step: f64 = 0.0;
+        for (&v, &q) in self.handles.vertices.iter().zip(targets) {
+            handle_step = handle_step.max(max_coordinate_change(positions[v], q));
+            positions[v] = q;
+        }
+        let free = &self.handles.free;
+        let write = |x: &[f64], positions: &mut [Point]| {
+            for (r, &v) in free.iter().enumerate() {
+                positions[v] = Point::new(x[r], x[m + r]);
+            }
+        };
+        let mut x: Vec<f64> = free.iter().map(|&v| positions[v].x).collect();
+        x.extend(free.iter().map(|&v| positions[v].y));
+        let mut g = vec![0.0; dim];
+        let mut f = vec![0.0; dim];
+        // The previous f and g, and the differences (ring buffers of `depth` vectors).
+        let mut previous: Option<(Vec<f64>, Vec<f64>)> = None;
+        let mut delta_f: Vec<Vec<f64>> = Vec::with_capacity(depth);
+        let mut delta_g: Vec<Vec<f64>> = Vec::with_capacity(depth);
+        let mut oldest = 0;
+        // The plain step of the last accepted iterate, to fall back on.
+        let mut fallback: Option<Vec<f64>> = None;
+        let mut accepted_energy = f64::INFINITY;
+        let mut gram = vec![0.0; depth * depth];
+        let mut gamma = vec![0.0; depth];
+        for iteration in 1..=self.options.max_iterations {
+            write(&x, positions);
+            let mut energy = self.global_right_hand_side(positions, targets, &mut g);
+            if let Some(plain) = fallback.take() {
+                if energy > accepted_energy {
+                    x.copy_from_slice(&plain);
+                    write(&x, positions);
+                    delta_f.clear();
+                    delta_g.clear();
+                    oldest = 0;
+                    previous = None;
+                    energy = self.global_right_hand_side(positions, targets, &mut g);
+                }
+            }
+            accepted_energy = energy;
+            self.analysis.solve(&self.factor, &mut g, &mut workspace);
+            let mut step = if iteration == 1 { handle_step } else { 0.0 };
+            for ((fi, gi), xi) in f.iter_mut().zip(&g).zip(&x) {
+                *fi = gi - xi;
+                step = step.max(fi.abs());
+            }
+            report.iterations = iteration;
+            report.last_step = step;
+            if step <= tolerance || iteration == self.options.max_iterations {
+                write(&g, positions);
+                report.converged = step <= tolerance;
+                break;
+            }
+            if let Some((pf, pg)) = previous.as_mut() {
+                let df: Vec<f64> = f.iter().zip(pf.iter()).map(|(a, b)| a - b).collect();
+                let dg: Vec<f64> = g.iter().zip(pg.iter()).map(|(a, b)| a - b).collect();
+                if delta_f.len() < depth {
+                    delta_f.push(df);
+                    delta_g.push(dg);
+                } else {
+                    delta_f[oldest] = df;
+                    delta_g[oldest] = dg;
+                    oldest = (oldest + 1) % depth;
+                }
+                pf.copy_from_slice(&f);
+                pg.copy_from_slice(&g);
+            } else {
+                previous = Some((f.clone(), g.clone()));
+            }
+            let k = delta_f.len();
+            let mixed = k > 0 && anderson_coefficients(&delta_f, &f, &mut gram, &mut gamma);
+            if mixed {
+                fallback = Some(g.clone());
+                x.copy_from_slice(&g);
+                for (j, dg) in delta_g.iter().enumerate() {
+                    x.iter_mut().zip(dg).for_each(|(xi, d)| *xi -= gamma[j] * d);
+                }
+            } else {
+                x.copy_from_slice(&g);
+            }
+        }
+        report.energy = arap_energy_of(&self.rest, positions);
+        Ok(report)
+    }
+}
+
+/// Solves the Anderson least squares `min ‖f − ΔF γ‖` by its normal equations
+/// `(ΔFᵀΔF + ridge) γ = ΔFᵀ f` (Cholesky of the `k × k` Gram matrix, `k = delta_f.len()`),
+/// writing `γ` into `gamma[..k]`. Returns `false` if the system is not positive definite.
+fn anderson_coefficients(
+    delta_f: &[Vec<f64>],
+    f: &[f64],
+    gram: &mut [f64],
+    gamma: &mut [f64],
+) -> bool {
+    let k = delta_f.len();
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    for i in 0..k {
+        for j in 0..=i {
+            gram[i * k + j] = dot(&delta_f[i], &delta_f[j]);
+        }
+        gamma[i] = dot(&delta_f[i], f);
+    }
+    let largest = (0..k).map(|i| gram[i * k + i]).fold(0.0, f64::max);
+    if !(largest > 0.0 && largest.is_finite()) {
+        return false;
+    }
+    for i in 0..k {
+        gram[i * k + i] += ANDERSON_RIDGE * largest;
+    }
+    // In-place Cholesky of the lower triangle, then the two triangular solves.
+    for j in 0..k {
+        let mut d = gram[j * k + j];
+        for p in 0..j {
+            d -= gram[j * k + p] * gram[j * k + p];
+        }
+        if d.is_nan() || d <= 0.0 {
+            return false;
+        }
+        let d = d.sqrt();
+        gram[j * k + j] = d;
+        for i in j + 1..k {
+            let mut v = gram[i * k + j];
+            for p in 0..j {
+                v -= gram[i * k + p] * gram[j * k + p];
+            }
+            gram[i * k + j] = v / d;
+        }
+    }
+    for i in 0..k {
+        let mut v = gamma[i];
+        for p in 0..i {
+            v -= gram[i * k + p] * gamma[p];
+        }
+        gamma[i] = v / gram[i * k + i];
+    }
+    for i in (0..k).rev() {
+        let mut v = gamma[i];
+        for p in i + 1..k {
+            v -= gram[p * k + i] * gamma[p];
+        }
+        gamma[i] = v / gram[i * k + i];
+    }
+    true
 }
 
 /// `max(|Δx|, |Δy|)` between two points.

@@ -74,6 +74,7 @@ mod spatial_basis;
 
 pub use arap::{
     Arap, ArapOptions, ArapReport, DEFAULT_ARAP_MAX_ITERATIONS, DEFAULT_ARAP_STEP_TOLERANCE,
+    TRAINING_ANDERSON_DEPTH,
 };
 pub use arap_energy::arap_energy;
 pub use distance::l2_distance;
