@@ -14,6 +14,7 @@
 //! | samples | configurations in discs, circles, Gaussians, Voronoi cells | [`Sampler`], [`SampleRegion`] |
 //! | fit | constrained least squares through its Kronecker structure | [`DefOp::fit`], [`DefOpOptions`] |
 //! | evaluation | `positions = Dᵀ G ψ(Q)`, allocation-free | [`DefOp`], [`DefOpEvaluator`] |
+//! | training | sampling, ground truth (parallel), bootstrapping, fit | [`train`], [`TrainOptions`] |
 //! | error measure | root-mean-square distance over the shape | [`l2_distance`] |
 //!
 //! **Ground truth**: the variational deformations themselves, on a triangle mesh with point
@@ -71,6 +72,7 @@ mod sample;
 mod sarap;
 mod sarap_energy;
 mod spatial_basis;
+mod train;
 
 pub use arap::{
     Arap, ArapOptions, ArapReport, DEFAULT_ARAP_MAX_ITERATIONS, DEFAULT_ARAP_STEP_TOLERANCE,
@@ -91,3 +93,7 @@ pub use sarap::{
 };
 pub use sarap_energy::sarap_energy;
 pub use spatial_basis::{SpatialBasis, SpatialBasisKind};
+pub use train::{
+    train, Energy, Progress, StageReport, TrainOptions, Training, WarmStart, DEFAULT_DISC_FRACTION,
+    DEFAULT_GROWTH, DEFAULT_TRAINING_SAMPLES,
+};

@@ -1,0 +1,467 @@
+//! [`train`]: sampling, ground truth and fitting in one call, with the paper's bootstrapping
+//! (Poranne & Lipman 2016, §3.3; DESIGN.md §4).
+//!
+//! ```text
+//! stage 0:  2n + 1 samples, ground truth from the rest pose        → fit a linear operator
+//! stage s:  growth × as many samples (the new ones only), ground truth started from the
+//!           current operator's prediction                         → refit (all samples)
+//! last:     the requested number                                   → fit the requested basis
+//! ```
+//!
+//! The rest configuration is always sample 0, with the rest mesh as its ground truth (both
+//! energies are zero there), so a thin-plate operator reproduces every sample
+//! ([`DefOp::fit`]). Intermediate fits use the requested handle basis once there are at least
+//! as many samples as it has functions (thin-plate splines: always), the linear one before.
+//!
+//! **Starts.** ARAP (local–global with [`TRAINING_ANDERSON_DEPTH`] Anderson acceleration)
+//! starts from the prediction as it is; symmetric ARAP needs a flip-free start, so a
+//! prediction that flips a triangle is replaced by the rest pose (counted in the report), and
+//! a solve that fails from the prediction is retried from the rest pose. Both energies have
+//! several local minima: a start decides which one a sample gets. [`WarmStart::Rest`] starts
+//! every sample from the rest pose (the deterministic ground truth, at the price of the
+//! iterations warm starts save).
+//!
+//! **Parallelism** is an argument ([`TrainOptions::parallel`]): the samples of a stage are
+//! solved on rayon's pool (each solver is shared: `solve` takes `&self`). Configurations are
+//! drawn up front from one seeded [`Sampler`], so the samples do not depend on it; the
+//! solutions do not either, up to the order of floating-point sums, which is the same.
+//! Progress is reported through a callback (the library never prints): the CLI draws a bar.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use kurbo::Point;
+use rayon::prelude::*;
+
+use super::handles::bounding_box_diagonal;
+use super::{
+    flipped_triangles, Arap, ArapOptions, DefOp, DefOpError, DefOpOptions, HandleBasisKind,
+    SampleRegion, Sampler, SarapOptions, SpatialBasis, SymmetricArap, TRAINING_ANDERSON_DEPTH,
+};
+use crate::mesh::TriMesh;
+
+/// Default [`TrainOptions::n_samples`]: 1 000, the paper's octopus (Fig. 1).
+pub const DEFAULT_TRAINING_SAMPLES: usize = 1000;
+
+/// Default disc radius of the samples when [`TrainOptions::regions`] is empty, as a fraction
+/// of the mesh's bounding-box diagonal: 0.05 (0.4 drawing units on the 8.3-wide octopus,
+/// where its arms are 2.2 long).
+pub const DEFAULT_DISC_FRACTION: f64 = 0.05;
+
+/// Default [`TrainOptions::growth`]: each bootstrapping stage has 4 times the samples of the
+/// previous one (19, 76, 304, 1 000 for nine handles).
+pub const DEFAULT_GROWTH: usize = 4;
+
+/// The variational deformation a training samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Energy {
+    /// As-rigid-as-possible, Eq. (10) ([`Arap`]).
+    Arap,
+    /// Symmetric ARAP, Eq. (11) ([`SymmetricArap`]).
+    SymmetricArap,
+}
+
+/// Where the ground-truth solves of later stages start.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum WarmStart {
+    /// From the current operator's prediction (the paper's bootstrapping).
+    Bootstrap,
+    /// From the rest pose, every sample.
+    Rest,
+}
+
+/// Options of [`train`].
+///
+/// ```
+/// use splineskin::defop::{Energy, TrainOptions};
+/// let options = TrainOptions::default().with_energy(Energy::Arap).with_n_samples(200);
+/// assert_eq!((options.energy, options.n_samples), (Energy::Arap, 200));
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct TrainOptions {
+    /// The ground truth. Default: [`Energy::SymmetricArap`] (the paper's main choice: no
+    /// flips, no cusps).
+    pub energy: Energy,
+    /// Samples besides the rest configuration. Default: [`DEFAULT_TRAINING_SAMPLES`].
+    pub n_samples: usize,
+    /// Where configurations are drawn ([`Sampler`]); empty means one disc of
+    /// [`DEFAULT_DISC_FRACTION`] of the bounding-box diagonal. Default: empty.
+    pub regions: Vec<(SampleRegion, f64)>,
+    /// Seed of the sampler. Default: 1.
+    pub seed: u64,
+    /// The fit, its handle basis included. Default: [`DefOpOptions::default`] (thin-plate
+    /// splines).
+    pub fit: DefOpOptions,
+    /// Starts of the ground-truth solves. Default: [`WarmStart::Bootstrap`].
+    pub warm_start: WarmStart,
+    /// Factor between the sample counts of successive stages (≥ 2). Default:
+    /// [`DEFAULT_GROWTH`].
+    pub growth: usize,
+    /// ARAP solver options. Default: [`ArapOptions::default`] with
+    /// [`TRAINING_ANDERSON_DEPTH`].
+    pub arap: ArapOptions,
+    /// Symmetric ARAP solver options. Default: [`SarapOptions::default`].
+    pub sarap: SarapOptions,
+    /// Solve a stage's samples on rayon's thread pool. Default: `false` (STYLE.md:
+    /// sequential unless asked).
+    pub parallel: bool,
+}
+
+impl Default for TrainOptions {
+    fn default() -> Self {
+        TrainOptions {
+            energy: Energy::SymmetricArap,
+            n_samples: DEFAULT_TRAINING_SAMPLES,
+            regions: Vec::new(),
+            seed: 1,
+            fit: DefOpOptions::default(),
+            warm_start: WarmStart::Bootstrap,
+            growth: DEFAULT_GROWTH,
+            arap: ArapOptions::default().with_anderson_depth(TRAINING_ANDERSON_DEPTH),
+            sarap: SarapOptions::default(),
+            parallel: false,
+        }
+    }
+}
+
+impl TrainOptions {
+    /// Sets [`TrainOptions::energy`].
+    pub fn with_energy(mut self, energy: Energy) -> Self {
+        self.energy = energy;
+        self
+    }
+    /// Sets [`TrainOptions::n_samples`].
+    pub fn with_n_samples(mut self, n: usize) -> Self {
+        self.n_samples = n;
+        self
+    }
+    /// Sets [`TrainOptions::regions`].
+    pub fn with_regions(mut self, regions: Vec<(SampleRegion, f64)>) -> Self {
+        self.regions = regions;
+        self
+    }
+    /// Sets [`TrainOptions::seed`].
+    pub fn with_seed(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
+    }
+    /// Sets [`TrainOptions::fit`].
+    pub fn with_fit(mut self, fit: DefOpOptions) -> Self {
+        self.fit = fit;
+        self
+    }
+    /// Sets the fit's handle basis ([`DefOpOptions::handle_basis`]).
+    pub fn with_handle_basis(mut self, kind: HandleBasisKind) -> Self {
+        self.fit.handle_basis = kind;
+        self
+    }
+    /// Sets [`TrainOptions::warm_start`].
+    pub fn with_warm_start(mut self, start: WarmStart) -> Self {
+        self.warm_start = start;
+        self
+    }
+    /// Sets [`TrainOptions::growth`].
+    pub fn with_growth(mut self, growth: usize) -> Self {
+        self.growth = growth;
+        self
+    }
+    /// Sets [`TrainOptions::arap`].
+    pub fn with_arap(mut self, arap: ArapOptions) -> Self {
+        self.arap = arap;
+        self
+    }
+    /// Sets [`TrainOptions::sarap`].
+    pub fn with_sarap(mut self, sarap: SarapOptions) -> Self {
+        self.sarap = sarap;
+        self
+    }
+    /// Sets [`TrainOptions::parallel`].
+    pub fn with_parallel(mut self, parallel: bool) -> Self {
+        self.parallel = parallel;
+        self
+    }
+}
+
+/// Where a training is, for a progress display.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct Progress {
+    /// Current stage, from 0.
+    pub stage: usize,
+    /// Number of stages.
+    pub n_stages: usize,
+    /// Ground-truth solves finished so far, all stages.
+    pub solved: usize,
+    /// Ground-truth solves in all.
+    pub to_solve: usize,
+}
+
+/// What one bootstrapping stage did.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct StageReport {
+    /// Samples solved in this stage.
+    pub n_new: usize,
+    /// Samples fitted after it, rest configuration included.
+    pub n_fitted: usize,
+    /// The handle basis fitted after it.
+    pub handle_basis: HandleBasisKind,
+    /// Solver iterations (local–global or Newton) of its samples: smallest, mean, largest.
+    pub iterations: (usize, f64, usize),
+    /// Symmetric ARAP samples started from the rest pose because the prediction flipped a
+    /// triangle or the solve from it failed.
+    pub rest_starts: usize,
+    /// Samples whose solver stopped at its iteration cap (ARAP; kept, the report says).
+    pub not_converged: usize,
+    /// Wall time of the ground-truth solves, seconds.
+    pub solve_seconds: f64,
+    /// Wall time of the fit, seconds.
+    pub fit_seconds: f64,
+}
+
+/// A trained operator with its data.
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub struct Training {
+    /// The fitted operator.
+    pub op: DefOp,
+    /// The configurations, rest first.
+    pub configurations: Vec<Vec<Point>>,
+    /// Their ground truths.
+    pub solutions: Vec<Vec<Point>>,
+    /// One report per stage.
+    pub stages: Vec<StageReport>,
+}
+
+/// The ground-truth solver of a training.
+enum Solver {
+    Arap(Arap),
+    Sarap(SymmetricArap),
+}
+
+/// One sample's solve: its solution, iterations, whether it started from rest after a
+/// prediction was refused, whether it converged.
+struct Solved {
+    solution: Vec<Point>,
+    iterations: usize,
+    rest_start: bool,
+    converged: bool,
+}
+
+/// Trains a deformation operator on `mesh` with handles at `handles` and spatial basis
+/// `spatial`: draws the configurations, solves the ground truth in bootstrapping stages and
+/// fits (module documentation). `progress` is called after every solve (from the solving
+/// thread).
+///
+/// Errors: anything [`DefOp::fit`] or the solvers refuse, a bad option, or a symmetric ARAP
+/// sample that converges neither from the prediction nor from the rest pose.
+///
+/// ```
+/// use kurbo::Rect;
+/// use splineskin::defop::{train, SpatialBasis, TrainOptions};
+/// use splineskin::mesh::TriMesh;
+/// let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 16, 4)?;
+/// let handles = [34, 50, 76];
+/// let spatial = SpatialBasis::hats(&mesh)?;
+/// let training = train(&mesh, &handles, &spatial, &TrainOptions::default().with_n_samples(30), &|_| {})?;
+/// assert_eq!(training.configurations.len(), 31); // the rest configuration first
+/// assert_eq!(training.stages.iter().map(|s| s.n_fitted).collect::<Vec<_>>(), vec![8, 29, 31]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn train(
+    mesh: &TriMesh,
+    handles: &[usize],
+    spatial: &SpatialBasis,
+    options: &TrainOptions,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Training, DefOpError> {
+    if options.growth < 2 {
+        return Err(DefOpError::InvalidOption {
+            name: "growth",
+            value: options.growth.to_string(),
+            expected: "at least 2",
+        });
+    }
+    if options.n_samples == 0 {
+        return Err(DefOpError::InvalidOption {
+            name: "n_samples",
+            value: "0".into(),
+            expected: "at least 1",
+        });
+    }
+    let solver = match options.energy {
+        Energy::Arap => Solver::Arap(Arap::new(mesh, handles, options.arap)?),
+        Energy::SymmetricArap => Solver::Sarap(SymmetricArap::new(mesh, handles, options.sarap)?),
+    };
+    let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+    let regions = if options.regions.is_empty() {
+        vec![(
+            SampleRegion::Disc {
+                radius: DEFAULT_DISC_FRACTION * bounding_box_diagonal(mesh),
+            },
+            1.0,
+        )]
+    } else {
+        options.regions.clone()
+    };
+    let mut sampler = Sampler::new(&rest, &regions, options.seed)?;
+    let mut configurations = vec![rest.clone()];
+    configurations.extend(sampler.configurations(options.n_samples));
+    let mut solutions = vec![mesh.vertices.clone()];
+    // Stage ends, in samples besides the rest configuration.
+    let mut ends = vec![(2 * handles.len() + 1).min(options.n_samples)];
+    while let Some(&last) = ends.last() {
+        if last >= options.n_samples {
+            break;
+        }
+        ends.push((last * options.growth).min(options.n_samples));
+    }
+    let n_stages = ends.len();
+    let solved = AtomicUsize::new(0);
+    let mut op: Option<DefOp> = None;
+    let mut stages = Vec::with_capacity(n_stages);
+    let mut start = 0;
+    for (stage, &end) in ends.iter().enumerate() {
+        let clock = Instant::now();
+        let predictor = match options.warm_start {
+            WarmStart::Bootstrap => op.as_ref(),
+            WarmStart::Rest => None,
+        };
+        let solve_one = |k: usize| -> Result<Solved, DefOpError> {
+            let result = solve_sample(mesh, handles, &solver, predictor, k, &configurations[k]);
+            let done = solved.fetch_add(1, Ordering::Relaxed) + 1;
+            progress(Progress {
+                stage,
+                n_stages,
+                solved: done,
+                to_solve: options.n_samples,
+            });
+            result
+        };
+        let batch = 1 + start..1 + end;
+        let results: Vec<Solved> = if options.parallel {
+            batch
+                .into_par_iter()
+                .map(solve_one)
+                .collect::<Result<_, _>>()?
+        } else {
+            batch.map(solve_one).collect::<Result<_, _>>()?
+        };
+        let solve_seconds = clock.elapsed().as_secs_f64();
+        let iterations: Vec<usize> = results.iter().map(|s| s.iterations).collect();
+        let rest_starts = results.iter().filter(|s| s.rest_start).count();
+        let not_converged = results.iter().filter(|s| !s.converged).count();
+        solutions.extend(results.into_iter().map(|s| s.solution));
+        let last = stage + 1 == n_stages;
+        let wanted = options.fit.handle_basis;
+        let handle_basis = if last
+            || wanted == HandleBasisKind::ThinPlateSpline
+            || wanted.n_functions(handles.len(), 0) <= end + 1
+        {
+            wanted
+        } else {
+            HandleBasisKind::Linear
+        };
+        let clock = Instant::now();
+        let fitted = DefOp::fit(
+            mesh,
+            handles,
+            spatial,
+            &configurations[..=end],
+            &solutions,
+            &options.fit.with_handle_basis(handle_basis),
+        )?;
+        let fit_seconds = clock.elapsed().as_secs_f64();
+        let n_new = end - start;
+        stages.push(StageReport {
+            n_new,
+            n_fitted: end + 1,
+            handle_basis,
+            iterations: (
+                iterations.iter().copied().min().unwrap_or(0),
+                iterations.iter().sum::<usize>() as f64 / n_new.max(1) as f64,
+                iterations.iter().copied().max().unwrap_or(0),
+            ),
+            rest_starts,
+            not_converged,
+            solve_seconds,
+            fit_seconds,
+        });
+        tracing::debug!(stage, ?stages, "training stage done");
+        op = Some(fitted);
+        start = end;
+    }
+    let op = op.ok_or(DefOpError::InvalidOption {
+        name: "n_samples",
+        value: options.n_samples.to_string(),
+        expected: "at least 1",
+    })?;
+    Ok(Training {
+        op,
+        configurations,
+        solutions,
+        stages,
+    })
+}
+
+/// The ground truth at `q` (sample `sample`), started from `predictor`'s prediction when
+/// there is one.
+fn solve_sample(
+    mesh: &TriMesh,
+    handles: &[usize],
+    solver: &Solver,
+    predictor: Option<&DefOp>,
+    sample: usize,
+    q: &[Point],
+) -> Result<Solved, DefOpError> {
+    let mut u = match predictor {
+        Some(op) => {
+            let mut u = op.eval(q)?;
+            for (&h, &target) in handles.iter().zip(q) {
+                u[h] = target;
+            }
+            u
+        }
+        None => mesh.vertices.clone(),
+    };
+    match solver {
+        Solver::Arap(arap) => {
+            let report = arap.solve(q, &mut u)?;
+            Ok(Solved {
+                solution: u,
+                iterations: report.iterations,
+                rest_start: false,
+                converged: report.converged,
+            })
+        }
+        Solver::Sarap(sarap) => {
+            let mut rest_start = false;
+            if predictor.is_some() && !flipped_triangles(mesh, &u)?.is_empty() {
+                u.copy_from_slice(&mesh.vertices);
+                rest_start = true;
+            }
+            let mut report = sarap.solve(q, &mut u)?;
+            if !report.converged() && !rest_start && predictor.is_some() {
+                u.copy_from_slice(&mesh.vertices);
+                rest_start = true;
+                report = sarap.solve(q, &mut u)?;
+            }
+            if !report.converged() {
+                return Err(DefOpError::BadSample {
+                    sample,
+                    reason: format!(
+                        "symmetric ARAP did not converge from the rest pose ({:?} after {} iterations)",
+                        report.stop, report.iterations
+                    ),
+                });
+            }
+            Ok(Solved {
+                solution: u,
+                iterations: report.iterations,
+                rest_start,
+                converged: true,
+            })
+        }
+    }
+}
