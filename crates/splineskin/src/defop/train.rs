@@ -14,12 +14,14 @@
 //! as many samples as it has functions (thin-plate splines: always), the linear one before.
 //!
 //! **Starts.** ARAP (local–global with [`TRAINING_ANDERSON_DEPTH`] Anderson acceleration)
-//! starts from the prediction as it is; symmetric ARAP needs a flip-free start, so a
-//! prediction that flips a triangle is replaced by the rest pose (counted in the report), and
-//! a solve that fails from the prediction is retried from the rest pose. Both energies have
-//! several local minima: a start decides which one a sample gets. [`WarmStart::Rest`] starts
-//! every sample from the rest pose (the deterministic ground truth, at the price of the
-//! iterations warm starts save).
+//! starts from the prediction as it is (from the rest pose in stage 0). Symmetric ARAP needs a
+//! flip-free start and its Newton solve from the rest pose can stall (measured: the 1 000-
+//! iteration cap on an octopus sample), so it tries, in order, the prediction, the sample's
+//! ARAP solution and the rest pose, skipping a start that flips a triangle and keeping the
+//! first solve that converges (the report counts the fallbacks). Both energies have several
+//! local minima: a start decides which one a sample gets. [`WarmStart::Rest`] starts every
+//! sample as in stage 0 (the deterministic ground truth, at the price of the iterations warm
+//! starts save).
 //!
 //! **Parallelism** is an argument ([`TrainOptions::parallel`]): the samples of a stage are
 //! solved on rayon's pool (each solver is shared: `solve` takes `&self`). Configurations are
@@ -209,8 +211,10 @@ pub struct StageReport {
     pub handle_basis: HandleBasisKind,
     /// Solver iterations (local–global or Newton) of its samples: smallest, mean, largest.
     pub iterations: (usize, f64, usize),
-    /// Symmetric ARAP samples started from the rest pose because the prediction flipped a
-    /// triangle or the solve from it failed.
+    /// Symmetric ARAP samples solved from their ARAP solution (stage 0, or the prediction
+    /// flipped a triangle or its solve failed).
+    pub arap_starts: usize,
+    /// Symmetric ARAP samples solved from the rest pose (the other starts flipped or failed).
     pub rest_starts: usize,
     /// Samples whose solver stopped at its iteration cap (ARAP; kept, the report says).
     pub not_converged: usize,
@@ -234,19 +238,31 @@ pub struct Training {
     pub stages: Vec<StageReport>,
 }
 
-/// The ground-truth solver of a training.
-enum Solver {
-    Arap(Arap),
-    Sarap(SymmetricArap),
+/// The ground-truth solvers of a training: ARAP, and symmetric ARAP when that is the energy
+/// (ARAP then gives it starts).
+struct Solver {
+    arap: Arap,
+    sarap: Option<SymmetricArap>,
 }
 
-/// One sample's solve: its solution, iterations, whether it started from rest after a
-/// prediction was refused, whether it converged.
+/// One sample's solve: its solution, iterations (of the solve that succeeded), which start
+/// succeeded, whether it converged.
 struct Solved {
     solution: Vec<Point>,
     iterations: usize,
-    rest_start: bool,
+    start: Start,
     converged: bool,
+}
+
+/// The start a sample's solve succeeded from.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Start {
+    /// The operator's prediction, or the rest pose when there is none (ARAP; stage 0).
+    First,
+    /// Symmetric ARAP: the sample's ARAP solution.
+    Arap,
+    /// Symmetric ARAP: the rest pose, after the others were refused or failed.
+    Rest,
 }
 
 /// Trains a deformation operator on `mesh` with handles at `handles` and spatial basis
@@ -290,9 +306,12 @@ pub fn train(
             expected: "at least 1",
         });
     }
-    let solver = match options.energy {
-        Energy::Arap => Solver::Arap(Arap::new(mesh, handles, options.arap)?),
-        Energy::SymmetricArap => Solver::Sarap(SymmetricArap::new(mesh, handles, options.sarap)?),
+    let solver = Solver {
+        arap: Arap::new(mesh, handles, options.arap)?,
+        sarap: match options.energy {
+            Energy::Arap => None,
+            Energy::SymmetricArap => Some(SymmetricArap::new(mesh, handles, options.sarap)?),
+        },
     };
     let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
     let regions = if options.regions.is_empty() {
@@ -350,7 +369,8 @@ pub fn train(
         };
         let solve_seconds = clock.elapsed().as_secs_f64();
         let iterations: Vec<usize> = results.iter().map(|s| s.iterations).collect();
-        let rest_starts = results.iter().filter(|s| s.rest_start).count();
+        let arap_starts = results.iter().filter(|s| s.start == Start::Arap).count();
+        let rest_starts = results.iter().filter(|s| s.start == Start::Rest).count();
         let not_converged = results.iter().filter(|s| !s.converged).count();
         solutions.extend(results.into_iter().map(|s| s.solution));
         let last = stage + 1 == n_stages;
@@ -383,6 +403,7 @@ pub fn train(
                 iterations.iter().sum::<usize>() as f64 / n_new.max(1) as f64,
                 iterations.iter().copied().max().unwrap_or(0),
             ),
+            arap_starts,
             rest_starts,
             not_converged,
             solve_seconds,
@@ -425,42 +446,53 @@ fn solve_sample(
         }
         None => mesh.vertices.clone(),
     };
-    match solver {
-        Solver::Arap(arap) => {
+    let arap = &solver.arap;
+    match &solver.sarap {
+        None => {
             let report = arap.solve(q, &mut u)?;
             Ok(Solved {
                 solution: u,
                 iterations: report.iterations,
-                rest_start: false,
+                start: Start::First,
                 converged: report.converged,
             })
         }
-        Solver::Sarap(sarap) => {
-            let mut rest_start = false;
-            if predictor.is_some() && !flipped_triangles(mesh, &u)?.is_empty() {
-                u.copy_from_slice(&mesh.vertices);
-                rest_start = true;
+        Some(sarap) => {
+            // Starts in order: the prediction (if flip-free), the ARAP solution (if
+            // flip-free), the rest pose; the first that converges wins.
+            let mut last = None;
+            for start in [Start::First, Start::Arap, Start::Rest] {
+                match start {
+                    Start::First if predictor.is_none() => continue,
+                    Start::First => {}
+                    Start::Arap => {
+                        u.copy_from_slice(&mesh.vertices);
+                        arap.solve(q, &mut u)?;
+                    }
+                    Start::Rest => u.copy_from_slice(&mesh.vertices),
+                }
+                if start != Start::Rest && !flipped_triangles(mesh, &u)?.is_empty() {
+                    continue;
+                }
+                let report = sarap.solve(q, &mut u)?;
+                if report.converged() {
+                    return Ok(Solved {
+                        solution: u,
+                        iterations: report.iterations,
+                        start,
+                        converged: true,
+                    });
+                }
+                last = Some(report);
             }
-            let mut report = sarap.solve(q, &mut u)?;
-            if !report.converged() && !rest_start && predictor.is_some() {
-                u.copy_from_slice(&mesh.vertices);
-                rest_start = true;
-                report = sarap.solve(q, &mut u)?;
-            }
-            if !report.converged() {
-                return Err(DefOpError::BadSample {
-                    sample,
-                    reason: format!(
-                        "symmetric ARAP did not converge from the rest pose ({:?} after {} iterations)",
-                        report.stop, report.iterations
-                    ),
-                });
-            }
-            Ok(Solved {
-                solution: u,
-                iterations: report.iterations,
-                rest_start,
-                converged: true,
+            let detail = last.map_or_else(String::new, |r| {
+                format!(" ({:?} after {} iterations)", r.stop, r.iterations)
+            });
+            Err(DefOpError::BadSample {
+                sample,
+                reason: format!(
+                    "symmetric ARAP converged from none of its starts (prediction, ARAP solution, rest pose){detail}"
+                ),
             })
         }
     }
