@@ -113,21 +113,7 @@ impl ArapOptions {
     }
 
     fn check(&self) -> Result<(), DefOpError> {
-        if self.max_iterations == 0 {
-            return Err(DefOpError::InvalidOption {
-                name: "max_iterations",
-                value: "0".into(),
-                expected: "at least 1",
-            });
-        }
-        if !(self.step_tolerance.is_finite() && self.step_tolerance >= 0.0) {
-            return Err(DefOpError::InvalidOption {
-                name: "step_tolerance",
-                value: self.step_tolerance.to_string(),
-                expected: "a finite fraction ≥ 0 of the bounding-box diagonal",
-            });
-        }
-        Ok(())
+        check_iteration_options(self.max_iterations, self.step_tolerance)
     }
 }
 
@@ -516,4 +502,27 @@ fn anderson_coefficients(
 /// `max(|Δx|, |Δy|)` between two points.
 fn max_coordinate_change(a: Point, b: Point) -> f64 {
     (a.x - b.x).abs().max((a.y - b.y).abs())
+}
+
+/// The checks both solvers' options share: at least one iteration, and a step tolerance that
+/// is a finite fraction ≥ 0 of the bounding-box diagonal.
+pub(super) fn check_iteration_options(
+    max_iterations: usize,
+    step_tolerance: f64,
+) -> Result<(), DefOpError> {
+    if max_iterations == 0 {
+        return Err(DefOpError::InvalidOption {
+            name: "max_iterations",
+            value: "0".into(),
+            expected: "at least 1",
+        });
+    }
+    if !(step_tolerance.is_finite() && step_tolerance >= 0.0) {
+        return Err(DefOpError::InvalidOption {
+            name: "step_tolerance",
+            value: step_tolerance.to_string(),
+            expected: "a finite fraction ≥ 0 of the bounding-box diagonal",
+        });
+    }
+    Ok(())
 }

@@ -131,21 +131,7 @@ impl SarapOptions {
     }
 
     fn check(&self) -> Result<(), DefOpError> {
-        if self.max_iterations == 0 {
-            return Err(DefOpError::InvalidOption {
-                name: "max_iterations",
-                value: "0".into(),
-                expected: "at least 1",
-            });
-        }
-        if !(self.step_tolerance.is_finite() && self.step_tolerance >= 0.0) {
-            return Err(DefOpError::InvalidOption {
-                name: "step_tolerance",
-                value: self.step_tolerance.to_string(),
-                expected: "a finite fraction ≥ 0 of the bounding-box diagonal",
-            });
-        }
-        Ok(())
+        super::arap::check_iteration_options(self.max_iterations, self.step_tolerance)
     }
 }
 
