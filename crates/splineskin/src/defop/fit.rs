@@ -358,7 +358,7 @@ impl DefOp {
             }
             for j in 0..np {
                 for i in 0..nf {
-                    coefficients[j * 2 * nf + 2 * i + axis] = g[(i, j)];
+                    coefficients[j * 2 * nf + axis * nf + i] = g[(i, j)];
                 }
             }
         }

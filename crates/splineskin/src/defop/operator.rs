@@ -30,8 +30,8 @@ pub struct DefOp {
     pub(crate) spatial: SpatialBasis,
     pub(crate) handle_basis: HandleBasis,
     pub(crate) handles: Vec<usize>,
-    /// `G`, column-major `2|Φ| × |Ψ|`: row `2i` holds `φ_i`'s x coefficients over `Ψ`, row
-    /// `2i + 1` its y coefficients.
+    /// `G`, column-major `2|Φ| × |Ψ|`: row `i` holds `φ_i`'s x coefficients over `Ψ`, row
+    /// `|Φ| + i` its y coefficients.
     pub(crate) coefficients: Vec<f64>,
     /// `Dᵀ`, column-major `n_vertices × |Φ|` (empty for the hats).
     pub(crate) vertex_values: Vec<f64>,
@@ -63,7 +63,7 @@ impl DefOp {
         self.spatial.n_vertices()
     }
 
-    /// `G` as a column-major `2|Φ| × |Ψ|` matrix (rows `2i`, `2i + 1`: `φ_i`'s x and y
+    /// `G` as a column-major `2|Φ| × |Ψ|` matrix (rows `i` and `|Φ| + i`: `φ_i`'s x and y
     /// coefficients).
     pub fn coefficients(&self) -> &[f64] {
         &self.coefficients
@@ -118,7 +118,7 @@ impl DefOp {
 pub struct DefOpEvaluator<'a> {
     op: &'a DefOp,
     psi: Vec<f64>,
-    /// `G ψ`: interleaved x, y per spatial function.
+    /// `G ψ`: the x coefficients of every spatial function, then the y ones.
     c: Vec<f64>,
     /// Reduced bases: `Dᵀ c`, x column then y column.
     xy: Vec<f64>,
@@ -143,27 +143,36 @@ impl DefOpEvaluator<'_> {
         }
         self.spatial_coefficients(q)?;
         if self.op.spatial.is_hats() {
-            for (p, c) in positions.iter_mut().zip(self.c.chunks_exact(2)) {
-                *p = Point::new(c[0], c[1]);
+            let (x, y) = self.c.split_at(n_vertices);
+            for ((p, &x), &y) in positions.iter_mut().zip(x).zip(y) {
+                *p = Point::new(x, y);
             }
             return Ok(());
         }
+        // Dᵀ c, one column of Dᵀ (a function's vertex values, contiguous) at a time: two
+        // fused multiply-adds per value, streamed once (faer's product with a two-column
+        // right-hand side measured 5 times slower here).
         let n_functions = self.op.spatial.n_functions();
-        let d = MatRef::from_column_major_slice(&self.op.vertex_values, n_vertices, n_functions);
-        // c as an n_functions × 2 matrix: row i = (x, y), stored row-major.
-        let c = MatRef::from_row_major_slice(&self.c, n_functions, 2);
-        let xy = MatMut::from_column_major_slice_mut(&mut self.xy, n_vertices, 2);
-        matmul(xy, Accum::Replace, d, c, 1.0, Par::Seq);
-        let (x, y) = self.xy.split_at(n_vertices);
-        for ((p, &x), &y) in positions.iter_mut().zip(x).zip(y) {
+        let (cx, cy) = self.c.split_at(n_functions);
+        let (x, y) = self.xy.split_at_mut(n_vertices);
+        x.fill(0.0);
+        y.fill(0.0);
+        for (i, column) in self.op.vertex_values.chunks_exact(n_vertices).enumerate() {
+            let (a, b) = (cx[i], cy[i]);
+            for ((x, y), &d) in x.iter_mut().zip(y.iter_mut()).zip(column) {
+                *x += a * d;
+                *y += b * d;
+            }
+        }
+        for ((p, &x), &y) in positions.iter_mut().zip(x.iter()).zip(y.iter()) {
             *p = Point::new(x, y);
         }
         Ok(())
     }
 
-    /// The coefficients `c_i(Q) = G ψ(Q)` of the spatial functions at the configuration `q`,
-    /// as interleaved `(x, y)` pairs (`2|Φ|` values): the translations of the linear blend
-    /// skinning the operator is at `q`. Allocates nothing.
+    /// The coefficients `c_i(Q) = G ψ(Q)` of the spatial functions at the configuration `q`:
+    /// the x coefficient of every function, then the y ones (`2|Φ|` values). They are the
+    /// translations of the linear blend skinning the operator is at `q`. Allocates nothing.
     pub fn spatial_coefficients(&mut self, q: &[Point]) -> Result<&[f64], DefOpError> {
         if let Some(handle) = q.iter().position(|p| !p.is_finite()) {
             return Err(DefOpError::NonFiniteTarget {
