@@ -24,7 +24,7 @@
 //! The thin-plate spline's kernel is conditionally positive definite of order 2 in any
 //! dimension, so with its coefficients `a` orthogonal to the linear polynomials at the centres
 //! (`Σ_k a_k = 0`, `Σ_k a_k z_k = 0`: the fit imposes it) interpolation at distinct centres not
-//! all on one hyperplane is unique (Wendland 2005, *Scattered Data Approximation*, Thm 8.21).
+//! all on one hyperplane is unique (Wendland 2005, *Scattered Data Approximation*, ch. 8).
 //! Under those conditions `Σ_k a_k ‖z − z_k‖² = Σ_k a_k ‖z_k‖²` is constant, so scaling `z`
 //! (which adds a multiple of `r²` to `φ`) does not change the space.
 
