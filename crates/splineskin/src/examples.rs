@@ -12,6 +12,12 @@
 //!   ours (a round body and eight tapering arms) with nine point handles, the size of the
 //!   deformation-operator paper's octopus (Poranne & Lipman 2016, Fig. 1), for the
 //!   deformation-operator tests, benchmarks and study.
+//! * [`OCTOPUS_SVG`] and [`OCTOPUS_SCENE`]: an octopus drawn for this project
+//!   (`assets/octopus.svg`: one closed outline of 112 smooth cubics around a mantle and eight
+//!   wavy arms, 32 suckers, eyes and a smile; 335 curves in 39 paths) rigged with nine point
+//!   handles — the mantle's centre and the eight arm tips — and three poses
+//!   (`assets/octopus-scene.json`). The drawing of the deformation-operator study and the
+//!   spline join.
 
 use kurbo::{Point, Vec2};
 
@@ -128,6 +134,33 @@ pub fn tile(drawing: &Drawing, handles: &[Point], min_curves: usize) -> (Drawing
         },
         tiled_handles,
     )
+}
+
+/// The octopus drawing, an SVG document of 640 × 600 user units whose outline (the path
+/// `outline`) contains everything else, so that it is the boundary of the drawing's domain
+/// ([`crate::domain`]).
+pub const OCTOPUS_SVG: &str = include_str!("../assets/octopus.svg");
+
+/// The octopus scene (our format), naming `octopus.svg`: nine point handles (the mantle's
+/// centre, then the arm tips clockwise on screen from the top right), bounded biharmonic
+/// weights, poses `wave`, `reach` and `curl`, and an animation through them.
+pub const OCTOPUS_SCENE: &str = include_str!("../assets/octopus-scene.json");
+
+/// The octopus scene ([`OCTOPUS_SCENE`]) with its drawing ([`OCTOPUS_SVG`]) inline.
+///
+/// ```
+/// let scene = splineskin::examples::octopus_scene();
+/// assert_eq!(scene.handles.len(), 9);
+/// ```
+pub fn octopus_scene() -> crate::scene::Scene {
+    let svg = serde_json::to_string(OCTOPUS_SVG).expect("a string always serialises");
+    let json = OCTOPUS_SCENE.replacen(
+        "\"svg\": \"octopus.svg\"",
+        &format!("\"svg_text\": {svg}"),
+        1,
+    );
+    crate::scene::Scene::from_json(&json, "octopus-scene.json (bundled)", None)
+        .expect("the bundled octopus scene is valid (tested)")
 }
 
 /// The bundled scene ([`DEMO_SCENE`]) with its drawing ([`DEMO_SVG`]) inline, ready to use
@@ -257,6 +290,24 @@ mod tests {
             ],
             source: None,
         }
+    }
+
+    /// The octopus's outline is its domain's boundary (it contains every other curve and the
+    /// handles), its drawing has the documented size, and its poses move handles.
+    #[test]
+    fn octopus_scene_outline_bounds_its_domain() {
+        use crate::domain::{Boundary, Domain, DomainOptions};
+        let scene = octopus_scene();
+        let drawing = scene.drawing(crate::scene::Compat::None).unwrap();
+        assert_eq!((drawing.n_curves(), drawing.paths.len()), (335, 39));
+        assert_eq!(drawing.paths[0].n_curves(), 112);
+        let options = DomainOptions::default()
+            .with_samples_per_diagonal(120.0)
+            .with_max_area_fraction(1.0 / 1500.0);
+        let domain = Domain::build(&drawing, &scene.handles, &[], &options).unwrap();
+        assert_eq!(domain.boundary, Boundary::ClosedCurve { path: 0 });
+        assert_eq!(domain.handle_vertices.len(), 9);
+        assert_eq!(scene.poses.len(), 3);
     }
 
     #[test]
