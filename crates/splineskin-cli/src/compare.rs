@@ -35,9 +35,9 @@ pub struct Args {
     /// distance to the result.
     #[arg(short, long)]
     output: PathBuf,
-    /// Which of the scene's poses to apply (0 is the first).
-    #[arg(long, default_value_t = 0)]
-    pose: usize,
+    /// Which of the scene's poses to apply: its name, or its index (0 is the first).
+    #[arg(long, default_value = "0")]
+    pose: String,
     /// Also show the flexible fit (G¹ and fixed-angle tangent ratios free); shown anyway when
     /// the scene asks for it.
     #[arg(long)]
@@ -82,14 +82,9 @@ pub fn run(args: Args) -> Result<()> {
     }
     let scene = Scene::load(&args.scene)?;
     let compat: Compat = args.compat.into();
-    let pose = scene.pose(args.pose).with_context(|| {
-        format!(
-            "{}: pose {} does not exist (the scene has {}, numbered from 0)",
-            args.scene.display(),
-            args.pose,
-            scene.poses.len().max(1)
-        )
-    })?;
+    let (pose_index, pose) = scene
+        .pose_by_key(&args.pose)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.scene.display()))?;
     let picture_options = PictureOptions::default().with_panel_width(args.width);
     picture_options
         .check(6)
@@ -121,22 +116,22 @@ pub fn run(args: Args) -> Result<()> {
         .with_refit_tolerance(args.refit_tolerance)
         .with_metrics(MetricsOptions::default().with_fit(setup.options));
     let comparison = compare_methods(&inputs, &options)
-        .with_context(|| format!("{}: pose {}", args.scene.display(), args.pose))?;
+        .with_context(|| format!("{}: pose {pose_index}", args.scene.display()))?;
     let markers = posed_markers(&scene.handle_set(), &pose.transforms);
     let picture = render_comparison(&comparison, &markers, &picture_options)
         .with_context(|| format!("{}: drawing the comparison", args.scene.display()))?;
     write_atomic(&args.output, &picture.png)?;
     if args.json {
-        for row in json_rows(&args, &comparison) {
+        for row in json_rows(&args, &comparison, pose_index) {
             println!("{}", serde_json::to_string(&row)?);
         }
     } else {
-        print_table(&args, &comparison, pose.name.as_deref());
+        print_table(&args, &comparison, pose_index, pose.name.as_deref());
     }
     eprintln!(
         "{}: pose {}: {} methods -> {} ({}×{} px; colour 1 = {:.3}% of the diagonal)",
         args.scene.display(),
-        args.pose,
+        pose_index,
         comparison.methods.len(),
         args.output.display(),
         picture.grid.width,
@@ -146,13 +141,13 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-fn json_rows<'a>(args: &Args, comparison: &'a Comparison) -> Vec<JsonRow<'a>> {
+fn json_rows<'a>(args: &Args, comparison: &'a Comparison, pose_index: usize) -> Vec<JsonRow<'a>> {
     comparison
         .methods
         .iter()
         .map(|m| JsonRow {
             scene: args.scene.display().to_string(),
-            pose: args.pose,
+            pose: pose_index,
             method: m.method.name(),
             curves: m.result.n_curves(),
             energy: m.metrics.overall.energy,
@@ -171,12 +166,12 @@ fn json_rows<'a>(args: &Args, comparison: &'a Comparison) -> Vec<JsonRow<'a>> {
         .collect()
 }
 
-fn print_table(args: &Args, comparison: &Comparison, pose_name: Option<&str>) {
+fn print_table(args: &Args, comparison: &Comparison, pose_index: usize, pose_name: Option<&str>) {
     let name = pose_name.map(|n| format!(" '{n}'")).unwrap_or_default();
     println!(
         "{} pose {}{name}: distances as % of the diagonal ({:.4} units)",
         args.scene.display(),
-        args.pose,
+        pose_index,
         comparison.diagonal
     );
     println!(

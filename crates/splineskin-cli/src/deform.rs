@@ -18,9 +18,9 @@ pub struct Args {
     /// (`{"paths":[{"closed":…,"points":[[x,y],…]}]}`).
     #[arg(short, long)]
     output: PathBuf,
-    /// Which of the scene's poses to apply (0 is the first).
-    #[arg(long, default_value_t = 0)]
-    pose: usize,
+    /// Which of the scene's poses to apply: its name, or its index (0 is the first).
+    #[arg(long, default_value = "0")]
+    pose: String,
     /// Reproduce another implementation's discretisation exactly.
     #[arg(long, value_enum, default_value_t = CompatArg::None)]
     compat: CompatArg,
@@ -39,14 +39,9 @@ pub fn run(args: Args) -> Result<()> {
     for w in &setup.warnings {
         eprintln!("warning: {w}");
     }
-    let pose = scene.pose(args.pose).with_context(|| {
-        format!(
-            "{}: pose {} does not exist (the scene has {})",
-            args.scene.display(),
-            args.pose,
-            scene.poses.len().max(1)
-        )
-    })?;
+    let (pose_index, pose) = scene
+        .pose_by_key(&args.pose)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.scene.display()))?;
     let compat: Compat = args.compat.into();
     let deformer = Deformer::new(&scene, &setup, compat, args.flexible)?;
     let rank_deficient = deformer
@@ -89,7 +84,7 @@ pub fn run(args: Args) -> Result<()> {
             String::new()
         }
     };
-    check_finite(&args, &setup.drawing, &points, &rank_deficient)?;
+    check_finite(&args, pose_index, &setup.drawing, &points, &rank_deficient)?;
     write_deformed(&args.output, &setup.drawing, &points)?;
     let set = scene.handle_set();
     let kinds = [
@@ -118,7 +113,7 @@ pub fn run(args: Args) -> Result<()> {
         setup.drawing.paths.len(),
         setup.weights.n_handles(),
         set.points.len(),
-        args.pose,
+        pose_index,
         args.output.display()
     );
     Ok(())
@@ -129,6 +124,7 @@ pub fn run(args: Args) -> Result<()> {
 /// a fallback) can give NaN, which no output format can hold.
 fn check_finite(
     args: &Args,
+    pose_index: usize,
     drawing: &Drawing,
     points: &[Point],
     rank_deficient: &[usize],
@@ -155,7 +151,7 @@ fn check_finite(
                 "{}: pose {}: path {i}{element}: deformed points are not finite (expected finite \
                  coordinates): {why}; nothing written to {}",
                 args.scene.display(),
-                args.pose,
+                pose_index,
                 args.output.display()
             );
         }

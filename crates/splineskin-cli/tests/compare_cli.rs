@@ -343,7 +343,7 @@ fn compare_errors_name_the_file_and_leave_nothing() {
         ),
         (
             vec![scene.display().to_string(), "--pose".into(), "7".into()],
-            "pose 7 does not exist (the scene has 2",
+            "pose '7' does not exist (poses: 0 'identity', 1 'bend')",
         ),
         (
             vec![

@@ -434,7 +434,13 @@ fn malformed_deform_scene_of_ours() {
             "unknown-pose-index",
             vec![file("scene.json", ours(""))],
             &["--pose", "3"],
-            &["scene.json", "pose 3 does not exist", "has 1"],
+            &["scene.json", "pose '3' does not exist", "(poses: 0"],
+        ),
+        deform(
+            "unknown-pose-name",
+            vec![file("scene.json", ours(""))],
+            &["--pose", "jump"],
+            &["scene.json", "pose 'jump' does not exist", "(poses: 0"],
         ),
         deform(
             "no-handles",
@@ -757,7 +763,7 @@ fn malformed_deform_authors_scene() {
                 n("unknown-frame"),
                 authors(&svg, &format!(r#", "animationFrames": [[{IDENTITY}, {IDENTITY}]]"#)),
                 &[args, &["--pose", "2"]].concat().leak()[..],
-                &["scene.json", "pose 2 does not exist", "has 2"],
+                &["scene.json", "pose '2' does not exist", "(poses: 0, 1 'frame 0')"],
             ),
             // The authors' scenes have point handles only: mvc, a cage's family, cannot weigh them.
             scene(

@@ -429,6 +429,46 @@ impl Scene {
         Ok(())
     }
 
+    /// The pose a user asks for by `key`: its index in `poses` as a decimal number (`"0"` is
+    /// the first; also the identity pose of a scene without poses) or its `name`. Returns the
+    /// index with the pose; `Err` says which poses exist.
+    ///
+    /// ```
+    /// let scene = splineskin::examples::demo_scene();
+    /// assert_eq!(scene.pose_by_key("nose-up")?.0, 1);
+    /// assert_eq!(scene.pose_by_key("2")?.1.name.as_deref(), Some("flap"));
+    /// let err = scene.pose_by_key("jump").unwrap_err();
+    /// assert_eq!(err, "pose 'jump' does not exist (poses: 0 'swish', 1 'nose-up', 2 'flap')");
+    /// # Ok::<(), String>(())
+    /// ```
+    pub fn pose_by_key(&self, key: &str) -> Result<(usize, Pose), String> {
+        let found = match key.trim().parse::<usize>() {
+            Ok(index) => self.pose(index).map(|pose| (index, pose)),
+            Err(_) => self
+                .poses
+                .iter()
+                .position(|p| p.name.as_deref() == Some(key))
+                .map(|index| (index, self.poses[index].clone())),
+        };
+        found.ok_or_else(|| {
+            let list = if self.poses.is_empty() {
+                "the scene has none: 0 is the rest pose".to_string()
+            } else {
+                let names: Vec<String> = self
+                    .poses
+                    .iter()
+                    .enumerate()
+                    .map(|(i, p)| match &p.name {
+                        Some(name) => format!("{i} '{name}'"),
+                        None => i.to_string(),
+                    })
+                    .collect();
+                format!("poses: {}", names.join(", "))
+            };
+            format!("pose '{key}' does not exist ({list})")
+        })
+    }
+
     /// The pose with index `index`, or the identity pose when the scene has none and `index`
     /// is 0.
     pub fn pose(&self, index: usize) -> Option<Pose> {
