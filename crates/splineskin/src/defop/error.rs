@@ -170,6 +170,35 @@ pub enum DefOpError {
         /// Largest error of the best approximation of `x` or `y`, drawing units.
         residual: f64,
     },
+    /// The drawing could not be fitted (a malformed chain, a non-finite control point, a path
+    /// system that failed to solve): the spline fit's own error.
+    #[error("spline fit: {0}")]
+    Fit(#[from] crate::spline_fit::FitError),
+    /// The drawing's domain could not be triangulated, or the mesh could not locate points.
+    #[error("domain: {0}")]
+    Domain(#[from] crate::domain::DomainError),
+    /// A point of the drawing (a quadrature node of a curve) lies farther outside the
+    /// operator's mesh than the tolerance: the operator says nothing there (nearer points
+    /// outside take the weights of the nearest boundary point).
+    #[error("path {path}, curve {curve}: a point lies {distance} outside the mesh (tolerance {tolerance}, drawing units; expected the drawing inside the operator's mesh)")]
+    DrawingOutsideMesh {
+        /// The path.
+        path: usize,
+        /// The curve within the path.
+        curve: usize,
+        /// Distance of the point to the mesh, drawing units.
+        distance: f64,
+        /// The largest distance accepted, drawing units.
+        tolerance: f64,
+    },
+    /// The handle vertices of a domain are not the operator's handles.
+    #[error("the domain's handle vertices {domain:?} are not the operator's {op:?} (expected the domain the operator was trained on)")]
+    HandleMismatch {
+        /// The domain's handle vertices.
+        domain: Vec<usize>,
+        /// The operator's.
+        op: Vec<usize>,
+    },
     /// The sparse Cholesky factorisation failed. The systems factored are positive definite
     /// by construction (every part of the mesh holds a handle, Hessians are projected and
     /// regularised), so this is a bug or a mesh so degenerate that rounding dominates.

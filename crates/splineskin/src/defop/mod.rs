@@ -16,6 +16,7 @@
 //! | evaluation | `positions = Dᵀ G ψ(Q)`, allocation-free | [`DefOp`], [`DefOpEvaluator`] |
 //! | training | sampling, ground truth (parallel), bootstrapping, fit | [`train`], [`TrainOptions`] |
 //! | error measure | root-mean-square distance over the shape | [`l2_distance`] |
+//! | the join with splines | a drawing's control points `G_spline ψ(Q)`, constraints kept | [`DefOpRig`], [`DrawingDefOp`] |
 //!
 //! **Ground truth**: the variational deformations themselves, on a triangle mesh with point
 //! handles at vertices and hard positional constraints.
@@ -72,6 +73,7 @@ mod sample;
 mod sarap;
 mod sarap_energy;
 mod spatial_basis;
+mod spline_join;
 mod train;
 
 pub use arap::{
@@ -93,6 +95,10 @@ pub use sarap::{
 };
 pub use sarap_energy::sarap_energy;
 pub use spatial_basis::{SpatialBasis, SpatialBasisKind};
+pub use spline_join::{
+    training_domain_options, DefOpRig, DefOpRigEvaluator, DrawingDefOp, OUTSIDE_TOLERANCE_FRACTION,
+    TRAINING_MAX_AREA_FRACTION, TRAINING_SAMPLES_PER_DIAGONAL,
+};
 pub use train::{
     train, Energy, Progress, StageReport, TrainOptions, Training, WarmStart, DEFAULT_DISC_FRACTION,
     DEFAULT_GROWTH, DEFAULT_TRAINING_SAMPLES,

@@ -318,6 +318,44 @@ impl MeshWeights {
     }
 }
 
+/// Where a point falls in the mesh: the (up to) three vertices whose values interpolate there
+/// and their coefficients (see [`MeshWeights::interpolation`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Interpolation {
+    /// The vertices: a triangle's corners, or a boundary edge's two ends and (coefficient 0)
+    /// the first again.
+    pub vertices: [u32; 3],
+    /// Their coefficients (barycentric inside; `1 − s`, `s`, 0 along the nearest boundary
+    /// edge outside). They sum to one.
+    pub coefficients: [f64; 3],
+    /// Distance from the point to the mesh (0 inside), drawing units.
+    pub outside_distance: f64,
+}
+
+impl MeshWeights {
+    /// The vertices and coefficients that interpolate vertex values at `p` (the module doc's
+    /// rule: barycentric inside a triangle, the nearest boundary point's linear interpolation
+    /// along its edge outside), or `None` for a mesh without boundary (unreachable for a valid
+    /// mesh). Every weight this field evaluates is `Σ coefficient · W_vertex`.
+    pub(crate) fn interpolation(&self, p: Point) -> Option<Interpolation> {
+        if let Some((t, l)) = self.locate(p) {
+            return Some(Interpolation {
+                vertices: self.triangles[t],
+                coefficients: l,
+                outside_distance: 0.0,
+            });
+        }
+        let (e, s) = self.nearest_boundary(p)?;
+        let [a, b] = self.boundary[e];
+        let (pa, pb) = (self.vertices[a as usize], self.vertices[b as usize]);
+        Some(Interpolation {
+            vertices: [a, b, a],
+            coefficients: [1.0 - s, s, 0.0],
+            outside_distance: (p - pa.lerp(pb, s)).hypot(),
+        })
+    }
+}
+
 impl WeightField for MeshWeights {
     fn n_handles(&self) -> usize {
         self.n_handles
@@ -326,27 +364,14 @@ impl WeightField for MeshWeights {
     fn eval(&self, p: Point, out: &mut [f64]) {
         let h = self.n_handles;
         debug_assert_eq!(out.len(), h);
-        if let Some((t, l)) = self.locate(p) {
-            let tri = self.triangles[t];
-            let (wa, wb, wc) = (
-                self.vertex_weights(tri[0] as usize),
-                self.vertex_weights(tri[1] as usize),
-                self.vertex_weights(tri[2] as usize),
-            );
-            for i in 0..h.min(out.len()) {
-                out[i] = l[0] * wa[i] + l[1] * wb[i] + l[2] * wc[i];
-            }
-            return;
-        }
-        match self.nearest_boundary(p) {
-            Some((e, s)) => {
-                let [a, b] = self.boundary[e];
-                let (wa, wb) = (
-                    self.vertex_weights(a as usize),
-                    self.vertex_weights(b as usize),
-                );
-                for i in 0..h.min(out.len()) {
-                    out[i] = (1.0 - s) * wa[i] + s * wb[i];
+        match self.interpolation(p) {
+            Some(at) => {
+                out.fill(0.0);
+                for (&v, &c) in at.vertices.iter().zip(&at.coefficients) {
+                    let w = self.vertex_weights(v as usize);
+                    for (o, &wv) in out.iter_mut().zip(w) {
+                        *o += c * wv;
+                    }
                 }
             }
             // A valid mesh has a boundary; unreachable, but never panic in evaluation.

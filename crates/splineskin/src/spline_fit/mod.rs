@@ -19,6 +19,7 @@ pub(crate) mod system;
 pub use constraints::ConstraintForm;
 pub use flexible::{FlexibleError, FlexibleOptions, FlexibleReport, FlexibleRule, FlexibleSolver};
 pub use quadrature::{Measure, Quadrature};
+pub(crate) use rig::validate;
 pub use rig::{PoseError, SplineRig};
 
 use crate::drawing::JunctionOptions;
@@ -97,7 +98,7 @@ impl FitOptions {
 }
 
 /// Why a rig could not be built.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug, thiserror::Error, PartialEq)]
 #[non_exhaustive]
 pub enum FitError {
     /// The weight field has no handles.

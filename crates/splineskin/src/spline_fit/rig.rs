@@ -3,7 +3,7 @@
 use kurbo::{Affine, Point};
 
 use super::quadrature::SampledCurves;
-use super::system::solve_path;
+use super::system::{solve_path, HandleMaps};
 use super::{FitError, FitOptions};
 use crate::drawing::Drawing;
 use crate::weights::WeightField;
@@ -134,7 +134,7 @@ impl SplineRig {
             c += path.n_curves();
         }
         let solve = |(pi, (path, &first)): (usize, (&crate::drawing::Path, &usize))| {
-            solve_path(pi, path, samples, first, options)
+            solve_path(pi, path, samples, first, options, HandleMaps::Affine)
         };
         let solved: Vec<_> = if options.parallel {
             use rayon::prelude::*;
@@ -251,7 +251,8 @@ impl SplineRig {
     }
 }
 
-fn validate(drawing: &Drawing) -> Result<(), FitError> {
+/// Checks the drawing's chains, joint lists and coordinates (what every fit needs).
+pub(crate) fn validate(drawing: &Drawing) -> Result<(), FitError> {
     if drawing.paths.is_empty() {
         return Err(FitError::NoPaths);
     }

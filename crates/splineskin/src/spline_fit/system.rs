@@ -39,9 +39,20 @@ pub const RANK_TOLERANCE: f64 = 1e-12;
 /// Largest KKT size for the dense rank check (the check is `O(N³)`): 4000.
 pub const MAX_RANK_CHECK_SIZE: usize = 4000;
 
+/// Which coefficients of the handles' maps the right-hand sides cover.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum HandleMaps {
+    /// Affine maps: `6h` columns, column `6i + c` coefficient `c` of handle `i` (SVG order).
+    Affine,
+    /// Translations only (the maps `[0 0 e; 0 0 f]`, the DefOp join): `2h` columns, column
+    /// `2i + d` coordinate `d` of handle `i`'s translation (the affine columns `6i + 4 + d`).
+    Translation,
+}
+
 /// The solved operator of one path.
 pub(crate) struct PathOperator {
-    /// `2m × 6h`, column-major: rows are the unknowns (point `k`, coordinate `d` at `2k + d`).
+    /// `2m × 6h` (or `2m × 2h` for [`HandleMaps::Translation`]), column-major: rows are the
+    /// unknowns (point `k`, coordinate `d` at `2k + d`).
     pub operator: Mat<f64>,
     /// Number of constraint rows used.
     pub n_constraints: usize,
@@ -50,13 +61,14 @@ pub(crate) struct PathOperator {
 }
 
 /// Assembles and solves the system of `path` (index `path_index`, for messages), whose first
-/// curve is curve `first_curve` of `samples`.
+/// curve is curve `first_curve` of `samples`, for the right-hand sides of `maps`.
 pub(crate) fn solve_path(
     path_index: usize,
     path: &Path,
     samples: &SampledCurves,
     first_curve: usize,
     options: &FitOptions,
+    maps: HandleMaps,
 ) -> Result<PathOperator, FitError> {
     let h = samples.n_handles();
     let n_curves = path.n_curves();
@@ -81,7 +93,12 @@ pub(crate) fn solve_path(
 
     let mut triplets: Vec<Triplet<usize, usize, f64>> =
         Vec::with_capacity(n_curves * 32 + 2 * rows.entries.len());
-    let mut rhs = Mat::<f64>::zeros(n, 6 * h);
+    // Homogeneous rows of C̄ kept (x, y, 1 or only 1) and the columns per handle.
+    let (first_row, per_handle) = match maps {
+        HandleMaps::Affine => (0, 6),
+        HandleMaps::Translation => (2, 2),
+    };
+    let mut rhs = Mat::<f64>::zeros(n, per_handle * h);
     let mut weighted = Vec::with_capacity(h);
     for j in 0..n_curves {
         let c = path.curve_points(j);
@@ -105,9 +122,9 @@ pub(crate) fn solve_path(
                     w[1] += ck.y * mij[k][l];
                     w[2] += mij[k][l];
                 }
-                for (s, ws) in w.iter().enumerate() {
+                for (s, ws) in w.iter().enumerate().skip(first_row) {
                     for d in 0..2 {
-                        rhs[(2 * pl + d, 6 * i + 2 * s + d)] += ws;
+                        rhs[(2 * pl + d, per_handle * i + 2 * (s - first_row) + d)] += ws;
                     }
                 }
             }
