@@ -2,91 +2,8 @@
 //! item 6): point-handle, ARAP-quality deformation of a Bézier drawing in closed form, the
 //! drawing staying a drawing of the same cubics under its junction constraints.
 //!
-//! **Formula.** For a fixed handle configuration `Q` a [`DefOp`] (Poranne & Lipman 2016,
-//! Eq. (3)) is a sum of spatial functions times vectors,
-//!
-//! ```text
-//! D(x, Q) = Σ_i φ_i(x) c_i(Q),      c(Q) = G ψ(Q)        (G: 2|Φ| × |Ψ|, DefOp::coefficients)
-//! ```
-//!
-//! which is linear blend skinning (Liu et al. 2014 §3) with weights `φ_i` and the pure
-//! translations `T_i = [0 0 c_i]`. Every spatial basis here is piecewise linear on the mesh
-//! (hats, or functions given by their vertex values `Dᵀ`), so along a curve the target is the
-//! deformed mesh `positions(Q) = Dᵀ G ψ(Q)` interpolated linearly in each triangle. Paper 1's
-//! fit (Liu et al. 2014 §4; DESIGN.md §1: the junction-constrained least squares, solved per
-//! path) is linear in its target, so with `F` the fit operator from mesh vertex positions to
-//! the drawing's control points (junction constraints included),
-//!
-//! ```text
-//! control points(Q) = F · positions(Q) = F Dᵀ G · ψ(Q) = G_spline · ψ(Q)
-//! G_spline = F Dᵀ G                                   (2 · n_points × |Ψ|, dense)
-//! ```
-//!
-//! `F` is the spline fit with the mesh's hat functions as weights and translations as maps:
-//! column `(v, d)` of `F` is the fit of the target "hat of vertex `v`, times unit vector `d`".
-//! Only the vertices of the triangles a path's curves cross have a non-zero column, so `F` is
-//! assembled per path over those vertices (the quadrature cuts curves at mesh edges, where the
-//! hats have kinks: [`MeshWeights`]' rule, exact for the piecewise-cubic weights) and never
-//! over the whole mesh.
-//!
-//! **Properties** (tested in `tests/defop_spline_join.rs`): at the rest configuration `Q = P`
-//! the operator reproduces the rest mesh, the hats reproduce the linear function `x`, and the
-//! fit reproduces a cubic target, so the drawing comes back unchanged (to rounding); at any
-//! `Q` the result satisfies every junction constraint of the drawing (C¹ equal tangents, G¹
-//! parallel tangents with the input's length ratio, closed paths closed).
-//!
-//! **Outside the mesh.** The drawing should lie in the operator's mesh (for a mesh from
-//! [`Domain::build`] on the drawing, it does). Curve points outside it take the values of the
-//! nearest boundary point, as [`MeshWeights`] does; [`DefOpRig::n_nodes_outside`] counts the
-//! quadrature nodes where that happened, and a point farther out than
-//! [`OUTSIDE_TOLERANCE_FRACTION`] of the mesh's diagonal is refused
-//! ([`DefOpError::DrawingOutsideMesh`]).
-//!
-//! ```text
-//! once:            let rig = DefOpRig::precompute(&drawing, &mesh, &op, &FitOptions::default())?;
-//! once per thread: let mut ev = rig.evaluator();          (owns ψ and the product's scratch)
-//! each frame:      ev.update(&q, &mut points)?;           (ψ(Q), one dense mat-vec; allocates nothing)
-//! ```
-//!
-//! Without a mesh at hand, [`DrawingDefOp::train`] triangulates the drawing's domain
-//! ([`training_domain_options`]), trains the operator ([`train`]) and builds the rig.
-//!
-//! ```
-//! use kurbo::{Point, Rect, Vec2};
-//! use splineskin::defop::{DefOp, DefOpOptions, DefOpRig, HandleBasisKind, SpatialBasis};
-//! use splineskin::drawing::{Drawing, JunctionOptions, Path};
-//! use splineskin::mesh::TriMesh;
-//! use splineskin::spline_fit::FitOptions;
-//!
-//! // A strip with two handles and a made-up ground truth: every configuration translates the
-//! // strip by the first handle's offset. A linear operator reproduces it exactly.
-//! let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 8, 2)?;
-//! let handles = [9, 17]; // (0, 0.5) and (4, 0.5)
-//! let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
-//! let shifts = [(0.0, 0.0), (0.3, 0.1), (-0.2, 0.4), (0.1, -0.3), (0.5, 0.2)];
-//! let configurations: Vec<Vec<Point>> =
-//!     shifts.iter().map(|&s| rest.iter().map(|&p| p + Vec2::from(s)).collect()).collect();
-//! let solutions: Vec<Vec<Point>> =
-//!     shifts.iter().map(|&s| mesh.vertices.iter().map(|&p| p + Vec2::from(s)).collect()).collect();
-//! let options = DefOpOptions::default().with_handle_basis(HandleBasisKind::Linear);
-//! let op = DefOp::fit(&mesh, &handles, &SpatialBasis::hats(&mesh)?, &configurations, &solutions, &options)?;
-//!
-//! // A wave drawn on the strip.
-//! let wave = [(0.5, 0.5), (1.5, 0.9), (2.5, 0.1), (3.5, 0.5)].map(Point::from).to_vec();
-//! let drawing = Drawing {
-//!     paths: vec![Path::new(wave.clone(), false, &JunctionOptions::default())?],
-//!     ..Default::default()
-//! };
-//! let rig = DefOpRig::precompute(&drawing, &mesh, &op, &FitOptions::default())?;
-//! let mut evaluator = rig.evaluator();
-//! let mut points = vec![Point::ZERO; rig.n_points()];
-//! let q: Vec<Point> = rest.iter().map(|&p| p + Vec2::new(0.25, -0.5)).collect();
-//! evaluator.update(&q, &mut points)?;
-//! for (p, w) in points.iter().zip(&wave) {
-//!     assert!((*p - (*w + Vec2::new(0.25, -0.5))).hypot() < 1e-12);
-//! }
-//! # Ok::<(), Box<dyn std::error::Error>>(())
-//! ```
+//! [`DefOpRig`] has the formula, its sources, the recipe and an example; [`DrawingDefOp`] builds
+//! everything from a drawing and its handles; [`training_domain_options`] sizes the domain.
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
@@ -139,8 +56,94 @@ pub fn training_domain_options() -> DomainOptions {
         .with_max_area_fraction(TRAINING_MAX_AREA_FRACTION)
 }
 
-/// A drawing joined to a deformation operator: `G_spline = F Dᵀ G` (module doc), ready to
-/// deform the drawing from handle configurations.
+/// A drawing joined to a deformation operator: the drawing's control points as a closed-form
+/// function of the handle configuration, `G_spline ψ(Q)`, junction constraints kept.
+///
+/// **Formula.** For a fixed handle configuration `Q` a [`DefOp`] (Poranne & Lipman 2016,
+/// Eq. (3)) is a sum of spatial functions times vectors,
+///
+/// ```text
+/// D(x, Q) = Σ_i φ_i(x) c_i(Q),      c(Q) = G ψ(Q)        (G: 2|Φ| × |Ψ|, DefOp::coefficients)
+/// ```
+///
+/// which is linear blend skinning (Liu et al. 2014 §3) with weights `φ_i` and the pure
+/// translations `T_i = [0 0 c_i]`. Every spatial basis here is piecewise linear on the mesh
+/// (hats, or functions given by their vertex values `Dᵀ`), so along a curve the target is the
+/// deformed mesh `positions(Q) = Dᵀ G ψ(Q)` interpolated linearly in each triangle. Paper 1's
+/// fit (Liu et al. 2014 §4; DESIGN.md §1: the junction-constrained least squares, solved per
+/// path) is linear in its target, so with `F` the fit operator from mesh vertex positions to
+/// the drawing's control points (junction constraints included),
+///
+/// ```text
+/// control points(Q) = F · positions(Q) = F Dᵀ G · ψ(Q) = G_spline · ψ(Q)
+/// G_spline = F Dᵀ G                                   (2 · n_points × |Ψ|, dense)
+/// ```
+///
+/// `F` is the spline fit with the mesh's hat functions as weights and translations as maps:
+/// column `(v, d)` of `F` is the fit of the target "hat of vertex `v`, times unit vector `d`".
+/// Only the vertices of the triangles a path's curves cross have a non-zero column, so `F` is
+/// assembled per path over those vertices (the quadrature cuts curves at mesh edges, where the
+/// hats have kinks: [`MeshWeights`]' rule, exact for the piecewise-cubic weights) and never
+/// over the whole mesh.
+///
+/// **Properties** (tested in `tests/defop_spline_join.rs`): at the rest configuration `Q = P`
+/// the operator reproduces the rest mesh, the hats reproduce the linear function `x`, and the
+/// fit reproduces a cubic target, so the drawing comes back unchanged (to rounding); at any
+/// `Q` the result satisfies every junction constraint of the drawing (C¹ equal tangents, G¹
+/// parallel tangents with the input's length ratio, closed paths closed).
+///
+/// **Outside the mesh.** The drawing should lie in the operator's mesh (for a mesh from
+/// [`Domain::build`] on the drawing, it does). Curve points outside it take the values of the
+/// nearest boundary point, as [`MeshWeights`] does; [`DefOpRig::n_nodes_outside`] counts the
+/// quadrature nodes where that happened, and a point farther out than
+/// [`OUTSIDE_TOLERANCE_FRACTION`] of the mesh's diagonal is refused
+/// ([`DefOpError::DrawingOutsideMesh`]).
+///
+/// ```text
+/// once:            let rig = DefOpRig::precompute(&drawing, &mesh, &op, &FitOptions::default())?;
+/// once per thread: let mut ev = rig.evaluator();          (owns ψ and the product's scratch)
+/// each frame:      ev.update(&q, &mut points)?;           (ψ(Q), one dense mat-vec; allocates nothing)
+/// ```
+///
+/// Without a mesh at hand, [`DrawingDefOp::train`] triangulates the drawing's domain
+/// ([`training_domain_options`]), trains the operator ([`train`]) and builds the rig.
+///
+/// ```
+/// use kurbo::{Point, Rect, Vec2};
+/// use splineskin::defop::{DefOp, DefOpOptions, DefOpRig, HandleBasisKind, SpatialBasis};
+/// use splineskin::drawing::{Drawing, JunctionOptions, Path};
+/// use splineskin::mesh::TriMesh;
+/// use splineskin::spline_fit::FitOptions;
+///
+/// // A strip with two handles and a made-up ground truth: every configuration translates the
+/// // strip by the first handle's offset. A linear operator reproduces it exactly.
+/// let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 8, 2)?;
+/// let handles = [9, 17]; // (0, 0.5) and (4, 0.5)
+/// let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+/// let shifts = [(0.0, 0.0), (0.3, 0.1), (-0.2, 0.4), (0.1, -0.3), (0.5, 0.2)];
+/// let configurations: Vec<Vec<Point>> =
+///     shifts.iter().map(|&s| rest.iter().map(|&p| p + Vec2::from(s)).collect()).collect();
+/// let solutions: Vec<Vec<Point>> =
+///     shifts.iter().map(|&s| mesh.vertices.iter().map(|&p| p + Vec2::from(s)).collect()).collect();
+/// let options = DefOpOptions::default().with_handle_basis(HandleBasisKind::Linear);
+/// let op = DefOp::fit(&mesh, &handles, &SpatialBasis::hats(&mesh)?, &configurations, &solutions, &options)?;
+///
+/// // A wave drawn on the strip.
+/// let wave = [(0.5, 0.5), (1.5, 0.9), (2.5, 0.1), (3.5, 0.5)].map(Point::from).to_vec();
+/// let drawing = Drawing {
+///     paths: vec![Path::new(wave.clone(), false, &JunctionOptions::default()).unwrap()],
+///     ..Default::default()
+/// };
+/// let rig = DefOpRig::precompute(&drawing, &mesh, &op, &FitOptions::default())?;
+/// let mut evaluator = rig.evaluator();
+/// let mut points = vec![Point::ZERO; rig.n_points()];
+/// let q: Vec<Point> = rest.iter().map(|&p| p + Vec2::new(0.25, -0.5)).collect();
+/// evaluator.update(&q, &mut points)?;
+/// for (p, w) in points.iter().zip(&wave) {
+///     assert!((*p - (*w + Vec2::new(0.25, -0.5))).hypot() < 1e-12);
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 ///
 /// Output layout: the chain points of every path, concatenated as in
 /// [`Drawing::flat_points`] (a closed path's last point repeats its first), as
@@ -254,7 +257,7 @@ impl DefOpRig {
                                 },
                             ))?;
                     if at.outside_distance > 0.0 {
-                        if !(at.outside_distance <= tolerance) {
+                        if at.outside_distance > tolerance {
                             return Err(DefOpError::DrawingOutsideMesh {
                                 path: pi,
                                 curve: j,
@@ -450,7 +453,7 @@ fn local_positions(op: &DefOp, g: MatRef<'_, f64>, vertices: &[u32]) -> Mat<f64>
 /// # let op = DefOp::fit(&mesh, &handles, &SpatialBasis::hats(&mesh)?, &configurations, &solutions, &options)?;
 /// let line = [(0.5, 0.5), (1.5, 0.5), (2.5, 0.5), (3.5, 0.5)].map(Point::from).to_vec();
 /// let drawing = Drawing {
-///     paths: vec![Path::new(line.clone(), false, &JunctionOptions::default())?],
+///     paths: vec![Path::new(line.clone(), false, &JunctionOptions::default()).unwrap()],
 ///     ..Default::default()
 /// };
 /// let rig = DefOpRig::precompute(&drawing, &mesh, &op, &FitOptions::default())?;
@@ -537,11 +540,12 @@ impl DefOpRigEvaluator<'_> {
 /// let domain = training_domain_options().with_max_area_fraction(0.02).with_samples_per_diagonal(20.0);
 /// let training = TrainOptions::default().with_n_samples(10).with_handle_basis(HandleBasisKind::Linear);
 /// let joined = DrawingDefOp::train(&drawing, &handles, &domain, &training, &FitOptions::default(), &|_| {})?;
-/// // Moving both handles by the same offset translates the curve.
-/// let q = handles.map(|p| p + Vec2::new(5.0, -3.0));
-/// let points = joined.rig.deform(&q)?;
+/// // The rest configuration gives the curve back; moving a handle moves it.
 /// let input = drawing.flat_points();
-/// assert!(points.iter().zip(&input).all(|(p, c)| (*p - (*c + Vec2::new(5.0, -3.0))).hypot() < 1e-6));
+/// let rest = joined.rig.deform(&handles)?;
+/// assert!(rest.iter().zip(&input).all(|(p, c)| (*p - *c).hypot() < 1e-9));
+/// let moved = joined.rig.deform(&[handles[0], handles[1] + Vec2::new(0.0, 8.0)])?;
+/// assert!(moved[3].y > 1.0);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Clone, Debug)]
