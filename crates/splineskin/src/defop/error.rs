@@ -180,12 +180,14 @@ pub enum DefOpError {
     /// A point of the drawing (a quadrature node of a curve) lies farther outside the
     /// operator's mesh than the tolerance: the operator says nothing there (nearer points
     /// outside take the weights of the nearest boundary point).
-    #[error("path {path}, curve {curve}: a point lies {distance} outside the mesh (tolerance {tolerance}, drawing units; expected the drawing inside the operator's mesh)")]
+    #[error("path {path}: point ({x}, {y}) lies {distance} outside the mesh (tolerance {tolerance}, drawing units; expected the drawing inside the operator's mesh)")]
     DrawingOutsideMesh {
         /// The path.
         path: usize,
-        /// The curve within the path.
-        curve: usize,
+        /// The point's x.
+        x: f64,
+        /// The point's y.
+        y: f64,
         /// Distance of the point to the mesh, drawing units.
         distance: f64,
         /// The largest distance accepted, drawing units.

@@ -7,12 +7,13 @@
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
+use std::sync::Mutex;
+
 use kurbo::Point;
 
 use super::{
     train, DefOp, DefOpError, HandleBasis, Progress, SpatialBasis, TrainOptions, Training,
 };
-use crate::bezier;
 use crate::domain::{Domain, DomainOptions, MeshWeights};
 use crate::drawing::Drawing;
 use crate::mesh::TriMesh;
@@ -156,6 +157,31 @@ pub struct DefOpRig {
     coefficients: Vec<f64>,
     n_nodes_outside: usize,
     max_outside_distance: f64,
+    rank_deficient_paths: Vec<usize>,
+}
+
+/// The first pass over a path: a one-handle field that records every point it is evaluated at
+/// (the quadrature's, whatever the rule) and reports the mesh's kinks.
+struct Touched<'a> {
+    locator: &'a MeshWeights,
+    points: Mutex<Vec<Point>>,
+}
+
+impl WeightField for Touched<'_> {
+    fn n_handles(&self) -> usize {
+        1
+    }
+
+    fn eval(&self, p: Point, out: &mut [f64]) {
+        out.fill(0.0);
+        if let Ok(mut points) = self.points.lock() {
+            points.push(p);
+        }
+    }
+
+    fn kinks(&self, curve: &[Point; 4], out: &mut Vec<f64>) {
+        self.locator.kinks(curve, out)
+    }
 }
 
 /// A path's own vertices: the mesh vertices its quadrature nodes interpolate from, numbered
@@ -181,7 +207,7 @@ impl WeightField for LocalHats<'_> {
         for (&v, &c) in at.vertices.iter().zip(&at.coefficients) {
             match self.local.get(v as usize) {
                 Some(&a) if a != u32::MAX => out[a as usize] += c,
-                // The nodes were gathered at these very points: unreachable. NaN makes the
+                // The vertices were gathered at these very points: unreachable. NaN makes the
                 // path's solve fail (FitError::Singular) rather than drop a weight.
                 _ if c != 0.0 => out.fill(f64::NAN),
                 _ => {}
@@ -236,43 +262,44 @@ impl DefOpRig {
         let mut vertices: Vec<u32> = Vec::new();
         let mut n_nodes_outside = 0;
         let mut max_outside_distance: f64 = 0.0;
+        let mut rank_deficient_paths = Vec::new();
         let mut offset = 0;
         for (pi, path) in drawing.paths.iter().enumerate() {
             let one = Drawing {
                 paths: vec![path.clone()],
                 ..Default::default()
             };
-            // The path's quadrature nodes (cut at mesh edges), and the vertices they touch.
-            let nodes = SampledCurves::sample(&one, &locator, options);
-            for j in 0..path.n_curves() {
-                let c = path.curve_points(j);
-                for &t in nodes.curve(j).t {
-                    let at =
-                        locator
-                            .interpolation(bezier::eval(&c, t))
-                            .ok_or(DefOpError::Domain(
-                                crate::domain::DomainError::EmptyDomain {
-                                    reason:
-                                        "the mesh has no boundary (a bug: valid meshes have one)",
-                                },
-                            ))?;
-                    if at.outside_distance > 0.0 {
-                        if at.outside_distance > tolerance {
-                            return Err(DefOpError::DrawingOutsideMesh {
-                                path: pi,
-                                curve: j,
-                                distance: at.outside_distance,
-                                tolerance,
-                            });
-                        }
-                        n_nodes_outside += 1;
-                        max_outside_distance = max_outside_distance.max(at.outside_distance);
+            // First pass: the points where the path's quadrature evaluates its weights (nodes
+            // cut at mesh edges; the authors' rule's samples), and the vertices they touch.
+            let touched = Touched {
+                locator: &locator,
+                points: Mutex::new(Vec::new()),
+            };
+            SampledCurves::sample(&one, &touched, options);
+            let points = touched.points.into_inner().unwrap_or_default();
+            for p in points {
+                let at = locator.interpolation(p).ok_or(DefOpError::Domain(
+                    crate::domain::DomainError::EmptyDomain {
+                        reason: "the mesh has no boundary (a bug: valid meshes have one)",
+                    },
+                ))?;
+                if at.outside_distance > 0.0 {
+                    if at.outside_distance > tolerance {
+                        return Err(DefOpError::DrawingOutsideMesh {
+                            path: pi,
+                            x: p.x,
+                            y: p.y,
+                            distance: at.outside_distance,
+                            tolerance,
+                        });
                     }
-                    for &v in &at.vertices {
-                        if local[v as usize] == u32::MAX {
-                            local[v as usize] = vertices.len() as u32;
-                            vertices.push(v);
-                        }
+                    n_nodes_outside += 1;
+                    max_outside_distance = max_outside_distance.max(at.outside_distance);
+                }
+                for &v in &at.vertices {
+                    if local[v as usize] == u32::MAX {
+                        local[v as usize] = vertices.len() as u32;
+                        vertices.push(v);
                     }
                 }
             }
@@ -283,7 +310,11 @@ impl DefOpRig {
             };
             let samples = SampledCurves::sample(&one, &field, options);
             // F: 2m × 2 n_local, column 2a + d = translation coordinate d of local vertex a.
-            let f = solve_path(pi, path, &samples, 0, options, HandleMaps::Translation)?.operator;
+            let solved = solve_path(pi, path, &samples, 0, options, HandleMaps::Translation)?;
+            if solved.rank_deficient {
+                rank_deficient_paths.push(pi);
+            }
+            let f = solved.operator;
             // The local vertices' positions as rows over Ψ (row 2a + d: coordinate d of
             // local vertex a), i.e. the rows of Dᵀ G at those vertices.
             let positions = local_positions(op, g, &vertices);
@@ -326,6 +357,7 @@ impl DefOpRig {
             coefficients,
             n_nodes_outside,
             max_outside_distance,
+            rank_deficient_paths,
         })
     }
 
@@ -384,8 +416,9 @@ impl DefOpRig {
         &self.coefficients
     }
 
-    /// Quadrature nodes of the drawing that lie outside the mesh (they took the values of
-    /// the nearest boundary point; 0 when the drawing is inside the mesh).
+    /// Quadrature points of the drawing (where the fit evaluates its weights) that lie outside
+    /// the mesh: they took the values of the nearest boundary point (0 when the drawing is
+    /// inside the mesh).
     pub fn n_nodes_outside(&self) -> usize {
         self.n_nodes_outside
     }
@@ -393,6 +426,13 @@ impl DefOpRig {
     /// The largest distance of those nodes to the mesh, drawing units (0 when none).
     pub fn max_outside_distance(&self) -> f64 {
         self.max_outside_distance
+    }
+
+    /// Paths whose fit system was found rank deficient (only with
+    /// [`FitOptions::check_rank`], as [`crate::spline_fit::SplineRig::rank_deficient_paths`]);
+    /// their points are whatever the LU factorisation produced.
+    pub fn rank_deficient_paths(&self) -> &[usize] {
+        &self.rank_deficient_paths
     }
 }
 
