@@ -630,3 +630,113 @@ impl DrawingDefOp {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use kurbo::{Affine, Rect, Vec2};
+
+    use super::*;
+    use crate::defop::{Arap, ArapOptions, DefOpOptions, HandleBasisKind};
+    use crate::drawing::{JunctionOptions, Path};
+    use crate::spline_fit::SplineRig;
+
+    /// A strip `[0, 4] × [0, 1]` with two handles and a quadratic operator fitted to ARAP
+    /// solutions.
+    fn strip_operator() -> (TriMesh, DefOp, Vec<Point>) {
+        let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 16, 4).unwrap();
+        let handles = [34, 50]; // (0, 0.5) and (4, 0.5)
+        let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+        let arap = Arap::new(&mesh, &handles, ArapOptions::default()).unwrap();
+        let offsets = [
+            (0.0, 0.0, 0.0, 0.0),
+            (0.0, 0.0, -0.3, 0.8),
+            (0.2, -0.1, 0.1, -0.6),
+            (-0.2, 0.3, 0.4, 0.2),
+            (0.1, 0.2, -0.5, -0.3),
+            (0.3, -0.3, 0.2, 0.7),
+            (-0.1, -0.2, -0.2, 0.4),
+            (0.0, 0.4, 0.3, -0.1),
+        ];
+        let configurations: Vec<Vec<Point>> = offsets
+            .iter()
+            .map(|&(a, b, c, d)| vec![rest[0] + Vec2::new(a, b), rest[1] + Vec2::new(c, d)])
+            .collect();
+        let solutions: Vec<Vec<Point>> = configurations
+            .iter()
+            .map(|q| {
+                let mut u = mesh.vertices.clone();
+                arap.solve(q, &mut u).unwrap();
+                u
+            })
+            .collect();
+        let options = DefOpOptions::default().with_handle_basis(HandleBasisKind::Quadratic);
+        let spatial = SpatialBasis::hats(&mesh).unwrap();
+        let op = DefOp::fit(
+            &mesh,
+            &handles,
+            &spatial,
+            &configurations,
+            &solutions,
+            &options,
+        )
+        .unwrap();
+        (mesh, op, rest)
+    }
+
+    #[test]
+    fn join_outside_the_mesh_takes_the_nearest_boundary_values() {
+        let (mesh, op, rest) = strip_operator();
+        // A wave leaving the strip through its right side, 0.1 beyond it (tolerance: 5 % of
+        // the diagonal, 0.21).
+        let wave = [(2.5, 0.5), (3.2, 0.9), (3.8, 0.1), (4.1, 0.5)].map(Point::from);
+        let drawing = Drawing {
+            paths: vec![Path::new(wave.to_vec(), false, &JunctionOptions::default()).unwrap()],
+            ..Default::default()
+        };
+        let options = FitOptions::default();
+        let rig = DefOpRig::precompute(&drawing, &mesh, &op, &options).unwrap();
+        assert!(rig.n_nodes_outside() > 0);
+        // The last Gauss node is just before the end point.
+        let d = rig.max_outside_distance();
+        assert!(d > 0.09 && d < 0.1, "{d}");
+        // The same as the spline fit with MeshWeights of the deformed strip (its outside
+        // rule), whose x and y coordinates are the weights of two unit translations.
+        let q = [
+            rest[0] + Vec2::new(0.1, 0.3),
+            rest[1] + Vec2::new(-0.4, 0.5),
+        ];
+        let positions = op.eval(&q).unwrap();
+        let w: Vec<f64> = positions.iter().flat_map(|p| [p.x, p.y]).collect();
+        let field = MeshWeights::new(&mesh, w, 2).unwrap();
+        let spline = SplineRig::precompute(&drawing, &field, &options).unwrap();
+        let mut want = vec![Point::ZERO; 4];
+        let pose = [
+            Affine::new([0.0, 0.0, 0.0, 0.0, 1.0, 0.0]),
+            Affine::new([0.0, 0.0, 0.0, 0.0, 0.0, 1.0]),
+        ];
+        spline.update(&pose, &mut want).unwrap();
+        let got = rig.deform(&q).unwrap();
+        for (g, w) in got.iter().zip(&want) {
+            assert!((*g - *w).hypot() < 1e-12, "{got:?} vs {want:?}");
+        }
+        // At rest the target is the curve inside the mesh and its clamp to x ≤ 4 outside: not
+        // a cubic, so the fit moves the curve, by less than the clamp.
+        let rest_points = rig.deform(&rest).unwrap();
+        let moved = rest_points
+            .iter()
+            .zip(&wave)
+            .map(|(p, w)| (*p - *w).hypot())
+            .fold(0.0, f64::max);
+        assert!(moved > 1e-4 && moved < 0.1, "{moved}");
+        // Twice as far out: refused.
+        let far = [(2.5, 0.5), (3.2, 0.9), (3.8, 0.1), (4.3, 0.5)].map(Point::from);
+        let drawing = Drawing {
+            paths: vec![Path::new(far.to_vec(), false, &JunctionOptions::default()).unwrap()],
+            ..Default::default()
+        };
+        assert!(matches!(
+            DefOpRig::precompute(&drawing, &mesh, &op, &options),
+            Err(DefOpError::DrawingOutsideMesh { path: 0, .. })
+        ));
+    }
+}
