@@ -68,9 +68,10 @@ pub fn training_domain_options() -> DomainOptions {
 /// ```
 ///
 /// which is linear blend skinning (Liu et al. 2014 §3) with weights `φ_i` and the pure
-/// translations `T_i = [0 0 c_i]`. Every spatial basis here is piecewise linear on the mesh
-/// (hats, or functions given by their vertex values `Dᵀ`), so along a curve the target is the
-/// deformed mesh `positions(Q) = Dᵀ G ψ(Q)` interpolated linearly in each triangle. Paper 1's
+/// translations `T_i = [0 0 c_i]`. Between vertices a spatial function is the linear
+/// interpolation of its vertex values (the hats' own definition; a reduced basis is given by
+/// its vertex values `Dᵀ` only), so along a curve the target is the deformed mesh
+/// `positions(Q) = Dᵀ G ψ(Q)` interpolated linearly in each triangle. Paper 1's
 /// fit (Liu et al. 2014 §4; DESIGN.md §1: the junction-constrained least squares, solved per
 /// path) is linear in its target, so with `F` the fit operator from mesh vertex positions to
 /// the drawing's control points (junction constraints included),
@@ -88,8 +89,9 @@ pub fn training_domain_options() -> DomainOptions {
 /// over the whole mesh.
 ///
 /// **Properties** (tested in `tests/defop_spline_join.rs`): at the rest configuration `Q = P`
-/// the operator reproduces the rest mesh, the hats reproduce the linear function `x`, and the
-/// fit reproduces a cubic target, so the drawing comes back unchanged (to rounding); at any
+/// the operator reproduces the rest mesh, its linear interpolation reproduces the identity
+/// `x ↦ x` (every spatial basis here is linearly precise), and the fit reproduces a cubic
+/// target, so the drawing comes back unchanged (to rounding); at any
 /// `Q` the result satisfies every junction constraint of the drawing (C¹ equal tangents, G¹
 /// parallel tangents with the input's length ratio, closed paths closed).
 ///
