@@ -110,17 +110,14 @@ fn main() {
     divan::main();
 }
 
-#[divan::bench(sample_count = 20)]
-fn precompute(bencher: divan::Bencher) {
+/// `parallel`: paths joined on rayon's pool ([`FitOptions::parallel`]).
+#[divan::bench(sample_count = 20, args = [false, true])]
+fn precompute(bencher: divan::Bencher, parallel: bool) {
     let s = setup();
+    let options = FitOptions::default().with_parallel(parallel);
     bencher.bench_local(|| {
-        DefOpRig::from_domain(
-            divan::black_box(&s.drawing),
-            &s.domain,
-            &s.op,
-            &FitOptions::default(),
-        )
-        .expect("rig")
+        DefOpRig::from_domain(divan::black_box(&s.drawing), &s.domain, &s.op, &options)
+            .expect("rig")
     });
 }
 

@@ -236,6 +236,10 @@ fn join_equals_the_fit_of_the_deformed_mesh() {
             "{name}: join vs fit of the deformed mesh, largest distance / diagonal {worst:.1e}"
         );
         assert!(worst < 1e-10, "{name}: {worst:e}");
+        // Paths joined on rayon's pool give the same operator, bit for bit.
+        let parallel =
+            DefOpRig::from_domain(&f.drawing, domain, op, &options.with_parallel(true)).unwrap();
+        assert_eq!(parallel.coefficients(), rig.coefficients(), "{name}");
     }
 }
 

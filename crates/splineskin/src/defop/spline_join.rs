@@ -7,6 +7,7 @@
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
+use std::collections::HashMap;
 use std::sync::Mutex;
 
 use kurbo::Point;
@@ -190,8 +191,8 @@ impl WeightField for Touched<'_> {
 /// locally. A [`WeightField`] whose handle `a` is the hat function of local vertex `a`.
 struct LocalHats<'a> {
     locator: &'a MeshWeights,
-    /// Global vertex → local index, `u32::MAX` for the vertices the path does not touch.
-    local: &'a [u32],
+    /// Global vertex → local index, for the vertices the path touches.
+    local: &'a HashMap<u32, u32>,
     n_local: usize,
 }
 
@@ -207,8 +208,8 @@ impl WeightField for LocalHats<'_> {
             return;
         };
         for (&v, &c) in at.vertices.iter().zip(&at.coefficients) {
-            match self.local.get(v as usize) {
-                Some(&a) if a != u32::MAX => out[a as usize] += c,
+            match self.local.get(&v) {
+                Some(&a) => out[a as usize] += c,
                 // The vertices were gathered at these very points: unreachable. NaN makes the
                 // path's solve fail (FitError::Singular) rather than drop a weight.
                 _ if c != 0.0 => out.fill(f64::NAN),
@@ -256,93 +257,51 @@ impl DefOpRig {
         let tolerance = OUTSIDE_TOLERANCE_FRACTION * bounds.width().hypot(bounds.height());
 
         let n_psi = op.handle_basis.n_functions();
-        let n_phi = op.spatial.n_functions();
-        let g = MatRef::from_column_major_slice(&op.coefficients, 2 * n_phi, n_psi);
         let n_points = drawing.n_points();
+        let context = JoinContext {
+            op,
+            locator: &locator,
+            tolerance,
+            options,
+        };
+        // Paths are independent: join them (in parallel if asked), then place their rows.
+        let joined: Vec<PathJoin> = if options.parallel {
+            use rayon::prelude::*;
+            drawing
+                .paths
+                .par_iter()
+                .enumerate()
+                .map(|(pi, path)| context.join_path(pi, path))
+                .collect::<Result<_, _>>()?
+        } else {
+            drawing
+                .paths
+                .iter()
+                .enumerate()
+                .map(|(pi, path)| context.join_path(pi, path))
+                .collect::<Result<_, _>>()?
+        };
         let mut g_spline = Mat::<f64>::zeros(2 * n_points, n_psi);
-        let mut local = vec![u32::MAX; n_vertices];
-        let mut vertices: Vec<u32> = Vec::new();
         let mut n_nodes_outside = 0;
         let mut max_outside_distance: f64 = 0.0;
         let mut rank_deficient_paths = Vec::new();
         let mut offset = 0;
-        for (pi, path) in drawing.paths.iter().enumerate() {
-            let one = Drawing {
-                paths: vec![path.clone()],
-                ..Default::default()
-            };
-            // First pass: the points where the path's quadrature evaluates its weights (nodes
-            // cut at mesh edges; the authors' rule's samples), and the vertices they touch.
-            let touched = Touched {
-                locator: &locator,
-                points: Mutex::new(Vec::new()),
-            };
-            SampledCurves::sample(&one, &touched, options);
-            let points = touched.points.into_inner().unwrap_or_default();
-            for p in points {
-                let at = locator.interpolation(p).ok_or(DefOpError::Domain(
-                    crate::domain::DomainError::EmptyDomain {
-                        reason: "the mesh has no boundary (a bug: valid meshes have one)",
-                    },
-                ))?;
-                if at.outside_distance > 0.0 {
-                    if at.outside_distance > tolerance {
-                        return Err(DefOpError::DrawingOutsideMesh {
-                            path: pi,
-                            x: p.x,
-                            y: p.y,
-                            distance: at.outside_distance,
-                            tolerance,
-                        });
-                    }
-                    n_nodes_outside += 1;
-                    max_outside_distance = max_outside_distance.max(at.outside_distance);
-                }
-                for &v in &at.vertices {
-                    if local[v as usize] == u32::MAX {
-                        local[v as usize] = vertices.len() as u32;
-                        vertices.push(v);
-                    }
-                }
-            }
-            let field = LocalHats {
-                locator: &locator,
-                local: &local,
-                n_local: vertices.len(),
-            };
-            let samples = SampledCurves::sample(&one, &field, options);
-            // F: 2m × 2 n_local, column 2a + d = translation coordinate d of local vertex a.
-            let solved = solve_path(pi, path, &samples, 0, options, HandleMaps::Translation)?;
-            if solved.rank_deficient {
+        for (pi, (path, joined)) in drawing.paths.iter().zip(&joined).enumerate() {
+            n_nodes_outside += joined.n_nodes_outside;
+            max_outside_distance = max_outside_distance.max(joined.max_outside_distance);
+            if joined.rank_deficient {
                 rank_deficient_paths.push(pi);
             }
-            let f = solved.operator;
-            // The local vertices' positions as rows over Ψ (row 2a + d: coordinate d of
-            // local vertex a), i.e. the rows of Dᵀ G at those vertices.
-            let positions = local_positions(op, g, &vertices);
-            let mut block = Mat::<f64>::zeros(f.nrows(), n_psi);
-            matmul(
-                block.as_mut(),
-                Accum::Replace,
-                f.as_ref(),
-                positions.as_ref(),
-                1.0,
-                Par::Seq,
-            );
             let m = path.n_unknown_points();
             for k in 0..path.points.len() {
                 let src = if k >= m { k - m } else { k };
                 for d in 0..2 {
                     g_spline
                         .row_mut(2 * (offset + k) + d)
-                        .copy_from(block.row(2 * src + d));
+                        .copy_from(joined.block.row(2 * src + d));
                 }
             }
             offset += path.points.len();
-            for &v in &vertices {
-                local[v as usize] = u32::MAX;
-            }
-            vertices.clear();
         }
         if n_nodes_outside > 0 {
             tracing::warn!(
@@ -435,6 +394,103 @@ impl DefOpRig {
     /// their points are whatever the LU factorisation produced.
     pub fn rank_deficient_paths(&self) -> &[usize] {
         &self.rank_deficient_paths
+    }
+}
+
+/// What every path's join shares.
+struct JoinContext<'a> {
+    op: &'a DefOp,
+    locator: &'a MeshWeights,
+    /// Largest distance outside the mesh accepted, drawing units.
+    tolerance: f64,
+    options: &'a FitOptions,
+}
+
+/// One path's part of `G_spline` and what its precompute found.
+struct PathJoin {
+    /// `2m × |Ψ|` (`m` unknown points): row `2k + d` coordinate `d` of unknown point `k`.
+    block: Mat<f64>,
+    n_nodes_outside: usize,
+    max_outside_distance: f64,
+    rank_deficient: bool,
+}
+
+impl JoinContext<'_> {
+    /// `F Dᵀ G` for path `path` (index `pi`, for messages): its quadrature points and the
+    /// vertices they touch, its fit over those vertices' hats, times their rows of `Dᵀ G`.
+    fn join_path(&self, pi: usize, path: &crate::drawing::Path) -> Result<PathJoin, DefOpError> {
+        let one = Drawing {
+            paths: vec![path.clone()],
+            ..Default::default()
+        };
+        // First pass: the points where the path's quadrature evaluates its weights (nodes cut
+        // at mesh edges; the authors' rule's samples), and the vertices they touch.
+        let touched = Touched {
+            locator: self.locator,
+            points: Mutex::new(Vec::new()),
+        };
+        SampledCurves::sample(&one, &touched, self.options);
+        let points = touched.points.into_inner().unwrap_or_default();
+        let mut local: HashMap<u32, u32> = HashMap::new();
+        let mut vertices: Vec<u32> = Vec::new();
+        let mut n_nodes_outside = 0;
+        let mut max_outside_distance: f64 = 0.0;
+        for p in points {
+            let at = self.locator.interpolation(p).ok_or(DefOpError::Domain(
+                crate::domain::DomainError::EmptyDomain {
+                    reason: "the mesh has no boundary (a bug: valid meshes have one)",
+                },
+            ))?;
+            if at.outside_distance > 0.0 {
+                if at.outside_distance > self.tolerance {
+                    return Err(DefOpError::DrawingOutsideMesh {
+                        path: pi,
+                        x: p.x,
+                        y: p.y,
+                        distance: at.outside_distance,
+                        tolerance: self.tolerance,
+                    });
+                }
+                n_nodes_outside += 1;
+                max_outside_distance = max_outside_distance.max(at.outside_distance);
+            }
+            for &v in &at.vertices {
+                local.entry(v).or_insert_with(|| {
+                    vertices.push(v);
+                    (vertices.len() - 1) as u32
+                });
+            }
+        }
+        let field = LocalHats {
+            locator: self.locator,
+            local: &local,
+            n_local: vertices.len(),
+        };
+        let samples = SampledCurves::sample(&one, &field, self.options);
+        // F: 2m × 2 n_local, column 2a + d = translation coordinate d of local vertex a.
+        let solved = solve_path(pi, path, &samples, 0, self.options, HandleMaps::Translation)?;
+        let f = solved.operator;
+        // The local vertices' positions as rows over Ψ (row 2a + d: coordinate d of local
+        // vertex a), i.e. the rows of Dᵀ G at those vertices.
+        let n_phi = self.op.spatial.n_functions();
+        let n_psi = self.op.handle_basis.n_functions();
+        let g = MatRef::from_column_major_slice(&self.op.coefficients, 2 * n_phi, n_psi);
+        let positions = local_positions(self.op, g, &vertices);
+        let mut block = Mat::<f64>::zeros(f.nrows(), n_psi);
+        matmul(
+            block.as_mut(),
+            Accum::Replace,
+            f.as_ref(),
+            positions.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        Ok(PathJoin {
+            block,
+            n_nodes_outside,
+            max_outside_distance,
+            rank_deficient: solved.rank_deficient,
+        })
     }
 }
 
