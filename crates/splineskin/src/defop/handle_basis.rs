@@ -171,6 +171,24 @@ impl HandleBasis {
         })
     }
 
+    /// A basis from stored parts (the operator file): thin-plate centres already in the scaled
+    /// displacement `z`, `n_centres × 2n` row-major (empty for polynomials). The caller has
+    /// checked the sizes; the rest and scale are checked here.
+    pub(crate) fn from_parts(
+        kind: HandleBasisKind,
+        rest: Vec<Point>,
+        scale: f64,
+        centres: Vec<f64>,
+    ) -> Result<HandleBasis, DefOpError> {
+        check_rest(&rest, scale)?;
+        Ok(HandleBasis {
+            kind,
+            rest,
+            scale,
+            centres,
+        })
+    }
+
     /// The family.
     pub fn kind(&self) -> HandleBasisKind {
         self.kind

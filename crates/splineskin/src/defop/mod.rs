@@ -63,6 +63,7 @@ mod arap_energy;
 mod deformation_gradient;
 mod distance;
 mod error;
+mod file;
 mod fit;
 mod handle_basis;
 mod handles;
@@ -83,6 +84,9 @@ pub use arap::{
 pub use arap_energy::arap_energy;
 pub use distance::l2_distance;
 pub use error::DefOpError;
+pub use file::{
+    OperatorFile, OperatorFileError, TrainingMetadata, OPERATOR_FORMAT_VERSION, OPERATOR_MAGIC,
+};
 pub use fit::{DefOpOptions, DEFAULT_RANK_TOLERANCE};
 pub use handle_basis::{HandleBasis, HandleBasisKind};
 pub use laplacian_eigen::{EigenOperator, SHIFT_FRACTION};

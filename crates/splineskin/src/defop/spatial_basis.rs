@@ -230,6 +230,22 @@ impl SpatialBasis {
         )
     }
 
+    /// A basis from stored parts (the operator file): `values` as the field documents, `None`
+    /// for the hats. The caller has checked the sizes.
+    pub(crate) fn from_parts(
+        kind: SpatialBasisKind,
+        n_vertices: usize,
+        n_functions: usize,
+        values: Option<Vec<f64>>,
+    ) -> SpatialBasis {
+        SpatialBasis {
+            kind,
+            n_vertices,
+            n_functions,
+            values,
+        }
+    }
+
     /// Which basis this is.
     pub fn kind(&self) -> &SpatialBasisKind {
         &self.kind
