@@ -75,6 +75,7 @@ mod sarap;
 mod sarap_energy;
 mod spatial_basis;
 mod spline_join;
+mod study;
 mod train;
 
 pub use arap::{
@@ -103,7 +104,11 @@ pub use spline_join::{
     training_domain_options, DefOpRig, DefOpRigEvaluator, DrawingDefOp, OUTSIDE_TOLERANCE_FRACTION,
     TRAINING_MAX_AREA_FRACTION, TRAINING_SAMPLES_PER_DIAGONAL,
 };
+pub use study::{
+    geometric_sample_counts, study, Study, StudyOptions, StudyProgress, StudyRow, DEFAULT_HELD_OUT,
+    DEFAULT_HELD_OUT_SEED, STUDY_BASES,
+};
 pub use train::{
-    train, Energy, Progress, StageReport, TrainOptions, Training, WarmStart, DEFAULT_DISC_FRACTION,
-    DEFAULT_GROWTH, DEFAULT_TRAINING_SAMPLES,
+    ground_truths_from_rest, train, Energy, Progress, StageReport, TrainOptions, Training,
+    WarmStart, DEFAULT_DISC_FRACTION, DEFAULT_GROWTH, DEFAULT_TRAINING_SAMPLES,
 };

@@ -426,6 +426,58 @@ pub fn train(
     })
 }
 
+/// The ground truths at `configurations` solved from the rest pose, independently of any
+/// operator: the held-out truth of the convergence study ([`super::study()`]), deterministic
+/// for a given mesh and configuration. `options` gives the energy, the solver options and
+/// [`TrainOptions::parallel`] (rayon); its samples and fit are ignored. Symmetric ARAP tries
+/// the rest pose's ARAP solution first (if flip-free), then the rest pose, as [`train`] does
+/// when it has no prediction. `progress(done)` is called after every solve.
+///
+/// Both energies have several local minima for large handle displacements, so the solution
+/// depends on the start; starting every held-out configuration from rest makes the truth one
+/// fixed function of the configuration, the same for every operator it measures.
+///
+/// ```
+/// use kurbo::{Point, Rect};
+/// use splineskin::defop::{ground_truths_from_rest, Energy, TrainOptions};
+/// use splineskin::mesh::TriMesh;
+/// let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 8, 2)?;
+/// let q = vec![Point::new(0., 0.5), Point::new(4.5, 0.5)];
+/// let options = TrainOptions::default().with_energy(Energy::Arap);
+/// let truths = ground_truths_from_rest(&mesh, &[9, 17], &options, &[q], &|_| {})?;
+/// assert_eq!(truths[0][17], Point::new(4.5, 0.5));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn ground_truths_from_rest(
+    mesh: &TriMesh,
+    handles: &[usize],
+    options: &TrainOptions,
+    configurations: &[Vec<Point>],
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<Vec<Vec<Point>>, DefOpError> {
+    let solver = Solver {
+        arap: Arap::new(mesh, handles, options.arap)?,
+        sarap: match options.energy {
+            Energy::Arap => None,
+            Energy::SymmetricArap => Some(SymmetricArap::new(mesh, handles, options.sarap)?),
+        },
+    };
+    let solved = AtomicUsize::new(0);
+    let solve_one = |k: usize| -> Result<Vec<Point>, DefOpError> {
+        let result = solve_sample(mesh, handles, &solver, None, k, &configurations[k]);
+        progress(solved.fetch_add(1, Ordering::Relaxed) + 1);
+        result.map(|s| s.solution)
+    };
+    if options.parallel {
+        (0..configurations.len())
+            .into_par_iter()
+            .map(solve_one)
+            .collect()
+    } else {
+        (0..configurations.len()).map(solve_one).collect()
+    }
+}
+
 /// The ground truth at `q` (sample `sample`), started from `predictor`'s prediction when
 /// there is one.
 fn solve_sample(
