@@ -217,6 +217,7 @@ pub(crate) fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
         poses,
         flexible: true,
         animation,
+        defop: None,
         format: SceneFormat::Authors,
     })
 }

@@ -19,12 +19,17 @@
 //! that order. [`Puppet`] keeps a scene's weights and rig cached while only its pose changes.
 
 pub mod authors;
+pub mod defop;
 mod deformer;
 pub mod handles;
 pub mod ours;
 mod session;
 mod setup;
 
+pub use defop::{
+    energy_name, parse_energy, parse_handle_basis, DefOpSettings, DefOpShape, RegionSpec,
+    SpatialBasisSpec, DEFAULT_DEFOP_AREA_FRACTION, HANDLE_VERTEX_TOLERANCE,
+};
 pub use deformer::Deformer;
 pub use handles::{Bone, BonePoseError, BoneTransform, HandleKind, HandleSet};
 pub use session::{Puppet, PuppetStage, PuppetStats};
@@ -85,6 +90,9 @@ pub struct Scene {
     /// Keyframed poses, if the scene has any (our `animation` key; the authors'
     /// `animationFrames`, [`authors`]).
     pub animation: Option<crate::animation::Animation>,
+    /// Training settings of a deformation operator (our `defop` key, [`defop`]); `None`
+    /// without one (then [`DefOpSettings::default`] applies).
+    pub defop: Option<DefOpSettings>,
     /// Which format the scene was read from.
     pub format: SceneFormat,
 }

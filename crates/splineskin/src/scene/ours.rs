@@ -47,6 +47,7 @@
 //! | `junctions` | overrides: path index (subpaths in document order), joint index (joint `k` starts curve `k`), `kind` ∈ `C0`, `C1`, `G1`, `angle` |
 //! | `pose` / `poses` | one pose (a list of transforms) or a list of `{name?, transforms, cage_positions?}` |
 //! | `animation` | keyframed poses: `fps` (frames per second sampled, default 30, at most 1000) and `keyframes`, a non-empty list of `{time, pose}`: `time` in seconds, ≥ 0, strictly increasing (uneven spacing is fine); `pose` is an index into `poses` (`0` is the identity in a scene without poses), a pose's `name`, a list of transforms (as in `pose`), or `{transforms, cage_positions?}` (as in `poses`). The animation runs from time 0 to the last keyframe; between keyframes each handle's map is interpolated by parts about its pivot ([`crate::animation`]), so every map must be invertible. Default: none |
+//! | `defop` | training settings of a deformation operator for the point handles: `energy`, `spatial_basis`, `handle_basis`, `samples`, `region`, `seed`, `domain`, `mesh`, `operator`; keys, defaults and meaning in [`super::defop`] (`splineskin defop train`). Default: none (the defaults) |
 //!
 //! **Handle order.** The rig and every pose number the handles: point handles first (in
 //! `handles` order), then bones, then cage vertices ([`super::handles`]). A pose's
@@ -122,6 +123,8 @@ struct SceneFile {
     poses: Option<Vec<PoseFile>>,
     #[serde(default)]
     animation: Option<AnimationFile>,
+    #[serde(default)]
+    defop: Option<super::defop::DefOpFile>,
 }
 
 #[derive(Deserialize)]
@@ -174,7 +177,7 @@ enum BoneTransformFile {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct DomainFile {
+pub(crate) struct DomainFile {
     #[serde(default)]
     min_angle: Option<f64>,
     #[serde(default)]
@@ -195,7 +198,12 @@ struct DomainFile {
 
 impl DomainFile {
     fn options(&self) -> DomainOptions {
-        let mut o = DomainOptions::default();
+        self.options_over(DomainOptions::default())
+    }
+
+    /// `base` with the options this section sets.
+    pub(crate) fn options_over(&self, base: DomainOptions) -> DomainOptions {
+        let mut o = base;
         if let Some(v) = self.min_angle {
             o = o.with_min_angle(v);
         }
@@ -613,6 +621,11 @@ pub(crate) fn parse(
         poses,
         flexible: file.flexible,
         animation,
+        defop: file
+            .defop
+            .as_ref()
+            .map(|d| d.settings(origin, base_dir))
+            .transpose()?,
         format: SceneFormat::Ours,
     })
 }
