@@ -6,6 +6,7 @@
 mod animate;
 mod bench;
 mod compare;
+mod defop;
 mod deform;
 mod demo;
 mod info;
@@ -45,6 +46,9 @@ enum Command {
     Serve(serve::Args),
     /// Catmull–Clark cages (OBJ): deform, compare with skinning the cage, benchmark, refine.
     Subdiv(subdiv::Args),
+    /// Deformation operators: train on a scene's point handles, evaluate, benchmark, and the
+    /// convergence study.
+    Defop(defop::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -59,6 +63,7 @@ fn main() -> std::process::ExitCode {
         Command::Weights(a) => weights::run(a),
         Command::Serve(a) => serve::run(a),
         Command::Subdiv(a) => subdiv::run(a),
+        Command::Defop(a) => defop::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
