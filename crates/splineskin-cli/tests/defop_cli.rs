@@ -1,0 +1,323 @@
+//! `splineskin defop …` through the binary, on a small bar drawing (a 100 × 30 rectangle,
+//! three point handles) trained on a coarse domain with few samples:
+//!
+//! * `train` → `eval`: the rest configuration gives back the rest mesh, the handle vertices
+//!   land on their targets, both handle-file forms are read, the PNG is drawn;
+//! * `train` on an OBJ mesh whose vertices hold the handles; refused when a handle is off the
+//!   mesh's vertices;
+//! * `study --quick --json`: the keys, and the thin-plate error falls with the samples;
+//! * `bench --json`: a positive `evals_per_s`;
+//! * bad inputs refused with the file named, exit status 1, no output left behind.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use common::test_dir::TestDir;
+use kurbo::Point;
+use splineskin::defop::OperatorFile;
+use splineskin::weight_map::RgbaImage;
+
+const BAR_SVG: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 30"><path d="M0 0 H100 V30 H0 Z" fill="#888"/></svg>"##;
+
+/// The bar scene with a `defop` section (`extra` adds keys to it).
+fn write_scene(dir: &Path, extra: &str) -> std::path::PathBuf {
+    std::fs::write(dir.join("bar.svg"), BAR_SVG).unwrap();
+    let scene = format!(
+        r#"{{
+  "splineskin_scene": 1,
+  "svg": "bar.svg",
+  "handles": [ {{ "position": [10, 15] }}, {{ "position": [90, 15] }}, {{ "position": [50, 15] }} ],
+  "defop": {{ "energy": "arap", "samples": 24, "region": {{ "disc": 0.05 }},
+              "domain": {{ "max_area_fraction": 0.02, "samples_per_diagonal": 20 }} {extra} }}
+}}"#
+    );
+    let path = dir.join("bar-scene.json");
+    std::fs::write(&path, scene).unwrap();
+    path
+}
+
+fn splineskin(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_splineskin"))
+        .args(args)
+        .output()
+        .expect("run splineskin")
+}
+
+fn ok(out: &Output) -> String {
+    assert!(
+        out.status.success(),
+        "failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout.clone()).unwrap()
+}
+
+fn failed(out: &Output) -> String {
+    assert_eq!(out.status.code(), Some(1), "expected exit status 1");
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    stderr
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// Trains the bar's operator into `dir/op.bin`.
+fn trained(dir: &Path) -> std::path::PathBuf {
+    let scene = write_scene(dir, "");
+    let op = dir.join("op.bin");
+    let stdout = ok(&splineskin(&[
+        "defop",
+        "train",
+        s(&scene),
+        "-o",
+        s(&op),
+        "--held-out",
+        "3",
+    ]));
+    assert!(stdout.contains("3 handles, 24 samples"), "{stdout}");
+    assert!(stdout.contains("held-out error"), "{stdout}");
+    op
+}
+
+#[derive(serde::Deserialize)]
+struct Deformed {
+    vertices: Vec<[f64; 2]>,
+    triangles: Vec<[usize; 3]>,
+    handles: Vec<[f64; 2]>,
+}
+
+#[test]
+fn defop_cli_train_then_eval_round_trip() {
+    let dir = TestDir::new("splineskin-defop-cli-");
+    let op_path = trained(&dir);
+    let file = OperatorFile::load(&op_path).unwrap();
+    assert_eq!(file.op.n_handles(), 3);
+
+    // Rest configuration: the rest mesh.
+    let rest = dir.join("rest.json");
+    std::fs::write(&rest, "[[10, 15], [90, 15], [50, 15]]").unwrap();
+    let out = dir.join("rest-out.json");
+    ok(&splineskin(&[
+        "defop",
+        "eval",
+        s(&op_path),
+        "--handles",
+        s(&rest),
+        "-o",
+        s(&out),
+    ]));
+    let d: Deformed = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!(d.triangles, file.mesh.triangles);
+    for (a, b) in d.vertices.iter().zip(&file.mesh.vertices) {
+        assert!((Point::new(a[0], a[1]) - *b).hypot() < 1e-9, "{a:?} {b:?}");
+    }
+
+    // Moved handles, the object form: the handle vertices land on their targets.
+    let targets = [[5.0, 20.0], [97.0, 8.0], [52.0, 18.0]];
+    let moved = dir.join("moved.json");
+    std::fs::write(
+        &moved,
+        format!(
+            "{{\"handles\": {}}}",
+            serde_json::to_string(&targets).unwrap()
+        ),
+    )
+    .unwrap();
+    ok(&splineskin(&[
+        "defop",
+        "eval",
+        s(&op_path),
+        "--handles",
+        s(&moved),
+        "-o",
+        s(&out),
+    ]));
+    let d: Deformed = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!(d.handles, targets.to_vec());
+    for (&h, t) in file.op.handles().iter().zip(&targets) {
+        let p = d.vertices[h];
+        assert!((p[0] - t[0]).abs() < 1e-9 && (p[1] - t[1]).abs() < 1e-9);
+    }
+
+    // PNG: drawn, mostly white with the mesh in colour.
+    let png = dir.join("moved.png");
+    ok(&splineskin(&[
+        "defop",
+        "eval",
+        s(&op_path),
+        "--handles",
+        s(&moved),
+        "-o",
+        s(&png),
+    ]));
+    let image = RgbaImage::decode_png(&std::fs::read(&png).unwrap()).unwrap();
+    let coloured = image.pixels.iter().filter(|p| p[0] != p[2]).count();
+    assert!(coloured > 1000, "{coloured} coloured pixels");
+}
+
+#[test]
+fn defop_cli_bench_json() {
+    let dir = TestDir::new("splineskin-defop-cli-");
+    let op = trained(&dir);
+    let stdout = ok(&splineskin(&[
+        "defop",
+        "bench",
+        s(&op),
+        "--json",
+        "--batches",
+        "3",
+    ]));
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    assert!(v["evals_per_s"].as_f64().unwrap() > 0.0);
+    assert!(v["eval_s"].as_f64().unwrap() > 0.0);
+    assert_eq!(v["handle_functions"].as_u64(), Some(1 + 6 + 25));
+}
+
+#[test]
+fn defop_cli_study_quick_json() {
+    let dir = TestDir::new("splineskin-defop-cli-");
+    let scene = write_scene(&dir, "");
+    let plot = dir.join("study.png");
+    let stdout = ok(&splineskin(&[
+        "defop",
+        "study",
+        s(&scene),
+        "-o",
+        s(&plot),
+        "--quick",
+        "--json",
+        "--max-samples",
+        "60",
+        "--held-out",
+        "4",
+    ]));
+    let rows: Vec<serde_json::Value> = stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert!(!rows.is_empty());
+    for r in &rows {
+        assert!(r["basis"].is_string() && r["samples"].is_u64() && r["error"].is_f64());
+    }
+    let tps: Vec<f64> = rows
+        .iter()
+        .filter(|r| r["basis"] == "tps")
+        .map(|r| r["error"].as_f64().unwrap())
+        .collect();
+    assert!(tps.len() >= 2 && tps.last() < tps.first(), "{tps:?}");
+    let image = RgbaImage::decode_png(&std::fs::read(&plot).unwrap()).unwrap();
+    assert!(image.width > 100 && image.height > 100);
+}
+
+#[test]
+fn defop_cli_train_on_a_mesh_file() {
+    let dir = TestDir::new("splineskin-defop-cli-");
+    // A 4 × 2 grid over the bar with vertices at the handles (10, 15), (90, 15), (50, 15)?
+    // Columns at x = 10, 30, 50, 70, 90 and rows at y = 0, 15, 30.
+    let mut obj = String::new();
+    for y in [0, 15, 30] {
+        for x in [10, 30, 50, 70, 90] {
+            obj.push_str(&format!("v {x} {y} 0\n"));
+        }
+    }
+    for r in 0..2 {
+        for c in 0..4 {
+            let a = r * 5 + c + 1;
+            obj.push_str(&format!("f {a} {} {}\n", a + 1, a + 6));
+            obj.push_str(&format!("f {a} {} {}\n", a + 6, a + 5));
+        }
+    }
+    std::fs::write(dir.join("bar.obj"), &obj).unwrap();
+    let scene = write_scene(&dir, r#", "mesh": "bar.obj""#);
+    let op = dir.join("mesh-op.bin");
+    let stdout = ok(&splineskin(&[
+        "defop",
+        "train",
+        s(&scene),
+        "-o",
+        s(&op),
+        "--held-out",
+        "0",
+    ]));
+    assert!(stdout.contains("15 vertices, 16 triangles"), "{stdout}");
+    let file = OperatorFile::load(&op).unwrap();
+    assert_eq!(file.op.handles(), &[5, 9, 7]);
+
+    // A handle off the vertices is refused, naming it.
+    let off = obj.replace("v 50 15 0", "v 51 15 0");
+    std::fs::write(dir.join("bar.obj"), off).unwrap();
+    let op2 = dir.join("refused.bin");
+    let err = failed(&splineskin(&["defop", "train", s(&scene), "-o", s(&op2)]));
+    assert!(
+        err.contains("bar.obj") && err.contains("handles[2]"),
+        "{err}"
+    );
+    assert!(!op2.exists());
+}
+
+#[test]
+fn defop_cli_refuses_bad_inputs_naming_the_file() {
+    let dir = TestDir::new("splineskin-defop-cli-");
+    let op = trained(&dir);
+    let out = dir.join("out.json");
+    let eval = |op: &Path, handles: &Path| {
+        splineskin(&[
+            "defop",
+            "eval",
+            s(op),
+            "--handles",
+            s(handles),
+            "-o",
+            s(&out),
+        ])
+    };
+    let write = |name: &str, text: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    let good = write("good.json", "[[10, 15], [90, 15], [50, 15]]");
+    let cases = [
+        (eval(&dir.join("missing.bin"), &good), "missing.bin"),
+        (
+            eval(&write("not-op.bin", "hello, not an operator"), &good),
+            "not a splineskin operator",
+        ),
+        (eval(&op, &write("bad.json", "[[10, 15],")), "bad.json"),
+        (
+            eval(&op, &write("two.json", "[[10, 15], [90, 15]]")),
+            "2 handle positions",
+        ),
+        (
+            eval(&op, &write("nan.json", "[[NaN, 15], [90, 15], [50, 15]]")),
+            "nan.json",
+        ),
+        (
+            eval(
+                &op,
+                &write("huge.json", "[[1e999, 15], [90, 15], [50, 15]]"),
+            ),
+            "huge.json",
+        ),
+        (eval(&op, &dir.join("missing.json")), "missing.json"),
+    ];
+    for (output, expected) in cases {
+        let err = failed(&output);
+        assert!(err.contains(expected), "expected {expected:?} in {err}");
+    }
+    assert!(!out.exists());
+    let err = failed(&splineskin(&["defop", "bench", s(&dir.join("not-op.bin"))]));
+    assert!(err.contains("not-op.bin"), "{err}");
+    let err = failed(&splineskin(&[
+        "defop",
+        "train",
+        s(&dir.join("nope.json")),
+        "-o",
+        s(&dir.join("x.bin")),
+    ]));
+    assert!(err.contains("nope.json"), "{err}");
+}
