@@ -1,11 +1,12 @@
 //! Trains a deformation operator on the octopus (1 991 vertices, 3 377 triangles, 9 handles:
 //! [`splineskin::examples::octopus_domain`]) and measures it: training time per stage against
 //! the issue's budget (1 000 samples in 2 minutes on 2 cores), evaluations per second, and the
-//! error against the ground truth on held-out configurations. With `study`, also the error of
-//! every handle basis fitted to growing prefixes of the same samples (the paper's Fig. 8).
+//! error against the ground truth on held-out configurations (solved from the rest pose, and
+//! from the operator's prediction). The error of every handle basis for growing sample counts
+//! (the paper's Fig. 8) is `splineskin defop study` ([`splineskin::defop::study()`]).
 //!
 //! ```text
-//! cargo run --release -p splineskin --example defop_train -- [arap|sarap] [SAMPLES] [hats|eigen:K|biharmonic:K] [linear|quadratic|cubic|tps] [bootstrap|rest] [study]
+//! cargo run --release -p splineskin --example defop_train -- [arap|sarap] [SAMPLES] [hats|eigen:K|biharmonic:K] [linear|quadratic|cubic|tps] [bootstrap|rest]
 //! ```
 //!
 //! Defaults: `sarap 1000 hats tps bootstrap`. Samples are drawn uniformly in discs of radius
@@ -17,7 +18,7 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressStyle};
 use kurbo::Point;
 use splineskin::defop::{
-    l2_distance, train, Arap, ArapOptions, DefOp, DefOpOptions, EigenOperator, Energy,
+    ground_truths_from_rest, l2_distance, train, Arap, ArapOptions, DefOp, EigenOperator, Energy,
     HandleBasisKind, SampleRegion, Sampler, SarapOptions, SpatialBasis, SymmetricArap,
     TrainOptions, WarmStart, TRAINING_ANDERSON_DEPTH,
 };
@@ -162,8 +163,9 @@ fn main() {
     );
 
     // Held-out error against the ground truth from the rest pose and from the operator.
-    let truths_rest = ground_truths(&mesh, &handles, energy, &held_out, None);
-    let truths_op = ground_truths(&mesh, &handles, energy, &held_out, Some(op));
+    let truths_rest =
+        ground_truths_from_rest(&mesh, &handles, &options, &held_out, &|_| {}).unwrap();
+    let truths_op = truths_from_operator(&mesh, &handles, energy, &held_out, op);
     let error = |op: &DefOp, truths: &[Vec<Point>]| -> f64 {
         held_out
             .iter()
@@ -202,48 +204,16 @@ fn main() {
         error(op, &truths_rest),
         error(op, &truths_op)
     );
-
-    if has("study") {
-        eprintln!("study: mean held-out error (against the ground truth started from rest) by handle basis and samples");
-        for kind in [
-            HandleBasisKind::Linear,
-            HandleBasisKind::Quadratic,
-            HandleBasisKind::Cubic,
-            HandleBasisKind::ThinPlateSpline,
-        ] {
-            let mut row = Vec::new();
-            for m in [25, 50, 100, 200, 400, 1000] {
-                if m > n_samples {
-                    break;
-                }
-                let clock = Instant::now();
-                let fitted = DefOp::fit(
-                    &mesh,
-                    &handles,
-                    &spatial,
-                    &training.configurations[..=m],
-                    &training.solutions[..=m],
-                    &DefOpOptions::default().with_handle_basis(kind),
-                )
-                .unwrap();
-                row.push(format!(
-                    "{m}: {:.4} ({:.1} s)",
-                    error(&fitted, &truths_rest),
-                    clock.elapsed().as_secs_f64()
-                ));
-            }
-            eprintln!("{:>9}: {}", kind.name(), row.join(", "));
-        }
-    }
 }
 
-/// The ground truths at `configurations`, from the rest pose or from `op`'s prediction.
-fn ground_truths(
+/// The ground truths at `configurations` started from `op`'s prediction (as the training's
+/// bootstrapping starts them; [`ground_truths_from_rest`] starts from the rest pose).
+fn truths_from_operator(
     mesh: &splineskin::mesh::TriMesh,
     handles: &[usize],
     energy: Energy,
     configurations: &[Vec<Point>],
-    op: Option<&DefOp>,
+    op: &DefOp,
 ) -> Vec<Vec<Point>> {
     let arap = Arap::new(
         mesh,
@@ -255,10 +225,7 @@ fn ground_truths(
     configurations
         .iter()
         .map(|q| {
-            let mut u = match op {
-                Some(op) => op.eval(q).unwrap(),
-                None => mesh.vertices.clone(),
-            };
+            let mut u = op.eval(q).unwrap();
             for (&h, &t) in handles.iter().zip(q) {
                 u[h] = t;
             }
@@ -273,9 +240,7 @@ fn ground_truths(
                             .unwrap()
                             .is_empty()
                     };
-                    let from_start = op.is_some()
-                        && flip_free(&u)
-                        && sarap.solve(q, &mut u).unwrap().converged();
+                    let from_start = flip_free(&u) && sarap.solve(q, &mut u).unwrap().converged();
                     if !from_start {
                         u = mesh.vertices.clone();
                         arap.solve(q, &mut u).unwrap();
