@@ -117,7 +117,7 @@ fn mesh_svg(mesh: &TriMesh, deformed: &[Point], handles: &[Point]) -> String {
     let margin = 0.04 * size;
     let (x0, y0) = (lo.x - margin, lo.y - margin);
     let (w, h) = (hi.x - lo.x + 2.0 * margin, hi.y - lo.y + 2.0 * margin);
-    let stroke = 0.0015 * size;
+    let stroke = 0.001 * size;
     let triangles = |points: &[Point]| {
         let mut d = String::new();
         for t in &mesh.triangles {
@@ -137,7 +137,7 @@ fn mesh_svg(mesh: &TriMesh, deformed: &[Point], handles: &[Point]) -> String {
     );
     let _ = write!(
         svg,
-        r##"<path d="{}" fill="#8ec5e8" stroke="#1f5f8b" stroke-width="{stroke}" stroke-linejoin="round"/>"##,
+        r##"<path d="{}" fill="#8ec5e8" stroke="#1f5f8b" stroke-opacity="0.7" stroke-width="{stroke}" stroke-linejoin="round"/>"##,
         triangles(deformed)
     );
     for p in handles {

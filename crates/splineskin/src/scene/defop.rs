@@ -476,3 +476,59 @@ fn match_handles(
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene(defop: &str) -> Result<Scene, SceneError> {
+        let json = format!(
+            r#"{{"splineskin_scene": 1,
+                "svg_text": "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 100 30'><path d='M0 0 H100 V30 H0 Z'/></svg>",
+                "handles": [{{"position": [10, 15]}}, {{"position": [90, 15]}}],
+                "defop": {defop}}}"#
+        );
+        Scene::from_json(&json, "bar.json", None)
+    }
+
+    #[test]
+    fn defop_section_reads_every_key_and_names_bad_ones() {
+        let s = scene(
+            r#"{"energy": "arap", "spatial_basis": "eigen 20", "handle_basis": "cubic",
+                "samples": 50, "region": {"circle": 0.1}, "seed": 9,
+                "domain": {"max_area_fraction": 0.01}}"#,
+        )
+        .unwrap();
+        let d = s.defop.clone().unwrap();
+        assert_eq!(d.energy, Energy::Arap);
+        assert_eq!(d.spatial_basis, SpatialBasisSpec::Eigen(20));
+        assert_eq!(d.handle_basis, HandleBasisKind::Cubic);
+        assert_eq!((d.samples, d.seed), (50, 9));
+        assert_eq!(d.region, RegionSpec::Circle(0.1));
+        assert_eq!(d.domain.max_area_fraction, 0.01);
+        assert_eq!(
+            d.domain.samples_per_diagonal,
+            DEFAULT_DEFOP_SAMPLES_PER_DIAGONAL
+        );
+        let shape = s.defop_shape(&d).unwrap();
+        assert_eq!(shape.handles.len(), 2);
+        for (&v, p) in shape.handles.iter().zip(&s.handles) {
+            assert_eq!(shape.mesh.vertices[v], *p);
+        }
+        for (bad, element) in [
+            (r#"{"energy": "rigid"}"#, "defop.energy"),
+            (r#"{"spatial_basis": "eigen"}"#, "defop.spatial_basis"),
+            (r#"{"handle_basis": "quartic"}"#, "defop.handle_basis"),
+            (r#"{"samples": 0}"#, "defop.samples"),
+            (r#"{"region": {"disc": -1}}"#, "defop.region"),
+            (r#"{"mesh": "m.obj"}"#, "defop.mesh"),
+            (r#"{"colour": 3}"#, "colour"),
+        ] {
+            let message = scene(bad).unwrap_err().to_string();
+            assert!(
+                message.contains("bar.json") && message.contains(element),
+                "{bad}: {message}"
+            );
+        }
+    }
+}
