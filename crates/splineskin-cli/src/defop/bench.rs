@@ -1,6 +1,7 @@
 //! `splineskin defop bench OP [--json]`: evaluations per second of an operator file: the
 //! median over timed batches of the allocation-free evaluator ([`DefOpEvaluator::eval`]: all
-//! vertex positions) at configurations drawn in discs of 5 % of the diagonal.
+//! vertex positions) at configurations drawn in discs of 5 % of the diagonal, and of the spatial
+//! coefficients alone.
 //!
 //! [`DefOpEvaluator::eval`]: splineskin::defop::DefOpEvaluator::eval
 
@@ -43,6 +44,10 @@ struct Report {
     /// Median seconds per evaluation.
     eval_s: f64,
     evals_per_s: f64,
+    /// Median seconds of the spatial coefficients `c(Q) = G ψ(Q)` alone (what a drawing's
+    /// spline join multiplies; for the hats they are the vertex positions).
+    coefficients_s: f64,
+    coefficients_per_s: f64,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -71,8 +76,18 @@ pub fn run(args: Args) -> Result<()> {
         std::hint::black_box(&positions);
         times.push(clock.elapsed().as_secs_f64() / per_batch as f64);
     }
-    times.sort_by(f64::total_cmp);
-    let eval_s = times[times.len() / 2];
+    let eval_s = median(&mut times);
+    times.clear();
+    for _ in 0..args.batches {
+        let clock = Instant::now();
+        for k in 0..per_batch {
+            std::hint::black_box(
+                evaluator.spatial_coefficients(&configurations[k % CONFIGURATIONS])?,
+            );
+        }
+        times.push(clock.elapsed().as_secs_f64() / per_batch as f64);
+    }
+    let coefficients_s = median(&mut times);
     let report = Report {
         operator: args.operator.display().to_string(),
         vertices: op.n_vertices(),
@@ -83,12 +98,14 @@ pub fn run(args: Args) -> Result<()> {
         handle_basis: op.handle_basis().kind().name(),
         eval_s,
         evals_per_s: 1.0 / eval_s,
+        coefficients_s,
+        coefficients_per_s: 1.0 / coefficients_s,
     };
     if args.json {
         println!("{}", serde_json::to_string(&report)?);
     } else {
         println!(
-            "{}: {} vertices, {} handles, {} spatial x {} handle functions ({}): {:.1} us per evaluation, {:.0} evaluations per second (median of {} batches of {})",
+            "{}: {} vertices, {} handles, {} spatial x {} handle functions ({}): {:.1} us per evaluation, {:.0} evaluations per second (median of {} batches of {}); spatial coefficients alone {:.1} us ({:.0} per second)",
             report.operator,
             report.vertices,
             report.handles,
@@ -98,8 +115,16 @@ pub fn run(args: Args) -> Result<()> {
             eval_s * 1e6,
             report.evals_per_s,
             args.batches,
-            per_batch
+            per_batch,
+            coefficients_s * 1e6,
+            report.coefficients_per_s
         );
     }
     Ok(())
+}
+
+/// The median of `times` (sorted in place; not empty).
+fn median(times: &mut [f64]) -> f64 {
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
 }
