@@ -4,7 +4,8 @@
 //! configurations (solved from the rest pose) as the number of training samples grows
 //! geometrically. Error = mean over the held-out configurations of the RMS distance over the
 //! shape, as a fraction of the rest shape's bounding-box diagonal. Prints a table (or, with
-//! `--json`, one object per line: `basis`, `samples`, `error`, `max_error`, `fit_s`) and writes
+//! `--json`, one object per line: `basis`, `samples`, `error`, `max_error`, `fit_s`,
+//! `energy`, `spatial_basis`, `triangles`, `held_out`) and writes
 //! the log-log plot. Without a scene: the bundled octopus
 //! ([`splineskin::examples::octopus_scene`]).
 
@@ -64,6 +65,8 @@ struct Row<'a> {
     max_error: f64,
     fit_s: f64,
     energy: &'a str,
+    spatial_basis: &'a str,
+    triangles: usize,
     held_out: usize,
 }
 
@@ -149,6 +152,7 @@ pub fn run(args: Args) -> Result<()> {
     write_atomic(&args.output, &png)?;
 
     if args.json {
+        let spatial_name = s.spatial_basis.name();
         for r in &result.rows {
             println!(
                 "{}",
@@ -159,6 +163,8 @@ pub fn run(args: Args) -> Result<()> {
                     max_error: r.max_error,
                     fit_s: r.fit_seconds,
                     energy: energy_name(s.energy),
+                    spatial_basis: &spatial_name,
+                    triangles: mesh.n_triangles(),
                     held_out,
                 })?
             );
