@@ -7,6 +7,7 @@
 //!   mesh's vertices;
 //! * `study --quick --json`: the keys, and the thin-plate error falls with the samples;
 //! * `bench --json`: a positive `evals_per_s`;
+//! * `deform`: the drawing through the scene's operator follows a posed handle;
 //! * bad inputs refused with the file named, exit status 1, no output left behind.
 
 mod common;
@@ -320,4 +321,78 @@ fn defop_cli_refuses_bad_inputs_naming_the_file() {
         s(&dir.join("x.bin")),
     ]));
     assert!(err.contains("nope.json"), "{err}");
+}
+
+#[test]
+fn defop_cli_deform_through_the_operator() {
+    let dir = TestDir::new("splineskin-defop-cli-");
+    let _ = trained(&dir);
+    // The same scene naming its operator, with a pose moving the right handle up.
+    let scene = dir.join("posed.json");
+    let text = std::fs::read_to_string(dir.join("bar-scene.json"))
+        .unwrap()
+        .replace(
+            r#""samples": 24,"#,
+            r#""samples": 24, "operator": "op.bin","#,
+        )
+        .replace(
+            "\"defop\"",
+            r#""poses": [{"name": "lift", "transforms": [{}, {"position": [92, 22]}, {}]}], "defop""#,
+        );
+    std::fs::write(&scene, text).unwrap();
+    let json = |pose: &str, name: &str| {
+        let out = dir.join(name);
+        ok(&splineskin(&[
+            "defop",
+            "deform",
+            s(&scene),
+            "-o",
+            s(&out),
+            "--pose",
+            pose,
+        ]));
+        let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+        v["paths"][0]["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| Point::new(p[0].as_f64().unwrap(), p[1].as_f64().unwrap()))
+            .collect::<Vec<Point>>()
+    };
+    // The right handle moves 7 up and 2 right: the bar's right end follows.
+    let lifted = json("lift", "lift.json");
+    let max_x = lifted.iter().map(|p| p.x).fold(f64::MIN, f64::max);
+    assert!(max_x > 95.0, "{lifted:?}");
+    let right_top = lifted
+        .iter()
+        .filter(|p| p.x > 95.0)
+        .map(|p| p.y)
+        .fold(f64::MIN, f64::max);
+    assert!(right_top > 30.5, "the right end rises: {lifted:?}");
+    let svg = dir.join("lift.svg");
+    ok(&splineskin(&[
+        "defop",
+        "deform",
+        s(&scene),
+        "-o",
+        s(&svg),
+        "--pose",
+        "lift",
+    ]));
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("<path"));
+
+    // Without an operator: refused, saying how to get one.
+    let plain = dir.join("bar-scene.json");
+    let err = failed(&splineskin(&[
+        "defop",
+        "deform",
+        s(&plain),
+        "-o",
+        s(&dir.join("no.svg")),
+    ]));
+    assert!(
+        err.contains("no operator") && err.contains("bar-scene.json"),
+        "{err}"
+    );
+    assert!(!dir.join("no.svg").exists());
 }

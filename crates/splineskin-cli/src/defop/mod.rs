@@ -3,6 +3,7 @@
 //! paper's convergence study. One file per subcommand.
 
 mod bench;
+mod deform;
 mod eval;
 mod study;
 mod train;
@@ -28,6 +29,9 @@ enum Command {
     /// Train an operator for a scene's point handles (its drawing's domain or a mesh file) and
     /// write it to an operator file.
     Train(train::Args),
+    /// Deform a scene's drawing by one of its poses through a trained operator (the join of
+    /// the operator with the spline fit) and write SVG, PNG or JSON.
+    Deform(deform::Args),
     /// Evaluate an operator at handle positions: deformed vertices as JSON, or a PNG.
     Eval(eval::Args),
     /// The convergence study (the paper's Fig. 8): error against held-out ground truth per
@@ -40,6 +44,7 @@ enum Command {
 pub fn run(args: Args) -> Result<()> {
     match args.command {
         Command::Train(a) => train::run(a),
+        Command::Deform(a) => deform::run(a),
         Command::Eval(a) => eval::run(a),
         Command::Study(a) => study::run(a),
         Command::Bench(a) => bench::run(a),

@@ -48,8 +48,9 @@ use crate::mesh::TriMesh;
 /// (1/5000 and 500 samples per diagonal) give it 16 684 triangles, more than training needs.
 pub const DEFAULT_DEFOP_AREA_FRACTION: f64 = 1.0 / 2000.0;
 
-/// Default curve sample spacing of the training domain, as samples per drawing diagonal: 100.
-pub const DEFAULT_DEFOP_SAMPLES_PER_DIAGONAL: f64 = 100.0;
+/// Default curve sample spacing of the training domain, as samples per drawing diagonal: 100,
+/// the spline join's [`crate::defop::TRAINING_SAMPLES_PER_DIAGONAL`].
+pub const DEFAULT_DEFOP_SAMPLES_PER_DIAGONAL: f64 = crate::defop::TRAINING_SAMPLES_PER_DIAGONAL;
 
 /// Largest distance between a point handle and the mesh vertex it is matched to, as a
 /// fraction of the mesh's bounding-box diagonal (1e-9: "the same point" up to rounding).

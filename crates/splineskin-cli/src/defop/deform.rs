@@ -1,0 +1,125 @@
+//! `splineskin defop deform SCENE -o OUT.(svg|png|json) [--pose P] [--operator OP]`: the
+//! scene's drawing deformed through a trained operator ([`DefOpRig`], the join of the operator
+//! with the spline fit): the pose's maps move the point handles to `Q = (T_ℓ p_ℓ)_ℓ`, and the
+//! drawing's control points are `G_spline ψ(Q)`, junction constraints kept. The output is
+//! written as `splineskin deform` writes it (the input document with its path geometry
+//! replaced, a PNG render, or JSON).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use kurbo::Point;
+use splineskin::defop::{DefOpRig, OperatorFile};
+use splineskin::scene::{Compat, Scene, HANDLE_VERTEX_TOLERANCE};
+
+use crate::output::write_deformed;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene (our format): drawing, point handles, poses, and `defop.operator`.
+    scene: PathBuf,
+    /// Output file: `.svg`, `.png` or `.json`.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Which of the scene's poses to apply: its name, or its index (0 is the first).
+    #[arg(long, default_value = "0")]
+    pose: String,
+    /// The operator file (default: the scene's `defop.operator`).
+    #[arg(long)]
+    operator: Option<PathBuf>,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    crate::output::Format::of(&args.output)?;
+    super::check_output_folder(&args.output)?;
+    let scene = Scene::load(&args.scene)?;
+    let Some(op_path) = args
+        .operator
+        .clone()
+        .or_else(|| scene.defop.as_ref().and_then(|d| d.operator.clone()))
+    else {
+        bail!(
+            "{}: no operator: pass --operator OP, or name one in the scene's defop.operator (train it with `splineskin defop train {} -o OP`)",
+            args.scene.display(),
+            args.scene.display()
+        );
+    };
+    let file = OperatorFile::load(&op_path)?;
+    if !scene.bones.is_empty() || scene.cage.is_some() {
+        bail!(
+            "{}: an operator is driven by point handles only (expected no bones and no cage)",
+            args.scene.display()
+        );
+    }
+    let rest = file.rest_handles();
+    if rest.len() != scene.handles.len() {
+        bail!(
+            "{}: {} point handles, but the operator {} has {} (expected the scene it was trained for)",
+            args.scene.display(),
+            scene.handles.len(),
+            op_path.display(),
+            rest.len()
+        );
+    }
+    let tolerance = HANDLE_VERTEX_TOLERANCE * super::diagonal(&file.mesh);
+    for (l, (p, q)) in scene.handles.iter().zip(&rest).enumerate() {
+        if (*p - *q).hypot() > tolerance {
+            bail!(
+                "{}: handles[{l}] at ({}, {}), but the operator {} has it at ({}, {}) (expected the scene it was trained for)",
+                args.scene.display(),
+                p.x,
+                p.y,
+                op_path.display(),
+                q.x,
+                q.y
+            );
+        }
+    }
+    let (pose_index, pose) = scene
+        .pose_by_key(&args.pose)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.scene.display()))?;
+    let q: Vec<Point> = pose
+        .transforms
+        .iter()
+        .zip(&scene.handles)
+        .map(|(t, &p)| *t * p)
+        .collect();
+    let (drawing, warnings) = scene.drawing_with_junctions(Compat::None)?;
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    let options = scene.fit_options(Compat::None).with_parallel(true);
+    let clock = Instant::now();
+    let rig =
+        DefOpRig::precompute(&drawing, &file.mesh, &file.op, &options).with_context(|| {
+            format!(
+                "{}: joining the drawing with the operator {}",
+                args.scene.display(),
+                op_path.display()
+            )
+        })?;
+    let precompute_seconds = clock.elapsed().as_secs_f64();
+    let points = rig
+        .deform(&q)
+        .with_context(|| format!("{}: pose {pose_index}", args.scene.display()))?;
+    if let Some(k) = points.iter().position(|p| !p.is_finite()) {
+        bail!(
+            "{}: pose {pose_index}: deformed point {k} is not finite",
+            args.scene.display()
+        );
+    }
+    write_deformed(&args.output, &drawing, &points)?;
+    eprintln!(
+        "{}: {} curves in {} paths, {} handles, operator {} ({} vertices), join {:.2} s, pose {pose_index} -> {}",
+        args.scene.display(),
+        drawing.n_curves(),
+        drawing.paths.len(),
+        q.len(),
+        op_path.display(),
+        file.op.n_vertices(),
+        precompute_seconds,
+        args.output.display()
+    );
+    Ok(())
+}
