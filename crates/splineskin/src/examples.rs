@@ -143,7 +143,9 @@ pub const OCTOPUS_SVG: &str = include_str!("../assets/octopus.svg");
 
 /// The octopus scene (our format), naming `octopus.svg`: nine point handles (the mantle's
 /// centre, then the arm tips clockwise on screen from the top right), bounded biharmonic
-/// weights, poses `wave`, `reach` and `curl`, and an animation through them.
+/// weights, a deformation-operator section (symmetric ARAP, thin-plate splines, 1 000 samples in
+/// discs of 0.1 of the diagonal: the poses move tips up to about that far), poses `wave`,
+/// `reach` and `curl`, and an animation through them.
 pub const OCTOPUS_SCENE: &str = include_str!("../assets/octopus-scene.json");
 
 /// The octopus scene ([`OCTOPUS_SCENE`]) with its drawing ([`OCTOPUS_SVG`]) inline.

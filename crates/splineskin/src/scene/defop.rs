@@ -23,7 +23,7 @@
 //! | `samples` | training samples besides the rest configuration, ≥ 1 ([`DEFAULT_TRAINING_SAMPLES`]) |
 //! | `region` | where a handle's samples lie around its rest position, sizes as fractions of the shape's bounding-box diagonal: `{"disc": r}` (uniform in a disc), `{"circle": r}` (on a circle), `{"gaussian": σ}` (`{"disc": 0.05}`) |
 //! | `seed` | the sampler's seed (1) |
-//! | `domain` | options of the triangulated drawing domain, keys as the scene's `domain` (`max_area_fraction` [`DEFAULT_DEFOP_AREA_FRACTION`], `samples_per_diagonal` [`DEFAULT_DEFOP_SAMPLES_PER_DIAGONAL`], the rest as [`DomainOptions::default`]) |
+//! | `domain` | options of the triangulated drawing domain, keys as the scene's `domain` (defaults: [`crate::defop::training_domain_options`], coarser than the weights' domain: about 2 000–4 000 triangles for the bundled drawings) |
 //! | `mesh` | a triangle mesh file (OBJ, `z = 0`, triangles only, relative to the scene's folder) to train on instead of the drawing's domain; every point handle must be one of its vertices |
 //! | `operator` | a trained operator file (relative to the scene's folder) |
 //!
@@ -41,16 +41,6 @@ use crate::defop::{
 };
 use crate::domain::{Domain, DomainOptions};
 use crate::mesh::TriMesh;
-
-/// Default largest triangle of the training domain, as a fraction of the domain's area: 1/2000.
-/// With [`DEFAULT_DEFOP_SAMPLES_PER_DIAGONAL`] the bundled octopus gets 1 908 vertices and
-/// 3 280 triangles: the paper's octopus scale (2 000–5 000 triangles). The weights' defaults
-/// (1/5000 and 500 samples per diagonal) give it 16 684 triangles, more than training needs.
-pub const DEFAULT_DEFOP_AREA_FRACTION: f64 = 1.0 / 2000.0;
-
-/// Default curve sample spacing of the training domain, as samples per drawing diagonal: 100,
-/// the spline join's [`crate::defop::TRAINING_SAMPLES_PER_DIAGONAL`].
-pub const DEFAULT_DEFOP_SAMPLES_PER_DIAGONAL: f64 = crate::defop::TRAINING_SAMPLES_PER_DIAGONAL;
 
 /// Largest distance between a point handle and the mesh vertex it is matched to, as a
 /// fraction of the mesh's bounding-box diagonal (1e-9: "the same point" up to rounding).
@@ -193,9 +183,7 @@ impl Default for DefOpSettings {
             samples: DEFAULT_TRAINING_SAMPLES,
             region: RegionSpec::Disc(DEFAULT_DISC_FRACTION),
             seed: 1,
-            domain: DomainOptions::default()
-                .with_max_area_fraction(DEFAULT_DEFOP_AREA_FRACTION)
-                .with_samples_per_diagonal(DEFAULT_DEFOP_SAMPLES_PER_DIAGONAL),
+            domain: crate::defop::training_domain_options(),
             mesh: None,
             operator: None,
         }
@@ -509,7 +497,7 @@ mod tests {
         assert_eq!(d.domain.max_area_fraction, 0.01);
         assert_eq!(
             d.domain.samples_per_diagonal,
-            DEFAULT_DEFOP_SAMPLES_PER_DIAGONAL
+            crate::defop::TRAINING_SAMPLES_PER_DIAGONAL
         );
         let shape = s.defop_shape(&d).unwrap();
         assert_eq!(shape.handles.len(), 2);

@@ -28,8 +28,7 @@ mod setup;
 
 pub use defop::{
     energy_name, parse_energy, parse_handle_basis, DefOpSettings, DefOpShape, RegionSpec,
-    SpatialBasisSpec, DEFAULT_DEFOP_AREA_FRACTION, DEFAULT_DEFOP_SAMPLES_PER_DIAGONAL,
-    HANDLE_VERTEX_TOLERANCE,
+    SpatialBasisSpec, HANDLE_VERTEX_TOLERANCE,
 };
 pub use deformer::Deformer;
 pub use handles::{Bone, BonePoseError, BoneTransform, HandleKind, HandleSet};
