@@ -49,18 +49,6 @@ fn max_distance(a: &[Point], b: &[Point]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn diagonal(mesh: &TriMesh) -> f64 {
-    let (mut lo, mut hi) = (
-        Point::new(f64::MAX, f64::MAX),
-        Point::new(f64::MIN, f64::MIN),
-    );
-    for p in &mesh.vertices {
-        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
-        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
-    }
-    (hi - lo).hypot()
-}
-
 /// Energies of the iterates from the first with the handles on target never increase.
 fn assert_monotone(report: &SarapReport, what: &str) {
     let from = report
@@ -104,7 +92,7 @@ fn reference_case_study(shape: &str) {
         .contains("ARAP_ENERGY_TYPE_ELEMENTS"));
     let mesh = reference.tri_mesh();
     let handles = &reference.handles.indices;
-    let diag = diagonal(&mesh);
+    let diag = mesh.bounding_box_diagonal();
     let arap = Arap::new(&mesh, handles, ArapOptions::default()).unwrap();
     let sarap = SymmetricArap::new(&mesh, handles, SarapOptions::default()).unwrap();
     for case in &reference.arap.cases {
@@ -282,7 +270,7 @@ fn jittered_bar() -> (TriMesh, Vec<usize>) {
 fn identity_targets_give_the_rest_pose() {
     let (mesh, handles) = jittered_bar();
     let rest: Vec<Point> = handles.iter().map(|&v| mesh.vertices[v]).collect();
-    let diag = diagonal(&mesh);
+    let diag = mesh.bounding_box_diagonal();
 
     let arap = Arap::new(&mesh, &handles, ArapOptions::default()).unwrap();
     let mut u = mesh.vertices.clone();
@@ -309,7 +297,7 @@ fn identity_targets_give_the_rest_pose() {
 #[test]
 fn rigid_motion_of_the_handles_moves_the_mesh_rigidly() {
     let (mesh, handles) = jittered_bar();
-    let diag = diagonal(&mesh);
+    let diag = mesh.bounding_box_diagonal();
     let arap = Arap::new(&mesh, &handles, ArapOptions::default()).unwrap();
     let sarap = SymmetricArap::new(&mesh, &handles, SarapOptions::default()).unwrap();
     for (k, motion) in [
@@ -356,7 +344,7 @@ fn rigid_motion_of_the_handles_moves_the_mesh_rigidly() {
 #[test]
 fn warm_starts_stop_at_once_and_sarap_is_flip_free_and_monotone() {
     let (mesh, handles) = jittered_bar();
-    let diag = diagonal(&mesh);
+    let diag = mesh.bounding_box_diagonal();
     let arap = Arap::new(&mesh, &handles, ArapOptions::default()).unwrap();
     let sarap = SymmetricArap::new(&mesh, &handles, SarapOptions::default()).unwrap();
     let mut rng = Rng(11);

@@ -13,8 +13,6 @@ use kurbo::Point;
 use serde::Serialize;
 use splineskin::defop::{OperatorFile, SampleRegion, Sampler, DEFAULT_DISC_FRACTION};
 
-use super::diagonal;
-
 /// Configurations cycled through.
 const CONFIGURATIONS: usize = 32;
 /// A timed batch lasts at least this long.
@@ -55,7 +53,7 @@ pub fn run(args: Args) -> Result<()> {
     let file = OperatorFile::load(&args.operator)?;
     let op = &file.op;
     let rest = file.rest_handles();
-    let radius = DEFAULT_DISC_FRACTION * diagonal(&file.mesh);
+    let radius = DEFAULT_DISC_FRACTION * file.mesh.bounding_box_diagonal();
     let configurations = Sampler::new(&rest, &[(SampleRegion::Disc { radius }, 1.0)], 7)?
         .configurations(CONFIGURATIONS);
     let mut evaluator = op.evaluator();

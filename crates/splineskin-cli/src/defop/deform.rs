@@ -62,7 +62,7 @@ pub fn run(args: Args) -> Result<()> {
             rest.len()
         );
     }
-    let tolerance = HANDLE_VERTEX_TOLERANCE * super::diagonal(&file.mesh);
+    let tolerance = HANDLE_VERTEX_TOLERANCE * file.mesh.bounding_box_diagonal();
     for (l, (p, q)) in scene.handles.iter().zip(&rest).enumerate() {
         if (*p - *q).hypot() > tolerance {
             bail!(

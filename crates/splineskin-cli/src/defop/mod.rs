@@ -13,9 +13,7 @@ use std::path::Path;
 use anyhow::{bail, Context, Result};
 use clap::Subcommand;
 use indicatif::{ProgressBar, ProgressStyle};
-use kurbo::Point;
 use splineskin::defop::{Energy, HandleBasisKind};
-use splineskin::mesh::TriMesh;
 use splineskin::scene::{parse_energy, parse_handle_basis, SpatialBasisSpec};
 
 #[derive(clap::Args)]
@@ -76,19 +74,6 @@ fn progress_bar(len: usize, what: &str) -> ProgressBar {
         bar.set_style(style);
     }
     bar
-}
-
-/// The bounding-box diagonal of `mesh`'s vertices.
-fn diagonal(mesh: &TriMesh) -> f64 {
-    let (mut lo, mut hi) = (
-        Point::new(f64::INFINITY, f64::INFINITY),
-        Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-    );
-    for p in &mesh.vertices {
-        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
-        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
-    }
-    (hi - lo).hypot()
 }
 
 /// Refuses an output whose folder does not exist, before any work is done.

@@ -19,7 +19,7 @@ use splineskin::defop::{
 };
 use splineskin::scene::{energy_name, Scene, SpatialBasisSpec};
 
-use super::{check_output_folder, diagonal, progress_bar};
+use super::{check_output_folder, progress_bar};
 use crate::output::write_atomic;
 
 /// Sample counts of the full study: 6 from 25 to 1000, geometrically.
@@ -119,7 +119,7 @@ pub fn run(args: Args) -> Result<()> {
     );
     let train = TrainOptions::default()
         .with_energy(s.energy)
-        .with_regions(vec![(s.region.region(diagonal(mesh)), 1.0)])
+        .with_regions(vec![(s.region.region(mesh.bounding_box_diagonal()), 1.0)])
         .with_seed(s.seed)
         .with_parallel(true);
     let mut options = StudyOptions::new(train, counts.clone());

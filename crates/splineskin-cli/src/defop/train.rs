@@ -15,7 +15,7 @@ use splineskin::defop::{
 };
 use splineskin::scene::{energy_name, DefOpSettings, Scene, SpatialBasisSpec};
 
-use super::{check_output_folder, diagonal, progress_bar};
+use super::{check_output_folder, progress_bar};
 
 /// `--quick`: training samples.
 pub const QUICK_SAMPLES: usize = 100;
@@ -120,7 +120,7 @@ pub fn run(args: Args) -> Result<()> {
         .build(mesh, handles)
         .with_context(|| format!("{}: spatial basis {}", shape.origin, s.spatial_basis.name()))?;
     let basis_seconds = clock.elapsed().as_secs_f64();
-    let d = diagonal(mesh);
+    let d = mesh.bounding_box_diagonal();
     let regions = vec![(s.region.region(d), 1.0)];
     eprintln!(
         "{}: {} vertices, {} triangles, {} handles; {}, {} samples ({}), spatial basis {} ({} functions), handle basis {}, {} threads",

@@ -123,13 +123,8 @@ impl HandleSet {
     }
 }
 
-/// The diagonal of `mesh`'s bounding box: the length unit of the solvers' step tolerances.
+/// The diagonal of `mesh`'s bounding box: the length unit of the solvers' step tolerances
+/// ([`TriMesh::bounding_box_diagonal`]).
 pub(crate) fn bounding_box_diagonal(mesh: &TriMesh) -> f64 {
-    let mut lo = Point::new(f64::INFINITY, f64::INFINITY);
-    let mut hi = Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
-    for p in &mesh.vertices {
-        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
-        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
-    }
-    (hi - lo).hypot()
+    mesh.bounding_box_diagonal()
 }

@@ -203,6 +203,29 @@ impl TriMesh {
         (0..self.n_triangles()).map(|t| self.signed_area(t)).sum()
     }
 
+    /// The length of the diagonal of the vertices' bounding box (0 for one vertex or none):
+    /// the length unit of tolerances and errors on a mesh.
+    ///
+    /// ```
+    /// use kurbo::{Point, Rect};
+    /// use splineskin::mesh::TriMesh;
+    /// let mesh = TriMesh::grid(Rect::new(0., 0., 4., 3.), 4, 3)?;
+    /// assert_eq!(mesh.bounding_box_diagonal(), 5.0);
+    /// # Ok::<(), splineskin::mesh::MeshError>(())
+    /// ```
+    pub fn bounding_box_diagonal(&self) -> f64 {
+        if self.vertices.is_empty() {
+            return 0.0;
+        }
+        let mut lo = Point::new(f64::INFINITY, f64::INFINITY);
+        let mut hi = Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
+        for p in &self.vertices {
+            lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
+            hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
+        }
+        (hi - lo).hypot()
+    }
+
     /// Whether each vertex belongs to at least one triangle (length [`TriMesh::n_vertices`]).
     /// A vertex in no triangle has no neighbourhood: every mesh operator is zero on it.
     pub fn referenced_vertices(&self) -> Vec<bool> {

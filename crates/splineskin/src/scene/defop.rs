@@ -431,15 +431,7 @@ fn match_handles(
     handles: &[Point],
     origin: &str,
 ) -> Result<Vec<usize>, SceneError> {
-    let (mut lo, mut hi) = (
-        Point::new(f64::INFINITY, f64::INFINITY),
-        Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-    );
-    for p in &mesh.vertices {
-        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
-        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
-    }
-    let tolerance = HANDLE_VERTEX_TOLERANCE * (hi - lo).hypot();
+    let tolerance = HANDLE_VERTEX_TOLERANCE * mesh.bounding_box_diagonal();
     handles
         .iter()
         .enumerate()
