@@ -56,6 +56,25 @@ export async function precompute(document, scene, signal, job) {
   return { id: response.headers.get('x-splineskin-rig'), operator };
 }
 
+/**
+ * Trains a deformation operator for `scene` (family defop-arap or defop-sarap) on document
+ * `id` and joins it with the drawing: { info, data: Float64Array } (layout in api.rs). `job`
+ * names the request for `progressOf`.
+ */
+export async function trainOperator(document, scene, signal, job) {
+  const response = await postJson('/api/defop', { document, scene }, signal, { 'x-splineskin-job': job });
+  const header = response.headers.get('x-splineskin-defop');
+  if (!header) throw new Error('the server sent an operator without its x-splineskin-defop header');
+  const data = new Float64Array(await response.arrayBuffer());
+  return { info: JSON.parse(header), data };
+}
+
+/** The server's (the library's) deformation of operator rig `id` at handle positions `handles`. */
+export async function operatorDeform(id, handles) {
+  const response = await postJson(`/api/defops/${encodeURIComponent(id)}/deform`, { handles });
+  return new Float64Array(await response.arrayBuffer());
+}
+
 /** The flexible G¹ solve of `pose` on rig `rig`: the deformed points, Float64Array. */
 export async function solve(rig, pose, signal) {
   const response = await postJson(`/api/rigs/${encodeURIComponent(rig)}/solve`, { pose }, signal);
@@ -84,7 +103,10 @@ export async function sceneFile(document, scene) {
   return (await postJson(`/api/documents/${encodeURIComponent(document)}/scene`, scene)).text();
 }
 
-/** The stage of precomputation `job`: { stage: 'queued' | 'weights' | 'rig' | null, seconds }. */
+/**
+ * The stage of precomputation `job`: { stage: 'queued' | 'weights' | 'rig' | 'domain' |
+ * 'training' | 'join' | null, seconds }, with { done, total, step, steps } while training.
+ */
 export async function progressOf(job) {
   return (await call(`/api/progress/${encodeURIComponent(job)}`)).json();
 }

@@ -10,6 +10,7 @@ import * as affine from './affine.js';
 import { weightImage } from './colour.js';
 import { History } from './history.js';
 import { LiveRig, littleEndian } from './rig.js';
+import { DefOpLiveRig } from './defop.js';
 import { installGestures } from './gestures.js';
 import { DrawingView, JUNCTION_KINDS, posedHandles } from './view.js';
 
@@ -21,6 +22,10 @@ const FRAME_WINDOW = 120;
 const WEIGHT_GRID = 200;
 /** How often the progress of a precomputation is asked for, ms. */
 const PROGRESS_POLL_MS = 150;
+/** Training samples of an operator when the user has not chosen (DEFAULT_EDITOR_SAMPLES). */
+const DEFAULT_DEFOP_SAMPLES = 150;
+/** The operator "families" of the weights menu and their ground truths. */
+const DEFOP_ENERGIES = { 'defop-arap': 'ARAP', 'defop-sarap': 'symmetric ARAP' };
 /** Junction markers shown on opening up to this many junctions (more: the checkbox). */
 const MAX_JUNCTIONS_SHOWN = 400;
 
@@ -41,6 +46,8 @@ const editor = {
   precomputeSeq: 0,
   /** Stages the server reported for precomputations, in order (for the tests). */
   stagesSeen: [],
+  /** Training counts the server reported, { done, total, step, steps } (for the tests). */
+  countsSeen: [],
   solveSeq: 0,
   abort: null,
   weightsShown: null,
@@ -75,9 +82,13 @@ function say(text) {
 }
 
 let progressTimer = null;
-function progress(label) {
+/** Shows `label` with a running clock, and a filled bar for `fraction` (0…1) when given. */
+function progress(label, fraction = null) {
   const box = $('progress');
   clearInterval(progressTimer);
+  const bar = box.querySelector('.bar');
+  bar.classList.toggle('determinate', fraction !== null);
+  bar.querySelector('.fill').style.width = fraction === null ? '0' : `${(100 * fraction).toFixed(1)}%`;
   if (!label) {
     box.hidden = true;
     return;
@@ -142,6 +153,11 @@ async function open(file) {
 // ---------------------------------------------------------------------------------------------
 // Scene changes, rig and drawing
 
+/** Whether the scene's "family" is a trained deformation operator. */
+function isDefop(scene) {
+  return scene.weights.family in DEFOP_ENERGIES;
+}
+
 /** What the rig depends on (everything but the pose). */
 function rigKeyOf(scene) {
   return JSON.stringify([scene.handles, scene.weights, scene.junctions, scene.flexible]);
@@ -156,6 +172,7 @@ function sceneChanged() {
     editor.rigKey = key;
     document.body.dataset.rig = 'none';
     progress(null);
+    if (isDefop(editor.scene)) say(`${shortName()}: click to add point handles; the operator is trained for them`);
     render();
   } else if (key !== editor.rigKey) {
     precompute();
@@ -175,24 +192,45 @@ async function precompute() {
   const scene = structuredClone(editor.scene);
   const key = rigKeyOf(scene);
   document.body.dataset.rig = 'computing';
-  progress('precomputing');
+  const defop = isDefop(scene);
+  progress(defop ? 'training the operator' : 'precomputing');
   render();
   const job = `rig-${seq}-${Math.random().toString(36).slice(2, 10)}`;
   const follow = followProgress(job, seq);
   try {
     const started = performance.now();
-    const { id, operator } = await api.precompute(editor.info.id, scene, abort.signal, job);
-    if (seq !== editor.precomputeSeq) return;
-    editor.rig = new LiveRig(id, operator, editor.view.nPoints, scene.handles.length);
+    let bytes;
+    if (defop) {
+      const { info, data } = await api.trainOperator(editor.info.id, scene, abort.signal, job);
+      if (seq !== editor.precomputeSeq) return;
+      editor.rig = new DefOpLiveRig(info, data, editor.view.nPoints, scene.handles);
+      bytes = data.byteLength;
+    } else {
+      const { id, operator } = await api.precompute(editor.info.id, scene, abort.signal, job);
+      if (seq !== editor.precomputeSeq) return;
+      editor.rig = new LiveRig(id, operator, editor.view.nPoints, scene.handles.length);
+      bytes = operator.byteLength;
+    }
     editor.rigKey = key;
+    editor.rigSeconds = (performance.now() - started) / 1000;
     document.body.dataset.rig = 'ready';
-    const size = operator.byteLength < 1 << 20
-      ? `${(operator.byteLength / 1024).toFixed(0)} KiB`
-      : `${(operator.byteLength / (1 << 20)).toFixed(1)} MiB`;
-    say(
-      `${shortName()}: ${editor.info.n_curves} curves, ${scene.handles.length} handles ` +
-        `(${scene.weights.family}); rig of ${size} in ${((performance.now() - started) / 1000).toFixed(2)} s`,
-    );
+    const size = bytes < 1 << 20 ? `${(bytes / 1024).toFixed(0)} KiB` : `${(bytes / (1 << 20)).toFixed(1)} MiB`;
+    if (defop) {
+      const { info } = editor.rig;
+      const [domain, training, join] = info.seconds;
+      say(
+        `${shortName()}: ${scene.handles.length} handles, ${DEFOP_ENERGIES[scene.weights.family]} operator ` +
+          `(${info.n_samples} samples, ${info.kind} |Ψ| = ${info.n_functions}, ${info.n_triangles} triangles) ` +
+          `trained in ${editor.rigSeconds.toFixed(2)} s (domain ${domain.toFixed(2)}, training ` +
+          `${training.toFixed(2)}, join ${join.toFixed(2)}); ${size}. Only dragging moves the drawing: ` +
+          `the operator follows handle positions, so rotating or scaling a handle changes nothing`,
+      );
+    } else {
+      say(
+        `${shortName()}: ${editor.info.n_curves} curves, ${scene.handles.length} handles ` +
+          `(${scene.weights.family}); rig of ${size} in ${editor.rigSeconds.toFixed(2)} s`,
+      );
+    }
     clearError();
   } catch (e) {
     if (abort.signal.aborted || seq !== editor.precomputeSeq) return;
@@ -211,7 +249,22 @@ async function precompute() {
 }
 
 /** What the progress bar says in each stage the server reports. */
-const STAGE_LABELS = { queued: 'waiting for the server', weights: 'computing the weights', rig: 'precomputing the rig' };
+const STAGE_LABELS = {
+  queued: 'waiting for the server',
+  weights: 'computing the weights',
+  rig: 'precomputing the rig',
+  domain: 'triangulating the domain',
+  training: 'training the operator',
+  join: 'joining the operator with the curves',
+};
+
+/** The progress label and fraction of a server report (see api.progressOf). */
+function progressLabel({ stage, done, total, step, steps }) {
+  const label = STAGE_LABELS[stage] ?? stage;
+  if (done === undefined || !total) return [label, null];
+  const percent = Math.floor((100 * done) / total);
+  return [`${label}: stage ${step}/${steps}, ${done}/${total} ground-truth solves (${percent} %)`, done / total];
+}
 
 /**
  * Asks the server every PROGRESS_POLL_MS where precomputation `job` is and shows it, while
@@ -223,11 +276,17 @@ function followProgress(job, seq) {
   const poll = async () => {
     if (stopped || seq !== editor.precomputeSeq) return;
     try {
-      const { stage } = await api.progressOf(job);
-      if (!stopped && stage && stage !== shown && seq === editor.precomputeSeq) {
-        shown = stage;
-        editor.stagesSeen.push(stage);
-        progress(STAGE_LABELS[stage] ?? stage);
+      const report = await api.progressOf(job);
+      const { stage } = report;
+      const key = `${stage}/${report.done}`;
+      if (!stopped && stage && key !== shown && seq === editor.precomputeSeq) {
+        if (!shown || !shown.startsWith(`${stage}/`)) editor.stagesSeen.push(stage);
+        if (report.done !== undefined) {
+          const { done, total, step, steps } = report;
+          editor.countsSeen.push({ done, total, step, steps });
+        }
+        shown = key;
+        progress(...progressLabel(report));
       }
     } catch {
       // A missed poll only delays the label.
@@ -298,7 +357,7 @@ function scheduleFrame() {
 /** With flexible G¹ on, the server's solve of the current pose replaces the drawn points. */
 async function flexibleSolve() {
   const { scene } = editor;
-  if (!scene.flexible || !rigReady() || scene.pose.every((T) => affine.isIdentity(T))) {
+  if (!scene.flexible || isDefop(scene) || !rigReady() || scene.pose.every((T) => affine.isIdentity(T))) {
     delete document.body.dataset.solve;
     return;
   }
@@ -419,6 +478,14 @@ function syncControls() {
   const { scene } = editor;
   $('family').value = scene.weights.family;
   $('flexible').checked = scene.flexible;
+  const defop = isDefop(scene);
+  $('flexible').disabled = defop;
+  $('flexible').parentElement.title = defop
+    ? 'Flexible G¹ does not apply to a trained operator: its join keeps the junction constraints as they are'
+    : 'G¹ junctions keep parallel tangents but not their length ratio (solved on mouse-up)';
+  $('defop-samples-label').hidden = !defop;
+  if (defop) $('defop-samples').value = scene.weights.samples ?? DEFAULT_DEFOP_SAMPLES;
+  $('show-weights').disabled = defop;
   $('undo').disabled = !editor.history.canUndo;
   $('redo').disabled = !editor.history.canRedo;
   $('delete-handle').disabled = editor.selected === null;
@@ -429,7 +496,8 @@ function syncControls() {
 // Weight field
 
 async function updateWeights() {
-  const wanted = $('show-weights').checked && editor.selected !== null && rigReady();
+  const wanted =
+    $('show-weights').checked && editor.selected !== null && rigReady() && !(editor.rig instanceof DefOpLiveRig);
   $('weight-legend').hidden = !wanted;
   if (!wanted) {
     editor.weightsShown = null;
@@ -522,9 +590,21 @@ async function exportSvg() {
 
 async function saveScene() {
   try {
-    const json = await api.sceneFile(editor.info.id, editor.scene);
+    // Scene files have no place for an operator's settings yet: the handles, pose and
+    // junctions are saved with the default weights, and the user is told.
+    const defop = isDefop(editor.scene);
+    const scene = defop
+      ? { ...editor.scene, weights: { family: 'shepard', exponent: 2 }, flexible: false }
+      : editor.scene;
+    const json = await api.sceneFile(editor.info.id, scene);
     download(json, `${baseName()}-scene.json`, 'application/json');
-    say(`saved ${baseName()}-scene.json`);
+    say(
+      defop
+        ? `saved ${baseName()}-scene.json with Shepard weights: scene files cannot record the ` +
+            `operator (${DEFOP_ENERGIES[editor.scene.weights.family]}, ` +
+            `${editor.scene.weights.samples ?? DEFAULT_DEFOP_SAMPLES} samples) yet`
+        : `saved ${baseName()}-scene.json`,
+    );
   } catch (e) {
     showError(e);
   }
@@ -565,9 +645,26 @@ function wire() {
   $('family').addEventListener('change', (event) =>
     edit((scene) => {
       const family = event.target.value;
-      scene.weights = family === 'shepard' ? { family, exponent: 2 } : { family };
+      if (family === 'shepard') {
+        scene.weights = { family, exponent: 2 };
+      } else if (family in DEFOP_ENERGIES) {
+        const samples = Number.parseInt($('defop-samples').value, 10);
+        scene.weights = { family, samples: Number.isInteger(samples) ? samples : DEFAULT_DEFOP_SAMPLES };
+        scene.flexible = false; // does not apply (syncControls disables it)
+      } else {
+        scene.weights = { family };
+      }
     }),
   );
+  $('defop-samples').addEventListener('change', (event) => {
+    const samples = Number(event.target.value);
+    if (!Number.isInteger(samples) || samples < 1 || samples > 5000) {
+      showError(`training samples: ${event.target.value} is not a whole number from 1 to 5000`);
+      syncControls();
+      return;
+    }
+    if (isDefop(editor.scene)) edit((scene) => (scene.weights = { ...scene.weights, samples }));
+  });
   $('flexible').addEventListener('change', (event) => edit((scene) => (scene.flexible = event.target.checked)));
   $('show-junctions').addEventListener('change', drawOverlay);
   $('show-weights').addEventListener('change', updateWeights);

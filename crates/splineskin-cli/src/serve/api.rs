@@ -7,7 +7,9 @@
 //! | `POST /api/open` | the file's bytes (SVG or scene), `x-file-name` header | [`DocumentInfo`] |
 //! | `POST /api/rig` | [`SceneRequest`] | the operator `O`, `f64` LE row-major `(2 · n_points) × (6 · n_handles)`; header `x-splineskin-rig`: the rig's id |
 //! | `POST /api/rigs/{id}/solve` | [`PoseRequest`] | deformed points, `f64` LE `x0, y0, x1, y1, …` (flexible G¹ when the scene asks, warm-started from the previous solve) |
-//! | `GET /api/progress/{job}` | | the stage of the precomputation whose request carried `x-splineskin-job: {job}`: `{"stage": "queued" \| "weights" \| "rig", "seconds": …}`, or `{"stage": null}` when none runs |
+//! | `POST /api/defop` | [`SceneRequest`] with family `defop-arap` or `defop-sarap` (`weights.samples`: training samples) | `G_spline` `f64` LE row-major `(2 · n_points) × |Ψ|`, then the thin-plate centres `f64` LE row-major `n_centres × 2 · n_handles` (scaled displacements `z_k`); header `x-splineskin-defop`: [`DefOpInfo`](super::defop_routes::DefOpInfo) JSON (id, handle basis kind, scale, rest handles `P`, sizes, seconds). Per frame `points = G_spline · ψ(Q)`, `ψ = (1, z, φ(‖z − z_k‖)…)`, `z = (Q − P)/scale`, `φ(r) = r² log r` (`splineskin::defop::HandleBasis`) |
+//! | `POST /api/defops/{id}/deform` | [`DeformRequest`](super::defop_routes::DeformRequest) `{"handles": [[x, y], …]}` (the configuration `Q`) | the library's deformation at `Q`, `f64` LE `x0, y0, x1, y1, …` (the page's product is checked against it) |
+//! | `GET /api/progress/{job}` | | the stage of the precomputation whose request carried `x-splineskin-job: {job}`: `{"stage": "queued" \| "weights" \| "rig" \| "domain" \| "training" \| "join", "seconds": …}` (seconds in that stage), with `"done", "total", "step", "steps"` while training (ground-truth solves done of all, bootstrapping stage of all), or `{"stage": null}` when none runs |
 //! | `GET /api/rigs/{id}/weights?handle&x0&y0&x1&y1&width&height` | | handle's weight at the centres of a `width × height` grid over the box, `f32` LE, row by row from `y0` |
 //! | `POST /api/documents/{id}/export` | deformed points, `f64` LE | the SVG document with them ([`write_svg`]) |
 //! | `POST /api/documents/{id}/scene` | [`EditScene`] | the scene file (ours, drawing inline) |
@@ -33,6 +35,7 @@ use axum::routing::{get, post};
 use axum::{Json, Router};
 use tokio::sync::Semaphore;
 
+use super::defop_routes::{defop, deform};
 use super::document::{Document, MAX_UPLOAD_BYTES};
 use super::document_routes::{export, initial, open, save_scene};
 use super::progress::ProgressBoard;
@@ -117,6 +120,8 @@ pub fn router(app: Arc<App>) -> Router {
         )
         .route("/api/rig", post(rig).layer(json_limit))
         .route("/api/rigs/{id}/solve", post(solve).layer(json_limit))
+        .route("/api/defop", post(defop).layer(json_limit))
+        .route("/api/defops/{id}/deform", post(deform).layer(json_limit))
         .route("/api/rigs/{id}/weights", get(weights))
         .route("/api/progress/{job}", get(progress))
         .route(

@@ -102,10 +102,12 @@ impl Document {
             WeightSpec::Shepard { exponent } => WeightsWire {
                 family: "shepard".into(),
                 exponent: Some(*exponent),
+                samples: None,
             },
             WeightSpec::Mesh(family) => WeightsWire {
                 family: family.name().into(),
                 exponent: None,
+                samples: None,
             },
             other => bail!(
                 "{name}: weight family '{}' needs a cage, which the editor does not edit yet",

@@ -9,10 +9,13 @@
 //!   drag: points = O · vec(T), in the page, each frame
 //!   mouse-up (flexible G¹) ─── POST /api/rigs/{id}/solve ─► warm-started flexible solve
 //!   export ─────────────────── POST /api/documents/{id}/export ─► write_svg (styles kept)
+//!   operator "family" ──────── POST /api/defop ─► Domain + train + DefOpRig (progress counted)
+//!                          ◄── G_spline, ψ's centres (f64) ─┘
+//!   drag: points = G_spline · ψ(Q), in the page, each frame
 //! ```
 //!
-//! Files: [`api`] (the router, its guard, errors and job slots), [`document_routes`] and
-//! [`rig_routes`] (the routes), [`document`] (an opened drawing), [`store`] (documents and rigs
+//! Files: [`api`] (the router, its guard, errors and job slots), [`document_routes`],
+//! [`rig_routes`] and [`defop_routes`] (the routes), [`document`] (an opened drawing), [`store`] (documents and rigs
 //! by id, bounded), [`progress`] (stages of running precomputations), [`wire`] (JSON exchanged
 //! with the page), [`scene_file`] (the page's scene as a scene file of ours), [`assets`] (the
 //! embedded page).
@@ -23,6 +26,7 @@
 
 pub mod api;
 mod assets;
+mod defop_routes;
 pub mod document;
 mod document_routes;
 mod progress;

@@ -1,6 +1,8 @@
 //! Where each precomputation is, for the page's progress display. The page names its request
 //! (header [`JOB_HEADER`]) and asks `GET /api/progress/{job}` while it waits; the answer is the
-//! stage the job is in (`queued`, `weights`, `rig`) and for how long, or none once it is over.
+//! stage the job is in (`queued`, `weights`, `rig`; operators: `domain`, `training`, `join`)
+//! and for how long, with a count of the work done in that stage when the job reports one
+//! ([`Count`]), or none once it is over.
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
@@ -15,14 +17,31 @@ pub const MAX_FOLLOWED: usize = 64;
 /// Longest job name: 64 characters of `A–Z a–z 0–9 -`.
 pub const MAX_JOB_NAME: usize = 64;
 
+/// Work done in a stage that counts it: `done` of `total` units (ground-truth solves of a
+/// training), in step `step` (from 1) of `steps` (its bootstrapping stages).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Count {
+    /// Units finished.
+    pub done: usize,
+    /// Units in all.
+    pub total: usize,
+    /// Current step, from 1.
+    pub step: usize,
+    /// Number of steps.
+    pub steps: usize,
+}
+
+/// A followed job: its stage, when the stage began, and its count if it reports one.
+type Entry = (&'static str, Instant, Option<Count>);
+
 /// The stage of every followed job and when it started.
 #[derive(Default)]
 pub struct ProgressBoard {
-    jobs: Mutex<HashMap<String, (&'static str, Instant)>>,
+    jobs: Mutex<HashMap<String, Entry>>,
 }
 
 impl ProgressBoard {
-    fn jobs(&self) -> std::sync::MutexGuard<'_, HashMap<String, (&'static str, Instant)>> {
+    fn jobs(&self) -> std::sync::MutexGuard<'_, HashMap<String, Entry>> {
         // Inserts and removals do not panic midway: a poisoned map is consistent.
         self.jobs.lock().unwrap_or_else(|e| e.into_inner())
     }
@@ -38,18 +57,18 @@ impl ProgressBoard {
         if !valid || jobs.len() >= MAX_FOLLOWED || jobs.contains_key(name) {
             return None;
         }
-        jobs.insert(name.to_string(), ("queued", Instant::now()));
+        jobs.insert(name.to_string(), ("queued", Instant::now(), None));
         Some(Followed {
             board: self.clone(),
             name: name.to_string(),
         })
     }
 
-    /// The stage of job `name` and the seconds spent in it, if it is followed.
-    pub fn stage(&self, name: &str) -> Option<(&'static str, f64)> {
+    /// The stage of job `name`, the seconds spent in it and its count, if it is followed.
+    pub fn stage(&self, name: &str) -> Option<(&'static str, f64, Option<Count>)> {
         self.jobs()
             .get(name)
-            .map(|&(stage, since)| (stage, since.elapsed().as_secs_f64()))
+            .map(|&(stage, since, count)| (stage, since.elapsed().as_secs_f64(), count))
     }
 }
 
@@ -67,7 +86,24 @@ impl Followed {
         let name = self.name.clone();
         move |stage| {
             if let Some(entry) = board.jobs().get_mut(&name) {
-                *entry = (stage, Instant::now());
+                *entry = (stage, Instant::now(), None);
+            }
+        }
+    }
+
+    /// A reporter of the count within the current stage (`stage` names it: entering a new
+    /// stage restarts its clock), callable from several threads at once.
+    pub fn counter(&self) -> impl Fn(&'static str, Count) + Send + Sync + 'static {
+        let board = self.board.clone();
+        let name = self.name.clone();
+        move |stage, count| {
+            if let Some(entry) = board.jobs().get_mut(&name) {
+                let since = if entry.0 == stage {
+                    entry.1
+                } else {
+                    Instant::now()
+                };
+                *entry = (stage, since, Some(count));
             }
         }
     }

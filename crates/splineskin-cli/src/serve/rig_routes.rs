@@ -201,7 +201,11 @@ pub async fn progress(
     Path(job): Path<String>,
 ) -> Json<serde_json::Value> {
     Json(match app.progress.stage(&job) {
-        Some((stage, seconds)) => serde_json::json!({"stage": stage, "seconds": seconds}),
+        Some((stage, seconds, None)) => serde_json::json!({"stage": stage, "seconds": seconds}),
+        Some((stage, seconds, Some(c))) => serde_json::json!({
+            "stage": stage, "seconds": seconds,
+            "done": c.done, "total": c.total, "step": c.step, "steps": c.steps,
+        }),
         None => serde_json::json!({"stage": null}),
     })
 }

@@ -4,6 +4,7 @@
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
 
+use splineskin::defop::DefOpRig;
 use splineskin::scene::Puppet;
 
 use super::document::Document;
@@ -11,7 +12,8 @@ use super::document::Document;
 /// Documents kept: 8 (the one given on the command line is kept besides).
 pub const MAX_DOCUMENTS: usize = 8;
 
-/// Rigs kept: 4. A page needs only its latest; a few more serve other tabs.
+/// Rigs kept: 4 (and as many operator rigs). A page needs only its latest; a few more serve
+/// other tabs.
 pub const MAX_RIGS: usize = 4;
 
 /// A built rig: the puppet (weights, rig and, with flexible junctions, the solver and its warm
@@ -29,6 +31,7 @@ pub struct Store {
     initial: Option<(String, Arc<Document>)>,
     documents: VecDeque<(String, Arc<Document>)>,
     rigs: VecDeque<(String, Arc<Rig>)>,
+    defops: VecDeque<(String, Arc<DefOpRig>)>,
 }
 
 impl Store {
@@ -90,6 +93,25 @@ impl Store {
     /// The rig `id`, if kept.
     pub fn rig(&self, id: &str) -> Option<Arc<Rig>> {
         self.rigs
+            .iter()
+            .find(|(k, _)| k == id)
+            .map(|(_, r)| r.clone())
+    }
+
+    /// Keeps a drawing joined to a deformation operator, dropping the oldest past
+    /// [`MAX_RIGS`]; returns its id.
+    pub fn add_defop(&mut self, rig: DefOpRig) -> String {
+        let id = self.new_id('o');
+        self.defops.push_back((id.clone(), Arc::new(rig)));
+        while self.defops.len() > MAX_RIGS {
+            self.defops.pop_front();
+        }
+        id
+    }
+
+    /// The operator rig `id`, if kept.
+    pub fn defop(&self, id: &str) -> Option<Arc<DefOpRig>> {
+        self.defops
             .iter()
             .find(|(k, _)| k == id)
             .map(|(_, r)| r.clone())

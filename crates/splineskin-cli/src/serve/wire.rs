@@ -27,7 +27,9 @@ pub struct EditScene {
 }
 
 /// A weight family by name (`shepard`, `harmonic`, `biharmonic`, `bbw`), with Shepard's
-/// exponent.
+/// exponent; or a trained deformation operator (`defop-arap`, `defop-sarap`: not weights, the
+/// page's "family" menu offers them beside the weights, [`super::defop_routes`]) with its
+/// sample count.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WeightsWire {
@@ -36,6 +38,10 @@ pub struct WeightsWire {
     /// Shepard's exponent (default 2).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub exponent: Option<f64>,
+    /// Training samples of a deformation operator (default
+    /// [`super::defop_routes::DEFAULT_EDITOR_SAMPLES`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub samples: Option<usize>,
 }
 
 /// One junction override: joint `joint` of path `path` takes `kind`.

@@ -1,0 +1,277 @@
+// Trained deformation operators in the editor (weights menu: "ARAP / Symmetric ARAP (trained
+// operator)"): the training's progress appears, the rest configuration gives the drawing back,
+// a dragged handle gives the library's deformation (POST /api/defops/{id}/deform, the
+// library's DefOpRig) to 1e-9 of the drawing's size, bad input is refused with a message, and
+// the bundled fish and the octopus (9 handles) are trained and timed.
+
+import assert from 'node:assert/strict';
+import { join } from 'node:path';
+import { after, before } from 'node:test';
+
+import { REPO, launchBrowser, outputFolder, startEditor } from './harness.mjs';
+
+const VIEWPORT = { width: 1100, height: 760 };
+const WAIT = 180_000;
+/**
+ * The page's product against the library's, relative to the drawing's bounding-box diagonal:
+ * the same G_spline and ψ, summed in another order (faer's product vs the page's dot
+ * products) over |Ψ| ≈ 160 terms of size up to ~10³ (thin-plate values of far centres):
+ * rounding leaves ~1e-13; 1e-9 catches any wrong function, order or scaling.
+ */
+const AGREEMENT = 1e-9;
+
+const out = outputFolder('editor-defop');
+const check = (...args) => out.check(...args);
+let browser;
+
+before(async () => {
+  browser = await launchBrowser({ viewport: VIEWPORT });
+});
+
+after(async () => {
+  await browser?.close();
+  out.finish();
+});
+
+/** A page on a fresh editor serving `args`. */
+async function openEditor(args) {
+  const server = await startEditor(args);
+  const page = await browser.context.newPage();
+  page.on('pageerror', (e) => console.log(`page error: ${e.message}`));
+  await page.goto(server.url);
+  await page.waitForSelector('body[data-booted]', { timeout: WAIT });
+  return { server, page };
+}
+
+async function waitRig(page) {
+  await page.waitForFunction(() => ['ready', 'error'].includes(document.body.dataset.rig), null, { timeout: WAIT });
+  return page.evaluate(() => document.body.dataset.rig);
+}
+
+/** Chooses the weights menu entry `family` and waits for the training; returns page seconds. */
+async function chooseOperator(page, family) {
+  await page.evaluate(() => {
+    window.splineskinEditor.stagesSeen = [];
+    window.splineskinEditor.countsSeen = [];
+  });
+  await page.selectOption('#family', family);
+  await page.waitForFunction(() => document.body.dataset.rig === 'computing');
+  assert.equal(await waitRig(page), 'ready', await page.textContent('#error'));
+  return page.evaluate(() => window.splineskinEditor.rigSeconds);
+}
+
+/** The page's points, the server's for the same configuration Q, and the drawing's diagonal. */
+function pageAndLibrary(page) {
+  return page.evaluate(async () => {
+    const { rig, points, rest, scene } = window.splineskinEditor;
+    const q = scene.handles.map(([x, y], i) => {
+      const T = scene.pose[i];
+      return [T[0] * x + T[2] * y + T[4], T[1] * x + T[3] * y + T[5]];
+    });
+    const response = await fetch(`/api/defops/${rig.id}/deform`, {
+      method: 'POST',
+      headers: { 'x-splineskin': '1', 'content-type': 'application/json' },
+      body: JSON.stringify({ handles: q }),
+    });
+    const library = [...new Float64Array(await response.arrayBuffer())];
+    let [x0, y0, x1, y1] = [Infinity, Infinity, -Infinity, -Infinity];
+    for (let k = 0; k < rest.length; k += 2) {
+      [x0, x1] = [Math.min(x0, rest[k]), Math.max(x1, rest[k])];
+      [y0, y1] = [Math.min(y0, rest[k + 1]), Math.max(y1, rest[k + 1])];
+    }
+    return { page: [...points], library, rest: [...rest], diagonal: Math.hypot(x1 - x0, y1 - y0) };
+  });
+}
+
+const maxDifference = (a, b) => a.reduce((m, v, k) => Math.max(m, Math.abs(v - b[k])), 0);
+
+async function mouseDrag(page, from, to, steps) {
+  await page.mouse.move(...from);
+  await page.mouse.down();
+  for (let k = 1; k <= steps; k++) {
+    await page.mouse.move(from[0] + ((to[0] - from[0]) * k) / steps, from[1] + ((to[1] - from[1]) * k) / steps);
+  }
+  await page.mouse.up();
+}
+
+/** Client coordinates of handle i's posed position. */
+function handleOnScreen(page, i) {
+  return page.evaluate((i) => {
+    const { scene } = window.splineskinEditor;
+    const [x, y] = scene.handles[i];
+    const T = scene.pose[i];
+    const m = document.getElementById('canvas').shadowRoot.querySelector('.ss-overlay').getScreenCTM();
+    const q = new DOMPoint(T[0] * x + T[2] * y + T[4], T[1] * x + T[3] * y + T[5]).matrixTransform(m);
+    return [q.x, q.y];
+  }, i);
+}
+
+const median = (values) => {
+  const s = [...values].sort((a, b) => a - b);
+  return s.length % 2 ? s[s.length >> 1] : (s[s.length / 2 - 1] + s[s.length / 2]) / 2;
+};
+
+check('defop: the fish bent by a symmetric ARAP operator, as the library computes it', async () => {
+  const { server, page } = await openEditor([]);
+  try {
+    assert.equal(await waitRig(page), 'ready');
+    const seconds = await chooseOperator(page, 'defop-sarap');
+    const { stagesSeen, countsSeen } = await page.evaluate(() => {
+      const { stagesSeen, countsSeen } = window.splineskinEditor;
+      return structuredClone({ stagesSeen, countsSeen });
+    });
+    console.log(`fish, symmetric ARAP, default samples: trained in ${seconds.toFixed(2)} s (page clock); ${await page.textContent('#message')}`);
+    // Progress: the training stage with counts of solves that grow to the total.
+    assert.ok(stagesSeen.includes('training'), `stages seen: ${stagesSeen}`);
+    assert.ok(countsSeen.length > 0, 'no training count shown');
+    const last = countsSeen[countsSeen.length - 1];
+    assert.ok(last.done <= last.total && last.step <= last.steps, JSON.stringify(last));
+    assert.ok(countsSeen.every((c, k) => k === 0 || c.done >= countsSeen[k - 1].done), JSON.stringify(countsSeen));
+    // The status line says what moves the drawing; flexible G¹ and the weight field are off.
+    assert.match(await page.textContent('#message'), /rotating or scaling a handle changes nothing/);
+    assert.equal(await page.isDisabled('#flexible'), true);
+    assert.equal(await page.isVisible('#defop-samples'), true);
+
+    // The fish's own pose, then a drag: the page's product is the library's.
+    let r = await pageAndLibrary(page);
+    assert.equal(r.page.length, r.library.length);
+    const posed = maxDifference(r.page, r.library) / r.diagonal;
+    assert.ok(posed < AGREEMENT, `posed: page vs library ${posed.toExponential(2)} of the diagonal`);
+    assert.ok(maxDifference(r.page, r.rest) / r.diagonal > 0.01, 'the pose should move the drawing');
+
+    const from = await handleOnScreen(page, 1);
+    await page.evaluate(() => {
+      window.splineskinEditor.frameTimes = [];
+      window.splineskinEditor.productTimes = [];
+    });
+    await mouseDrag(page, from, [from[0] + 60, from[1] - 90], 40);
+    const { frameTimes, productTimes } = await page.evaluate(() => {
+      const { frameTimes, productTimes } = window.splineskinEditor;
+      return { frameTimes, productTimes };
+    });
+    console.log(
+      `fish drag: ${frameTimes.length} frames, product median ${median(productTimes).toFixed(3)} ms, ` +
+        `frame (product + path data) median ${median(frameTimes).toFixed(3)} ms`,
+    );
+    r = await pageAndLibrary(page);
+    const dragged = maxDifference(r.page, r.library) / r.diagonal;
+    console.log(`fish dragged: page vs library ${dragged.toExponential(2)} of the diagonal`);
+    assert.ok(dragged < AGREEMENT, `dragged: page vs library ${dragged.toExponential(2)} of the diagonal`);
+    // The path data shown are the page's points (to the digits written).
+    const shown = await page.evaluate(() =>
+      [...document.getElementById('canvas').shadowRoot.querySelectorAll('[data-splineskin-element]')].map((e) => e.getAttribute('d')).join(' '),
+    );
+    assert.ok(shown.length > 0);
+    await page.screenshot({ path: join(out.path, 'fish-sarap-operator.png') });
+
+    // Rotating a handle about itself moves nothing in this mode.
+    const before = r.page;
+    await page.keyboard.down('Shift');
+    const at = await handleOnScreen(page, 1);
+    await mouseDrag(page, [at[0] + 30, at[1]], [at[0], at[1] + 30], 8);
+    await page.keyboard.up('Shift');
+    const afterRotation = await page.evaluate(() => [...window.splineskinEditor.points]);
+    assert.ok(maxDifference(afterRotation, before) / r.diagonal < 1e-12, 'a rotation moved the drawing');
+
+    // Rest configuration: the drawing comes back.
+    await page.click('#reset-pose');
+    await page.waitForFunction(() => document.body.dataset.rig === 'ready');
+    r = await pageAndLibrary(page);
+    const atRest = maxDifference(r.page, r.rest) / r.diagonal;
+    console.log(`fish at rest: page vs drawing ${atRest.toExponential(2)} of the diagonal`);
+    assert.ok(atRest < AGREEMENT, `rest: ${atRest.toExponential(2)} of the diagonal`);
+
+    // Export keeps working.
+    const svg = await page.evaluate(async () => {
+      const { info, points } = window.splineskinEditor;
+      const response = await fetch(`/api/documents/${info.id}/export`, {
+        method: 'POST',
+        headers: { 'x-splineskin': '1', 'content-type': 'application/octet-stream' },
+        body: points,
+      });
+      return response.text();
+    });
+    assert.match(svg, /<path/);
+
+    // ARAP too, with another sample count.
+    await page.fill('#defop-samples', '60');
+    await page.dispatchEvent('#defop-samples', 'change');
+    assert.equal(await waitRig(page), 'ready');
+    const arapSeconds = await chooseOperator(page, 'defop-arap');
+    const info = await page.evaluate(() => window.splineskinEditor.rig.info);
+    assert.equal(info.n_samples, 61);
+    console.log(`fish, ARAP, 60 samples: ${arapSeconds.toFixed(2)} s`);
+  } finally {
+    await page.close();
+    await server.close();
+  }
+});
+
+check('defop: bad input is refused with a message', async () => {
+  const { server, page } = await openEditor([]);
+  try {
+    await waitRig(page);
+    const refused = (scene) =>
+      page.evaluate(async (scene) => {
+        const { info } = window.splineskinEditor;
+        const response = await fetch('/api/defop', {
+          method: 'POST',
+          headers: { 'x-splineskin': '1', 'content-type': 'application/json' },
+          body: JSON.stringify({ document: info.id, scene: { ...info.scene, ...scene } }),
+        });
+        return [response.status, (await response.json()).error];
+      }, scene);
+    const weights = { family: 'defop-sarap', samples: 20 };
+    let [status, message] = await refused({ weights, handles: [], pose: [] });
+    assert.equal(status, 400, message);
+    assert.match(message, /at least one point handle/);
+    // JSON has no NaN: the page's JSON.stringify writes null, which the server's parser refuses.
+    [status, message] = await refused({ weights, handles: [[Number.NaN, 0]], pose: [[1, 0, 0, 1, 0, 0]] });
+    assert.equal(status, 422, message);
+    assert.match(message, /scene\.handles\[0\]/);
+    [status, message] = await refused({ weights, flexible: true });
+    assert.equal(status, 400, message);
+    assert.match(message, /flexible G¹ does not apply/);
+    [status, message] = await refused({ weights: { family: 'defop-sarap', samples: 0 } });
+    assert.equal(status, 400, message);
+    assert.match(message, /training samples/);
+
+    // In the page: a sample count out of range is refused with a message, nothing retrains.
+    await page.selectOption('#family', 'defop-sarap');
+    assert.equal(await waitRig(page), 'ready');
+    await page.fill('#defop-samples', '0');
+    await page.dispatchEvent('#defop-samples', 'change');
+    assert.match(await page.textContent('#error'), /training samples: 0 is not a whole number/);
+    assert.equal(await page.evaluate(() => document.body.dataset.rig), 'ready');
+  } finally {
+    await page.close();
+    await server.close();
+  }
+});
+
+check('defop: the octopus (9 handles) trained with the default sample count', async () => {
+  const { server, page } = await openEditor([join(REPO, 'crates/splineskin/assets/octopus-scene.json')]);
+  try {
+    assert.equal(await waitRig(page), 'ready');
+    const seconds = await chooseOperator(page, 'defop-sarap');
+    const info = await page.evaluate(() => window.splineskinEditor.rig.info);
+    console.log(
+      `octopus, symmetric ARAP, ${info.n_samples - 1} samples: ${seconds.toFixed(2)} s in the page ` +
+        `(server: domain ${info.seconds[0].toFixed(2)}, training ${info.seconds[1].toFixed(2)}, join ${info.seconds[2].toFixed(2)}; ` +
+        `${info.n_vertices} vertices, ${info.n_triangles} triangles, |Ψ| = ${info.n_functions})`,
+    );
+    // An arm pulled out and another bent in.
+    for (const [i, dx, dy] of [[1, 40, -50], [4, -70, 30]]) {
+      const from = await handleOnScreen(page, i);
+      await mouseDrag(page, from, [from[0] + dx, from[1] + dy], 20);
+    }
+    const r = await pageAndLibrary(page);
+    const d = maxDifference(r.page, r.library) / r.diagonal;
+    console.log(`octopus dragged: page vs library ${d.toExponential(2)} of the diagonal`);
+    assert.ok(d < AGREEMENT, `octopus: page vs library ${d.toExponential(2)}`);
+    await page.screenshot({ path: join(out.path, 'octopus-sarap-operator.png') });
+  } finally {
+    await page.close();
+    await server.close();
+  }
+});
