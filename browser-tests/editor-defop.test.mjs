@@ -139,12 +139,15 @@ check('defop: the fish bent by a symmetric ARAP operator, as the library compute
     assert.ok(posed < AGREEMENT, `posed: page vs library ${posed.toExponential(2)} of the diagonal`);
     assert.ok(maxDifference(r.page, r.rest) / r.diagonal > 0.01, 'the pose should move the drawing');
 
-    const from = await handleOnScreen(page, 1);
+    // The tail (handle 2) pulled down, the back (handle 0) pushed up: the body bends.
     await page.evaluate(() => {
       window.splineskinEditor.frameTimes = [];
       window.splineskinEditor.productTimes = [];
     });
-    await mouseDrag(page, from, [from[0] + 60, from[1] - 90], 40);
+    for (const [i, dx, dy] of [[2, 10, 120], [0, 0, -40]]) {
+      const from = await handleOnScreen(page, i);
+      await mouseDrag(page, from, [from[0] + dx, from[1] + dy], 40);
+    }
     const { frameTimes, productTimes } = await page.evaluate(() => {
       const { frameTimes, productTimes } = window.splineskinEditor;
       return { frameTimes, productTimes };
@@ -166,10 +169,13 @@ check('defop: the fish bent by a symmetric ARAP operator, as the library compute
 
     // Rotating a handle about itself moves nothing in this mode.
     const before = r.page;
+    const mapBefore = await page.evaluate(() => [...window.splineskinEditor.scene.pose[1]]);
     await page.keyboard.down('Shift');
     const at = await handleOnScreen(page, 1);
-    await mouseDrag(page, [at[0] + 30, at[1]], [at[0], at[1] + 30], 8);
+    await mouseDrag(page, at, [at[0] + 60, at[1]], 8); // 0.5° a pixel: 30°
     await page.keyboard.up('Shift');
+    const mapAfter = await page.evaluate(() => [...window.splineskinEditor.scene.pose[1]]);
+    assert.ok(Math.abs(mapAfter[1] - mapBefore[1]) > 0.1, `the Shift-drag did not rotate: ${mapBefore} → ${mapAfter}`);
     const afterRotation = await page.evaluate(() => [...window.splineskinEditor.points]);
     assert.ok(maxDifference(afterRotation, before) / r.diagonal < 1e-12, 'a rotation moved the drawing');
 

@@ -23,7 +23,7 @@ const WEIGHT_GRID = 200;
 /** How often the progress of a precomputation is asked for, ms. */
 const PROGRESS_POLL_MS = 150;
 /** Training samples of an operator when the user has not chosen (DEFAULT_EDITOR_SAMPLES). */
-const DEFAULT_DEFOP_SAMPLES = 150;
+const DEFAULT_DEFOP_SAMPLES = 100;
 /** The operator "families" of the weights menu and their ground truths. */
 const DEFOP_ENERGIES = { 'defop-arap': 'ARAP', 'defop-sarap': 'symmetric ARAP' };
 /** Junction markers shown on opening up to this many junctions (more: the checkbox). */

@@ -10,7 +10,9 @@ use splineskin::examples::DEMO_SVG;
 use tower::ServiceExt;
 
 use super::api::{router, App, API_HEADER, MAX_JOBS, RIG_HEADER};
+use super::defop_routes::DEFOP_HEADER;
 use super::document::{Document, MAX_UPLOAD_BYTES};
+use super::progress::Count;
 
 const HOST: &str = "127.0.0.1:7464";
 
@@ -439,6 +441,32 @@ async fn serve_progress_follows_a_precomputation_until_it_ends() {
     followed.reporter()("weights");
     let (_, _, body) = send(&app, get("/api/progress/job-1")).await;
     assert_eq!(json(&body)["stage"], "weights");
+    assert!(json(&body)["done"].is_null(), "no count unless reported");
+    let count = Count {
+        done: 7,
+        total: 40,
+        step: 2,
+        steps: 3,
+    };
+    followed.counter()("training", count);
+    let (_, _, body) = send(&app, get("/api/progress/job-1")).await;
+    let report = json(&body);
+    assert_eq!(
+        (
+            &report["stage"],
+            &report["done"],
+            &report["total"],
+            &report["step"],
+            &report["steps"]
+        ),
+        (
+            &serde_json::json!("training"),
+            &serde_json::json!(7),
+            &serde_json::json!(40),
+            &serde_json::json!(2),
+            &serde_json::json!(3)
+        )
+    );
     drop(followed);
     let (_, _, body) = send(&app, get("/api/progress/job-1")).await;
     assert!(json(&body)["stage"].is_null());
@@ -450,4 +478,159 @@ async fn serve_progress_follows_a_precomputation_until_it_ends() {
     let (status, _, _) = send(&app, request).await;
     assert_eq!(status, StatusCode::OK);
     assert!(state.progress.stage("job-2").is_none());
+}
+
+/// A scene of the bundled fish with two handles and a trained operator's settings.
+fn operator_scene(document: &str, family: &str, samples: usize) -> serde_json::Value {
+    let mut scene = two_handle_scene(document, false);
+    scene["scene"]["weights"] = serde_json::json!({"family": family, "samples": samples});
+    scene
+}
+
+/// The page's evaluation restated from the route's documented layout (api.rs): `ψ(Q)` from the
+/// header, then the row-major product with `G_spline`.
+fn operator_points(info: &serde_json::Value, data: &[f64], q: &[[f64; 2]]) -> Vec<f64> {
+    let n_psi = info["n_functions"].as_u64().expect("n_functions") as usize;
+    let n_centres = info["n_centres"].as_u64().expect("n_centres") as usize;
+    let rows = 2 * info["n_points"].as_u64().expect("n_points") as usize;
+    let scale = info["scale"].as_f64().expect("scale");
+    let rest: Vec<[f64; 2]> = serde_json::from_value(info["rest"].clone()).expect("rest");
+    let d = 2 * rest.len();
+    let mut psi = vec![1.0];
+    for (q, p) in q.iter().zip(&rest) {
+        psi.extend([(q[0] - p[0]) / scale, (q[1] - p[1]) / scale]);
+    }
+    let centres = &data[rows * n_psi..];
+    for k in 0..n_centres {
+        let r2: f64 = (0..d)
+            .map(|a| (psi[1 + a] - centres[k * d + a]).powi(2))
+            .sum();
+        psi.push(if r2 > 0.0 { 0.5 * r2 * r2.ln() } else { 0.0 });
+    }
+    assert_eq!(psi.len(), n_psi);
+    (0..rows)
+        .map(|r| (0..n_psi).map(|c| data[r * n_psi + c] * psi[c]).sum())
+        .collect()
+}
+
+#[tokio::test]
+async fn serve_operator_layout_reproduces_the_library_and_the_rest_drawing() {
+    let app = app();
+    let info = open_demo_svg(&app).await;
+    let id = info["id"].as_str().expect("id");
+    let rest: Vec<f64> = serde_json::from_value(info["rest"].clone()).expect("rest");
+    let diagonal = {
+        let (xs, ys): (Vec<f64>, Vec<f64>) = rest.chunks_exact(2).map(|p| (p[0], p[1])).unzip();
+        let span = |v: &[f64]| {
+            v.iter().cloned().fold(f64::MIN, f64::max) - v.iter().cloned().fold(f64::MAX, f64::min)
+        };
+        span(&xs).hypot(span(&ys))
+    };
+    let (status, headers, body) = send(
+        &app,
+        post_json("/api/defop", &operator_scene(id, "defop-arap", 12)),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let op: serde_json::Value =
+        serde_json::from_str(headers[DEFOP_HEADER].to_str().expect("ASCII")).expect("JSON");
+    assert_eq!(op["kind"], "tps");
+    assert_eq!(op["n_samples"], 13, "the rest configuration and 12 samples");
+    assert_eq!(op["n_centres"], 13);
+    assert_eq!(op["n_functions"], 1 + 4 + 13);
+    let n_points = rest.len() / 2;
+    assert_eq!(op["n_points"], n_points);
+    let data = f64s(&body);
+    assert_eq!(data.len(), 2 * n_points * 18 + 13 * 4);
+
+    // The layout as documented, at rest and at a moved configuration, against the library.
+    let handles = [[440.0, 200.0], [110.0, 205.0]];
+    let moved = [[452.0, 188.0], [104.0, 230.0]];
+    let rig = op["id"].as_str().expect("id");
+    for q in [handles, moved] {
+        let (status, _, body) = send(
+            &app,
+            post_json(
+                &format!("/api/defops/{rig}/deform"),
+                &serde_json::json!({ "handles": q }),
+            ),
+        )
+        .await;
+        assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+        let library = f64s(&body);
+        let page = operator_points(&op, &data, &q);
+        let worst = page
+            .iter()
+            .zip(&library)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        // Same numbers summed in another order: rounding only.
+        assert!(worst < 1e-9 * diagonal, "page vs library {worst:e}");
+        if q == handles {
+            let off = library
+                .iter()
+                .zip(&rest)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            // The join reproduces the drawing at rest (DefOpRig's doc): to rounding.
+            assert!(off < 1e-9 * diagonal, "rest configuration off by {off:e}");
+        } else {
+            let moved_by = library
+                .iter()
+                .zip(&rest)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(moved_by > 5.0, "moved handles should move the drawing");
+        }
+    }
+}
+
+#[tokio::test]
+async fn serve_operator_refuses_what_it_cannot_train_with_a_message() {
+    let app = app();
+    let info = open_demo_svg(&app).await;
+    let id = info["id"].as_str().expect("id");
+    let refused = |scene: serde_json::Value, expected: &'static str| {
+        let app = app.clone();
+        async move {
+            let (status, _, body) = send(&app, post_json("/api/defop", &scene)).await;
+            assert!(status.is_client_error(), "{status}");
+            let message = json(&body)["error"].as_str().expect("message").to_string();
+            assert!(message.contains(expected), "{message}");
+        }
+    };
+    let mut none = operator_scene(id, "defop-sarap", 10);
+    none["scene"]["handles"] = serde_json::json!([]);
+    none["scene"]["pose"] = serde_json::json!([]);
+    refused(none, "at least one point handle").await;
+    let mut flexible = operator_scene(id, "defop-sarap", 10);
+    flexible["scene"]["flexible"] = serde_json::json!(true);
+    refused(flexible, "flexible G¹ does not apply").await;
+    refused(operator_scene(id, "defop-sarap", 0), "training samples").await;
+    refused(
+        operator_scene(id, "defop-sarap", 1_000_000),
+        "training samples",
+    )
+    .await;
+    refused(
+        operator_scene(id, "shepard", 10),
+        "not a deformation operator",
+    )
+    .await;
+    let mut nan = operator_scene(id, "defop-sarap", 10);
+    nan["scene"]["handles"][0][0] = serde_json::json!(f64::NAN); // JSON null
+    refused(nan, "scene.handles[0]").await;
+    let (status, _, body) = send(
+        &app,
+        post_json(
+            "/api/defops/o999/deform",
+            &serde_json::json!({"handles": [[0.0, 0.0]]}),
+        ),
+    )
+    .await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    assert!(json(&body)["error"]
+        .as_str()
+        .expect("message")
+        .contains("train it again"));
 }
