@@ -82,8 +82,12 @@ function say(text) {
 }
 
 let progressTimer = null;
-/** Shows `label` with a running clock, and a filled bar for `fraction` (0…1) when given. */
-function progress(label, fraction = null) {
+let progressStart = 0;
+/**
+ * Shows `label` with a running clock (restarted unless `restart` is false: a count within the
+ * same stage), and a filled bar for `fraction` (0…1) when given.
+ */
+function progress(label, fraction = null, restart = true) {
   const box = $('progress');
   clearInterval(progressTimer);
   const bar = box.querySelector('.bar');
@@ -93,7 +97,8 @@ function progress(label, fraction = null) {
     box.hidden = true;
     return;
   }
-  const start = performance.now();
+  if (restart || box.hidden) progressStart = performance.now();
+  const start = progressStart;
   const tick = () => {
     $('progress-text').textContent = `${label} ${((performance.now() - start) / 1000).toFixed(1)} s`;
   };
@@ -280,13 +285,14 @@ function followProgress(job, seq) {
       const { stage } = report;
       const key = `${stage}/${report.done}`;
       if (!stopped && stage && key !== shown && seq === editor.precomputeSeq) {
-        if (!shown || !shown.startsWith(`${stage}/`)) editor.stagesSeen.push(stage);
+        const newStage = !shown || !shown.startsWith(`${stage}/`);
+        if (newStage) editor.stagesSeen.push(stage);
         if (report.done !== undefined) {
           const { done, total, step, steps } = report;
           editor.countsSeen.push({ done, total, step, steps });
         }
         shown = key;
-        progress(...progressLabel(report));
+        progress(...progressLabel(report), newStage);
       }
     } catch {
       // A missed poll only delays the label.
