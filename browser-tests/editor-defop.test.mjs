@@ -5,10 +5,11 @@
 // the bundled fish and the octopus (9 handles) are trained and timed.
 
 import assert from 'node:assert/strict';
+import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before } from 'node:test';
 
-import { REPO, launchBrowser, outputFolder, startEditor } from './harness.mjs';
+import { REPO, launchBrowser, outputFolder, runSplineskin, startEditor } from './harness.mjs';
 
 const VIEWPORT = { width: 1100, height: 760 };
 const WAIT = 180_000;
@@ -166,6 +167,33 @@ check('defop: the fish bent by a symmetric ARAP operator, as the library compute
     );
     assert.ok(shown.length > 0);
     await page.screenshot({ path: join(out.path, 'fish-sarap-operator.png') });
+
+    // The saved scene records the operator (its defop section): the command line trains the
+    // same operator from it and deforms the drawing as the page shows it.
+    const sceneText = await page.evaluate(async () => {
+      const { info, scene } = window.splineskinEditor;
+      const response = await fetch(`/api/documents/${info.id}/scene`, {
+        method: 'POST',
+        headers: { 'x-splineskin': '1', 'content-type': 'application/json' },
+        body: JSON.stringify(scene),
+      });
+      return response.text();
+    });
+    const saved = JSON.parse(sceneText);
+    assert.equal(saved.defop.energy, 'symmetric-arap');
+    assert.equal(saved.defop.samples, 100);
+    assert.equal(saved.weights.family, 'shepard', 'the bundled scene\'s weights are kept');
+    const scenePath = join(out.path, 'fish-operator-scene.json');
+    writeFileSync(scenePath, sceneText);
+    const started = performance.now();
+    await runSplineskin(['defop', 'train', scenePath, '-o', join(out.path, 'fish.defop'), '--held-out', '0']);
+    const cliSeconds = (performance.now() - started) / 1000;
+    await runSplineskin(['defop', 'deform', scenePath, '--operator', join(out.path, 'fish.defop'), '-o', join(out.path, 'fish-cli.json')]);
+    const cli = JSON.parse(readFileSync(join(out.path, 'fish-cli.json'), 'utf8')).paths.flatMap((p) => p.points.flat());
+    assert.equal(cli.length, r.page.length);
+    const viaCli = maxDifference(r.page, cli) / r.diagonal;
+    console.log(`fish dragged: page vs splineskin defop train + deform on the saved scene ${viaCli.toExponential(2)} of the diagonal (train ${cliSeconds.toFixed(2)} s)`);
+    assert.ok(viaCli < AGREEMENT, `page vs command line ${viaCli.toExponential(2)} of the diagonal`);
 
     // Rotating a handle about itself moves nothing in this mode.
     const before = r.page;

@@ -596,19 +596,16 @@ async function exportSvg() {
 
 async function saveScene() {
   try {
-    // Scene files have no place for an operator's settings yet: the handles, pose and
-    // junctions are saved with the default weights, and the user is told.
-    const defop = isDefop(editor.scene);
-    const scene = defop
-      ? { ...editor.scene, weights: { family: 'shepard', exponent: 2 }, flexible: false }
-      : editor.scene;
-    const json = await api.sceneFile(editor.info.id, scene);
+    // With an operator, the file keeps the scene's weights and says how to train the operator
+    // in its `defop` section (the server writes it: scene_file.rs), so that
+    // `splineskin defop train` on it trains the same one.
+    const json = await api.sceneFile(editor.info.id, editor.scene);
     download(json, `${baseName()}-scene.json`, 'application/json');
+    const { weights } = editor.scene;
     say(
-      defop
-        ? `saved ${baseName()}-scene.json with Shepard weights: scene files cannot record the ` +
-            `operator (${DEFOP_ENERGIES[editor.scene.weights.family]}, ` +
-            `${editor.scene.weights.samples ?? DEFAULT_DEFOP_SAMPLES} samples) yet`
+      isDefop(editor.scene)
+        ? `saved ${baseName()}-scene.json with its operator (${DEFOP_ENERGIES[weights.family]}, ` +
+            `${weights.samples ?? DEFAULT_DEFOP_SAMPLES} samples) in its defop section`
         : `saved ${baseName()}-scene.json`,
     );
   } catch (e) {

@@ -3,8 +3,9 @@
 //! evaluation of it ([`super::api`] has the table of routes).
 //!
 //! ```text
-//! POST /api/defop:  Domain::build → train (ARAP or symmetric ARAP ground truth, thin-plate
-//!                   splines on the samples) → DefOpRig::from_domain        (once, seconds)
+//! POST /api/defop:  the scene's defop section (scene_file::defop_settings: the page's energy
+//!                   and samples) → Scene::defop_shape (the drawing's domain) → train, as
+//!                   `splineskin defop train` does → DefOpRig::precompute   (once, seconds)
 //! page, each frame: points = G_spline · ψ(Q)                              (rig.js, DefOpLiveRig)
 //! ```
 //!
@@ -23,17 +24,13 @@ use axum::response::Response;
 use axum::Json;
 use kurbo::Point;
 use serde::{Deserialize, Serialize};
-use splineskin::defop::{
-    train, training_domain_options, DefOpRig, Energy, HandleBasisKind, Progress, SpatialBasis,
-    TrainOptions,
-};
-use splineskin::domain::Domain;
+use splineskin::defop::{train, DefOpRig, Energy, Progress, TrainOptions};
 use splineskin::scene::Compat;
 
 use super::api::{binary, f64_bytes, run_job, ApiError, App, MAX_OPERATOR_BYTES};
 use super::progress::{Count, JOB_HEADER};
 use super::rig_routes::page_scene;
-use super::wire::{EditScene, SceneRequest, WeightsWire};
+use super::wire::{EditScene, SceneRequest};
 
 /// Training samples when the page names none: 100. Measured in the editor (the `dev` profile,
 /// which optimises; two cores shared with another build; thin-plate splines, the domain of
@@ -108,28 +105,23 @@ pub async fn defop(
     let count = followed.as_ref().map(|f| f.counter());
     let (rig, info) = run_job(&app, move || {
         let scene = &request.scene;
-        let (energy, n_samples) = check_defop_scene(&document.name, scene)?;
-        // Validated and read like any scene, with weights the library knows (the operator
-        // replaces them): the drawing with the page's junction kinds, the fit options.
-        let as_weights = EditScene {
-            weights: WeightsWire {
-                family: "shepard".into(),
-                exponent: Some(2.0),
-                samples: None,
-            },
-            ..scene.clone()
-        };
-        let library_scene = page_scene(&document, &as_weights)?;
+        let (_, n_samples) = check_defop_scene(&document.name, scene)?;
+        // Validated and read like any scene file (the one "Save scene" writes, whose `defop`
+        // section holds the page's energy and sample count): the drawing with the page's
+        // junction kinds, the fit options, the operator's settings.
+        let library_scene = page_scene(&document, scene)?;
+        let bad = |e: &dyn std::fmt::Display| ApiError::bad(format!("{}: {e}", document.name));
+        let settings = library_scene.defop.clone().ok_or_else(|| {
+            ApiError::new(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                "the page's scene lost its defop section (a bug in splineskin, please report it)",
+            )
+        })?;
+        debug_assert_eq!(settings.samples, n_samples);
         let (drawing, _) = library_scene
             .drawing_with_junctions(Compat::None)
-            .map_err(|e| ApiError::bad(e.to_string()))?;
-        let fit = library_scene.fit_options(Compat::None);
-        let handles: Vec<Point> = scene
-            .handles
-            .iter()
-            .map(|&[x, y]| Point::new(x, y))
-            .collect();
-        let bad = |e: &dyn std::fmt::Display| ApiError::bad(format!("{}: {e}", document.name));
+            .map_err(|e| bad(&e))?;
+        let fit = library_scene.fit_options(Compat::None).with_parallel(true);
 
         let report = |name: &'static str| {
             if let Some(stage) = &stage {
@@ -138,15 +130,21 @@ pub async fn defop(
         };
         report("domain");
         let t0 = Instant::now();
-        let domain = Domain::build(&drawing, &handles, &[], &training_domain_options())
+        // As `splineskin defop train` does, so that the saved scene trains the same operator.
+        let shape = library_scene.defop_shape(&settings).map_err(|e| bad(&e))?;
+        let spatial = settings
+            .spatial_basis
+            .build(&shape.mesh, &shape.handles)
             .map_err(|e| bad(&e))?;
-        let spatial = SpatialBasis::hats(&domain.mesh).map_err(|e| bad(&e))?;
         report("training");
         let t1 = Instant::now();
+        let diagonal = bounding_box_diagonal(&shape.mesh.vertices);
         let options = TrainOptions::default()
-            .with_energy(energy)
-            .with_n_samples(n_samples)
-            .with_handle_basis(HandleBasisKind::ThinPlateSpline)
+            .with_energy(settings.energy)
+            .with_n_samples(settings.samples)
+            .with_regions(vec![(settings.region.region(diagonal), 1.0)])
+            .with_seed(settings.seed)
+            .with_handle_basis(settings.handle_basis)
             .with_parallel(true);
         let on_progress = |p: Progress| {
             if let Some(count) = &count {
@@ -162,8 +160,8 @@ pub async fn defop(
             }
         };
         let training = train(
-            &domain.mesh,
-            &domain.handle_vertices,
+            &shape.mesh,
+            &shape.handles,
             &spatial,
             &options,
             &on_progress,
@@ -172,7 +170,7 @@ pub async fn defop(
         report("join");
         let t2 = Instant::now();
         let rig =
-            DefOpRig::from_domain(&drawing, &domain, &training.op, &fit).map_err(|e| bad(&e))?;
+            DefOpRig::precompute(&drawing, &shape.mesh, &training.op, &fit).map_err(|e| bad(&e))?;
         let t3 = Instant::now();
         let basis = rig.handle_basis();
         let info = DefOpInfo {
@@ -184,8 +182,8 @@ pub async fn defop(
             n_centres: basis.n_centres(),
             n_points: rig.n_points(),
             n_samples: training.configurations.len(),
-            n_vertices: domain.mesh.vertices.len(),
-            n_triangles: domain.mesh.triangles.len(),
+            n_vertices: shape.mesh.vertices.len(),
+            n_triangles: shape.mesh.triangles.len(),
             seconds: [
                 (t1 - t0).as_secs_f64(),
                 (t2 - t1).as_secs_f64(),
@@ -193,7 +191,7 @@ pub async fn defop(
             ],
             n_nodes_outside: rig.n_nodes_outside(),
         };
-        let bytes = 8 * (rig.coefficients().len() + info.n_centres * 2 * handles.len());
+        let bytes = 8 * (rig.coefficients().len() + info.n_centres * 2 * scene.handles.len());
         if bytes > MAX_OPERATOR_BYTES {
             return Err(ApiError::bad(format!(
                 "{}: the operator takes {} MiB (at most {} MiB): use fewer samples or handles",
@@ -281,6 +279,18 @@ fn check_defop_scene(name: &str, scene: &EditScene) -> Result<(Energy, usize), A
         )));
     }
     Ok((energy, n_samples))
+}
+
+/// The diagonal of the bounding box of `points` (what the sample regions of a `defop`
+/// section are fractions of, as `splineskin defop train` measures it).
+fn bounding_box_diagonal(points: &[Point]) -> f64 {
+    let mut lo = Point::new(f64::INFINITY, f64::INFINITY);
+    let mut hi = Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
+    for p in points {
+        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
+        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
+    }
+    (hi - lo).hypot()
 }
 
 /// The body of `POST /api/defops/{id}/deform`.

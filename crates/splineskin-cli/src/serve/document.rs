@@ -2,6 +2,7 @@
 //! library once, with what the page needs to show and deform it ([`DocumentInfo`]).
 
 use anyhow::{bail, Context, Result};
+use splineskin::defop::Energy;
 use splineskin::drawing::svg_in::MAX_SVG_BYTES;
 use splineskin::drawing::svg_out::write_svg_marked;
 use splineskin::drawing::Drawing;
@@ -136,16 +137,54 @@ impl Document {
             .pose(0)
             .map(|p| p.transforms.iter().map(|t| t.as_coeffs()).collect())
             .unwrap_or_default();
+        // A scene with a `defop` section opens with its operator (the weights are kept for
+        // the file); the editor trains on the drawing's domain only.
+        let mut defop = scene.defop.clone();
+        if let Some(settings) = &mut defop {
+            for (key, file) in [
+                ("mesh", settings.mesh.take()),
+                ("operator", settings.operator.take()),
+            ] {
+                if let Some(file) = file {
+                    warnings.push(format!(
+                        "{name}: defop.{key} ({}) is not used: the editor trains its operator on                          the drawing's domain (and saves the scene without it)",
+                        file.display()
+                    ));
+                }
+            }
+        }
+        let (edit_weights, kept_weights, flexible) = match &defop {
+            Some(settings) => {
+                if scene.flexible {
+                    warnings.push(format!(
+                        "{name}: flexible G¹ does not apply to a deformation operator: off"
+                    ));
+                }
+                let family = match settings.energy {
+                    Energy::Arap => "defop-arap",
+                    Energy::SymmetricArap => "defop-sarap",
+                };
+                let operator = WeightsWire {
+                    family: family.into(),
+                    exponent: None,
+                    samples: Some(settings.samples),
+                };
+                (operator, Some(weights), false)
+            }
+            None => (weights, None, scene.flexible),
+        };
         let edit = EditScene {
             handles: scene.handles.iter().map(|p| [p.x, p.y]).collect(),
             pose,
-            weights,
+            weights: edit_weights,
             junctions,
-            flexible: scene.flexible,
+            flexible,
         };
         let extras = SceneExtras {
             arc_length: scene.measure == Measure::ArcLength,
             domain: (scene.domain != Default::default()).then(|| scene.domain.clone()),
+            defop,
+            weights: kept_weights,
         };
         let rest = drawing.flat_points();
         let svg = write_svg_marked(&drawing, &rest, ELEMENT_MARKER)

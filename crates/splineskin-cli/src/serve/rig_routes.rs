@@ -14,6 +14,7 @@ use std::sync::Arc;
 use super::api::{
     binary, f64_bytes, run_job, ApiError, App, MAX_GRID_SIDE, MAX_HANDLES, MAX_OPERATOR_BYTES,
 };
+use super::defop_routes::defop_energy;
 use super::document::Document;
 use super::progress::JOB_HEADER;
 use super::scene_file::scene_json;
@@ -57,6 +58,12 @@ pub async fn rig(
 ) -> Result<Response, ApiError> {
     let Json(request) = request?;
     let document = app.document(&request.document)?;
+    if defop_energy(&request.scene.weights.family).is_some() {
+        return Err(ApiError::bad(format!(
+            "{}: '{}' is a deformation operator, trained by POST /api/defop, not weights",
+            document.name, request.scene.weights.family
+        )));
+    }
     // Followed until this request ends, however it ends.
     let followed = headers
         .get(JOB_HEADER)

@@ -5,8 +5,11 @@
 //! scene.
 
 use serde::Serialize;
+use splineskin::defop::training_domain_options;
 use splineskin::domain::DomainOptions;
+use splineskin::scene::{energy_name, DefOpSettings, RegionSpec};
 
+use super::defop_routes::{defop_energy, DEFAULT_EDITOR_SAMPLES};
 use super::wire::{EditScene, JunctionWire, WeightsWire};
 
 /// What a scene carries besides the page's [`EditScene`] and is kept as it was opened.
@@ -16,6 +19,40 @@ pub struct SceneExtras {
     pub arc_length: bool,
     /// Domain options of the mesh families, when not the defaults.
     pub domain: Option<DomainOptions>,
+    /// The scene's `defop` section (`splineskin::scene::defop`), without `mesh` and
+    /// `operator` (the editor trains on the drawing's domain).
+    pub defop: Option<DefOpSettings>,
+    /// The scene's weights when it opened with its operator: written back while the page
+    /// shows the operator (default Shepard).
+    pub weights: Option<WeightsWire>,
+}
+
+/// The operator settings the editor trains with when a scene has no `defop` section: the
+/// library's defaults ([`DefOpSettings::default`]) with [`DEFAULT_EDITOR_SAMPLES`] samples and
+/// the spline join's domain ([`training_domain_options`]: largest triangle 1/1000 of the
+/// domain, half the triangles of the section's default, for trainings of seconds).
+pub fn editor_defop_settings() -> DefOpSettings {
+    let mut settings = DefOpSettings::default();
+    settings.samples = DEFAULT_EDITOR_SAMPLES;
+    settings.domain = training_domain_options();
+    settings
+}
+
+/// The `defop` section the page's scene implies: `None` unless its "family" is an operator or
+/// the opened scene had one; the page's energy and sample count over the opened settings (or
+/// [`editor_defop_settings`]).
+pub fn defop_settings(scene: &EditScene, extras: &SceneExtras) -> Option<DefOpSettings> {
+    match defop_energy(&scene.weights.family) {
+        Some(energy) => {
+            let mut settings = extras.defop.clone().unwrap_or_else(editor_defop_settings);
+            settings.energy = energy;
+            if let Some(samples) = scene.weights.samples {
+                settings.samples = samples;
+            }
+            Some(settings)
+        }
+        None => extras.defop.clone(),
+    }
 }
 
 #[derive(Serialize)]
@@ -30,6 +67,28 @@ struct SceneFile<'a> {
     flexible: bool,
     junctions: &'a [JunctionWire],
     pose: &'a [[f64; 6]],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    defop: Option<DefOpFile>,
+}
+
+/// A `defop` section as written (keys of `splineskin::scene::defop`).
+#[derive(Serialize)]
+struct DefOpFile {
+    energy: &'static str,
+    spatial_basis: String,
+    handle_basis: &'static str,
+    samples: usize,
+    region: RegionFile,
+    seed: u64,
+    domain: DomainFile,
+}
+
+#[derive(Serialize)]
+#[serde(rename_all = "lowercase")]
+enum RegionFile {
+    Disc(f64),
+    Circle(f64),
+    Gaussian(f64),
 }
 
 #[derive(Serialize)]
@@ -49,8 +108,47 @@ struct DomainFile {
     padding: f64,
 }
 
-/// The scene file text (pretty JSON) of `scene` on the drawing `svg_text`.
+fn domain_file(d: &DomainOptions) -> DomainFile {
+    DomainFile {
+        min_angle: d.min_angle,
+        max_area_fraction: d.max_area_fraction,
+        holes: d.holes,
+        max_vertices: d.max_vertices,
+        samples_per_diagonal: d.samples_per_diagonal,
+        max_samples_per_curve: d.max_samples_per_curve,
+        max_curve_samples: d.max_curve_samples,
+        padding: d.padding,
+    }
+}
+
+/// The scene file text (pretty JSON) of `scene` on the drawing `svg_text`. While the page
+/// shows an operator, the file's weights are the opened scene's ([`SceneExtras::weights`],
+/// default Shepard) and its `defop` section says how the operator was trained
+/// ([`defop_settings`]).
 pub fn scene_json(svg_text: &str, scene: &EditScene, extras: &SceneExtras) -> String {
+    let shepard = WeightsWire {
+        family: "shepard".into(),
+        exponent: Some(2.0),
+        samples: None,
+    };
+    let weights = if defop_energy(&scene.weights.family).is_some() {
+        extras.weights.as_ref().unwrap_or(&shepard)
+    } else {
+        &scene.weights
+    };
+    let defop = defop_settings(scene, extras).map(|s| DefOpFile {
+        energy: energy_name(s.energy),
+        spatial_basis: s.spatial_basis.name(),
+        handle_basis: s.handle_basis.name(),
+        samples: s.samples,
+        region: match s.region {
+            RegionSpec::Disc(f) => RegionFile::Disc(f),
+            RegionSpec::Circle(f) => RegionFile::Circle(f),
+            RegionSpec::Gaussian(f) => RegionFile::Gaussian(f),
+        },
+        seed: s.seed,
+        domain: domain_file(&s.domain),
+    });
     let file = SceneFile {
         splineskin_scene: splineskin::scene::ours::SCENE_VERSION,
         svg_text,
@@ -59,21 +157,13 @@ pub fn scene_json(svg_text: &str, scene: &EditScene, extras: &SceneExtras) -> St
             .iter()
             .map(|&position| HandleFile { position })
             .collect(),
-        weights: &scene.weights,
-        domain: extras.domain.as_ref().map(|d| DomainFile {
-            min_angle: d.min_angle,
-            max_area_fraction: d.max_area_fraction,
-            holes: d.holes,
-            max_vertices: d.max_vertices,
-            samples_per_diagonal: d.samples_per_diagonal,
-            max_samples_per_curve: d.max_samples_per_curve,
-            max_curve_samples: d.max_curve_samples,
-            padding: d.padding,
-        }),
+        weights,
+        domain: extras.domain.as_ref().map(domain_file),
         arc_length: extras.arc_length,
         flexible: scene.flexible,
         junctions: &scene.junctions,
         pose: &scene.pose,
+        defop,
     };
     serde_json::to_string_pretty(&file).expect("plain structs of strings and numbers serialise")
 }
