@@ -634,3 +634,65 @@ async fn serve_operator_refuses_what_it_cannot_train_with_a_message() {
         .expect("message")
         .contains("train it again"));
 }
+
+#[tokio::test]
+async fn serve_saved_operator_scene_records_its_defop_section_and_reopens_with_it() {
+    let app = app();
+    let info = open_demo_svg(&app).await;
+    let id = info["id"].as_str().expect("id");
+    let mut scene = operator_scene(id, "defop-arap", 37)["scene"].clone();
+    scene["pose"][1] = serde_json::json!([1.0, 0.0, 0.0, 1.0, 12.0, -30.0]);
+    let (status, _, body) = send(
+        &app,
+        post_json(&format!("/api/documents/{id}/scene"), &scene),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let text = String::from_utf8(body).expect("text");
+    let file: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    // The weights stay a family the library knows; the operator is in its own section, every
+    // setting written out (the editor's domain included), so the CLI trains the same one.
+    assert_eq!(file["weights"]["family"], "shepard");
+    assert_eq!(file["defop"]["energy"], "arap");
+    assert_eq!(file["defop"]["samples"], 37);
+    assert_eq!(file["defop"]["handle_basis"], "tps");
+    assert_eq!(file["defop"]["spatial_basis"], "hats");
+    assert_eq!(
+        file["defop"]["domain"]["max_area_fraction"],
+        splineskin::defop::TRAINING_MAX_AREA_FRACTION
+    );
+    let read = splineskin::scene::Scene::from_json(&text, "saved", None).expect("it reads");
+    let settings = read.defop.expect("a defop section");
+    assert_eq!(settings.energy, splineskin::defop::Energy::Arap);
+    assert_eq!(settings.samples, 37);
+    // Reopened, the page gets the operator back, the pose as it was.
+    let request = post("/api/open")
+        .header("x-file-name", "saved.json")
+        .body(Body::from(text))
+        .expect("a request");
+    let (status, _, body) = send(&app, request).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let reopened = json(&body);
+    assert_eq!(reopened["scene"], scene);
+    // Saved again from the reopened document: the same file.
+    let reopened_id = reopened["id"].as_str().expect("id");
+    let (_, _, again) = send(
+        &app,
+        post_json(&format!("/api/documents/{reopened_id}/scene"), &scene),
+    )
+    .await;
+    let again: serde_json::Value = serde_json::from_slice(&again).expect("JSON");
+    assert_eq!(again["defop"], file["defop"]);
+    assert_eq!(again["weights"], file["weights"]);
+    // The weights route does not build an operator's scene as weights.
+    let (status, _, body) = send(
+        &app,
+        post_json("/api/rig", &operator_scene(id, "defop-sarap", 10)),
+    )
+    .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(json(&body)["error"]
+        .as_str()
+        .expect("message")
+        .contains("POST /api/defop"));
+}
