@@ -84,6 +84,17 @@ function pageAndLibrary(page) {
   });
 }
 
+/** Microseconds per G_spline · ψ(Q) product in the page (the mean of many: the clock ticks 0.1 ms). */
+function productMicroseconds(page) {
+  return page.evaluate(() => {
+    const { rig, scene, points } = window.splineskinEditor;
+    const n = 2000;
+    const t0 = performance.now();
+    for (let k = 0; k < n; k++) rig.deform(scene.pose, points);
+    return ((performance.now() - t0) / n) * 1000;
+  });
+}
+
 const maxDifference = (a, b) => a.reduce((m, v, k) => Math.max(m, Math.abs(v - b[k])), 0);
 
 async function mouseDrag(page, from, to, steps) {
@@ -157,6 +168,7 @@ check('defop: the fish bent by a symmetric ARAP operator, as the library compute
       `fish drag: ${frameTimes.length} frames, product median ${median(productTimes).toFixed(3)} ms, ` +
         `frame (product + path data) median ${median(frameTimes).toFixed(3)} ms`,
     );
+    console.log(`fish: ${(await productMicroseconds(page)).toFixed(1)} µs per product (mean of 2 000)`);
     r = await pageAndLibrary(page);
     const dragged = maxDifference(r.page, r.library) / r.diagonal;
     console.log(`fish dragged: page vs library ${dragged.toExponential(2)} of the diagonal`);
@@ -295,10 +307,16 @@ check('defop: the octopus (9 handles) trained with the default sample count', as
         `${info.n_vertices} vertices, ${info.n_triangles} triangles, |Ψ| = ${info.n_functions})`,
     );
     // An arm pulled out and another bent in.
+    await page.evaluate(() => {
+      window.splineskinEditor.frameTimes = [];
+    });
     for (const [i, dx, dy] of [[1, 40, -50], [4, -70, 30]]) {
       const from = await handleOnScreen(page, i);
       await mouseDrag(page, from, [from[0] + dx, from[1] + dy], 20);
     }
+    const frameTimes = await page.evaluate(() => window.splineskinEditor.frameTimes);
+    console.log(`octopus drag: ${frameTimes.length} frames, frame (product + path data) median ${median(frameTimes).toFixed(3)} ms`);
+    console.log(`octopus: ${(await productMicroseconds(page)).toFixed(1)} µs per product (mean of 2 000)`);
     const r = await pageAndLibrary(page);
     const d = maxDifference(r.page, r.library) / r.diagonal;
     console.log(`octopus dragged: page vs library ${d.toExponential(2)} of the diagonal`);

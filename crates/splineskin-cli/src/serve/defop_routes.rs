@@ -32,11 +32,12 @@ use super::progress::{Count, JOB_HEADER};
 use super::rig_routes::page_scene;
 use super::wire::{EditScene, SceneRequest};
 
-/// Training samples when the page names none: 100. Measured in the editor (the `dev` profile,
-/// which optimises; two cores shared with another build; thin-plate splines, the domain of
-/// [`training_domain_options`]): the bundled fish (5 handles, 3 714 triangles) trains in 2.8 s
-/// on ARAP and 9.0 s on symmetric ARAP, the octopus (9 handles, 2 240 triangles) in about 3 s
-/// on symmetric ARAP.
+/// Training samples when the page names none: 100. Measured in the editor with a release
+/// build on two cores shared with other builds (load about 3.5; thin-plate splines, the domain
+/// of [`super::scene_file::editor_defop_settings`]): the bundled fish (5 handles, 3 714
+/// triangles) trains in 8–10 s on symmetric ARAP (19 of its 100 samples fall back to a start
+/// from the rest pose; 60 samples on ARAP: 1.0–1.1 s), the octopus (9
+/// handles, 2 240 triangles) in 2.7–2.9 s on symmetric ARAP.
 pub const DEFAULT_EDITOR_SAMPLES: usize = 100;
 
 /// Most training samples the page may ask for: 5 000 (about 2 minutes for the 9-handle
