@@ -207,6 +207,17 @@ check('defop: the fish bent by a symmetric ARAP operator, as the library compute
     console.log(`fish dragged: page vs splineskin defop train + deform on the saved scene ${viaCli.toExponential(2)} of the diagonal (train ${cliSeconds.toFixed(2)} s)`);
     assert.ok(viaCli < AGREEMENT, `page vs command line ${viaCli.toExponential(2)} of the diagonal`);
 
+    // Reopened in the page, the saved scene trains its operator again and shows the same drawing.
+    await page.setInputFiles('#open-file', scenePath);
+    await page.waitForFunction(() => document.body.dataset.rig === 'computing', null, { timeout: WAIT });
+    assert.equal(await waitRig(page), 'ready', await page.textContent('#error'));
+    assert.equal(await page.inputValue('#family'), 'defop-sarap');
+    assert.equal(await page.inputValue('#defop-samples'), '100');
+    const reopened = await pageAndLibrary(page);
+    const again = maxDifference(reopened.page, r.page) / r.diagonal;
+    console.log(`fish reopened from the saved scene: ${again.toExponential(2)} of the diagonal from before`);
+    assert.ok(again < AGREEMENT, `reopened: ${again.toExponential(2)} of the diagonal`);
+
     // Rotating a handle about itself moves nothing in this mode.
     const before = r.page;
     const mapBefore = await page.evaluate(() => [...window.splineskinEditor.scene.pose[1]]);
