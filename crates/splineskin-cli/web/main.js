@@ -24,6 +24,8 @@ const WEIGHT_GRID = 200;
 const PROGRESS_POLL_MS = 150;
 /** Training samples of an operator when the user has not chosen (DEFAULT_EDITOR_SAMPLES). */
 const DEFAULT_DEFOP_SAMPLES = 100;
+/** Most training samples the server takes (MAX_EDITOR_SAMPLES). */
+const MAX_DEFOP_SAMPLES = 5000;
 /** The operator "families" of the weights menu and their ground truths. */
 const DEFOP_ENERGIES = { 'defop-arap': 'ARAP', 'defop-sarap': 'symmetric ARAP' };
 /** Junction markers shown on opening up to this many junctions (more: the checkbox). */
@@ -661,8 +663,8 @@ function wire() {
   );
   $('defop-samples').addEventListener('change', (event) => {
     const samples = Number(event.target.value);
-    if (!Number.isInteger(samples) || samples < 1 || samples > 5000) {
-      showError(`training samples: ${event.target.value} is not a whole number from 1 to 5000`);
+    if (!Number.isInteger(samples) || samples < 1 || samples > MAX_DEFOP_SAMPLES) {
+      showError(`training samples: ${event.target.value} is not a whole number from 1 to ${MAX_DEFOP_SAMPLES}`);
       syncControls();
       return;
     }

@@ -106,7 +106,7 @@ pub async fn defop(
     let count = followed.as_ref().map(|f| f.counter());
     let (rig, info) = run_job(&app, move || {
         let scene = &request.scene;
-        let (_, n_samples) = check_defop_scene(&document.name, scene)?;
+        check_defop_scene(&document.name, scene)?;
         // Validated and read like any scene file (the one "Save scene" writes, whose `defop`
         // section holds the page's energy and sample count): the drawing with the page's
         // junction kinds, the fit options, the operator's settings.
@@ -118,7 +118,8 @@ pub async fn defop(
                 "the page's scene lost its defop section (a bug in splineskin, please report it)",
             )
         })?;
-        debug_assert_eq!(settings.samples, n_samples);
+        // The page's count is checked above; an opened scene's count is checked here.
+        check_samples(&document.name, settings.samples)?;
         let (drawing, _) = library_scene
             .drawing_with_junctions(Compat::None)
             .map_err(|e| bad(&e))?;
@@ -236,20 +237,16 @@ fn defop_body(rig: &DefOpRig) -> Vec<f64> {
     body
 }
 
-/// The operator settings of a page scene: the energy and the sample count; refuses what the
-/// operator cannot do, naming it.
-fn check_defop_scene(name: &str, scene: &EditScene) -> Result<(Energy, usize), ApiError> {
+/// Refuses a page scene the operator cannot train on, naming the problem.
+fn check_defop_scene(name: &str, scene: &EditScene) -> Result<(), ApiError> {
     let family = &scene.weights.family;
-    let energy = defop_energy(family).ok_or_else(|| {
-        ApiError::bad(format!(
-            "{name}: '{family}' is not a deformation operator (defop-arap or defop-sarap)"
-        ))
-    })?;
-    let n_samples = scene.weights.samples.unwrap_or(DEFAULT_EDITOR_SAMPLES);
-    if !(1..=MAX_EDITOR_SAMPLES).contains(&n_samples) {
+    if defop_energy(family).is_none() {
         return Err(ApiError::bad(format!(
-            "{name}: {n_samples} training samples (from 1 to {MAX_EDITOR_SAMPLES})"
+            "{name}: '{family}' is not a deformation operator (defop-arap or defop-sarap)"
         )));
+    }
+    if let Some(samples) = scene.weights.samples {
+        check_samples(name, samples)?;
     }
     let n_handles = scene.handles.len();
     if n_handles == 0 {
@@ -279,7 +276,18 @@ fn check_defop_scene(name: &str, scene: &EditScene) -> Result<(Energy, usize), A
              drawing's junction constraints): turn it off"
         )));
     }
-    Ok((energy, n_samples))
+    Ok(())
+}
+
+/// Refuses a sample count outside `1..=`[`MAX_EDITOR_SAMPLES`].
+fn check_samples(name: &str, n_samples: usize) -> Result<(), ApiError> {
+    if (1..=MAX_EDITOR_SAMPLES).contains(&n_samples) {
+        Ok(())
+    } else {
+        Err(ApiError::bad(format!(
+            "{name}: {n_samples} training samples (from 1 to {MAX_EDITOR_SAMPLES})"
+        )))
+    }
 }
 
 /// The diagonal of the bounding box of `points` (what the sample regions of a `defop`
