@@ -300,6 +300,28 @@ check('defop: bad input is refused with a message', async () => {
     await page.dispatchEvent('#defop-samples', 'change');
     assert.match(await page.textContent('#error'), /training samples: 0 is not a whole number/);
     assert.equal(await page.evaluate(() => document.body.dataset.rig), 'ready');
+    await page.click('#error');
+
+    // Too few samples for the handles: the server says how many it needs.
+    await page.fill('#defop-samples', '5');
+    await page.dispatchEvent('#defop-samples', 'change');
+    assert.equal(await waitRig(page), 'error');
+    assert.match(await page.textContent('#error'), /5 handles need at least 10 training samples/);
+    // Every handle deleted (10-sample ARAP operators in between, quick): the page asks for one.
+    await page.fill('#defop-samples', '10');
+    await page.dispatchEvent('#defop-samples', 'change');
+    assert.equal(await waitRig(page), 'ready', await page.textContent('#error'));
+    await page.selectOption('#family', 'defop-arap');
+    assert.equal(await waitRig(page), 'ready', await page.textContent('#error'));
+    for (let left = 5; left > 0; left--) {
+      const at = await handleOnScreen(page, 0);
+      await page.mouse.click(...at);
+      await page.click('#delete-handle');
+      if (left > 1) assert.equal(await waitRig(page), 'ready', await page.textContent('#error'));
+    }
+    assert.equal(await page.evaluate(() => document.body.dataset.rig), 'none');
+    assert.match(await page.textContent('#message'), /click to add point handles/);
+    assert.equal(await page.isVisible('#error'), false);
   } finally {
     await page.close();
     await server.close();

@@ -120,6 +120,16 @@ pub async fn defop(
         })?;
         // The page's count is checked above; an opened scene's count is checked here.
         check_samples(&document.name, settings.samples)?;
+        let n_handles = scene.handles.len();
+        if settings.samples < 2 * n_handles {
+            return Err(bad(&format!(
+                "{n_handles} handles need at least {} training samples (with the rest \
+                 configuration, one more than the 2n coordinates of the handles: every operator \
+                 has the 1 + 2n linear functions of the handles); {} asked",
+                2 * n_handles,
+                settings.samples
+            )));
+        }
         let (drawing, _) = library_scene
             .drawing_with_junctions(Compat::None)
             .map_err(|e| bad(&e))?;

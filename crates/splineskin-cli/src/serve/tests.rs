@@ -608,6 +608,11 @@ async fn serve_operator_refuses_what_it_cannot_train_with_a_message() {
     refused(flexible, "flexible G¹ does not apply").await;
     refused(operator_scene(id, "defop-sarap", 0), "training samples").await;
     refused(
+        operator_scene(id, "defop-arap", 3),
+        "2 handles need at least 4 training samples",
+    )
+    .await;
+    refused(
         operator_scene(id, "defop-sarap", 1_000_000),
         "training samples",
     )
