@@ -207,12 +207,16 @@ check('defop: the fish bent by a symmetric ARAP operator, as the library compute
     console.log(`fish dragged: page vs splineskin defop train + deform on the saved scene ${viaCli.toExponential(2)} of the diagonal (train ${cliSeconds.toFixed(2)} s)`);
     assert.ok(viaCli < AGREEMENT, `page vs command line ${viaCli.toExponential(2)} of the diagonal`);
 
-    // Reopened in the page, the saved scene trains its operator again and shows the same drawing.
+    // Reopened in the page, the saved scene shows its weights and offers its operator, which
+    // trains again to the same drawing.
     await page.setInputFiles('#open-file', scenePath);
-    await page.waitForFunction(() => document.body.dataset.rig === 'computing', null, { timeout: WAIT });
+    await page.waitForFunction(() => window.splineskinEditor.info.name.endsWith('fish-operator-scene.json'), null, { timeout: WAIT });
     assert.equal(await waitRig(page), 'ready', await page.textContent('#error'));
-    assert.equal(await page.inputValue('#family'), 'defop-sarap');
+    assert.equal(await page.inputValue('#family'), 'shepard');
+    assert.match(await page.textContent('#notice'), /symmetric ARAP operator \(100 samples\): pick it in the Weights menu/);
+    await page.selectOption('#family', 'defop-sarap');
     assert.equal(await page.inputValue('#defop-samples'), '100');
+    assert.equal(await waitRig(page), 'ready', await page.textContent('#error'));
     const reopened = await pageAndLibrary(page);
     const again = maxDifference(reopened.page, r.page) / r.diagonal;
     console.log(`fish reopened from the saved scene: ${again.toExponential(2)} of the diagonal from before`);
@@ -332,6 +336,9 @@ check('defop: the octopus (9 handles) trained with the default sample count', as
   const { server, page } = await openEditor([join(REPO, 'crates/splineskin/assets/octopus-scene.json')]);
   try {
     assert.equal(await waitRig(page), 'ready');
+    // The scene's defop section asks for 1 000 samples (discs of 0.1 of the diagonal): prefilled.
+    assert.equal(await page.inputValue('#defop-samples'), '1000');
+    await page.evaluate(() => (document.getElementById('defop-samples').value = '100'));
     const seconds = await chooseOperator(page, 'defop-sarap');
     const info = await page.evaluate(() => window.splineskinEditor.rig.info);
     console.log(

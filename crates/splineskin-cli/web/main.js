@@ -139,7 +139,13 @@ function show(info) {
   // Junction markers by default only where they do not bury the drawing.
   $('show-junctions').checked = view.junctions().length <= MAX_JUNCTIONS_SHOWN;
   say(`${shortName()}: ${info.n_curves} curves in ${info.paths.length} paths`);
-  showNotice(info.warnings.join('\n'));
+  // A scene's defop section: offered in the Weights menu, its sample count prefilled.
+  $('defop-samples').value = info.operator?.samples ?? DEFAULT_DEFOP_SAMPLES;
+  const offer = info.operator
+    ? [`this scene describes a ${DEFOP_ENERGIES[info.operator.family]} operator (${info.operator.samples} samples): ` +
+        'pick it in the Weights menu to train it']
+    : [];
+  showNotice([...info.warnings, ...offer].join('\n'));
   syncControls();
   sceneChanged();
 }

@@ -10,7 +10,9 @@ use splineskin::scene::{Compat, Engine, Scene, WeightSpec};
 use splineskin::spline_fit::Measure;
 
 use super::scene_file::SceneExtras;
-use super::wire::{DocumentInfo, EditScene, ElementInfo, JunctionWire, PathInfo, WeightsWire};
+use super::wire::{
+    DocumentInfo, EditScene, ElementInfo, JunctionWire, OperatorInfo, PathInfo, WeightsWire,
+};
 
 /// The attribute that marks each imported element in the shown document with its index
 /// ([`splineskin::drawing::svg_out::write_svg_marked`]).
@@ -137,8 +139,8 @@ impl Document {
             .pose(0)
             .map(|p| p.transforms.iter().map(|t| t.as_coeffs()).collect())
             .unwrap_or_default();
-        // A scene with a `defop` section opens with its operator (the weights are kept for
-        // the file); the editor trains on the drawing's domain only.
+        // A scene's `defop` section is kept (and offered to the page): its operator is trained
+        // when the user picks it, on the drawing's domain only.
         let mut defop = scene.defop.clone();
         if let Some(settings) = &mut defop {
             for (key, file) in [
@@ -147,44 +149,32 @@ impl Document {
             ] {
                 if let Some(file) = file {
                     warnings.push(format!(
-                        "{name}: defop.{key} ({}) is not used: the editor trains its operator on                          the drawing's domain (and saves the scene without it)",
+                        "{name}: defop.{key} ({}) is not used: the editor trains its operator on \
+                         the drawing's domain (and saves the scene without it)",
                         file.display()
                     ));
                 }
             }
         }
-        let (edit_weights, kept_weights, flexible) = match &defop {
-            Some(settings) => {
-                if scene.flexible {
-                    warnings.push(format!(
-                        "{name}: flexible G¹ does not apply to a deformation operator: off"
-                    ));
-                }
-                let family = match settings.energy {
-                    Energy::Arap => "defop-arap",
-                    Energy::SymmetricArap => "defop-sarap",
-                };
-                let operator = WeightsWire {
-                    family: family.into(),
-                    exponent: None,
-                    samples: Some(settings.samples),
-                };
-                (operator, Some(weights), false)
-            }
-            None => (weights, None, scene.flexible),
-        };
+        let operator = defop.as_ref().map(|settings| OperatorInfo {
+            family: match settings.energy {
+                Energy::Arap => "defop-arap",
+                Energy::SymmetricArap => "defop-sarap",
+            },
+            samples: settings.samples,
+        });
         let edit = EditScene {
             handles: scene.handles.iter().map(|p| [p.x, p.y]).collect(),
             pose,
-            weights: edit_weights,
+            weights: weights.clone(),
             junctions,
-            flexible,
+            flexible: scene.flexible,
         };
         let extras = SceneExtras {
             arc_length: scene.measure == Measure::ArcLength,
             domain: (scene.domain != Default::default()).then(|| scene.domain.clone()),
             defop,
-            weights: kept_weights,
+            weights: Some(weights),
         };
         let rest = drawing.flat_points();
         let svg = write_svg_marked(&drawing, &rest, ELEMENT_MARKER)
@@ -230,6 +220,7 @@ impl Document {
             elements,
             rest: rest.iter().flat_map(|p| [p.x, p.y]).collect(),
             scene: edit,
+            operator,
             warnings,
             n_curves: drawing.n_curves(),
         };

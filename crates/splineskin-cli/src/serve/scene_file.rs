@@ -5,7 +5,6 @@
 //! scene.
 
 use serde::Serialize;
-use splineskin::defop::training_domain_options;
 use splineskin::domain::DomainOptions;
 use splineskin::scene::{energy_name, DefOpSettings, RegionSpec};
 
@@ -22,19 +21,19 @@ pub struct SceneExtras {
     /// The scene's `defop` section (`splineskin::scene::defop`), without `mesh` and
     /// `operator` (the editor trains on the drawing's domain).
     pub defop: Option<DefOpSettings>,
-    /// The scene's weights when it opened with its operator: written back while the page
-    /// shows the operator (default Shepard).
+    /// The scene's weights as opened: written back while the page shows an operator (default
+    /// Shepard).
     pub weights: Option<WeightsWire>,
 }
 
 /// The operator settings the editor trains with when a scene has no `defop` section: the
-/// library's defaults ([`DefOpSettings::default`]) with [`DEFAULT_EDITOR_SAMPLES`] samples and
-/// the spline join's domain ([`training_domain_options`]: largest triangle 1/1000 of the
-/// domain, half the triangles of the section's default, for trainings of seconds).
+/// library's defaults ([`DefOpSettings::default`]: the drawing's domain as
+/// [`splineskin::defop::training_domain_options`] triangulates it, hats, thin-plate splines, discs of
+/// `splineskin::defop::DEFAULT_DISC_FRACTION` of the diagonal, seed 1) with
+/// [`DEFAULT_EDITOR_SAMPLES`] samples, for trainings of seconds.
 pub fn editor_defop_settings() -> DefOpSettings {
     let mut settings = DefOpSettings::default();
     settings.samples = DEFAULT_EDITOR_SAMPLES;
-    settings.domain = training_domain_options();
     settings
 }
 

@@ -641,7 +641,7 @@ async fn serve_operator_refuses_what_it_cannot_train_with_a_message() {
 }
 
 #[tokio::test]
-async fn serve_saved_operator_scene_records_its_defop_section_and_reopens_with_it() {
+async fn serve_saved_operator_scene_records_its_defop_section_and_offers_it_reopened() {
     let app = app();
     let info = open_demo_svg(&app).await;
     let id = info["id"].as_str().expect("id");
@@ -670,7 +670,8 @@ async fn serve_saved_operator_scene_records_its_defop_section_and_reopens_with_i
     let settings = read.defop.expect("a defop section");
     assert_eq!(settings.energy, splineskin::defop::Energy::Arap);
     assert_eq!(settings.samples, 37);
-    // Reopened, the page gets the operator back, the pose as it was.
+    // Reopened, the page gets the scene with its weights, the pose as it was, and the
+    // operator offered.
     let request = post("/api/open")
         .header("x-file-name", "saved.json")
         .body(Body::from(text))
@@ -678,7 +679,13 @@ async fn serve_saved_operator_scene_records_its_defop_section_and_reopens_with_i
     let (status, _, body) = send(&app, request).await;
     assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
     let reopened = json(&body);
-    assert_eq!(reopened["scene"], scene);
+    let mut as_weights = scene.clone();
+    as_weights["weights"] = serde_json::json!({"family": "shepard", "exponent": 2.0});
+    assert_eq!(reopened["scene"], as_weights);
+    assert_eq!(
+        reopened["operator"],
+        serde_json::json!({"family": "defop-arap", "samples": 37})
+    );
     // Saved again from the reopened document: the same file.
     let reopened_id = reopened["id"].as_str().expect("id");
     let (_, _, again) = send(

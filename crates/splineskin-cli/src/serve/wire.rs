@@ -95,10 +95,22 @@ pub struct DocumentInfo {
     pub rest: Vec<f64>,
     /// The scene as opened (a drawing alone: no handles, Shepard weights).
     pub scene: EditScene,
+    /// The operator the scene's `defop` section describes, which the page offers when the
+    /// user picks an operator (its sample count prefilled); `null` without a section.
+    pub operator: Option<OperatorInfo>,
     /// Things the user should know about what was opened.
     pub warnings: Vec<String>,
     /// Number of cubic curves.
     pub n_curves: usize,
+}
+
+/// A scene's operator as the page's menu names it.
+#[derive(Clone, Debug, Serialize)]
+pub struct OperatorInfo {
+    /// `defop-arap` or `defop-sarap`.
+    pub family: &'static str,
+    /// Training samples.
+    pub samples: usize,
 }
 
 /// One subpath.
