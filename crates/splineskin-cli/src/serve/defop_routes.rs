@@ -33,11 +33,12 @@ use super::rig_routes::page_scene;
 use super::wire::{EditScene, SceneRequest};
 
 /// Training samples when the page names none: 100. Measured in the editor with a release
-/// build on two cores shared with other builds (load about 3.5; thin-plate splines, the domain
-/// of [`super::scene_file::editor_defop_settings`]): the bundled fish (5 handles, 3 714
-/// triangles) trains in 8–10 s on symmetric ARAP (19 of its 100 samples fall back to a start
-/// from the rest pose; 60 samples on ARAP: 1.0–1.1 s), the octopus (9
-/// handles, 2 240 triangles) in 2.7–2.9 s on symmetric ARAP.
+/// build on two cores shared with other builds (thin-plate splines, the domain of
+/// [`super::scene_file::editor_defop_settings`]): the bundled fish (5 handles, 3 714
+/// triangles) trains in 4.6 s on symmetric ARAP (8–10 s under a load of 3.5; 19 of its 100
+/// samples fall back to a start from the rest pose; 60 samples on ARAP: 0.5–1.1 s), the
+/// octopus (9 handles, 2 240 triangles) in 2.7–2.9 s (discs of 0.05 of the diagonal) and
+/// 3.8 s (its scene's discs of 0.1) on symmetric ARAP.
 pub const DEFAULT_EDITOR_SAMPLES: usize = 100;
 
 /// Most training samples the page may ask for: 5 000 (about 2 minutes for the 9-handle
@@ -80,7 +81,7 @@ pub struct DefOpInfo {
     pub n_points: usize,
     /// Samples trained on, the rest configuration included.
     pub n_samples: usize,
-    /// Vertices and triangles of the triangulated domain.
+    /// Vertices of the mesh trained on (the drawing's triangulated domain).
     pub n_vertices: usize,
     /// Triangles of the domain.
     pub n_triangles: usize,
