@@ -151,7 +151,7 @@ pub async fn defop(
             .map_err(|e| bad(&e))?;
         report("training");
         let t1 = Instant::now();
-        let diagonal = bounding_box_diagonal(&shape.mesh.vertices);
+        let diagonal = shape.mesh.bounding_box_diagonal();
         let options = TrainOptions::default()
             .with_energy(settings.energy)
             .with_n_samples(settings.samples)
@@ -299,18 +299,6 @@ fn check_samples(name: &str, n_samples: usize) -> Result<(), ApiError> {
             "{name}: {n_samples} training samples (from 1 to {MAX_EDITOR_SAMPLES})"
         )))
     }
-}
-
-/// The diagonal of the bounding box of `points` (what the sample regions of a `defop`
-/// section are fractions of, as `splineskin defop train` measures it).
-fn bounding_box_diagonal(points: &[Point]) -> f64 {
-    let mut lo = Point::new(f64::INFINITY, f64::INFINITY);
-    let mut hi = Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
-    for p in points {
-        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
-        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
-    }
-    (hi - lo).hypot()
 }
 
 /// The body of `POST /api/defops/{id}/deform`.
