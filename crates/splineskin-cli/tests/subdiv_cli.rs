@@ -145,6 +145,41 @@ fn subdiv_cli_deform_writes_the_cage_and_its_limit_mesh() {
     }
 }
 
+/// The cage and its limit mesh are written together: when the mesh cannot be written (its
+/// folder does not exist), a cage file already there keeps its contents and no temporary is
+/// left (the cage used to be written first, then removed, losing the earlier file).
+#[test]
+fn subdiv_cli_deform_writes_both_files_or_neither() {
+    let dir = folder("deform-both");
+    std::fs::write(dir.join("scene.json"), scene(r#"{"family": "shepard"}"#)).unwrap();
+    std::fs::write(dir.join("out.obj"), "# an earlier cage\n").unwrap();
+    let out = run(
+        &dir,
+        &[
+            "subdiv",
+            "deform",
+            "scene.json",
+            "-o",
+            "out.obj",
+            "--limit-mesh",
+            "missing-folder/mesh.obj",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("missing-folder/mesh.obj"), "{stderr}");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("out.obj")).unwrap(),
+        "# an earlier cage\n"
+    );
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CompareRow {

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use splineskin::subdiv::{to_obj_string, LimitMesh, SubdivScene, MAX_LIMIT_MESH_LEVEL};
 
-use crate::output::write_atomic;
+use crate::output::write_all_atomic;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -73,13 +73,13 @@ pub fn run(args: Args) -> Result<()> {
             Some((path, to_obj_string(&quads), mesh.quads().len()))
         }
     };
-    write_atomic(&args.output, cage_text.as_bytes())?;
-    if let Some((path, text, n_quads)) = &mesh_text {
-        if let Err(e) = write_atomic(path, text.as_bytes()) {
-            // Leave nothing half done: the cage without the mesh asked for.
-            let _ = std::fs::remove_file(&args.output);
-            return Err(e);
-        }
+    // Both files or neither: a failure writing the limit mesh leaves the cage file as it was.
+    let mut files: Vec<(&std::path::Path, &[u8])> = vec![(&args.output, cage_text.as_bytes())];
+    if let Some((path, text, _)) = &mesh_text {
+        files.push((path, text.as_bytes()));
+    }
+    write_all_atomic(&files)?;
+    if let Some((path, _, n_quads)) = &mesh_text {
         eprintln!(
             "{}: {n_quads} quads of the deformed limit surface",
             path.display()
