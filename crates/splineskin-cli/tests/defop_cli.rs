@@ -337,7 +337,9 @@ fn defop_cli_deform_through_the_operator() {
         )
         .replace(
             "\"defop\"",
-            r#""poses": [{"name": "lift", "transforms": [{}, {"position": [92, 22]}, {}]}], "defop""#,
+            r#""poses": [{"name": "lift", "transforms": [{}, {"position": [92, 22]}, {}]},
+                {"name": "turn", "transforms": [{}, {"rotate": 30, "scale": 2}, {}]},
+                {"name": "rest", "transforms": [{}, {}, {}]}], "defop""#,
         );
     std::fs::write(&scene, text).unwrap();
     let json = |pose: &str, name: &str| {
@@ -380,6 +382,25 @@ fn defop_cli_deform_through_the_operator() {
         "lift",
     ]));
     assert!(std::fs::read_to_string(&svg).unwrap().contains("<path"));
+
+    // Turning and scaling a handle about its own position moves nothing, and the run says so.
+    let rest = json("rest", "rest.json");
+    let turned = json("turn", "turn.json");
+    assert_eq!(turned, rest);
+    let out = splineskin(&[
+        "defop",
+        "deform",
+        s(&scene),
+        "-o",
+        s(&dir.join("turn.svg")),
+        "--pose",
+        "turn",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("note: pose 1 rotates or scales handles 1;"),
+        "{stderr}"
+    );
 
     // Without an operator: refused, saying how to get one.
     let plain = dir.join("bar-scene.json");

@@ -85,6 +85,25 @@ pub fn run(args: Args) -> Result<()> {
         .zip(&scene.handles)
         .map(|(t, &p)| *t * p)
         .collect();
+    // An operator follows handle positions: a handle's rotation or scaling about its own
+    // position moves nothing. Say so rather than drop it silently.
+    let turned: Vec<String> = pose
+        .transforms
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| {
+            let [a, b, c, d, _, _] = t.as_coeffs();
+            (a - 1.0).abs() + b.abs() + c.abs() + (d - 1.0).abs() > 1e-12
+        })
+        .map(|(l, _)| l.to_string())
+        .collect();
+    if !turned.is_empty() {
+        eprintln!(
+            "note: pose {pose_index} rotates or scales handles {}; an operator follows handle \
+             positions only (each handle moves to T·p), so those turns change nothing",
+            turned.join(", ")
+        );
+    }
     let (drawing, warnings) = scene.drawing_with_junctions(Compat::None)?;
     for w in &warnings {
         eprintln!("warning: {w}");
