@@ -273,6 +273,9 @@ fn write_frames(
                 .with_context(|| format!("{scene_name}: frame {f}: writing the SVG"))?;
             write_synced(&tmp.join(frame_name(f, "svg")), svg.as_bytes())?;
             if args.png {
+                if f == 0 {
+                    crate::output::note_text_not_drawn(&dir.join(frame_name(f, "png")), &svg);
+                }
                 let png = splineskin::render::render_png(&svg, PNG_SIZE)
                     .with_context(|| format!("{scene_name}: frame {f}: rendering the PNG"))?;
                 write_synced(&tmp.join(frame_name(f, "png")), &png)?;

@@ -98,10 +98,24 @@ pub fn write_deformed(path: &Path, drawing: &Drawing, points: &[Point]) -> Resul
             .into_bytes(),
         Format::Png => {
             let svg = write_svg(drawing, points).context("writing the deformed SVG")?;
+            note_text_not_drawn(path, &svg);
             splineskin::render::render_png(&svg, PNG_SIZE).context("rendering the PNG")?
         }
     };
     write_atomic(path, &bytes)
+}
+
+/// Says on stderr that a PNG made from `svg` leaves out its text elements, if it has any
+/// ([`splineskin::render::text_elements`]: PNG renders draw no text; SVG outputs keep it).
+pub fn note_text_not_drawn(path: &Path, svg: &str) {
+    let n = splineskin::render::text_elements(svg);
+    if n > 0 {
+        let s = if n == 1 { "" } else { "s" };
+        eprintln!(
+            "note: {}: {n} text element{s} not drawn (PNG renders draw no text; SVG output keeps it)",
+            path.display()
+        );
+    }
 }
 
 /// Writes `bytes` to `path` through a temporary file in the same folder and a rename.

@@ -328,3 +328,43 @@ fn animate_cli_refuses_a_huge_animated_svg() {
     );
     assert_eq!(listing(&dir), ["drawing.svg", "scene.json"]);
 }
+
+/// PNG renders draw no text: animate's PNG frames and deform's PNG say so, naming the file, when
+/// the drawing has text, and say nothing when it has none.
+#[test]
+fn png_outputs_say_when_text_is_not_drawn() {
+    let with_text = SVG.replace(
+        "</svg>",
+        r#"<text x="20" y="95">label</text><g><text x="60" y="95">two</text></g></svg>"#,
+    );
+    let dir = folder("text", &scene(GOOD));
+    std::fs::write(dir.join("drawing.svg"), &with_text).unwrap();
+    let out = animate(&dir, &["scene.json", "-o", "frames", "--png", "--fps", "2"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("frame-0000.png: 2 text elements not drawn"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.matches("not drawn").count(), 1, "{stderr}");
+    let deform = |dir: &Path| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_splineskin"))
+            .current_dir(dir)
+            .args(["deform", "scene.json", "-o", "out.png"])
+            .output()
+            .unwrap()
+    };
+    let out = deform(&dir);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("out.png: 2 text elements not drawn"),
+        "{stderr}"
+    );
+
+    let plain = folder("no-text", &scene(GOOD));
+    let out = deform(&plain);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(!stderr.contains("not drawn"), "{stderr}");
+}

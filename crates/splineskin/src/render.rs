@@ -95,6 +95,33 @@ pub fn render_png(svg_text: &str, max_size: u32) -> Result<Vec<u8>, RenderError>
     })
 }
 
+/// Number of `<text>` elements in the SVG document `svg_text` (0 when it does not parse):
+/// what [`render_png`] leaves out, so that callers can say so instead of showing a picture
+/// with its labels silently missing.
+///
+/// ```
+/// use splineskin::render::text_elements;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg"><text x="1" y="2">hi</text>
+///   <g><text>there</text></g><path d="M0 0 L1 1"/></svg>"#;
+/// assert_eq!(text_elements(svg), 2);
+/// ```
+pub fn text_elements(svg_text: &str) -> usize {
+    const SVG_NS: &str = "http://www.w3.org/2000/svg";
+    roxmltree::Document::parse_with_options(
+        svg_text,
+        roxmltree::ParsingOptions {
+            allow_dtd: true,
+            ..roxmltree::ParsingOptions::default()
+        },
+    )
+    .map(|doc| {
+        doc.descendants()
+            .filter(|n| n.tag_name().name() == "text" && n.tag_name().namespace() == Some(SVG_NS))
+            .count()
+    })
+    .unwrap_or(0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
