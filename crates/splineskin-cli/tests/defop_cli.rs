@@ -176,6 +176,23 @@ fn defop_cli_bench_json() {
     assert!(v["evals_per_s"].as_f64().unwrap() > 0.0);
     assert!(v["eval_s"].as_f64().unwrap() > 0.0);
     assert_eq!(v["handle_functions"].as_u64(), Some(1 + 6 + 25));
+    assert!(v.get("join_update_s").is_none(), "{v}");
+
+    // With the scene it was trained for: the join's precompute and per-frame update too.
+    let stdout = ok(&splineskin(&[
+        "defop",
+        "bench",
+        s(&op),
+        "--json",
+        "--batches",
+        "3",
+        "--scene",
+        s(&dir.join("bar-scene.json")),
+    ]));
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    assert!(v["join_precompute_s"].as_f64().unwrap() > 0.0, "{v}");
+    assert!(v["join_update_s"].as_f64().unwrap() > 0.0, "{v}");
+    assert!(v["join_points"].as_u64().unwrap() >= 4, "{v}");
 }
 
 #[test]

@@ -1,9 +1,12 @@
 //! `splineskin defop bench OP [--json]`: evaluations per second of an operator file: the
 //! median over timed batches of the allocation-free evaluator ([`DefOpEvaluator::eval`]: all
 //! vertex positions) at configurations drawn in discs of 5 % of the diagonal, and of the spatial
-//! coefficients alone.
+//! coefficients alone. With `--scene SCENE` (the scene the operator was trained for) also the
+//! spline join on its drawing ([`DefOpRig`]): the median of the join's precomputation and of
+//! its per-frame update (`G_spline ψ(Q)`, allocation-free), the drawing's per-frame cost.
 //!
 //! [`DefOpEvaluator::eval`]: splineskin::defop::DefOpEvaluator::eval
+//! [`DefOpRig`]: splineskin::defop::DefOpRig
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -11,7 +14,8 @@ use std::time::{Duration, Instant};
 use anyhow::Result;
 use kurbo::Point;
 use serde::Serialize;
-use splineskin::defop::{OperatorFile, SampleRegion, Sampler, DEFAULT_DISC_FRACTION};
+use splineskin::defop::{DefOpRig, OperatorFile, SampleRegion, Sampler, DEFAULT_DISC_FRACTION};
+use splineskin::scene::{Compat, Scene};
 
 /// Configurations cycled through.
 const CONFIGURATIONS: usize = 32;
@@ -28,7 +32,14 @@ pub struct Args {
     /// Timed batches (the median is reported).
     #[arg(long, default_value_t = 25)]
     batches: usize,
+    /// Also time the spline join on this scene's drawing (the scene the operator was trained
+    /// for): its precomputation and per-frame update.
+    #[arg(long)]
+    scene: Option<PathBuf>,
 }
+
+/// Timed precomputations of the join (the median is reported).
+const JOIN_PRECOMPUTES: usize = 5;
 
 #[derive(Serialize)]
 struct Report {
@@ -46,6 +57,15 @@ struct Report {
     /// spline join multiplies; for the hats they are the vertex positions).
     coefficients_s: f64,
     coefficients_per_s: f64,
+    /// With `--scene`: the drawing's chain points.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    join_points: Option<usize>,
+    /// With `--scene`: median seconds of the join's precomputation (two threads).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    join_precompute_s: Option<f64>,
+    /// With `--scene`: median seconds of one frame of the join (`G_spline ψ(Q)`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    join_update_s: Option<f64>,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -86,6 +106,17 @@ pub fn run(args: Args) -> Result<()> {
         times.push(clock.elapsed().as_secs_f64() / per_batch as f64);
     }
     let coefficients_s = median(&mut times);
+    let join = match &args.scene {
+        None => None,
+        Some(path) => Some(time_join(
+            path,
+            &args.operator,
+            &file,
+            &configurations,
+            per_batch,
+            args.batches,
+        )?),
+    };
     let report = Report {
         operator: args.operator.display().to_string(),
         vertices: op.n_vertices(),
@@ -98,6 +129,9 @@ pub fn run(args: Args) -> Result<()> {
         evals_per_s: 1.0 / eval_s,
         coefficients_s,
         coefficients_per_s: 1.0 / coefficients_s,
+        join_points: join.map(|j| j.0),
+        join_precompute_s: join.map(|j| j.1),
+        join_update_s: join.map(|j| j.2),
     };
     if args.json {
         println!("{}", serde_json::to_string(&report)?);
@@ -117,8 +151,56 @@ pub fn run(args: Args) -> Result<()> {
             coefficients_s * 1e6,
             report.coefficients_per_s
         );
+        if let (Some(path), Some((points, pre, update))) = (&args.scene, join) {
+            println!(
+                "{}: join of its drawing ({points} chain points): precompute {:.1} ms (median of {JOIN_PRECOMPUTES}), update {:.1} us per frame",
+                path.display(),
+                pre * 1e3,
+                update * 1e6
+            );
+        }
     }
     Ok(())
+}
+
+/// Times the join of `scene_path`'s drawing with the operator: `(chain points, median
+/// precompute seconds, median update seconds)`, the update at `configurations` in batches of
+/// `per_batch` (about as many frames as the evaluation's batches held; at least 100).
+fn time_join(
+    scene_path: &std::path::Path,
+    op_path: &std::path::Path,
+    file: &OperatorFile,
+    configurations: &[Vec<Point>],
+    per_batch: usize,
+    batches: usize,
+) -> Result<(usize, f64, f64)> {
+    let scene = Scene::load(scene_path)?;
+    super::deform::check_scene_matches(scene_path, &scene, op_path, file)?;
+    let (drawing, _) = scene.drawing_with_junctions(Compat::None)?;
+    let options = scene.fit_options(Compat::None).with_parallel(true);
+    let mut precompute = Vec::with_capacity(JOIN_PRECOMPUTES);
+    let mut rig = None;
+    for _ in 0..JOIN_PRECOMPUTES {
+        let clock = Instant::now();
+        rig = Some(DefOpRig::precompute(
+            &drawing, &file.mesh, &file.op, &options,
+        )?);
+        precompute.push(clock.elapsed().as_secs_f64());
+    }
+    let rig = rig.expect("JOIN_PRECOMPUTES > 0");
+    let mut evaluator = rig.evaluator();
+    let mut points = vec![Point::ZERO; rig.n_points()];
+    let frames = per_batch.max(100);
+    let mut times = Vec::with_capacity(batches);
+    for _ in 0..batches {
+        let clock = Instant::now();
+        for k in 0..frames {
+            evaluator.update(&configurations[k % configurations.len()], &mut points)?;
+        }
+        std::hint::black_box(&points);
+        times.push(clock.elapsed().as_secs_f64() / frames as f64);
+    }
+    Ok((rig.n_points(), median(&mut precompute), median(&mut times)))
 }
 
 /// The median of `times` (sorted in place; not empty).

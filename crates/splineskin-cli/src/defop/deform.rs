@@ -5,7 +5,7 @@
 //! written as `splineskin deform` writes it (the input document with its path geometry
 //! replaced, a PNG render, or JSON).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
@@ -46,36 +46,7 @@ pub fn run(args: Args) -> Result<()> {
         );
     };
     let file = OperatorFile::load(&op_path)?;
-    if !scene.bones.is_empty() || scene.cage.is_some() {
-        bail!(
-            "{}: an operator is driven by point handles only (expected no bones and no cage)",
-            args.scene.display()
-        );
-    }
-    let rest = file.rest_handles();
-    if rest.len() != scene.handles.len() {
-        bail!(
-            "{}: {} point handles, but the operator {} has {} (expected the scene it was trained for)",
-            args.scene.display(),
-            scene.handles.len(),
-            op_path.display(),
-            rest.len()
-        );
-    }
-    let tolerance = HANDLE_VERTEX_TOLERANCE * file.mesh.bounding_box_diagonal();
-    for (l, (p, q)) in scene.handles.iter().zip(&rest).enumerate() {
-        if (*p - *q).hypot() > tolerance {
-            bail!(
-                "{}: handles[{l}] at ({}, {}), but the operator {} has it at ({}, {}) (expected the scene it was trained for)",
-                args.scene.display(),
-                p.x,
-                p.y,
-                op_path.display(),
-                q.x,
-                q.y
-            );
-        }
-    }
+    check_scene_matches(&args.scene, &scene, &op_path, &file)?;
     let (pose_index, pose) = scene
         .pose_by_key(&args.pose)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.scene.display()))?;
@@ -140,5 +111,47 @@ pub fn run(args: Args) -> Result<()> {
         precompute_seconds,
         args.output.display()
     );
+    Ok(())
+}
+
+/// Refuses a scene that is not the one `file`'s operator was trained for: bones or a cage, a
+/// different number of point handles, or a handle away from its rest position in the operator
+/// (beyond [`HANDLE_VERTEX_TOLERANCE`] of the mesh's diagonal).
+pub(super) fn check_scene_matches(
+    scene_path: &Path,
+    scene: &Scene,
+    op_path: &Path,
+    file: &OperatorFile,
+) -> Result<()> {
+    if !scene.bones.is_empty() || scene.cage.is_some() {
+        bail!(
+            "{}: an operator is driven by point handles only (expected no bones and no cage)",
+            scene_path.display()
+        );
+    }
+    let rest = file.rest_handles();
+    if rest.len() != scene.handles.len() {
+        bail!(
+            "{}: {} point handles, but the operator {} has {} (expected the scene it was trained for)",
+            scene_path.display(),
+            scene.handles.len(),
+            op_path.display(),
+            rest.len()
+        );
+    }
+    let tolerance = HANDLE_VERTEX_TOLERANCE * file.mesh.bounding_box_diagonal();
+    for (l, (p, q)) in scene.handles.iter().zip(&rest).enumerate() {
+        if (*p - *q).hypot() > tolerance {
+            bail!(
+                "{}: handles[{l}] at ({}, {}), but the operator {} has it at ({}, {}) (expected the scene it was trained for)",
+                scene_path.display(),
+                p.x,
+                p.y,
+                op_path.display(),
+                q.x,
+                q.y
+            );
+        }
+    }
     Ok(())
 }
