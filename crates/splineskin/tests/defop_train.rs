@@ -168,4 +168,26 @@ fn training_refuses_bad_options() {
         train(&mesh, &[34, 34], &spatial, &options(Energy::Arap), &|_| {}),
         Err(DefOpError::DuplicateHandle { .. })
     ));
+    // Thin-plate splines need 2n samples besides the rest; linear operators take fewer.
+    let n = HANDLES.len();
+    let tps = |k: usize| {
+        options(Energy::Arap)
+            .with_n_samples(k)
+            .with_handle_basis(HandleBasisKind::ThinPlateSpline)
+    };
+    let err = run(&tps(2 * n - 1)).unwrap_err();
+    assert_eq!(
+        err,
+        DefOpError::TooFewSamples {
+            handles: n,
+            needed: 2 * n,
+            given: 2 * n - 1
+        }
+    );
+    assert!(err.to_string().starts_with(&format!(
+        "{n} handles need at least {} training samples",
+        2 * n
+    )));
+    assert!(run(&tps(2 * n)).is_ok());
+    assert!(run(&tps(2 * n - 1).with_handle_basis(HandleBasisKind::Linear)).is_ok());
 }

@@ -14,9 +14,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use serde::Serialize;
-use splineskin::defop::{
-    geometric_sample_counts, study, Energy, StudyOptions, StudyProgress, TrainOptions,
-};
+use splineskin::defop::{geometric_sample_counts, study, Energy, StudyOptions, StudyProgress};
 use splineskin::scene::{energy_name, Scene, SpatialBasisSpec};
 
 use super::{check_output_folder, progress_bar};
@@ -117,11 +115,8 @@ pub fn run(args: Args) -> Result<()> {
         held_out,
         super::train::rayon_threads()
     );
-    let train = TrainOptions::default()
-        .with_energy(s.energy)
-        .with_regions(vec![(s.region.region(mesh.bounding_box_diagonal()), 1.0)])
-        .with_seed(s.seed)
-        .with_parallel(true);
+    // The study replaces the sample count and the handle basis by its own.
+    let train = s.train_options(mesh);
     let mut options = StudyOptions::new(train, counts.clone());
     options.n_held_out = held_out;
     let largest = counts.iter().copied().max().unwrap_or(0);

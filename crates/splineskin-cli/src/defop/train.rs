@@ -11,7 +11,7 @@ use anyhow::{Context, Result};
 use kurbo::Point;
 use splineskin::defop::{
     ground_truths_from_rest, l2_distance, train, Energy, HandleBasisKind, OperatorFile, Sampler,
-    TrainOptions, TrainingMetadata,
+    TrainingMetadata,
 };
 use splineskin::scene::{energy_name, DefOpSettings, Scene, SpatialBasisSpec};
 
@@ -120,8 +120,7 @@ pub fn run(args: Args) -> Result<()> {
         .build(mesh, handles)
         .with_context(|| format!("{}: spatial basis {}", shape.origin, s.spatial_basis.name()))?;
     let basis_seconds = clock.elapsed().as_secs_f64();
-    let d = mesh.bounding_box_diagonal();
-    let regions = vec![(s.region.region(d), 1.0)];
+    let options = s.train_options(mesh);
     eprintln!(
         "{}: {} vertices, {} triangles, {} handles; {}, {} samples ({}), spatial basis {} ({} functions), handle basis {}, {} threads",
         shape.origin,
@@ -136,13 +135,6 @@ pub fn run(args: Args) -> Result<()> {
         s.handle_basis.name(),
         rayon_threads(),
     );
-    let options = TrainOptions::default()
-        .with_energy(s.energy)
-        .with_n_samples(s.samples)
-        .with_regions(regions.clone())
-        .with_seed(s.seed)
-        .with_handle_basis(s.handle_basis)
-        .with_parallel(true);
     let bar = progress_bar(s.samples, "ground truths");
     let clock = Instant::now();
     let training = train(mesh, handles, &spatial, &options, &|p| {
@@ -197,7 +189,8 @@ pub fn run(args: Args) -> Result<()> {
     println!("training: {training_seconds:.2} s");
     if args.held_out > 0 {
         let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
-        let held_out = Sampler::new(&rest, &regions, HELD_OUT_SEED)?.configurations(args.held_out);
+        let held_out =
+            Sampler::new(&rest, &options.regions, HELD_OUT_SEED)?.configurations(args.held_out);
         let clock = Instant::now();
         let truths = ground_truths_from_rest(mesh, handles, &options, &held_out, &|_| {})?;
         let mut sum = 0.0;
@@ -206,7 +199,7 @@ pub fn run(args: Args) -> Result<()> {
         }
         println!(
             "held-out error: {:.3e} of the bounding-box diagonal ({:.4} drawing units; mean RMS distance over the shape, {} configurations solved from rest in {:.2} s)",
-            sum / held_out.len() as f64 / d,
+            sum / held_out.len() as f64 / mesh.bounding_box_diagonal(),
             sum / held_out.len() as f64,
             held_out.len(),
             clock.elapsed().as_secs_f64()

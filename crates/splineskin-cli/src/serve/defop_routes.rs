@@ -24,7 +24,7 @@ use axum::response::Response;
 use axum::Json;
 use kurbo::Point;
 use serde::{Deserialize, Serialize};
-use splineskin::defop::{train, DefOpRig, Energy, Progress, TrainOptions};
+use splineskin::defop::{train, DefOpRig, Energy, Progress};
 use splineskin::scene::Compat;
 
 use super::api::{binary, f64_bytes, run_job, ApiError, App, MAX_OPERATOR_BYTES};
@@ -121,16 +121,6 @@ pub async fn defop(
         })?;
         // The page's count is checked above; an opened scene's count is checked here.
         check_samples(&document.name, settings.samples)?;
-        let n_handles = scene.handles.len();
-        if settings.samples < 2 * n_handles {
-            return Err(bad(&format!(
-                "{n_handles} handles need at least {} training samples (with the rest \
-                 configuration, one more than the 2n coordinates of the handles: every operator \
-                 has the 1 + 2n linear functions of the handles); {} asked",
-                2 * n_handles,
-                settings.samples
-            )));
-        }
         let (drawing, _) = library_scene
             .drawing_with_junctions(Compat::None)
             .map_err(|e| bad(&e))?;
@@ -151,14 +141,7 @@ pub async fn defop(
             .map_err(|e| bad(&e))?;
         report("training");
         let t1 = Instant::now();
-        let diagonal = shape.mesh.bounding_box_diagonal();
-        let options = TrainOptions::default()
-            .with_energy(settings.energy)
-            .with_n_samples(settings.samples)
-            .with_regions(vec![(settings.region.region(diagonal), 1.0)])
-            .with_seed(settings.seed)
-            .with_handle_basis(settings.handle_basis)
-            .with_parallel(true);
+        let options = settings.train_options(&shape.mesh);
         let on_progress = |p: Progress| {
             if let Some(count) = &count {
                 count(

@@ -97,6 +97,19 @@ pub enum DefOpError {
         /// Its signed area in the initial guess.
         area: f64,
     },
+    /// Thin-plate splines need the rest configuration and `2n` more samples (their side
+    /// conditions: the `1 + 2n` linear functions of `n` handles); fewer were asked for.
+    #[error(
+        "{handles} handles need at least {needed} training samples for thin-plate splines (their side conditions take the rest configuration and 2n more); {given} asked"
+    )]
+    TooFewSamples {
+        /// Handles.
+        handles: usize,
+        /// Samples needed besides the rest configuration (`2n`).
+        needed: usize,
+        /// Samples asked for.
+        given: usize,
+    },
     /// An option has a value outside its range.
     #[error("option {name} = {value}: expected {expected}")]
     InvalidOption {

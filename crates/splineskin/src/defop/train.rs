@@ -306,6 +306,15 @@ pub fn train(
             expected: "at least 1",
         });
     }
+    if options.fit.handle_basis == HandleBasisKind::ThinPlateSpline
+        && options.n_samples < 2 * handles.len()
+    {
+        return Err(DefOpError::TooFewSamples {
+            handles: handles.len(),
+            needed: 2 * handles.len(),
+            given: options.n_samples,
+        });
+    }
     let solver = Solver {
         arap: Arap::new(mesh, handles, options.arap)?,
         sarap: match options.energy {

@@ -36,7 +36,7 @@ use serde::Deserialize;
 
 use super::{Compat, Scene, SceneError};
 use crate::defop::{
-    DefOpError, EigenOperator, Energy, HandleBasisKind, SampleRegion, SpatialBasis,
+    DefOpError, EigenOperator, Energy, HandleBasisKind, SampleRegion, SpatialBasis, TrainOptions,
     DEFAULT_DISC_FRACTION, DEFAULT_TRAINING_SAMPLES,
 };
 use crate::domain::{Domain, DomainOptions};
@@ -187,6 +187,35 @@ impl Default for DefOpSettings {
             mesh: None,
             operator: None,
         }
+    }
+}
+
+impl DefOpSettings {
+    /// The training options these settings ask for on `mesh` (its bounding-box diagonal sizes
+    /// the sampling region), solving on rayon's pool: what `splineskin defop train`, the
+    /// study and the editor train with, so that a saved scene trains the same operator
+    /// everywhere.
+    ///
+    /// ```
+    /// use kurbo::Rect;
+    /// use splineskin::mesh::TriMesh;
+    /// use splineskin::scene::DefOpSettings;
+    /// let mesh = TriMesh::grid(Rect::new(0., 0., 4., 3.), 4, 3)?;
+    /// let options = DefOpSettings::default().train_options(&mesh);
+    /// assert_eq!(options.n_samples, 1000);
+    /// # Ok::<(), splineskin::mesh::MeshError>(())
+    /// ```
+    pub fn train_options(&self, mesh: &TriMesh) -> TrainOptions {
+        TrainOptions::default()
+            .with_energy(self.energy)
+            .with_n_samples(self.samples)
+            .with_regions(vec![(
+                self.region.region(mesh.bounding_box_diagonal()),
+                1.0,
+            )])
+            .with_seed(self.seed)
+            .with_handle_basis(self.handle_basis)
+            .with_parallel(true)
     }
 }
 
