@@ -14,6 +14,7 @@
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
 pub mod animation;
+mod atomic_write;
 pub mod bezier;
 pub mod compare;
 pub mod defop;

@@ -23,8 +23,7 @@
 //! [`OperatorFile::save`] writes through a temporary file in the same folder and a rename,
 //! so a failure never leaves a half-written operator.
 
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use kurbo::Point;
 use serde::{Deserialize, Serialize};
@@ -552,40 +551,13 @@ impl OperatorFile {
     /// Writes the operator to `path` atomically: a temporary file in the same folder, synced,
     /// then renamed over `path` (removed again on failure).
     pub fn save(&self, path: &Path) -> Result<(), OperatorFileError> {
-        let origin = path.display().to_string();
-        let io = |action: &'static str| {
-            let origin = origin.clone();
-            move |source| OperatorFileError::Io {
-                origin,
-                action,
+        crate::atomic_write::write_atomically(path, &self.to_bytes()).map_err(|source| {
+            OperatorFileError::Io {
+                origin: path.display().to_string(),
+                action: "cannot write the operator",
                 source,
             }
-        };
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-            _ => PathBuf::from("."),
-        };
-        let name = path.file_name().ok_or_else(|| OperatorFileError::Invalid {
-            origin: origin.clone(),
-            detail: "not a file name".into(),
-        })?;
-        let tmp = dir.join(format!(
-            ".{}.tmp-{}",
-            name.to_string_lossy(),
-            std::process::id()
-        ));
-        let bytes = self.to_bytes();
-        let result = (|| -> std::io::Result<()> {
-            let mut f = std::fs::File::create(&tmp)?;
-            f.write_all(&bytes)?;
-            f.sync_all()?;
-            std::fs::rename(&tmp, path)
-        })();
-        if let Err(e) = result {
-            let _ = std::fs::remove_file(&tmp);
-            return Err(io("cannot write the operator")(e));
-        }
-        Ok(())
+        })
     }
 }
 

@@ -41,7 +41,6 @@
 //! ```
 
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::Path;
 
 use super::cage::{Cage, CageError, CornerTag, CreaseTag, OtherTag, Point3, SubdivTags};
@@ -553,38 +552,12 @@ pub fn to_obj_string(cage: &Cage) -> String {
 /// # Ok::<(), splineskin::subdiv::ObjError>(())
 /// ```
 pub fn write_obj(cage: &Cage, path: &Path) -> Result<(), ObjError> {
-    let file = path.display().to_string();
-    let failed = |source| ObjError::Write {
-        file: file.clone(),
-        source,
-    };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
-    };
-    let name = path.file_name().ok_or_else(|| {
-        failed(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "not a file name",
-        ))
-    })?;
-    let tmp = dir.join(format!(
-        ".{}.tmp-{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let text = to_obj_string(cage);
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(text.as_bytes())?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(source) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(failed(source));
-    }
-    Ok(())
+    crate::atomic_write::write_atomically(path, to_obj_string(cage).as_bytes()).map_err(|source| {
+        ObjError::Write {
+            file: path.display().to_string(),
+            source,
+        }
+    })
 }
 
 #[cfg(test)]
