@@ -267,12 +267,13 @@ impl DefOpRig {
         // Paths are independent: join them (in parallel if asked), then place their rows.
         let joined: Vec<PathJoin> = if options.parallel {
             use rayon::prelude::*;
-            drawing
+            let results: Vec<_> = drawing
                 .paths
                 .par_iter()
                 .enumerate()
                 .map(|(pi, path)| context.join_path(pi, path))
-                .collect::<Result<_, _>>()?
+                .collect();
+            results.into_iter().collect::<Result<_, _>>()?
         } else {
             drawing
                 .paths

@@ -26,6 +26,9 @@
 //! pinned to it (`P_k' = P_p'`), so a degenerate tangent stays degenerate and the curve's real
 //! tangent (towards the next distinct point) carries the continuity.
 
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
 use kurbo::Point;
 
 use crate::drawing::junction::{coincidence_distance, tangent_neighbours};
@@ -62,8 +65,125 @@ pub struct ConstraintRows {
     pub n_rows: usize,
 }
 
+/// Size below which a constraint row, reduced by the rows kept before it, counts as their
+/// linear combination, relative to the largest coefficient met while reducing it: 1e-9
+/// ([`ConstraintRows::independent`]).
+pub const DEPENDENT_ROW_TOLERANCE: f64 = 1e-9;
+
 impl ConstraintRows {
-    pub(crate) fn push_row(&mut self, entries: &[(usize, f64)]) {
+    /// The rows with every row that is a linear combination of the rows kept before it left
+    /// out, and the number left out.
+    ///
+    /// Junction rows are independent as long as each junction's tangent neighbours are its
+    /// own control points. They stop being so when the neighbours are other junctions' points:
+    /// a closed polygon whose straight sides have their control points on their ends and whose
+    /// corners are all fixed angles (or G¹) gives each corner's rows over the corner and its
+    /// two neighbouring corners, and around the loop two pairs of rows follow from the others
+    /// (the polygon keeps a translation and a similarity: `2n` unknowns, `2n − 4` independent
+    /// rows); a zero-length curve between two junctions pins its points twice. The input
+    /// satisfies every row, so the dependent ones are consistent, but kept they make the KKT
+    /// matrix singular up to rounding and the solve returns whatever the rounding decides
+    /// (collapsed or exploded shapes, at any scale). Leaving them out changes nothing else:
+    /// they hold wherever the kept rows hold.
+    ///
+    /// Gaussian elimination row by row, in the order pushed: a row is reduced by the kept rows
+    /// whose pivot columns it touches; if what remains is below [`DEPENDENT_ROW_TOLERANCE`]
+    /// times the largest coefficient met during its reduction, it is dependent, otherwise it
+    /// is kept with the furthest column among those within half of its largest remaining
+    /// coefficient as pivot (columns follow the chain, so a chain of junctions keeps its
+    /// stored rows short). Rows are kept exactly as given; elimination only decides which.
+    ///
+    /// ```
+    /// use splineskin::spline_fit::constraints::ConstraintRows;
+    /// let mut rows = ConstraintRows::default();
+    /// rows.push_row(&[(0, 1.0), (1, -1.0)]);
+    /// rows.push_row(&[(1, 1.0), (2, -1.0)]);
+    /// rows.push_row(&[(0, 2.0), (2, -2.0)]); // twice the sum of the first two
+    /// let (kept, dropped) = rows.independent();
+    /// assert_eq!((kept.n_rows, dropped), (2, 1));
+    /// ```
+    pub fn independent(&self) -> (ConstraintRows, usize) {
+        let n_cols = self.entries.iter().map(|e| e.1 + 1).max().unwrap_or(0);
+        let mut by_row: Vec<Vec<(usize, f64)>> = vec![Vec::new(); self.n_rows];
+        for &(r, c, v) in &self.entries {
+            by_row[r].push((c, v));
+        }
+        // Kept rows, reduced and scaled so that their pivot coefficient is 1.
+        let mut basis: Vec<Vec<(usize, f64)>> = Vec::new();
+        let mut pivot_of = vec![usize::MAX; n_cols];
+        let mut work = vec![0.0f64; n_cols];
+        let mut touched: Vec<usize> = Vec::new();
+        let mut is_touched = vec![false; n_cols];
+        let mut out = ConstraintRows::default();
+        let mut dropped = 0;
+        for row in &by_row {
+            let mut largest = 0.0f64;
+            for &(c, v) in row {
+                if !is_touched[c] {
+                    is_touched[c] = true;
+                    touched.push(c);
+                }
+                work[c] += v;
+                largest = largest.max(work[c].abs());
+            }
+            // Eliminate pivot columns, oldest kept row first: a kept row was reduced by the
+            // pivots before its own, so it only brings in younger pivots and each is met once.
+            let mut heap: BinaryHeap<Reverse<(usize, usize)>> = touched
+                .iter()
+                .filter(|&&c| pivot_of[c] != usize::MAX)
+                .map(|&c| Reverse((pivot_of[c], c)))
+                .collect();
+            while let Some(Reverse((_, c))) = heap.pop() {
+                let f = work[c];
+                if f == 0.0 {
+                    continue;
+                }
+                for &(cc, v) in &basis[pivot_of[c]] {
+                    if !is_touched[cc] {
+                        is_touched[cc] = true;
+                        touched.push(cc);
+                    }
+                    work[cc] -= f * v;
+                    largest = largest.max(work[cc].abs());
+                    if cc != c && pivot_of[cc] != usize::MAX {
+                        heap.push(Reverse((pivot_of[cc], cc)));
+                    }
+                }
+                work[c] = 0.0;
+            }
+            let remaining = touched.iter().map(|&c| work[c].abs()).fold(0.0, f64::max);
+            if remaining > DEPENDENT_ROW_TOLERANCE * largest {
+                let pivot = touched
+                    .iter()
+                    .copied()
+                    .filter(|&c| work[c].abs() >= 0.5 * remaining)
+                    .max()
+                    .expect("a coefficient reaches the largest");
+                let scale = 1.0 / work[pivot];
+                let mut reduced: Vec<(usize, f64)> = touched
+                    .iter()
+                    .filter(|&&c| work[c] != 0.0)
+                    .map(|&c| (c, work[c] * scale))
+                    .collect();
+                reduced.sort_by_key(|e| e.0);
+                pivot_of[pivot] = basis.len();
+                basis.push(reduced);
+                out.push_row(row);
+            } else {
+                dropped += 1;
+            }
+            for &c in &touched {
+                work[c] = 0.0;
+                is_touched[c] = false;
+            }
+            touched.clear();
+        }
+        (out, dropped)
+    }
+
+    /// Appends the row `Σ coef · x_col = 0` given as `(col, coef)` pairs; zero coefficients
+    /// are left out, and a row with none is not added.
+    pub fn push_row(&mut self, entries: &[(usize, f64)]) {
         let mut any = false;
         for &(col, v) in entries {
             if v != 0.0 {
@@ -219,7 +339,8 @@ pub(crate) fn tangent_junctions(
 ///
 /// Per junction: its two tangent rows with the input's lengths (`TangentJunction::rows`, zero
 /// coefficients left out), then its pins `P_q' − P_p' = 0`. Junctions whose two tangents
-/// vanish (the authors' form) have no rows.
+/// vanish (the authors' form) have no rows. In our form, rows that are linear combinations of
+/// earlier ones are left out ([`ConstraintRows::independent`]); the authors' form keeps them.
 pub fn junction_rows(
     points: &[Point],
     closed: bool,
@@ -237,7 +358,12 @@ pub fn junction_rows(
         }
         push_pins(&mut rows, &t);
     }
-    rows
+    match form {
+        // Rows that follow from the others are left out (see ConstraintRows::independent).
+        ConstraintForm::Ours => rows.independent().0,
+        // Compatibility mode keeps the authors' rows as they are, dependent or not.
+        ConstraintForm::Authors => rows,
+    }
 }
 
 /// Pushes the pin rows `P_q' − P_p' = 0` of junction `t` (two per pinned point).

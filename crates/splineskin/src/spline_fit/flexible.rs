@@ -98,7 +98,7 @@ use kurbo::{Affine, Point, Vec2};
 use super::constraints::{push_pins, tangent_junctions, ConstraintRows, TangentJunction};
 use super::quadrature::SampledCurves;
 use super::rig::{PoseError, SplineRig};
-use super::{FitError, FitOptions};
+use super::{ConstraintForm, FitError, FitOptions};
 use crate::bezier;
 use crate::drawing::{Drawing, JointKind};
 
@@ -267,26 +267,55 @@ struct PathNodes {
     bern: Vec<[f64; 4]>,
     /// Node weight `ω_q` (measure included).
     omega: Vec<f64>,
-    /// The input curve's point `B(t_q)`.
+    /// The input curve's point `B(t_q)`, about `centre`.
     rest: Vec<Point>,
+    /// The centre of the bounding box of the path's chain points: the iteration works in
+    /// coordinates about it, so that its arithmetic sees numbers of the path's own size
+    /// wherever the path lies.
+    centre: Vec2,
     /// Handle weights at the nodes, `n_handles` per node.
     weights: Vec<f64>,
 }
 
 impl PathNodes {
-    /// The skinned target `s_q = Σ_i w_i(q) T_i B(t_q)` at every node.
-    fn target(&self, pose: &[Affine], s: &mut Vec<Point>) {
+    /// The point the iteration of `rule` works about: the path's centre, or the origin for
+    /// the authors' rule (whose stopping test is relative to drawing coordinates).
+    fn frame(&self, rule: FlexibleRule) -> Vec2 {
+        match rule {
+            FlexibleRule::Authors => Vec2::ZERO,
+            _ => self.centre,
+        }
+    }
+
+    /// The energy of the path's points in the flat buffer `flat`, computed about `o` (as the
+    /// iteration computes it, so that both agree to the last bit).
+    fn energy_about(&self, pose: &[Affine], o: Vec2, flat: &[Point], s: &mut Vec<Point>) -> f64 {
+        self.target_about(pose, o, s);
+        let x: Vec<Point> = self.unknowns(flat).iter().map(|p| *p - o).collect();
+        self.energy(s, &x)
+    }
+
+    /// The skinned target `s_q = Σ_i w_i(q) T_i B(t_q)` about a point `o`, `s_q − o`: with `r_q = B(t_q) − o` and
+    /// `L_i = τ(−o) T_i τ(o)` (`τ` a translation), `s_q − o = Σ_i w_i L_i r_q + (Σ_i w_i − 1) o`.
+    fn target_about(&self, pose: &[Affine], o: Vec2, s: &mut Vec<Point>) {
         let h = pose.len();
+        let shift = self.centre - o;
+        let local: Vec<Affine> = pose
+            .iter()
+            .map(|t| Affine::translate(-o) * *t * Affine::translate(o))
+            .collect();
         s.clear();
         s.extend(self.rest.iter().enumerate().map(|(q, &r)| {
             let w = &self.weights[q * h..(q + 1) * h];
             let mut acc = Vec2::ZERO;
-            for (wi, t) in w.iter().zip(pose) {
+            let mut sum = 0.0;
+            for (wi, t) in w.iter().zip(&local) {
                 if *wi != 0.0 {
-                    acc += *wi * (*t * r).to_vec2();
+                    acc += *wi * (*t * (r + shift)).to_vec2();
+                    sum += *wi;
                 }
             }
-            acc.to_point()
+            (acc + (sum - 1.0) * o).to_point()
         }));
     }
 
@@ -320,7 +349,8 @@ impl PathNodes {
         e
     }
 
-    /// The energy of a distance of [`NOISE_DISTANCE`] times the target's largest coordinate
+    /// The energy of a distance of [`NOISE_DISTANCE`] times the target's largest coordinate (about
+    /// the path's centre)
     /// all along the path: decreases below it are rounding (a target the curves can follow
     /// exactly, e.g. one affine map for the whole path, has an energy of that order), so the
     /// iteration stops there.
@@ -663,16 +693,29 @@ impl FlexibleSolver {
             offset += path.points.len();
             first_curve += path.n_curves();
         }
-        let build =
-            |(pi, path): (usize, &crate::drawing::Path)| flex_path(pi, path, &nodes[pi], fit);
+        // Paths that share curves with others are solved as one group by the rig; iterated
+        // alone they would part at the shared curves, so they keep the rig's result.
+        let grouped = if fit.share_curves && fit.constraint_form == ConstraintForm::Ours {
+            let shared = super::shared_curves::SharedCurves::find(drawing);
+            let mut grouped = vec![false; drawing.paths.len()];
+            for p in shared.groups.iter().flatten() {
+                grouped[*p] = true;
+            }
+            grouped
+        } else {
+            vec![false; drawing.paths.len()]
+        };
+        let build = |(pi, path): (usize, &crate::drawing::Path)| {
+            if grouped[pi] {
+                Ok(None)
+            } else {
+                flex_path(pi, path, &nodes[pi], fit)
+            }
+        };
         let built: Vec<Option<FlexPath>> = if fit.parallel {
             use rayon::prelude::*;
-            drawing
-                .paths
-                .par_iter()
-                .enumerate()
-                .map(build)
-                .collect::<Result<_, _>>()?
+            let results: Vec<_> = drawing.paths.par_iter().enumerate().map(build).collect();
+            results.into_iter().collect::<Result<_, _>>()?
         } else {
             drawing
                 .paths
@@ -720,10 +763,7 @@ impl FlexibleSolver {
         Ok(self
             .nodes
             .iter()
-            .map(|n| {
-                n.target(pose, &mut s);
-                n.energy(&s, n.unknowns(points))
-            })
+            .map(|n| n.energy_about(pose, n.frame(self.options.rule), points, &mut s))
             .sum())
     }
 
@@ -768,10 +808,7 @@ impl FlexibleSolver {
         let mut path_energy: Vec<f64> = self
             .nodes
             .iter()
-            .map(|n| {
-                n.target(pose, &mut s);
-                n.energy(&s, n.unknowns(out))
-            })
+            .map(|n| n.energy_about(pose, n.frame(self.options.rule), out, &mut s))
             .collect();
         let fixed_ratio_energy = path_energy.iter().sum();
         let steps = runs.iter().map(|r| r.energies.len() - 1).max().unwrap_or(0);
@@ -830,13 +867,17 @@ impl FlexibleSolver {
     ) -> Result<PathRun, FitError> {
         let nodes = &self.nodes[fp.path];
         let mut sc = Scratch::default();
-        nodes.target(pose, &mut sc.target);
+        // Everything below is about the path's centre (PathNodes::centre); the authors' rule
+        // stays in drawing coordinates, since its stopping test is relative to them.
+        let o = nodes.frame(self.options.rule);
+        let about_centre = |x: &[Point]| x.iter().map(|p| *p - o).collect::<Vec<_>>();
+        nodes.target_about(pose, o, &mut sc.target);
         nodes.rhs(&sc.target, &mut sc.b);
         sc.floor = nodes.noise_floor(&sc.target);
-        let start = nodes.unknowns(fixed).to_vec();
+        let start = about_centre(nodes.unknowns(fixed));
         let e_start = nodes.energy(&sc.target, &start);
-        let warm = warm.map(|w| nodes.unknowns(w).to_vec());
-        match self.options.rule {
+        let warm = warm.map(|w| about_centre(nodes.unknowns(w)));
+        let mut run = match self.options.rule {
             FlexibleRule::Newton | FlexibleRule::Alternating => {
                 let mut run = PathRun {
                     x: start,
@@ -869,7 +910,11 @@ impl FlexibleSolver {
                 }
             }
             FlexibleRule::Authors => self.iterate_authors(fp, nodes, &mut sc, e_start, warm),
+        }?;
+        for p in &mut run.x {
+            *p += o;
         }
+        Ok(run)
     }
 
     /// [`FlexibleRule::Newton`] from `run.x` (module doc).
@@ -1534,6 +1579,7 @@ fn path_nodes(
         bern: Vec::new(),
         omega: Vec::new(),
         rest: Vec::new(),
+        centre: chain_centre(&path.points),
         weights: Vec::new(),
     };
     for j in 0..path.n_curves() {
@@ -1544,13 +1590,23 @@ fn path_nodes(
         for (&t, &w) in curve.t.iter().zip(curve.omega) {
             n.bern.push(bezier::bernstein(t));
             n.omega.push(w);
-            n.rest.push(bezier::eval(&c, t));
+            n.rest.push(bezier::eval(&c, t) - n.centre);
         }
         n.weights
             .extend_from_slice(&curve.weights[..curve.t.len() * h]);
         n.node_start.push(n.bern.len());
     }
     n
+}
+
+/// The centre of the bounding box of a chain's points.
+fn chain_centre(points: &[Point]) -> Vec2 {
+    let (mut lo, mut hi) = (points[0], points[0]);
+    for p in points {
+        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
+        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
+    }
+    lo.midpoint(hi).to_vec2()
 }
 
 /// The flexible systems of path `pi`, or `None` if it has no flexible junction.
@@ -1599,6 +1655,11 @@ fn flex_path(
     }
     for j in all.iter().filter(|j| !j.vanishes()) {
         push_pins(&mut fixed_rows, j);
+    }
+    if fit.constraint_form == ConstraintForm::Ours {
+        // As the rig's rows: those that follow from the others are left out. A flexible
+        // junction's neighbours appear in no other row, so its rows never depend on these.
+        fixed_rows = fixed_rows.independent().0;
     }
     // Direction step unknowns: every point but the flexible neighbours, then two scalars per
     // flexible junction.

@@ -14,6 +14,7 @@ pub mod constraints;
 pub mod flexible;
 pub mod quadrature;
 mod rig;
+pub mod shared_curves;
 pub(crate) mod system;
 
 pub use constraints::ConstraintForm;
@@ -43,6 +44,9 @@ pub struct FitOptions {
     /// Check every path's system for rank deficiency with a dense SVD (slow; compatibility
     /// mode uses it to report the paths where the authors' solver is ill-posed). Default: false.
     pub check_rank: bool,
+    /// Fit curves shared by several paths once, so that every path along them gets the same
+    /// deformed curve ([`shared_curves`]; our constraint form only). Default: true.
+    pub share_curves: bool,
 }
 
 impl Default for FitOptions {
@@ -54,6 +58,7 @@ impl Default for FitOptions {
             junctions: JunctionOptions::default(),
             parallel: false,
             check_rank: false,
+            share_curves: true,
         }
     }
 }
@@ -72,6 +77,7 @@ impl FitOptions {
             junctions: JunctionOptions::default(),
             parallel: false,
             check_rank: true,
+            share_curves: false,
         }
     }
 
@@ -88,6 +94,11 @@ impl FitOptions {
     /// Sets [`FitOptions::parallel`].
     pub fn with_parallel(mut self, parallel: bool) -> Self {
         self.parallel = parallel;
+        self
+    }
+    /// Sets [`FitOptions::share_curves`].
+    pub fn with_share_curves(mut self, share: bool) -> Self {
+        self.share_curves = share;
         self
     }
     /// Sets [`FitOptions::check_rank`].

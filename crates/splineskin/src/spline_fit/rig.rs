@@ -3,7 +3,9 @@
 use kurbo::{Affine, Point};
 
 use super::quadrature::SampledCurves;
-use super::system::{solve_path, HandleMaps};
+use super::shared_curves::{group_unknowns, SharedCurves};
+use super::system::{solve_group, solve_path, GroupMember, HandleMaps, PathOperator};
+use super::ConstraintForm;
 use super::{FitError, FitOptions};
 use crate::drawing::Drawing;
 use crate::weights::WeightField;
@@ -21,7 +23,8 @@ use crate::weights::WeightField;
 /// each frame:  rig.update(&transforms, &mut points)?;     // one dense mat-vec, no allocation
 /// ```
 ///
-/// Paths are independent systems: each is factored once (sparse LU of its KKT matrix) and
+/// Paths are independent systems, except those that share curves, which are solved as one
+/// ([`super::shared_curves`]): each system is factored once (sparse LU of its KKT matrix) and
 /// solved for all `6h` right-hand sides.
 ///
 /// ```
@@ -55,6 +58,7 @@ pub struct SplineRig {
     operator: Vec<f64>,
     n_constraints: usize,
     rank_deficient_paths: Vec<usize>,
+    shared_groups: usize,
 }
 
 /// A pose or output buffer of the wrong size was given to [`SplineRig::update`].
@@ -133,31 +137,79 @@ impl SplineRig {
             first_curves.push(c);
             c += path.n_curves();
         }
-        let solve = |(pi, (path, &first)): (usize, (&crate::drawing::Path, &usize))| {
-            solve_path(pi, path, samples, first, options, HandleMaps::Affine)
-        };
-        let solved: Vec<_> = if options.parallel {
-            use rayon::prelude::*;
-            drawing
-                .paths
-                .par_iter()
-                .zip(first_curves.par_iter())
-                .enumerate()
-                .map(solve)
-                .collect::<Result<_, _>>()?
+        // Paths that share curves are solved together, as one system per group
+        // (super::shared_curves); the others alone.
+        let shared = if options.share_curves && options.constraint_form == ConstraintForm::Ours {
+            SharedCurves::find(drawing)
         } else {
-            drawing
-                .paths
-                .iter()
-                .zip(first_curves.iter())
-                .enumerate()
-                .map(solve)
-                .collect::<Result<_, _>>()?
+            SharedCurves::default()
         };
+        let mut group_of = vec![None; drawing.paths.len()];
+        for (g, members) in shared.groups.iter().enumerate() {
+            for &p in members {
+                group_of[p] = Some(g);
+            }
+        }
+        let tasks: Vec<(usize, Option<usize>)> = (0..drawing.paths.len())
+            .filter_map(|pi| match group_of[pi] {
+                None => Some((pi, None)),
+                Some(g) if shared.groups[g][0] == pi => Some((pi, Some(g))),
+                Some(_) => None,
+            })
+            .collect();
+        let solve = |&(pi, group): &(usize, Option<usize>)| match group {
+            None => solve_path(
+                pi,
+                &drawing.paths[pi],
+                samples,
+                first_curves[pi],
+                options,
+                HandleMaps::Affine,
+            )
+            .map(|op| vec![(pi, op)]),
+            Some(g) => {
+                let members = &shared.groups[g];
+                let paths: Vec<_> = members.iter().map(|&p| &drawing.paths[p]).collect();
+                let (unknowns, n) = group_unknowns(&paths, members, &shared.copies);
+                let members: Vec<GroupMember<'_>> = members
+                    .iter()
+                    .zip(unknowns)
+                    .map(|(&p, unknowns)| GroupMember {
+                        index: p,
+                        path: &drawing.paths[p],
+                        first_curve: first_curves[p],
+                        unknowns,
+                        copies: shared
+                            .copies
+                            .iter()
+                            .filter(|c| c.copy.path == p)
+                            .map(|c| c.copy.curve)
+                            .collect(),
+                    })
+                    .collect();
+                let ops = solve_group(&members, n, samples, options, HandleMaps::Affine)?;
+                Ok(members.iter().map(|m| m.index).zip(ops).collect())
+            }
+        };
+        let solved: Vec<Vec<(usize, PathOperator)>> = if options.parallel {
+            use rayon::prelude::*;
+            // Collected in order first, so that an error names the first failing path
+            // whatever the threads' timing.
+            let results: Vec<_> = tasks.par_iter().map(solve).collect();
+            results.into_iter().collect::<Result<_, _>>()?
+        } else {
+            tasks.iter().map(solve).collect::<Result<_, _>>()?
+        };
+        let mut by_path: Vec<Option<PathOperator>> =
+            (0..drawing.paths.len()).map(|_| None).collect();
+        for (pi, op) in solved.into_iter().flatten() {
+            by_path[pi] = Some(op);
+        }
         let mut n_constraints = 0;
         let mut rank_deficient_paths = Vec::new();
         let mut offset = 0;
-        for (pi, (path, solved)) in drawing.paths.iter().zip(&solved).enumerate() {
+        for (pi, (path, solved)) in drawing.paths.iter().zip(&by_path).enumerate() {
+            let solved = solved.as_ref().expect("every path is solved");
             n_constraints += solved.n_constraints;
             if solved.rank_deficient {
                 rank_deficient_paths.push(pi);
@@ -174,12 +226,14 @@ impl SplineRig {
             }
             offset += path.points.len();
         }
+        let shared_groups = shared.groups.len();
         Ok(SplineRig {
             n_handles: h,
             n_points,
             operator,
             n_constraints,
             rank_deficient_paths,
+            shared_groups,
         })
     }
 
@@ -236,6 +290,12 @@ impl SplineRig {
     /// Number of linear junction constraint rows over all paths.
     pub fn n_constraints(&self) -> usize {
         self.n_constraints
+    }
+
+    /// Number of groups of paths solved together because they share curves
+    /// ([`super::shared_curves`]).
+    pub fn n_shared_groups(&self) -> usize {
+        self.shared_groups
     }
 
     /// Paths whose system was found rank deficient (only with [`FitOptions::check_rank`]);

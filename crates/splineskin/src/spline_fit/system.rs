@@ -22,12 +22,26 @@
 //! Column `6i + c` of `B` belongs to coefficient `c` of handle `i`'s affine map in SVG order
 //! `(a, b, c, d, e, f)`, i.e. `T_i = [[a, c, e], [b, d, f]]`: entry `T[r][s]` is coefficient
 //! `2s + r`.
+//!
+//! **Centring.** The right-hand sides use the path's coordinates about its own bounding-box
+//! centre `o`: with `S` the homogeneous translation by `o`, `C̄ = S C̄_o`, so
+//! `T_i Ŵ_ij = (T_i S) Ŵ^o_ij` and the operator solved with `C̄_o` acts on
+//! `vec(T_i S) = (a, b, c, d, a o_x + c o_y + e, b o_x + d o_y + f)`, which is linear in
+//! `vec(T_i)`; its columns are turned back once. The result is the same in exact arithmetic;
+//! in floating point the solve then sees numbers of the path's own size, so a small path far
+//! from the origin is fitted as accurately as the same path at the origin.
+//!
+//! **Balance.** `H` and `B` are divided by the largest curve measure of the system (its
+//! length, or squared length with arc length), so that `H`'s entries are of order one like the
+//! constraint rows' (which are divided by their largest tangent length): the minimiser is the
+//! same, and the KKT matrix's conditioning no longer depends on the drawing's size.
 
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
+use kurbo::{Point, Vec2};
 
-use super::constraints::junction_rows;
+use super::constraints::{junction_rows, ConstraintRows};
 use super::quadrature::SampledCurves;
 use super::{FitError, FitOptions};
 use crate::drawing::Path;
@@ -70,27 +84,82 @@ pub(crate) fn solve_path(
     options: &FitOptions,
     maps: HandleMaps,
 ) -> Result<PathOperator, FitError> {
-    let h = samples.n_handles();
-    let n_curves = path.n_curves();
-    let m = path.n_unknown_points();
-    let n_x = 2 * m;
-    let unknown = |chain_index: usize| {
-        if chain_index >= m {
-            chain_index - m
-        } else {
-            chain_index
-        }
+    if is_point(&path.points) {
+        let h = samples.n_handles();
+        let n_x = 2 * path.n_unknown_points();
+        return Ok(point_operator(
+            path,
+            samples.curve(first_curve),
+            maps,
+            n_x,
+            h,
+        ));
+    }
+    let member = GroupMember {
+        index: path_index,
+        path,
+        first_curve,
+        unknowns: (0..path.n_unknown_points()).collect(),
+        copies: Vec::new(),
     };
+    let n = path.n_unknown_points();
+    let mut solved = solve_group(&[member], n, samples, options, maps)?;
+    Ok(solved.pop().expect("one path, one operator"))
+}
 
-    let rows = junction_rows(
-        &path.points,
-        path.closed,
-        &path.joints,
-        options.constraint_form,
-        &options.junctions,
-    );
+/// A path of a group solved as one system ([`solve_group`]).
+pub(crate) struct GroupMember<'a> {
+    /// Path index in the drawing (for messages).
+    pub index: usize,
+    /// The path.
+    pub path: &'a Path,
+    /// Index of its first curve in the samples.
+    pub first_curve: usize,
+    /// The group unknown of each of the path's unknown points.
+    pub unknowns: Vec<usize>,
+    /// Its curves that are copies of a curve integrated elsewhere in the group (their energy
+    /// is not counted twice).
+    pub copies: Vec<usize>,
+}
+
+/// Assembles and solves the system of a group of paths whose unknowns are shared as
+/// `members[p].unknowns` says (`n_unknowns` points in all;
+/// [`super::shared_curves`]): each curve's energy once, every member's junction rows over the
+/// group's unknowns with dependent rows left out. Returns each member's operator.
+pub(crate) fn solve_group(
+    members: &[GroupMember<'_>],
+    n_unknowns: usize,
+    samples: &SampledCurves,
+    options: &FitOptions,
+    maps: HandleMaps,
+) -> Result<Vec<PathOperator>, FitError> {
+    let h = samples.n_handles();
+    let n_x = 2 * n_unknowns;
+    let path_index = members[0].index;
+
+    let mut rows = ConstraintRows::default();
+    for member in members {
+        let path = member.path;
+        let own = junction_rows(
+            &path.points,
+            path.closed,
+            &path.joints,
+            options.constraint_form,
+            &options.junctions,
+        );
+        let first = rows.n_rows;
+        for &(r, col, v) in &own.entries {
+            let col = 2 * member.unknowns[col / 2] + col % 2;
+            rows.entries.push((first + r, col, v));
+        }
+        rows.n_rows += own.n_rows;
+    }
+    if members.len() > 1 || members.iter().any(|m| !m.copies.is_empty()) {
+        rows = rows.independent().0;
+    }
     let n = n_x + rows.n_rows;
 
+    let n_curves: usize = members.iter().map(|m| m.path.n_curves()).sum();
     let mut triplets: Vec<Triplet<usize, usize, f64>> =
         Vec::with_capacity(n_curves * 32 + 2 * rows.entries.len());
     // Homogeneous rows of C̄ kept (x, y, 1 or only 1) and the columns per handle.
@@ -100,31 +169,59 @@ pub(crate) fn solve_path(
     };
     let mut rhs = Mat::<f64>::zeros(n, per_handle * h);
     let mut weighted = Vec::with_capacity(h);
-    for j in 0..n_curves {
-        let c = path.curve_points(j);
-        let nodes = samples.curve(first_curve + j);
-        let a = nodes.gram();
-        nodes.weighted_grams(&mut weighted);
-        let idx = [0, 1, 2, 3].map(|k| unknown(3 * j + k));
-        for (k, &pk) in idx.iter().enumerate() {
-            for (l, &pl) in idx.iter().enumerate() {
-                for d in 0..2 {
-                    triplets.push(Triplet::new(2 * pk + d, 2 * pl + d, a[k][l]));
+    // The system is solved about the group's own centre `o` (module doc, "Centring"), and
+    // its energy divided by the largest curve measure (module doc, "Balance").
+    let o = centre(members.iter().flat_map(|m| m.path.points.iter().copied()));
+    let largest_measure = members
+        .iter()
+        .flat_map(|m| (0..m.path.n_curves()).map(|j| samples.curve(m.first_curve + j)))
+        .map(|nodes| nodes.omega.iter().sum::<f64>())
+        .fold(0.0, f64::max);
+    let balance = if largest_measure > 0.0 {
+        1.0 / largest_measure
+    } else {
+        1.0
+    };
+    for member in members {
+        let path = member.path;
+        let m = path.n_unknown_points();
+        let unknown = |chain_index: usize| {
+            member.unknowns[if chain_index >= m {
+                chain_index - m
+            } else {
+                chain_index
+            }]
+        };
+        for j in 0..path.n_curves() {
+            if member.copies.contains(&j) {
+                continue;
+            }
+            let c = path.curve_points(j).map(|p| p - o);
+            let nodes = samples.curve(member.first_curve + j);
+            let a = nodes.gram();
+            nodes.weighted_grams(&mut weighted);
+            let idx = [0, 1, 2, 3].map(|k| unknown(3 * j + k));
+            for (k, &pk) in idx.iter().enumerate() {
+                for (l, &pl) in idx.iter().enumerate() {
+                    for d in 0..2 {
+                        triplets.push(Triplet::new(2 * pk + d, 2 * pl + d, balance * a[k][l]));
+                    }
                 }
             }
-        }
-        // Ŵ_ij[s][l] = Σ_k C̄[s][k] M_ij[k][l], C̄ rows = (x, y, 1).
-        for (i, mij) in weighted.iter().enumerate() {
-            for (l, &pl) in idx.iter().enumerate() {
-                let mut w = [0.0; 3];
-                for (k, ck) in c.iter().enumerate() {
-                    w[0] += ck.x * mij[k][l];
-                    w[1] += ck.y * mij[k][l];
-                    w[2] += mij[k][l];
-                }
-                for (s, ws) in w.iter().enumerate().skip(first_row) {
-                    for d in 0..2 {
-                        rhs[(2 * pl + d, per_handle * i + 2 * (s - first_row) + d)] += ws;
+            // Ŵ_ij[s][l] = Σ_k C̄[s][k] M_ij[k][l], C̄ rows = (x, y, 1).
+            for (i, mij) in weighted.iter().enumerate() {
+                for (l, &pl) in idx.iter().enumerate() {
+                    let mut w = [0.0; 3];
+                    for (k, ck) in c.iter().enumerate() {
+                        w[0] += ck.x * mij[k][l];
+                        w[1] += ck.y * mij[k][l];
+                        w[2] += mij[k][l];
+                    }
+                    for (s, ws) in w.iter().enumerate().skip(first_row) {
+                        for d in 0..2 {
+                            rhs[(2 * pl + d, per_handle * i + 2 * (s - first_row) + d)] +=
+                                balance * ws;
+                        }
                     }
                 }
             }
@@ -148,7 +245,10 @@ pub(crate) fn solve_path(
     })?;
     lu.solve_in_place(rhs.as_mut());
 
-    let operator = rhs.subrows(0, n_x).to_owned();
+    let mut operator = rhs.subrows(0, n_x).to_owned();
+    if maps == HandleMaps::Affine {
+        uncentre(&mut operator, o);
+    }
     if !rank_deficient
         && operator
             .col_iter()
@@ -156,11 +256,114 @@ pub(crate) fn solve_path(
     {
         return Err(FitError::Singular { path: path_index });
     }
-    Ok(PathOperator {
+    if let [member] = members {
+        if member.unknowns.iter().enumerate().all(|(k, &u)| k == u) {
+            return Ok(vec![PathOperator {
+                operator,
+                n_constraints: rows.n_rows,
+                rank_deficient,
+            }]);
+        }
+    }
+    Ok(members
+        .iter()
+        .enumerate()
+        .map(|(g, member)| {
+            let mut own = Mat::<f64>::zeros(2 * member.unknowns.len(), operator.ncols());
+            for (k, &u) in member.unknowns.iter().enumerate() {
+                for d in 0..2 {
+                    for c in 0..operator.ncols() {
+                        own[(2 * k + d, c)] = operator[(2 * u + d, c)];
+                    }
+                }
+            }
+            PathOperator {
+                operator: own,
+                // The group's rows are counted once, with its first path.
+                n_constraints: if g == 0 { rows.n_rows } else { 0 },
+                rank_deficient,
+            }
+        })
+        .collect())
+}
+
+/// Whether every point of the chain is the same point, to rounding: its bounding box is
+/// within 4 ulps of its coordinates' magnitude (a zero-length subpath such as `M4,5 L4,5 Z`,
+/// or a `<line>` with equal ends, which round caps draw as a dot).
+fn is_point(points: &[Point]) -> bool {
+    let o = centre(points.iter().copied());
+    let magnitude = o.x.abs().max(o.y.abs());
+    points
+        .iter()
+        .all(|p| (*p - o.to_point()).hypot() <= 4.0 * f64::EPSILON * magnitude)
+}
+
+/// The operator of a path that is a single point `p` (see [`is_point`]): it has no length, so
+/// no energy to fit, and every chain point follows the skinning map at `p`,
+/// `p' = Σ_i w_i(p) T_i p̄` (the limit of the fit of a curve shrinking to `p`). The weights are
+/// those sampled at the first quadrature node (every node is at `p`).
+fn point_operator(
+    path: &Path,
+    nodes: super::quadrature::CurveNodes<'_>,
+    maps: HandleMaps,
+    n_x: usize,
+    h: usize,
+) -> PathOperator {
+    let p = path.points[0];
+    let w = &nodes.weights[..h];
+    let per_handle = match maps {
+        HandleMaps::Affine => 6,
+        HandleMaps::Translation => 2,
+    };
+    let mut operator = Mat::<f64>::zeros(n_x, per_handle * h);
+    for r in 0..n_x {
+        let d = r % 2;
+        for (i, &wi) in w.iter().enumerate() {
+            match maps {
+                // x' = Σ w_i (a x + c y + e), y' = Σ w_i (b x + d y + f).
+                HandleMaps::Affine => {
+                    operator[(r, 6 * i + d)] = wi * p.x;
+                    operator[(r, 6 * i + 2 + d)] = wi * p.y;
+                    operator[(r, 6 * i + 4 + d)] = wi;
+                }
+                HandleMaps::Translation => operator[(r, 2 * i + d)] = wi,
+            }
+        }
+    }
+    PathOperator {
         operator,
-        n_constraints: rows.n_rows,
-        rank_deficient,
-    })
+        n_constraints: 0,
+        rank_deficient: false,
+    }
+}
+
+/// The centre of the bounding box of `points` (at least one).
+fn centre(points: impl IntoIterator<Item = Point>) -> Vec2 {
+    let mut points = points.into_iter();
+    let first = points.next().expect("a chain has points");
+    let (mut lo, mut hi) = (first, first);
+    for p in points {
+        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
+        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
+    }
+    lo.midpoint(hi).to_vec2()
+}
+
+/// Turns the columns of an operator solved for maps of centred coordinates into columns for
+/// the maps themselves: `vec(T S) = M vec(T)` with `S` the translation by `o` (module doc), so
+/// column `a` gains `o_x` times column `e`, `c` gains `o_y` times `e`, `b` and `d` the same
+/// of `f`.
+fn uncentre(operator: &mut Mat<f64>, o: Vec2) {
+    for i in 0..operator.ncols() / 6 {
+        let base = 6 * i;
+        for r in 0..operator.nrows() {
+            let (e, f) = (operator[(r, base + 4)], operator[(r, base + 5)]);
+            operator[(r, base)] += o.x * e;
+            operator[(r, base + 2)] += o.y * e;
+            operator[(r, base + 1)] += o.x * f;
+            operator[(r, base + 3)] += o.y * f;
+        }
+    }
 }
 
 /// Whether the (small) sparse matrix `k` is numerically singular: smallest singular value below

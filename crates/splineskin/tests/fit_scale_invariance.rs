@@ -1,0 +1,391 @@
+//! The fit does not depend on the drawing's size or place: a drawing scaled by `10^k`
+//! (`k = −6 … 6`) and moved up to `10^6` units from the origin, with its handles and poses
+//! mapped the same way, gives the same result mapped the same way — for the fixed-ratio rig and
+//! for flexible G¹, on random drawings that mix smooth closed shapes, open chains, small
+//! polygons whose straight sides have their control points on their ends (every corner a
+//! fixed angle: the case whose rows depend on each other) and zero-length subpaths.
+//!
+//! Tolerance: `1e-9` of the mapped drawing's diagonal, plus `256 ε` of its largest coordinate.
+//! The second term is the floor set by the numbers themselves: a drawing `10^-4` across placed
+//! at `10^6` has coordinates known only to `ε · 10^6 ≈ 10^-10`, a millionth of its size, and
+//! no computation can recover more (the weights, the skinned targets and the output points are
+//! all differences of such coordinates).
+
+use kurbo::{Affine, Point, Vec2};
+use proptest::prelude::*;
+use splineskin::drawing::{Drawing, JunctionOptions, Path};
+use splineskin::spline_fit::quadrature::SampledCurves;
+use splineskin::spline_fit::{FitOptions, FlexibleOptions, FlexibleSolver, SplineRig};
+use splineskin::weights::{Shepard, ShepardOptions};
+
+const RELATIVE_TOLERANCE: f64 = 1e-9;
+const ULPS: f64 = 256.0;
+
+/// A closed polygon through `corners`, each side a line with its control points on its ends
+/// (how the SVG import writes corner lines).
+fn polygon(corners: &[Point]) -> Vec<Point> {
+    let mut pts = vec![corners[0]];
+    for k in 0..corners.len() {
+        let (a, b) = (corners[k], corners[(k + 1) % corners.len()]);
+        pts.extend([a, b, b]);
+    }
+    pts
+}
+
+/// A closed smooth blob: `n` cubics through points on a wobbly circle, tangents along the
+/// circle (C¹ or G¹ with ratio `ratio`).
+fn blob(centre: Point, radius: f64, wobble: &[f64], ratio: f64) -> Vec<Point> {
+    let n = wobble.len();
+    let at = |k: usize| {
+        let a = std::f64::consts::TAU * k as f64 / n as f64;
+        let r = radius * (1.0 + 0.3 * wobble[k % n]);
+        (
+            centre + Vec2::new(a.cos(), a.sin()) * r,
+            Vec2::new(-a.sin(), a.cos()),
+        )
+    };
+    let h = radius * 0.5 / n as f64 * 4.0 / 3.0;
+    let mut pts = vec![at(0).0];
+    for k in 0..n {
+        let (p, t) = at(k);
+        let (q, u) = at(k + 1);
+        pts.extend([p + t * h * ratio, q - u * h, q]);
+    }
+    *pts.last_mut().unwrap() = pts[0];
+    pts
+}
+
+/// An open chain of cubics from `start` with the given (dx, dy) steps and handle bends.
+fn chain(start: Point, steps: &[(f64, f64, f64)]) -> Vec<Point> {
+    let mut pts = vec![start];
+    for &(dx, dy, bend) in steps {
+        let p = *pts.last().unwrap();
+        let q = p + Vec2::new(dx, dy);
+        let n = Vec2::new(-dy, dx) * bend;
+        pts.extend([p.lerp(q, 1.0 / 3.0) + n, p.lerp(q, 2.0 / 3.0) - n, q]);
+    }
+    pts
+}
+
+#[derive(Debug)]
+struct Scene {
+    drawing: Drawing,
+    handles: Vec<Point>,
+    pose: Vec<Affine>,
+}
+
+fn map_scene(scene: &Scene, a: Affine) -> Scene {
+    let o = JunctionOptions::default();
+    let paths = scene
+        .drawing
+        .paths
+        .iter()
+        .map(|p| {
+            let pts = p.points.iter().map(|q| a * *q).collect();
+            Path::new(pts, p.closed, &o).unwrap()
+        })
+        .collect();
+    Scene {
+        drawing: Drawing {
+            paths,
+            ..Default::default()
+        },
+        handles: scene.handles.iter().map(|h| a * *h).collect(),
+        pose: scene.pose.iter().map(|t| a * *t * a.inverse()).collect(),
+    }
+}
+
+/// The fixed-ratio and the flexible result of a scene's pose.
+fn deform(scene: &Scene) -> (Vec<Point>, Vec<Point>) {
+    let weights = Shepard::new(&scene.handles, ShepardOptions::default());
+    let fit = FitOptions::default();
+    let samples = SampledCurves::sample(&scene.drawing, &weights, &fit);
+    let rig = SplineRig::from_samples(&scene.drawing, &samples, &fit).unwrap();
+    let mut fixed = vec![Point::ZERO; rig.n_points()];
+    rig.update(&scene.pose, &mut fixed).unwrap();
+    let solver = FlexibleSolver::from_rig(
+        rig,
+        &scene.drawing,
+        &samples,
+        &fit,
+        FlexibleOptions::default(),
+    )
+    .unwrap();
+    let mut flexible = vec![Point::ZERO; fixed.len()];
+    solver.solve(&scene.pose, None, &mut flexible).unwrap();
+    (fixed, flexible)
+}
+
+fn check(base: &Scene, k: i32, shift: Vec2) -> Result<(), TestCaseError> {
+    let (fixed, flexible) = deform(base);
+    // Identity and rigid sanity on the base scene: the drawing itself comes back.
+    let a = Affine::translate(shift) * Affine::scale(10f64.powi(k));
+    let mapped = map_scene(base, a);
+    for (p, q) in base.drawing.paths.iter().zip(&mapped.drawing.paths) {
+        prop_assert_eq!(
+            &p.joints,
+            &q.joints,
+            "junction kinds change with scale {}",
+            k
+        );
+    }
+    let (fixed_m, flexible_m) = deform(&mapped);
+    let flat = mapped.drawing.flat_points();
+    let magnitude = flat
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+    let tol = RELATIVE_TOLERANCE * mapped.drawing.diagonal() + ULPS * f64::EPSILON * magnitude;
+    for (what, base_out, mapped_out) in [
+        ("fixed ratio", &fixed, &fixed_m),
+        ("flexible", &flexible, &flexible_m),
+    ] {
+        let worst = base_out
+            .iter()
+            .zip(mapped_out)
+            .map(|(p, q)| (a * *p - *q).hypot())
+            .fold(0.0, f64::max);
+        prop_assert!(
+            worst <= tol,
+            "{what}, scale 1e{k}, shift {shift:?}: {worst:e} > {tol:e} (diagonal {:e})",
+            mapped.drawing.diagonal()
+        );
+    }
+    Ok(())
+}
+
+fn scene_strategy() -> impl Strategy<Value = Scene> {
+    (
+        prop::collection::vec((-1.0f64..1.0, -1.0f64..1.0), 3..7),
+        0.2f64..3.0,
+        prop::collection::vec(-1.0f64..1.0, 3..7),
+        0.4f64..2.5,
+        prop::collection::vec((-30.0f64..30.0, -30.0f64..30.0, -0.4f64..0.4), 1..5),
+        prop::collection::vec((-60.0f64..160.0, -60.0f64..160.0), 3),
+        prop::collection::vec(
+            (-0.6f64..0.6, 0.7f64..1.4, -20.0f64..20.0, -20.0f64..20.0),
+            3,
+        ),
+        any::<bool>(),
+    )
+        .prop_map(
+            |(corners, size, wobble, ratio, steps, handles, pose, with_point)| {
+                let o = JunctionOptions::default();
+                // A small polygon (a square and random corners) beside larger shapes.
+                let mut corners: Vec<Point> = corners
+                    .into_iter()
+                    .map(|(x, y)| Point::new(70.0 + size * x, 20.0 + size * y))
+                    .collect();
+                corners.sort_by(|p, q| {
+                    let c = Point::new(70.0, 20.0);
+                    (p.y - c.y)
+                        .atan2(p.x - c.x)
+                        .total_cmp(&(q.y - c.y).atan2(q.x - c.x))
+                });
+                corners.dedup_by(|p, q| (*p - *q).hypot() < 1e-3 * size);
+                let mut paths = vec![
+                    Path::new(blob(Point::new(40.0, 50.0), 30.0, &wobble, ratio), true, &o)
+                        .unwrap(),
+                    Path::new(chain(Point::new(0.0, 100.0), &steps), false, &o).unwrap(),
+                    Path::new(
+                        polygon(&[
+                            Point::new(100.0, 100.0),
+                            Point::new(100.0 + size, 100.0),
+                            Point::new(100.0 + size, 100.0 + size),
+                            Point::new(100.0, 100.0 + size),
+                        ]),
+                        true,
+                        &o,
+                    )
+                    .unwrap(),
+                ];
+                if corners.len() >= 3 {
+                    paths.push(Path::new(polygon(&corners), true, &o).unwrap());
+                }
+                if with_point {
+                    let p = Point::new(60.0, 60.0);
+                    paths.push(Path::new(vec![p, p, p, p], true, &o).unwrap());
+                }
+                let handles: Vec<Point> = handles.into_iter().map(Point::from).collect();
+                let pose = pose
+                    .iter()
+                    .zip(&handles)
+                    .map(|(&(r, s, x, y), h)| {
+                        Affine::translate((x, y))
+                            * Affine::translate(h.to_vec2())
+                            * Affine::rotate(r)
+                            * Affine::scale(s)
+                            * Affine::translate(-h.to_vec2())
+                    })
+                    .collect();
+                Scene {
+                    drawing: Drawing {
+                        paths,
+                        ..Default::default()
+                    },
+                    handles,
+                    pose,
+                }
+            },
+        )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    #[test]
+    fn fit_scale_invariance_random_drawings(
+        scene in scene_strategy(),
+        k in -6i32..=6,
+        shift in (-1e6f64..1e6, -1e6f64..1e6),
+    ) {
+        check(&scene, k, Vec2::new(shift.0, shift.1))?;
+    }
+}
+
+/// The minimal case: a 0.929-unit square with fixed-angle corners in a 72-unit
+/// drawing, one handle at (36, 36): at the identity it must come back as it is, at every scale.
+#[test]
+fn fit_scale_invariance_small_square_identity() {
+    let o = JunctionOptions::default();
+    for k in -6..=6 {
+        let s = 10f64.powi(k);
+        let corners = [
+            (46.677, 51.342),
+            (45.748, 51.342),
+            (45.748, 52.271),
+            (46.677, 52.271),
+        ]
+        .map(|(x, y)| Point::new(x * s, y * s));
+        let pts = polygon(&corners);
+        let drawing = Drawing {
+            paths: vec![Path::new(pts.clone(), true, &o).unwrap()],
+            ..Default::default()
+        };
+        let weights = Shepard::new(&[Point::new(36.0 * s, 36.0 * s)], ShepardOptions::default());
+        let rig = SplineRig::precompute(&drawing, &weights, &FitOptions::default()).unwrap();
+        let mut out = vec![Point::ZERO; rig.n_points()];
+        rig.update(&[Affine::IDENTITY], &mut out).unwrap();
+        let diag = drawing.diagonal();
+        for (p, q) in pts.iter().zip(&out) {
+            assert!(
+                (*p - *q).hypot() <= 1e-9 * diag,
+                "scale 1e{k}: {p:?} came back as {q:?}"
+            );
+        }
+        let turn = Affine::translate((3.0 * s, -s)) * Affine::rotate(0.4);
+        rig.update(&[turn], &mut out).unwrap();
+        for (p, q) in pts.iter().zip(&out) {
+            assert!(
+                (turn * *p - *q).hypot() <= 1e-9 * diag,
+                "scale 1e{k}: rigid map"
+            );
+        }
+    }
+}
+
+/// Zero-length subpaths (a dot drawn by round caps) follow the skinning map of their point.
+#[test]
+fn fit_point_subpath_follows_the_skinning_map() {
+    let o = JunctionOptions::default();
+    let p = Point::new(44.0, 45.0);
+    let drawing = Drawing {
+        paths: vec![
+            Path::new(vec![p, p, p, p], true, &o).unwrap(),
+            Path::new(vec![p, p, p, p], false, &o).unwrap(),
+        ],
+        ..Default::default()
+    };
+    let handles = [Point::new(0.0, 0.0), Point::new(100.0, 20.0)];
+    let weights = Shepard::new(&handles, ShepardOptions::default());
+    let rig = SplineRig::precompute(&drawing, &weights, &FitOptions::default()).unwrap();
+    let pose = [Affine::rotate(0.3), Affine::translate((10.0, -4.0))];
+    let mut out = vec![Point::ZERO; rig.n_points()];
+    rig.update(&pose, &mut out).unwrap();
+    // Shepard weights at p (exponent 2), normalised.
+    let d = handles.map(|h| 1.0 / (p - h).hypot2());
+    let sum: f64 = d.iter().sum();
+    let want = (d[0] / sum) * (pose[0] * p).to_vec2() + (d[1] / sum) * (pose[1] * p).to_vec2();
+    for q in &out {
+        assert!(
+            (q.to_vec2() - want).hypot() <= 1e-12 * want.hypot(),
+            "{q:?} vs {want:?}"
+        );
+    }
+}
+
+/// Two regions that share a curve (drawn in opposite directions, as a fill beside another
+/// fill) get exactly the same deformed curve under a bend: no gap opens between them.
+#[test]
+fn fit_shared_curves_stay_watertight() {
+    let o = JunctionOptions::default();
+    let pt = Point::new;
+    // A smooth left blob whose right side is the cubic S, and a right region running along S
+    // reversed, then round its own outline.
+    let s = [
+        pt(50.0, 0.0),
+        pt(60.0, 15.0),
+        pt(40.0, 35.0),
+        pt(50.0, 50.0),
+    ];
+    let left = vec![
+        s[0],
+        s[1],
+        s[2],
+        s[3],
+        pt(30.0, 60.0),
+        pt(0.0, 50.0),
+        pt(0.0, 25.0),
+        pt(0.0, 0.0),
+        pt(30.0, -10.0),
+        s[0],
+    ];
+    let right = vec![
+        s[3],
+        s[2],
+        s[1],
+        s[0],
+        pt(70.0, -10.0),
+        pt(100.0, 0.0),
+        pt(100.0, 25.0),
+        pt(100.0, 50.0),
+        pt(70.0, 60.0),
+        s[3],
+    ];
+    let drawing = Drawing {
+        paths: vec![
+            Path::new(left, true, &o).unwrap(),
+            Path::new(right, true, &o).unwrap(),
+        ],
+        ..Default::default()
+    };
+    let handles = [pt(10.0, 25.0), pt(50.0, 25.0), pt(90.0, 25.0)];
+    let weights = Shepard::new(&handles, ShepardOptions::default());
+    let pose = [
+        Affine::IDENTITY,
+        Affine::translate((0.0, 12.0)) * Affine::rotate_about(0.4, handles[1]),
+        Affine::rotate_about(-0.3, handles[2]),
+    ];
+    let mut out = vec![Point::ZERO; drawing.n_points()];
+    for share in [true, false] {
+        let fit = FitOptions::default().with_share_curves(share);
+        let rig = SplineRig::precompute(&drawing, &weights, &fit).unwrap();
+        rig.update(&pose, &mut out).unwrap();
+        let (a, b) = (&out[0..4], &out[10..14]);
+        let gap = (0..4)
+            .map(|k| (a[k] - b[3 - k]).hypot())
+            .fold(0.0, f64::max);
+        if share {
+            assert_eq!(rig.n_shared_groups(), 1);
+            assert!(
+                gap <= 1e-12 * drawing.diagonal(),
+                "shared curve parts by {gap:e}"
+            );
+        } else {
+            // Fitted apart, the two copies land in different places: the test can fail.
+            assert!(
+                gap > 1e-3 * drawing.diagonal(),
+                "copies fitted alone agree ({gap:e})"
+            );
+        }
+    }
+}
