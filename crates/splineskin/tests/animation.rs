@@ -8,7 +8,6 @@
 mod external_data;
 
 use std::f64::consts::PI;
-use std::path::PathBuf;
 
 use kurbo::{Affine, Point, Vec2};
 use splineskin::animation::{

@@ -17,7 +17,7 @@
 #[path = "common/external_data.rs"]
 mod external_data;
 
-use std::path::{Path as FsPath, PathBuf};
+use std::path::Path as FsPath;
 
 use kurbo::{Affine, ParamCurveNearest, Point};
 use serde::Deserialize;
