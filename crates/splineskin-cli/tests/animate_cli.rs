@@ -4,7 +4,7 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Output;
 
 use common::test_dir::TestDir;
@@ -161,14 +161,12 @@ fn animate_cli_writes_a_frames_folder() {
 
 #[test]
 fn animate_cli_authors_zooming_animation() {
-    let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
+    let Some(root) = common::external_data::shared_data() else {
+        return;
+    };
     let scene = root.join(
         "vectorskinning/turtle-seven-stack/zooming animation/after-zoomout/turtles-seven-deformation2.json",
     );
-    if !scene.is_file() {
-        eprintln!("skipped: ../shared/data not found next to the repository");
-        return;
-    }
     let dir = folder("authors", "{}");
     let out = animate(
         &dir,

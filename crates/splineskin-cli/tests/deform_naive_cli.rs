@@ -40,11 +40,6 @@ struct OutputPath {
     points: Vec<[f64; 2]>,
 }
 
-fn data_root() -> Option<PathBuf> {
-    let data = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
-    data.is_dir().then_some(data)
-}
-
 fn naive_cases(root: &Path) -> Vec<Case> {
     let dir = root.join("vectorskinning/authors-solver-outputs");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -65,8 +60,7 @@ fn naive_cases(root: &Path) -> Vec<Case> {
 
 #[test]
 fn deform_naive_engines_reproduce_the_authors_solver() {
-    let Some(root) = data_root() else {
-        eprintln!("skipped: ../shared/data not found next to the repository");
+    let Some(root) = common::external_data::shared_data() else {
         return;
     };
     let cases = naive_cases(&root);

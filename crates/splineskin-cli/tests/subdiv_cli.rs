@@ -299,11 +299,9 @@ fn subdiv_cli_refine_carries_tags() {
 
 #[test]
 fn subdiv_cli_car_scene() {
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
-    if !root.is_dir() {
-        eprintln!("skipped: ../shared/data not found next to the repository");
+    let Some(root) = common::external_data::shared_data() else {
         return;
-    }
+    };
     let dir = folder("car");
     let obj = root.join("subdiv/shapes/catmark_car.obj");
     let text = format!(

@@ -212,11 +212,9 @@ fn weights_cli_small_mesh_every_kind() {
 /// The reference files themselves, as input: the output matches libigl's weights.
 #[test]
 fn weights_cli_reads_reference_igl_files() {
-    let data = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
-    if !data.is_dir() {
-        eprintln!("skipped: ../shared/data not found next to the repository");
+    let Some(data) = common::external_data::shared_data() else {
         return;
-    }
+    };
     #[derive(Deserialize)]
     struct Reference {
         weights: ReferenceWeights,

@@ -4,8 +4,10 @@
 //! pose, the animated document has one `<animate>` per deformed element with one value per
 //! frame, the authors' zooming animation loads and animates, and scene errors name the element.
 
+#[path = "common/external_data.rs"]
+mod external_data;
+
 use std::f64::consts::PI;
-use std::path::PathBuf;
 
 use kurbo::{Affine, Point, Vec2};
 use splineskin::animation::{
@@ -309,22 +311,14 @@ fn animation_frames_at_keyframes_equal_the_deformed_pose() {
     }
 }
 
-fn data_root() -> Option<PathBuf> {
-    let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
-    if root.is_dir() {
-        Some(root)
-    } else {
-        eprintln!("skipped: ../shared/data not found next to the repository");
-        None
-    }
-}
-
 /// The authors' "zooming animation" (one handle, 1200 recorded frames): loads with its frames as
 /// keyframes 1/30 s apart, and a frame at a keyframe is the drawing mapped by that frame's
 /// affine map (one handle: every weight is 1, so the fit is exactly that map).
 #[test]
 fn animation_authors_turtles_zooming() {
-    let Some(root) = data_root() else { return };
+    let Some(root) = external_data::shared_data() else {
+        return;
+    };
     let path = root.join(
         "vectorskinning/turtle-seven-stack/zooming animation/after-zoomout/turtles-seven-deformation2.json",
     );

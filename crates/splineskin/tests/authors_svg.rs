@@ -10,18 +10,15 @@
 //! to a neighbouring double (`127.65299987792969` becomes `…967`), which would make exact
 //! comparison meaningless. [`quote_numbers`] hands the numbers to serde as their exact text.
 
+#[path = "common/external_data.rs"]
+mod external_data;
+
 use std::path::{Path, PathBuf};
 
 use kurbo::Point;
 use serde::Deserialize;
 use splineskin::drawing::authors_svg::{authors_joints, read_authors_paths, AuthorsPath};
 use splineskin::drawing::JointKind;
-
-/// The shared data directory (`../shared/data` from the repository root), if present.
-fn data_root() -> Option<PathBuf> {
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
-    root.is_dir().then(|| root.to_path_buf())
-}
 
 /// What these tests read of an `authors-solver-outputs/*.json` file.
 #[derive(Deserialize)]
@@ -172,8 +169,7 @@ fn compare(ours: &[AuthorsPath], reference: &[InputPath]) -> Option<String> {
 
 #[test]
 fn authors_svg_reproduces_every_reference_input_exactly() {
-    let Some(root) = data_root() else {
-        println!("skipped: ../shared/data not found");
+    let Some(root) = external_data::shared_data() else {
         return;
     };
     let files = solver_output_files(&root);
@@ -231,8 +227,7 @@ fn reference_kind_name(kind: JointKind) -> &'static str {
 
 #[test]
 fn authors_joints_reproduce_default_kinds_of_unedited_scenes() {
-    let Some(root) = data_root() else {
-        println!("skipped: ../shared/data not found");
+    let Some(root) = external_data::shared_data() else {
         return;
     };
     let dir = root.join("vectorskinning/authors-solver-outputs");

@@ -14,7 +14,10 @@
 //!
 //! Tests that read `../shared/data` print a message and pass when it is missing.
 
-use std::path::{Path as FsPath, PathBuf};
+#[path = "common/external_data.rs"]
+mod external_data;
+
+use std::path::Path as FsPath;
 
 use kurbo::{Affine, ParamCurveNearest, Point};
 use serde::Deserialize;
@@ -35,17 +38,6 @@ const COMPAT_TOLERANCE: f64 = 1e-6;
 /// Identity and common-affine exactness, as a fraction of the diagonal: rounding of
 /// `Σ_i w_i T_i` (weights sum to one to ~1e-16) on coordinates of order 1e3.
 const EXACT: f64 = 1e-12;
-
-/// `../shared/data`, or `None` (with a message) when it is missing.
-fn data_root() -> Option<PathBuf> {
-    let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
-    if root.is_dir() {
-        Some(root)
-    } else {
-        eprintln!("skipped: ../shared/data not found next to the repository");
-        None
-    }
-}
 
 /// The fields of an `authors-solver-outputs` case used here.
 #[derive(Deserialize)]
@@ -148,7 +140,7 @@ fn authors_shepard(scene: &Scene) -> Shepard {
 
 #[test]
 fn authors_naive_engines_agree_in_compatibility_mode() {
-    let Some(root) = data_root() else {
+    let Some(root) = external_data::shared_data() else {
         return;
     };
     let mut checked = Vec::new();
@@ -441,7 +433,7 @@ fn ours_beats_the_baselines_on_the_demo() {
 
 #[test]
 fn ours_beats_the_baselines_on_the_authors_clam_and_turtles() {
-    let Some(root) = data_root() else {
+    let Some(root) = external_data::shared_data() else {
         return;
     };
     let scenes = [

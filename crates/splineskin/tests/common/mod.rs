@@ -3,17 +3,13 @@
 
 use std::path::PathBuf;
 
-/// `../shared/data` relative to the repository root, if present. Tests that need it print
-/// why they are skipped when it is missing (CI always has it: `.ci/run` fails without it).
+/// `../shared/data` relative to the repository root, if present. When it is missing the calling
+/// test skips with a message that `.ci/run` counts, or fails when `CI` is set
+/// ([`external_data::shared_data`]).
 pub fn data_root() -> Option<PathBuf> {
-    let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data"));
-    if root.is_dir() {
-        Some(root)
-    } else {
-        eprintln!("skipped: ../shared/data not found next to the repository");
-        None
-    }
+    external_data::shared_data()
 }
+
 /// A small deterministic generator (SplitMix64), so that random test inputs are reproducible.
 /// Test files add their own samplers (`impl Rng { fn pose(..) }`).
 pub struct Rng(pub u64);
@@ -36,6 +32,7 @@ impl Rng {
 }
 
 pub mod authors_outputs;
+pub mod external_data;
 pub mod reference_igl;
 pub mod scene_compare;
 pub mod test_dir;
