@@ -158,7 +158,12 @@ fn map_about(re: f64, im: f64, p: Point, q: Point) -> Affine {
 /// // One unit right of the pivot: scaled to two, turned to below it, moved right by one.
 /// assert!((t * Point::new(11.0, 20.0) - Point::new(11.0, 22.0)).hypot() < 1e-12);
 /// ```
-pub fn transform_about(pivot: Point, translate: Vec2, rotate_degrees: f64, scale: (f64, f64)) -> Affine {
+pub fn transform_about(
+    pivot: Point,
+    translate: Vec2,
+    rotate_degrees: f64,
+    scale: (f64, f64),
+) -> Affine {
     let about = pivot.to_vec2();
     Affine::translate(about + translate)
         * Affine::rotate(rotate_degrees.to_radians())

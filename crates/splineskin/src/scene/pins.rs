@@ -6,16 +6,16 @@
 //!
 //! 1. **Candidates.** A square grid of cell size `c = L / grid_cells` (`L` the longer side of
 //!    the drawing's control-point box) is laid over the drawing. A cell centre is *inside the
-//!    art* when it is inside one element's closed subpaths by parity: an odd number of the
-//!    element's closed subpaths' edges (each flattened to within `c/8`) cross the row to its
-//!    left. An odd crossing count is an odd winding number, which is inside under **both**
-//!    SVG fill rules (`nonzero` and `evenodd`), so a pin never lands in a hole whichever rule
-//!    the element uses; only regions a `nonzero` element covers twice (overlapping subpaths
-//!    of the same direction) are passed over. Open subpaths enclose nothing and are not
-//!    candidates. Elements are told apart by the drawing's source ([`Drawing::source`]);
-//!    without one every closed path is its own shape. The drawing does not record paint, so a
-//!    closed outline drawn with `fill="none"` counts as a shape (in practice such outlines
-//!    enclose the drawing's coloured fills).
+//!    art* when it is inside one element's fill by parity: an odd number of the edges of the
+//!    element's subpaths (each flattened to within `c/8`, an open one closed by a line from
+//!    its end to its start, as SVG fills it) cross the row to its left. An odd crossing count
+//!    is an odd winding number, which is inside under **both** SVG fill rules (`nonzero` and
+//!    `evenodd`), so a pin never lands in a hole whichever rule the element uses; only regions
+//!    a `nonzero` element covers twice (overlapping subpaths of the same direction) are passed
+//!    over. Elements are told apart by the drawing's source ([`Drawing::source`]); without one
+//!    every path is its own shape. The drawing does not record paint, so every element counts
+//!    as filled (SVG's default paint), also one drawn with `fill="none"`: in practice such
+//!    outlines and strokes lie on or around the drawing's coloured fills.
 //! 2. **Main pieces, inset.** The inside cells form *pieces* (4-connected sets of cells);
 //!    only pieces of at least `piece_fraction` times the largest piece's area take pins, so
 //!    that a figure's pins are not spent on small details set apart from it (a bubble, a
@@ -24,8 +24,8 @@
 //!    are taken only from cells of main pieces whose depth is at least
 //!    `min(INSET_CELLS · c, d_max / 2)` (`d_max` the largest depth there), so that they sit
 //!    inside shapes rather than on their edges.
-//! 3. **No shape at all.** A drawing with no inside cell (only open paths, or shapes smaller
-//!    than a cell) takes its candidates on its curves instead: points every `c` of parameter
+//! 3. **No shape at all.** A drawing with no inside cell (only straight strokes, or shapes
+//!    smaller than a cell) takes its candidates on its curves instead: points every `c` of parameter
 //!    length along every curve (`⌈chord length / c⌉` per curve).
 //! 4. **Farthest points.** The given pins come first, kept exactly. If there are none, the
 //!    first pin is the deepest candidate (the middle of the thickest shape). Each next pin is
@@ -353,8 +353,7 @@ fn check_options(options: &PinOptions) -> Result<(), PinError> {
             options.piece_fraction
         ));
     }
-    if options.min_pins == 0 || options.min_pins > options.max_pins || options.max_pins > MAX_PINS
-    {
+    if options.min_pins == 0 || options.min_pins > options.max_pins || options.max_pins > MAX_PINS {
         return invalid(format!(
             "min_pins = {}, max_pins = {} (expected 1 ≤ min_pins ≤ max_pins ≤ {MAX_PINS})",
             options.min_pins, options.max_pins
@@ -523,12 +522,9 @@ fn main_pieces(inside: &[bool], n_cols: usize, n_rows: usize, fraction: f64) -> 
 fn inside_mask(drawing: &Drawing, grid: &Grid) -> Vec<bool> {
     let mut inside = vec![false; grid.n_cols * grid.n_rows];
     let tolerance = grid.cell / 8.0;
-    // Closed paths grouped by element (each path alone without a source).
+    // Paths grouped by element (each path alone without a source).
     let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
-    for (i, path) in drawing.paths.iter().enumerate() {
-        if !path.closed {
-            continue;
-        }
+    for i in 0..drawing.paths.len() {
         let key = drawing
             .source
             .as_ref()
@@ -772,12 +768,18 @@ mod tests {
             let spread = min_pairwise(&pins);
             assert!(spread >= bound, "{k} pins {spread} apart, bound {bound}");
             for p in &pins {
-                assert!(p.x > 0.0 && p.x < 100.0 && p.y > 0.0 && p.y < 100.0, "{p:?}");
+                assert!(
+                    p.x > 0.0 && p.x < 100.0 && p.y > 0.0 && p.y < 100.0,
+                    "{p:?}"
+                );
             }
         }
         // The first pin is the deepest point: the middle.
         let pins = place_pins(&d, &[], &exactly(1)).unwrap();
-        assert!((pins[0] - Point::new(50.0, 50.0)).hypot() <= cell, "{pins:?}");
+        assert!(
+            (pins[0] - Point::new(50.0, 50.0)).hypot() <= cell,
+            "{pins:?}"
+        );
     }
 
     #[test]
@@ -825,7 +827,8 @@ mod tests {
     fn pins_pass_over_small_pieces_set_apart() {
         // A 100 × 100 square and a 10 × 10 one (1 % of its area) apart: however many pins are
         // asked for, none on the small one, unless the fraction lets it in.
-        let d = drawing(r#"<rect width="100" height="100"/><rect x="150" width="10" height="10"/>"#);
+        let d =
+            drawing(r#"<rect width="100" height="100"/><rect x="150" width="10" height="10"/>"#);
         let small = |p: &Point| p.x > 140.0;
         let pins = place_pins(&d, &[], &exactly(12)).unwrap();
         assert!(!pins.iter().any(small), "{pins:?}");
@@ -865,17 +868,37 @@ mod tests {
     }
 
     #[test]
-    fn pins_on_curves_when_nothing_is_closed() {
-        let d = drawing(r#"<path fill="none" stroke="black" d="M0 0 C30 40 70 40 100 0"/>"#);
+    fn pins_fill_open_paths_as_svg_does() {
+        // An open path is filled as if closed by a line back to its start: the lens between
+        // the curve and its chord (y from 0 to 30).
+        let d = drawing(r#"<path d="M0 0 C30 40 70 40 100 0"/>"#);
         let pins = place_pins(&d, &[], &exactly(3)).unwrap();
-        let curve = d.paths[0].curve(0);
         for p in &pins {
-            let nearest = kurbo::ParamCurveNearest::nearest(&curve, *p, 1e-9);
-            assert!(nearest.distance_sq.sqrt() < 1e-2, "{p:?} is off the curve");
+            assert!(p.x > 0.0 && p.x < 100.0 && p.y > 0.0 && p.y < 30.0, "{p:?}");
         }
-        // Farthest points on a curve: both ends are taken.
-        assert!(pins.iter().any(|p| (*p - curve.p0).hypot() < 1e-2), "{pins:?}");
-        assert!(pins.iter().any(|p| (*p - curve.p3).hypot() < 1e-2), "{pins:?}");
+    }
+
+    #[test]
+    fn pins_on_curves_when_nothing_encloses_an_area() {
+        // Two straight strokes: no area, so the pins go on the lines.
+        let d = drawing(
+            r#"<path fill="none" stroke="black" d="M0 0 L100 0"/>
+               <line x1="0" y1="10" x2="100" y2="60" stroke="black"/>"#,
+        );
+        let pins = place_pins(&d, &[], &exactly(4)).unwrap();
+        for p in &pins {
+            let on_first = p.y.abs() < 1e-9 && (0.0..=100.0).contains(&p.x);
+            let on_second = (p.y - (10.0 + 0.5 * p.x)).abs() < 1e-2 && (0.0..=100.0).contains(&p.x);
+            assert!(on_first || on_second, "{p:?} is off the lines");
+        }
+        // Farthest points on lines: the far ends are taken.
+        for end in [
+            Point::new(100.0, 0.0),
+            Point::new(0.0, 0.0),
+            Point::new(100.0, 60.0),
+        ] {
+            assert!(pins.iter().any(|p| (*p - end).hypot() < 1e-2), "{pins:?}");
+        }
     }
 
     #[test]
@@ -890,7 +913,10 @@ mod tests {
         assert!(matches!(e, PinError::NonFinite { index: 0, .. }), "{e}");
         let two = [Point::new(1.0, 1.0), Point::new(2.0, 2.0)];
         let e = place_pins(&d, &two, &exactly(1)).unwrap_err();
-        assert_eq!(e.to_string(), "1 pins asked for with 2 given: expected a count from 2 to 256");
+        assert_eq!(
+            e.to_string(),
+            "1 pins asked for with 2 given: expected a count from 2 to 256"
+        );
         let e = place_pins(&d, &[], &exactly(0)).unwrap_err();
         assert!(e.to_string().contains("from 1 to"), "{e}");
         let e = place_pins(&d, &[], &PinOptions::default().with_grid_cells(0)).unwrap_err();
@@ -899,7 +925,10 @@ mod tests {
         let coarse = exactly(5).with_grid_cells(2);
         assert_eq!(
             place_pins(&d, &[], &coarse),
-            Err(PinError::TooFewCandidates { asked: 5, placed: 4 })
+            Err(PinError::TooFewCandidates {
+                asked: 5,
+                placed: 4
+            })
         );
     }
 
