@@ -254,12 +254,10 @@ fn rig_pins_land_on_each_shape_and_keep_given_ones() {
 #[test]
 fn deform_svg_with_pins_equals_deform_of_the_scene() {
     let dir = blocks_dir("equivalent");
-    let scene = format!(
-        r#"{{"splineskin_scene": 1, "svg": "blocks.svg",
-            "handles": [{{"position": [30, 50]}}, {{"position": [90, 50]}}, {{"position": [165, 50]}}],
-            "weights": {{"family": "{{family}}"}},
-            "pose": [{{}}, {{"translate": [5, -3], "rotate": 15}}, {{"scale": [1.5, 0.5], "rotate": -20}}]}}"#
-    );
+    let scene = r#"{"splineskin_scene": 1, "svg": "blocks.svg",
+            "handles": [{"position": [30, 50]}, {"position": [90, 50]}, {"position": [165, 50]}],
+            "weights": {"family": "{family}"},
+            "pose": [{}, {"translate": [5, -3], "rotate": 15}, {"scale": [1.5, 0.5], "rotate": -20}]}"#;
     let flags = [
         "--pin",
         "30,50",
