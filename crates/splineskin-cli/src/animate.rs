@@ -1,4 +1,6 @@
-//! `splineskin animate SCENE -o out.svg | -o frames/`.
+//! `splineskin animate SCENE -o out.svg | -o frames/`, or `splineskin animate DRAWING.svg
+//! [--pin X,Y]… --move I:DX,DY… -o out.svg`: the pins go from rest to the pose and back
+//! ([`crate::drawing_input::there_and_back`]).
 //!
 //! The scene's keyframes ([`splineskin::animation`]) are sampled at its frame rate; each frame's
 //! pose is deformed with the rig built once (fixed ratio: one mat-vec per frame; flexible: one
@@ -21,15 +23,17 @@ use kurbo::Point;
 use splineskin::animation::deform_frames;
 use splineskin::drawing::svg_animate::write_animated_svg;
 use splineskin::drawing::svg_out::write_svg;
-use splineskin::scene::{Compat, Deformer, Scene};
+use splineskin::scene::{Compat, Deformer};
 
 use crate::output::{write_atomic, PNG_SIZE};
 use crate::CompatArg;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The scene: our JSON format (with an `animation`) or the paper authors'
-    /// `*-deformation.json` (with `animationFrames`).
+    /// The scene (our JSON format with an `animation`, or the paper authors'
+    /// `*-deformation.json` with `animationFrames`), or an SVG drawing with its pins and pose
+    /// given by the flags below: it plays rest, pose, rest over 2 s (see --duration).
+    #[arg(value_name = "SCENE|SVG")]
     scene: PathBuf,
     /// `NAME.svg`: an animated SVG (SMIL, plays in browsers). Any other name: a folder of
     /// numbered frames `frame-0000.svg`, … (replaced if it holds only an earlier run's frames).
@@ -51,6 +55,10 @@ pub struct Args {
     /// Flexible G¹ and fixed-angle junctions (as in `deform --flexible`).
     #[arg(long)]
     flexible: bool,
+    #[command(flatten)]
+    pins: crate::drawing_input::PinArgs,
+    #[command(flatten)]
+    pose_args: crate::drawing_input::PoseArgs,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -72,8 +80,18 @@ pub fn run(args: Args) -> Result<()> {
             args.output.display()
         );
     }
-    let scene = Scene::load(&args.scene)?;
     let scene_name = args.scene.display().to_string();
+    let from_svg = crate::drawing_input::is_svg(&args.scene);
+    if from_svg && args.pose_args.is_empty() {
+        bail!(
+            "{scene_name}: nothing moves: give the pose the animation goes to with --move \
+             I:DX,DY, --rotate I:DEG or --scale I:S (pins numbered from 0)"
+        );
+    }
+    let mut scene = crate::drawing_input::load(&args.scene, &args.pins, Some(&args.pose_args))?;
+    if from_svg {
+        scene.animation = Some(crate::drawing_input::there_and_back(&scene)?);
+    }
     let Some(animation) = &scene.animation else {
         bail!(
             "{scene_name}: the scene has no animation (expected an \"animation\" with keyframes \

@@ -1,18 +1,21 @@
-//! `splineskin deform SCENE -o OUT`.
+//! `splineskin deform SCENE -o OUT`, or `splineskin deform DRAWING.svg [--pin X,Y]…
+//! [--move I:DX,DY]… -o OUT` ([`crate::drawing_input`]).
 
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use splineskin::drawing::Drawing;
-use splineskin::scene::{Compat, Deformer, Scene};
+use splineskin::scene::{Compat, Deformer};
 
 use crate::output::write_deformed;
 use crate::CompatArg;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The scene: our JSON format or the paper authors' `*-deformation.json`.
+    /// The scene (our JSON format or the paper authors' `*-deformation.json`), or an SVG
+    /// drawing with its pins and pose given by the flags below.
+    #[arg(value_name = "SCENE|SVG")]
     scene: PathBuf,
     /// Output file: `.svg` (the input document with deformed paths), `.png`, or `.json`
     /// (`{"paths":[{"closed":…,"points":[[x,y],…]}]}`).
@@ -29,11 +32,15 @@ pub struct Args {
     /// (`"flexible": true`; the authors' scenes always do).
     #[arg(long)]
     flexible: bool,
+    #[command(flatten)]
+    pins: crate::drawing_input::PinArgs,
+    #[command(flatten)]
+    pose_args: crate::drawing_input::PoseArgs,
 }
 
 pub fn run(args: Args) -> Result<()> {
     crate::output::Format::of(&args.output)?;
-    let scene = Scene::load(&args.scene)?;
+    let scene = crate::drawing_input::load(&args.scene, &args.pins, Some(&args.pose_args))?;
     let mut setup = scene.setup(args.compat.into())?;
     setup.options = setup.options.with_parallel(true);
     for w in &setup.warnings {

@@ -9,8 +9,10 @@ mod compare;
 mod defop;
 mod deform;
 mod demo;
+mod drawing_input;
 mod info;
 mod output;
+mod rig;
 mod serve;
 mod subdiv;
 mod weights;
@@ -27,8 +29,12 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Deform a scene's drawing by one of its poses and write SVG, PNG or JSON.
+    /// Deform a scene's drawing by one of its poses, or an SVG by pins and a pose given on the
+    /// command line, and write SVG, PNG or JSON.
     Deform(deform::Args),
+    /// Rig a drawing: write a scene with its pins (placed automatically unless given) and
+    /// weights, ready for deform, animate, weights and serve.
+    Rig(rig::Args),
     /// Animate a scene's keyframes: an animated SVG (SMIL) or a folder of numbered frames.
     Animate(animate::Args),
     /// Draw the spline fit beside the naive baselines (PNG) and print their metrics.
@@ -55,6 +61,7 @@ fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Deform(a) => deform::run(a),
+        Command::Rig(a) => rig::run(a),
         Command::Animate(a) => animate::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Info(a) => info::run(a),

@@ -24,7 +24,7 @@ use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use serde::{Deserialize, Serialize};
 use splineskin::mesh::{MeshError, TriMesh};
-use splineskin::scene::{Compat, Scene};
+use splineskin::scene::Compat;
 use splineskin::weight_map::{
     render_weight_map, HandleMarker, WeightMapOptions, DEFAULT_ISO_STEP, DEFAULT_PANEL_WIDTH,
 };
@@ -37,9 +37,11 @@ use crate::output::{write_atomic, Format};
     clap::ArgGroup::new("input").required(true).args(["scene", "mesh"]),
 ))]
 pub struct Args {
-    /// A scene (our JSON format or the paper authors' `*-deformation.json`) whose weights to
-    /// draw as PNG: one panel per handle, the weight in viridis from 0 (dark purple) to 1
-    /// (yellow), values below 0 in red and above 1 in pink, the drawing's curves on top.
+    /// A scene (our JSON format or the paper authors' `*-deformation.json`), or an SVG drawing
+    /// with its pins given by the flags below, whose weights to draw as PNG: one panel per
+    /// handle, the weight in viridis from 0 (dark purple) to 1 (yellow), values below 0 in red
+    /// and above 1 in pink, the drawing's curves on top.
+    #[arg(value_name = "SCENE|SVG")]
     scene: Option<PathBuf>,
     /// A triangle mesh with handle vertices, in the reference-igl JSON layout:
     /// `{"mesh": {"V": [[x,y],…], "F": [[i,j,k],…]}, "handles": {"indices": [v,…]}}`
@@ -68,6 +70,8 @@ pub struct Args {
     /// Width of each panel in pixels (its height follows the drawing's proportions).
     #[arg(long, value_name = "PX", default_value_t = DEFAULT_PANEL_WIDTH, conflicts_with = "mesh")]
     width: u32,
+    #[command(flatten)]
+    pins: crate::drawing_input::PinArgs,
 }
 
 /// The `--kind` values.
@@ -82,6 +86,13 @@ pub enum Kind {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    if let (Some(mesh), [flag, ..]) = (&args.mesh, args.pins.given().as_slice()) {
+        bail!(
+            "{}: {flag} applies to an SVG drawing; a mesh's handles are its handles.indices and \
+             its family --kind",
+            mesh.display()
+        );
+    }
     let Some(mesh_path) = &args.mesh else {
         let scene = args.scene.as_deref().unwrap_or(Path::new("?"));
         return draw_scene(scene, &args);
@@ -132,7 +143,7 @@ fn draw_scene(scene_path: &Path, args: &Args) -> Result<()> {
             args.output.display()
         );
     }
-    let scene = Scene::load(scene_path)?;
+    let scene = crate::drawing_input::load(scene_path, &args.pins, None)?;
     let n_handles = scene.n_handles();
     if let Some(i) = args.handle.filter(|&i| i >= n_handles) {
         bail!(

@@ -31,7 +31,7 @@ pub mod document;
 mod document_routes;
 mod progress;
 mod rig_routes;
-mod scene_file;
+pub mod scene_file;
 mod store;
 pub mod wire;
 

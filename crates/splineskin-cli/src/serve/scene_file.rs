@@ -57,7 +57,10 @@ pub fn defop_settings(scene: &EditScene, extras: &SceneExtras) -> Option<DefOpSe
 #[derive(Serialize)]
 struct SceneFile<'a> {
     splineskin_scene: u32,
-    svg_text: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    svg: Option<&'a str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    svg_text: Option<&'a str>,
     handles: Vec<HandleFile>,
     weights: &'a WeightsWire,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -120,11 +123,25 @@ fn domain_file(d: &DomainOptions) -> DomainFile {
     }
 }
 
-/// The scene file text (pretty JSON) of `scene` on the drawing `svg_text`. While the page
-/// shows an operator, the file's weights are the opened scene's ([`SceneExtras::weights`],
-/// default Shepard) and its `defop` section says how the operator was trained
-/// ([`defop_settings`]).
+/// Where a written scene's drawing is.
+#[derive(Clone, Copy, Debug)]
+pub enum SvgRef<'a> {
+    /// The document itself, inline (`svg_text`).
+    Inline(&'a str),
+    /// A file name, relative to the scene's folder (`svg`).
+    File(&'a str),
+}
+
+/// The scene file text (pretty JSON) of `scene` on the drawing `svg_text`, inline. While the
+/// page shows an operator, the file's weights are the opened scene's
+/// ([`SceneExtras::weights`], default Shepard) and its `defop` section says how the operator
+/// was trained ([`defop_settings`]).
 pub fn scene_json(svg_text: &str, scene: &EditScene, extras: &SceneExtras) -> String {
+    scene_json_with(SvgRef::Inline(svg_text), scene, extras)
+}
+
+/// [`scene_json`] with the drawing inline or named as a file ([`SvgRef`]).
+pub fn scene_json_with(svg: SvgRef<'_>, scene: &EditScene, extras: &SceneExtras) -> String {
     let shepard = WeightsWire {
         family: "shepard".into(),
         exponent: Some(2.0),
@@ -150,7 +167,14 @@ pub fn scene_json(svg_text: &str, scene: &EditScene, extras: &SceneExtras) -> St
     });
     let file = SceneFile {
         splineskin_scene: splineskin::scene::ours::SCENE_VERSION,
-        svg_text,
+        svg: match svg {
+            SvgRef::File(name) => Some(name),
+            SvgRef::Inline(_) => None,
+        },
+        svg_text: match svg {
+            SvgRef::Inline(text) => Some(text),
+            SvgRef::File(_) => None,
+        },
         handles: scene
             .handles
             .iter()

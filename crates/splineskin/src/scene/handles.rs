@@ -139,6 +139,38 @@ fn map_about(re: f64, im: f64, p: Point, q: Point) -> Affine {
     Affine::new([re, im, -im, re, q.x - moved.x, q.y - moved.y])
 }
 
+/// A handle's map from parts, as scenes write them (`{"translate": t, "rotate": θ, "scale":
+/// [sx, sy]}`, [`super::ours`]): scale by `(sx, sy)`, then rotate by `θ` degrees, both about
+/// `pivot`, then translate by `t`:
+///
+/// ```text
+/// x ↦ pivot + t + R(θ) S(sx, sy) (x − pivot)
+/// ```
+///
+/// With SVG's y axis pointing down, a positive `θ` turns clockwise on screen.
+///
+/// ```
+/// use kurbo::{Point, Vec2};
+/// use splineskin::scene::handles::transform_about;
+/// let pivot = Point::new(10.0, 20.0);
+/// let t = transform_about(pivot, Vec2::new(1.0, 0.0), 90.0, (2.0, 2.0));
+/// assert!((t * pivot - Point::new(11.0, 20.0)).hypot() < 1e-12);
+/// // One unit right of the pivot: scaled to two, turned to below it, moved right by one.
+/// assert!((t * Point::new(11.0, 20.0) - Point::new(11.0, 22.0)).hypot() < 1e-12);
+/// ```
+pub fn transform_about(
+    pivot: Point,
+    translate: Vec2,
+    rotate_degrees: f64,
+    scale: (f64, f64),
+) -> Affine {
+    let about = pivot.to_vec2();
+    Affine::translate(about + translate)
+        * Affine::rotate(rotate_degrees.to_radians())
+        * Affine::scale_non_uniform(scale.0, scale.1)
+        * Affine::translate(-about)
+}
+
 /// The translation moving a cage vertex (or point handle) at rest position `rest` to `posed`.
 pub fn translation_to(rest: Point, posed: Point) -> Affine {
     Affine::translate(posed - rest)

@@ -17,12 +17,14 @@
 //! Handles come in three kinds ([`handles`]): point handles ([`Scene::handles`]), bones
 //! ([`Scene::bones`]) and the vertices of a cage ([`Scene::cage`]); the rig numbers them in
 //! that order. [`Puppet`] keeps a scene's weights and rig cached while only its pose changes.
+//! [`place_pins`] places point handles on a drawing's filled shapes automatically ([`pins`]).
 
 pub mod authors;
 pub mod defop;
 mod deformer;
 pub mod handles;
 pub mod ours;
+pub mod pins;
 mod session;
 mod setup;
 
@@ -32,6 +34,7 @@ pub use defop::{
 };
 pub use deformer::Deformer;
 pub use handles::{Bone, BonePoseError, BoneTransform, HandleKind, HandleSet};
+pub use pins::{place_pins, PinCount, PinError, PinOptions};
 pub use session::{Puppet, PuppetStage, PuppetStats};
 pub use setup::{handle_weights, mesh_weights, Compat, Setup, AUTHORS_SHEPARD_SNAP};
 

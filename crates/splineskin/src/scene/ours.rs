@@ -77,7 +77,7 @@ use std::path::Path as FsPath;
 use kurbo::{Affine, Point, Vec2};
 use serde::Deserialize;
 
-use super::handles::{cage_vertex_map, translation_to};
+use super::handles::{cage_vertex_map, transform_about, translation_to};
 use super::setup::check_rest_handles;
 use super::{
     check_affine, check_point, handle_element, json_error, Bone, BoneTransform, Engine, HandleKind,
@@ -399,15 +399,24 @@ impl TransformFile {
                     Some(ScaleFile::NonUniform([sx, sy])) => (sx, sy),
                 };
                 let t = n.translate.unwrap_or([0.0, 0.0]);
-                let about = Vec2::new(pivot.x, pivot.y);
-                Ok(Affine::translate(about + Vec2::new(t[0], t[1]))
-                    * Affine::rotate(n.rotate.unwrap_or(0.0).to_radians())
-                    * Affine::scale_non_uniform(sx, sy)
-                    * Affine::translate(-about))
+                Ok(transform_about(
+                    pivot,
+                    Vec2::new(t[0], t[1]),
+                    n.rotate.unwrap_or(0.0),
+                    (sx, sy),
+                ))
             }
         }
     }
 }
+
+/// What a file that is neither of the scene formats is told: the formats, and the two ways
+/// from a drawing to a scene.
+const NOT_A_SCENE: &str = "not a scene: expected our format (with \"splineskin_scene\": 1) or \
+    the paper authors' (with \"gInputSVGText\"); to start from a drawing, give the SVG itself \
+    (`splineskin deform DRAWING.svg --pin X,Y --move 0:DX,DY -o OUT.svg`; pins are placed \
+    automatically when no --pin is given) or write a scene with `splineskin rig DRAWING.svg -o \
+    SCENE.json`";
 
 pub(crate) fn parse(
     text: &str,
@@ -418,7 +427,7 @@ pub(crate) fn parse(
         if !text.contains("\"splineskin_scene\"") {
             SceneError::Json {
                 origin: origin.to_string(),
-                message: "not a scene: expected our format (with \"splineskin_scene\": 1) or the paper authors' (with \"gInputSVGText\")".into(),
+                message: NOT_A_SCENE.into(),
             }
         } else {
             json_error(origin, e)

@@ -1,0 +1,131 @@
+//! `splineskin rig DRAWING.svg -o SCENE.json [--pin X,Y]… [--pins N] [--weights FAMILY]
+//! [--inline] [--move I:DX,DY]…`: a scene of ours (version 1) for a drawing, its pins placed
+//! by [`splineskin::scene::place_pins`] unless given, written by the editor's scene writer
+//! and checked by reading it back. The drawing is named relative to the scene's folder, or
+//! written into the scene with `--inline`.
+
+use std::path::{Component, Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+use splineskin::scene::Scene;
+
+use crate::drawing_input::{folder_of, is_svg, PinArgs, PoseArgs, Rigged};
+use crate::output::write_atomic;
+use crate::serve::scene_file::SvgRef;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The drawing (SVG).
+    drawing: PathBuf,
+    /// The scene to write (JSON, our format).
+    #[arg(short, long, value_name = "SCENE.json")]
+    output: PathBuf,
+    #[command(flatten)]
+    pins: PinArgs,
+    /// Write the drawing into the scene (`svg_text`) instead of naming its file (`svg`,
+    /// relative to the scene's folder).
+    #[arg(long)]
+    inline: bool,
+    // A pose to write into the scene (the rest pose without one).
+    #[command(flatten)]
+    pose: PoseArgs,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    if !is_svg(&args.drawing) {
+        bail!(
+            "{}: expected an SVG drawing (a file ending in .svg, or one starting with '<')",
+            args.drawing.display()
+        );
+    }
+    let is_json = args
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    if !is_json {
+        bail!(
+            "{}: a scene is JSON (expected a name ending in .json)",
+            args.output.display()
+        );
+    }
+    let rigged = Rigged::new(&args.drawing, &args.pins, Some(&args.pose))?;
+    let scene_dir = folder_of(&args.output);
+    let text;
+    let svg = if args.inline {
+        text = std::fs::read_to_string(&args.drawing)
+            .with_context(|| format!("{}: cannot read", args.drawing.display()))?;
+        SvgRef::Inline(&text)
+    } else {
+        let relative = relative_path(&args.drawing, &scene_dir)?;
+        text = relative
+            .to_str()
+            .with_context(|| {
+                format!(
+                    "{}: its path from {} is not UTF-8, which a scene cannot name (use --inline)",
+                    args.drawing.display(),
+                    scene_dir.display()
+                )
+            })?
+            .to_string();
+        SvgRef::File(&text)
+    };
+    let json = rigged.scene_json(svg);
+    // What is written must read back as the scene asked for.
+    let scene = Scene::from_json(&json, &args.output.display().to_string(), Some(&scene_dir))
+        .with_context(|| {
+            format!(
+                "{}: the scene written does not read back (a bug)",
+                args.output.display()
+            )
+        })?;
+    debug_assert_eq!(scene.handles, rigged.pins);
+    write_atomic(&args.output, json.as_bytes())?;
+    let placed = if rigged.n_given == rigged.pins.len() {
+        "as given".to_string()
+    } else {
+        format!(
+            "{} placed automatically",
+            rigged.pins.len() - rigged.n_given
+        )
+    };
+    eprintln!(
+        "{}: {} curves in {} paths, {} pins ({placed}): {}; {} weights -> {}",
+        args.drawing.display(),
+        rigged.drawing.n_curves(),
+        rigged.drawing.paths.len(),
+        rigged.pins.len(),
+        rigged.pin_list(),
+        rigged.family.name(),
+        args.output.display()
+    );
+    Ok(())
+}
+
+/// The path of `file` from the folder `dir`, both made absolute first (`../art/fish.svg`).
+fn relative_path(file: &Path, dir: &Path) -> Result<PathBuf> {
+    let file = file
+        .canonicalize()
+        .with_context(|| format!("{}: cannot read", file.display()))?;
+    let dir = dir.canonicalize().with_context(|| {
+        format!(
+            "{}: cannot find the scene's folder (expected an existing folder)",
+            dir.display()
+        )
+    })?;
+    let file_parts: Vec<Component> = file.components().collect();
+    let dir_parts: Vec<Component> = dir.components().collect();
+    let common = file_parts
+        .iter()
+        .zip(&dir_parts)
+        .take_while(|(a, b)| a == b)
+        .count();
+    let mut relative = PathBuf::new();
+    for _ in common..dir_parts.len() {
+        relative.push("..");
+    }
+    for part in &file_parts[common..] {
+        relative.push(part);
+    }
+    Ok(relative)
+}

@@ -1,0 +1,600 @@
+//! From a drawing to a deformation without writing JSON, through the binary:
+//!
+//! * `splineskin rig DRAWING.svg -o SCENE.json`: the scene reads back (its drawing named
+//!   relative to the scene's folder, or inline), and `deform` of it at the rest pose gives the
+//!   drawing back; automatic pins lie inside the drawing's filled shapes (by kurbo's winding
+//!   number, independent of the placement's own test) and are spread (the covering bound of
+//!   `splineskin::scene::pins`); `--pin` pins are kept bit for bit;
+//! * `deform`, `animate` and `weights` of an SVG with `--pin`/`--move`/`--rotate`/`--scale`:
+//!   the same result as the equivalent scene;
+//! * bad input: each error names the flag or file and what was expected, and writes nothing.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use common::test_dir::TestDir;
+use kurbo::{BezPath, Point, Shape};
+use splineskin::drawing::{read_svg, read_svg_file, Drawing, ImportOptions};
+use splineskin::scene::{MeshFamily, Scene, WeightSpec};
+
+/// The bundled fish (made for this project).
+fn fish() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../splineskin/assets/demo.svg")
+}
+
+/// A small drawing of our own: a 100 × 60 body with a 50 × 50 square beside it and an open
+/// stroke (not a shape).
+const BLOCKS: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100">
+  <path fill="#88c" d="M10 20 C40 10 80 10 110 20 L110 80 C80 90 40 90 10 80 Z"/>
+  <rect x="140" y="25" width="50" height="50" fill="#c88"/>
+  <path fill="none" stroke="black" d="M10 95 C60 99 120 99 190 95"/>
+</svg>"##;
+
+fn run(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_splineskin"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+/// Runs and expects success, returning stderr.
+fn ok(dir: &Path, args: &[&str]) -> String {
+    let out = run(dir, args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{args:?} failed: {stderr}");
+    stderr
+}
+
+fn blocks_dir(name: &str) -> TestDir {
+    let dir = TestDir::new(&format!("splineskin-rig-cli-{name}-"));
+    std::fs::write(dir.join("blocks.svg"), BLOCKS).unwrap();
+    dir
+}
+
+/// The deformed chain points of a `deform -o OUT.json`.
+fn read_points(path: &Path) -> Vec<Point> {
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    v["paths"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|p| p["points"].as_array().unwrap().clone())
+        .map(|q| Point::new(q[0].as_f64().unwrap(), q[1].as_f64().unwrap()))
+        .collect()
+}
+
+fn max_distance(a: &[Point], b: &[Point]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (*p - *q).hypot())
+        .fold(0.0, f64::max)
+}
+
+/// The closed paths of `drawing` as kurbo paths, one per element of the source.
+fn closed_shapes(drawing: &Drawing) -> Vec<BezPath> {
+    let source = drawing.source.as_ref().unwrap();
+    let mut shapes: Vec<(usize, BezPath)> = Vec::new();
+    for (i, path) in drawing.paths.iter().enumerate() {
+        if !path.closed {
+            continue;
+        }
+        let element = source.element_of_path(i).unwrap();
+        if shapes.last().is_none_or(|(e, _)| *e != element) {
+            shapes.push((element, BezPath::new()));
+        }
+        let bez = &mut shapes.last_mut().unwrap().1;
+        bez.move_to(path.points[0]);
+        for j in 0..path.n_curves() {
+            let c = path.curve(j);
+            bez.curve_to(c.p1, c.p2, c.p3);
+        }
+        bez.close_path();
+    }
+    shapes.into_iter().map(|(_, b)| b).collect()
+}
+
+fn min_pairwise(pins: &[Point]) -> f64 {
+    let mut d = f64::INFINITY;
+    for (a, p) in pins.iter().enumerate() {
+        for q in &pins[a + 1..] {
+            d = d.min((*p - *q).hypot());
+        }
+    }
+    d
+}
+
+/// Inset of automatic pins, in cells of the 256-cell grid, plus one cell of discretisation
+/// (`splineskin::scene::pins::INSET_CELLS` + 1).
+const ERODE_CELLS: f64 = 3.0;
+
+#[test]
+fn rig_scene_reads_back_and_deforms_at_rest_to_the_drawing() {
+    let dir = TestDir::new("splineskin-rig-cli-fish-");
+    std::fs::create_dir(dir.join("scenes")).unwrap();
+    let fish = fish();
+    let stderr = ok(
+        &dir,
+        &["rig", fish.to_str().unwrap(), "-o", "scenes/fish.json"],
+    );
+    assert!(stderr.contains("placed automatically"), "{stderr}");
+    let text = std::fs::read_to_string(dir.join("scenes/fish.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(json["splineskin_scene"], 1);
+    // Named relative to the scene's folder, so the pair can move together.
+    let svg = json["svg"].as_str().unwrap();
+    assert!(svg.starts_with("../") && svg.ends_with("demo.svg"), "{svg}");
+    assert!(json.get("svg_text").is_none());
+    let scene = Scene::load(&dir.join("scenes/fish.json")).unwrap();
+    assert_eq!(scene.weights, WeightSpec::Mesh(MeshFamily::Bbw));
+    let drawing = read_svg_file(&fish, &ImportOptions::default()).unwrap();
+    assert_eq!(scene.svg_text, std::fs::read_to_string(&fish).unwrap());
+    let n = scene.handles.len();
+    assert!((3..=6).contains(&n), "{n} pins");
+
+    // Every pin inside one of the fish's filled shapes (odd winding: inside under either rule).
+    let shapes = closed_shapes(&drawing);
+    for p in &scene.handles {
+        assert!(
+            shapes.iter().any(|s| s.winding(*p) % 2 != 0),
+            "pin {p:?} is on no filled shape"
+        );
+    }
+    // Spread: n pins by farthest points over candidates covering at least the body's area
+    // less a band of the inset along its outline are at least √(A / (n π)) − cell/√2 apart.
+    let body = shapes
+        .iter()
+        .max_by(|a, b| a.area().abs().total_cmp(&b.area().abs()))
+        .unwrap();
+    let bounds = drawing.control_bounds().unwrap();
+    let cell = bounds.width().max(bounds.height()) / 256.0;
+    let area = body.area().abs() - body.perimeter(1e-3) * ERODE_CELLS * cell;
+    let bound = (area / (n as f64 * std::f64::consts::PI)).sqrt() - cell;
+    let spread = min_pairwise(&scene.handles);
+    assert!(spread >= bound, "pins {spread} apart, bound {bound}");
+
+    // deform at the rest pose reproduces the drawing (weights summing to one).
+    ok(&dir, &["deform", "scenes/fish.json", "-o", "rest.json"]);
+    let rest = read_points(&dir.join("rest.json"));
+    let error = max_distance(&rest, &drawing.flat_points());
+    assert!(
+        error <= 1e-9 * drawing.diagonal(),
+        "rest pose moved by {error}"
+    );
+
+    // --inline: the same scene with the document inside.
+    ok(
+        &dir,
+        &[
+            "rig",
+            fish.to_str().unwrap(),
+            "-o",
+            "inline.json",
+            "--inline",
+        ],
+    );
+    let inline = Scene::load(&dir.join("inline.json")).unwrap();
+    assert_eq!(inline.handles, scene.handles);
+    assert_eq!(inline.svg_text, scene.svg_text);
+}
+
+#[test]
+fn rig_pins_land_on_each_shape_and_keep_given_ones() {
+    let dir = blocks_dir("pins");
+    ok(
+        &dir,
+        &["rig", "blocks.svg", "-o", "auto.json", "--pins", "4"],
+    );
+    let scene = Scene::load(&dir.join("auto.json")).unwrap();
+    assert_eq!(scene.handles.len(), 4);
+    let body = |p: &Point| p.x > 10.0 && p.x < 110.0 && p.y > 20.0 && p.y < 80.0;
+    let square = |p: &Point| p.x > 140.0 && p.x < 190.0 && p.y > 25.0 && p.y < 75.0;
+    assert!(
+        scene.handles.iter().all(|p| body(p) || square(p)),
+        "{:?}",
+        scene.handles
+    );
+    assert!(scene.handles.iter().any(square), "{:?}", scene.handles);
+    // Shepard weights asked for; the drawing named by its file name, beside the scene.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("auto.json")).unwrap()).unwrap();
+    assert_eq!(json["svg"], "blocks.svg");
+
+    // Given pins are kept exactly (off the art too), first; --pins adds automatic ones.
+    ok(
+        &dir,
+        &[
+            "rig",
+            "blocks.svg",
+            "-o",
+            "mixed.json",
+            "--pin",
+            "0.1,0.2",
+            "--pin",
+            "-7.25,1e-3",
+            "--pins",
+            "3",
+            "--weights",
+            "shepard",
+        ],
+    );
+    let mixed = Scene::load(&dir.join("mixed.json")).unwrap();
+    assert_eq!(mixed.handles.len(), 3);
+    assert_eq!(mixed.handles[0], Point::new(0.1, 0.2));
+    assert_eq!(mixed.handles[1], Point::new(-7.25, 1e-3));
+    assert!(body(&mixed.handles[2]) || square(&mixed.handles[2]));
+    assert_eq!(mixed.weights, WeightSpec::Shepard { exponent: 2.0 });
+    // --pin alone: exactly those pins.
+    ok(
+        &dir,
+        &[
+            "rig",
+            "blocks.svg",
+            "-o",
+            "given.json",
+            "--pin",
+            "30,50",
+            "--pin",
+            "160,50",
+        ],
+    );
+    let given = Scene::load(&dir.join("given.json")).unwrap();
+    assert_eq!(
+        given.handles,
+        vec![Point::new(30.0, 50.0), Point::new(160.0, 50.0)]
+    );
+}
+
+/// The pose flags and the scene format's `{"translate", "rotate", "scale"}` are one pose, and an
+/// SVG with flags is the scene `rig` writes for them.
+#[test]
+fn deform_svg_with_pins_equals_deform_of_the_scene() {
+    let dir = blocks_dir("equivalent");
+    let scene = r#"{"splineskin_scene": 1, "svg": "blocks.svg",
+            "handles": [{"position": [30, 50]}, {"position": [90, 50]}, {"position": [165, 50]}],
+            "weights": {"family": "{family}"},
+            "pose": [{}, {"translate": [5, -3], "rotate": 15}, {"scale": [1.5, 0.5], "rotate": -20}]}"#;
+    let flags = [
+        "--pin",
+        "30,50",
+        "--pin",
+        "90,50",
+        "--pin",
+        "165,50",
+        "--move",
+        "1:5,-3",
+        "--rotate",
+        "1:15",
+        "--rotate",
+        "2:-20",
+        "--scale",
+        "2:1.5,0.5",
+    ];
+    for family in ["shepard", "bbw"] {
+        std::fs::write(dir.join("scene.json"), scene.replace("{family}", family)).unwrap();
+        ok(&dir, &["deform", "scene.json", "-o", "from-scene.svg"]);
+        let mut args = vec![
+            "deform",
+            "blocks.svg",
+            "-o",
+            "from-flags.svg",
+            "--weights",
+            family,
+        ];
+        args.extend(flags);
+        let stderr = ok(&dir, &args);
+        assert!(stderr.contains("pins 0 (30, 50) given"), "{stderr}");
+        let a = std::fs::read_to_string(dir.join("from-scene.svg")).unwrap();
+        let b = std::fs::read_to_string(dir.join("from-flags.svg")).unwrap();
+        assert_eq!(a, b, "{family}");
+        assert_ne!(a, BLOCKS, "{family}: nothing moved");
+        // rig with the same flags writes that scene.
+        let mut args = vec![
+            "rig",
+            "blocks.svg",
+            "-o",
+            "rigged.json",
+            "--weights",
+            family,
+        ];
+        args.extend(flags);
+        ok(&dir, &args);
+        ok(&dir, &["deform", "rigged.json", "-o", "from-rig.svg"]);
+        let c = std::fs::read_to_string(dir.join("from-rig.svg")).unwrap();
+        assert_eq!(a, c, "{family}");
+    }
+}
+
+#[test]
+fn deform_svg_without_pins_places_them_and_rests() {
+    let dir = blocks_dir("auto");
+    let stderr = ok(&dir, &["deform", "blocks.svg", "-o", "rest.json"]);
+    assert!(stderr.contains("bbw weights"), "{stderr}");
+    let drawing = read_svg(BLOCKS, &ImportOptions::default()).unwrap();
+    let rest = read_points(&dir.join("rest.json"));
+    assert!(max_distance(&rest, &drawing.flat_points()) <= 1e-9 * drawing.diagonal());
+    // A move of an automatic pin moves the drawing.
+    ok(
+        &dir,
+        &[
+            "deform",
+            "blocks.svg",
+            "-o",
+            "moved.json",
+            "--move",
+            "0:4,4",
+            "--weights",
+            "shepard",
+        ],
+    );
+    let moved = read_points(&dir.join("moved.json"));
+    assert!(max_distance(&moved, &drawing.flat_points()) > 1.0);
+}
+
+#[test]
+fn animate_svg_goes_to_the_pose_and_back() {
+    let dir = blocks_dir("animate");
+    let pose = [
+        "--pin",
+        "30,50",
+        "--pin",
+        "165,50",
+        "--move",
+        "1:0,20",
+        "--weights",
+        "shepard",
+    ];
+    let mut args = vec!["animate", "blocks.svg", "-o", "frames"];
+    args.extend(pose);
+    ok(&dir, &args);
+    let mut args = vec!["deform", "blocks.svg", "-o", "posed.svg"];
+    args.extend(pose);
+    ok(&dir, &args);
+    let frame = |name: &str| {
+        read_svg_file(&dir.join(name), &ImportOptions::default())
+            .unwrap()
+            .flat_points()
+    };
+    let rest = read_svg(BLOCKS, &ImportOptions::default())
+        .unwrap()
+        .flat_points();
+    // 30 fps over 2 s: frames 0..=60; rest at 0 and 60, the pose at 30.
+    assert!(dir.join("frames/frame-0060.svg").is_file());
+    assert!(!dir.join("frames/frame-0061.svg").exists());
+    assert!(max_distance(&frame("frames/frame-0000.svg"), &rest) < 1e-9);
+    assert!(max_distance(&frame("frames/frame-0060.svg"), &rest) < 1e-9);
+    let posed = frame("posed.svg");
+    assert!(max_distance(&frame("frames/frame-0030.svg"), &posed) < 1e-9);
+    assert!(max_distance(&posed, &rest) > 1.0);
+}
+
+#[test]
+fn weights_of_an_svg_draw_its_pins() {
+    let dir = blocks_dir("weights");
+    let stderr = ok(
+        &dir,
+        &[
+            "weights",
+            "blocks.svg",
+            "-o",
+            "w.png",
+            "--pins",
+            "3",
+            "--weights",
+            "shepard",
+        ],
+    );
+    assert!(
+        stderr.contains("shepard weights, 3 of 3 handles"),
+        "{stderr}"
+    );
+    assert!(dir.join("w.png").is_file());
+}
+
+/// A failing run: stderr must hold every `expect` substring, and `output` must not exist.
+struct Failure<'a> {
+    name: &'a str,
+    args: Vec<&'a str>,
+    expect: Vec<&'a str>,
+    output: &'a str,
+}
+
+#[test]
+fn rig_and_svg_inputs_refuse_bad_input_clearly() {
+    let dir = blocks_dir("failures");
+    std::fs::write(
+        dir.join("empty.svg"),
+        r#"<svg xmlns="http://www.w3.org/2000/svg"><title>nothing</title></svg>"#,
+    )
+    .unwrap();
+    std::fs::write(dir.join("scene.json"), "{}").unwrap();
+    std::fs::write(
+        dir.join("real.json"),
+        r#"{"splineskin_scene": 1, "svg": "blocks.svg", "handles": [{"position": [30, 50]}]}"#,
+    )
+    .unwrap();
+    let cases = [
+        Failure {
+            name: "nan pin",
+            args: vec!["rig", "blocks.svg", "-o", "out.json", "--pin", "nan,1"],
+            expect: vec!["--pin", "nan", "not a finite number"],
+            output: "out.json",
+        },
+        Failure {
+            name: "one number",
+            args: vec!["deform", "blocks.svg", "-o", "out.svg", "--pin", "12"],
+            expect: vec!["--pin", "expected X,Y"],
+            output: "out.svg",
+        },
+        Failure {
+            name: "not a number",
+            args: vec!["deform", "blocks.svg", "-o", "out.svg", "--pin", "1,x"],
+            expect: vec!["--pin", "'x' is not a number"],
+            output: "out.svg",
+        },
+        Failure {
+            name: "pin index out of range",
+            args: vec![
+                "deform",
+                "blocks.svg",
+                "-o",
+                "out.svg",
+                "--pin",
+                "30,50",
+                "--pin",
+                "160,50",
+                "--move",
+                "2:1,1",
+            ],
+            expect: vec!["--move 2", "there is no pin 2", "2 pins"],
+            output: "out.svg",
+        },
+        Failure {
+            name: "bad move",
+            args: vec!["deform", "blocks.svg", "-o", "out.svg", "--move", "a:1,1"],
+            expect: vec!["--move", "'a' is not a pin index", "I:DX,DY"],
+            output: "out.svg",
+        },
+        Failure {
+            name: "rotated twice",
+            args: vec![
+                "deform",
+                "blocks.svg",
+                "-o",
+                "out.svg",
+                "--rotate",
+                "0:5",
+                "--rotate",
+                "0:6",
+            ],
+            expect: vec!["--rotate is given twice for pin 0"],
+            output: "out.svg",
+        },
+        Failure {
+            name: "same pin twice",
+            args: vec![
+                "rig",
+                "blocks.svg",
+                "-o",
+                "out.json",
+                "--pin",
+                "30,50",
+                "--pin",
+                "30,50",
+            ],
+            expect: vec!["--pin 30,50", "given twice"],
+            output: "out.json",
+        },
+        Failure {
+            name: "nothing to pin",
+            args: vec!["rig", "empty.svg", "-o", "out.json"],
+            expect: vec!["empty.svg", "nothing to pin"],
+            output: "out.json",
+        },
+        Failure {
+            name: "zero pins",
+            args: vec!["rig", "blocks.svg", "-o", "out.json", "--pins", "0"],
+            expect: vec!["blocks.svg", "--pins", "expected a count from 1"],
+            output: "out.json",
+        },
+        Failure {
+            name: "fewer pins than given",
+            args: vec![
+                "rig",
+                "blocks.svg",
+                "-o",
+                "out.json",
+                "--pin",
+                "30,50",
+                "--pin",
+                "160,50",
+                "--pins",
+                "1",
+            ],
+            expect: vec!["--pins", "1 pins asked for with 2 given", "from 2"],
+            output: "out.json",
+        },
+        Failure {
+            name: "rig to svg",
+            args: vec!["rig", "blocks.svg", "-o", "out.svg"],
+            expect: vec!["out.svg", "expected a name ending in .json"],
+            output: "out.svg",
+        },
+        Failure {
+            name: "rig of a scene",
+            args: vec!["rig", "real.json", "-o", "out.json"],
+            expect: vec!["real.json", "expected an SVG drawing"],
+            output: "out.json",
+        },
+        Failure {
+            name: "flags on a scene",
+            args: vec![
+                "deform",
+                "real.json",
+                "-o",
+                "out.svg",
+                "--pin",
+                "1,1",
+                "--move",
+                "0:1,1",
+            ],
+            expect: vec!["real.json", "--pin, --move apply to an SVG drawing"],
+            output: "out.svg",
+        },
+        Failure {
+            name: "not a scene",
+            args: vec!["deform", "scene.json", "-o", "out.svg"],
+            expect: vec!["scene.json", "not a scene", "splineskin rig", "--pin X,Y"],
+            output: "out.svg",
+        },
+        Failure {
+            name: "animation without a pose",
+            args: vec!["animate", "blocks.svg", "-o", "out.svg", "--pins", "3"],
+            expect: vec!["blocks.svg", "nothing moves", "--move"],
+            output: "out.svg",
+        },
+        Failure {
+            name: "pins on a mesh",
+            args: vec![
+                "weights",
+                "--mesh",
+                "mesh.json",
+                "-o",
+                "out.json",
+                "--pin",
+                "1,1",
+            ],
+            expect: vec!["mesh.json", "--pin applies to an SVG drawing"],
+            output: "out.json",
+        },
+    ];
+    let mut problems = Vec::new();
+    for case in &cases {
+        let out = run(&dir, &case.args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let label = format!("{} ({})\nstderr: {stderr}", case.name, case.args.join(" "));
+        if out.status.success() {
+            problems.push(format!("{label}: succeeded"));
+            continue;
+        }
+        if stderr.contains("panicked") || !stderr.starts_with("error") {
+            problems.push(format!("{label}: no clean error"));
+        }
+        for want in &case.expect {
+            if !stderr.contains(want) {
+                problems.push(format!("{label}: stderr lacks {want:?}"));
+            }
+        }
+        for entry in std::fs::read_dir(&dir).unwrap().flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if name == case.output || name.starts_with(&format!(".{}.tmp-", case.output)) {
+                problems.push(format!("{label}: left {name} behind"));
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n\n"));
+}
