@@ -8,7 +8,7 @@ use kurbo::Point;
 use splineskin::drawing::Drawing;
 use splineskin::scene::{Compat, Deformer};
 
-use crate::output::write_deformed;
+use crate::output::{warn_outside_view_box, write_deformed_view_box, ViewBoxArg};
 use crate::CompatArg;
 
 #[derive(clap::Args)]
@@ -36,6 +36,10 @@ pub struct Args {
     pins: crate::drawing_input::PinArgs,
     #[command(flatten)]
     pose_args: crate::drawing_input::PoseArgs,
+    /// When the deformed art leaves the input's viewBox: `keep` it (a warning names the paths
+    /// and how far) or `fit` it (viewBox and width/height grow to include the art).
+    #[arg(long, value_enum, default_value_t = ViewBoxArg::Keep)]
+    viewbox: ViewBoxArg,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -92,7 +96,8 @@ pub fn run(args: Args) -> Result<()> {
         }
     };
     check_finite(&args, pose_index, &setup.drawing, &points, &rank_deficient)?;
-    write_deformed(&args.output, &setup.drawing, &points)?;
+    warn_outside_view_box(&args.output, &setup.drawing, &points, args.viewbox);
+    write_deformed_view_box(&args.output, &setup.drawing, &points, args.viewbox.into())?;
     let set = scene.handle_set();
     let kinds = [
         (set.bones.len(), "bones"),

@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, ensure, Context, Result};
 use kurbo::Point;
 use serde::Serialize;
-use splineskin::drawing::{svg_out::write_svg, Drawing};
+use splineskin::drawing::svg_out::{art_outside_view_box, write_svg_view_box, ViewBoxRule};
+use splineskin::drawing::Drawing;
 
 /// Longest side of PNG renders, in pixels.
 pub const PNG_SIZE: u32 = 1200;
@@ -87,17 +88,89 @@ pub fn paths_json(drawing: &Drawing, points: &[Point]) -> Result<String> {
     Ok(serde_json::to_string(&JsonPaths { paths })?)
 }
 
+/// `--viewbox`: what SVG and PNG outputs do when the deformed art leaves the input's viewBox.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ViewBoxArg {
+    /// Keep the input's viewBox; a warning names the paths that leave it and how far.
+    Keep,
+    /// Grow the viewBox (and width/height in proportion) to include the deformed art.
+    Fit,
+}
+
+impl From<ViewBoxArg> for ViewBoxRule {
+    fn from(v: ViewBoxArg) -> ViewBoxRule {
+        match v {
+            ViewBoxArg::Keep => ViewBoxRule::Keep,
+            ViewBoxArg::Fit => ViewBoxRule::Fit,
+        }
+    }
+}
+
+/// Paths named in the warning of [`warn_outside_view_box`] before "and N more".
+const MAX_NAMED_OUTSIDE: usize = 5;
+
+/// Says on stderr which paths of the deformed drawing leave the input's viewBox and how far
+/// (with `keep`: they are cropped; with `fit`: the viewBox grows), for SVG and PNG outputs.
+pub fn warn_outside_view_box(path: &Path, drawing: &Drawing, points: &[Point], rule: ViewBoxArg) {
+    if Format::of(path).ok() == Some(Format::Json) {
+        return;
+    }
+    let Ok(mut outside) = art_outside_view_box(drawing, points) else {
+        return; // the writer reports bad points
+    };
+    if outside.is_empty() {
+        return;
+    }
+    outside.sort_by(|a, b| b.distance.total_cmp(&a.distance));
+    let named: Vec<String> = outside
+        .iter()
+        .take(MAX_NAMED_OUTSIDE)
+        .map(|o| format!("{} by {:.3}", o.element, o.distance))
+        .collect();
+    let more = outside.len().saturating_sub(MAX_NAMED_OUTSIDE);
+    let more = if more > 0 {
+        format!(" and {more} more")
+    } else {
+        String::new()
+    };
+    match rule {
+        ViewBoxArg::Keep => eprintln!(
+            "warning: {}: the deformed art leaves the viewBox (cropped): {}{more} (user units); \
+             --viewbox fit grows the viewBox to include it",
+            path.display(),
+            named.join(", ")
+        ),
+        ViewBoxArg::Fit => eprintln!(
+            "note: {}: the viewBox grows to include {} path(s) that leave it, farthest {}",
+            path.display(),
+            outside.len(),
+            named[0]
+        ),
+    }
+}
+
 /// Writes the deformed drawing to `path` in the format its extension asks for.
 pub fn write_deformed(path: &Path, drawing: &Drawing, points: &[Point]) -> Result<()> {
+    write_deformed_view_box(path, drawing, points, ViewBoxRule::Keep)
+}
+
+/// [`write_deformed`] with the SVG's root viewBox chosen by `rule` (SVG and PNG outputs).
+pub fn write_deformed_view_box(
+    path: &Path,
+    drawing: &Drawing,
+    points: &[Point],
+    rule: ViewBoxRule,
+) -> Result<()> {
     let bytes = match Format::of(path)? {
         Format::Json => paths_json(drawing, points)
             .context("writing the deformed JSON")?
             .into_bytes(),
-        Format::Svg => write_svg(drawing, points)
+        Format::Svg => write_svg_view_box(drawing, points, rule)
             .context("writing the deformed SVG")?
             .into_bytes(),
         Format::Png => {
-            let svg = write_svg(drawing, points).context("writing the deformed SVG")?;
+            let svg =
+                write_svg_view_box(drawing, points, rule).context("writing the deformed SVG")?;
             note_text_not_drawn(path, &svg);
             splineskin::render::render_png(&svg, PNG_SIZE).context("rendering the PNG")?
         }

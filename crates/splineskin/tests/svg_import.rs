@@ -344,10 +344,22 @@ fn svg_import_skips_what_is_not_rendered_or_not_ours() {
          <path id='ghost' d='M0 50 L10 50' fill='none'/>",
     )
     .unwrap();
-    // Marker contents, clip-path contents and display:none are not imported; an invisible
-    // (unpainted) path is geometry and is.
+    // Marker contents are not imported. The hidden path is (deformed, so that unhiding shows
+    // it posed; the clip's `use` of it adds no second copy); clip-path geometry comes before
+    // the element it clips; an invisible (unpainted) path is geometry too. Each has its role.
     let labels: Vec<String> = (0..d.paths.len()).map(|i| label(&d, i)).collect();
-    assert_eq!(labels, vec!["path#main (line 1)", "path#ghost (line 1)"]);
+    assert_eq!(
+        labels,
+        vec![
+            "path#hidden (line 1)",
+            "rect (line 1)",
+            "path#main (line 1)",
+            "path#ghost (line 1)"
+        ]
+    );
+    use splineskin::drawing::PathRole as R;
+    let roles: Vec<R> = (0..d.paths.len()).map(|i| d.path_role(i)).collect();
+    assert_eq!(roles, [R::Hidden, R::ClipPath, R::Visible, R::Unpainted]);
 }
 
 #[test]

@@ -326,6 +326,10 @@ fn authors_source(
                     range: node.range(),
                     local_to_root: kurbo::Affine::IDENTITY,
                     paths: i..i + 1,
+                    // The authors' reading ignores styles: every path counts as drawn.
+                    role: super::PathRole::Visible,
+                    path_tag_index: Some(chain.element),
+                    zero_area_fill: false,
                 });
             }
         }
@@ -362,6 +366,7 @@ fn authors_source(
         closed_without_z,
         size,
         view_box,
+        bbox_clips: Vec::new(),
     })
 }
 

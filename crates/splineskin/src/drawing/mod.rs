@@ -15,6 +15,41 @@ pub mod svg_out;
 pub use junction::{classify_joints, JointKind, JunctionOptions};
 pub use svg_in::{read_svg, read_svg_file, read_svg_named, ImportOptions, SvgError, SvgSource};
 
+/// What a path of a drawing is in its document, so that code which should only look at what
+/// is drawn (the weights' domain, error figures, pictures) can leave the rest out, while every
+/// path is still deformed and written back.
+///
+/// Rule: a path is [`PathRole::Hidden`] when it or an ancestor (or a `use` through which it is
+/// instantiated) has `display: none` (attribute, `style` or CSS) — browsers and usvg do not draw
+/// it, but unhiding its layer shows it, so it is deformed like everything else;
+/// [`PathRole::Unpainted`] when it is laid out but paints nothing (`visibility: hidden` or
+/// `collapse`, or neither fill nor stroke); [`PathRole::ClipPath`] and [`PathRole::Mask`] for
+/// the geometry of a `<clipPath>` or the content of a `<mask>` (they shape what other elements
+/// show, are never drawn themselves); [`PathRole::Visible`] otherwise. A drawing without a
+/// source document has only visible paths.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+#[non_exhaustive]
+pub enum PathRole {
+    /// Drawn.
+    #[default]
+    Visible,
+    /// Not rendered because of `display: none` on it or an ancestor; deformed and written back.
+    Hidden,
+    /// Rendered but invisible: `visibility` hidden/collapse, or no fill and no stroke.
+    Unpainted,
+    /// Geometry of a `<clipPath>`.
+    ClipPath,
+    /// Content of a `<mask>`.
+    Mask,
+}
+
+impl PathRole {
+    /// Whether the path itself is drawn ([`PathRole::Visible`]).
+    pub fn is_drawn(self) -> bool {
+        self == PathRole::Visible
+    }
+}
+
 use kurbo::{CubicBez, Point, Rect};
 
 /// A drawing: subpaths in document order, and (when it came from SVG) what is needed to write
@@ -152,6 +187,28 @@ impl Drawing {
             offset += n;
         }
         Some(out)
+    }
+
+    /// The role of path `path_index` in its document ([`PathRole`]; `Visible` for a drawing
+    /// without a source or an index out of range).
+    ///
+    /// ```
+    /// use splineskin::drawing::{read_svg, ImportOptions, PathRole};
+    /// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg">
+    ///   <path d="M0 0 L9 9"/><g display="none"><path d="M0 9 L9 0"/></g></svg>"#;
+    /// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+    /// assert_eq!(drawing.path_role(0), PathRole::Visible);
+    /// assert_eq!(drawing.path_role(1), PathRole::Hidden);
+    /// ```
+    pub fn path_role(&self, path_index: usize) -> PathRole {
+        self.source
+            .as_ref()
+            .map_or(PathRole::Visible, |s| s.path_role(path_index))
+    }
+
+    /// Whether path `path_index` is drawn ([`PathRole::is_drawn`] of [`Drawing::path_role`]).
+    pub fn is_drawn(&self, path_index: usize) -> bool {
+        self.path_role(path_index).is_drawn()
     }
 
     /// The axis-aligned bounding box of all control points (`None` for an empty drawing).

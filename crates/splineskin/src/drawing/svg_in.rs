@@ -63,10 +63,27 @@
 //!
 //! # What is not imported
 //!
-//! - Clip paths, masks, patterns and markers are not deformed in this version: their geometry
-//!   is left as it is. Paths that usvg emits without a source element (marker contents, the
-//!   two halves of a path split by `paint-order` around markers) are skipped with a `tracing`
-//!   warning.
+//! - Patterns and markers are not deformed in this version: their geometry is left as it is.
+//!   Paths that usvg emits without a source element (marker contents, the two halves of a path
+//!   split by `paint-order` around markers) are skipped with a `tracing` warning.
+//!
+//! # Hidden layers, clip paths and masks
+//!
+//! Every path gets a [`PathRole`]. usvg drops `display: none` elements, so a document that
+//! mentions `display` is read a second time with a user style sheet showing everything
+//! (`* { display: inline !important }`); paths of that reading missing from the first are
+//! [`PathRole::Hidden`]: they are deformed and written back like the rest (their `display`
+//! kept), so unhiding a layer shows it posed. The geometry of a `<clipPath>` and the content of
+//! a `<mask>` applied to an element are imported before that element's own paths, in the
+//! clipped element's user space (its transforms, the clip's `transform` and, in
+//! `clipPathUnits="objectBoundingBox"`, the rest bounding box); export writes such a clip in
+//! `userSpaceOnUse` units with that map as its `transform`, so it does not follow the deformed
+//! bounding box a second time. A clip path or mask used by several elements is imported once,
+//! for its first use: uses in the same coordinates get the same deformation; a use in other
+//! coordinates (another transform, another bounding box) would need a second copy, which this
+//! version does not write: it says so with a `tracing` warning. Mask content in
+//! `maskContentUnits="objectBoundingBox"` is left at rest, with a warning; mask regions
+//! (`x y width height` of the `<mask>`) are not moved.
 //! - Text and images are not geometry here; they are kept verbatim on export.
 //! - `use` elements are expanded before usvg sees them (the same expansion
 //!   [`super::svg_out::write_svg`] writes: a `<g>` holding a copy of the referenced content),
@@ -83,7 +100,7 @@ use std::sync::Arc;
 use kurbo::{Affine, Point, Rect, Size};
 
 use super::svg_out::{self, ElementKey, GeometryEdit, RewritePolicy};
-use super::{Drawing, JointKind, JunctionOptions, Path};
+use super::{Drawing, JointKind, JunctionOptions, Path, PathRole};
 
 /// Largest accepted SVG input: 64 MiB. Bigger documents are refused before parsing
 /// ([`SvgError::TooLarge`]).
@@ -384,6 +401,17 @@ pub(crate) struct ImportedElement {
     pub(crate) local_to_root: Affine,
     /// The indices of [`Drawing::paths`] it produced.
     pub(crate) paths: Range<usize>,
+    /// What its paths are in the document (hidden, clip geometry, …).
+    pub(crate) role: PathRole,
+    /// For a `<path>` element outside `use` copies: its position among the document's `<path>`
+    /// elements (SVG namespace or none), in document order, wherever they are (`defs`, clip
+    /// paths, hidden layers). The paper authors' editor numbers paths this way.
+    pub(crate) path_tag_index: Option<usize>,
+    /// Whether it is filled but its fill covers no area at rest: every subpath's chain points
+    /// lie on one line (within [`ZERO_AREA`] of its size), e.g. an open path of straight
+    /// segments back and forth, or a `<line>`. Export writes `fill: none` on it, so that the
+    /// deformed (bent) geometry does not show a fill that was invisible.
+    pub(crate) zero_area_fill: bool,
 }
 
 /// What is kept of the source document to write deformed geometry back into it: the original
@@ -407,6 +435,12 @@ pub struct SvgSource {
     pub(crate) size: Size,
     /// The root viewBox (`0 0 width height` when absent).
     pub(crate) view_box: Rect,
+    /// `<clipPath clipPathUnits="objectBoundingBox">` elements whose geometry was imported:
+    /// the byte offset of the `<clipPath>` and its content → referencing user space map
+    /// (its `transform` times the rest bounding-box map). Export rewrites them in
+    /// `userSpaceOnUse` units with that map as their `transform`, so that the deformed
+    /// geometry does not move again with the deformed element's bounding box.
+    pub(crate) bbox_clips: Vec<(usize, Affine)>,
 }
 
 impl SvgSource {
@@ -437,6 +471,33 @@ impl SvgSource {
             .get(path_index)
             .copied()
             .unwrap_or(false)
+    }
+
+    /// The role of path `path_index` in the document ([`PathRole`]); `Visible` if out of
+    /// range.
+    pub fn path_role(&self, path_index: usize) -> PathRole {
+        self.element_of_path(path_index)
+            .map_or(PathRole::Visible, |e| self.elements[e].role)
+    }
+
+    /// Where path `path_index` comes from in the numbering of the paper authors' editor:
+    /// `(k, s)` when it is subpath `s` (0-based, among the subpaths with at least one segment)
+    /// of the document's `k`-th `<path>` element (0-based, document order, every `<path>`
+    /// counted: hidden ones, those in `defs` and clip paths). `None` for other shapes, `use`
+    /// copies and out-of-range indices.
+    ///
+    /// ```
+    /// use splineskin::drawing::svg_in::{read_svg, ImportOptions};
+    /// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg">
+    ///   <rect width="5" height="5"/><path d="M0 0 L1 1 M2 2 L3 3"/></svg>"#;
+    /// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+    /// let source = drawing.source.as_ref().unwrap();
+    /// assert_eq!(source.path_tag_position(0), None);
+    /// assert_eq!(source.path_tag_position(2), Some((0, 1)));
+    /// ```
+    pub fn path_tag_position(&self, path_index: usize) -> Option<(usize, usize)> {
+        let e = &self.elements[self.element_of_path(path_index)?];
+        Some((e.path_tag_index?, path_index - e.paths.start))
     }
 
     /// The index of the element that produced path `path_index`, if in range.
@@ -614,6 +675,19 @@ fn usvg_options() -> usvg::Options<'static> {
     }
 }
 
+/// A user style sheet that shows every element usvg would leave out for `display: none`
+/// (an injected `!important` rule comes first and wins over the document's own rules, as in
+/// usvg's cascade): what import reads hidden layers with.
+const SHOW_HIDDEN_CSS: &str = "* { display: inline !important; }";
+
+/// [`usvg_options`] with [`SHOW_HIDDEN_CSS`].
+fn usvg_options_showing_hidden() -> usvg::Options<'static> {
+    usvg::Options {
+        style_sheet: Some(SHOW_HIDDEN_CSS.to_string()),
+        ..usvg_options()
+    }
+}
+
 fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Drawing, SvgError> {
     if text.len() > MAX_SVG_BYTES {
         return Err(SvgError::TooLarge {
@@ -656,16 +730,59 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
     )?;
     let ids = policy.ids;
 
-    let tree = usvg::Tree::from_str(&prepared, &usvg_options()).map_err(|e| SvgError::Usvg {
+    let usvg_error = |e: usvg::Error| SvgError::Usvg {
         file: origin.to_string(),
         message: e.to_string(),
-    })?;
+    };
+    let shown = usvg::Tree::from_str(&prepared, &usvg_options()).map_err(usvg_error)?;
+    // Hidden layers: usvg drops `display: none` elements, so the document is read a second time
+    // with them shown; the paths of that reading missing from the first are hidden. Only when
+    // the text can hide anything (the property's name appears in it).
+    let with_hidden = if text.contains("display") {
+        Some(usvg::Tree::from_str(&prepared, &usvg_options_showing_hidden()).map_err(usvg_error)?)
+    } else {
+        None
+    };
+    let tree = with_hidden.as_ref().unwrap_or(&shown);
+    let clip_offsets: HashMap<String, usize> = doc
+        .descendants()
+        .filter(|n| svg_out::is_svg_element(*n))
+        .filter(|n| matches!(n.tag_name().name(), "clipPath" | "mask"))
+        .filter_map(|n| Some((n.attribute("id")?.to_string(), n.range().start)))
+        .collect();
+    let shown_ids: Option<std::collections::HashSet<&str>> = with_hidden.as_ref().map(|_| {
+        let mut found = Vec::new();
+        if let Some(usvg::Node::Group(wrapper)) = shown.node_by_id(&wrapper_id) {
+            collect_paths_in(
+                wrapper,
+                Affine::IDENTITY,
+                Context::Art,
+                &clip_offsets,
+                &mut found,
+            );
+        }
+        found.into_iter().map(|(p, _, _)| p.id()).collect()
+    });
 
     let mut found = Vec::new();
     let mut n_unmapped = 0usize;
     if let Some(usvg::Node::Group(wrapper)) = tree.node_by_id(&wrapper_id) {
-        collect_paths(wrapper, Affine::IDENTITY, &mut found);
+        collect_paths_in(
+            wrapper,
+            Affine::IDENTITY,
+            Context::Art,
+            &clip_offsets,
+            &mut found,
+        );
     }
+    // Every `<path>` element's position in document order (the authors' numbering).
+    let path_tags: HashMap<usize, usize> = doc
+        .descendants()
+        .filter(|n| svg_out::is_svg_element(*n) && n.tag_name().name() == "path")
+        .enumerate()
+        .map(|(k, n)| (n.range().start, k))
+        .collect();
+    let mut bbox_clips: Vec<(usize, Affine)> = Vec::new();
     let nodes: HashMap<usize, roxmltree::Node> = doc
         .descendants()
         .filter(|n| n.is_element())
@@ -677,7 +794,7 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
     let mut closed_without_z = Vec::new();
     let mut elements: Vec<ImportedElement> = Vec::new();
     let mut element_of_key: HashMap<ElementKey, usize> = HashMap::new();
-    for (usvg_path, local_to_root) in found {
+    for (usvg_path, local_to_root, context) in found {
         let Some(key) = ids.get(usvg_path.id()) else {
             n_unmapped += 1;
             continue;
@@ -688,7 +805,48 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
                 what: format!("no element at byte {}", key.element),
             });
         };
+        let role = match context {
+            Context::Art
+                if shown_ids
+                    .as_ref()
+                    .is_some_and(|s| !s.contains(usvg_path.id())) =>
+            {
+                PathRole::Hidden
+            }
+            Context::Art if !usvg_path.is_visible() => PathRole::Unpainted,
+            Context::Art => PathRole::Visible,
+            Context::Clip { .. } => PathRole::ClipPath,
+            Context::Mask { .. } => PathRole::Mask,
+        };
+        if let Context::Mask { mask } = context {
+            if nodes
+                .get(&mask)
+                .and_then(|m| m.attribute("maskContentUnits"))
+                == Some("objectBoundingBox")
+            {
+                let label = key_label(&doc, &nodes, key);
+                tracing::warn!(
+                    file = origin,
+                    element = %label,
+                    "mask content in objectBoundingBox units is not deformed (left at rest)"
+                );
+                continue;
+            }
+        }
         let index = match element_of_key.get(key) {
+            Some(&i) if matches!(role, PathRole::ClipPath | PathRole::Mask) => {
+                // A clip path or mask used by several elements: deformed once.
+                if !same_placement(elements[i].local_to_root, local_to_root) {
+                    tracing::warn!(
+                        file = origin,
+                        element = %elements[i].label,
+                        "this clip path or mask is used by elements in different coordinates; \
+                         it is deformed for its first use only (give each element its own copy \
+                         to deform it for each)"
+                    );
+                }
+                continue;
+            }
             Some(&i) => {
                 if elements[i].paths.end != paths.len() {
                     tracing::warn!(
@@ -708,6 +866,13 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
                         what: format!("<{}> mapped as geometry", node.tag_name().name()),
                     }
                 })?;
+                if let Context::Clip { clip, units } = context {
+                    let bbox_units = nodes.get(&clip).and_then(|c| c.attribute("clipPathUnits"))
+                        == Some("objectBoundingBox");
+                    if bbox_units && !bbox_clips.iter().any(|(c, _)| *c == clip) {
+                        bbox_clips.push((clip, units));
+                    }
+                }
                 elements.push(ImportedElement {
                     key: key.clone(),
                     kind,
@@ -715,6 +880,11 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
                     range: node.range(),
                     local_to_root,
                     paths: paths.len()..paths.len(),
+                    role,
+                    path_tag_index: (kind == ElementKind::Path && key.uses.is_empty())
+                        .then(|| path_tags.get(&key.element).copied())
+                        .flatten(),
+                    zero_area_fill: false,
                 });
                 element_of_key.insert(key.clone(), elements.len() - 1);
                 elements.len() - 1
@@ -749,6 +919,11 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
             &mut closed_without_z,
         )?;
         element.paths.end = paths.len();
+        element.zero_area_fill = matches!(role, PathRole::Visible | PathRole::Hidden)
+            && usvg_path.fill().is_some()
+            && paths[element.paths.clone()]
+                .iter()
+                .all(|p| collinear(&p.points));
         path_elements.extend(std::iter::repeat_n(index, paths.len() - before));
     }
     if n_unmapped > 0 {
@@ -792,6 +967,7 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
         closed_without_z,
         size,
         view_box,
+        bbox_clips,
     };
     Ok(Drawing {
         paths,
@@ -884,12 +1060,101 @@ impl RewritePolicy for PreparePolicy<'_> {
     }
 }
 
-/// The paths below `group` with their local → (wrapper) root transform, composed in `f64`.
-fn collect_paths<'t>(group: &'t usvg::Group, ts: Affine, out: &mut Vec<(&'t usvg::Path, Affine)>) {
+/// Largest distance of a chain point from the line through a subpath's two farthest-apart
+/// points, relative to their distance, for the subpath to count as having zero fill area:
+/// 1e-9 (`f64` rounding of lines elevated to cubics and of transforms).
+pub const ZERO_AREA: f64 = 1e-9;
+
+/// Whether all of `points` lie on one line, within [`ZERO_AREA`] of their extent.
+fn collinear(points: &[Point]) -> bool {
+    let Some(&a) = points.first() else {
+        return true;
+    };
+    let b = points
+        .iter()
+        .copied()
+        .max_by(|p, q| (*p - a).hypot2().total_cmp(&(*q - a).hypot2()))
+        .unwrap_or(a);
+    let d = b - a;
+    let len = d.hypot();
+    if len == 0.0 {
+        return true;
+    }
+    points
+        .iter()
+        .all(|p| (d.cross(*p - a)).abs() / len <= ZERO_AREA * len)
+}
+
+/// Where usvg emitted a path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Context {
+    /// Drawn content.
+    Art,
+    /// Inside the `<clipPath>` at byte offset `clip`, whose content → referencing user space
+    /// map (its `transform`, times the bounding-box map in `objectBoundingBox` units) is
+    /// `units`.
+    Clip { clip: usize, units: Affine },
+    /// Inside the `<mask>` at byte offset `mask`.
+    Mask { mask: usize },
+}
+
+/// Largest difference between coefficients, relative to their size, of two placements of a
+/// shared clip path or mask that still count as the same: 1e-9 (both come from the same
+/// `f32` transforms, composed in `f64`).
+const SAME_PLACEMENT: f64 = 1e-9;
+
+fn same_placement(a: Affine, b: Affine) -> bool {
+    let (a, b) = (a.as_coeffs(), b.as_coeffs());
+    let scale = a.iter().chain(&b).fold(1.0f64, |m, v| m.max(v.abs()));
+    a.iter()
+        .zip(&b)
+        .all(|(x, y)| (x - y).abs() <= SAME_PLACEMENT * scale)
+}
+
+/// The byte offset, in the text usvg read, of the element with `id`, as recorded in the
+/// ids usvg keeps for `<clipPath>` and `<mask>` (their own ids). Returns `usize::MAX` when
+/// unknown (then no special units are handled).
+fn offset_of_id(offsets: &HashMap<String, usize>, id: &str) -> usize {
+    offsets.get(id).copied().unwrap_or(usize::MAX)
+}
+
+/// The paths below `group` with their local → (wrapper) root transform, composed in `f64`,
+/// and where they were found. The geometry of clip paths and the content of masks applied
+/// to a group come first, in the group's coordinates (after its own transform), as resvg
+/// draws them; `clip_offsets` maps their ids to their byte offsets.
+fn collect_paths_in<'t>(
+    group: &'t usvg::Group,
+    ts: Affine,
+    context: Context,
+    offsets: &HashMap<String, usize>,
+    out: &mut Vec<(&'t usvg::Path, Affine, Context)>,
+) {
     for child in group.children() {
         match child {
-            usvg::Node::Group(g) => collect_paths(g, ts * affine(g.transform()), out),
-            usvg::Node::Path(p) => out.push((p, ts)),
+            usvg::Node::Group(g) => {
+                let inner = ts * affine(g.transform());
+                let mut clip = g.clip_path();
+                while let Some(c) = clip {
+                    let units = affine(c.transform());
+                    let content = inner * units;
+                    let ctx = Context::Clip {
+                        clip: offset_of_id(offsets, c.id()),
+                        units,
+                    };
+                    collect_paths_in(c.root(), content, ctx, offsets, out);
+                    clip = c.clip_path();
+                }
+                let mut mask = g.mask();
+                while let Some(m) = mask {
+                    let ctx = Context::Mask {
+                        mask: offset_of_id(offsets, m.id()),
+                    };
+                    collect_paths_in(m.root(), inner, ctx, offsets, out);
+                    mask = m.mask();
+                }
+                collect_paths_in(g, inner, context, offsets, out);
+            }
+            usvg::Node::Path(p) => out.push((p, ts, context)),
             _ => {}
         }
     }

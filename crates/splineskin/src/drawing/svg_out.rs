@@ -113,14 +113,207 @@ fn write_svg_impl(
     points: &[Point],
     marker: Option<&'static str>,
 ) -> Result<String, SvgError> {
+    write_svg_view(drawing, points, marker, ViewBoxRule::Keep)
+}
+
+fn write_svg_view(
+    drawing: &Drawing,
+    points: &[Point],
+    marker: Option<&'static str>,
+    view_box: ViewBoxRule,
+) -> Result<String, SvgError> {
     let offsets = chain_offsets(drawing, points)?;
     match &drawing.source {
         Some(source) => {
             let data = element_path_data(drawing, points, &offsets, source)?;
-            export_geometry_marked(source, data, Vec::new(), marker)
+            let root = match view_box {
+                ViewBoxRule::Keep => Vec::new(),
+                ViewBoxRule::Fit => fitted_root(drawing, points, &offsets, source),
+            };
+            export_geometry_root(source, data, Vec::new(), marker, root)
         }
         None => Ok(write_standalone(drawing, points, &offsets, &[])),
     }
+}
+
+/// What export does with the root `viewBox` when the deformed art leaves it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum ViewBoxRule {
+    /// Keep the input's viewBox (art outside it is cropped by viewers). The default.
+    #[default]
+    Keep,
+    /// Grow the viewBox to the union of the input's and the deformed art's bounding box
+    /// ([`art_outside_view_box`]'s paths), and `width`/`height` in proportion (same units;
+    /// percentages are kept), so that the drawing keeps its scale on screen.
+    Fit,
+}
+
+/// A path whose deformed curves leave the document's viewBox.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutsideViewBox {
+    /// Index into [`Drawing::paths`].
+    pub path_index: usize,
+    /// The element it comes from (`tag#id (line n)`).
+    pub element: String,
+    /// How far its curves' bounding box reaches beyond the viewBox, in root user units (the
+    /// largest overshoot over the four sides; strokes not counted).
+    pub distance: f64,
+}
+
+/// Whether path `i` counts for the viewBox: drawn or hidden art (what shows, or shows once its
+/// layer is unhidden); not clip geometry, mask content or unpainted paths.
+fn counts_for_view_box(drawing: &Drawing, i: usize) -> bool {
+    matches!(
+        drawing.path_role(i),
+        super::PathRole::Visible | super::PathRole::Hidden
+    )
+}
+
+/// The exact bounding box of path `path`'s curves through `points` (its chain points).
+fn curves_bounds(path: &Path, points: &[Point]) -> Rect {
+    use kurbo::ParamCurveExtrema;
+    let mut r = Rect::from_points(points[0], points[0]);
+    for j in 0..path.n_curves() {
+        let c = kurbo::CubicBez::new(
+            points[3 * j],
+            points[3 * j + 1],
+            points[3 * j + 2],
+            points[3 * j + 3],
+        );
+        r = r.union(c.bounding_box());
+    }
+    r
+}
+
+/// The paths of `drawing` (art only: drawn or hidden, see [`ViewBoxRule::Fit`]) whose curves
+/// through the deformed `points` (laid out like [`Drawing::flat_points`]) reach outside the
+/// document's viewBox, with how far. Empty for a drawing without a source document.
+///
+/// Errors: [`SvgError::PointCount`], [`SvgError::NonFinitePoint`].
+///
+/// ```
+/// use kurbo::Vec2;
+/// use splineskin::drawing::svg_in::{read_svg, ImportOptions};
+/// use splineskin::drawing::svg_out::art_outside_view_box;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <rect id="box" x="1" y="1" width="2" height="2"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let moved: Vec<_> = drawing.flat_points().iter().map(|&p| p + Vec2::new(8.5, 0.0)).collect();
+/// let outside = art_outside_view_box(&drawing, &moved).unwrap();
+/// assert_eq!(outside[0].element, "rect#box (line 2)");
+/// assert!((outside[0].distance - 1.5).abs() < 1e-12);
+/// ```
+pub fn art_outside_view_box(
+    drawing: &Drawing,
+    points: &[Point],
+) -> Result<Vec<OutsideViewBox>, SvgError> {
+    let offsets = chain_offsets(drawing, points)?;
+    let Some(source) = &drawing.source else {
+        return Ok(Vec::new());
+    };
+    let vb = source.view_box;
+    let mut out = Vec::new();
+    for (i, path) in drawing.paths.iter().enumerate() {
+        if !counts_for_view_box(drawing, i) {
+            continue;
+        }
+        let r = curves_bounds(path, &points[offsets[i]..offsets[i] + path.points.len()]);
+        let distance = [vb.x0 - r.x0, r.x1 - vb.x1, vb.y0 - r.y0, r.y1 - vb.y1]
+            .into_iter()
+            .fold(0.0f64, f64::max);
+        if distance > 0.0 {
+            out.push(OutsideViewBox {
+                path_index: i,
+                element: source.element_label(i),
+                distance,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// [`write_svg`] with the root viewBox chosen by `view_box` ([`ViewBoxRule`]).
+///
+/// ```
+/// use kurbo::Vec2;
+/// use splineskin::drawing::svg_in::{read_svg, ImportOptions};
+/// use splineskin::drawing::svg_out::{write_svg_view_box, ViewBoxRule};
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10" width="20mm"
+///   height="20mm"><rect x="1" y="1" width="2" height="2"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let moved: Vec<_> = drawing.flat_points().iter().map(|&p| p + Vec2::new(9.0, 0.0)).collect();
+/// let out = write_svg_view_box(&drawing, &moved, ViewBoxRule::Fit).unwrap();
+/// assert!(out.contains(r#"viewBox="0 0 12 10""#), "{out}");
+/// assert!(out.contains(r#"width="24mm""#), "{out}");
+/// ```
+pub fn write_svg_view_box(
+    drawing: &Drawing,
+    points: &[Point],
+    view_box: ViewBoxRule,
+) -> Result<String, SvgError> {
+    write_svg_view(drawing, points, None, view_box)
+}
+
+/// The root attributes of [`ViewBoxRule::Fit`]: none when the art stays inside.
+fn fitted_root(
+    drawing: &Drawing,
+    points: &[Point],
+    offsets: &[usize],
+    source: &SvgSource,
+) -> Vec<(&'static str, String)> {
+    let vb = source.view_box;
+    let mut r = vb;
+    for (i, path) in drawing.paths.iter().enumerate() {
+        if counts_for_view_box(drawing, i) {
+            r = r.union(curves_bounds(
+                path,
+                &points[offsets[i]..offsets[i] + path.points.len()],
+            ));
+        }
+    }
+    if r == vb {
+        return Vec::new();
+    }
+    let mut set = vec![("viewBox", {
+        let mut s = String::new();
+        push_numbers(&mut s, &[r.x0, r.y0, r.width(), r.height()]);
+        s
+    })];
+    let Ok(doc) = super::svg_in::parse_xml(&source.text, &source.origin) else {
+        return set;
+    };
+    let root = doc.root_element();
+    // width and height grow in proportion, in their own units; absent ones are the viewBox's
+    // size (usvg's resolution), written in user units.
+    for (name, old, new, size) in [
+        ("width", vb.width(), r.width(), source.size.width),
+        ("height", vb.height(), r.height(), source.size.height),
+    ] {
+        use svgtypes::LengthUnit as U;
+        match root.attribute(name) {
+            Some(v) => {
+                let Ok(length) = <svgtypes::Length as std::str::FromStr>::from_str(v) else {
+                    continue;
+                };
+                let unit = match length.unit {
+                    U::None => "",
+                    U::Px => "px",
+                    U::In => "in",
+                    U::Cm => "cm",
+                    U::Mm => "mm",
+                    U::Pt => "pt",
+                    U::Pc => "pc",
+                    U::Em => "em",
+                    U::Ex => "ex",
+                    U::Percent => continue,
+                };
+                set.push((name, format!("{}{unit}", number(length.number * new / old))));
+            }
+            None => set.push((name, number(size * new / old))),
+        }
+    }
+    set
 }
 
 /// Where each path's chain points start in `points` (laid out like [`Drawing::flat_points`]),
@@ -218,6 +411,8 @@ struct ExportPolicy<'e> {
     children: Vec<String>,
     /// The attribute that receives each element's index, if any.
     marker: Option<&'static str>,
+    /// Attributes set on the root element (the fitted viewBox).
+    root: Vec<(&'static str, String)>,
 }
 
 impl RewritePolicy for ExportPolicy<'_> {
@@ -241,16 +436,53 @@ impl RewritePolicy for ExportPolicy<'_> {
             .get_mut(i)
             .map(std::mem::take)
             .filter(|c| !c.is_empty());
+        let mut set: Vec<(&'static str, String)> = self
+            .marker
+            .map(|name| (name, i.to_string()))
+            .into_iter()
+            .collect();
+        if self.source.elements[i].zero_area_fill {
+            // Its fill covered no area at rest: keep it invisible once bent (an inline style
+            // wins over attributes and style sheets).
+            let style = node.attribute("style").unwrap_or("").trim();
+            let style = style.trim_end_matches(';').trim();
+            let sep = if style.is_empty() { "" } else { ";" };
+            set.push(("style", format!("{style}{sep}fill:none")));
+        }
         Ok(GeometryEdit::ToPath(
             std::mem::take(&mut self.data[i]),
             child,
-            self.marker.map(|name| (name, i.to_string())),
+            set,
         ))
     }
 
     fn expand_use(&mut self, instance: &[usize]) -> bool {
         self.instances.contains(instance)
     }
+
+    fn attributes(&mut self, node: roxmltree::Node) -> Vec<(&'static str, String)> {
+        let start = node.range().start;
+        let mut set = Vec::new();
+        if node.parent().is_some_and(|p| p.is_root()) {
+            set.append(&mut self.root);
+        }
+        if let Some((_, t)) = self.source.bbox_clips.iter().find(|(c, _)| *c == start) {
+            // The rest bounding-box map made explicit: the deformed geometry is written in
+            // these coordinates and must not follow the deformed element's bounding box.
+            set.push(("clipPathUnits", "userSpaceOnUse".to_string()));
+            set.push(("transform", matrix(*t)));
+        }
+        set
+    }
+}
+
+/// `matrix(a b c d e f)` of an affine map, numbers in their shortest round-trip form.
+pub(crate) fn matrix(t: Affine) -> String {
+    let c = t.as_coeffs();
+    let mut s = String::from("matrix(");
+    push_numbers(&mut s, &c);
+    s.push(')');
+    s
 }
 
 /// The new `d` of every imported element of `source` (in [`SvgSource::elements`] order): its
@@ -327,6 +559,17 @@ fn export_geometry_marked(
     children: Vec<String>,
     marker: Option<&'static str>,
 ) -> Result<String, SvgError> {
+    export_geometry_root(source, data, children, marker, Vec::new())
+}
+
+/// [`export_geometry_marked`], the root element also given the attributes `root`.
+fn export_geometry_root(
+    source: &SvgSource,
+    data: Vec<String>,
+    children: Vec<String>,
+    marker: Option<&'static str>,
+    root: Vec<(&'static str, String)>,
+) -> Result<String, SvgError> {
     let origin = source.origin.as_str();
     let mut policy = ExportPolicy {
         source,
@@ -344,6 +587,7 @@ fn export_geometry_marked(
         data,
         children,
         marker,
+        root,
     };
     let doc = super::svg_in::parse_xml(&source.text, origin)?;
     let viewport = source.view_box.size();
@@ -439,9 +683,9 @@ pub(crate) enum GeometryEdit {
     Keep,
     /// Set its `id` (replacing one, or adding it).
     SetId(String),
-    /// Make it a `<path>` with this `d`, if given this text as its first content, and if given
-    /// this attribute (name, value) set.
-    ToPath(String, Option<String>, Option<(&'static str, String)>),
+    /// Make it a `<path>` with this `d`, if given this text as its first content, and with
+    /// these attributes (name, value) set.
+    ToPath(String, Option<String>, Vec<(&'static str, String)>),
 }
 
 /// The decisions that differ between preparing the import text and exporting.
@@ -455,6 +699,11 @@ pub(crate) trait RewritePolicy {
     ) -> Result<GeometryEdit, SvgError>;
     /// Whether the `use` instance `instance` (its `use` chain, outermost first) is expanded.
     fn expand_use(&mut self, instance: &[usize]) -> bool;
+    /// Attributes to set on `node` (any element), beyond its geometry edit. Default: none.
+    fn attributes(&mut self, node: roxmltree::Node) -> Vec<(&'static str, String)> {
+        let _ = node;
+        Vec::new()
+    }
 }
 
 /// Whether `node` is an element in the SVG namespace (or in none, as usvg accepts).
@@ -557,7 +806,8 @@ pub(crate) fn rewrite_document<P: RewritePolicy>(
     };
     let range = root.range();
     w.out.push_str(&src[..range.start]);
-    let spec = TagSpec::default();
+    let mut spec = TagSpec::default();
+    spec.set.extend(w.policy.attributes(root));
     w.write_with(root, &spec, &Context::default(), wrap_root)?;
     w.out.push_str(&src[range.end..]);
     Ok(w.out)
@@ -646,6 +896,9 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
             strip_ids: ctx.in_copy,
             ..TagSpec::default()
         };
+        if !tag.is_empty() {
+            spec.set.extend(self.policy.attributes(node));
+        }
         if let Some(kind) = ElementKind::from_tag(tag) {
             let key = ElementKey {
                 uses: ctx.uses.clone(),

@@ -102,7 +102,7 @@ impl Scene {
         let mut warnings = Vec::new();
         let mut drawing = self.drawing(compat)?;
         if let Some(kinds) = &self.authors_joints {
-            if let Some(w) = apply_authors_joints(&mut drawing, kinds, compat) {
+            if let Some(w) = apply_authors_joints(&mut drawing, kinds, &self.svg_text, compat) {
                 warnings.push(format!("{}: {w}", self.origin));
             }
         }
@@ -604,8 +604,17 @@ pub fn check_rest_handles(
     Ok(())
 }
 
-/// Applies the authors' saved per-joint kinds when the drawing has their structure (same
-/// number of paths, each with their number of joints); otherwise returns why not.
+/// Applies the authors' saved per-joint kinds; returns what did not fit, if anything.
+///
+/// Their list has one entry per chain of their reading: every subpath of every `<path>`
+/// element in document order, hidden layers, `defs` and clip paths included, other shapes
+/// left out ([`crate::drawing::authors_svg`]). When the drawing has exactly that structure
+/// (compatibility mode, or a document of visible `<path>`s only) entry `k` goes to path `k`.
+/// Otherwise each path is matched to its entry through its source element
+/// ([`crate::drawing::SvgSource::path_tag_position`]: the `k`-th `<path>`, subpath `s`), so
+/// that hidden paths and paths our import reads but theirs does not (`<polygon>`, `<rect>`,
+/// `use` copies, which keep their classified kinds) do not shift the others. An entry is
+/// applied only where its length fits the path (`n` curves or its joint count).
 ///
 /// Their `C1` is not strict C¹: their solver writes it as a tangent of fixed direction and
 /// fixed length *ratio* (the input's), which is our [`JointKind::G1`]. In default mode it is
@@ -615,25 +624,45 @@ pub fn check_rest_handles(
 fn apply_authors_joints(
     drawing: &mut Drawing,
     kinds: &[Vec<JointKind>],
+    svg_text: &str,
     compat: Compat,
 ) -> Option<String> {
     if kinds.is_empty() {
         return None;
     }
-    let fits = kinds.len() == drawing.paths.len()
-        && drawing
-            .paths
-            .iter()
-            .zip(kinds)
-            .all(|(p, k)| k.len() == p.n_curves() || k.len() == p.joints.len());
-    if !fits {
-        return Some(format!(
-            "the saved junction kinds ({} paths) do not match the drawing as read ({} paths); they are ignored and junctions are classified from the geometry",
-            kinds.len(),
-            drawing.paths.len()
-        ));
+    let fits = |p: &crate::drawing::Path, k: &[JointKind]| {
+        k.len() == p.n_curves() || k.len() == p.joints.len()
+    };
+    let same_structure = kinds.len() == drawing.paths.len()
+        && drawing.paths.iter().zip(kinds).all(|(p, k)| fits(p, k));
+    let entries: Vec<Option<usize>> = if same_structure {
+        (0..kinds.len()).map(Some).collect()
+    } else {
+        match authors_entries(drawing, kinds.len(), svg_text) {
+            Some(entries) => entries,
+            None => {
+                return Some(format!(
+                    "the saved junction kinds ({} paths) do not match the drawing as read ({} \
+                     paths); they are ignored and junctions are classified from the geometry",
+                    kinds.len(),
+                    drawing.paths.len()
+                ))
+            }
+        }
+    };
+    let mut unfit = Vec::new();
+    for (i, entry) in entries.iter().enumerate() {
+        if let Some(k) = entry {
+            if !fits(&drawing.paths[i], &kinds[*k]) {
+                unfit.push(i);
+            }
+        }
     }
-    for (path, k) in drawing.paths.iter_mut().zip(kinds) {
+    let n_applied = entries.iter().flatten().count() - unfit.len();
+    for (i, (path, entry)) in drawing.paths.iter_mut().zip(&entries).enumerate() {
+        let Some(k) = entry.filter(|_| !unfit.contains(&i)).map(|k| &kinds[k]) else {
+            continue;
+        };
         let n = path.joints.len();
         for (j, slot) in path.joints.iter_mut().enumerate() {
             let open_end = !path.closed && (j == 0 || j + 1 == n);
@@ -648,5 +677,63 @@ fn apply_authors_joints(
             }
         }
     }
-    None
+    if unfit.is_empty() && n_applied == kinds.len() {
+        return None;
+    }
+    let shown: Vec<String> = unfit.iter().take(5).map(|i| format!("path {i}")).collect();
+    Some(format!(
+        "{n_applied} of the {} saved junction kinds were applied{}",
+        kinds.len(),
+        if unfit.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; {} ({}{}) did not fit the curves as read and are classified from the geometry",
+                unfit.len(),
+                shown.join(", "),
+                if unfit.len() > shown.len() {
+                    ", …"
+                } else {
+                    ""
+                }
+            )
+        }
+    ))
+}
+
+/// For each path of `drawing`, the index of its entry in the authors' per-chain list of
+/// `n_entries` ([`apply_authors_joints`]), through its source element; `None` where it has
+/// none. `None` overall when the authors' reading of `svg_text` does not produce `n_entries`
+/// chains, or the drawing has no source.
+fn authors_entries(
+    drawing: &Drawing,
+    n_entries: usize,
+    svg_text: &str,
+) -> Option<Vec<Option<usize>>> {
+    let source = drawing.source.as_ref()?;
+    let chains = crate::drawing::authors_svg::read_authors_paths(svg_text).ok()?;
+    if chains.len() != n_entries {
+        return None;
+    }
+    // First chain and number of chains of every `<path>` element.
+    let mut first: std::collections::HashMap<usize, (usize, usize)> = Default::default();
+    for (k, chain) in chains.iter().enumerate() {
+        first.entry(chain.element).or_insert((k, 0)).1 += 1;
+    }
+    // Our subpath count per element, so that elements read differently get no entries.
+    let mut ours: std::collections::HashMap<usize, usize> = Default::default();
+    for i in 0..drawing.paths.len() {
+        if let Some((k, _)) = source.path_tag_position(i) {
+            *ours.entry(k).or_default() += 1;
+        }
+    }
+    Some(
+        (0..drawing.paths.len())
+            .map(|i| {
+                let (k, s) = source.path_tag_position(i)?;
+                let &(start, count) = first.get(&k)?;
+                (ours.get(&k) == Some(&count)).then_some(start + s)
+            })
+            .collect(),
+    )
 }

@@ -41,7 +41,7 @@ use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
 use kurbo::{Point, Vec2};
 
-use super::constraints::{junction_rows, ConstraintRows};
+use super::constraints::{junction_rows, push_pins, tangent_junctions, ConstraintRows};
 use super::quadrature::SampledCurves;
 use super::{FitError, FitOptions};
 use crate::drawing::Path;
@@ -137,26 +137,18 @@ pub(crate) fn solve_group(
     let n_x = 2 * n_unknowns;
     let path_index = members[0].index;
 
-    let mut rows = ConstraintRows::default();
-    for member in members {
-        let path = member.path;
-        let own = junction_rows(
+    let rows = if members.len() == 1 && members[0].copies.is_empty() {
+        let path = members[0].path;
+        junction_rows(
             &path.points,
             path.closed,
             &path.joints,
             options.constraint_form,
             &options.junctions,
-        );
-        let first = rows.n_rows;
-        for &(r, col, v) in &own.entries {
-            let col = 2 * member.unknowns[col / 2] + col % 2;
-            rows.entries.push((first + r, col, v));
-        }
-        rows.n_rows += own.n_rows;
-    }
-    if members.len() > 1 || members.iter().any(|m| !m.copies.is_empty()) {
-        rows = rows.independent().0;
-    }
+        )
+    } else {
+        group_rows(members, options)
+    };
     let n = n_x + rows.n_rows;
 
     let n_curves: usize = members.iter().map(|m| m.path.n_curves()).sum();
@@ -285,6 +277,46 @@ pub(crate) fn solve_group(
             }
         })
         .collect())
+}
+
+/// The junction rows of a group ([`solve_group`]): every member's junctions over the group's
+/// unknowns, a junction met again through a shared curve (the same junction point with the
+/// same two tangent neighbours, from another path) written once — the first path's kind
+/// rules, since two kinds there (strict C¹ in one path, G¹ with the input's near-1 ratio in
+/// the other) would together force both tangents to vanish — then rows that follow from
+/// others left out.
+fn group_rows(members: &[GroupMember<'_>], options: &FitOptions) -> ConstraintRows {
+    let mut rows = ConstraintRows::default();
+    let mut seen = std::collections::HashSet::new();
+    for member in members {
+        let path = member.path;
+        for mut t in tangent_junctions(
+            &path.points,
+            path.closed,
+            &path.joints,
+            options.constraint_form,
+            &options.junctions,
+        ) {
+            if t.vanishes() {
+                continue;
+            }
+            let map = |i: usize| member.unknowns[i];
+            t.a = map(t.a);
+            t.p = map(t.p);
+            t.b = map(t.b);
+            for q in &mut t.pins {
+                *q = map(*q);
+            }
+            if !seen.insert((t.a.min(t.b), t.p, t.a.max(t.b))) {
+                continue;
+            }
+            for row in t.rows(t.lengths) {
+                rows.push_row(&row);
+            }
+            push_pins(&mut rows, &t);
+        }
+    }
+    rows.independent().0
 }
 
 /// Whether every point of the chain is the same point, to rounding: its bounding box is
