@@ -671,6 +671,15 @@ fn apply_authors_joints(
             } else if let Some(&kind) = k.get(j) {
                 *slot = match (kind, compat) {
                     (JointKind::End, _) => *slot,
+                    // Matched by element (their structure differs from ours), in default mode
+                    // a saved smooth kind is not imposed where the input is not smooth: that
+                    // would move the drawing at rest (the turtles have such junctions).
+                    (JointKind::C1 | JointKind::G1, Compat::None)
+                        if !same_structure
+                            && matches!(*slot, JointKind::C0 | JointKind::FixedAngle) =>
+                    {
+                        *slot
+                    }
                     (JointKind::C1, Compat::None) => JointKind::G1,
                     _ => kind,
                 };
