@@ -79,7 +79,7 @@ impl SharedCurves {
     /// let left = vec![pt(0., 0.), pt(1., 0.), pt(1., 0.), pt(1., 0.), pt(1., 1.), pt(1., 1.),
     ///     pt(1., 1.), pt(0., 1.), pt(0., 1.), pt(0., 1.), pt(0., 0.), pt(0., 0.), pt(0., 0.)];
     /// let right = vec![pt(1., 0.), pt(2., 0.), pt(2., 0.), pt(2., 0.), pt(2., 1.), pt(2., 1.),
-    ///     pt(2., 1.), pt(1., 1.), pt(1., 1.), pt(1., 1.), pt(1., 0.), pt(1., 0.), pt(1., 0.)];
+    ///     pt(2., 1.), pt(1., 1.), pt(1., 1.), pt(1., 1.), pt(1., 1.), pt(1., 1.), pt(1., 0.)];
     /// let drawing = Drawing {
     ///     paths: vec![Path::new(left, true, &o).unwrap(), Path::new(right, true, &o).unwrap()],
     ///     ..Default::default()
