@@ -12,7 +12,7 @@
 //! control-polygon lengths. Curves of zero length are never shared (a dot is not an edge).
 //!
 //! **How they enter the systems.** Paths connected through shared curves form a *group*,
-//! solved as one system ([`super::system`]): its unknowns are the paths' unknown points with
+//! solved as one system (the rig's per-path solve, extended to several paths): its unknowns are the paths' unknown points with
 //! the control points of every shared curve identified (one unknown for all the copies of a
 //! point), its energy counts each shared curve once (the copies have the same integrand), and
 //! its constraint rows are every path's junction rows written over the group's unknowns,
