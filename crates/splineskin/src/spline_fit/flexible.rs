@@ -1579,7 +1579,7 @@ fn path_nodes(
         bern: Vec::new(),
         omega: Vec::new(),
         rest: Vec::new(),
-        centre: chain_centre(&path.points),
+        centre: super::system::centre(path.points.iter().copied()),
         weights: Vec::new(),
     };
     for j in 0..path.n_curves() {
@@ -1597,16 +1597,6 @@ fn path_nodes(
         n.node_start.push(n.bern.len());
     }
     n
-}
-
-/// The centre of the bounding box of a chain's points.
-fn chain_centre(points: &[Point]) -> Vec2 {
-    let (mut lo, mut hi) = (points[0], points[0]);
-    for p in points {
-        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
-        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
-    }
-    lo.midpoint(hi).to_vec2()
 }
 
 /// The flexible systems of path `pi`, or `None` if it has no flexible junction.

@@ -135,13 +135,6 @@ impl SharedCurves {
         }
         // Groups: paths connected by copies.
         let mut parent: Vec<usize> = (0..drawing.paths.len()).collect();
-        fn root(parent: &mut [usize], mut i: usize) -> usize {
-            while parent[i] != i {
-                parent[i] = parent[parent[i]];
-                i = parent[i];
-            }
-            i
-        }
         for c in &copies {
             let (a, b) = (
                 root(&mut parent, c.copy.path),
@@ -177,6 +170,15 @@ impl SharedCurves {
     }
 }
 
+/// The representative of `i` in a union-find forest `parent` (with path halving).
+fn root(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
+}
+
 /// The length of a curve's control polygon.
 fn polygon_length(c: &[Point; 4]) -> f64 {
     (c[1] - c[0]).hypot() + (c[2] - c[1]).hypot() + (c[3] - c[2]).hypot()
@@ -205,13 +207,6 @@ pub(crate) fn group_unknowns(
         offsets[g] + if chain >= m { chain - m } else { chain }
     };
     let mut parent: Vec<usize> = (0..total).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
     for c in copies {
         if group.binary_search(&c.copy.path).is_err() {
             continue;

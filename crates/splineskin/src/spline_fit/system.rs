@@ -370,7 +370,7 @@ fn point_operator(
 }
 
 /// The centre of the bounding box of `points` (at least one).
-fn centre(points: impl IntoIterator<Item = Point>) -> Vec2 {
+pub(crate) fn centre(points: impl IntoIterator<Item = Point>) -> Vec2 {
     let mut points = points.into_iter();
     let first = points.next().expect("a chain has points");
     let (mut lo, mut hi) = (first, first);
