@@ -22,10 +22,15 @@
 //! turns, with the neighbours' second derivatives `∂²P_a/∂φ² = −α û` and `∂²P_a/∂α∂φ = û⊥`
 //! weighted by the energy gradient at the neighbour (the exact Hessian of `E`). Where that
 //! step is not a descent direction (its predicted decrease `−gᵀΔx ≤ 0`: the Hessian is
-//! indefinite there) they are dropped (Gauss–Newton, always a descent). The step is shortened
-//! so that no scalar falls below [`MIN_SCALAR_FRACTION`] of its current value and no junction
-//! turns by more than [`MAX_TURN`], then halved until `E` decreases; the turn is applied as a
-//! rotation, so the new points satisfy every junction exactly. The iteration stops when a step
+//! indefinite there) they are dropped (Gauss–Newton, always a descent). The scalars are kept positive by an active set: a scalar the step would take below
+//! [`MIN_HELD_FRACTION`] of the input's tangent length on that side (or below its current value,
+//! if it is already smaller) is held there, its unknown fixed in the KKT system, and the step
+//! solved again until no other scalar goes below its bound; a tangent that wants to vanish then
+//! reaches its bound in one step and the other unknowns converge as Newton does (shortening the
+//! whole step instead made such a path creep, halving the scalar for 17 steps). The step is
+//! shortened so that no junction turns by more than [`MAX_TURN`], then halved until `E`
+//! decreases; the turn is applied as a rotation, so the new points satisfy every junction
+//! exactly. The iteration stops when a step
 //! lowers `E` by less than [`FlexibleOptions::tolerance`] relative, or when a whole Newton step
 //! lowered it by what its quadratic model predicted, to that tolerance (the model is then
 //! accurate, so the step landed at its minimiser). Both tests (and alternation's) add the
@@ -114,6 +119,10 @@ pub const DEFAULT_MAX_STEPS: usize = 40;
 /// Smallest fraction of its current value a direction step may shrink a tangent scalar `α` to:
 /// 0.5. Keeps the scalars positive (a negative one would reverse the tangent, a cusp).
 pub const MIN_SCALAR_FRACTION: f64 = 0.5;
+
+/// The least fraction of the input's tangent length a Newton step lets a tangent scalar reach:
+/// 1e-3; a step that would take it lower holds it there (module doc).
+pub const MIN_HELD_FRACTION: f64 = 1e-3;
 
 /// Largest turn of a junction's tangents in one Gauss–Newton step: π/4 (the linearisation
 /// of the turn is poor beyond).
@@ -601,6 +610,9 @@ struct Scratch {
     rhs: Vec<f64>,
     /// The energy under which the path counts as converged ([`PathNodes::noise_floor`]).
     floor: f64,
+    /// Per tangent scalar, the least value a Newton step holds it at:
+    /// [`MIN_HELD_FRACTION`] of the input's tangent length on that side.
+    least: Vec<f64>,
 }
 
 /// The result of one path's iteration.
@@ -925,6 +937,16 @@ impl FlexibleSolver {
         sc: &mut Scratch,
         mut run: PathRun,
     ) -> Result<PathRun, FitError> {
+        let input = &fp.layout.input;
+        sc.least = fp
+            .layout
+            .flexible
+            .iter()
+            .flat_map(|j| {
+                let (a, b) = tangent_lengths(j, input);
+                [MIN_HELD_FRACTION * a, MIN_HELD_FRACTION * b]
+            })
+            .collect();
         let mut e = run.energies[run.energies.len() - 1];
         while run.energies.len() <= self.options.max_steps && e > sc.floor {
             // No decrease along the step (rounding, or NaN): converged as far as arithmetic goes.
@@ -1324,11 +1346,32 @@ impl FlexPath {
             .iter()
             .flat_map(|j| [g[j.a], g[j.b]])
             .collect();
+        // The least value each scalar may take in this step: its bound, or its current value
+        // if it is already below (module doc).
+        let floors: Vec<f64> = sigma
+            .iter()
+            .zip(&sc.least)
+            .map(|(s, l)| l.min(*s))
+            .collect();
         let mut exact = true;
+        let mut held: Vec<(usize, f64)> = Vec::new();
         let (step, predicted) = loop {
             let zero = vec![Vec2::ZERO; grad.len()];
-            let step =
-                self.newton_step(nodes, sc, &dirs, &sigma, if exact { &grad } else { &zero })?;
+            let gradient = if exact { &grad } else { &zero };
+            // Active set: a scalar the step takes below its floor is held at the floor and the
+            // step solved again, until none is.
+            let step = loop {
+                let step = self.newton_step(nodes, sc, &dirs, &sigma, gradient, &held)?;
+                let before = held.len();
+                for (side, (&s1, &floor)) in step.scalars.iter().zip(&floors).enumerate() {
+                    if s1 < floor && !held.iter().any(|h| h.0 == side) {
+                        held.push((side, floor));
+                    }
+                }
+                if held.len() == before {
+                    break step;
+                }
+            };
             // The model's decrease of E over the whole step: −gᵀ Δx (module doc).
             let predicted = -layout
                 .linear_change(x, &step, &dirs, &sigma)
@@ -1340,23 +1383,16 @@ impl FlexPath {
                 break (step, predicted);
             }
             exact = false;
+            held.clear();
         };
         let mut t: f64 = 1.0;
-        for (side, (&s0, &s1)) in sigma.iter().zip(&step.scalars).enumerate() {
-            let floor = MIN_SCALAR_FRACTION * s0;
-            if s1 < floor {
-                t = t.min(if s0 > 0.0 {
-                    (s0 - floor) / (s0 - s1)
-                } else {
-                    0.0
-                });
-            }
+        for side in 0..sigma.len() {
             let turn = step.turns[side / 2].abs();
             if turn * t > MAX_TURN {
                 t = MAX_TURN / turn;
             }
         }
-        let shortened = t < 1.0;
+        let shortened = t < 1.0 || !held.is_empty();
         for _ in 0..MAX_HALVINGS {
             if t <= 0.0 {
                 break;
@@ -1379,7 +1415,7 @@ impl FlexPath {
 
     /// The Gauss–Newton step at the current directions `dirs` and scalars `sigma`: the
     /// direction step with each junction's turn `δφ` as one more unknown, linearised
-    /// (module doc).
+    /// (module doc); each `(side, value)` of `held` fixes that scalar at that value.
     fn newton_step(
         &self,
         nodes: &PathNodes,
@@ -1387,6 +1423,7 @@ impl FlexPath {
         dirs: &[Vec2],
         sigma: &[f64],
         grad: &[Vec2],
+        held: &[(usize, f64)],
     ) -> Result<NewtonStep, FitError> {
         let layout = &self.layout;
         layout.direction_entries(nodes, dirs, Some((sigma, grad)), &mut sc.entries);
@@ -1403,6 +1440,23 @@ impl FlexPath {
         let first_turn = 2 * layout.n_free + layout.n_scalars();
         for side in 0..layout.n_scalars() {
             sc.rhs[first_turn + side / 2] += grad[side].dot(dirs[side].turn_90()) * sigma[side];
+        }
+        // Held scalars: their row and column replaced by the diagonal alone, the column's
+        // terms moved to the right-hand side (the matrix keeps its pattern).
+        for &(side, value) in held {
+            let zs = 2 * layout.n_free + side;
+            let mut diagonal = 0.0;
+            for (r, c, v) in &mut sc.entries {
+                if *r == zs && *c == zs {
+                    diagonal += *v;
+                } else if *c == zs {
+                    sc.rhs[*r] -= *v * value;
+                    *v = 0.0;
+                } else if *r == zs {
+                    *v = 0.0;
+                }
+            }
+            sc.rhs[zs] = diagonal * value;
         }
         self.newton
             .solve(&sc.entries, &mut sc.kkt, &mut sc.rhs, self.path)?;
