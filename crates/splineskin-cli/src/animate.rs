@@ -15,17 +15,24 @@
 //!   nothing is touched. Frames are deformed and written [`FRAME_CHUNK`] at a time, so memory
 //!   does not grow with the animation's length; an animated SVG holds every frame, and is
 //!   refused above [`MAX_ANIMATED_SVG_BYTES`] (estimated) with a message saying what to do.
+//!
+//! `--viewbox keep` (the default) keeps the input's viewBox in every frame and warns naming the
+//! frames and paths that leave it and by how far; `--viewbox fit` gives every frame (the
+//! animated SVG, or each file of the folder) one viewBox: the union of the input's and of the
+//! art's bounding boxes over all frames, so nothing is cropped and the animation does not jump.
+//! A frames folder is then deformed twice (once for the union, once to write), memory still
+//! that of [`FRAME_CHUNK`] frames.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use splineskin::animation::deform_frames;
-use splineskin::drawing::svg_animate::write_animated_svg;
-use splineskin::drawing::svg_out::write_svg;
+use splineskin::drawing::svg_animate::write_animated_svg_view_box;
+use splineskin::drawing::svg_out::{write_svg_view_box, ViewBoxRule};
 use splineskin::scene::{Compat, Deformer};
 
-use crate::output::{write_atomic, PNG_SIZE};
+use crate::output::{write_atomic, FramesOutside, ViewBoxArg, PNG_SIZE};
 use crate::CompatArg;
 
 #[derive(clap::Args)]
@@ -59,6 +66,11 @@ pub struct Args {
     pins: crate::drawing_input::PinArgs,
     #[command(flatten)]
     pose_args: crate::drawing_input::PoseArgs,
+    /// When the deformed art leaves the input's viewBox: `keep` it in every frame (a warning
+    /// names the frames and paths and how far) or `fit` it (one viewBox for all frames, the
+    /// union of the art over the animation; width/height grow in proportion).
+    #[arg(long, value_enum, default_value_t = ViewBoxArg::Keep)]
+    viewbox: ViewBoxArg,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -160,11 +172,37 @@ pub fn run(args: Args) -> Result<()> {
             );
         }
         let frames = deform_chunk(0, &times)?;
-        let svg = write_animated_svg(drawing, &frames, &times)
+        let mut outside = FramesOutside::default();
+        for (f, points) in frames.iter().enumerate() {
+            outside.add(f, drawing, points);
+        }
+        let svg = write_animated_svg_view_box(drawing, &frames, &times, outside.rule(args.viewbox))
             .with_context(|| format!("{scene_name}: writing the animated SVG"))?;
         write_atomic(&args.output, svg.as_bytes())?;
+        outside.report(&args.output, args.viewbox);
     } else {
-        write_frames(&args, &scene_name, drawing, &times, deform_chunk)?;
+        let mut outside = FramesOutside::default();
+        if args.viewbox == ViewBoxArg::Fit {
+            // One viewBox for every frame: the union over all of them, before any is written.
+            for (c, chunk) in times.chunks(FRAME_CHUNK).enumerate() {
+                let first = c * FRAME_CHUNK;
+                for (k, points) in deform_chunk(first, chunk)?.iter().enumerate() {
+                    outside.add(first + k, drawing, points);
+                }
+            }
+        }
+        let rule = outside.rule(args.viewbox);
+        let gather = (args.viewbox == ViewBoxArg::Keep).then_some(&mut outside);
+        write_frames(
+            &args,
+            &scene_name,
+            drawing,
+            &times,
+            rule,
+            gather,
+            deform_chunk,
+        )?;
+        outside.report(&args.output, args.viewbox);
     }
     eprintln!(
         "{scene_name}: {} curves in {} paths, {} handles, {} keyframes, {} frames at {} fps over {} s{} -> {}",
@@ -239,12 +277,15 @@ const BYTES_PER_ANIMATED_POINT: f64 = 40.0;
 const MAX_ANIMATED_SVG_BYTES: u64 = 2_000_000_000;
 
 /// Writes the frames (deformed [`FRAME_CHUNK`] at a time by `deform_chunk(first, times)`) into
-/// a temporary folder beside `args.output`, then renames it into place (module doc).
+/// a temporary folder beside `args.output`, then renames it into place (module doc). Each
+/// frame's viewBox follows `view_box`; `gather`, if given, is told every frame written.
 fn write_frames(
     args: &Args,
     scene_name: &str,
     drawing: &splineskin::drawing::Drawing,
     times: &[f64],
+    view_box: ViewBoxRule,
+    mut gather: Option<&mut FramesOutside>,
     deform_chunk: impl Fn(usize, &[f64]) -> Result<Vec<Vec<Point>>>,
 ) -> Result<()> {
     let dir = &args.output;
@@ -287,7 +328,7 @@ fn write_frames(
     let result = (|| -> Result<()> {
         std::fs::create_dir(&tmp).with_context(|| format!("{}: cannot create", tmp.display()))?;
         let write_one = |f: usize, points: &Vec<Point>| -> Result<()> {
-            let svg = write_svg(drawing, points)
+            let svg = write_svg_view_box(drawing, points, view_box)
                 .with_context(|| format!("{scene_name}: frame {f}: writing the SVG"))?;
             write_synced(&tmp.join(frame_name(f, "svg")), svg.as_bytes())?;
             if args.png {
@@ -304,6 +345,9 @@ fn write_frames(
             let first = c * FRAME_CHUNK;
             for (k, points) in deform_chunk(first, chunk)?.iter().enumerate() {
                 write_one(first + k, points)?;
+                if let Some(gather) = gather.as_deref_mut() {
+                    gather.add(first + k, drawing, points);
+                }
             }
         }
         if dir.exists() {

@@ -5,9 +5,11 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, ensure, Context, Result};
-use kurbo::Point;
+use kurbo::{Point, Rect};
 use serde::Serialize;
-use splineskin::drawing::svg_out::{art_outside_view_box, write_svg_view_box, ViewBoxRule};
+use splineskin::drawing::svg_out::{
+    art_bounds, art_outside_view_box, write_svg_view_box, ViewBoxRule,
+};
 use splineskin::drawing::Drawing;
 
 /// Longest side of PNG renders, in pixels.
@@ -122,31 +124,163 @@ pub fn warn_outside_view_box(path: &Path, drawing: &Drawing, points: &[Point], r
         return;
     }
     outside.sort_by(|a, b| b.distance.total_cmp(&a.distance));
-    let named: Vec<String> = outside
-        .iter()
-        .take(MAX_NAMED_OUTSIDE)
-        .map(|o| format!("{} by {:.3}", o.element, o.distance))
-        .collect();
-    let more = outside.len().saturating_sub(MAX_NAMED_OUTSIDE);
-    let more = if more > 0 {
-        format!(" and {more} more")
-    } else {
-        String::new()
-    };
+    let named = named_list(
+        outside
+            .iter()
+            .map(|o| format!("{} by {:.3}", o.element, o.distance)),
+        outside.len(),
+    );
     match rule {
         ViewBoxArg::Keep => eprintln!(
-            "warning: {}: the deformed art leaves the viewBox (cropped): {}{more} (user units); \
+            "warning: {}: the deformed art leaves the viewBox (cropped): {named} (user units); \
              --viewbox fit grows the viewBox to include it",
             path.display(),
-            named.join(", ")
         ),
         ViewBoxArg::Fit => eprintln!(
-            "note: {}: the viewBox grows to include {} path(s) that leave it, farthest {}",
+            "note: {}: the viewBox grows to include {} path(s) that leave it, farthest {} by {:.3}",
             path.display(),
             outside.len(),
-            named[0]
+            outside[0].element,
+            outside[0].distance
         ),
     }
+}
+
+/// Where the frames of an animation leave the input's viewBox, gathered frame by frame
+/// ([`FramesOutside::add`]): for `animate --viewbox keep` a warning naming the frames, paths
+/// and how far ([`FramesOutside::report`]); for `fit` the union of the art's bounding boxes
+/// over all frames ([`FramesOutside::rule`]), one viewBox for the whole animation.
+#[derive(Debug, Default)]
+pub struct FramesOutside {
+    /// Frames seen.
+    n_frames: usize,
+    /// Frames in which some path leaves the viewBox, and the first and last of them.
+    n_frames_outside: usize,
+    first_last: Option<(usize, usize)>,
+    /// Per path index (leaving the viewBox in some frame): its element, in how many frames it
+    /// leaves, and its largest overshoot with the frame of it.
+    paths: std::collections::BTreeMap<usize, PathOutside>,
+    /// The union of the art's bounding boxes over the frames ([`art_bounds`]).
+    bounds: Option<Rect>,
+}
+
+#[derive(Debug)]
+struct PathOutside {
+    element: String,
+    n_frames: usize,
+    distance: f64,
+    frame: usize,
+}
+
+impl FramesOutside {
+    /// Takes frame `frame`'s deformed points (frames in any order, each once). Points the
+    /// writer would refuse (wrong count, not finite) are skipped here: the writer reports them.
+    pub fn add(&mut self, frame: usize, drawing: &Drawing, points: &[Point]) {
+        self.n_frames += 1;
+        if let Ok(Some(r)) = art_bounds(drawing, points) {
+            self.bounds = Some(self.bounds.map_or(r, |b| b.union(r)));
+        }
+        let Ok(outside) = art_outside_view_box(drawing, points) else {
+            return;
+        };
+        if outside.is_empty() {
+            return;
+        }
+        self.n_frames_outside += 1;
+        self.first_last = Some(match self.first_last {
+            None => (frame, frame),
+            Some((a, b)) => (a.min(frame), b.max(frame)),
+        });
+        for o in outside {
+            let entry = self.paths.entry(o.path_index).or_insert(PathOutside {
+                element: o.element,
+                n_frames: 0,
+                distance: o.distance,
+                frame,
+            });
+            entry.n_frames += 1;
+            if o.distance > entry.distance {
+                entry.distance = o.distance;
+                entry.frame = frame;
+            }
+        }
+    }
+
+    /// The viewBox rule of every frame under `arg`: `fit` is [`ViewBoxRule::FitTo`] the union
+    /// of the art over all frames added (the same viewBox for each frame).
+    pub fn rule(&self, arg: ViewBoxArg) -> ViewBoxRule {
+        match (arg, self.bounds) {
+            (ViewBoxArg::Fit, Some(bounds)) => ViewBoxRule::FitTo(bounds),
+            _ => ViewBoxRule::Keep,
+        }
+    }
+
+    /// Says on stderr which paths leave the input's viewBox, in which frames and how far
+    /// (nothing when none does), for output `path` written with `arg`.
+    pub fn report(&self, path: &Path, arg: ViewBoxArg) {
+        let Some((first, last)) = self.first_last else {
+            return;
+        };
+        let mut paths: Vec<&PathOutside> = self.paths.values().collect();
+        paths.sort_by(|a, b| b.distance.total_cmp(&a.distance));
+        let frames = if first == last {
+            format!("frame {first}")
+        } else {
+            format!("frames {first}–{last}")
+        };
+        let named = named_list(
+            paths.iter().map(|p| {
+                format!(
+                    "{} by {:.3} at frame {} (outside in {} frame{})",
+                    p.element,
+                    p.distance,
+                    p.frame,
+                    p.n_frames,
+                    if p.n_frames == 1 { "" } else { "s" }
+                )
+            }),
+            paths.len(),
+        );
+        match arg {
+            ViewBoxArg::Keep => eprintln!(
+                "warning: {}: the deformed art leaves the viewBox (cropped) in {} of {} frames \
+                 ({frames}): {named} (user units); --viewbox fit gives every frame one viewBox \
+                 that holds them all",
+                path.display(),
+                self.n_frames_outside,
+                self.n_frames
+            ),
+            ViewBoxArg::Fit => {
+                let r = self.bounds.unwrap_or_default();
+                eprintln!(
+                    "note: {}: the viewBox grows to hold every frame ({} path(s) leave the \
+                     input's in {} of {} frames, {frames}; farthest {} by {:.3} at frame {}); \
+                     the art spans x {:.3} … {:.3}, y {:.3} … {:.3}",
+                    path.display(),
+                    paths.len(),
+                    self.n_frames_outside,
+                    self.n_frames,
+                    paths[0].element,
+                    paths[0].distance,
+                    paths[0].frame,
+                    r.x0,
+                    r.x1,
+                    r.y0,
+                    r.y1
+                )
+            }
+        }
+    }
+}
+
+/// The first [`MAX_NAMED_OUTSIDE`] of `items` joined by commas, then "and N more" of `total`.
+fn named_list(items: impl Iterator<Item = String>, total: usize) -> String {
+    let mut s = items.take(MAX_NAMED_OUTSIDE).collect::<Vec<_>>().join(", ");
+    let more = total.saturating_sub(MAX_NAMED_OUTSIDE);
+    if more > 0 {
+        s.push_str(&format!(" and {more} more"));
+    }
+    s
 }
 
 /// Writes the deformed drawing to `path` in the format its extension asks for.

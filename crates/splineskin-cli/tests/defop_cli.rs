@@ -388,8 +388,10 @@ fn defop_cli_deform_through_the_operator() {
         .map(|p| p.y)
         .fold(f64::MIN, f64::max);
     assert!(right_top > 30.5, "the right end rises: {lifted:?}");
+    // The lifted bar leaves the viewBox (0 0 100 30, which the bar fills at rest): `keep`
+    // keeps the viewBox and says how far, `fit` grows it to the curves' exact bounds.
     let svg = dir.join("lift.svg");
-    ok(&splineskin(&[
+    let out = splineskin(&[
         "defop",
         "deform",
         s(&scene),
@@ -397,8 +399,56 @@ fn defop_cli_deform_through_the_operator() {
         s(&svg),
         "--pose",
         "lift",
+    ]);
+    ok(&out);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("<path"));
+    assert!(text.contains(r#"viewBox="0 0 100 30""#), "{text}");
+    let bounds = lifted
+        .chunks(3)
+        .zip(lifted.iter().skip(3).step_by(3))
+        .map(|(c, &p3)| {
+            use kurbo::ParamCurveExtrema;
+            kurbo::CubicBez::new(c[0], c[1], c[2], p3).bounding_box()
+        })
+        .fold(kurbo::Rect::new(0.0, 0.0, 100.0, 30.0), |r, b| r.union(b));
+    let overshoot = [-bounds.x0, bounds.x1 - 100.0, -bounds.y0, bounds.y1 - 30.0]
+        .into_iter()
+        .fold(0.0f64, f64::max);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains(&format!(
+            "lift.svg: the deformed art leaves the viewBox (cropped): path (line 1) by {overshoot:.3}"
+        )),
+        "{overshoot} in {stderr}"
+    );
+    let fit = dir.join("lift-fit.svg");
+    ok(&splineskin(&[
+        "defop",
+        "deform",
+        s(&scene),
+        "-o",
+        s(&fit),
+        "--pose",
+        "lift",
+        "--viewbox",
+        "fit",
     ]));
-    assert!(std::fs::read_to_string(&svg).unwrap().contains("<path"));
+    let text = std::fs::read_to_string(&fit).unwrap();
+    let at = text.find("viewBox=\"").unwrap() + 9;
+    let found: Vec<f64> = text[at..at + text[at..].find('"').unwrap()]
+        .split(' ')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let expected = [bounds.x0, bounds.y0, bounds.width(), bounds.height()];
+    for k in 0..4 {
+        // The JSON and SVG runs solve the same system: equal to rounding, far below 1e-9 of
+        // the bar's size.
+        assert!(
+            (found[k] - expected[k]).abs() < 1e-7,
+            "{found:?} vs {expected:?}"
+        );
+    }
 
     // Turning and scaling a handle about its own position moves nothing, and the run says so.
     let rest = json("rest", "rest.json");

@@ -88,14 +88,32 @@ export async function weightGrid(rig, handle, [x0, y0, x1, y1], width, height) {
   return new Float32Array(await response.arrayBuffer());
 }
 
-/** The deformed SVG document for `points` (Float64Array x0, y0, …). */
-export async function exportSvg(document, points) {
-  const response = await call(`/api/documents/${encodeURIComponent(document)}/export`, {
+/**
+ * The deformed SVG document for `points` (Float64Array x0, y0, …), its viewBox kept as the
+ * document's (`viewbox` 'keep') or grown to include the art ('fit').
+ */
+export async function exportSvg(document, points, viewbox = 'keep') {
+  const query = new URLSearchParams({ viewbox });
+  const response = await call(`/api/documents/${encodeURIComponent(document)}/export?${query}`, {
     method: 'POST',
     headers: { ...HEADERS, 'content-type': 'application/octet-stream' },
     body: points,
   });
   return response.text();
+}
+
+/**
+ * Where the drawing through `points` stands against the document's viewBox:
+ * { view_box, fitted, outside: [{ path, element, distance }] } (farthest first; fitted is the
+ * viewBox a 'fit' export writes).
+ */
+export async function outside(document, points) {
+  const response = await call(`/api/documents/${encodeURIComponent(document)}/outside`, {
+    method: 'POST',
+    headers: { ...HEADERS, 'content-type': 'application/octet-stream' },
+    body: points,
+  });
+  return response.json();
 }
 
 /** The scene file (JSON text) of `scene`. */

@@ -51,6 +51,9 @@ const editor = {
   /** Training counts the server reported, { done, total, step, steps } (for the tests). */
   countsSeen: [],
   solveSeq: 0,
+  /** The server's last report on the viewBox ({ view_box, fitted, outside }), for the tests. */
+  viewBoxReport: null,
+  viewBoxSeq: 0,
   abort: null,
   weightsShown: null,
 };
@@ -133,6 +136,8 @@ function show(info) {
   editor.history.clear();
   editor.frameTimes = [];
   editor.productTimes = [];
+  editor.viewBoxReport = null;
+  showViewBoxReport(null);
   document.body.dataset.rig = 'none';
   document.title = `${info.name} — splineskin editor`;
   clearError();
@@ -334,6 +339,8 @@ function render({ timed = false } = {}) {
   view.writePaths(editor.points);
   const t2 = performance.now();
   drawOverlay();
+  // While dragging, once on mouse-up (dragged → sceneChanged → render).
+  if (!timed) checkViewBox();
   if (timed) {
     editor.productTimes.push(t1 - t0);
     editor.frameTimes.push(t2 - t0);
@@ -386,6 +393,7 @@ async function flexibleSolve() {
     editor.points.set(points);
     editor.view.writePaths(editor.points);
     drawOverlay();
+    checkViewBox();
     document.body.dataset.solve = 'done';
   } catch (e) {
     if (seq !== editor.solveSeq) return;
@@ -397,6 +405,61 @@ async function flexibleSolve() {
       showError(e);
     }
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The viewBox: whether the deformed art leaves it (the server's report, after each change)
+
+/** A distance in drawing units, to about four significant digits. */
+function units(v) {
+  return Number(v.toPrecision(4)).toString();
+}
+
+/**
+ * Asks the server whether the drawing as shown leaves the document's viewBox and says so in
+ * the status line; the latest answer wins. `body[data-viewbox]` is 'inside', 'outside' or
+ * 'checking' (for the tests).
+ */
+async function checkViewBox() {
+  const seq = ++editor.viewBoxSeq;
+  const { info } = editor;
+  const points = Float64Array.from(editor.points);
+  document.body.dataset.viewbox = 'checking';
+  try {
+    const report = await api.outside(info.id, points);
+    if (seq !== editor.viewBoxSeq || info !== editor.info) return;
+    editor.viewBoxReport = report;
+    showViewBoxReport(report);
+  } catch (e) {
+    if (seq !== editor.viewBoxSeq) return;
+    delete document.body.dataset.viewbox;
+    if (e.status !== 404) showError(e);
+  }
+}
+
+function showViewBoxReport(report) {
+  const note = $('viewbox-note');
+  const outside = report?.outside ?? [];
+  editor.view?.showViewBox(outside.length > 0);
+  if (!report) {
+    delete document.body.dataset.viewbox;
+  } else {
+    document.body.dataset.viewbox = outside.length ? 'outside' : 'inside';
+  }
+  note.hidden = outside.length === 0;
+  if (!outside.length) {
+    note.textContent = '';
+    return;
+  }
+  const far = outside[0];
+  const n = outside.length;
+  note.textContent =
+    `${n} path${n === 1 ? '' : 's'} leave${n === 1 ? 's' : ''} the viewBox (dashed), ` +
+    `farthest ${far.element} by ${units(far.distance)} units`;
+  const [x, y, w, h] = report.fitted;
+  note.title =
+    outside.map((o) => `${o.element}: ${units(o.distance)}`).join('\n') +
+    `\n\nExport with viewBox "keep" crops them; "fit the art" writes viewBox ${[x, y, w, h].map(units).join(' ')}`;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -594,9 +657,12 @@ function baseName() {
 
 async function exportSvg() {
   try {
-    const svg = await api.exportSvg(editor.info.id, editor.points);
+    const viewbox = $('export-viewbox').value;
+    const svg = await api.exportSvg(editor.info.id, editor.points, viewbox);
     download(svg, `${baseName()}-deformed.svg`, 'image/svg+xml');
-    say(`exported ${baseName()}-deformed.svg`);
+    const outside = editor.viewBoxReport?.outside.length ?? 0;
+    const how = !outside ? '' : viewbox === 'fit' ? ' (viewBox grown to include the art)' : ' (viewBox kept: art outside it is cropped)';
+    say(`exported ${baseName()}-deformed.svg${how}`);
   } catch (e) {
     showError(e);
   }

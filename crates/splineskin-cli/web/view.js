@@ -101,8 +101,16 @@ export class DrawingView {
       JUNCTION_KINDS.map((k) => [k, svgElement('path', { class: `ss-junctions ${k}` })]),
     );
     this.handleLayer = svgElement('g', { class: 'ss-handles' });
-    this.overlay.append(this.weightImage, ...Object.values(this.junctionPaths), this.handleLayer);
+    // The document's viewBox, outlined while the deformed art leaves it (showViewBox).
+    this.viewBoxFrame = svgElement('rect', { class: 'ss-view-box', x, y, width: w, height: h });
+    this.viewBoxFrame.style.display = 'none';
+    this.overlay.append(this.weightImage, this.viewBoxFrame, ...Object.values(this.junctionPaths), this.handleLayer);
     root.append(this.overlay);
+  }
+
+  /** Outlines the document's viewBox (dashed), or hides the outline. */
+  showViewBox(shown) {
+    this.viewBoxFrame.style.display = shown ? '' : 'none';
   }
 
   /** Shows the whole drawing again (the viewBox the document opened with). */

@@ -344,3 +344,65 @@ fn svg_export_keeps_namespace_prefixes() {
     let again = reimport(&out, "prefixed");
     assert_eq!(again.n_curves(), drawing.n_curves());
 }
+
+/// `ViewBoxRule`: `Fit` is `FitTo` the art's bounds ([`art_bounds`], exact curve bounds: a
+/// circle's are its centre ± r, not its control points'), hidden art counts, clip geometry
+/// does not, `FitTo` takes a union given from outside (an animation's), and a non-finite one is
+/// refused naming it.
+#[test]
+fn svg_export_view_box_fit_is_the_union_with_the_art() {
+    use splineskin::drawing::svg_out::{art_bounds, write_svg_view_box, ViewBoxRule};
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+  <clipPath id="c"><rect x="-50" y="-50" width="200" height="200"/></clipPath>
+  <circle cx="5" cy="5" r="2" clip-path="url(#c)"/>
+  <rect x="1" y="1" width="1" height="1" display="none"/>
+</svg>"#;
+    let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+    // Everything moves by (9, -4): the circle spans x 12 … 16, y -1 … 3; the hidden square
+    // x 10 … 11, y -3 … -2; the clip rectangle (not art) x 49 … 249.
+    let moved: Vec<Point> = drawing
+        .flat_points()
+        .iter()
+        .map(|&p| p + Vec2::new(9.0, -4.0))
+        .collect();
+    let r = art_bounds(&drawing, &moved).unwrap().unwrap();
+    let expected = [10.0, -3.0, 16.0, 3.0];
+    for (found, want) in [r.x0, r.y0, r.x1, r.y1].into_iter().zip(expected) {
+        assert!((found - want).abs() < 1e-12, "{r:?}");
+    }
+    let fit = write_svg_view_box(&drawing, &moved, ViewBoxRule::Fit).unwrap();
+    assert_eq!(
+        fit,
+        write_svg_view_box(&drawing, &moved, ViewBoxRule::FitTo(r)).unwrap()
+    );
+    let view_box = |text: &str| {
+        let at = text.find("viewBox=\"").unwrap() + 9;
+        text[at..at + text[at..].find('"').unwrap()]
+            .split(' ')
+            .map(|v| v.parse::<f64>().unwrap())
+            .collect::<Vec<_>>()
+    };
+    // x 0 … 16, y -3 … 10.
+    let found = view_box(&fit);
+    for (f, w) in found.iter().zip([0.0, -3.0, 16.0, 13.0]) {
+        assert!((f - w).abs() < 1e-12, "{found:?}");
+    }
+    // A union from outside: the rest points, fitted to a larger box, write that box.
+    let rest = drawing.flat_points();
+    let wide = kurbo::Rect::new(-20.0, 0.0, 10.0, 40.0);
+    let text = write_svg_view_box(&drawing, &rest, ViewBoxRule::FitTo(wide)).unwrap();
+    assert_eq!(view_box(&text), [-20.0, 0.0, 30.0, 40.0]);
+    // Inside the viewBox: the document is written as `Keep` writes it.
+    let inside = kurbo::Rect::new(1.0, 1.0, 2.0, 2.0);
+    assert_eq!(
+        write_svg_view_box(&drawing, &rest, ViewBoxRule::FitTo(inside)).unwrap(),
+        write_svg(&drawing, &rest).unwrap()
+    );
+    let nan = kurbo::Rect::new(0.0, 0.0, f64::NAN, 1.0);
+    let err = write_svg_view_box(&drawing, &rest, ViewBoxRule::FitTo(nan)).unwrap_err();
+    assert!(
+        matches!(err, SvgError::NonFinitePoint { index: 1, .. }),
+        "{err}"
+    );
+    assert!(err.to_string().contains("viewBox to fit"), "{err}");
+}

@@ -1,4 +1,5 @@
-//! `splineskin defop deform SCENE -o OUT.(svg|png|json) [--pose P] [--operator OP]`: the
+//! `splineskin defop deform SCENE -o OUT.(svg|png|json) [--pose P] [--operator OP]
+//! [--viewbox keep|fit]`: the
 //! scene's drawing deformed through a trained operator ([`DefOpRig`], the join of the operator
 //! with the spline fit): the pose's maps move the point handles to `Q = (T_ℓ p_ℓ)_ℓ`, and the
 //! drawing's control points are `G_spline ψ(Q)`, junction constraints kept. The output is
@@ -13,7 +14,7 @@ use kurbo::Point;
 use splineskin::defop::{DefOpRig, OperatorFile};
 use splineskin::scene::{Compat, Scene, HANDLE_VERTEX_TOLERANCE};
 
-use crate::output::write_deformed;
+use crate::output::{warn_outside_view_box, write_deformed_view_box, ViewBoxArg};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -28,6 +29,11 @@ pub struct Args {
     /// The operator file (default: the scene's `defop.operator`).
     #[arg(long)]
     operator: Option<PathBuf>,
+    /// When the deformed art leaves the input's viewBox: `keep` it (a warning names the paths
+    /// and how far) or `fit` it (viewBox and width/height grow to include the art), as in
+    /// `splineskin deform`.
+    #[arg(long, value_enum, default_value_t = ViewBoxArg::Keep)]
+    viewbox: ViewBoxArg,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -99,7 +105,8 @@ pub fn run(args: Args) -> Result<()> {
             args.scene.display()
         );
     }
-    write_deformed(&args.output, &drawing, &points)?;
+    warn_outside_view_box(&args.output, &drawing, &points, args.viewbox);
+    write_deformed_view_box(&args.output, &drawing, &points, args.viewbox.into())?;
     eprintln!(
         "{}: {} curves in {} paths, {} handles, operator {} ({} vertices), join {:.2} s, pose {pose_index} -> {}",
         args.scene.display(),

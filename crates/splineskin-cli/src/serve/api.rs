@@ -11,7 +11,8 @@
 //! | `POST /api/defops/{id}/deform` | [`DeformRequest`](super::defop_routes::DeformRequest) `{"handles": [[x, y], …]}` (the configuration `Q`) | the library's deformation at `Q`, `f64` LE `x0, y0, x1, y1, …` (the page's product is checked against it) |
 //! | `GET /api/progress/{job}` | | the stage of the precomputation whose request carried `x-splineskin-job: {job}`: `{"stage": "queued" \| "weights" \| "rig" \| "domain" \| "training" \| "join", "seconds": …}` (seconds in that stage), with `"done", "total", "step", "steps"` while training (ground-truth solves done of all, bootstrapping stage of all), or `{"stage": null}` when none runs |
 //! | `GET /api/rigs/{id}/weights?handle&x0&y0&x1&y1&width&height` | | handle's weight at the centres of a `width × height` grid over the box, `f32` LE, row by row from `y0` |
-//! | `POST /api/documents/{id}/export` | deformed points, `f64` LE | the SVG document with them ([`write_svg`]) |
+//! | `POST /api/documents/{id}/export?viewbox=keep\|fit` | deformed points, `f64` LE | the SVG document with them ([`write_svg_view_box`](splineskin::drawing::svg_out::write_svg_view_box)); `fit` grows the viewBox to include the art, `keep` (default) leaves it |
+//! | `POST /api/documents/{id}/outside` | deformed points, `f64` LE | [`ViewBoxReport`](super::wire::ViewBoxReport): the paths that leave the viewBox, how far, and the viewBox `fit` writes |
 //! | `POST /api/documents/{id}/scene` | [`EditScene`] | the scene file (ours, drawing inline) |
 //!
 //! Errors are JSON [`ErrorBody`] `{"error": "…"}` naming the file and element concerned, with
@@ -37,7 +38,7 @@ use tokio::sync::Semaphore;
 
 use super::defop_routes::{defop, deform};
 use super::document::{Document, MAX_UPLOAD_BYTES};
-use super::document_routes::{export, initial, open, save_scene};
+use super::document_routes::{export, initial, open, outside, save_scene};
 use super::progress::ProgressBoard;
 use super::rig_routes::{progress, rig, solve, weights};
 use super::store::Store;
@@ -127,6 +128,10 @@ pub fn router(app: Arc<App>) -> Router {
         .route(
             "/api/documents/{id}/export",
             post(export).layer(DefaultBodyLimit::max(MAX_UPLOAD_BYTES)),
+        )
+        .route(
+            "/api/documents/{id}/outside",
+            post(outside).layer(DefaultBodyLimit::max(MAX_UPLOAD_BYTES)),
         )
         .route(
             "/api/documents/{id}/scene",

@@ -8,7 +8,9 @@
 //!                          ◄── operator O (f64) ─┘
 //!   drag: points = O · vec(T), in the page, each frame
 //!   mouse-up (flexible G¹) ─── POST /api/rigs/{id}/solve ─► warm-started flexible solve
-//!   export ─────────────────── POST /api/documents/{id}/export ─► write_svg (styles kept)
+//!   export ─────────────────── POST /api/documents/{id}/export ─► write_svg_view_box (styles kept;
+//!                                                             viewBox kept or fitted to the art)
+//!   after each edit ────────── POST /api/documents/{id}/outside ─► paths leaving the viewBox
 //!   operator "family" ──────── POST /api/defop ─► Domain + train + DefOpRig (progress counted)
 //!                          ◄── G_spline, ψ's centres (f64) ─┘
 //!   drag: points = G_spline · ψ(Q), in the page, each frame

@@ -708,3 +708,94 @@ async fn serve_saved_operator_scene_records_its_defop_section_and_offers_it_reop
         .expect("message")
         .contains("POST /api/defop"));
 }
+
+/// The viewBox routes: every point moved by (+300, −20) takes the fish out of its viewBox;
+/// `outside` names the paths with their overshoot and the viewBox a `fit` export writes, which
+/// the export with `?viewbox=fit` writes; `keep` (and no query) write the input's; anything
+/// else is refused with a message.
+#[tokio::test]
+async fn serve_outside_reports_and_export_fits_the_view_box() {
+    let app = app();
+    let info = open_demo_svg(&app).await;
+    let id = info["id"].as_str().expect("id");
+    let drawing = read_svg(DEMO_SVG, &ImportOptions::default()).expect("the fish");
+    let moved: Vec<Point> = drawing
+        .flat_points()
+        .iter()
+        .map(|&p| p + kurbo::Vec2::new(300.0, -20.0))
+        .collect();
+    let bytes: Vec<u8> = moved
+        .iter()
+        .flat_map(|p| [p.x.to_le_bytes(), p.y.to_le_bytes()])
+        .flatten()
+        .collect();
+    let request = |uri: String| {
+        post(&uri)
+            .body(Body::from(bytes.clone()))
+            .expect("a request")
+    };
+    let (status, _, body) = send(&app, request(format!("/api/documents/{id}/outside"))).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let report = json(&body);
+    let expected = splineskin::drawing::svg_out::art_outside_view_box(&drawing, &moved).unwrap();
+    let outside = report["outside"].as_array().expect("outside");
+    assert_eq!(outside.len(), expected.len());
+    assert!(!outside.is_empty());
+    let distances: Vec<f64> = outside
+        .iter()
+        .map(|o| o["distance"].as_f64().expect("distance"))
+        .collect();
+    assert!(distances.windows(2).all(|w| w[0] >= w[1]), "farthest first");
+    let farthest = expected
+        .iter()
+        .max_by(|a, b| a.distance.total_cmp(&b.distance))
+        .unwrap();
+    assert_eq!(distances[0], farthest.distance);
+    assert_eq!(outside[0]["element"], farthest.element.as_str());
+    assert_eq!(report["view_box"], info["view_box"]);
+    let r = splineskin::drawing::svg_out::art_bounds(&drawing, &moved)
+        .unwrap()
+        .unwrap()
+        .union(drawing.source.as_ref().unwrap().view_box());
+    let fitted: Vec<f64> = report["fitted"]
+        .as_array()
+        .expect("fitted")
+        .iter()
+        .map(|v| v.as_f64().expect("a number"))
+        .collect();
+    assert_eq!(fitted, [r.x0, r.y0, r.width(), r.height()]);
+
+    let view_box_of = |svg: &[u8]| {
+        let text = String::from_utf8(svg.to_vec()).expect("text");
+        let at = text.find("viewBox=\"").expect("a viewBox") + 9;
+        text[at..at + text[at..].find('"').unwrap()].to_string()
+    };
+    let (status, _, body) = send(
+        &app,
+        request(format!("/api/documents/{id}/export?viewbox=fit")),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let numbers: Vec<f64> = view_box_of(&body)
+        .split(' ')
+        .map(|v| v.parse().expect("a number"))
+        .collect();
+    assert_eq!(numbers, fitted, "the export writes the viewBox announced");
+    let input = view_box_of(DEMO_SVG.as_bytes());
+    for query in ["?viewbox=keep", ""] {
+        let (status, _, body) =
+            send(&app, request(format!("/api/documents/{id}/export{query}"))).await;
+        assert_eq!(status, StatusCode::OK);
+        assert_eq!(view_box_of(&body), input, "{query}");
+    }
+    let (status, _, body) = send(
+        &app,
+        request(format!("/api/documents/{id}/export?viewbox=grow")),
+    )
+    .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(json(&body)["error"]
+        .as_str()
+        .expect("message")
+        .contains("viewbox=grow (expected keep or fit)"));
+}

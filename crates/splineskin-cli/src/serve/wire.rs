@@ -144,3 +144,29 @@ pub struct ErrorBody {
     /// The message, naming the file and element concerned.
     pub error: String,
 }
+
+/// Where the deformed drawing stands against its document's viewBox (`POST
+/// /api/documents/{id}/outside`): the page says so in its status line, and its export offers to
+/// keep the viewBox or fit it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ViewBoxReport {
+    /// The document's viewBox `[x, y, width, height]` (root user units), what `keep` writes.
+    pub view_box: [f64; 4],
+    /// The viewBox a `fit` export writes: the union of the document's and the art's bounding
+    /// box, `[x, y, width, height]` (the document's when nothing leaves it).
+    pub fitted: [f64; 4],
+    /// The paths that leave the viewBox, farthest first.
+    pub outside: Vec<OutsideWire>,
+}
+
+/// A path whose deformed curves leave the viewBox
+/// ([`splineskin::drawing::svg_out::OutsideViewBox`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct OutsideWire {
+    /// Index into the drawing's paths.
+    pub path: usize,
+    /// Its element, `tag#id (line n)`.
+    pub element: String,
+    /// How far its curves' bounding box reaches beyond the viewBox, root user units.
+    pub distance: f64,
+}

@@ -19,7 +19,10 @@ use std::fmt::Write as _;
 
 use kurbo::{Affine, Point};
 
-use super::svg_out::{chain_offsets, element_path_data, export_geometry, push_path_data};
+use super::svg_out::{
+    art_bounds_at, chain_offsets, element_path_data, export_geometry_root, push_path_data,
+    root_attributes, ViewBoxRule,
+};
 use super::{Drawing, SvgError};
 
 /// Why an animated document could not be written.
@@ -71,6 +74,37 @@ pub fn write_animated_svg(
     drawing: &Drawing,
     frames: &[Vec<Point>],
     times: &[f64],
+) -> Result<String, AnimateError> {
+    write_animated_svg_view_box(drawing, frames, times, ViewBoxRule::Keep)
+}
+
+/// [`write_animated_svg`] with the root viewBox chosen by `view_box` ([`ViewBoxRule`]), one
+/// for the whole animation: [`ViewBoxRule::Fit`] grows it to the union of the input's viewBox
+/// and the art's bounding box over every frame ([`super::svg_out::art_bounds`] of each), so
+/// that the animation does not crop any frame and does not jump.
+///
+/// ```
+/// use kurbo::Vec2;
+/// use splineskin::drawing::svg_animate::write_animated_svg_view_box;
+/// use splineskin::drawing::svg_in::{read_svg, ImportOptions};
+/// use splineskin::drawing::svg_out::ViewBoxRule;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <path d="M1 1 C2 2 3 2 4 1"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let rest = drawing.flat_points();
+/// let left: Vec<_> = rest.iter().map(|&p| p + Vec2::new(-3.0, 0.0)).collect();
+/// let right: Vec<_> = rest.iter().map(|&p| p + Vec2::new(8.0, 0.0)).collect();
+/// let frames = [rest, left, right];
+/// let out = write_animated_svg_view_box(&drawing, &frames, &[0.0, 1.0, 2.0], ViewBoxRule::Fit)
+///     .unwrap();
+/// // x from -2 (frame 1) to 12 (frame 2), y from the input's 0 to 10.
+/// assert!(out.contains(r#"viewBox="-2 0 14 10""#), "{out}");
+/// ```
+pub fn write_animated_svg_view_box(
+    drawing: &Drawing,
+    frames: &[Vec<Point>],
+    times: &[f64],
+    view_box: ViewBoxRule,
 ) -> Result<String, AnimateError> {
     let invalid = |what: String| AnimateError::InvalidFrames { what };
     if frames.len() < 2 {
@@ -154,7 +188,18 @@ pub fn write_animated_svg(
                     c.push_str("\"/>");
                 }
             }
-            export_geometry(source, first, children).map_err(|e| AnimateError::Svg(Box::new(e)))
+            let view_box = match view_box {
+                ViewBoxRule::Fit => frames
+                    .iter()
+                    .filter_map(|points| art_bounds_at(drawing, points, &offsets))
+                    .reduce(|a, b| a.union(b))
+                    .map_or(ViewBoxRule::Keep, ViewBoxRule::FitTo),
+                rule => rule,
+            };
+            let root = root_attributes(drawing, &frames[0], &offsets, source, view_box)
+                .map_err(|e| AnimateError::Svg(Box::new(e)))?;
+            export_geometry_root(source, first, children, None, root)
+                .map_err(|e| AnimateError::Svg(Box::new(e)))
         }
         None => {
             let mut children = vec![head; drawing.paths.len()];

@@ -126,10 +126,7 @@ fn write_svg_view(
     match &drawing.source {
         Some(source) => {
             let data = element_path_data(drawing, points, &offsets, source)?;
-            let root = match view_box {
-                ViewBoxRule::Keep => Vec::new(),
-                ViewBoxRule::Fit => fitted_root(drawing, points, &offsets, source),
-            };
+            let root = root_attributes(drawing, points, &offsets, source, view_box)?;
             export_geometry_root(source, data, Vec::new(), marker, root)
         }
         None => Ok(write_standalone(drawing, points, &offsets, &[])),
@@ -137,16 +134,22 @@ fn write_svg_view(
 }
 
 /// What export does with the root `viewBox` when the deformed art leaves it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
 #[non_exhaustive]
 pub enum ViewBoxRule {
     /// Keep the input's viewBox (art outside it is cropped by viewers). The default.
     #[default]
     Keep,
     /// Grow the viewBox to the union of the input's and the deformed art's bounding box
-    /// ([`art_outside_view_box`]'s paths), and `width`/`height` in proportion (same units;
-    /// percentages are kept), so that the drawing keeps its scale on screen.
+    /// ([`art_bounds`]: the paths [`art_outside_view_box`] looks at), and `width`/`height` in
+    /// proportion (same units; percentages are kept), so that the drawing keeps its scale on
+    /// screen.
     Fit,
+    /// As [`ViewBoxRule::Fit`], with the art's bounding box given: the viewBox becomes the
+    /// union of the input's and this rectangle (root user units). An animation passes the
+    /// union of [`art_bounds`] over its frames, so that every frame has the same viewBox and
+    /// holds the art of all of them.
+    FitTo(Rect),
 }
 
 /// A path whose deformed curves leave the document's viewBox.
@@ -255,23 +258,87 @@ pub fn write_svg_view_box(
     write_svg_view(drawing, points, None, view_box)
 }
 
-/// The root attributes of [`ViewBoxRule::Fit`]: none when the art stays inside.
-fn fitted_root(
+/// The union of the exact bounding boxes of the art paths of `drawing` (drawn or hidden, not
+/// clip geometry, mask content or unpainted paths; strokes not counted) through `points` (laid
+/// out like [`Drawing::flat_points`]), in root user units; `None` when the drawing has no art
+/// path. For an animation, the union of this over its frames is what [`ViewBoxRule::FitTo`]
+/// takes.
+///
+/// Errors: [`SvgError::PointCount`], [`SvgError::NonFinitePoint`].
+///
+/// ```
+/// use kurbo::{Rect, Vec2};
+/// use splineskin::drawing::svg_in::{read_svg, ImportOptions};
+/// use splineskin::drawing::svg_out::art_bounds;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <rect x="1" y="1" width="2" height="2"/><circle cx="5" cy="5" r="1"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let moved: Vec<_> = drawing.flat_points().iter().map(|&p| p + Vec2::new(8.0, 0.0)).collect();
+/// let r = art_bounds(&drawing, &moved).unwrap().unwrap();
+/// let expected = Rect::new(9.0, 1.0, 14.0, 6.0);
+/// assert!((r.x0 - expected.x0).abs() + (r.x1 - expected.x1).abs() < 1e-12, "{r:?}");
+/// assert!((r.y0 - expected.y0).abs() + (r.y1 - expected.y1).abs() < 1e-12, "{r:?}");
+/// ```
+pub fn art_bounds(drawing: &Drawing, points: &[Point]) -> Result<Option<Rect>, SvgError> {
+    let offsets = chain_offsets(drawing, points)?;
+    Ok(art_bounds_at(drawing, points, &offsets))
+}
+
+/// [`art_bounds`] with the chain offsets checked already.
+pub(crate) fn art_bounds_at(
+    drawing: &Drawing,
+    points: &[Point],
+    offsets: &[usize],
+) -> Option<Rect> {
+    let mut bounds: Option<Rect> = None;
+    for (i, path) in drawing.paths.iter().enumerate() {
+        if counts_for_view_box(drawing, i) {
+            let r = curves_bounds(path, &points[offsets[i]..offsets[i] + path.points.len()]);
+            bounds = Some(bounds.map_or(r, |b| b.union(r)));
+        }
+    }
+    bounds
+}
+
+/// The attributes `rule` sets on the root element of the export of `points` (none for
+/// [`ViewBoxRule::Keep`], or when the art stays inside the viewBox).
+///
+/// Errors: [`SvgError::NonFinitePoint`] for a [`ViewBoxRule::FitTo`] rectangle that is not
+/// finite (its corner counted as point 0 or 1).
+pub(crate) fn root_attributes(
     drawing: &Drawing,
     points: &[Point],
     offsets: &[usize],
     source: &SvgSource,
-) -> Vec<(&'static str, String)> {
-    let vb = source.view_box;
-    let mut r = vb;
-    for (i, path) in drawing.paths.iter().enumerate() {
-        if counts_for_view_box(drawing, i) {
-            r = r.union(curves_bounds(
-                path,
-                &points[offsets[i]..offsets[i] + path.points.len()],
-            ));
+    rule: ViewBoxRule,
+) -> Result<Vec<(&'static str, String)>, SvgError> {
+    Ok(match rule {
+        ViewBoxRule::Keep => Vec::new(),
+        ViewBoxRule::Fit => match art_bounds_at(drawing, points, offsets) {
+            Some(bounds) => fitted_root(source, bounds),
+            None => Vec::new(),
+        },
+        ViewBoxRule::FitTo(bounds) => {
+            if let Some(index) = [bounds.origin(), Point::new(bounds.x1, bounds.y1)]
+                .iter()
+                .position(|p| !p.is_finite())
+            {
+                return Err(SvgError::NonFinitePoint {
+                    file: source.origin.clone(),
+                    element: "the corners of the viewBox to fit".to_string(),
+                    index,
+                });
+            }
+            fitted_root(source, bounds)
         }
-    }
+    })
+}
+
+/// The root attributes of [`ViewBoxRule::FitTo`]`(bounds)` (`bounds` finite): none when
+/// `bounds` lies inside the viewBox.
+fn fitted_root(source: &SvgSource, bounds: Rect) -> Vec<(&'static str, String)> {
+    let vb = source.view_box;
+    let r = vb.union(bounds.abs());
     if r == vb {
         return Vec::new();
     }
@@ -541,29 +608,11 @@ pub(crate) fn element_path_data(
 }
 
 /// The document of `source` with every imported element's geometry replaced by `data` (one `d`
-/// per element, [`element_path_data`]) and, where `children` (one per element, or empty for
-/// none) holds text, that text written as the element's first content.
-pub(crate) fn export_geometry(
-    source: &SvgSource,
-    data: Vec<String>,
-    children: Vec<String>,
-) -> Result<String, SvgError> {
-    export_geometry_marked(source, data, children, None)
-}
-
-/// [`export_geometry`], each element also given `marker="k"` when `marker` is set
-/// ([`write_svg_marked`]).
-fn export_geometry_marked(
-    source: &SvgSource,
-    data: Vec<String>,
-    children: Vec<String>,
-    marker: Option<&'static str>,
-) -> Result<String, SvgError> {
-    export_geometry_root(source, data, children, marker, Vec::new())
-}
-
-/// [`export_geometry_marked`], the root element also given the attributes `root`.
-fn export_geometry_root(
+/// per element, [`element_path_data`]), where `children` (one per element, or empty for none)
+/// holds text, that text written as the element's first content, each element given
+/// `marker="k"` when `marker` is set ([`write_svg_marked`]), and the root element given the
+/// attributes `root` (the fitted viewBox, [`root_attributes`]).
+pub(crate) fn export_geometry_root(
     source: &SvgSource,
     data: Vec<String>,
     children: Vec<String>,
