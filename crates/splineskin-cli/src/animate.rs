@@ -21,8 +21,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use splineskin::animation::deform_frames;
+use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::svg_animate::write_animated_svg;
-use splineskin::drawing::svg_out::write_svg;
+use splineskin::drawing::svg_out::{write_svg, write_svg_following, ViewBoxRule};
 use splineskin::scene::{Compat, Deformer};
 
 use crate::output::{write_atomic, PNG_SIZE};
@@ -164,7 +165,14 @@ pub fn run(args: Args) -> Result<()> {
             .with_context(|| format!("{scene_name}: writing the animated SVG"))?;
         write_atomic(&args.output, svg.as_bytes())?;
     } else {
-        write_frames(&args, &scene_name, drawing, &times, deform_chunk)?;
+        // Each frame's gradients, patterns, markers, text and images follow its pose.
+        let maps_at = |f: usize| -> Result<Option<ElementMaps>> {
+            let mut pose = vec![kurbo::Affine::IDENTITY; sampler.n_handles()];
+            sampler.pose_at(times[f], &mut pose);
+            crate::deform::element_maps(&setup, &pose, &FollowOptions::default())
+                .with_context(|| format!("{scene_name}: frame {f}"))
+        };
+        write_frames(&args, &scene_name, drawing, &times, deform_chunk, maps_at)?;
     }
     eprintln!(
         "{scene_name}: {} curves in {} paths, {} handles, {} keyframes, {} frames at {} fps over {} s{} -> {}",
@@ -246,6 +254,7 @@ fn write_frames(
     drawing: &splineskin::drawing::Drawing,
     times: &[f64],
     deform_chunk: impl Fn(usize, &[f64]) -> Result<Vec<Vec<Point>>>,
+    maps_at: impl Fn(usize) -> Result<Option<ElementMaps>>,
 ) -> Result<()> {
     let dir = &args.output;
     let name = dir
@@ -287,8 +296,11 @@ fn write_frames(
     let result = (|| -> Result<()> {
         std::fs::create_dir(&tmp).with_context(|| format!("{}: cannot create", tmp.display()))?;
         let write_one = |f: usize, points: &Vec<Point>| -> Result<()> {
-            let svg = write_svg(drawing, points)
-                .with_context(|| format!("{scene_name}: frame {f}: writing the SVG"))?;
+            let svg = match maps_at(f)? {
+                Some(maps) => write_svg_following(drawing, points, &maps, ViewBoxRule::Keep),
+                None => write_svg(drawing, points),
+            }
+            .with_context(|| format!("{scene_name}: frame {f}: writing the SVG"))?;
             write_synced(&tmp.join(frame_name(f, "svg")), svg.as_bytes())?;
             if args.png {
                 if f == 0 {
