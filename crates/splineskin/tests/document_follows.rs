@@ -9,6 +9,13 @@
 //! rig reproduces a common affine map exactly up to rounding, so only anti-aliasing of
 //! edges rounded differently remains; a clip or mask left at rest fails by far (tens of
 //! percent of the art's pixels). Set `DOCUMENT_TEST_OUT=DIR` to keep the pictures.
+//!
+//! User-space gradients and patterns, fixed-orientation markers, images and stroke widths
+//! (`write_svg_following`) get the same rendering check, and each also checks that the plain
+//! writer (nothing carried) fails it. Text is not drawn by our renders (no fonts): its written
+//! `transform` is compared with the rigid map instead. Under a bend, the maps are compared
+//! with a direct least-squares solve over the same samples; the bundled fish's label is
+//! checked against the deformation at the corners of its box in each of the scene's poses.
 
 use kurbo::{Affine, Point, Vec2};
 use splineskin::drawing::follow::{ElementMaps, FollowOptions, REGION_GRID};
@@ -668,4 +675,54 @@ fn strokes_scale_with_the_map_only_when_asked() {
     let off = maps(&drawing, &[scaled; 3], &FollowOptions::default());
     let out = write_svg_following(&drawing, &points, &off, ViewBoxRule::Keep).unwrap();
     assert!(!out.contains("stroke-width:"), "{out}");
+}
+
+/// Largest distance between where the fish's label's map and the deformation itself put a
+/// corner of the label's box, relative to the box's diagonal (90 × 18 units): 5 %. The
+/// label's map is the least-squares affine map over its box, so it misses the deformation at
+/// the corners by how much that bends across one word (1.3–3.3 % in the three poses); a label
+/// left at rest misses by the pose's displacement there (more than its height in every pose).
+const LABEL_FOLLOWS: f64 = 0.05;
+
+#[test]
+fn the_fish_label_follows_its_plate_in_every_pose() {
+    use splineskin::examples::{DEMO_SCENE, DEMO_SVG};
+    use splineskin::scene::{Compat, Scene};
+    let assets = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets"));
+    let scene = Scene::from_json(DEMO_SCENE, "demo-scene.json", Some(assets)).unwrap();
+    let setup = scene.setup(Compat::None).unwrap();
+    let drawing = &setup.drawing;
+    let label_at = DEMO_SVG.find("<text").expect("the label");
+    // The label's box: "splineskin" centred on x = 300, baseline 377, 18 units high.
+    let corners = [
+        (255.0, 362.6),
+        (345.0, 362.6),
+        (255.0, 380.6),
+        (345.0, 380.6),
+    ]
+    .map(Point::from);
+    for pose in &scene.poses {
+        let mut w = vec![0.0; pose.transforms.len()];
+        let mut f = |p| skin_point(&*setup.weights, &pose.transforms, p, &mut w);
+        let maps = ElementMaps::from_map(drawing, &mut f, &FollowOptions::default()).unwrap();
+        let label = maps.carried_map(label_at).expect("label carried");
+        let gap = corners
+            .iter()
+            .map(|&q| (label * q - f(q)).hypot())
+            .fold(0.0, f64::max);
+        let at_rest = corners
+            .iter()
+            .map(|&q| (q - f(q)).hypot())
+            .fold(0.0, f64::max);
+        eprintln!(
+            "{:?}: label corners {gap:.3} units from the deformation (left at rest: {at_rest:.3})",
+            pose.name
+        );
+        assert!(
+            gap <= LABEL_FOLLOWS * 90f64.hypot(18.0),
+            "{:?}: {gap}",
+            pose.name
+        );
+        assert!(at_rest > 18.0, "{:?}: {at_rest}", pose.name);
+    }
 }
