@@ -28,8 +28,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use splineskin::animation::deform_frames;
+use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::svg_animate::write_animated_svg_view_box;
-use splineskin::drawing::svg_out::{write_svg_view_box, ViewBoxRule};
+use splineskin::drawing::svg_out::{write_svg_following, write_svg_view_box, ViewBoxRule};
 use splineskin::scene::{Compat, Deformer};
 
 use crate::output::{write_atomic, FramesOutside, ViewBoxArg, PNG_SIZE};
@@ -193,14 +194,21 @@ pub fn run(args: Args) -> Result<()> {
         }
         let rule = outside.rule(args.viewbox);
         let gather = (args.viewbox == ViewBoxArg::Keep).then_some(&mut outside);
+        // Each frame's gradients, patterns, markers, text and images follow its pose.
+        let maps_at = |f: usize| -> Result<Option<ElementMaps>> {
+            let mut pose = vec![kurbo::Affine::IDENTITY; sampler.n_handles()];
+            sampler.pose_at(times[f], &mut pose);
+            crate::deform::element_maps(&setup, &pose, &FollowOptions::default())
+                .with_context(|| format!("{scene_name}: frame {f}"))
+        };
         write_frames(
             &args,
             &scene_name,
             drawing,
             &times,
-            rule,
-            gather,
+            (rule, gather),
             deform_chunk,
+            maps_at,
         )?;
         outside.report(&args.output, args.viewbox);
     }
@@ -278,16 +286,18 @@ const MAX_ANIMATED_SVG_BYTES: u64 = 2_000_000_000;
 
 /// Writes the frames (deformed [`FRAME_CHUNK`] at a time by `deform_chunk(first, times)`) into
 /// a temporary folder beside `args.output`, then renames it into place (module doc). Each
-/// frame's viewBox follows `view_box`; `gather`, if given, is told every frame written.
+/// frame's viewBox follows `view.0`; `view.1`, if given, is told every frame written.
 fn write_frames(
     args: &Args,
     scene_name: &str,
     drawing: &splineskin::drawing::Drawing,
     times: &[f64],
-    view_box: ViewBoxRule,
-    mut gather: Option<&mut FramesOutside>,
+    view: (ViewBoxRule, Option<&mut FramesOutside>),
+
     deform_chunk: impl Fn(usize, &[f64]) -> Result<Vec<Vec<Point>>>,
+    maps_at: impl Fn(usize) -> Result<Option<ElementMaps>>,
 ) -> Result<()> {
+    let (view_box, mut gather) = view;
     let dir = &args.output;
     let name = dir
         .file_name()
@@ -328,8 +338,11 @@ fn write_frames(
     let result = (|| -> Result<()> {
         std::fs::create_dir(&tmp).with_context(|| format!("{}: cannot create", tmp.display()))?;
         let write_one = |f: usize, points: &Vec<Point>| -> Result<()> {
-            let svg = write_svg_view_box(drawing, points, view_box)
-                .with_context(|| format!("{scene_name}: frame {f}: writing the SVG"))?;
+            let svg = match maps_at(f)? {
+                Some(maps) => write_svg_following(drawing, points, &maps, view_box),
+                None => write_svg_view_box(drawing, points, view_box),
+            }
+            .with_context(|| format!("{scene_name}: frame {f}: writing the SVG"))?;
             write_synced(&tmp.join(frame_name(f, "svg")), svg.as_bytes())?;
             if args.png {
                 if f == 0 {

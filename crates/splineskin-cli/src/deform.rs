@@ -4,9 +4,10 @@
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
-use kurbo::Point;
+use kurbo::{Affine, Point};
+use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::Drawing;
-use splineskin::scene::{Compat, Deformer};
+use splineskin::scene::{Compat, Deformer, Setup};
 
 use crate::output::{warn_outside_view_box, write_deformed_view_box, ViewBoxArg};
 use crate::CompatArg;
@@ -40,6 +41,10 @@ pub struct Args {
     /// and how far) or `fit` it (viewBox and width/height grow to include the art).
     #[arg(long, value_enum, default_value_t = ViewBoxArg::Keep)]
     viewbox: ViewBoxArg,
+    /// Scale stroke widths by the local scale of the deformation over each element (off by
+    /// default, as Illustrator's Puppet Warp leaves stroke weights as they are).
+    #[arg(long)]
+    scale_strokes: bool,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -97,7 +102,16 @@ pub fn run(args: Args) -> Result<()> {
     };
     check_finite(&args, pose_index, &setup.drawing, &points, &rank_deficient)?;
     warn_outside_view_box(&args.output, &setup.drawing, &points, args.viewbox);
-    write_deformed_view_box(&args.output, &setup.drawing, &points, args.viewbox.into())?;
+    let options = FollowOptions::default().with_scale_strokes(args.scale_strokes);
+    let maps = element_maps(&setup, &pose.transforms, &options)
+        .with_context(|| format!("{}: pose {pose_index}", args.scene.display()))?;
+    write_deformed_view_box(
+        &args.output,
+        &setup.drawing,
+        &points,
+        args.viewbox.into(),
+        maps.as_ref(),
+    )?;
     let set = scene.handle_set();
     let kinds = [
         (set.bones.len(), "bones"),
@@ -129,6 +143,33 @@ pub fn run(args: Args) -> Result<()> {
         args.output.display()
     );
     Ok(())
+}
+
+/// The maps that carry gradients, patterns, markers, text and images with the skinning map of
+/// `setup`'s weights under `pose` ([`splineskin::drawing::follow`]); `None` (with a note) when
+/// the pose does not have one transform per weight function.
+pub fn element_maps(
+    setup: &Setup,
+    pose: &[Affine],
+    options: &FollowOptions,
+) -> Result<Option<ElementMaps>> {
+    let field = &*setup.weights;
+    if pose.len() != field.n_handles() {
+        eprintln!(
+            "note: {} transforms for {} weight functions: gradients, patterns, markers, text \
+             and images are left at rest",
+            pose.len(),
+            field.n_handles()
+        );
+        return Ok(None);
+    }
+    let mut w = vec![0.0; pose.len()];
+    let mut map = |p: Point| splineskin::naive::skin_point(field, pose, p, &mut w);
+    Ok(Some(ElementMaps::from_map(
+        &setup.drawing,
+        &mut map,
+        options,
+    )?))
 }
 
 /// Errors, naming the scene, the pose and the first path concerned, if a deformed point is not

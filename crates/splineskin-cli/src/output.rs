@@ -7,8 +7,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, ensure, Context, Result};
 use kurbo::{Point, Rect};
 use serde::Serialize;
+use splineskin::drawing::follow::ElementMaps;
 use splineskin::drawing::svg_out::{
-    art_bounds, art_outside_view_box, write_svg_view_box, ViewBoxRule,
+    art_bounds, art_outside_view_box, write_svg_following, write_svg_view_box, ViewBoxRule,
 };
 use splineskin::drawing::Drawing;
 
@@ -285,26 +286,29 @@ fn named_list(items: impl Iterator<Item = String>, total: usize) -> String {
 
 /// Writes the deformed drawing to `path` in the format its extension asks for.
 pub fn write_deformed(path: &Path, drawing: &Drawing, points: &[Point]) -> Result<()> {
-    write_deformed_view_box(path, drawing, points, ViewBoxRule::Keep)
+    write_deformed_view_box(path, drawing, points, ViewBoxRule::Keep, None)
 }
 
-/// [`write_deformed`] with the SVG's root viewBox chosen by `rule` (SVG and PNG outputs).
+/// [`write_deformed`] with the SVG's root viewBox chosen by `rule` and, with `maps`, gradients,
+/// patterns, markers, text and images carried by them (SVG and PNG outputs).
 pub fn write_deformed_view_box(
     path: &Path,
     drawing: &Drawing,
     points: &[Point],
     rule: ViewBoxRule,
+    maps: Option<&ElementMaps>,
 ) -> Result<()> {
+    let svg = || match maps {
+        Some(maps) => write_svg_following(drawing, points, maps, rule),
+        None => write_svg_view_box(drawing, points, rule),
+    };
     let bytes = match Format::of(path)? {
         Format::Json => paths_json(drawing, points)
             .context("writing the deformed JSON")?
             .into_bytes(),
-        Format::Svg => write_svg_view_box(drawing, points, rule)
-            .context("writing the deformed SVG")?
-            .into_bytes(),
+        Format::Svg => svg().context("writing the deformed SVG")?.into_bytes(),
         Format::Png => {
-            let svg =
-                write_svg_view_box(drawing, points, rule).context("writing the deformed SVG")?;
+            let svg = svg().context("writing the deformed SVG")?;
             note_text_not_drawn(path, &svg);
             splineskin::render::render_png(&svg, PNG_SIZE).context("rendering the PNG")?
         }

@@ -598,3 +598,60 @@ fn rig_and_svg_inputs_refuse_bad_input_clearly() {
     }
     assert!(problems.is_empty(), "{}", problems.join("\n\n"));
 }
+
+#[test]
+fn deform_scale_strokes_scales_widths_only_when_asked() {
+    let dir = blocks_dir("strokes");
+    let mut args = vec![
+        "deform",
+        "blocks.svg",
+        "-o",
+        "plain.svg",
+        "--weights",
+        "shepard",
+        "--pin",
+        "30,50",
+        "--pin",
+        "90,50",
+        "--pin",
+        "165,50",
+    ];
+    for pin in ["0:2", "1:2", "2:2"] {
+        args.extend(["--scale", pin]);
+    }
+    ok(&dir, &args);
+    let plain = std::fs::read_to_string(dir.join("plain.svg")).unwrap();
+    assert!(!plain.contains("stroke-width"), "{plain}");
+    args[3] = "scaled.svg";
+    args.push("--scale-strokes");
+    ok(&dir, &args);
+    let scaled = std::fs::read_to_string(dir.join("scaled.svg")).unwrap();
+    // The open stroke (width 1, element 2) under every pin scaled by 2 about itself: the local
+    // scale √|det| of the least-squares affine map of the Shepard skinning map over it.
+    let drawing = read_svg(BLOCKS, &ImportOptions::default()).unwrap();
+    let pins = [(30.0, 50.0), (90.0, 50.0), (165.0, 50.0)].map(Point::from);
+    let field = splineskin::weights::Shepard::new(&pins, Default::default());
+    let pose = pins.map(|p| kurbo::Affine::scale_about(2.0, p));
+    let mut w = [0.0; 3];
+    let maps = splineskin::drawing::follow::ElementMaps::from_map(
+        &drawing,
+        &mut |p| splineskin::naive::skin_point(&field, &pose, p, &mut w),
+        &Default::default(),
+    )
+    .unwrap();
+    let expected = splineskin::drawing::follow::local_scale(maps.element_map(2).unwrap());
+    let width: f64 = scaled
+        .split("stroke-width:")
+        .nth(1)
+        .and_then(|s| s.split('"').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no stroke width: {scaled}"));
+    assert!(
+        (width - expected).abs() <= 1e-12 * expected,
+        "{width} vs {expected}"
+    );
+    assert!(
+        (1.2..2.0).contains(&width),
+        "a scale by 2 shrunk by the pins' falloff: {width}"
+    );
+}

@@ -9,10 +9,19 @@
 //! rig reproduces a common affine map exactly up to rounding, so only anti-aliasing of
 //! edges rounded differently remains; a clip or mask left at rest fails by far (tens of
 //! percent of the art's pixels). Set `DOCUMENT_TEST_OUT=DIR` to keep the pictures.
+//!
+//! User-space gradients and patterns, fixed-orientation markers, images and stroke widths
+//! (`write_svg_following`) get the same rendering check, and each also checks that the plain
+//! writer (nothing carried) fails it. Text is not drawn by our renders (no fonts): its written
+//! `transform` is compared with the rigid map instead. Under a bend, the maps are compared
+//! with a direct least-squares solve over the same samples; the bundled fish's label is
+//! checked against the deformation at the corners of its box in each of the scene's poses.
 
 use kurbo::{Affine, Point, Vec2};
-use splineskin::drawing::svg_out::write_svg;
+use splineskin::drawing::follow::{ElementMaps, FollowOptions, REGION_GRID};
+use splineskin::drawing::svg_out::{write_svg, write_svg_following, ViewBoxRule};
 use splineskin::drawing::{read_svg, Drawing, ImportOptions, PathRole};
+use splineskin::naive::skin_point;
 use splineskin::spline_fit::{FitOptions, SplineRig};
 use splineskin::weights::shepard::{Shepard, ShepardOptions};
 
@@ -31,14 +40,36 @@ fn rigid() -> Affine {
         * Affine::rotate_about(25f64.to_radians(), Point::new(50.0, 50.0))
 }
 
+/// The three Shepard handles of the tests.
+fn field() -> Shepard {
+    let handles = [(20.0, 30.0), (80.0, 40.0), (50.0, 85.0)].map(Point::from);
+    Shepard::new(&handles, ShepardOptions::default())
+}
+
 /// Deforms `drawing` by `pose` on three Shepard handles through a spline rig.
 fn deform(drawing: &Drawing, pose: Affine) -> Vec<Point> {
-    let handles = [(20.0, 30.0), (80.0, 40.0), (50.0, 85.0)].map(Point::from);
-    let field = Shepard::new(&handles, ShepardOptions::default());
+    deform_pose(drawing, &[pose; 3])
+}
+
+/// Deforms `drawing` by one transform per handle through a spline rig.
+fn deform_pose(drawing: &Drawing, pose: &[Affine; 3]) -> Vec<Point> {
+    let field = field();
     let rig = SplineRig::precompute(drawing, &field, &FitOptions::default()).expect("precompute");
     let mut out = vec![Point::ZERO; rig.n_points()];
-    rig.update(&[pose; 3], &mut out).expect("update");
+    rig.update(pose, &mut out).expect("update");
     out
+}
+
+/// The element maps of the skinning map of the test handles under `pose`.
+fn maps(drawing: &Drawing, pose: &[Affine; 3], options: &FollowOptions) -> ElementMaps {
+    let field = field();
+    let mut w = [0.0; 3];
+    ElementMaps::from_map(
+        drawing,
+        &mut |p| skin_point(&field, pose, p, &mut w),
+        options,
+    )
+    .expect("element maps")
 }
 
 /// The input with its root content wrapped in `<g transform="matrix(t)">`.
@@ -227,4 +258,471 @@ fn zero_area_fill_stays_invisible() {
         out.contains("fill='olive'") && !out.contains("fill='olive' style"),
         "{out}"
     );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Paint servers, markers, text and images carried by the best-fit affine map of each element.
+
+/// Reads `svg`, deforms it by `pose` (the same map on every handle), writes it with its
+/// element maps, and checks the render against the input rendered under that map. Also
+/// checks that the plain writer (nothing carried) fails the same comparison, so the test can
+/// tell carried from left at rest. Returns the drawing and the output.
+fn check_carried(
+    name: &str,
+    svg: &str,
+    pose: Affine,
+    options: &FollowOptions,
+) -> (Drawing, String) {
+    let drawing = read_svg(svg, &ImportOptions::default()).expect("read");
+    let points = deform(&drawing, pose);
+    let element_maps = maps(&drawing, &[pose; 3], options);
+    let out =
+        write_svg_following(&drawing, &points, &element_maps, ViewBoxRule::Keep).expect("write");
+    let expected = wrapped(svg, pose);
+    let (diff, ink) = difference(name, &expected, &out);
+    let plain = write_svg(&drawing, &points).expect("write");
+    let (diff_plain, _) = difference(&format!("{name}-at-rest"), &expected, &plain);
+    eprintln!(
+        "{name}: {:.3} % of pixels differ ({:.3} % with nothing carried), {:.1} % ink",
+        100.0 * diff,
+        100.0 * diff_plain,
+        100.0 * ink
+    );
+    assert!(ink > 0.02, "{name}: the art is not in view ({ink})");
+    assert!(
+        diff <= MAX_DIFFERENT,
+        "{name}: {diff} of the pixels differ\n{out}"
+    );
+    assert!(
+        diff_plain > 4.0 * MAX_DIFFERENT,
+        "{name}: the test cannot tell: {diff_plain} differ with nothing carried"
+    );
+    (drawing, out)
+}
+
+const GRADIENTS: &str = "<defs>\
+    <linearGradient id='lg' gradientUnits='userSpaceOnUse' x1='10' y1='10' x2='60' y2='30'>\
+      <stop offset='0' stop-color='red'/><stop offset='0.5' stop-color='yellow'/>\
+      <stop offset='1' stop-color='blue'/></linearGradient>\
+    <radialGradient id='rg' gradientUnits='userSpaceOnUse' cx='65' cy='60' r='20' fx='58' fy='54' \
+      gradientTransform='scale(1 1.15)'>\
+      <stop offset='0' stop-color='white'/><stop offset='1' stop-color='darkgreen'/></radialGradient>\
+    <linearGradient id='lg2' href='#lg' gradientTransform='rotate(60 35 60)'/>\
+    </defs>\
+    <rect x='10' y='10' width='50' height='30' fill='url(#lg)'/>\
+    <circle cx='65' cy='70' r='22' fill='url(#rg)'/>\
+    <path d='M15 60 C30 45 40 95 50 70' fill='none' stroke='url(#lg2)' stroke-width='7'/>\
+    <g transform='translate(5 -3)'><rect x='66' y='10' width='20' height='35' fill='url(#lg)'/></g>";
+
+#[test]
+fn user_space_gradients_follow_a_rigid_pose() {
+    let (_, out) = check_carried(
+        "gradients",
+        &svg(GRADIENTS),
+        rigid(),
+        &FollowOptions::default(),
+    );
+    // The original gradients are kept; each user got a copy (two rectangles in different
+    // coordinates: different local maps, two copies of `lg`).
+    assert_eq!(out.matches("<linearGradient").count(), 2 + 3, "{out}");
+    assert_eq!(out.matches("<radialGradient").count(), 1 + 1, "{out}");
+}
+
+const PATTERN: &str = "<defs>\
+    <pattern id='pt' patternUnits='userSpaceOnUse' width='12' height='12' patternTransform='rotate(20)'>\
+      <rect width='6' height='6' fill='purple'/><circle cx='9' cy='9' r='2.5' fill='orange'/></pattern>\
+    </defs>\
+    <rect x='15' y='15' width='70' height='60' fill='url(#pt)' stroke='black'/>";
+
+#[test]
+fn user_space_patterns_follow_a_rigid_pose() {
+    let (drawing, out) =
+        check_carried("pattern", &svg(PATTERN), rigid(), &FollowOptions::default());
+    assert_eq!(
+        drawing.paths.len(),
+        1,
+        "pattern content is not imported as art"
+    );
+    assert_eq!(out.matches("<pattern").count(), 2, "{out}");
+}
+
+const MARKERS: &str = "<defs>\
+    <marker id='star' viewBox='0 0 12 12' markerWidth='18' markerHeight='18' refX='6' refY='6' \
+      orient='0' markerUnits='userSpaceOnUse'>\
+      <path d='M6 0 L7.5 4.5 L12 6 L7.5 7.5 L6 12 L4.5 7.5 L0 6 L4.5 4.5 Z' fill='crimson'/></marker>\
+    <marker id='tri' viewBox='0 0 10 10' refX='0' refY='5' markerWidth='5' markerHeight='5' \
+      orient='30deg'><path d='M0 0 L10 5 L0 10 z' fill='navy'/></marker>\
+    <marker id='dot' viewBox='0 0 10 10' refX='5' refY='5' markerWidth='4' markerHeight='4' \
+      orient='auto'><rect width='10' height='4' fill='teal'/></marker>\
+    </defs>\
+    <path d='M20 20 L50 30 L80 20 L70 60' fill='none' stroke='black' stroke-width='2' \
+      marker-start='url(#star)' marker-mid='url(#star)' style='marker-end:url(#tri)'/>\
+    <g marker-mid='url(#dot)'><path d='M20 80 C30 75 35 65 45 65 S70 80 80 85' fill='none' \
+      stroke='green' stroke-width='2' marker-end='url(#star)'/></g>";
+
+#[test]
+fn fixed_orient_markers_turn_with_a_rigid_pose() {
+    let (drawing, out) =
+        check_carried("markers", &svg(MARKERS), rigid(), &FollowOptions::default());
+    assert_eq!(
+        drawing.paths.len(),
+        2,
+        "marker content is not imported as art"
+    );
+    // star: one copy per user whose turn differs (the same rigid turn: shared); tri: one; dot
+    // (orient auto) none.
+    assert_eq!(out.matches("<marker").count(), 3 + 2, "{out}");
+    let doc = roxmltree::Document::parse(&out).unwrap();
+    let orients: Vec<f64> = doc
+        .descendants()
+        .filter(|n| n.tag_name().name() == "marker" && n.attribute("orient") != Some("auto"))
+        .map(|n| {
+            n.attribute("orient")
+                .unwrap()
+                .trim_end_matches("deg")
+                .parse()
+                .unwrap()
+        })
+        .collect();
+    // star 0 → 25, tri 30 → 55 (the rigid map turns by 25°).
+    let expected = [0.0, 25.0, 30.0, 55.0];
+    assert_eq!(orients.len(), 4, "{orients:?}");
+    for (o, e) in orients.iter().zip(expected) {
+        assert!((o - e).abs() < 1e-9, "{orients:?}");
+    }
+}
+
+/// A `w × h` PNG of four coloured quadrants, as a `data:` URL.
+fn png_data_url(w: u32, h: u32) -> String {
+    let mut pixmap = tiny_skia::Pixmap::new(w, h).unwrap();
+    for y in 0..h {
+        for x in 0..w {
+            let c = match (2 * x < w, 2 * y < h) {
+                (true, true) => [220, 30, 30],
+                (false, true) => [30, 160, 40],
+                (true, false) => [30, 60, 220],
+                (false, false) => [240, 200, 20],
+            };
+            let i = 4 * (y * w + x) as usize;
+            pixmap.data_mut()[i..i + 4].copy_from_slice(&[c[0], c[1], c[2], 255]);
+        }
+    }
+    let png = pixmap.encode_png().unwrap();
+    const B64: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut s = String::from("data:image/png;base64,");
+    for chunk in png.chunks(3) {
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for k in 0..4 {
+            if k <= chunk.len() {
+                s.push(B64[((n >> (18 - 6 * k)) & 63) as usize] as char);
+            } else {
+                s.push('=');
+            }
+        }
+    }
+    s
+}
+
+fn image_body() -> String {
+    format!(
+        "<rect x='15' y='20' width='60' height='50' fill='none' stroke='black' stroke-width='2'/>\
+         <g transform='translate(3 4)'><image x='20' y='25' width='48' height='38' \
+         preserveAspectRatio='none' style='image-rendering:optimizeSpeed' href='{}'/></g>",
+        png_data_url(8, 8)
+    )
+}
+
+#[test]
+fn images_follow_a_rigid_pose() {
+    let (_, out) = check_carried(
+        "image",
+        &svg(&image_body()),
+        rigid(),
+        &FollowOptions::default(),
+    );
+    assert_eq!(out.matches("transform=\"matrix(").count(), 1, "{out}");
+}
+
+/// The transforms of a `transform` attribute, composed.
+fn parse_transform(v: &str) -> Affine {
+    let t: svgtypes::Transform = v.parse().expect("transform");
+    Affine::new([t.a, t.b, t.c, t.d, t.e, t.f])
+}
+
+/// The `transform` attribute of the first element `tag` of `svg`.
+fn transform_of(svg: &str, tag: &str, n: usize) -> Affine {
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    let node = doc
+        .descendants()
+        .filter(|d| d.tag_name().name() == tag)
+        .nth(n)
+        .expect("element");
+    parse_transform(node.attribute("transform").unwrap_or(""))
+}
+
+fn assert_close(a: Affine, b: Affine, tolerance: f64, what: &str) {
+    let ok = a
+        .as_coeffs()
+        .iter()
+        .zip(b.as_coeffs())
+        .all(|(x, y)| (x - y).abs() <= tolerance * (1.0 + y.abs()));
+    assert!(ok, "{what}: {a:?} vs {b:?}");
+}
+
+const TEXT: &str = "<rect x='10' y='30' width='60' height='30' fill='khaki'/>\
+    <text x='15' y='50' font-size='12'>Hello</text>\
+    <g transform='translate(5 5)'><text transform='rotate(10 30 80)' x='30' y='80' \
+      text-anchor='middle'>Fish <tspan>label</tspan></text></g>\
+    <defs><text id='unused' x='0' y='0'>not drawn</text></defs>";
+
+#[test]
+fn text_is_carried_by_the_rigid_map() {
+    let doc = svg(TEXT);
+    let drawing = read_svg(&doc, &ImportOptions::default()).unwrap();
+    let pose = rigid();
+    let element_maps = maps(&drawing, &[pose; 3], &FollowOptions::default());
+    assert_eq!(
+        element_maps.n_carried(),
+        2,
+        "the text in defs is not drawn, not carried"
+    );
+    let points = deform(&drawing, pose);
+    let out = write_svg_following(&drawing, &points, &element_maps, ViewBoxRule::Keep).unwrap();
+    // First text: its parent is the root, its new local → root map is the rigid map itself.
+    assert_close(transform_of(&out, "text", 0), pose, 1e-12, "text 0");
+    // Second: parent P = translate(5 5), own O = rotate(10 30 80): P · written = pose · P · O.
+    let p = Affine::translate((5.0, 5.0));
+    let o = Affine::rotate_about(10f64.to_radians(), Point::new(30.0, 80.0));
+    assert_close(
+        p * transform_of(&out, "text", 1),
+        pose * p * o,
+        1e-12,
+        "text 1",
+    );
+    // The plain writer leaves text at rest.
+    let plain = write_svg(&drawing, &points).unwrap();
+    assert_close(
+        transform_of(&plain, "text", 0),
+        Affine::IDENTITY,
+        0.0,
+        "plain",
+    );
+}
+
+/// Direct least squares of the map `f` over `samples` (equal weights): the 3×3 normal
+/// equations (Σ p̄ p̄ᵀ) a_r = Σ f_r(p) p̄ per output row r, by Cramer's rule.
+fn direct_fit(samples: &[Point], f: &mut dyn FnMut(Point) -> Point) -> Affine {
+    let mut n = [[0.0; 3]; 3];
+    let mut rhs = [[0.0; 3]; 2];
+    for &p in samples {
+        let q = f(p);
+        let h = [p.x, p.y, 1.0];
+        for r in 0..3 {
+            for c in 0..3 {
+                n[r][c] += h[r] * h[c];
+            }
+            rhs[0][r] += q.x * h[r];
+            rhs[1][r] += q.y * h[r];
+        }
+    }
+    let det3 = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let d = det3(n);
+    let solve = |b: [f64; 3]| -> [f64; 3] {
+        std::array::from_fn(|k| {
+            let mut m = n;
+            for r in 0..3 {
+                m[r][k] = b[r];
+            }
+            det3(m) / d
+        })
+    };
+    let (x, y) = (solve(rhs[0]), solve(rhs[1]));
+    Affine::new([x[0], y[0], x[1], y[1], x[2], y[2]])
+}
+
+/// Centres of the `REGION_GRID`² grid over the rectangle, mapped by `t`.
+fn grid_samples(x: f64, y: f64, w: f64, h: f64, t: Affine) -> Vec<Point> {
+    let n = REGION_GRID;
+    let mut out = Vec::new();
+    for iy in 0..n {
+        for ix in 0..n {
+            let fx = (ix as f64 + 0.5) / n as f64;
+            let fy = (iy as f64 + 0.5) / n as f64;
+            out.push(t * Point::new(x + fx * w, y + fy * h));
+        }
+    }
+    out
+}
+
+/// A bend: one handle moved by 15 % of the drawing and turned 30°, the others at rest.
+fn bend() -> [Affine; 3] {
+    let c = Point::new(50.0, 85.0);
+    [
+        Affine::IDENTITY,
+        Affine::IDENTITY,
+        Affine::translate((15.0, -6.0)) * Affine::rotate_about(30f64.to_radians(), c),
+    ]
+}
+
+#[test]
+fn under_a_bend_the_maps_are_the_least_squares_fits() {
+    let body = format!(
+        "{}<rect x='10' y='10' width='50' height='30' fill='url(#lg)'/>",
+        image_body()
+    ) + "<defs><linearGradient id='lg' gradientUnits='userSpaceOnUse' gradientTransform='translate(1 2)'>\
+          <stop offset='0' stop-color='red'/><stop offset='1' stop-color='blue'/></linearGradient></defs>";
+    let doc = svg(&body);
+    let drawing = read_svg(&doc, &ImportOptions::default()).unwrap();
+    let pose = bend();
+    let element_maps = maps(&drawing, &pose, &FollowOptions::default());
+    let field = field();
+    let mut w = [0.0; 3];
+    let mut f = |p: Point| skin_point(&field, &pose, p, &mut w);
+
+    // The image: its rectangle in root space (parent translate(3 4)).
+    let parent = Affine::translate((3.0, 4.0));
+    let samples = grid_samples(20.0, 25.0, 48.0, 38.0, parent);
+    let direct = direct_fit(&samples, &mut f);
+    let image_offset = doc.find("<image").unwrap();
+    let fitted = element_maps
+        .carried_map(image_offset)
+        .expect("image carried");
+    assert_close(fitted, direct, 1e-9, "image map vs direct least squares");
+    // A genuine bend: the map is no handle's transform and not rigid.
+    let [a, b, c, d, _, _] = fitted.as_coeffs();
+    assert!(
+        (a - d).abs() + (b + c).abs() > 1e-3 || (a * d - b * c - 1.0).abs() > 1e-3,
+        "{fitted:?}"
+    );
+    for t in pose {
+        let gap: f64 = fitted
+            .as_coeffs()
+            .iter()
+            .zip(t.as_coeffs())
+            .map(|(x, y)| (x - y).abs())
+            .sum();
+        assert!(gap > 1e-2, "{fitted:?} is a handle's map");
+    }
+    let points = deform_pose(&drawing, &pose);
+    let out = write_svg_following(&drawing, &points, &element_maps, ViewBoxRule::Keep).unwrap();
+    assert_close(
+        parent * transform_of(&out, "image", 0),
+        direct * parent,
+        1e-9,
+        "written image transform",
+    );
+
+    // The filled rectangle: every grid centre of its box is inside it.
+    let rect = drawing
+        .source
+        .as_ref()
+        .unwrap()
+        .element_of_path(drawing.paths.len() - 1)
+        .unwrap();
+    let samples = grid_samples(10.0, 10.0, 50.0, 30.0, Affine::IDENTITY);
+    let direct = direct_fit(&samples, &mut f);
+    assert_close(
+        element_maps.element_map(rect).unwrap(),
+        direct,
+        1e-9,
+        "rect map vs direct least squares",
+    );
+    // Its gradient copy: gradientTransform = A · G (the rect's local space is root space).
+    let doc_out = roxmltree::Document::parse(&out).unwrap();
+    let copy = doc_out
+        .descendants()
+        .filter(|n| n.tag_name().name() == "linearGradient")
+        .nth(1)
+        .expect("a copy");
+    assert_eq!(copy.attribute("gradientUnits"), Some("userSpaceOnUse"));
+    assert_close(
+        parse_transform(copy.attribute("gradientTransform").unwrap()),
+        direct * Affine::translate((1.0, 2.0)),
+        1e-9,
+        "gradient copy",
+    );
+    if let Ok(dir) = std::env::var("DOCUMENT_TEST_OUT") {
+        std::fs::create_dir_all(&dir).unwrap();
+        let png = splineskin::render::render_png(&out, 480).unwrap();
+        std::fs::write(format!("{dir}/bend-carried.png"), png).unwrap();
+        let png = splineskin::render::render_png(&doc, 480).unwrap();
+        std::fs::write(format!("{dir}/bend-rest.png"), png).unwrap();
+    }
+}
+
+#[test]
+fn strokes_scale_with_the_map_only_when_asked() {
+    let body = "<path d='M20 30 C40 10 60 50 80 30' fill='none' stroke='black' stroke-width='4'/>\
+        <rect x='25' y='50' width='50' height='30' fill='none' stroke='maroon' stroke-width='3'/>";
+    let scaled = Affine::translate((10.0, 5.0))
+        * Affine::rotate_about(0.3, Point::new(50.0, 50.0))
+        * Affine::scale_about(0.6, Point::new(50.0, 50.0));
+    let on = FollowOptions::default().with_scale_strokes(true);
+    let (_, out) = check_carried("scaled-strokes", &svg(body), scaled, &on);
+    assert!(out.contains("stroke-width:2.4"), "{out}");
+    // Off (the default): widths as they were.
+    let drawing = read_svg(&svg(body), &ImportOptions::default()).unwrap();
+    let points = deform(&drawing, scaled);
+    let off = maps(&drawing, &[scaled; 3], &FollowOptions::default());
+    let out = write_svg_following(&drawing, &points, &off, ViewBoxRule::Keep).unwrap();
+    assert!(!out.contains("stroke-width:"), "{out}");
+}
+
+/// Largest distance between where the fish's label's map and the deformation itself put a
+/// corner of the label's box, relative to the box's diagonal (90 × 18 units): 5 %. The
+/// label's map is the least-squares affine map over its box, so it misses the deformation at
+/// the corners by how much that bends across one word (1.3–3.3 % in the three poses); a label
+/// left at rest misses by the pose's displacement there (more than its height in every pose).
+const LABEL_FOLLOWS: f64 = 0.05;
+
+#[test]
+fn the_fish_label_follows_its_plate_in_every_pose() {
+    use splineskin::examples::{DEMO_SCENE, DEMO_SVG};
+    use splineskin::scene::{Compat, Scene};
+    let assets = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets"));
+    let scene = Scene::from_json(DEMO_SCENE, "demo-scene.json", Some(assets)).unwrap();
+    let setup = scene.setup(Compat::None).unwrap();
+    let drawing = &setup.drawing;
+    let label_at = DEMO_SVG.find("<text").expect("the label");
+    // The label's box: "splineskin" centred on x = 300, baseline 377, 18 units high.
+    let corners = [
+        (255.0, 362.6),
+        (345.0, 362.6),
+        (255.0, 380.6),
+        (345.0, 380.6),
+    ]
+    .map(Point::from);
+    for pose in &scene.poses {
+        let mut w = vec![0.0; pose.transforms.len()];
+        let mut f = |p| skin_point(&*setup.weights, &pose.transforms, p, &mut w);
+        let maps = ElementMaps::from_map(drawing, &mut f, &FollowOptions::default()).unwrap();
+        let label = maps.carried_map(label_at).expect("label carried");
+        let gap = corners
+            .iter()
+            .map(|&q| (label * q - f(q)).hypot())
+            .fold(0.0, f64::max);
+        let at_rest = corners
+            .iter()
+            .map(|&q| (q - f(q)).hypot())
+            .fold(0.0, f64::max);
+        eprintln!(
+            "{:?}: label corners {gap:.3} units from the deformation (left at rest: {at_rest:.3})",
+            pose.name
+        );
+        assert!(
+            gap <= LABEL_FOLLOWS * 90f64.hypot(18.0),
+            "{:?}: {gap}",
+            pose.name
+        );
+        assert!(at_rest > 18.0, "{:?}: {at_rest}", pose.name);
+    }
 }

@@ -106,7 +106,7 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     warn_outside_view_box(&args.output, &drawing, &points, args.viewbox);
-    write_deformed_view_box(&args.output, &drawing, &points, args.viewbox.into())?;
+    write_deformed_view_box(&args.output, &drawing, &points, args.viewbox.into(), None)?;
     eprintln!(
         "{}: {} curves in {} paths, {} handles, operator {} ({} vertices), join {:.2} s, pose {pose_index} -> {}",
         args.scene.display(),

@@ -330,6 +330,7 @@ fn authors_source(
                     role: super::PathRole::Visible,
                     path_tag_index: Some(chain.element),
                     zero_area_fill: false,
+                    paint: Default::default(),
                 });
             }
         }

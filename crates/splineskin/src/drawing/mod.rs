@@ -7,6 +7,7 @@
 //! mode. All coordinates are `f64` in the root element's user space (viewBox units).
 
 pub mod authors_svg;
+pub mod follow;
 pub mod junction;
 pub mod svg_animate;
 pub mod svg_in;

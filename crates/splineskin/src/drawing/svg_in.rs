@@ -63,9 +63,11 @@
 //!
 //! # What is not imported
 //!
-//! - Patterns and markers are not deformed in this version: their geometry is left as it is.
-//!   Paths that usvg emits without a source element (marker contents, the two halves of a path
-//!   split by `paint-order` around markers) are skipped with a `tracing` warning.
+//! - The content of patterns and markers is not imported as art (it is drawn in the paint's or
+//!   marker's own coordinates); [`super::follow`] carries user-space patterns and
+//!   fixed-orientation markers by each element's best-fit affine map. Paths that usvg emits
+//!   without a source element (marker contents, the two halves of a path split by
+//!   `paint-order` around markers) are skipped with a `tracing` warning.
 //!
 //! # Hidden layers, clip paths and masks
 //!
@@ -84,7 +86,8 @@
 //! version does not write: it says so with a `tracing` warning. Mask content in
 //! `maskContentUnits="objectBoundingBox"` is left at rest, with a warning; mask regions
 //! (`x y width height` of the `<mask>`) are not moved.
-//! - Text and images are not geometry here; they are kept verbatim on export.
+//! - Text and images are not geometry here; they are kept verbatim on export, or carried by
+//!   their best-fit affine map with [`super::svg_out::write_svg_following`].
 //! - `use` elements are expanded before usvg sees them (the same expansion
 //!   [`super::svg_out::write_svg`] writes: a `<g>` holding a copy of the referenced content),
 //!   so CSS rules that select the referenced content by id or position do not follow it into the
@@ -412,6 +415,42 @@ pub(crate) struct ImportedElement {
     /// segments back and forth, or a `<line>`. Export writes `fill: none` on it, so that the
     /// deformed (bent) geometry does not show a fill that was invisible.
     pub(crate) zero_area_fill: bool,
+    /// What it paints with, as usvg resolved it (styles, CSS, inheritance): whether it has a
+    /// fill, its stroke width in local units (none without a stroke), and the ids of the
+    /// gradients or patterns of its fill and stroke ([`super::follow`] carries user-space ones
+    /// with the deformation).
+    pub(crate) paint: ElementPaint,
+}
+
+/// The paint of an imported element ([`ImportedElement::paint`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct ElementPaint {
+    /// Whether it is filled.
+    pub(crate) filled: bool,
+    /// Its stroke width in its local units, when stroked.
+    pub(crate) stroke_width: Option<f64>,
+    /// The id of the gradient or pattern of its fill, if any.
+    pub(crate) fill_server: Option<String>,
+    /// The id of the gradient or pattern of its stroke, if any.
+    pub(crate) stroke_server: Option<String>,
+}
+
+impl ElementPaint {
+    /// The paint of a usvg path.
+    fn of(path: &usvg::Path) -> ElementPaint {
+        let server = |paint: &usvg::Paint| match paint {
+            usvg::Paint::Color(_) => None,
+            usvg::Paint::LinearGradient(g) => Some(g.id().to_string()),
+            usvg::Paint::RadialGradient(g) => Some(g.id().to_string()),
+            usvg::Paint::Pattern(p) => Some(p.id().to_string()),
+        };
+        ElementPaint {
+            filled: path.fill().is_some(),
+            stroke_width: path.stroke().map(|s| f64::from(s.width().get())),
+            fill_server: path.fill().and_then(|f| server(f.paint())),
+            stroke_server: path.stroke().and_then(|s| server(s.paint())),
+        }
+    }
 }
 
 /// What is kept of the source document to write deformed geometry back into it: the original
@@ -885,6 +924,7 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
                         .then(|| path_tags.get(&key.element).copied())
                         .flatten(),
                     zero_area_fill: false,
+                    paint: ElementPaint::of(usvg_path),
                 });
                 element_of_key.insert(key.clone(), elements.len() - 1);
                 elements.len() - 1
@@ -976,7 +1016,7 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
 }
 
 /// A prefix for synthetic ids that no id of the document starts with.
-fn unique_prefix(doc: &roxmltree::Document) -> String {
+pub(crate) fn unique_prefix(doc: &roxmltree::Document) -> String {
     let mut prefix = String::from("splineskin-");
     while doc
         .descendants()

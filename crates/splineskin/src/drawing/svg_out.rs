@@ -14,6 +14,11 @@
 //!   viewBox mapping), holding a copy of the referenced element (ids inside removed; a `symbol`
 //!   becomes a `g`) whose geometry elements carry the deformed instance geometry.
 //!
+//! With [`write_svg_following`] and the [`ElementMaps`] of the pose, what is not a curve
+//! follows too ([`super::follow`]): copies of user-space gradients, patterns and
+//! fixed-orientation markers are written after their originals and named by an inline `style`
+//! on each element that uses them; `<text>` and `<image>` get a `transform`; strokes may scale.
+//!
 //! Each element's points are mapped back to its local coordinates with the inverse of its
 //! local → root transform and written as `M x y C … [Z]`, one `C` per cubic, numbers in the
 //! shortest form that reads back to the same `f64`. A closed path's last cubic ends on its first
@@ -29,6 +34,7 @@ use std::fmt::Write as _;
 
 use kurbo::{Affine, Point, Rect, Size};
 
+use super::follow::{self, ElementMaps};
 use super::svg_in::{node_label, ElementKind, SvgError, SvgSource, MAX_SVG_BYTES};
 use super::{Drawing, Path};
 
@@ -113,7 +119,7 @@ fn write_svg_impl(
     points: &[Point],
     marker: Option<&'static str>,
 ) -> Result<String, SvgError> {
-    write_svg_view(drawing, points, marker, ViewBoxRule::Keep)
+    write_svg_view(drawing, points, marker, ViewBoxRule::Keep, None)
 }
 
 fn write_svg_view(
@@ -121,13 +127,15 @@ fn write_svg_view(
     points: &[Point],
     marker: Option<&'static str>,
     view_box: ViewBoxRule,
+    follow: Option<&ElementMaps>,
 ) -> Result<String, SvgError> {
     let offsets = chain_offsets(drawing, points)?;
     match &drawing.source {
         Some(source) => {
             let data = element_path_data(drawing, points, &offsets, source)?;
             let root = root_attributes(drawing, points, &offsets, source, view_box)?;
-            export_geometry_root(source, data, Vec::new(), marker, root)
+            let follow = follow.map(|maps| (drawing, maps));
+            export_geometry_follow(source, data, Vec::new(), marker, root, follow)
         }
         None => Ok(write_standalone(drawing, points, &offsets, &[])),
     }
@@ -255,7 +263,40 @@ pub fn write_svg_view_box(
     points: &[Point],
     view_box: ViewBoxRule,
 ) -> Result<String, SvgError> {
-    write_svg_view(drawing, points, None, view_box)
+    write_svg_view(drawing, points, None, view_box, None)
+}
+
+/// [`write_svg_view_box`], with everything that is not a curve carried by `maps` (computed for
+/// this drawing and pose): user-space gradients and patterns, fixed-orientation markers, text
+/// and images follow the deformation, and strokes scale if the maps were computed with
+/// [`FollowOptions::scale_strokes`](super::follow::FollowOptions) ([`super::follow`] says
+/// how). A drawing without a source document is written as by [`write_svg`].
+///
+/// Errors: those of [`write_svg`]; [`SvgError::SourceMismatch`] when `maps` were computed for
+/// another drawing.
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::drawing::follow::{ElementMaps, FollowOptions};
+/// use splineskin::drawing::svg_out::{write_svg_following, ViewBoxRule};
+/// use splineskin::drawing::{read_svg, ImportOptions};
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <rect width="4" height="2"/><text x="1" y="8">hi</text></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let t = Affine::translate((2.0, 0.0));
+/// let maps = ElementMaps::from_map(&drawing, &mut |p| t * p, &FollowOptions::default()).unwrap();
+/// let moved: Vec<Point> = drawing.flat_points().iter().map(|&p| t * p).collect();
+/// let out = write_svg_following(&drawing, &moved, &maps, ViewBoxRule::Keep).unwrap();
+/// // The text's new transform is the translation (up to rounding of the fit).
+/// assert!(out.contains(r#"<text x="1" y="8" transform="matrix(1 0 "#), "{out}");
+/// ```
+pub fn write_svg_following(
+    drawing: &Drawing,
+    points: &[Point],
+    maps: &ElementMaps,
+    view_box: ViewBoxRule,
+) -> Result<String, SvgError> {
+    write_svg_view(drawing, points, None, view_box, Some(maps))
 }
 
 /// The union of the exact bounding boxes of the art paths of `drawing` (drawn or hidden, not
@@ -480,6 +521,19 @@ struct ExportPolicy<'e> {
     marker: Option<&'static str>,
     /// Attributes set on the root element (the fitted viewBox).
     root: Vec<(&'static str, String)>,
+    /// What follows the deformation besides the curves ([`super::follow`]).
+    follow: FollowEdits,
+}
+
+/// The edits that carry what is not a curve ([`super::follow`]).
+#[derive(Default)]
+struct FollowEdits {
+    /// Per imported element, style declarations (property, value) to add inline.
+    styles: Vec<Vec<(String, String)>>,
+    /// Per resource element (byte offset): the attributes of each copy written after it.
+    copies: HashMap<usize, Vec<Vec<(&'static str, String)>>>,
+    /// Per carried `<text>`/`<image>` (byte offset): its new `transform`.
+    transforms: HashMap<usize, String>,
 }
 
 impl RewritePolicy for ExportPolicy<'_> {
@@ -508,13 +562,23 @@ impl RewritePolicy for ExportPolicy<'_> {
             .map(|name| (name, i.to_string()))
             .into_iter()
             .collect();
+        let mut decls: Vec<(String, String)> =
+            self.follow.styles.get(i).cloned().unwrap_or_default();
         if self.source.elements[i].zero_area_fill {
             // Its fill covered no area at rest: keep it invisible once bent (an inline style
-            // wins over attributes and style sheets).
+            // wins over attributes and style sheets; last, so it wins over a carried fill).
+            decls.push(("fill".to_string(), "none".to_string()));
+        }
+        if !decls.is_empty() {
             let style = node.attribute("style").unwrap_or("").trim();
-            let style = style.trim_end_matches(';').trim();
-            let sep = if style.is_empty() { "" } else { ";" };
-            set.push(("style", format!("{style}{sep}fill:none")));
+            let mut style = style.trim_end_matches(';').trim().to_string();
+            for (name, value) in decls {
+                if !style.is_empty() {
+                    style.push(';');
+                }
+                let _ = write!(style, "{name}:{value}");
+            }
+            set.push(("style", style));
         }
         Ok(GeometryEdit::ToPath(
             std::mem::take(&mut self.data[i]),
@@ -527,9 +591,21 @@ impl RewritePolicy for ExportPolicy<'_> {
         self.instances.contains(instance)
     }
 
-    fn attributes(&mut self, node: roxmltree::Node) -> Vec<(&'static str, String)> {
+    fn copies(&mut self, node: roxmltree::Node) -> Vec<Vec<(&'static str, String)>> {
+        self.follow
+            .copies
+            .remove(&node.range().start)
+            .unwrap_or_default()
+    }
+
+    fn attributes(&mut self, node: roxmltree::Node, in_copy: bool) -> Vec<(&'static str, String)> {
         let start = node.range().start;
         let mut set = Vec::new();
+        if !in_copy {
+            if let Some(t) = self.follow.transforms.get(&start) {
+                set.push(("transform", t.clone()));
+            }
+        }
         if node.parent().is_some_and(|p| p.is_root()) {
             set.append(&mut self.root);
         }
@@ -541,6 +617,249 @@ impl RewritePolicy for ExportPolicy<'_> {
         }
         set
     }
+}
+
+/// Longest `href` chain followed to resolve a paint server's attributes: 32.
+const MAX_HREF_CHAIN: usize = 32;
+
+/// The smallest rotation (radians) a fixed-orientation marker is turned by: 1e-9 (below,
+/// the marker is left as it is).
+const MIN_MARKER_TURN: f64 = 1e-9;
+
+/// The value of attribute `name` on `node` or, through `href`/`xlink:href`, on the template it
+/// names (as gradients and patterns inherit).
+fn through_href<'a, 'i>(
+    node: roxmltree::Node<'a, 'i>,
+    name: &str,
+    ids: &HashMap<&'a str, roxmltree::Node<'a, 'i>>,
+) -> Option<&'a str> {
+    let mut n = node;
+    for _ in 0..MAX_HREF_CHAIN {
+        if let Some(v) = n.attribute(name) {
+            return Some(v);
+        }
+        let href = n
+            .attribute("href")
+            .or_else(|| n.attribute((XLINK_NS, "href")))?;
+        n = *ids.get(href.trim().strip_prefix('#')?)?;
+    }
+    None
+}
+
+/// Attributes set on a copy: (name, value).
+type AttributeSet = Vec<(&'static str, String)>;
+
+/// A paint server in user space: the name of its transform attribute, its transform (through
+/// templates), and the unit attributes its copy states explicitly. `None` for other servers
+/// (objectBoundingBox units) or other elements.
+fn user_space_server<'a, 'i>(
+    node: roxmltree::Node<'a, 'i>,
+    ids: &HashMap<&'a str, roxmltree::Node<'a, 'i>>,
+) -> Option<(&'static str, Affine, AttributeSet)> {
+    let user = |name: &str, default: &str| {
+        through_href(node, name, ids).unwrap_or(default).trim() == "userSpaceOnUse"
+    };
+    let (transform, units): (&'static str, &[&'static str]) = match node.tag_name().name() {
+        "linearGradient" | "radialGradient" if user("gradientUnits", "objectBoundingBox") => {
+            ("gradientTransform", &["gradientUnits"])
+        }
+        "pattern"
+            if user("patternUnits", "objectBoundingBox")
+                && user("patternContentUnits", "userSpaceOnUse") =>
+        {
+            ("patternTransform", &["patternUnits", "patternContentUnits"])
+        }
+        _ => return None,
+    };
+    let t = through_href(node, transform, ids)
+        .and_then(|v| <svgtypes::Transform as std::str::FromStr>::from_str(v).ok())
+        .map(|t| Affine::new([t.a, t.b, t.c, t.d, t.e, t.f]))
+        .unwrap_or(Affine::IDENTITY);
+    let units = units
+        .iter()
+        .map(|&u| (u, "userSpaceOnUse".to_string()))
+        .collect();
+    Some((transform, t, units))
+}
+
+/// The id in a paint or marker reference `url(#id)` (quotes allowed); `None` for `none` or
+/// anything else.
+fn url_id(value: &str) -> Option<&str> {
+    let inner = value.trim().strip_prefix("url(")?;
+    let inner = &inner[..inner.find(')')?];
+    inner
+        .trim()
+        .trim_matches(|c| c == '"' || c == '\'')
+        .strip_prefix('#')
+}
+
+/// The marker `node` uses at `slot` (`start`, `mid`, `end`): `marker-<slot>` or the `marker`
+/// shorthand on it or its nearest ancestor that sets either (styles then attributes; style
+/// sheets are not read).
+fn marker_reference<'a>(node: roxmltree::Node<'a, '_>, slot: &str) -> Option<String> {
+    let long = format!("marker-{slot}");
+    for n in node.ancestors().filter(|n| n.is_element()) {
+        let v = follow::declared(n, &long).or_else(|| follow::declared(n, "marker"));
+        if let Some(v) = v {
+            return url_id(&v).map(str::to_string);
+        }
+    }
+    None
+}
+
+/// The edits that carry paint servers, markers, text and images by `maps` ([`super::follow`]).
+///
+/// Errors: [`SvgError::SourceMismatch`] when `maps` do not belong to this drawing.
+fn follow_edits(
+    drawing: &Drawing,
+    source: &SvgSource,
+    doc: &roxmltree::Document,
+    maps: &ElementMaps,
+) -> Result<FollowEdits, SvgError> {
+    if maps.n_paths != drawing.paths.len() || maps.elements.len() != source.elements.len() {
+        return Err(SvgError::SourceMismatch {
+            file: source.origin.clone(),
+            what: format!(
+                "the element maps were computed for {} paths in {} elements, the drawing has {} \
+                 in {}",
+                maps.n_paths,
+                maps.elements.len(),
+                drawing.paths.len(),
+                source.elements.len()
+            ),
+        });
+    }
+    let mut ids = HashMap::new();
+    let mut nodes = HashMap::new();
+    for n in doc.descendants().filter(|n| n.is_element()) {
+        if let Some(id) = n.attribute("id") {
+            ids.entry(id).or_insert(n);
+        }
+        nodes.insert(n.range().start, n);
+    }
+    let prefix = super::svg_in::unique_prefix(doc);
+    let mut edits = FollowEdits::default();
+    // Per resource (byte offset): the local maps (or marker turns) of its copies and their ids.
+    let mut made: HashMap<usize, Vec<(Affine, f64, String)>> = HashMap::new();
+    let mut new_copy = |edits: &mut FollowEdits,
+                        resource: roxmltree::Node,
+                        id: &str,
+                        same: &dyn Fn(Affine, f64) -> bool,
+                        key: (Affine, f64),
+                        set: Vec<(&'static str, String)>|
+     -> String {
+        let list = made.entry(resource.range().start).or_default();
+        if let Some((_, _, copy)) = list.iter().find(|(m, t, _)| same(*m, *t)) {
+            return copy.clone();
+        }
+        let copy = format!("{prefix}{id}-{}", list.len() + 1);
+        list.push((key.0, key.1, copy.clone()));
+        let mut attrs = vec![("id", copy.clone())];
+        attrs.extend(set);
+        edits
+            .copies
+            .entry(resource.range().start)
+            .or_default()
+            .push(attrs);
+        copy
+    };
+    for (i, e) in source.elements.iter().enumerate() {
+        let mut decls = Vec::new();
+        let l = e.local_to_root;
+        let m = l.inverse() * maps.elements[i] * l;
+        let Some(&node) = nodes.get(&e.range.start) else {
+            edits.styles.push(decls);
+            continue;
+        };
+        let diagonal = drawing.paths[e.paths.clone()]
+            .iter()
+            .flat_map(|p| p.points.iter())
+            .fold(None, |r: Option<Rect>, &p| {
+                Some(r.map_or(Rect::from_points(p, p), |r| r.union_pt(p)))
+            })
+            .map_or(0.0, |r| r.width().hypot(r.height()));
+        let size = diagonal / follow::local_scale(l);
+        for (slot, server) in [
+            ("fill", &e.paint.fill_server),
+            ("stroke", &e.paint.stroke_server),
+        ] {
+            let Some(&server) = server.as_deref().and_then(|id| ids.get(id)) else {
+                continue;
+            };
+            let Some((name, g, mut set)) = user_space_server(server, &ids) else {
+                continue;
+            };
+            set.push((name, matrix(m * g)));
+            let id = server.attribute("id").unwrap_or("paint");
+            let same = |other: Affine, _: f64| follow::same_map(other, m, size);
+            let copy = new_copy(&mut edits, server, id, &same, (m, 0.0), set);
+            decls.push((slot.to_string(), format!("url(#{copy})")));
+        }
+        let turn = follow::rotation_angle(m);
+        let has_markers = matches!(
+            e.kind,
+            ElementKind::Path | ElementKind::Line | ElementKind::Polyline | ElementKind::Polygon
+        );
+        for slot in ["start", "mid", "end"] {
+            if !has_markers || turn.abs() <= MIN_MARKER_TURN {
+                break;
+            }
+            let Some(id) = marker_reference(node, slot) else {
+                continue;
+            };
+            let Some(&marker) = ids.get(id.as_str()) else {
+                continue;
+            };
+            if marker.tag_name().name() != "marker" {
+                continue;
+            }
+            let orient = marker.attribute("orient").unwrap_or("0").trim();
+            if orient.starts_with("auto") {
+                continue;
+            }
+            let Ok(angle) = <svgtypes::Angle as std::str::FromStr>::from_str(orient) else {
+                continue;
+            };
+            let set = vec![("orient", number(angle.to_degrees() + turn.to_degrees()))];
+            let same = |_: Affine, t: f64| (t - turn).abs() <= MIN_MARKER_TURN;
+            let copy = new_copy(&mut edits, marker, &id, &same, (m, turn), set);
+            decls.push((format!("marker-{slot}"), format!("url(#{copy})")));
+        }
+        if maps.options.scale_strokes {
+            if let Some(w) = e.paint.stroke_width {
+                decls.push((
+                    "stroke-width".to_string(),
+                    number(w * follow::local_scale(m)),
+                ));
+            }
+        }
+        edits.styles.push(decls);
+    }
+    for c in &maps.carried {
+        let Some(&node) = nodes.get(&c.offset) else {
+            continue;
+        };
+        let p = c.parent_to_root;
+        let [a, b, cc, d, _, _] = p.as_coeffs();
+        let det = a * d - b * cc;
+        let invertible =
+            det.abs() > SINGULAR_DETERMINANT * (a.abs() + b.abs()) * (cc.abs() + d.abs());
+        if !invertible {
+            tracing::warn!(
+                file = source.origin.as_str(),
+                element = %node_label(doc, node),
+                "its parent's transform is singular; left at rest"
+            );
+            continue;
+        }
+        let mut t = matrix(p.inverse() * c.map * p);
+        if let Some(own) = node.attribute("transform").filter(|v| !v.trim().is_empty()) {
+            t.push(' ');
+            t.push_str(own.trim());
+        }
+        edits.transforms.insert(c.offset, t);
+    }
+    Ok(edits)
 }
 
 /// `matrix(a b c d e f)` of an affine map, numbers in their shortest round-trip form.
@@ -619,7 +938,25 @@ pub(crate) fn export_geometry_root(
     marker: Option<&'static str>,
     root: Vec<(&'static str, String)>,
 ) -> Result<String, SvgError> {
+    export_geometry_follow(source, data, children, marker, root, None)
+}
+
+/// [`export_geometry_root`], with what is not a curve carried by the maps of `follow`
+/// ([`write_svg_following`]).
+fn export_geometry_follow(
+    source: &SvgSource,
+    data: Vec<String>,
+    children: Vec<String>,
+    marker: Option<&'static str>,
+    root: Vec<(&'static str, String)>,
+    follow: Option<(&Drawing, &ElementMaps)>,
+) -> Result<String, SvgError> {
     let origin = source.origin.as_str();
+    let doc = super::svg_in::parse_xml(&source.text, origin)?;
+    let follow = match follow {
+        Some((drawing, maps)) => follow_edits(drawing, source, &doc, maps)?,
+        None => FollowEdits::default(),
+    };
     let mut policy = ExportPolicy {
         source,
         element_of_key: source
@@ -637,8 +974,8 @@ pub(crate) fn export_geometry_root(
         children,
         marker,
         root,
+        follow,
     };
-    let doc = super::svg_in::parse_xml(&source.text, origin)?;
     let viewport = source.view_box.size();
     rewrite_document(&source.text, &doc, &mut policy, origin, None, viewport)
 }
@@ -748,8 +1085,15 @@ pub(crate) trait RewritePolicy {
     ) -> Result<GeometryEdit, SvgError>;
     /// Whether the `use` instance `instance` (its `use` chain, outermost first) is expanded.
     fn expand_use(&mut self, instance: &[usize]) -> bool;
-    /// Attributes to set on `node` (any element), beyond its geometry edit. Default: none.
-    fn attributes(&mut self, node: roxmltree::Node) -> Vec<(&'static str, String)> {
+    /// Attributes to set on `node` (any element; `in_copy`: inside an expanded `use`),
+    /// beyond its geometry edit. Default: none.
+    fn attributes(&mut self, node: roxmltree::Node, in_copy: bool) -> Vec<(&'static str, String)> {
+        let _ = (node, in_copy);
+        Vec::new()
+    }
+    /// Copies of `node` (outside `use` copies) to write right after it, each with these
+    /// attributes set (ids inside removed). Default: none.
+    fn copies(&mut self, node: roxmltree::Node) -> Vec<Vec<(&'static str, String)>> {
         let _ = node;
         Vec::new()
     }
@@ -856,7 +1200,7 @@ pub(crate) fn rewrite_document<P: RewritePolicy>(
     let range = root.range();
     w.out.push_str(&src[..range.start]);
     let mut spec = TagSpec::default();
-    spec.set.extend(w.policy.attributes(root));
+    spec.set.extend(w.policy.attributes(root, false));
     w.write_with(root, &spec, &Context::default(), wrap_root)?;
     w.out.push_str(&src[range.end..]);
     Ok(w.out)
@@ -946,7 +1290,7 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
             ..TagSpec::default()
         };
         if !tag.is_empty() {
-            spec.set.extend(self.policy.attributes(node));
+            spec.set.extend(self.policy.attributes(node, ctx.in_copy));
         }
         if let Some(kind) = ElementKind::from_tag(tag) {
             let key = ElementKey {
@@ -974,7 +1318,22 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
             };
             return self.write_with(node, &spec, &inner, None);
         }
-        self.write_with(node, &spec, ctx, None)
+        self.write_with(node, &spec, ctx, None)?;
+        if !ctx.in_copy && !tag.is_empty() {
+            for set in self.policy.copies(node) {
+                let copy = TagSpec {
+                    strip_ids: true,
+                    set,
+                    ..TagSpec::default()
+                };
+                let inner = Context {
+                    in_copy: true,
+                    ..ctx.clone()
+                };
+                self.write_with(node, &copy, &inner, None)?;
+            }
+        }
+        Ok(())
     }
 
     /// Locates the tags of `node` in the source.
