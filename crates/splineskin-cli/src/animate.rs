@@ -59,6 +59,8 @@ pub struct Args {
     pins: crate::drawing_input::PinArgs,
     #[command(flatten)]
     pose_args: crate::drawing_input::PoseArgs,
+    #[command(flatten)]
+    text: crate::drawing_input::TextArgs,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -89,6 +91,7 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     let mut scene = crate::drawing_input::load(&args.scene, &args.pins, Some(&args.pose_args))?;
+    args.text.apply(&mut scene)?;
     if from_svg {
         scene.animation = Some(crate::drawing_input::there_and_back(&scene)?);
     }
@@ -292,7 +295,7 @@ fn write_frames(
             write_synced(&tmp.join(frame_name(f, "svg")), svg.as_bytes())?;
             if args.png {
                 if f == 0 {
-                    crate::output::note_text_not_drawn(&dir.join(frame_name(f, "png")), &svg);
+                    crate::output::note_font_substitutes(&dir.join(frame_name(f, "png")), &svg);
                 }
                 let png = splineskin::render::render_png(&svg, PNG_SIZE)
                     .with_context(|| format!("{scene_name}: frame {f}: rendering the PNG"))?;
