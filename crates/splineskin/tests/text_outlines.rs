@@ -332,7 +332,7 @@ fn outlined_text_follows_the_fit_like_any_path() {
     let field: &dyn WeightField = &*setup.weights;
     let drawing_diagonal = drawing.diagonal();
     let mut offset = 0;
-    let (mut worst, mut least_move) = (0.0f64, f64::INFINITY);
+    let (mut worst, mut worst_units, mut least_move) = (0.0f64, 0.0f64, f64::INFINITY);
     for (i, path) in drawing.paths.iter().enumerate() {
         let m = path.points.len();
         if label.contains(&i) {
@@ -350,13 +350,17 @@ fn outlined_text_follows_the_fit_like_any_path() {
                     let target = skin_point(field, &swish.transforms, rest_curve.eval(t), &mut w);
                     let miss = (fitted.eval(t) - target).hypot();
                     worst = worst.max(miss / (0.25 * d + 0.01 * drawing_diagonal));
+                    worst_units = worst_units.max(miss);
                     least_move = least_move.min((fitted.eval(t) - rest_curve.eval(t)).hypot());
                 }
             }
         }
         offset += m;
     }
-    eprintln!("swish: worst label miss {worst:.3} of the allowance; least move {least_move:.2}");
+    eprintln!(
+        "swish: worst label miss {worst_units:.3} units ({worst:.3} of the allowance); \
+         least move {least_move:.2} units"
+    );
     assert!(worst <= 1.0, "a label curve misses its skinned target");
     assert!(least_move > 1.0, "the label did not move with the plate");
     if std::env::var("TEXT_TEST_OUT").is_ok() {
