@@ -152,8 +152,8 @@ pub enum TextMode {
     /// [`SvgSource::text`] is the converted document.
     ///
     /// **What is lost**: the string. The outlines can no longer be edited, searched, selected
-    /// or read aloud as text, nor drawn in another font; text usvg does not lay out (a
-    /// `<switch>` branch not taken, unused `<defs>`, characters DejaVu Sans lacks) stays text.
+    /// or read aloud as text, nor drawn in another font; text usvg cannot lay out (no
+    /// character of it in DejaVu Sans) stays text.
     /// The extra `<path>` elements also shift the numbering of `<path>` elements that the
     /// paper authors' scenes refer to ([`SvgSource::path_tag_position`]).
     ///

@@ -25,12 +25,15 @@
 //!
 //! **What is lost**: the string itself. The outlines cannot be edited as text, searched,
 //! selected, read by screen readers or re-flowed, a different font can no longer be chosen,
-//! and a viewer with the intended font installed shows DejaVu Sans shapes. Text that
-//! usvg does not lay out (inside a `<switch>` branch it does not take, in an unused `<defs>`
-//! entry, or whose characters DejaVu Sans lacks entirely) is kept as text, with a `tracing`
-//! warning. A text drawn only through `use` elements is laid out on its own, at the end of the
-//! document: properties it would inherit from a `use` (a `fill` set on the `use`) are not
-//! applied to its outlines, which carry the paint of the document's root instead.
+//! and a viewer with the intended font installed shows DejaVu Sans shapes. Text that usvg
+//! cannot lay out (no character of it in DejaVu Sans) or that declares XML namespaces on its
+//! own start tag is kept as text, with a `tracing` warning; empty text is kept as it is.
+//!
+//! A text not drawn where it stands (drawn through `use` or a marker, unused in `<defs>`, in a
+//! `<switch>` branch not taken: its conditional attributes are carried) is laid out on its
+//! own, at the end of the document: properties it would inherit from a `use` (a `fill` set on
+//! the `use`) are not applied to its outlines, which carry the paint of the document's root
+//! instead.
 
 use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
@@ -70,6 +73,10 @@ const LAYOUT_ATTRIBUTES: &[&str] = &[
     "glyph-orientation-horizontal",
     "glyph-orientation-vertical",
 ];
+
+/// Conditional processing attributes (SVG 1.1 §5.8): dropped from the copy of a text laid
+/// out on its own, so that a `<switch>` branch not taken is laid out too.
+const CONDITIONS: &[&str] = &["systemLanguage", "requiredFeatures", "requiredExtensions"];
 
 /// One outline path of a text: its path data (text coordinates) and resolved paint.
 struct Outline {
@@ -188,8 +195,9 @@ pub(crate) fn outline_text(text: &str, origin: &str) -> Result<Option<String>, S
         read(&prepared, &index, show_hidden(), &mut outlines);
     }
     if outlines.iter().any(Option::is_none) {
-        // Text drawn only through `use` (usvg drops the ids of `use` copies): a copy of it,
-        // with an id, placed at the end of the document, is laid out instead.
+        // Text not drawn where it is (drawn through `use` or a marker, whose copies lose
+        // their ids; unused; a `switch` branch not taken): a copy of it, with an id, placed at
+        // the end of the document, is laid out instead.
         let end = doc.root_element().range().end;
         let end_tag = text[..end].rfind("</").unwrap_or(end);
         let mut copies = String::new();
@@ -197,11 +205,20 @@ pub(crate) fn outline_text(text: &str, origin: &str) -> Result<Option<String>, S
         for (k, node) in texts.iter().enumerate() {
             if outlines[k].is_none() {
                 let id = format!("{prefix}copy{k}");
-                let (from, to, attribute) = id_edit(text, *node, &id);
+                // With the id, and without the conditions that kept it from being drawn.
                 let range = node.range();
-                copies.push_str(&text[range.start..from]);
-                copies.push_str(&attribute);
-                copies.push_str(&text[to..range.end]);
+                let mut edits = vec![id_edit(text, *node, &id)];
+                for a in node
+                    .attributes()
+                    .filter(|a| a.namespace().is_none() && CONDITIONS.contains(&a.name()))
+                {
+                    edits.push((a.range().start, a.range().end, String::new()));
+                }
+                let shifted = edits
+                    .into_iter()
+                    .map(|(from, to, t)| (from - range.start, to - range.start, t))
+                    .collect();
+                copies.push_str(&splice(&text[range.clone()], shifted));
                 copy_ids.push((id, k));
             }
         }
@@ -216,6 +233,18 @@ pub(crate) fn outline_text(text: &str, origin: &str) -> Result<Option<String>, S
     let mut edits = Vec::new();
     for (node, outline) in texts.iter().zip(outlines) {
         let label = super::svg_in::node_label(&doc, *node);
+        let start_tag = &text[node.range().start..node.range().end];
+        let start_tag = &start_tag[..start_tag.find('>').unwrap_or(start_tag.len())];
+        if start_tag.contains("xmlns") {
+            // Namespace declarations are not attributes to roxmltree: they could not be
+            // carried, and prefixes they declare would be left unbound.
+            tracing::warn!(
+                file = origin,
+                element = %label,
+                "this text declares XML namespaces on itself; it is kept as text"
+            );
+            continue;
+        }
         match outline {
             Some(paths) if !paths.is_empty() => {
                 edits.push((
@@ -511,4 +540,58 @@ fn escape(value: &str) -> String {
         .replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('"', "&quot;")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::{read_svg, ImportOptions, TextMode};
+
+    const NS: &str = "xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 100 100\"";
+
+    #[test]
+    fn text_outlines_keep_line_numbers() {
+        let svg = format!(
+            "<svg {NS}>\n<text x=\"5\" y=\"30\"\n  font-size=\"20\">\n  Two\n</text>\n\
+             <path id=\"after\" d=\"M0 90 L90 90\"/></svg>"
+        );
+        let options = ImportOptions::default().with_text(TextMode::Outlines);
+        let drawing = read_svg(&svg, &options).unwrap();
+        let source = drawing.source.as_ref().unwrap();
+        let last = drawing.paths.len() - 1;
+        assert_eq!(source.element_label(last), "path#after (line 6)");
+        assert_eq!(source.element_label(0), "path (line 2)");
+        assert_eq!(source.text().lines().count(), svg.lines().count());
+    }
+
+    #[test]
+    fn text_outlines_of_switch_branches_keep_their_conditions() {
+        let svg = format!(
+            "<svg {NS}><switch><text systemLanguage=\"xx\" x=\"5\" y=\"30\">A</text>\
+             <text x=\"5\" y=\"60\">B</text></switch></svg>"
+        );
+        let out = text_to_outlines(&svg, "t").unwrap();
+        assert!(!out.contains("<text"), "{out}");
+        assert!(
+            out.contains("<switch><path systemLanguage=\"xx\" d=\"M"),
+            "{out}"
+        );
+    }
+
+    #[test]
+    fn text_outlines_leave_text_declaring_namespaces_and_empty_text() {
+        let svg = format!(
+            "<svg {NS}><text xmlns:a=\"urn:a\" a:b=\"c\" x=\"5\" y=\"30\">A</text>\
+             <text x=\"5\" y=\"60\"> </text></svg>"
+        );
+        assert_eq!(text_to_outlines(&svg, "t").unwrap(), svg);
+    }
+
+    #[test]
+    fn text_outlines_refuse_what_the_import_refuses() {
+        assert!(matches!(
+            text_to_outlines("<svg><text>", "bad.svg"),
+            Err(SvgError::Xml { .. })
+        ));
+    }
 }
