@@ -72,6 +72,8 @@ pub struct Args {
     /// union of the art over the animation; width/height grow in proportion).
     #[arg(long, value_enum, default_value_t = ViewBoxArg::Keep)]
     viewbox: ViewBoxArg,
+    #[command(flatten)]
+    text: crate::drawing_input::TextArgs,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -102,6 +104,7 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     let mut scene = crate::drawing_input::load(&args.scene, &args.pins, Some(&args.pose_args))?;
+    args.text.apply(&mut scene)?;
     if from_svg {
         scene.animation = Some(crate::drawing_input::there_and_back(&scene)?);
     }
@@ -346,7 +349,7 @@ fn write_frames(
             write_synced(&tmp.join(frame_name(f, "svg")), svg.as_bytes())?;
             if args.png {
                 if f == 0 {
-                    crate::output::note_text_not_drawn(&dir.join(frame_name(f, "png")), &svg);
+                    crate::output::note_font_substitutes(&dir.join(frame_name(f, "png")), &svg);
                 }
                 let png = splineskin::render::render_png(&svg, PNG_SIZE)
                     .with_context(|| format!("{scene_name}: frame {f}: rendering the PNG"))?;

@@ -37,6 +37,8 @@ pub struct Args {
     pins: crate::drawing_input::PinArgs,
     #[command(flatten)]
     pose_args: crate::drawing_input::PoseArgs,
+    #[command(flatten)]
+    text: crate::drawing_input::TextArgs,
     /// When the deformed art leaves the input's viewBox: `keep` it (a warning names the paths
     /// and how far) or `fit` it (viewBox and width/height grow to include the art).
     #[arg(long, value_enum, default_value_t = ViewBoxArg::Keep)]
@@ -49,7 +51,8 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<()> {
     crate::output::Format::of(&args.output)?;
-    let scene = crate::drawing_input::load(&args.scene, &args.pins, Some(&args.pose_args))?;
+    let mut scene = crate::drawing_input::load(&args.scene, &args.pins, Some(&args.pose_args))?;
+    args.text.apply(&mut scene)?;
     let mut setup = scene.setup(args.compat.into())?;
     setup.options = setup.options.with_parallel(true);
     for w in &setup.warnings {

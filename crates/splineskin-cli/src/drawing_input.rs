@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 use kurbo::{Affine, Point, Vec2};
 use splineskin::animation::{Animation, Keyframe, DEFAULT_FPS};
+use splineskin::drawing::text_outlines::text_to_outlines;
 use splineskin::drawing::{read_svg_file, Drawing, ImportOptions, SvgError};
 use splineskin::scene::handles::transform_about;
 use splineskin::scene::{place_pins, PinCount, PinOptions, Scene, MAX_COORDINATE};
@@ -35,6 +36,28 @@ pub struct PinArgs {
     /// distance, instant), harmonic, biharmonic.
     #[arg(long, value_enum, value_name = "FAMILY")]
     pub weights: Option<Family>,
+}
+
+/// What becomes of the drawing's text (scene or SVG input).
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct TextArgs {
+    /// Convert text to outlines: each <text> becomes paths of its glyphs (in DejaVu Sans, the
+    /// font PNG renders use), which deform as curves with the art; the output has these paths
+    /// where the text was, and the string can no longer be edited as text. Without it, text
+    /// stays text.
+    #[arg(long)]
+    pub text_outlines: bool,
+}
+
+impl TextArgs {
+    /// Replaces the scene's SVG text by its text-as-outlines version when asked
+    /// ([`splineskin::drawing::text_outlines::text_to_outlines`]).
+    pub fn apply(&self, scene: &mut Scene) -> Result<()> {
+        if self.text_outlines {
+            scene.svg_text = text_to_outlines(&scene.svg_text, &scene.svg_origin)?;
+        }
+        Ok(())
+    }
 }
 
 /// A pose of the pins, for an SVG input.

@@ -309,22 +309,25 @@ pub fn write_deformed_view_box(
         Format::Svg => svg().context("writing the deformed SVG")?.into_bytes(),
         Format::Png => {
             let svg = svg().context("writing the deformed SVG")?;
-            note_text_not_drawn(path, &svg);
+            note_font_substitutes(path, &svg);
             splineskin::render::render_png(&svg, PNG_SIZE).context("rendering the PNG")?
         }
     };
     write_atomic(path, &bytes)
 }
 
-/// Says on stderr that a PNG made from `svg` leaves out its text elements, if it has any
-/// ([`splineskin::render::text_elements`]: PNG renders draw no text; SVG outputs keep it).
-pub fn note_text_not_drawn(path: &Path, svg: &str) {
-    let n = splineskin::render::text_elements(svg);
-    if n > 0 {
-        let s = if n == 1 { "" } else { "s" };
+/// Says on stderr which font families a PNG made from `svg` draws in DejaVu Sans instead
+/// ([`splineskin::render::substituted_families`]: PNG renders use the font shipped with
+/// splineskin, never a system font), if any; SVG outputs keep the text as it is.
+pub fn note_font_substitutes(path: &Path, svg: &str) {
+    let families = splineskin::render::substituted_families(svg);
+    if !families.is_empty() {
         eprintln!(
-            "note: {}: {n} text element{s} not drawn (PNG renders draw no text; SVG output keeps it)",
-            path.display()
+            "note: {}: text drawn in {} in place of {} (fonts are not read from the system; \
+             the SVG keeps the text as it is)",
+            path.display(),
+            splineskin::fonts::FAMILY,
+            families.join(", ")
         );
     }
 }

@@ -1,5 +1,5 @@
 //! `splineskin rig DRAWING.svg -o SCENE.json [--pin X,Y]… [--pins N] [--weights FAMILY]
-//! [--inline] [--move I:DX,DY]…`: a scene of ours (version 1) for a drawing, its pins placed
+//! [--inline] [--text-outlines] [--move I:DX,DY]…`: a scene of ours (version 1) for a drawing, its pins placed
 //! by [`splineskin::scene::place_pins`] unless given, written by the editor's scene writer
 //! and checked by reading it back. The drawing is named relative to the scene's folder, or
 //! written into the scene with `--inline`.
@@ -7,6 +7,7 @@
 use std::path::{Component, Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
+use splineskin::drawing::text_outlines::text_to_outlines;
 use splineskin::scene::Scene;
 
 use crate::drawing_input::{folder_of, is_svg, PinArgs, PoseArgs, Rigged};
@@ -29,6 +30,10 @@ pub struct Args {
     // A pose to write into the scene (the rest pose without one).
     #[command(flatten)]
     pose: PoseArgs,
+    /// Write the drawing into the scene (as --inline) with every <text> turned into paths of
+    /// its glyph outlines, which deform as curves (see `deform --text-outlines`).
+    #[arg(long)]
+    text_outlines: bool,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -51,11 +56,18 @@ pub fn run(args: Args) -> Result<()> {
     }
     let rigged = Rigged::new(&args.drawing, &args.pins, Some(&args.pose))?;
     let scene_dir = folder_of(&args.output);
-    let text;
-    let svg = if args.inline {
+    let (text, outlined);
+    let svg = if args.inline || args.text_outlines {
         text = std::fs::read_to_string(&args.drawing)
             .with_context(|| format!("{}: cannot read", args.drawing.display()))?;
-        SvgRef::Inline(&text)
+        let text = if args.text_outlines {
+            let origin = args.drawing.display().to_string();
+            outlined = text_to_outlines(&text, &origin)?;
+            &outlined
+        } else {
+            &text
+        };
+        SvgRef::Inline(text)
     } else {
         let relative = relative_path(&args.drawing, &scene_dir)?;
         text = relative

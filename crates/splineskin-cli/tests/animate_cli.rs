@@ -327,13 +327,14 @@ fn animate_cli_refuses_a_huge_animated_svg() {
     assert_eq!(listing(&dir), ["drawing.svg", "scene.json"]);
 }
 
-/// PNG renders draw no text: animate's PNG frames and deform's PNG say so, naming the file, when
-/// the drawing has text, and say nothing when it has none.
+/// PNG renders draw text in DejaVu Sans (shipped with splineskin): animate's PNG frames and
+/// deform's PNG name the families drawn in it instead, once, and say nothing when the text
+/// asks for no family or the drawing has no text.
 #[test]
-fn png_outputs_say_when_text_is_not_drawn() {
+fn png_outputs_name_the_font_families_they_substitute() {
     let with_text = SVG.replace(
         "</svg>",
-        r#"<text x="20" y="95">label</text><g><text x="60" y="95">two</text></g></svg>"#,
+        r#"<text x="20" y="95" font-family="Arial">label</text><g><text x="60" y="95">two</text></g></svg>"#,
     );
     let dir = folder("text", &scene(GOOD));
     std::fs::write(dir.join("drawing.svg"), &with_text).unwrap();
@@ -341,28 +342,83 @@ fn png_outputs_say_when_text_is_not_drawn() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(
-        stderr.contains("frame-0000.png: 2 text elements not drawn"),
+        stderr.contains("frame-0000.png: text drawn in DejaVu Sans in place of Arial"),
         "{stderr}"
     );
-    assert_eq!(stderr.matches("not drawn").count(), 1, "{stderr}");
-    let deform = |dir: &Path| {
+    assert_eq!(stderr.matches("in place of").count(), 1, "{stderr}");
+    let deform = |dir: &Path, extra: &[&str]| {
         std::process::Command::new(env!("CARGO_BIN_EXE_splineskin"))
             .current_dir(dir)
-            .args(["deform", "scene.json", "-o", "out.png"])
+            .args(["deform", "scene.json"])
+            .args(extra)
             .output()
             .unwrap()
     };
-    let out = deform(&dir);
+    let out = deform(&dir, &["-o", "out.png"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(
-        stderr.contains("out.png: 2 text elements not drawn"),
+        stderr.contains("out.png: text drawn in DejaVu Sans in place of Arial"),
         "{stderr}"
     );
-
-    let plain = folder("no-text", &scene(GOOD));
-    let out = deform(&plain);
+    // As outlines, no text is left to substitute a font for.
+    let out = deform(&dir, &["-o", "outlined.png", "--text-outlines"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
-    assert!(!stderr.contains("not drawn"), "{stderr}");
+    assert!(!stderr.contains("in place of"), "{stderr}");
+
+    let unnamed = folder("unnamed-font", &scene(GOOD));
+    std::fs::write(
+        unnamed.join("drawing.svg"),
+        SVG.replace("</svg>", r#"<text x="20" y="95">label</text></svg>"#),
+    )
+    .unwrap();
+    let plain = folder("no-text", &scene(GOOD));
+    for dir in [&unnamed, &plain] {
+        let out = deform(dir, &["-o", "out.png"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        assert!(!stderr.contains("in place of"), "{stderr}");
+    }
+}
+
+/// `--text-outlines`: the text becomes paths of its glyphs that deform with the art, in the
+/// animated SVG and in every frame; without it the text is written back as text.
+#[test]
+fn text_outlines_deform_with_the_art() {
+    let with_text = SVG.replace(
+        "</svg>",
+        r#"<text id="t" x="60" y="55" font-size="12" fill="navy">Hi</text></svg>"#,
+    );
+    let dir = folder("outlines", &scene(GOOD));
+    std::fs::write(dir.join("drawing.svg"), &with_text).unwrap();
+    let out = animate(&dir, &["scene.json", "-o", "anim.svg", "--text-outlines"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(dir.join("anim.svg")).unwrap();
+    assert!(!text.contains("<text"), "{text}");
+    // "Hi": H one outline, i its stem and dot, all animated as one path element.
+    let start = text.find("<path id=\"t\"").expect("the text as a path");
+    let tag = &text[start..start + text[start..].find('>').unwrap()];
+    assert!(tag.contains("fill=\"navy\""), "{tag}");
+    assert_eq!(attribute(tag, "d").matches('M').count(), 3, "{tag}");
+    let frames = &text[start..];
+    let values = attribute(&frames[frames.find("<animate ").unwrap()..], "values");
+    let first_and_last: Vec<&str> = values.split(';').collect();
+    assert_ne!(first_and_last[0], first_and_last[first_and_last.len() / 2]);
+
+    let out = animate(&dir, &["scene.json", "-o", "kept.svg"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let kept = std::fs::read_to_string(dir.join("kept.svg")).unwrap();
+    assert!(
+        kept.contains(r#"<text id="t""#) && kept.contains(">Hi</text>"),
+        "{kept}"
+    );
 }

@@ -180,6 +180,24 @@ fn rig_scene_reads_back_and_deforms_at_rest_to_the_drawing() {
     let inline = Scene::load(&dir.join("inline.json")).unwrap();
     assert_eq!(inline.handles, scene.handles);
     assert_eq!(inline.svg_text, scene.svg_text);
+
+    // --text-outlines: inline, the label as paths of its glyphs (14 outlines), same pins.
+    ok(
+        &dir,
+        &[
+            "rig",
+            fish.to_str().unwrap(),
+            "-o",
+            "outlined.json",
+            "--text-outlines",
+        ],
+    );
+    let outlined = Scene::load(&dir.join("outlined.json")).unwrap();
+    assert_eq!(outlined.handles, scene.handles);
+    assert!(!outlined.svg_text.contains("<text"));
+    assert!(outlined.svg_text.contains("<path id=\"label\""));
+    let with_label = read_svg(&outlined.svg_text, &ImportOptions::default()).unwrap();
+    assert_eq!(with_label.paths.len(), drawing.paths.len() + 14);
 }
 
 #[test]

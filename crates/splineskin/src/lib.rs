@@ -22,6 +22,7 @@ pub mod domain;
 pub mod drawing;
 pub mod examples;
 pub mod figure;
+pub mod fonts;
 pub mod mesh;
 pub mod metrics;
 pub mod naive;

@@ -2,9 +2,10 @@
 //! look at results.
 //!
 //! The document is scaled uniformly so that the longer side of its viewport is `max_size`
-//! pixels, drawn over a white background, and encoded as 8-bit RGBA PNG. Text is not rendered
-//! (usvg's `text` feature is off), and images are drawn only when embedded as data URLs:
-//! nothing is read from the file system.
+//! pixels, drawn over a white background, and encoded as 8-bit RGBA PNG. Text is drawn in
+//! DejaVu Sans whatever family it names ([`crate::fonts`]: the font ships in the binary, no
+//! system font is looked up, so a picture is the same on every machine), and images are drawn
+//! only when embedded as data URLs: nothing is read from the file system.
 
 use resvg::tiny_skia;
 
@@ -69,14 +70,7 @@ pub fn render_png(svg_text: &str, max_size: u32) -> Result<Vec<u8>, RenderError>
             max: MAX_RENDER_SIZE,
         });
     }
-    let options = usvg::Options {
-        resources_dir: None,
-        image_href_resolver: usvg::ImageHrefResolver {
-            resolve_data: usvg::ImageHrefResolver::default_data_resolver(),
-            resolve_string: Box::new(|_, _| None),
-        },
-        ..usvg::Options::default()
-    };
+    let options = crate::fonts::usvg_options(true);
     let tree = usvg::Tree::from_str(svg_text, &options).map_err(|e| RenderError::Parse {
         message: e.to_string(),
     })?;
@@ -95,31 +89,63 @@ pub fn render_png(svg_text: &str, max_size: u32) -> Result<Vec<u8>, RenderError>
     })
 }
 
-/// Number of `<text>` elements in the SVG document `svg_text` (0 when it does not parse):
-/// what [`render_png`] leaves out, so that callers can say so instead of showing a picture
-/// with its labels silently missing.
+/// The font families that text of the SVG document `svg_text` asks for but is drawn without
+/// (empty when it does not parse or every text gets what it asks for): what a caller says next
+/// to a picture from [`render_png`], which draws all text in DejaVu Sans ([`crate::fonts`]).
+///
+/// Each text span's `font-family` list is read in order: `DejaVu Sans` or `sans-serif` met
+/// first means the text gets what it asks for; otherwise the list's first family is reported
+/// (a named family not shipped, or a generic one other than `sans-serif`, which is drawn in
+/// DejaVu Sans too). Text without `font-family` gets DejaVu Sans and is not reported. Each
+/// family is listed once, in document order.
 ///
 /// ```
-/// use splineskin::render::text_elements;
-/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg"><text x="1" y="2">hi</text>
-///   <g><text>there</text></g><path d="M0 0 L1 1"/></svg>"#;
-/// assert_eq!(text_elements(svg), 2);
+/// use splineskin::render::substituted_families;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg"><text x="1" y="9">plain</text>
+///   <text font-family="Arial, sans-serif">fallback given</text>
+///   <text font-family="Helvetica, Arial">a</text><text font-family="monospace">b</text>
+///   <text font-family="Helvetica">c</text></svg>"#;
+/// assert_eq!(substituted_families(svg), ["Helvetica", "monospace"]);
 /// ```
-pub fn text_elements(svg_text: &str) -> usize {
-    const SVG_NS: &str = "http://www.w3.org/2000/svg";
-    roxmltree::Document::parse_with_options(
-        svg_text,
-        roxmltree::ParsingOptions {
-            allow_dtd: true,
-            ..roxmltree::ParsingOptions::default()
-        },
-    )
-    .map(|doc| {
-        doc.descendants()
-            .filter(|n| n.tag_name().name() == "text" && n.tag_name().namespace() == Some(SVG_NS))
-            .count()
-    })
-    .unwrap_or(0)
+pub fn substituted_families(svg_text: &str) -> Vec<String> {
+    use usvg::FontFamily;
+    fn visit(group: &usvg::Group, out: &mut Vec<String>) {
+        for node in group.children() {
+            match node {
+                usvg::Node::Group(g) => visit(g, out),
+                usvg::Node::Text(text) => {
+                    let spans = text.chunks().iter().flat_map(|c| c.spans());
+                    for families in spans.map(|s| s.font().families()) {
+                        let satisfied = families.iter().find_map(|f| match f {
+                            FontFamily::SansSerif => Some(true),
+                            FontFamily::Named(n) if n == crate::fonts::FAMILY => Some(true),
+                            FontFamily::Named(_) => None,
+                            _ => Some(false),
+                        });
+                        if satisfied != Some(true) {
+                            if let Some(first) = families.first() {
+                                let name = match first {
+                                    FontFamily::Named(n) => n.clone(),
+                                    generic => generic.to_string(),
+                                };
+                                if !out.contains(&name) {
+                                    out.push(name);
+                                }
+                            }
+                        }
+                    }
+                }
+                _ => {}
+            }
+            node.subroots(|g| visit(g, out));
+        }
+    }
+    let Ok(tree) = usvg::Tree::from_str(svg_text, &crate::fonts::usvg_options(false)) else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    visit(tree.root(), &mut out);
+    out
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 //! Only this module (and its children) knows SVG: [`svg_in`] turns a document into a drawing
 //! (through usvg), [`svg_out`] writes deformed geometry back into the same document, and
 //! [`authors_svg`] reproduces the SVG reading of the paper authors' code for compatibility
-//! mode. All coordinates are `f64` in the root element's user space (viewBox units).
+//! mode; [`text_outlines`] turns text into paths of its glyph outlines. All coordinates are `f64` in the root element's user space (viewBox units).
 
 pub mod authors_svg;
 pub mod follow;
@@ -12,9 +12,12 @@ pub mod junction;
 pub mod svg_animate;
 pub mod svg_in;
 pub mod svg_out;
+pub mod text_outlines;
 
 pub use junction::{classify_joints, JointKind, JunctionOptions};
-pub use svg_in::{read_svg, read_svg_file, read_svg_named, ImportOptions, SvgError, SvgSource};
+pub use svg_in::{
+    read_svg, read_svg_file, read_svg_named, ImportOptions, SvgError, SvgSource, TextMode,
+};
 
 /// What a path of a drawing is in its document, so that code which should only look at what
 /// is drawn (the weights' domain, error figures, pictures) can leave the rest out, while every

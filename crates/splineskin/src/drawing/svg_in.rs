@@ -86,8 +86,10 @@
 //! version does not write: it says so with a `tracing` warning. Mask content in
 //! `maskContentUnits="objectBoundingBox"` is left at rest, with a warning; mask regions
 //! (`x y width height` of the `<mask>`) are not moved.
-//! - Text and images are not geometry here; they are kept verbatim on export, or carried by
-//!   their best-fit affine map with [`super::svg_out::write_svg_following`].
+//! - Images are not geometry here: they are kept verbatim on export, or carried by their
+//!   best-fit affine map with [`super::svg_out::write_svg_following`]. So is text, unless
+//!   [`ImportOptions::text`] is [`TextMode::Outlines`]: then every `<text>` becomes `<path>`
+//!   elements of its glyph outlines before the document is read, and deforms as curves.
 //! - `use` elements are expanded before usvg sees them (the same expansion
 //!   [`super::svg_out::write_svg`] writes: a `<g>` holding a copy of the referenced content),
 //!   so CSS rules that select the referenced content by id or position do not follow it into the
@@ -131,6 +133,48 @@ pub struct ImportOptions {
     /// Place the control points of straight segments between corners on their ends rather
     /// than at their thirds (see the module doc). Default: `true`.
     pub corner_lines_at_ends: bool,
+    /// What becomes of `<text>` elements. Default: [`TextMode::Keep`].
+    pub text: TextMode,
+}
+
+/// What the import does with `<text>` elements ([`ImportOptions::text`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum TextMode {
+    /// Text stays text: it is not part of the drawing's curves, and export writes it as the
+    /// document has it. The default.
+    #[default]
+    Keep,
+    /// Every `<text>` becomes its glyph outlines before the document is read: `<path>`
+    /// elements (one per text span and decoration line, grouped when their paint differs)
+    /// with the text's attributes, its resolved paint (fill, stroke, opacities, …) and as `d`
+    /// the outlines usvg lays out in DejaVu Sans ([`crate::fonts`]), the font every render
+    /// uses, so at rest they draw exactly what a render of the text draws. They are then
+    /// imported like any path (quadratics elevated exactly to cubics), deformed as curves by
+    /// the fit, and written back as `<path>` elements where the `<text>` was;
+    /// [`SvgSource::text`] is the converted document.
+    ///
+    /// **What is lost**: the string. The outlines can no longer be edited, searched, selected
+    /// or read aloud as text, nor drawn in another font; text usvg cannot lay out (no
+    /// character of it in DejaVu Sans) stays text.
+    /// The extra `<path>` elements also shift the numbering of `<path>` elements that the
+    /// paper authors' scenes refer to ([`SvgSource::path_tag_position`]).
+    ///
+    /// ```
+    /// use splineskin::drawing::{read_svg, ImportOptions, TextMode};
+    /// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 40">
+    ///   <rect width="100" height="40" fill="none" stroke="gray"/>
+    ///   <text id="t" x="10" y="30" font-size="24" fill="navy">Hi</text></svg>"#;
+    /// let kept = read_svg(svg, &ImportOptions::default()).unwrap();
+    /// assert_eq!(kept.paths.len(), 1); // the rectangle only
+    /// let outlined = read_svg(svg, &ImportOptions::default().with_text(TextMode::Outlines));
+    /// let outlined = outlined.unwrap();
+    /// assert_eq!(outlined.paths.len(), 1 + 3); // H: one outline, i: its stem and its dot
+    /// let source = outlined.source.as_ref().unwrap();
+    /// assert_eq!(source.element_label(1), "path#t (line 3)");
+    /// assert!(source.text().contains(r#"<path id="t" fill="navy" d="M"#));
+    /// ```
+    Outlines,
 }
 
 impl Default for ImportOptions {
@@ -138,6 +182,7 @@ impl Default for ImportOptions {
         ImportOptions {
             junctions: JunctionOptions::default(),
             corner_lines_at_ends: true,
+            text: TextMode::Keep,
         }
     }
 }
@@ -162,6 +207,12 @@ impl ImportOptions {
     /// Sets [`ImportOptions::junctions`].
     pub fn with_junctions(mut self, junctions: JunctionOptions) -> Self {
         self.junctions = junctions;
+        self
+    }
+
+    /// Sets [`ImportOptions::text`].
+    pub fn with_text(mut self, text: TextMode) -> Self {
+        self.text = text;
         self
     }
 }
@@ -717,7 +768,7 @@ fn usvg_options() -> usvg::Options<'static> {
 /// A user style sheet that shows every element usvg would leave out for `display: none`
 /// (an injected `!important` rule comes first and wins over the document's own rules, as in
 /// usvg's cascade): what import reads hidden layers with.
-const SHOW_HIDDEN_CSS: &str = "* { display: inline !important; }";
+pub(crate) const SHOW_HIDDEN_CSS: &str = "* { display: inline !important; }";
 
 /// [`usvg_options`] with [`SHOW_HIDDEN_CSS`].
 fn usvg_options_showing_hidden() -> usvg::Options<'static> {
@@ -728,6 +779,15 @@ fn usvg_options_showing_hidden() -> usvg::Options<'static> {
 }
 
 fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Drawing, SvgError> {
+    if options.text == TextMode::Outlines {
+        if let Some(converted) = super::text_outlines::outline_text(text, origin)? {
+            let rest = ImportOptions {
+                text: TextMode::Keep,
+                ..*options
+            };
+            return read_svg_impl(&converted, &rest, origin);
+        }
+    }
     if text.len() > MAX_SVG_BYTES {
         return Err(SvgError::TooLarge {
             file: origin.to_string(),
