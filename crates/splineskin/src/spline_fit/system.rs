@@ -238,9 +238,11 @@ pub(crate) fn solve_group(
     lu.solve_in_place(rhs.as_mut());
 
     let mut operator = rhs.subrows(0, n_x).to_owned();
+    let mut mean_weights = None;
     if maps == HandleMaps::Affine {
         if options.constraint_form == ConstraintForm::Ours {
-            reproduce_similarities(&mut operator, members, n_unknowns, o, samples, &rows);
+            mean_weights =
+                reproduce_similarities(&mut operator, members, n_unknowns, o, samples, &rows);
         }
         uncentre(&mut operator, o);
     }
@@ -260,6 +262,7 @@ pub(crate) fn solve_group(
             }]);
         }
     }
+    let rest = canonical_rest(members, n_unknowns, o);
     Ok(members
         .iter()
         .enumerate()
@@ -269,6 +272,22 @@ pub(crate) fn solve_group(
                 for d in 0..2 {
                     for c in 0..operator.ncols() {
                         own[(2 * k + d, c)] = operator[(2 * u + d, c)];
+                    }
+                }
+                // A copy's point differs from the canonical one by δ (within the sharing
+                // tolerance): it follows as the canonical point plus δ under the handles'
+                // linear parts averaged by their mean weights, Σ_i ω_i L_i δ, so that the
+                // identity and similarities reproduce the copy's own input while the deformed
+                // copies stay within |L δ| of each other.
+                let delta = member.path.points[k] - (rest[u] + o).to_point();
+                if let Some(mean) = &mean_weights {
+                    if delta != Vec2::ZERO {
+                        for (i, &m) in mean.iter().enumerate() {
+                            own[(2 * k, 6 * i)] += m * delta.x;
+                            own[(2 * k, 6 * i + 2)] += m * delta.y;
+                            own[(2 * k + 1, 6 * i + 1)] += m * delta.x;
+                            own[(2 * k + 1, 6 * i + 3)] += m * delta.y;
+                        }
                     }
                 }
             }
@@ -283,14 +302,40 @@ pub(crate) fn solve_group(
 }
 
 /// The junction rows of a group ([`solve_group`]): every member's junctions over the group's
-/// unknowns, a junction met again through a shared curve (the same junction point with the
-/// same two tangent neighbours, from another path) written once — the first path's kind
-/// rules, since two kinds there (strict C¹ in one path, G¹ with the input's near-1 ratio in
-/// the other) would together force both tangents to vanish — then rows that follow from
-/// others left out.
+/// unknowns, except those whose two tangent neighbours are already related at the same
+/// junction point by junctions written before (from any path of the group), then rows that
+/// follow from others left out.
+///
+/// Each junction relates its two tangents at the point by a similarity (`v' = (l_v/l_u)
+/// R(θ) u'`). Where paths meet at a shared point, their junctions form a graph on the
+/// point's tangent neighbours, and a cycle in it (a junction met again through a shared curve,
+/// or a circle's smooth point that is also the corner of a half disc on each side: arc–arc,
+/// arc–side, side–arc) relates a tangent to itself by the product of the cycle's
+/// similarities. In one geometry that product is the identity and the cycle's last junction
+/// follows from the others; but each path's rows use its own copy of the shared curves, equal
+/// only to [`super::shared_curves::SHARED_CURVE_TOLERANCE`], and two kinds may differ (strict
+/// C¹ in one path, G¹ with the input's near-1 ratio in another): the product is then off the
+/// identity by about that tolerance, the rows count as independent, and together they force
+/// the tangents to vanish (OpenMoji's half moons grouped with their circle collapsed by 31
+/// units). So each point keeps a spanning forest of its junctions, in path order (the first
+/// path's kind rules); the junction left out holds to the sharing tolerance.
 fn group_rows(members: &[GroupMember<'_>], options: &FitOptions) -> ConstraintRows {
     let mut rows = ConstraintRows::default();
-    let mut seen = std::collections::HashSet::new();
+    // Per junction point, a union-find over the tangent neighbours already related there.
+    let mut related: std::collections::HashMap<(usize, usize), (usize, usize)> =
+        std::collections::HashMap::new();
+    fn find(
+        related: &mut std::collections::HashMap<(usize, usize), (usize, usize)>,
+        mut key: (usize, usize),
+    ) -> (usize, usize) {
+        while let Some(&up) = related.get(&key) {
+            if up == key {
+                break;
+            }
+            key = up;
+        }
+        key
+    }
     for member in members {
         let path = member.path;
         for mut t in tangent_junctions(
@@ -310,9 +355,15 @@ fn group_rows(members: &[GroupMember<'_>], options: &FitOptions) -> ConstraintRo
             for q in &mut t.pins {
                 *q = map(*q);
             }
-            if !seen.insert((t.a.min(t.b), t.p, t.a.max(t.b))) {
+            let (ra, rb) = (
+                find(&mut related, (t.p, t.a)),
+                find(&mut related, (t.p, t.b)),
+            );
+            if ra == rb {
                 continue;
             }
+            related.insert(ra, ra);
+            related.insert(rb, ra);
             for row in t.rows(t.lengths) {
                 rows.push_row(&row);
             }
@@ -428,22 +479,19 @@ fn reproduce_similarities(
     o: Vec2,
     samples: &SampledCurves,
     rows: &ConstraintRows,
-) {
+) -> Option<Vec<f64>> {
     let h = samples.n_handles();
     let mut mean = vec![0.0; h];
     let mut total = 0.0;
-    let mut rest = vec![Vec2::ZERO; n_unknowns];
+    let rest = canonical_rest(members, n_unknowns, o);
     for member in members {
         let path = member.path;
-        for (k, &u) in member.unknowns.iter().enumerate() {
-            rest[u] = path.points[k] - o.to_point();
-        }
         for j in 0..path.n_curves() {
             let nodes = samples.curve(member.first_curve + j);
             for (q, &omega) in nodes.omega.iter().enumerate() {
                 let w = &nodes.weights[q * h..][..h];
                 if (w.iter().sum::<f64>() - 1.0).abs() > PARTITION_TOLERANCE {
-                    return;
+                    return None;
                 }
                 total += omega;
                 for (m, wi) in mean.iter_mut().zip(w) {
@@ -453,7 +501,7 @@ fn reproduce_similarities(
         }
     }
     if total <= 0.0 {
-        return;
+        return None;
     }
     let sum: f64 = mean.iter().sum();
     for m in &mut mean {
@@ -478,7 +526,14 @@ fn reproduce_similarities(
             )
         },
     );
-    let tolerance = REST_RESIDUAL_TOLERANCE * (hi - lo).hypot();
+    // A group's rows are each written on its own path's copy of the shared curves, which
+    // the canonical rest points match only to the sharing tolerance.
+    let relative = if members.len() > 1 || !members[0].copies.is_empty() {
+        REST_RESIDUAL_TOLERANCE.max(10.0 * super::shared_curves::SHARED_CURVE_TOLERANCE)
+    } else {
+        REST_RESIDUAL_TOLERANCE
+    };
+    let tolerance = relative * (hi - lo).hypot();
     let rest_satisfies = residual.iter().all(|r| r.abs() <= tolerance);
     // The four similarity directions of the map coefficients (a, b, c, d, e, f), and the
     // image of a centred rest point c under each: scale c, quarter turn (−c_y, c_x), e, f.
@@ -512,6 +567,21 @@ fn reproduce_similarities(
             }
         }
     }
+    Some(mean)
+}
+
+/// The rest position of each of a group's unknowns about `o`: the first member's point
+/// written to it (a shared curve's original comes before its copies).
+fn canonical_rest(members: &[GroupMember<'_>], n_unknowns: usize, o: Vec2) -> Vec<Vec2> {
+    let mut rest = vec![None; n_unknowns];
+    for member in members {
+        for (k, &u) in member.unknowns.iter().enumerate() {
+            rest[u].get_or_insert(member.path.points[k] - o.to_point());
+        }
+    }
+    rest.into_iter()
+        .map(|r| r.expect("every unknown is some member's point"))
+        .collect()
 }
 
 /// Turns the columns of an operator solved for maps of centred coordinates into columns for
