@@ -99,9 +99,11 @@ const EXACT_RELATIVE: f64 = 1e-9;
 /// the fit's dependent rows, point subpaths, centring and balance were fixed, 242 after (most
 /// missed the identity tolerance by a factor of 2-5: the solve's defect in the translation
 /// columns, times the path's distance from the origin), 2 once the similarity part of the
-/// operator was made exact (two Twemoji files whose harmonic deformation misses its target).
-/// The test fails when more files break; lower this as fixes land, to 0.
-const KNOWN_VIOLATING_FILES: usize = 2;
+/// operator was made exact, 1 once fixed angles between straight sides without handles stopped
+/// locking polygons (Twemoji's 26d1, whose harmonic deformation misses its target by 3.6 %
+/// of the tolerance: a handle on one of its junctions). The test fails when more files break;
+/// lower this as fixes land, to 0.
+const KNOWN_VIOLATING_FILES: usize = 1;
 
 /// Rounding allowance of the exact invariants, in ulps of the path's largest absolute
 /// coordinate (input and expected output): 64. A path far smaller than its distance to the
