@@ -21,6 +21,14 @@
 //! | fixed angle | the input's angle | input |
 //! | C¹, G¹ ([`ConstraintForm::Authors`]) | 0 | input |
 //!
+//! A fixed angle whose tangent neighbour on a side is that side's far end (a straight side
+//! drawn with its control points on its ends, as the import writes lines between corners)
+//! has no rows in our form: there the rows would tie the corner to the far corner, keeping
+//! the two sides' length ratio, and around a polygon of such corners lock it to a
+//! similarity of itself (a rectangle could not follow a bend; shared sides spread that
+//! stiffness to every path along them). The authors' rows vanish there too (both tangents
+//! have zero length). The corner keeps its position (C⁰), its sides bend freely.
+//!
 //! Rows are divided by `max(l_u, l_v)` for conditioning. With [`JunctionRule::NextDistinct`]
 //! control points lying on the junction point (between `a` and `p`, or `p` and `b`) are also
 //! pinned to it (`P_k' = P_p'`), so a degenerate tangent stays degenerate and the curve's real
@@ -292,6 +300,15 @@ pub(crate) fn tangent_junctions(
                 (a, p + 1)
             }
         };
+        if form == ConstraintForm::Ours && kind == JointKind::FixedAngle {
+            // A side whose tangent neighbour is its far end (a straight side with its
+            // control points on its ends) has no drawn tangent: see the module doc.
+            let far_before = points[if p == 0 { m } else { p } - 3];
+            let far_after = points[if p == m { 0 } else { p } + 3];
+            if (points[a] - far_before).hypot() <= eps || (points[b] - far_after).hypot() <= eps {
+                continue;
+            }
+        }
         let pp = points[p];
         let u = pp - points[a];
         let v = points[b] - pp;

@@ -43,7 +43,7 @@ use kurbo::{Point, Vec2};
 
 use super::constraints::{junction_rows, push_pins, tangent_junctions, ConstraintRows};
 use super::quadrature::SampledCurves;
-use super::{FitError, FitOptions};
+use super::{ConstraintForm, FitError, FitOptions};
 use crate::drawing::Path;
 
 /// Relative size of the smallest singular value below which a path's system counts as rank
@@ -238,7 +238,12 @@ pub(crate) fn solve_group(
     lu.solve_in_place(rhs.as_mut());
 
     let mut operator = rhs.subrows(0, n_x).to_owned();
+    let mut mean_weights = None;
     if maps == HandleMaps::Affine {
+        if options.constraint_form == ConstraintForm::Ours {
+            mean_weights =
+                reproduce_similarities(&mut operator, members, n_unknowns, o, samples, &rows);
+        }
         uncentre(&mut operator, o);
     }
     if !rank_deficient
@@ -257,6 +262,7 @@ pub(crate) fn solve_group(
             }]);
         }
     }
+    let rest = canonical_rest(members, n_unknowns, o);
     Ok(members
         .iter()
         .enumerate()
@@ -266,6 +272,22 @@ pub(crate) fn solve_group(
                 for d in 0..2 {
                     for c in 0..operator.ncols() {
                         own[(2 * k + d, c)] = operator[(2 * u + d, c)];
+                    }
+                }
+                // A copy's point differs from the canonical one by δ (within the sharing
+                // tolerance): it follows as the canonical point plus δ under the handles'
+                // linear parts averaged by their mean weights, Σ_i ω_i L_i δ, so that the
+                // identity and similarities reproduce the copy's own input while the deformed
+                // copies stay within |L δ| of each other.
+                let delta = member.path.points[k] - (rest[u] + o).to_point();
+                if let Some(mean) = &mean_weights {
+                    if delta != Vec2::ZERO {
+                        for (i, &m) in mean.iter().enumerate() {
+                            own[(2 * k, 6 * i)] += m * delta.x;
+                            own[(2 * k, 6 * i + 2)] += m * delta.y;
+                            own[(2 * k + 1, 6 * i + 1)] += m * delta.x;
+                            own[(2 * k + 1, 6 * i + 3)] += m * delta.y;
+                        }
                     }
                 }
             }
@@ -280,14 +302,40 @@ pub(crate) fn solve_group(
 }
 
 /// The junction rows of a group ([`solve_group`]): every member's junctions over the group's
-/// unknowns, a junction met again through a shared curve (the same junction point with the
-/// same two tangent neighbours, from another path) written once — the first path's kind
-/// rules, since two kinds there (strict C¹ in one path, G¹ with the input's near-1 ratio in
-/// the other) would together force both tangents to vanish — then rows that follow from
-/// others left out.
+/// unknowns, except those whose two tangent neighbours are already related at the same
+/// junction point by junctions written before (from any path of the group), then rows that
+/// follow from others left out.
+///
+/// Each junction relates its two tangents at the point by a similarity (`v' = (l_v/l_u)
+/// R(θ) u'`). Where paths meet at a shared point, their junctions form a graph on the
+/// point's tangent neighbours, and a cycle in it (a junction met again through a shared curve,
+/// or a circle's smooth point that is also the corner of a half disc on each side: arc–arc,
+/// arc–side, side–arc) relates a tangent to itself by the product of the cycle's
+/// similarities. In one geometry that product is the identity and the cycle's last junction
+/// follows from the others; but each path's rows use its own copy of the shared curves, equal
+/// only to [`super::shared_curves::SHARED_CURVE_TOLERANCE`], and two kinds may differ (strict
+/// C¹ in one path, G¹ with the input's near-1 ratio in another): the product is then off the
+/// identity by about that tolerance, the rows count as independent, and together they force
+/// the tangents to vanish (OpenMoji's half moons grouped with their circle collapsed by 31
+/// units). So each point keeps a spanning forest of its junctions, in path order (the first
+/// path's kind rules); the junction left out holds to the sharing tolerance.
 fn group_rows(members: &[GroupMember<'_>], options: &FitOptions) -> ConstraintRows {
     let mut rows = ConstraintRows::default();
-    let mut seen = std::collections::HashSet::new();
+    // Per junction point, a union-find over the tangent neighbours already related there.
+    let mut related: std::collections::HashMap<(usize, usize), (usize, usize)> =
+        std::collections::HashMap::new();
+    fn find(
+        related: &mut std::collections::HashMap<(usize, usize), (usize, usize)>,
+        mut key: (usize, usize),
+    ) -> (usize, usize) {
+        while let Some(&up) = related.get(&key) {
+            if up == key {
+                break;
+            }
+            key = up;
+        }
+        key
+    }
     for member in members {
         let path = member.path;
         for mut t in tangent_junctions(
@@ -307,9 +355,15 @@ fn group_rows(members: &[GroupMember<'_>], options: &FitOptions) -> ConstraintRo
             for q in &mut t.pins {
                 *q = map(*q);
             }
-            if !seen.insert((t.a.min(t.b), t.p, t.a.max(t.b))) {
+            let (ra, rb) = (
+                find(&mut related, (t.p, t.a)),
+                find(&mut related, (t.p, t.b)),
+            );
+            if ra == rb {
                 continue;
             }
+            related.insert(ra, ra);
+            related.insert(rb, ra);
             for row in t.rows(t.lengths) {
                 rows.push_row(&row);
             }
@@ -379,6 +433,155 @@ pub(crate) fn centre(points: impl IntoIterator<Item = Point>) -> Vec2 {
         hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
     }
     lo.midpoint(hi).to_vec2()
+}
+
+/// How far from one the handle weights at a quadrature node may sum for the fit to treat them
+/// as a partition of unity ([`reproduce_similarities`]): 1e-12, a few ulps of a normalised sum
+/// (as the subdivision rig's own tolerance).
+pub const PARTITION_TOLERANCE: f64 = 1e-12;
+
+/// Largest residual of a junction row at the rest points, relative to the diagonal of the
+/// system's rest points, for the rest chain to count as satisfying its rows
+/// ([`reproduce_similarities`]): 1e-8 (junctions are classified C¹ when the input is C¹ to
+/// 1e-9 relative, [`crate::drawing::junction::DEFAULT_C1_RATIO`]).
+pub const REST_RESIDUAL_TOLERANCE: f64 = 1e-8;
+
+/// A direction of the map coefficients `(a, b, c, d, e, f)` and the image of a centred rest
+/// point under the map it is.
+type SimilarityDirection = ([f64; 6], fn(Vec2) -> Vec2);
+
+/// Makes the similarity part of a group's operator `O` (solved about the centre `o`, before
+/// [`uncentre`]) exact: one similarity on every handle gives exactly that similarity of the
+/// rest points.
+///
+/// Where the weights are a partition of unity, one map `S` on every handle makes the skinned
+/// target `S B_j(t)`; for a similarity `S` (rotation, uniform scale, translation) that is a
+/// chain satisfying every junction row of our form (the rows `l_u v' − l_v R(θ) u' = 0` and the
+/// pins are invariant under similarities), so the minimiser is `S x₀` exactly: `Σ_i O_i vec(S)
+/// = vec(S x₀)`. The solve only gives that to `cond(K) · ε`, and [`uncentre`] multiplies the
+/// translation columns' defect by `|o|`: a path of size 1e-4 at (40, 27) missed its own
+/// position at the identity pose by 1e-4 of its size. Here the defect `r_s = S_s c − Σ_i O_i s`
+/// of each of the four similarity directions `s` of the centred maps (`c` the centred rest
+/// points; `s` = `a = d = 1` scale, `b = −c = 1` quarter turn, `e = 1`, `f = 1` translations)
+/// is handed back to the handles in proportion to their mean weights `ω_i` over the group's
+/// curves (`Σ_i ω_i = 1`), `O_i += ω_i r_s sᵀ / |s|²`: the other two directions of the maps
+/// (shears) are untouched, and the change is of the size of the defect. Weights that are not
+/// a partition of unity to [`PARTITION_TOLERANCE`] at every node leave `O` as solved (there the
+/// fit does not reproduce similarities anyway). The rows are differences of points, so every
+/// chain's translations satisfy them; rotations and scalings of the rest chain satisfy them
+/// only when the rest chain does (not where a junction kind the input does not have was
+/// imposed, e.g. a scene's override making a corner C¹): then only the translations are made
+/// exact (to [`REST_RESIDUAL_TOLERANCE`]).
+fn reproduce_similarities(
+    operator: &mut Mat<f64>,
+    members: &[GroupMember<'_>],
+    n_unknowns: usize,
+    o: Vec2,
+    samples: &SampledCurves,
+    rows: &ConstraintRows,
+) -> Option<Vec<f64>> {
+    let h = samples.n_handles();
+    let mut mean = vec![0.0; h];
+    let mut total = 0.0;
+    let rest = canonical_rest(members, n_unknowns, o);
+    for member in members {
+        let path = member.path;
+        for j in 0..path.n_curves() {
+            let nodes = samples.curve(member.first_curve + j);
+            for (q, &omega) in nodes.omega.iter().enumerate() {
+                let w = &nodes.weights[q * h..][..h];
+                if (w.iter().sum::<f64>() - 1.0).abs() > PARTITION_TOLERANCE {
+                    return None;
+                }
+                total += omega;
+                for (m, wi) in mean.iter_mut().zip(w) {
+                    *m += omega * wi;
+                }
+            }
+        }
+    }
+    if total <= 0.0 {
+        return None;
+    }
+    let sum: f64 = mean.iter().sum();
+    for m in &mut mean {
+        *m /= sum;
+    }
+    // Does the rest chain satisfy the rows (not where a junction kind was imposed that the
+    // input does not have)? Rows are differences, so translations always do.
+    let mut residual = vec![0.0; rows.n_rows];
+    for &(r, col, v) in &rows.entries {
+        residual[r] += v * if col % 2 == 0 {
+            rest[col / 2].x
+        } else {
+            rest[col / 2].y
+        };
+    }
+    let (lo, hi) = rest.iter().fold(
+        (Vec2::new(f64::MAX, f64::MAX), Vec2::new(f64::MIN, f64::MIN)),
+        |(lo, hi), c| {
+            (
+                Vec2::new(lo.x.min(c.x), lo.y.min(c.y)),
+                Vec2::new(hi.x.max(c.x), hi.y.max(c.y)),
+            )
+        },
+    );
+    // A group's rows are each written on its own path's copy of the shared curves, which
+    // the canonical rest points match only to the sharing tolerance.
+    let relative = if members.len() > 1 || !members[0].copies.is_empty() {
+        REST_RESIDUAL_TOLERANCE.max(10.0 * super::shared_curves::SHARED_CURVE_TOLERANCE)
+    } else {
+        REST_RESIDUAL_TOLERANCE
+    };
+    let tolerance = relative * (hi - lo).hypot();
+    let rest_satisfies = residual.iter().all(|r| r.abs() <= tolerance);
+    // The four similarity directions of the map coefficients (a, b, c, d, e, f), and the
+    // image of a centred rest point c under each: scale c, quarter turn (−c_y, c_x), e, f.
+    let directions: [SimilarityDirection; 4] = [
+        ([1.0, 0.0, 0.0, 1.0, 0.0, 0.0], |c| c),
+        ([0.0, 1.0, -1.0, 0.0, 0.0, 0.0], |c| Vec2::new(-c.y, c.x)),
+        ([0.0, 0.0, 0.0, 0.0, 1.0, 0.0], |_| Vec2::new(1.0, 0.0)),
+        ([0.0, 0.0, 0.0, 0.0, 0.0, 1.0], |_| Vec2::new(0.0, 1.0)),
+    ];
+    let first = if rest_satisfies { 0 } else { 2 };
+    for &(s, image) in &directions[first..] {
+        let norm2: f64 = s.iter().map(|v| v * v).sum();
+        for (u, &c) in rest.iter().enumerate() {
+            let want = image(c);
+            for (d, want) in [want.x, want.y].into_iter().enumerate() {
+                let r = 2 * u + d;
+                let mut got = 0.0;
+                for i in 0..h {
+                    for (k, &sk) in s.iter().enumerate() {
+                        got += sk * operator[(r, 6 * i + k)];
+                    }
+                }
+                let defect = want - got;
+                for (i, &m) in mean.iter().enumerate() {
+                    for (k, &sk) in s.iter().enumerate() {
+                        if sk != 0.0 {
+                            operator[(r, 6 * i + k)] += m * defect * sk / norm2;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Some(mean)
+}
+
+/// The rest position of each of a group's unknowns about `o`: the first member's point
+/// written to it (a shared curve's original comes before its copies).
+fn canonical_rest(members: &[GroupMember<'_>], n_unknowns: usize, o: Vec2) -> Vec<Vec2> {
+    let mut rest = vec![None; n_unknowns];
+    for member in members {
+        for (k, &u) in member.unknowns.iter().enumerate() {
+            rest[u].get_or_insert(member.path.points[k] - o.to_point());
+        }
+    }
+    rest.into_iter()
+        .map(|r| r.expect("every unknown is some member's point"))
+        .collect()
 }
 
 /// Turns the columns of an operator solved for maps of centred coordinates into columns for
