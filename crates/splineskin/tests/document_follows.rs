@@ -12,8 +12,9 @@
 //!
 //! User-space gradients and patterns, fixed-orientation markers, images and stroke widths
 //! (`write_svg_following`) get the same rendering check, and each also checks that the plain
-//! writer (nothing carried) fails it. Text is not drawn by our renders (no fonts): its written
-//! `transform` is compared with the rigid map instead. Under a bend, the maps are compared
+//! writer (nothing carried) fails it. Text (drawn in the shipped DejaVu Sans) gets the same
+//! rendering check, and its written `transform` is also compared with the rigid map
+//! numerically. Under a bend, the maps are compared
 //! with a direct least-squares solve over the same samples; the bundled fish's label is
 //! checked against the deformation at the corners of its box in each of the scene's poses.
 
@@ -512,6 +513,15 @@ fn text_is_carried_by_the_rigid_map() {
         0.0,
         "plain",
     );
+}
+
+#[test]
+fn text_renders_carried_by_a_rigid_pose() {
+    // Plain text, text in a transformed group with a text-anchor and a tspan, and a filled
+    // shape: rendered with the shipped font, the carried text must land where the input's
+    // text lands under the rigid map; left at rest (the plain writer), it must not.
+    let (_, out) = check_carried("text", &svg(TEXT), rigid(), &FollowOptions::default());
+    assert_eq!(out.matches("<text").count(), 3, "{out}");
 }
 
 /// Direct least squares of the map `f` over `samples` (equal weights): the 3×3 normal
