@@ -1,15 +1,19 @@
 //! `splineskin demo`: deform the bundled example drawing by each of its poses and write SVG
-//! and PNG files.
+//! and PNG files: the curves through the spline fit, the label's text and the gradients by the
+//! best-fit affine map over each element, the viewBox grown where the art leaves it.
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use kurbo::Point;
+use splineskin::drawing::follow::FollowOptions;
+use splineskin::drawing::svg_out::ViewBoxRule;
 use splineskin::examples::demo_scene;
 use splineskin::scene::Compat;
 use splineskin::spline_fit::SplineRig;
 
-use crate::output::write_deformed;
+use crate::deform::element_maps;
+use crate::output::{write_deformed, write_deformed_view_box};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -36,9 +40,18 @@ pub fn run(args: Args) -> Result<()> {
     for (k, pose) in scene.poses.iter().enumerate() {
         rig.update(&pose.transforms, &mut points)?;
         let name = pose.name.clone().unwrap_or_else(|| format!("pose-{k}"));
+        // The label's text and the gradients follow the pose, as `deform` carries them, and
+        // the viewBox grows to hold the art (`deform --viewbox fit`): nothing is cropped.
+        let maps = element_maps(&setup, &pose.transforms, &FollowOptions::default())?;
         for ext in ["svg", "png"] {
             let path = args.output.join(format!("{name}.{ext}"));
-            write_deformed(&path, &setup.drawing, &points)?;
+            write_deformed_view_box(
+                &path,
+                &setup.drawing,
+                &points,
+                ViewBoxRule::Fit,
+                maps.as_ref(),
+            )?;
             written.push(path);
         }
     }
