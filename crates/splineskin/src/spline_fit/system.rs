@@ -238,11 +238,12 @@ pub(crate) fn solve_group(
     lu.solve_in_place(rhs.as_mut());
 
     let mut operator = rhs.subrows(0, n_x).to_owned();
+    // The group's rest points, about the centre (one per unknown).
+    let rest = canonical_rest(members, n_unknowns, o);
     let mut mean_weights = None;
     if maps == HandleMaps::Affine {
         if options.constraint_form == ConstraintForm::Ours {
-            mean_weights =
-                reproduce_similarities(&mut operator, members, n_unknowns, o, samples, &rows);
+            mean_weights = reproduce_similarities(&mut operator, members, &rest, samples, &rows);
         }
         uncentre(&mut operator, o);
     }
@@ -262,7 +263,6 @@ pub(crate) fn solve_group(
             }]);
         }
     }
-    let rest = canonical_rest(members, n_unknowns, o);
     Ok(members
         .iter()
         .enumerate()
@@ -475,15 +475,13 @@ type SimilarityDirection = ([f64; 6], fn(Vec2) -> Vec2);
 fn reproduce_similarities(
     operator: &mut Mat<f64>,
     members: &[GroupMember<'_>],
-    n_unknowns: usize,
-    o: Vec2,
+    rest: &[Vec2],
     samples: &SampledCurves,
     rows: &ConstraintRows,
 ) -> Option<Vec<f64>> {
     let h = samples.n_handles();
     let mut mean = vec![0.0; h];
     let mut total = 0.0;
-    let rest = canonical_rest(members, n_unknowns, o);
     for member in members {
         let path = member.path;
         for j in 0..path.n_curves() {
