@@ -45,9 +45,11 @@ pub struct FitOptions {
     /// mode uses it to report the paths where the authors' solver is ill-posed). Default: false.
     pub check_rank: bool,
     /// Fit curves shared by several paths once, so that every path along them gets the same
-    /// deformed curve ([`shared_curves`]; our constraint form only). Default: false for now:
-    /// on some real drawings (a half disc beside the circle it shares its arcs with) the
-    /// group's system still collapses the shapes, which is being investigated.
+    /// deformed curve ([`shared_curves`]; our constraint form only), so that fills and their
+    /// outlines, and regions that touch, stay watertight. Default: true (false in the
+    /// compatibility mode, whose solver fits every path alone). A path of such a group is not
+    /// iterated by the flexible G¹ solver ([`flexible`]): it keeps the group's fixed-ratio
+    /// result, since iterated alone it would part from its neighbours at the shared curves.
     pub share_curves: bool,
 }
 
@@ -60,7 +62,7 @@ impl Default for FitOptions {
             junctions: JunctionOptions::default(),
             parallel: false,
             check_rank: false,
-            share_curves: false,
+            share_curves: true,
         }
     }
 }

@@ -14,7 +14,10 @@
 //! **How they enter the systems.** Paths connected through shared curves form a *group*,
 //! solved as one system (the rig's per-path solve, extended to several paths): its unknowns are the paths' unknown points with
 //! the control points of every shared curve identified (one unknown for all the copies of a
-//! point), its energy counts each shared curve once (the copies have the same integrand), and
+//! point), its energy is the sum of the members' energies, each relative to the member's own
+//! size: `Σ_p (D / d_p)² E_p`, `d_p` the diagonal of member `p`'s control-point box and `D`
+//! the group's largest (a shared curve counted once per member along it, so that a small piece
+//! beside long bars is fitted as well as it would be alone, not sacrificed to them), and
 //! its constraint rows are every path's junction rows written over the group's unknowns,
 //! rows that follow from others left out
 //! ([`super::constraints::ConstraintRows::independent`]: a shared curve's end junction seen

@@ -31,6 +31,16 @@
 //! in floating point the solve then sees numbers of the path's own size, so a small path far
 //! from the origin is fitted as accurately as the same path at the origin.
 //!
+//! **Groups.** Paths that share curves ([`super::shared_curves`]) are solved as one system
+//! whose energy is the sum of the members' energies, each divided by the square of its own
+//! size: `E = Σ_p (D / d_p)² E_p`, `d_p` the diagonal of member `p`'s control-point box and
+//! `D` the group's largest. Each `E_p` counts all of the member's curves, so a shared curve
+//! enters once per member that runs along it, with that member's factor. Summed in absolute
+//! units, a small piece sharing its sides with long bars would be sacrificed to them: an
+//! error of 2 % of a long bar is many times the piece's size. Relative to their sizes, every
+//! member is fitted as well as it would be alone, as far as the shared curves allow. A lone
+//! path (a single member) is unchanged: its curves once each.
+//!
 //! **Balance.** `H` and `B` are divided by the largest curve measure of the system (its
 //! length, or squared length with arc length), so that `H`'s entries are of order one like the
 //! constraint rows' (which are divided by their largest tangent length): the minimiser is the
@@ -117,8 +127,9 @@ pub(crate) struct GroupMember<'a> {
     pub first_curve: usize,
     /// The group unknown of each of the path's unknown points.
     pub unknowns: Vec<usize>,
-    /// Its curves that are copies of a curve integrated elsewhere in the group (their energy
-    /// is not counted twice).
+    /// Its curves that are copies of a curve fitted elsewhere in the group (their points are
+    /// the original's unknowns; a lone path counts their energy once, a group's member counts
+    /// them as its own: module doc, "Groups").
     pub copies: Vec<usize>,
 }
 
@@ -164,18 +175,27 @@ pub(crate) fn solve_group(
     // The system is solved about the group's own centre `o` (module doc, "Centring"), and
     // its energy divided by the largest curve measure (module doc, "Balance").
     let o = centre(members.iter().flat_map(|m| m.path.points.iter().copied()));
+    // Each member's energy relative to its own size (module doc, "Groups").
+    let scales = relative_scales(members);
     let largest_measure = members
         .iter()
-        .flat_map(|m| (0..m.path.n_curves()).map(|j| samples.curve(m.first_curve + j)))
-        .map(|nodes| nodes.omega.iter().sum::<f64>())
+        .zip(&scales)
+        .flat_map(|(m, &s)| {
+            (0..m.path.n_curves())
+                .map(move |j| s * samples.curve(m.first_curve + j).omega.iter().sum::<f64>())
+        })
         .fold(0.0, f64::max);
     let balance = if largest_measure > 0.0 {
         1.0 / largest_measure
     } else {
         1.0
     };
-    for member in members {
+    for (member, &scale) in members.iter().zip(&scales) {
         let path = member.path;
+        // A lone path counts each curve once (a curve it runs along twice, once); in a group
+        // every member counts all of its curves, copies included, with its own scale.
+        let skip_copies = members.len() == 1;
+        let balance = balance * scale;
         let m = path.n_unknown_points();
         let unknown = |chain_index: usize| {
             member.unknowns[if chain_index >= m {
@@ -185,7 +205,7 @@ pub(crate) fn solve_group(
             }]
         };
         for j in 0..path.n_curves() {
-            if member.copies.contains(&j) {
+            if skip_copies && member.copies.contains(&j) {
                 continue;
             }
             let c = path.curve_points(j).map(|p| p - o);
@@ -299,6 +319,48 @@ pub(crate) fn solve_group(
             }
         })
         .collect())
+}
+
+/// The factor `s_p = (D / d_p)²` by which member `p`'s energy is multiplied in a group
+/// ([`solve_group`]; module doc, "Groups"): `d_p` the diagonal of the member's control-point
+/// box, `D` the largest of the group (so every factor is at least one). A member with no
+/// extent (a dot) gets the factor of the smallest member that has one, or one.
+fn relative_scales(members: &[GroupMember<'_>]) -> Vec<f64> {
+    if members.len() == 1 {
+        return vec![1.0];
+    }
+    let diagonals: Vec<f64> = members
+        .iter()
+        .map(|m| {
+            let (lo, hi) = m.path.points.iter().fold(
+                (Vec2::new(f64::MAX, f64::MAX), Vec2::new(f64::MIN, f64::MIN)),
+                |(lo, hi), p| {
+                    (
+                        Vec2::new(lo.x.min(p.x), lo.y.min(p.y)),
+                        Vec2::new(hi.x.max(p.x), hi.y.max(p.y)),
+                    )
+                },
+            );
+            (hi - lo).hypot()
+        })
+        .collect();
+    let largest = diagonals.iter().copied().fold(0.0, f64::max);
+    let smallest = diagonals
+        .iter()
+        .copied()
+        .filter(|&d| d > 0.0)
+        .fold(largest, f64::min);
+    diagonals
+        .iter()
+        .map(|&d| {
+            let d = if d > 0.0 { d } else { smallest };
+            if d > 0.0 {
+                (largest / d).powi(2)
+            } else {
+                1.0
+            }
+        })
+        .collect()
 }
 
 /// The junction rows of a group ([`solve_group`]): every member's junctions over the group's
