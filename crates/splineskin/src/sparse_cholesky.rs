@@ -2,7 +2,9 @@
 //! into its symbolic analysis (once per sparsity pattern: elimination order and structure) and
 //! its numeric factorisation (per set of values), with solves that allocate nothing (the caller
 //! owns the workspace). Shared by the weight solvers (`weights`), the ground-truth deformations
-//! (`defop`) and the spatial bases of the deformation operators.
+//! (`defop`), the spatial bases of the deformation operators and the subdivision rig and its
+//! bone-heat weights ([`solve_spd_in_place`], one system solved once, built as an
+//! [`UpperCsc`]).
 //!
 //! ```text
 //! once per pattern:   CholeskyAnalysis::new(n, col_ptr, row_idx, ordering)   (upper triangle, sorted rows)
@@ -182,6 +184,106 @@ impl CholeskyAnalysis {
             stack,
         );
     }
+}
+
+/// The upper triangle of a symmetric `n × n` matrix in compressed columns (row indices sorted
+/// within each column).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct UpperCsc {
+    pub n: usize,
+    pub col_ptr: Vec<usize>,
+    pub row_idx: Vec<usize>,
+    pub values: Vec<f64>,
+}
+
+impl UpperCsc {
+    /// The upper triangle of `m` (a full symmetric faer matrix), with `shift[j]` added to each
+    /// diagonal entry `j` (a diagonal missing from `m` is created).
+    pub fn from_symmetric(m: &faer::sparse::SparseColMat<usize, f64>, shift: &[f64]) -> Self {
+        let n = m.nrows();
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        let mut values = Vec::new();
+        col_ptr.push(0);
+        for j in 0..n {
+            let range = m.col_range(j);
+            let mut column: Vec<(usize, f64)> = m.symbolic().row_idx()[range.clone()]
+                .iter()
+                .zip(&m.val()[range])
+                .filter(|(&i, _)| i <= j)
+                .map(|(&i, &x)| (i, x))
+                .collect();
+            column.sort_unstable_by_key(|&(i, _)| i);
+            match column.last_mut() {
+                Some((i, x)) if *i == j => *x += shift[j],
+                _ => column.push((j, shift[j])),
+            }
+            row_idx.extend(column.iter().map(|&(i, _)| i));
+            values.extend(column.iter().map(|&(_, x)| x));
+            col_ptr.push(row_idx.len());
+        }
+        UpperCsc {
+            n,
+            col_ptr,
+            row_idx,
+            values,
+        }
+    }
+}
+
+impl UpperCsc {
+    /// The symmetric matrix with upper-triangle entries `entries` (`(row, column, value)`,
+    /// `row ≤ column`, repeated entries summed, in any order) plus `diagonal` on the diagonal
+    /// (`n` long).
+    pub fn from_entries(n: usize, mut entries: Vec<(usize, usize, f64)>, diagonal: &[f64]) -> Self {
+        entries.extend(diagonal.iter().enumerate().map(|(i, &d)| (i, i, d)));
+        entries.sort_unstable_by_key(|&(i, j, _)| (j, i));
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(entries.len());
+        let mut values = Vec::with_capacity(entries.len());
+        col_ptr.push(0);
+        let mut k = 0;
+        for j in 0..n {
+            while k < entries.len() && entries[k].1 == j {
+                let (i, _, mut x) = entries[k];
+                k += 1;
+                while k < entries.len() && entries[k].0 == i && entries[k].1 == j {
+                    x += entries[k].2;
+                    k += 1;
+                }
+                row_idx.push(i);
+                values.push(x);
+            }
+            col_ptr.push(row_idx.len());
+        }
+        UpperCsc {
+            n,
+            col_ptr,
+            row_idx,
+            values,
+        }
+    }
+}
+
+/// Number of right-hand sides [`solve_spd_in_place`] solves together.
+const SOLVE_BLOCK: usize = 64;
+
+/// Solves `A X = R` in place for the columns of `rhs` (column-major, `n` rows each) with one
+/// factorisation of the symmetric positive definite `A` given by its upper triangle ([`Ordering::Amd`];
+/// the columns in blocks of 64). For one system solved once (the subdivision rig's Gram
+/// matrix, bone-heat weights); a pattern factored many times keeps its [`CholeskyAnalysis`].
+pub(crate) fn solve_spd_in_place(a: &UpperCsc, rhs: &mut [f64]) -> Result<(), CholeskyError> {
+    if a.n == 0 {
+        return Ok(());
+    }
+    let analysis = CholeskyAnalysis::new(a.n, a.col_ptr.clone(), a.row_idx.clone(), Ordering::Amd)?;
+    let mut factor = vec![0.0; analysis.factor_len()];
+    let mut workspace = analysis.workspace(SOLVE_BLOCK)?;
+    analysis.factor(&a.values, &mut factor, &mut workspace)?;
+    for block in rhs.chunks_mut(a.n * SOLVE_BLOCK) {
+        analysis.solve(&factor, block, &mut workspace);
+    }
+    Ok(())
 }
 
 #[cfg(test)]

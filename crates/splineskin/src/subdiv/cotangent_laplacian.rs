@@ -83,7 +83,7 @@ fn half_cotangents(p: [Point3; 3]) -> Option<([f64; 3], f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::subdiv::sparse_cholesky::UpperCsc;
+    use crate::sparse_cholesky::UpperCsc;
 
     /// `K x` from upper entries.
     fn apply(n: usize, entries: &[(usize, usize, f64)], x: &[f64]) -> Vec<f64> {

@@ -48,7 +48,6 @@ mod raster;
 mod regular_patch;
 mod rig;
 pub mod scene;
-mod sparse_cholesky;
 mod stencil;
 pub mod surface_weights;
 mod uniform;

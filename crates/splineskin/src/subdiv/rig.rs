@@ -48,7 +48,7 @@ use super::affine3::Affine3;
 use super::cage::{Cage, Point3};
 use super::error::SubdivError;
 use super::quadrature::LimitQuadrature;
-use super::sparse_cholesky::{solve_spd_in_place, UpperCsc};
+use crate::sparse_cholesky::{solve_spd_in_place, UpperCsc};
 
 /// Weight `ε` of the regularisation, relative to the diagonal of `Â` (module documentation):
 /// small enough that the fit to the skinned surface changes by about that fraction, large

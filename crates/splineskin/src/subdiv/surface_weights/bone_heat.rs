@@ -48,9 +48,9 @@ use super::super::cotangent_laplacian::quad_stiffness_and_mass;
 use super::super::handles::Handles3;
 use super::super::limit::LimitSurface;
 use super::super::limit_mesh::LimitMesh;
-use super::super::sparse_cholesky::{solve_spd_in_place, UpperCsc};
 use super::super::visibility::TriangleBvh;
 use super::{SurfaceSample, SurfaceWeights, SurfaceWeightsError};
+use crate::sparse_cholesky::{solve_spd_in_place, UpperCsc};
 
 /// The fewest quads of the limit mesh the default level reaches: 8 192 (the torus's 32 quads
 /// refined 4 times; the car's 1 575 twice, 25 200 quads). Enough for weights that vary over a
