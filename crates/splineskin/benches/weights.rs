@@ -24,10 +24,11 @@ use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use kurbo::{Point, Rect};
-use splineskin::domain::{coarse_to_fine::bbw_coarse_to_fine, Domain, DomainOptions};
+use splineskin::domain::{Domain, DomainOptions};
 use splineskin::drawing::Drawing;
 use splineskin::drawing::{svg_in::read_svg_file, ImportOptions};
 use splineskin::mesh::TriMesh;
+use splineskin::weights::coarse_to_fine::bbw_coarse_to_fine;
 use splineskin::weights::{bbw_weights, harmonic_weights, BbwOptions, DirichletData};
 
 /// Cells along x of the grid (the rectangle is 2 × 1, cells are square).

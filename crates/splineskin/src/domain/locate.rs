@@ -1,6 +1,7 @@
 //! Weights given at the vertices of a triangle mesh, evaluated anywhere by point location and
-//! barycentric interpolation: the [`WeightField`] of the mesh-based families (harmonic,
-//! biharmonic, bounded biharmonic; DESIGN.md §2).
+//! barycentric interpolation: the [`crate::weights::WeightField`] of the mesh-based families
+//! (harmonic, biharmonic, bounded biharmonic; DESIGN.md §2; the trait is implemented in
+//! `weights`, which builds on this module).
 //!
 //! Inside triangle `(a, b, c)` the weights are the linear interpolant
 //!
@@ -12,14 +13,14 @@
 //! mesh (and in its holes) a point takes the weights of the nearest point of the mesh boundary,
 //! interpolated linearly along that boundary edge (DESIGN.md §2). The result is continuous
 //! everywhere and smooth inside each triangle; across mesh edges it is only C⁰, which is what
-//! [`WeightField::kinks`] reports to the quadrature.
+//! [`MeshWeights::edge_crossings`] reports to the quadrature.
 //!
 //! **Integration error.** Restricted to a cubic `B(t)`, the interpolant is a cubic polynomial in
 //! `t` on each piece between consecutive edge crossings, so `w_i(B(t)) b(t) b(t)ᵀ` has degree
 //! 9 there and the default composite rule (8 Gauss–Legendre nodes per piece, exact to degree
 //! 15; `spline_fit::quadrature`) integrates it exactly — the only error left is rounding and
 //! the accuracy of the crossing parameters ([`super::crossings::T_ACCURACY`]). The test
-//! `kinks_make_weighted_grams_exact` measures it against an independent exact integration on a
+//! `kinks_make_weighted_grams_exact` (in `weights::mesh_field`) measures it against an independent exact integration on a
 //! structured mesh: ≤ 1e-13 relative to `ℓ_j Â_00` (measured 1.1e-15; the same rule without
 //! the kinks is off by 1.2e-3). Outside
 //! the mesh the nearest-boundary weights are smooth between changes of the nearest feature,
@@ -33,7 +34,6 @@ use super::grid::BucketGrid;
 use super::polygon::segment_distance;
 use super::DomainError;
 use crate::mesh::TriMesh;
-use crate::weights::WeightField;
 
 /// Barycentric slack of point location: `1e-12`. A point whose smallest barycentric
 /// coordinate in a triangle is above `−1e-12` counts as inside it. Interior points on an edge
@@ -356,12 +356,17 @@ impl MeshWeights {
     }
 }
 
-impl WeightField for MeshWeights {
-    fn n_handles(&self) -> usize {
+impl MeshWeights {
+    /// Number of handles (weights per vertex).
+    pub fn n_handles(&self) -> usize {
         self.n_handles
     }
 
-    fn eval(&self, p: Point, out: &mut [f64]) {
+    /// Writes the weights at `p` into `out` (`n_handles` long): the barycentric interpolant
+    /// of the vertex weights inside the mesh, the nearest boundary point's outside (module
+    /// doc); NaN for a mesh without boundary (unreachable for a valid mesh). The mesh-family
+    /// weight fields evaluate through this ([`crate::weights::WeightField::eval`]).
+    pub fn weights_at(&self, p: Point, out: &mut [f64]) {
         let h = self.n_handles;
         debug_assert_eq!(out.len(), h);
         match self.interpolation(p) {
@@ -379,9 +384,11 @@ impl WeightField for MeshWeights {
         }
     }
 
-    /// The parameters where the cubic crosses mesh edges (interior and boundary), found exactly
-    /// on the cubic ([`super::crossings`]), merged when closer than [`KINK_MERGE`], ascending.
-    fn kinks(&self, curve: &[Point; 4], out: &mut Vec<f64>) {
+    /// Appends the parameters where the cubic crosses mesh edges (interior and boundary),
+    /// found exactly on the cubic ([`super::crossings`]), merged when closer than
+    /// [`KINK_MERGE`], ascending: where the interpolant is only C⁰ along the curve (the
+    /// field's [`crate::weights::WeightField::kinks`]).
+    pub fn edge_crossings(&self, curve: &[Point; 4], out: &mut Vec<f64>) {
         let start = out.len();
         let cubic = CubicBez::new(curve[0], curve[1], curve[2], curve[3]);
         let polygon_len = (curve[1] - curve[0]).hypot()
@@ -429,17 +436,17 @@ impl WeightField for MeshWeights {
     }
 }
 
+/// Meshes and fields of the tests here and of the mesh-family weight field's tests
+/// (`weights`).
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::bezier::{bernstein, bernstein_gram, gauss_legendre};
-    use crate::drawing::{Drawing, JunctionOptions, Path};
-    use crate::spline_fit::quadrature::SampledCurves;
-    use crate::spline_fit::FitOptions;
+pub(crate) mod test_meshes {
+    use super::MeshWeights;
+    use crate::mesh::TriMesh;
+    use kurbo::Point;
 
     /// An `n × n` grid of `h`-squares over `[0, n h]²`, each split by its diagonal from
     /// `(i, j)` to `(i+1, j+1)`. Vertex `(i, j)` is `j (n + 1) + i`.
-    fn grid_mesh(n: usize, h: f64) -> TriMesh {
+    pub(crate) fn grid_mesh(n: usize, h: f64) -> TriMesh {
         let mut v = Vec::new();
         for j in 0..=n {
             for i in 0..=n {
@@ -458,37 +465,23 @@ mod tests {
     }
 
     /// Two weight functions sampled at the vertices: smooth, not affine.
-    fn wavy(p: Point) -> [f64; 2] {
+    pub(crate) fn wavy(p: Point) -> [f64; 2] {
         [
             (0.3 * p.x).sin() * (0.2 * p.y).cos() + 0.1 * p.x,
             (p.x * p.y * 0.01).cos() - 0.05 * p.y,
         ]
     }
 
-    fn sampled(mesh: &TriMesh, f: impl Fn(Point) -> [f64; 2]) -> MeshWeights {
+    pub(crate) fn sampled(mesh: &TriMesh, f: impl Fn(Point) -> [f64; 2]) -> MeshWeights {
         let w: Vec<f64> = mesh.vertices.iter().flat_map(|&p| f(p)).collect();
         MeshWeights::new(mesh, w, 2).unwrap()
     }
+}
 
-    /// The grid interpolant evaluated by its own formula (cell by `floor`, triangle by the
-    /// fractional parts) — independent of the point location under test.
-    fn grid_interpolant(n: usize, h: f64, f: impl Fn(Point) -> [f64; 2], p: Point) -> [f64; 2] {
-        let (gx, gy) = (p.x / h, p.y / h);
-        let i = (gx.floor() as usize).min(n - 1);
-        let j = (gy.floor() as usize).min(n - 1);
-        let (fx, fy) = (gx - i as f64, gy - j as f64);
-        let at = |a: usize, b: usize| f(Point::new(a as f64 * h, b as f64 * h));
-        let (w00, w10, w11, w01) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-        let mut out = [0.0; 2];
-        for k in 0..2 {
-            out[k] = if fx >= fy {
-                (1.0 - fx) * w00[k] + (fx - fy) * w10[k] + fy * w11[k]
-            } else {
-                (1.0 - fy) * w00[k] + fx * w11[k] + (fy - fx) * w01[k]
-            };
-        }
-        out
-    }
+#[cfg(test)]
+mod tests {
+    use super::test_meshes::{grid_mesh, sampled, wavy};
+    use super::*;
 
     #[test]
     fn mesh_weights_reproduce_affine_functions() {
@@ -499,7 +492,7 @@ mod tests {
         for k in 0..500 {
             // Points spread over the square, including its vertices and edges.
             let p = Point::new((k * 37 % 211) as f64 / 10.0, (k * 53 % 211) as f64 / 10.0);
-            w.eval(p, &mut out);
+            w.weights_at(p, &mut out);
             let e = affine(p);
             for i in 0..2 {
                 assert!(
@@ -523,7 +516,7 @@ mod tests {
             ((6.0, 6.0), (4.0, 4.0)),
             ((-1.0, -3.0), (0.0, 0.0)),
         ] {
-            w.eval(Point::from(p), &mut out);
+            w.weights_at(Point::from(p), &mut out);
             let e = affine(Point::from(nearest));
             for i in 0..2 {
                 assert!((out[i] - e[i]).abs() < 1e-12, "{p:?}: {out:?} vs {e:?}");
@@ -580,7 +573,7 @@ mod tests {
         let line =
             [x0, x0 + (x3 - x0) / 3.0, x0 + 2.0 * (x3 - x0) / 3.0, x3].map(|x| Point::new(x, 0.5));
         let mut kinks = vec![42.0]; // kinks appends: earlier content stays
-        w.kinks(&line, &mut kinks);
+        w.edge_crossings(&line, &mut kinks);
         let expected: Vec<f64> = [0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5]
             .iter()
             .map(|x| (x - x0) / (x3 - x0))
@@ -594,121 +587,11 @@ mod tests {
         // edges), reported once each.
         let diag = [0.5, 1.5, 2.5, 3.5].map(|s| Point::new(s, s));
         let mut kinks = Vec::new();
-        w.kinks(&diag, &mut kinks);
+        w.edge_crossings(&diag, &mut kinks);
         let expected = [1.0 / 6.0, 0.5, 5.0 / 6.0];
         assert_eq!(kinks.len(), 3, "{kinks:?}");
         for (k, e) in kinks.iter().zip(&expected) {
             assert!((k - e).abs() < 1e-14, "{kinks:?}");
         }
-    }
-
-    /// A field with the same values but no kinks: the quadrature then integrates across edges.
-    struct NoKinks<'a>(&'a MeshWeights);
-    impl WeightField for NoKinks<'_> {
-        fn n_handles(&self) -> usize {
-            self.0.n_handles()
-        }
-        fn eval(&self, p: Point, out: &mut [f64]) {
-            self.0.eval(p, out)
-        }
-    }
-
-    #[test]
-    fn kinks_make_weighted_grams_exact() {
-        let (n, h) = (12, 1.0);
-        let mesh = grid_mesh(n, h);
-        let w = sampled(&mesh, wavy);
-        let curves: [[(f64, f64); 4]; 3] = [
-            [(0.5, 0.7), (3.0, 11.0), (8.0, -2.0), (11.3, 9.1)],
-            [(1.1, 10.9), (4.0, 4.0), (6.5, 6.5), (10.9, 1.2)],
-            [(2.0, 2.0), (9.7, 2.5), (9.9, 9.6), (2.3, 9.8)],
-        ];
-        let paths = curves
-            .iter()
-            .map(|c| {
-                Path::new(
-                    c.map(Point::from).to_vec(),
-                    false,
-                    &JunctionOptions::default(),
-                )
-                .unwrap()
-            })
-            .collect();
-        let drawing = Drawing {
-            paths,
-            ..Default::default()
-        };
-        let samples = SampledCurves::sample(&drawing, &w, &FitOptions::default());
-        let plain = SampledCurves::sample(&drawing, &NoKinks(&w), &FitOptions::default());
-        let (gt, gw) = gauss_legendre(16);
-        let a_hat = bernstein_gram();
-        let mut worst_with: f64 = 0.0;
-        let mut worst_without: f64 = 0.0;
-        for (j, c) in curves.iter().enumerate() {
-            let c = c.map(Point::from);
-            // Reference crossings: the curve's coordinates against each family of grid lines
-            // (x = k, y = k, x − y = k), roots from kurbo's closed-form cubic solver on the
-            // power-basis coefficients.
-            let power = |f: &dyn Fn(Point) -> f64| {
-                let q = c.map(f);
-                [
-                    q[0],
-                    3.0 * (q[1] - q[0]),
-                    3.0 * (q[2] - 2.0 * q[1] + q[0]),
-                    q[3] - 3.0 * q[2] + 3.0 * q[1] - q[0],
-                ]
-            };
-            let mut cuts = vec![0.0, 1.0];
-            for f in [
-                &(|p: Point| p.x) as &dyn Fn(Point) -> f64,
-                &|p: Point| p.y,
-                &|p: Point| p.x - p.y,
-            ] {
-                let pc = power(f);
-                for k in -(n as i64)..=(n as i64) {
-                    let roots =
-                        kurbo::common::solve_cubic(pc[0] - k as f64 * h, pc[1], pc[2], pc[3]);
-                    cuts.extend(roots.into_iter().filter(|t| *t > 0.0 && *t < 1.0));
-                }
-            }
-            cuts.sort_by(f64::total_cmp);
-            let mut reference = [[[0.0; 4]; 4]; 2];
-            for piece in cuts.windows(2) {
-                let (a, b) = (piece[0], piece[1]);
-                for (&s, &gwk) in gt.iter().zip(&gw) {
-                    let t = a + (b - a) * s;
-                    let wv = grid_interpolant(n, h, wavy, crate::bezier::eval(&c, t));
-                    let bt = bernstein(t);
-                    for i in 0..2 {
-                        for k in 0..4 {
-                            for l in 0..4 {
-                                reference[i][k][l] += (b - a) * gwk * wv[i] * bt[k] * bt[l];
-                            }
-                        }
-                    }
-                }
-            }
-            let nodes = samples.curve(j);
-            // The rule's measure: ℓ_j dt, ℓ_j read back from its exact Gram matrix.
-            let len = nodes.gram()[0][0] / a_hat[0][0];
-            let mut m = Vec::new();
-            nodes.weighted_grams(&mut m);
-            let mut m_plain = Vec::new();
-            plain.curve(j).weighted_grams(&mut m_plain);
-            let scale = len * a_hat[0][0];
-            for i in 0..2 {
-                for k in 0..4 {
-                    for l in 0..4 {
-                        let r = len * reference[i][k][l];
-                        worst_with = worst_with.max((m[i][k][l] - r).abs() / scale);
-                        worst_without = worst_without.max((m_plain[i][k][l] - r).abs() / scale);
-                    }
-                }
-            }
-        }
-        // Exact but for rounding and the crossing parameters' accuracy; without the kinks the
-        // default rule (4 pieces × 8 nodes) misses the C⁰ corners by orders of magnitude more.
-        assert!(worst_with < 1e-13, "with kinks: {worst_with:e}");
-        assert!(worst_without > 1e-6, "without kinks: {worst_without:e}");
     }
 }

@@ -50,7 +50,6 @@
 //! angle) and an area below `max_area_fraction · area(domain)`, within `max_vertices`
 //! vertices in total.
 
-pub mod coarse_to_fine;
 pub mod crossings;
 mod grid;
 pub mod locate;

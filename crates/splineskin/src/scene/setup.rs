@@ -2,13 +2,13 @@
 //! kinds), the weight functions and the fit options, in our default mode or in the paper
 //! authors' compatibility mode.
 
-use crate::domain::coarse_to_fine::bbw_coarse_to_fine;
 use crate::domain::polygon::{check_cage, signed_area};
 use crate::domain::{Domain, DomainError, DomainOptions, MeshWeights};
 use crate::drawing::authors_svg::read_authors_drawing_named;
 use crate::drawing::{read_svg_named, Drawing, ImportOptions, JointKind};
 use crate::spline_fit::{FitOptions, FlexibleOptions};
 use crate::weights::bbw::BbwOptions;
+use crate::weights::coarse_to_fine::bbw_coarse_to_fine;
 use crate::weights::harmonic::harmonic;
 use crate::weights::{
     cage_boundary_data, DirichletData, MeanValue, SegmentShepard, Shepard, ShepardOptions,

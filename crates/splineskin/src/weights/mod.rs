@@ -22,9 +22,11 @@
 pub mod bbw;
 pub mod biharmonic_coordinates;
 pub mod cage;
+pub mod coarse_to_fine;
 mod dirichlet;
 mod error;
 pub mod harmonic;
+mod mesh_field;
 pub mod mvc;
 mod reduced_cholesky;
 pub mod segment_shepard;

@@ -18,10 +18,10 @@
 
 use kurbo::Point;
 
-use super::{Domain, DomainOptions, MeshWeights};
+use super::bbw::{bounded_biharmonic, bounded_biharmonic_from, BbwOptions};
+use super::{DirichletData, VertexWeights, WeightField, WeightsError};
+use crate::domain::{Domain, DomainOptions, MeshWeights};
 use crate::drawing::Drawing;
-use crate::weights::bbw::{bounded_biharmonic, bounded_biharmonic_from, BbwOptions};
-use crate::weights::{DirichletData, VertexWeights, WeightField, WeightsError};
 
 /// Coarsening factor between levels, in sample spacing: 4 (so about 16 times fewer vertices
 /// per level). Measured on the turtles domain (20 437 vertices, 5 handles): starting the fine
@@ -39,9 +39,10 @@ pub const DIRECT_VERTICES: usize = 2000;
 ///
 /// ```
 /// use kurbo::Point;
-/// use splineskin::domain::{coarse_to_fine::bbw_coarse_to_fine, Domain, DomainOptions};
+/// use splineskin::domain::{Domain, DomainOptions};
 /// use splineskin::drawing::{read_svg, ImportOptions};
 /// use splineskin::weights::{bbw::{bounded_biharmonic, BbwOptions}, DirichletData};
+/// use splineskin::weights::coarse_to_fine::bbw_coarse_to_fine;
 ///
 /// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 C30 40 70 40 100 0"/></svg>"#;
 /// let drawing = read_svg(svg, &ImportOptions::default())?;
