@@ -264,7 +264,7 @@ pub(crate) struct DefOpFile {
     #[serde(default)]
     seed: Option<u64>,
     #[serde(default)]
-    domain: Option<super::ours::DomainFile>,
+    domain: Option<super::domain_file::DomainFile>,
     #[serde(default)]
     mesh: Option<String>,
     #[serde(default)]

@@ -22,6 +22,7 @@
 pub mod authors;
 pub mod defop;
 mod deformer;
+mod domain_file;
 pub mod handles;
 pub mod ours;
 pub mod pins;
