@@ -1,7 +1,8 @@
 //! Shared helpers of the command-line tests.
 
-// Where the external test data lives, and how a test skips without it: one file for both
-// crates' tests.
+// Where the external test data lives, how a test skips without it, and the per-test output
+// folders: one file each for both crates' tests.
 #[path = "../../../splineskin/tests/common/external_data.rs"]
 pub mod external_data;
+#[path = "../../../splineskin/tests/common/test_dir.rs"]
 pub mod test_dir;

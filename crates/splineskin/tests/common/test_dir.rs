@@ -1,7 +1,7 @@
 //! A temporary folder for one test, removed when the test passes and kept when it fails.
 //!
-//! The same file is in the `tests/common/` folders of `splineskin` and `splineskin-cli` (the
-//! two crates' tests cannot share a module): keep the two copies identical.
+//! The command-line crate's tests read this same file (a `#[path]` module in their
+//! `tests/common/mod.rs`).
 
 use std::ops::Deref;
 use std::path::Path;
