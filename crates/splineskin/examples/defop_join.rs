@@ -118,10 +118,8 @@ fn main() {
                 r#"<path d="{d}" fill="none" stroke="red" stroke-width="4" stroke-opacity="0.5"/>"#
             );
         }
-        let mut offset = 0;
-        for path in &drawing.paths {
-            let o = &points[offset..offset + path.points.len()];
-            offset += path.points.len();
+        for range in drawing.path_ranges() {
+            let o = &points[range];
             let mut d = format!("M{} {}", o[0].x, o[0].y);
             for c in o[1..].chunks(3) {
                 let _ = write!(

@@ -303,8 +303,8 @@ fn measure(
     let mut sum_sq = 0.0;
     let mut n_samples = 0usize;
     let mut curve_index = 0;
-    let mut offset = 0;
-    for (p, path) in drawing.paths.iter().enumerate() {
+    for (p, (path, range)) in drawing.paths.iter().zip(drawing.path_ranges()).enumerate() {
+        let offset = range.start;
         for j in 0..path.n_curves() {
             let c = path.curve_points(j);
             // Energy at the fit's quadrature nodes, with the weights sampled there.
@@ -338,7 +338,6 @@ fn measure(
             n_samples += s;
             curve_index += 1;
         }
-        offset += path.points.len();
     }
     if n_samples > 0 {
         overall.rms = (sum_sq / n_samples as f64).sqrt() * scale;

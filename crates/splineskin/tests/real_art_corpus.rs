@@ -407,10 +407,8 @@ fn check_exact(drawing: &Drawing, got: &[Point], map: Affine) -> Result<f64, Pat
     let mut worst_ratio = 0.0f64;
     let mut failure: Option<PathFailure> = None;
     let mut n_failing = 0;
-    let mut offset = 0;
-    for (pi, path) in drawing.paths.iter().enumerate() {
-        let out = &got[offset..offset + path.points.len()];
-        offset += path.points.len();
+    for (pi, (path, range)) in drawing.paths.iter().zip(drawing.path_ranges()).enumerate() {
+        let out = &got[range];
         let bounds = bounds_of(&path.points);
         let mut magnitude = 0.0f64;
         let mut error = 0.0f64;
@@ -469,10 +467,8 @@ fn check_deformation(
     let mut failure: Option<PathFailure> = None;
     let mut n_failing = 0;
     let mut targets = targets.iter();
-    let mut offset = 0;
-    for (pi, path) in drawing.paths.iter().enumerate() {
-        let out = &got[offset..offset + path.points.len()];
-        offset += path.points.len();
+    for (pi, (path, range)) in drawing.paths.iter().zip(drawing.path_ranges()).enumerate() {
+        let out = &got[range];
         let mut error = 0.0f64;
         for j in 0..path.n_curves() {
             let c = [out[3 * j], out[3 * j + 1], out[3 * j + 2], out[3 * j + 3]];

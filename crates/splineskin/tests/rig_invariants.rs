@@ -249,11 +249,9 @@ fn check_junctions(
     worst: &mut Worst,
 ) {
     let diag = drawing.diagonal();
-    let mut offset = 0;
-    for path in &drawing.paths {
+    for (path, range) in drawing.paths.iter().zip(drawing.path_ranges()) {
         let n = path.points.len();
-        let o = &output[offset..offset + n];
-        offset += n;
+        let o = &output[range];
         if path.closed {
             worst.closed = worst.closed.max((o[0] - o[n - 1]).hypot() / diag);
         }
@@ -322,12 +320,11 @@ fn per_path<'a>(
     drawing: &'a Drawing,
     flat: &'a [Point],
 ) -> impl Iterator<Item = (&'a Path, &'a [Point])> {
-    let mut offset = 0;
-    drawing.paths.iter().map(move |path| {
-        let o = &flat[offset..offset + path.points.len()];
-        offset += path.points.len();
-        (path, o)
-    })
+    drawing
+        .paths
+        .iter()
+        .zip(drawing.path_ranges())
+        .map(move |(path, range)| (path, &flat[range]))
 }
 
 /// Largest distance between `want` and `got`, relative to `diag`.

@@ -43,23 +43,21 @@ fn relative_errors(drawing: &Drawing, share: bool) -> Vec<f64> {
     let mut out = vec![Point::ZERO; rig.n_points()];
     rig.update(&pose, &mut out).expect("update");
     let targets = target_samples(drawing, &field, &pose, SAMPLES);
-    let (mut offset, mut t_offset) = (0, 0);
+    let mut targets = targets.iter();
     drawing
         .paths
         .iter()
-        .map(|path| {
-            let got = &out[offset..offset + path.points.len()];
+        .zip(drawing.path_ranges())
+        .map(|(path, range)| {
+            let got = &out[range];
             let mut error = 0.0f64;
             for j in 0..path.n_curves() {
                 let c = [got[3 * j], got[3 * j + 1], got[3 * j + 2], got[3 * j + 3]];
-                for k in 0..SAMPLES {
+                for (k, target) in (0..SAMPLES).zip(&mut targets) {
                     let t = k as f64 / (SAMPLES - 1) as f64;
-                    let target = targets[t_offset + SAMPLES * j + k];
-                    error = error.max((bezier::eval(&c, t) - target).hypot());
+                    error = error.max((bezier::eval(&c, t) - *target).hypot());
                 }
             }
-            offset += path.points.len();
-            t_offset += SAMPLES * path.n_curves();
             let r = kurbo::Rect::from_points(path.points[0], path.points[0]);
             let r = path.points.iter().fold(r, |r, &p| r.union_pt(p));
             error / (r.width().hypot(r.height()))

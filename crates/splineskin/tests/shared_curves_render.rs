@@ -118,7 +118,7 @@ fn gaps(drawing: &Drawing, share: bool) -> (usize, usize) {
         std::fs::write(format!("{dir}/shared-{share}.png"), &png).unwrap();
     }
     let curve = |path: usize, j: usize| {
-        let offset: usize = drawing.paths[..path].iter().map(|p| p.points.len()).sum();
+        let offset = drawing.path_ranges().nth(path).expect("path index").start;
         let p = &out[offset + 3 * j..offset + 3 * j + 4];
         kurbo::CubicBez::new(p[0], p[1], p[2], p[3])
     };

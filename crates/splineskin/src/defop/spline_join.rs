@@ -286,8 +286,9 @@ impl DefOpRig {
         let mut n_nodes_outside = 0;
         let mut max_outside_distance: f64 = 0.0;
         let mut rank_deficient_paths = Vec::new();
-        let mut offset = 0;
-        for (pi, (path, joined)) in drawing.paths.iter().zip(&joined).enumerate() {
+        let paths = drawing.paths.iter().zip(drawing.path_ranges());
+        for (pi, ((path, range), joined)) in paths.zip(&joined).enumerate() {
+            let offset = range.start;
             n_nodes_outside += joined.n_nodes_outside;
             max_outside_distance = max_outside_distance.max(joined.max_outside_distance);
             if joined.rank_deficient {
@@ -302,7 +303,6 @@ impl DefOpRig {
                         .copy_from(joined.block.row(2 * src + d));
                 }
             }
-            offset += path.points.len();
         }
         if n_nodes_outside > 0 {
             tracing::warn!(

@@ -168,6 +168,31 @@ impl Drawing {
         self.paths.iter().map(|p| p.points.len()).sum()
     }
 
+    /// Where each path's chain points stand in the flat point buffers (all paths' points
+    /// concatenated in path order, [`Drawing::n_points`] long, as rigs write them): one range
+    /// per path, in path order.
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin::drawing::{Drawing, JunctionOptions, Path};
+    /// let o = JunctionOptions::default();
+    /// let line = |x: f64| (0..4).map(|k| Point::new(x, k as f64)).collect::<Vec<_>>();
+    /// let two = (0..7).map(|k| Point::new(k as f64, 0.0)).collect::<Vec<_>>();
+    /// let drawing = Drawing {
+    ///     paths: vec![Path::new(line(0.0), false, &o).unwrap(), Path::new(two, false, &o).unwrap()],
+    ///     ..Default::default()
+    /// };
+    /// let ranges: Vec<_> = drawing.path_ranges().collect();
+    /// assert_eq!(ranges, vec![0..4, 4..11]);
+    /// ```
+    pub fn path_ranges(&self) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+        self.paths.iter().scan(0, |offset, path| {
+            let start = *offset;
+            *offset += path.points.len();
+            Some(start..*offset)
+        })
+    }
+
     /// All chain points of all paths, concatenated in path order.
     pub fn flat_points(&self) -> Vec<Point> {
         self.paths
@@ -184,11 +209,8 @@ impl Drawing {
             return None;
         }
         let mut out = self.clone();
-        let mut offset = 0;
-        for path in &mut out.paths {
-            let n = path.points.len();
-            path.points.copy_from_slice(&points[offset..offset + n]);
-            offset += n;
+        for (path, range) in out.paths.iter_mut().zip(self.path_ranges()) {
+            path.points.copy_from_slice(&points[range]);
         }
         Some(out)
     }

@@ -207,8 +207,9 @@ impl SplineRig {
         }
         let mut n_constraints = 0;
         let mut rank_deficient_paths = Vec::new();
-        let mut offset = 0;
-        for (pi, (path, solved)) in drawing.paths.iter().zip(&by_path).enumerate() {
+        let paths = drawing.paths.iter().zip(drawing.path_ranges());
+        for (pi, ((path, range), solved)) in paths.zip(&by_path).enumerate() {
+            let offset = range.start;
             let solved = solved.as_ref().expect("every path is solved");
             n_constraints += solved.n_constraints;
             if solved.rank_deficient {
@@ -224,7 +225,6 @@ impl SplineRig {
                     }
                 }
             }
-            offset += path.points.len();
         }
         let shared_groups = shared.groups.len();
         Ok(SplineRig {

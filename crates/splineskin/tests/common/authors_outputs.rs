@@ -122,20 +122,16 @@ pub fn per_path_errors(
     deformed: &[Vec<[f64; 2]>],
     diag: f64,
 ) -> Vec<f64> {
-    let mut offset = 0;
     drawing
-        .paths
-        .iter()
+        .path_ranges()
         .zip(deformed)
-        .map(|(path, theirs)| {
-            assert_eq!(path.points.len(), theirs.len());
-            let e = theirs
+        .map(|(range, theirs)| {
+            assert_eq!(range.len(), theirs.len());
+            points[range]
                 .iter()
-                .enumerate()
-                .map(|(k, q)| (points[offset + k] - Point::new(q[0], q[1])).hypot() / diag)
-                .fold(0.0, f64::max);
-            offset += path.points.len();
-            e
+                .zip(theirs)
+                .map(|(p, q)| (*p - Point::new(q[0], q[1])).hypot() / diag)
+                .fold(0.0, f64::max)
         })
         .collect()
 }
