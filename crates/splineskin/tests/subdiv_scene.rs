@@ -158,7 +158,7 @@ fn subdiv_scene_on_the_car() {
     }
 }
 
-/// The bundled example (`assets/subdiv/tube-scene.json`, the README's pictures): it sets up,
+/// The bundled example (`assets/subdiv/tube-scene.json`, the pictures of docs/subdivision.md): it sets up,
 /// and on both poses ours is closer to the skinned surface than naive, in max and RMS.
 #[test]
 fn subdiv_scene_bundled_tube() {
