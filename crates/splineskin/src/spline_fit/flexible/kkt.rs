@@ -185,3 +185,76 @@ pub(super) fn solver_error(path: usize, what: &str, e: impl std::fmt::Debug) -> 
         detail: format!("flexible G1, {what}: {e:?}"),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `min ½ xᵀ diag(1, 2, 4) x` subject to `x₀ + x₁ + x₂ = 1`: `x = (4, 2, 1) / 7`, `λ = −4/7`.
+    fn equality_qp() -> Vec<(usize, usize, f64)> {
+        let mut e = vec![(0, 0, 1.0), (1, 1, 2.0), (2, 2, 4.0)];
+        for i in 0..3 {
+            e.push((3, i, 1.0));
+            e.push((i, 3, 1.0));
+        }
+        e
+    }
+
+    fn solve(keys: &[f64], entries: &[(usize, usize, f64)]) -> Result<Vec<f64>, FitError> {
+        let kkt = Kkt::new(4, entries, keys, 0)?;
+        let mut rhs = vec![0.0, 0.0, 0.0, 1.0];
+        kkt.solve(entries, &mut KktScratch::default(), &mut rhs, 0)?;
+        Ok(rhs)
+    }
+
+    const EXPECTED: [f64; 4] = [4.0 / 7.0, 2.0 / 7.0, 1.0 / 7.0, -4.0 / 7.0];
+
+    #[test]
+    fn kkt_solves_an_equality_qp() {
+        let z = solve(&[0.0, 1.0, 2.0, 2.5], &equality_qp()).unwrap();
+        for (a, b) in z.iter().zip(EXPECTED) {
+            assert!((a - b).abs() <= 1e-15, "{z:?}");
+        }
+    }
+
+    #[test]
+    fn kkt_constraint_row_first_still_solves() {
+        // The row eliminated first has a zero pivot: LDLᵀ cannot, the LU fallback does.
+        let z = solve(&[1.0, 2.0, 3.0, 0.0], &equality_qp()).unwrap();
+        for (a, b) in z.iter().zip(EXPECTED) {
+            assert!((a - b).abs() <= 1e-15, "{z:?}");
+        }
+    }
+
+    #[test]
+    fn kkt_refactors_new_values_on_the_same_pattern() {
+        // diag(2, 2, 2): x = (1, 1, 1) / 3, λ = −2/3.
+        let mut e = equality_qp();
+        for v in &mut e[..3] {
+            v.2 = 2.0;
+        }
+        let kkt = Kkt::new(4, &equality_qp(), &[0.0, 1.0, 2.0, 2.5], 0).unwrap();
+        let mut rhs = vec![0.0, 0.0, 0.0, 1.0];
+        kkt.solve(&e, &mut KktScratch::default(), &mut rhs, 0)
+            .unwrap();
+        let expected = [1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, -2.0 / 3.0];
+        for (a, b) in rhs.iter().zip(expected) {
+            assert!((a - b).abs() <= 1e-15, "{rhs:?}");
+        }
+    }
+
+    #[test]
+    fn residual_ok_accepts_the_solution_and_rejects_a_perturbed_one() {
+        let e = equality_qp();
+        let pairs: Vec<Pair<usize, usize>> =
+            e.iter().map(|&(row, col, _)| Pair { row, col }).collect();
+        let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(4, 4, &pairs).unwrap();
+        let values: Vec<f64> = e.iter().map(|v| v.2).collect();
+        let k = SparseColMat::new_from_argsort(symbolic, &argsort, &values).unwrap();
+        let r = [0.0, 0.0, 0.0, 1.0];
+        assert!(residual_ok(k.as_ref(), &EXPECTED, &r));
+        let mut z = EXPECTED;
+        z[1] += 1e-9;
+        assert!(!residual_ok(k.as_ref(), &z, &r));
+    }
+}
