@@ -91,3 +91,55 @@ pub(super) fn iterate_alternating(
     }
     Ok(run)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::fixture::{case, g1_sine, pose, ratio};
+    use super::super::newton::iterate_newton;
+    use super::super::options::{FlexibleOptions, FlexibleRule};
+    use super::*;
+
+    #[test]
+    fn iterate_alternating_is_monotone_keeps_g1_and_meets_newton() {
+        let tol = 1e-12;
+        let options = FlexibleOptions::default()
+            .with_tolerance(tol)
+            .with_max_steps(2000);
+        let mut runs = Vec::new();
+        for rule in [FlexibleRule::Alternating, FlexibleRule::Newton] {
+            let mut c = case(rule, tol, &pose(0.5));
+            let fp = &c.solver.paths[0];
+            let nodes = &c.solver.nodes[fp.path];
+            let run = PathRun {
+                x: c.start.clone(),
+                energies: vec![c.e_start],
+                shortened: 0,
+                warm: false,
+            };
+            let run = if rule == FlexibleRule::Alternating {
+                iterate_alternating(&options, fp, nodes, &mut c.sc, run)
+            } else {
+                iterate_newton(&options, fp, nodes, &mut c.sc, run)
+            }
+            .unwrap();
+            runs.push((run, c.e_start));
+        }
+        let (alt, e_start) = &runs[0];
+        let newton = &runs[1].0;
+        let (e_alt, e_newton) = (
+            *alt.energies.last().unwrap(),
+            *newton.energies.last().unwrap(),
+        );
+        assert!(alt.energies.windows(2).all(|e| e[1] <= e[0]));
+        assert!(e_alt < *e_start);
+        // Alternating steps keep the tangents parallel exactly as a direction step puts them
+        // (a ratio step keeps them parallel through its linear rows): rounding of size ~10.
+        assert!(g1_sine(&alt.x) <= 1e-10);
+        // Both rules minimise the same energy over the same set.
+        assert!(
+            (e_alt - e_newton).abs() <= 1e-6 * e_newton,
+            "{e_alt} vs {e_newton}"
+        );
+        assert!((ratio(&alt.x) - ratio(&newton.x)).abs() <= 1e-3 * ratio(&newton.x));
+    }
+}

@@ -96,3 +96,48 @@ fn allclose(a: &[Point], b: &[Point]) -> bool {
             && (p.y - q.y).abs() <= AUTHORS_ATOL + AUTHORS_RTOL * q.y.abs()
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::fixture::{case, g1_sine, pose};
+    use super::super::options::FlexibleRule;
+    use super::*;
+
+    #[test]
+    fn allclose_is_numpys_rule() {
+        let p = |x: f64| vec![Point::new(x, 0.0)];
+        // |a − b| ≤ 1 + 1e-3 |b|.
+        assert!(allclose(&p(0.0), &p(1.0)));
+        assert!(!allclose(&p(0.0), &p(1.01)));
+        assert!(allclose(&p(1000.0), &p(1002.0)));
+        assert!(!allclose(&p(1000.0), &p(1003.0)));
+        // Relative to b, not a (as numpy).
+        assert!(allclose(&p(3000.0), &p(2997.0)) && !allclose(&p(-3000.0), &p(-2995.0)));
+    }
+
+    #[test]
+    fn iterate_authors_stops_after_one_round_at_the_rest_pose() {
+        // The identity pose's target is the input itself: the first direction step along the
+        // input's tangents lands on it, the ratio step keeps it, and the round's direction
+        // step agrees with it, so the iteration stops there.
+        let mut c = case(FlexibleRule::Authors, 1e-5, &pose(0.0));
+        let fp = &c.solver.paths[0];
+        let nodes = &c.solver.nodes[fp.path];
+        let run = iterate_authors(fp, nodes, &mut c.sc, c.e_start, None).unwrap();
+        assert_eq!(run.energies.len(), 4, "{:?}", run.energies);
+        for (p, q) in run.x.iter().zip(&c.input) {
+            assert!((*p - *q).hypot() <= 1e-12 * 10.0, "{p:?} vs {q:?}");
+        }
+    }
+
+    #[test]
+    fn iterate_authors_keeps_g1_within_its_round_cap() {
+        let mut c = case(FlexibleRule::Authors, 1e-5, &pose(0.5));
+        let fp = &c.solver.paths[0];
+        let nodes = &c.solver.nodes[fp.path];
+        let run = iterate_authors(fp, nodes, &mut c.sc, c.e_start, None).unwrap();
+        assert!(run.energies.len() <= 3 + 2 * AUTHORS_MAX_ROUNDS);
+        assert!(g1_sine(&run.x) <= 1e-10);
+        assert!(!run.warm);
+    }
+}

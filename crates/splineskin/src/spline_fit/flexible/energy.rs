@@ -209,3 +209,79 @@ pub(super) fn path_nodes(
     }
     n
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::fixture::{case, pose};
+    use super::super::options::FlexibleRule;
+    use super::*;
+
+    #[test]
+    fn energy_of_the_input_at_the_rest_pose_is_below_the_noise_floor() {
+        // Shepard weights sum to 1, so the identity pose's target is the input curve itself.
+        let c = case(FlexibleRule::Newton, 1e-5, &pose(0.0));
+        let nodes = &c.solver.nodes[0];
+        let e = nodes.energy(&c.sc.target, &c.input);
+        assert!(c.sc.floor > 0.0);
+        assert!(e <= c.sc.floor, "{e} > {}", c.sc.floor);
+        // And any visible move of a point costs far more than the floor.
+        let mut moved = c.input.clone();
+        moved[1].y += 1e-6;
+        assert!(nodes.energy(&c.sc.target, &moved) > 1e3 * c.sc.floor);
+    }
+
+    #[test]
+    fn half_gradient_is_half_the_energy_gradient() {
+        let c = case(FlexibleRule::Newton, 1e-5, &pose(0.5));
+        let nodes = &c.solver.nodes[0];
+        // A point away from any minimiser: the fixed-ratio fit, bent.
+        let mut x = c.start.clone();
+        x[1].x += 0.3;
+        x[5].y -= 0.2;
+        let g = nodes.half_gradient(&x, &c.sc.b);
+        let g_max = g.iter().fold(0.0f64, |m, v| m.max(v.hypot()));
+        assert!(g_max > 1e-3);
+        // E is quadratic: central differences are exact up to rounding (E ~ 10, h = 1e-3:
+        // ~1e-12).
+        let h = 1e-3;
+        for k in 0..nodes.m {
+            for d in 0..2 {
+                let mut e = [0.0; 2];
+                for (i, sign) in [1.0, -1.0].into_iter().enumerate() {
+                    let mut y = x.clone();
+                    if d == 0 {
+                        y[k].x += sign * h;
+                    } else {
+                        y[k].y += sign * h;
+                    }
+                    e[i] = nodes.energy(&c.sc.target, &y);
+                }
+                let fd = (e[0] - e[1]) / (2.0 * h);
+                let gk = if d == 0 { g[k].x } else { g[k].y };
+                assert!(
+                    (fd - 2.0 * gk).abs() <= 1e-8 * g_max,
+                    "{k},{d}: {fd} vs {}",
+                    2.0 * gk
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn energy_about_agrees_with_the_centred_energy() {
+        let pose = pose(0.5);
+        let c = case(FlexibleRule::Newton, 1e-5, &pose);
+        let nodes = &c.solver.nodes[0];
+        let o = nodes.centre;
+        let flat: Vec<Point> = c.start.iter().map(|p| *p + o).collect();
+        let mut s = Vec::new();
+        // About the centre (as the iteration computes it) and about the origin.
+        assert_eq!(nodes.energy_about(&pose, o, &flat, &mut s), c.e_start);
+        let e0 = nodes.energy_about(&pose, Vec2::ZERO, &flat, &mut s);
+        assert!(
+            (e0 - c.e_start).abs() <= 1e-9 * c.e_start,
+            "{e0} vs {}",
+            c.e_start
+        );
+    }
+}

@@ -505,3 +505,71 @@ pub(super) fn flex_path(
         newton,
     }))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::fixture::{case, g1_sine, pose, ratio};
+    use super::super::options::FlexibleRule;
+    use super::*;
+
+    #[test]
+    fn flex_path_makes_the_g1_neighbours_scalars() {
+        let c = case(FlexibleRule::Newton, 1e-5, &pose(0.5));
+        let layout = &c.solver.paths[0].layout;
+        assert_eq!(layout.flexible.len(), 1);
+        let j = &layout.flexible[0];
+        assert_eq!((j.a, j.p, j.b), (2, 3, 4));
+        // Seven unknown points, two of them now scalars along the junction point (free 2).
+        assert_eq!(layout.n_free, 5);
+        assert!(matches!(
+            layout.slots[2],
+            Slot::Along { base: 2, scalar: 0 }
+        ));
+        assert!(matches!(
+            layout.slots[4],
+            Slot::Along { base: 2, scalar: 1 }
+        ));
+        assert!(matches!(layout.slots[3], Slot::Free(2)));
+        assert!(matches!(layout.slots[5], Slot::Free(3)));
+    }
+
+    #[test]
+    fn ratio_step_at_the_fixed_ratio_fit_returns_it() {
+        // The rig's result minimises E under the input's ratio, which the start has.
+        let mut c = case(FlexibleRule::Newton, 1e-5, &pose(0.5));
+        let fp = &c.solver.paths[0];
+        let x = fp
+            .ratio_step(&c.solver.nodes[0], &mut c.sc, &c.start)
+            .unwrap();
+        assert!((ratio(&c.start) - 2.0).abs() <= 1e-12);
+        for (p, q) in x.iter().zip(&c.start) {
+            assert!((*p - *q).hypot() <= 1e-12 * 10.0, "{p:?} vs {q:?}");
+        }
+    }
+
+    #[test]
+    fn direction_step_lowers_energy_and_keeps_g1() {
+        let mut c = case(FlexibleRule::Newton, 1e-5, &pose(0.5));
+        let fp = &c.solver.paths[0];
+        let nodes = &c.solver.nodes[0];
+        let mut dirs = vec![Vec2::ZERO; 2];
+        fp.layout
+            .joint_directions(&c.start, Sides::Derived, &mut dirs);
+        // G¹: opposite unit directions.
+        assert!((dirs[0] + dirs[1]).hypot() <= 1e-15 && (dirs[1].hypot() - 1.0).abs() <= 1e-15);
+        let (x, scalars) = fp.direction_step(nodes, &mut c.sc, &dirs).unwrap();
+        let e = nodes.energy(&c.sc.target, &x);
+        assert!(e < c.e_start);
+        assert!(g1_sine(&x) <= 1e-12);
+        assert!((x[2] - x[3]).dot(dirs[0]) - scalars[0] <= 1e-12 * 10.0);
+        assert!(((x[4] - x[3]).hypot() - scalars[1]).abs() <= 1e-12 * 10.0);
+    }
+
+    #[test]
+    fn elimination_keys_put_each_row_after_its_unknowns() {
+        // Unknowns keyed 0, 1, 2; row 3 uses unknowns 0 and 2, row 4 only unknown 1.
+        let entries = [(3, 0, 1.0), (3, 2, 1.0), (4, 1, 1.0), (0, 3, 1.0)];
+        let keys = elimination_keys(5, 3, |i| i as f64, &entries);
+        assert_eq!(keys, vec![0.0, 1.0, 2.0, 2.5, 1.5]);
+    }
+}

@@ -453,3 +453,101 @@ impl FlexibleSolver {
         }
     }
 }
+
+/// The fixture of the files' unit tests: one open path of two curves meeting G¹ at point 3
+/// (tangent lengths 1 and 2), two Shepard handles at its ends, and the state the iteration of
+/// one path starts from (as [`FlexibleSolver::iterate`] prepares it).
+#[cfg(test)]
+pub(super) mod fixture {
+    use kurbo::{Affine, Point};
+
+    use super::layout::Scratch;
+    use super::{FlexibleOptions, FlexibleRule, FlexibleSolver};
+    use crate::drawing::{Drawing, JointKind, JunctionOptions, Path};
+    use crate::spline_fit::quadrature::SampledCurves;
+    use crate::spline_fit::FitOptions;
+    use crate::weights::{Shepard, ShepardOptions};
+
+    /// The input's control points (one open path, curves 0–3 and 3–6).
+    pub(super) const INPUT: [(f64, f64); 7] = [
+        (0., 0.),
+        (1., 1.),
+        (2., 0.),
+        (3., 0.),
+        (5., 0.),
+        (6., 1.),
+        (7., 0.),
+    ];
+
+    /// One path's iteration state for a pose.
+    pub(super) struct Case {
+        pub(super) solver: FlexibleSolver,
+        pub(super) sc: Scratch,
+        /// The rig's fixed-ratio result, about the frame of the rule.
+        pub(super) start: Vec<Point>,
+        /// Its energy.
+        pub(super) e_start: f64,
+        /// The input's points, about the frame of the rule.
+        pub(super) input: Vec<Point>,
+    }
+
+    /// The handle maps: identity at the start handle, a turn by `angle` about the end handle.
+    pub(super) fn pose(angle: f64) -> [Affine; 2] {
+        [
+            Affine::IDENTITY,
+            Affine::rotate_about(angle, Point::new(7., 0.)),
+        ]
+    }
+
+    /// The case for `pose` under `rule` with stopping tolerance `tolerance`.
+    pub(super) fn case(rule: FlexibleRule, tolerance: f64, pose: &[Affine]) -> Case {
+        let pts = INPUT.map(Point::from).to_vec();
+        let path = Path::new(pts, false, &JunctionOptions::default()).unwrap();
+        assert_eq!(path.joints[1], JointKind::G1);
+        let drawing = Drawing {
+            paths: vec![path],
+            ..Default::default()
+        };
+        let handles = [Point::new(0., 0.), Point::new(7., 0.)];
+        let weights = Shepard::new(&handles, ShepardOptions::default());
+        let fit = FitOptions::default();
+        let samples = SampledCurves::sample(&drawing, &weights, &fit);
+        let options = FlexibleOptions::default()
+            .with_rule(rule)
+            .with_tolerance(tolerance);
+        let solver = FlexibleSolver::new(&drawing, &samples, &fit, options).unwrap();
+        let mut out = vec![Point::ZERO; solver.rig().n_points()];
+        solver.rig().update(pose, &mut out).unwrap();
+        let nodes = &solver.nodes[0];
+        let o = solver.frame(nodes);
+        let mut sc = Scratch::default();
+        nodes.target_about(pose, o, &mut sc.target);
+        nodes.rhs(&sc.target, &mut sc.b);
+        sc.floor = nodes.noise_floor(&sc.target);
+        let start: Vec<Point> = nodes.unknowns(&out).iter().map(|p| *p - o).collect();
+        let e_start = nodes.energy(&sc.target, &start);
+        let input = INPUT.map(|p| Point::from(p) - o).to_vec();
+        Case {
+            solver,
+            sc,
+            start,
+            e_start,
+            input,
+        }
+    }
+
+    /// The sine of the angle between the junction's tangents `x[3] − x[2]` and `x[4] − x[3]`
+    /// (zero: G¹), or infinity if they point apart (a cusp).
+    pub(super) fn g1_sine(x: &[Point]) -> f64 {
+        let (u, v) = (x[3] - x[2], x[4] - x[3]);
+        if u.dot(v) <= 0.0 {
+            return f64::INFINITY;
+        }
+        u.cross(v).abs() / (u.hypot() * v.hypot())
+    }
+
+    /// The tangent-length ratio `‖x[4] − x[3]‖ / ‖x[3] − x[2]‖` (the input's: 2).
+    pub(super) fn ratio(x: &[Point]) -> f64 {
+        (x[4] - x[3]).hypot() / (x[3] - x[2]).hypot()
+    }
+}

@@ -328,3 +328,101 @@ impl Layout {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::fixture::{case, g1_sine, pose, ratio};
+    use super::super::options::{FlexibleOptions, FlexibleRule};
+    use super::*;
+
+    /// Largest sine between a G¹ junction's tangents accepted: rounding of points of size ~10
+    /// (the turn is applied as a rotation, so the junction holds to the last bits).
+    const G1_SINE: f64 = 1e-12;
+
+    #[test]
+    fn newton_update_lowers_energy_and_keeps_g1() {
+        let mut c = case(FlexibleRule::Newton, 1e-5, &pose(0.5));
+        let fp = &c.solver.paths[0];
+        let nodes = &c.solver.nodes[fp.path];
+        c.sc.least = vec![0.0; fp.layout.n_scalars()];
+        let u = fp
+            .newton_update(nodes, &mut c.sc, &c.start, c.e_start)
+            .unwrap()
+            .expect("a descent step");
+        assert!(u.energy < c.e_start);
+        assert_eq!(u.energy, nodes.energy(&c.sc.target, &u.x));
+        assert!(g1_sine(&u.x) <= G1_SINE);
+        // The ratio is free: it leaves the input's 2.
+        assert!((ratio(&u.x) - 2.0).abs() > 1e-3);
+    }
+
+    #[test]
+    fn iterate_newton_is_monotone_and_stationary() {
+        let mut c = case(FlexibleRule::Newton, 1e-12, &pose(0.5));
+        let fp = &c.solver.paths[0];
+        let nodes = &c.solver.nodes[fp.path];
+        let options = FlexibleOptions::default().with_tolerance(1e-12);
+        let run = PathRun {
+            x: c.start.clone(),
+            energies: vec![c.e_start],
+            shortened: 0,
+            warm: false,
+        };
+        let run = iterate_newton(&options, fp, nodes, &mut c.sc, run).unwrap();
+        assert!(run.energies.windows(2).all(|e| e[1] <= e[0]));
+        assert!(run.energies.len() - 1 <= options.max_steps);
+        let e = *run.energies.last().unwrap();
+        assert!(e < c.e_start);
+        assert!(g1_sine(&run.x) <= G1_SINE);
+        // Stationary: no further step lowers the energy by more than the tolerance.
+        if let Some(u) = fp.newton_update(nodes, &mut c.sc, &run.x, e).unwrap() {
+            assert!(
+                e - u.energy <= 1e-12 * e + c.sc.floor,
+                "{e} -> {}",
+                u.energy
+            );
+        }
+    }
+
+    #[test]
+    fn newton_point_follows_the_linear_change_and_keeps_g1() {
+        let mut c = case(FlexibleRule::Newton, 1e-5, &pose(0.5));
+        // The fixed-ratio fit is stationary in the turn already; turn the junction's tangents
+        // by 0.3 rad about its point (still G¹) so that the step turns them back.
+        let mut x0 = c.start.clone();
+        for k in [2, 4] {
+            x0[k] = x0[3] + rotate(x0[k] - x0[3], 0.3);
+        }
+        c.start = x0;
+        let fp = &c.solver.paths[0];
+        let nodes = &c.solver.nodes[fp.path];
+        let layout = &fp.layout;
+        let mut dirs = vec![Vec2::ZERO; layout.n_scalars()];
+        layout.joint_directions(&c.start, Sides::Derived, &mut dirs);
+        let j = &layout.flexible[0];
+        let sigma = vec![
+            (c.start[j.a] - c.start[j.p]).dot(dirs[0]),
+            (c.start[j.b] - c.start[j.p]).dot(dirs[1]),
+        ];
+        let zero = vec![Vec2::ZERO; 2];
+        let step = fp
+            .newton_step(nodes, &mut c.sc, &dirs, &sigma, &zero, &[])
+            .unwrap();
+        assert!(step.turns[0] < -0.1, "turns back: {}", step.turns[0]);
+        let dx = layout.linear_change(&c.start, &step, &dirs, &sigma);
+        let dx_max = dx.iter().fold(0.0f64, |m, v| m.max(v.hypot()));
+        // At t = 0 the start itself; for small t, x + t Δx to first order (the second-order
+        // part is ~ t² σ δφ², 1e-7 here against t ‖Δx‖ ~ 1e-4).
+        for t in [0.0, 1e-4] {
+            let x = layout.newton_point(&c.start, &step, &dirs, &sigma, t);
+            for ((p, q), d) in x.iter().zip(&c.start).zip(&dx) {
+                let err = (*p - (*q + t * *d)).hypot();
+                assert!(err <= 1e-3 * t * dx_max + 1e-13, "t {t}: {err}");
+            }
+        }
+        for t in [0.25, 0.5, 1.0] {
+            let x = layout.newton_point(&c.start, &step, &dirs, &sigma, t);
+            assert!(g1_sine(&x) <= G1_SINE);
+        }
+    }
+}
