@@ -50,8 +50,8 @@
 //! | `authors.rs` | [`FlexibleRule::Authors`]: the authors' schedule and stopping test |
 //! | `mod.rs` | [`FlexibleSolver`]: building the paths' systems, the warm start, the dispatch to a rule, the report |
 //!
-//! Arrows go one way: `mod.rs` → the three rules → `layout.rs` → `energy.rs`, `kkt.rs`,
-//! `options.rs`.
+//! Arrows go one way: `mod.rs` → the three rules → `layout.rs` → `energy.rs`, `kkt.rs` (the
+//! rules read `energy.rs` and `options.rs` too); no file reads `mod.rs` outside tests.
 //!
 //! **Paths.** Paths are independent; only those with a flexible junction iterate, in parallel
 //! with [`super::FitOptions::parallel`]. Other paths keep the rig's result, and so do paths that
