@@ -5,7 +5,9 @@
 // computation of the exact curve bounds), the viewBox is outlined, and the export must offer
 // both choices: "fit the art" writes a viewBox holding every exported path's exact bounds
 // (computed here from the exported path data, independently of the library), tight on the
-// sides that grew, width and height in proportion; "keep" writes the input's viewBox.
+// sides that grew, width and height in proportion; "keep" writes the input's viewBox. The
+// label on the flower goes with it in the export: its text element carries a transform that
+// takes the flower's rest centre to the centre of the exported flower's exact bounds.
 
 import assert from 'node:assert/strict';
 import { readFileSync, writeFileSync } from 'node:fs';
@@ -19,12 +21,16 @@ const VIEWPORT = { width: 1100, height: 760 };
 const WAIT = 60_000;
 
 const VIEW_BOX = [0, 0, 100, 200];
+// The label on the flower (its anchor, drawing units), and the flower's centre and radius.
+const LABEL = [50, 33];
+const FLOWER = { centre: [50, 30], r: 18 };
 // Ours: a stem, a flower at its top and a pot at its bottom; width/height in millimetres to
 // check that they grow in proportion with a fitted viewBox.
 const DRAWING = `<svg xmlns="http://www.w3.org/2000/svg" viewBox="${VIEW_BOX.join(' ')}" width="50mm" height="100mm">
   <path id="stem" d="M50 190 C40 140 60 80 50 30" fill="none" stroke="#2a7d46" stroke-width="4"/>
   <circle id="flower" cx="50" cy="30" r="18" fill="#e0559a"/>
   <rect id="pot" x="30" y="170" width="40" height="25" fill="#a8642f"/>
+  <text id="bloom" x="${LABEL[0]}" y="${LABEL[1]}" font-size="8" text-anchor="middle" fill="white">bloom</text>
 </svg>
 `;
 // Handles (drawing units), away from every junction (a click on one changes its kind).
@@ -175,6 +181,7 @@ function parseExport(p, text) {
       width: root.getAttribute('width'),
       height: root.getAttribute('height'),
       paths: [...doc.querySelectorAll('path')].map((e) => ({ id: e.id, d: e.getAttribute('d') })),
+      texts: [...doc.querySelectorAll('text')].map((e) => ({ id: e.id, transform: e.getAttribute('transform') })),
     };
   }, text);
 }
@@ -321,4 +328,27 @@ check('export with "fit the art" writes a viewBox holding every path, "keep" the
   await page.screenshot({ path: shot });
   await page.evaluate(() => document.getElementById('viewbox-exports').remove());
   console.log(`editor-viewbox: fitted viewBox ${box}; screenshot ${shot}`);
+});
+
+check('the exported label follows the flower it is on', {}, async () => {
+  assert.ok(report, 'needs the drag test');
+  const exported = await parseExport(page, readFileSync(join(out.path, 'flower-keep.svg'), 'utf8'));
+  const label = exported.texts.find((t) => t.id === 'bloom');
+  assert.ok(label, 'the label is exported');
+  const m = /^matrix\(([^)]*)\)$/.exec(label.transform ?? '');
+  assert.ok(m, `the label carries the deformation's map: transform="${label.transform}"`);
+  const [a, b, c, d, e, f] = m[1].trim().split(/[\s,]+/).map(Number);
+  const map = ([x, y]) => [a * x + c * y + e, b * x + d * y + f];
+  // The flower, exported: the centre of its exact bounds.
+  const flower = exported.paths.find((p) => p.id === 'flower');
+  const [x0, y0, x1, y1] = cubicBounds(cubics(flower.d));
+  const centre = [(x0 + x1) / 2, (y0 + y1) / 2];
+  const carried = map(FLOWER.centre);
+  const miss = Math.hypot(carried[0] - centre[0], carried[1] - centre[1]);
+  const atRest = Math.hypot(FLOWER.centre[0] - centre[0], FLOWER.centre[1] - centre[1]);
+  // The flower moves about as far as the drag (60 units); the label's map lands within a tenth
+  // of the flower's radius of its centre.
+  assert.ok(atRest > 30, `the flower moved: ${atRest}`);
+  assert.ok(miss < 0.1 * FLOWER.r, `the label's map takes the flower's centre ${miss} from the exported flower's`);
+  console.log(`editor-viewbox: label transform ${label.transform}; ${miss.toFixed(3)} units from the flower's centre (${atRest.toFixed(1)} at rest)`);
 });

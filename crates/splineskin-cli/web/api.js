@@ -90,14 +90,26 @@ export async function weightGrid(rig, handle, [x0, y0, x1, y1], width, height) {
 
 /**
  * The deformed SVG document for `points` (Float64Array x0, y0, …), its viewBox kept as the
- * document's (`viewbox` 'keep') or grown to include the art ('fit').
+ * document's (`viewbox` 'keep') or grown to include the art ('fit'). `deformation` says what
+ * deformed the points, so that gradients, patterns, markers, text and images follow it
+ * (ExportQuery in crates/splineskin-cli/src/serve/wire.rs): { rig, pose } (a rig's id and one
+ * map [a, b, c, d, e, f] per handle) or { defop, q } (an operator rig's id and the handle
+ * configuration x0, y0, x1, …); null leaves them at rest.
  */
-export async function exportSvg(document, points, viewbox = 'keep') {
+export async function exportSvg(document, points, viewbox = 'keep', deformation = null) {
   const query = new URLSearchParams({ viewbox });
+  let body = points;
+  if (deformation) {
+    const tail = deformation.rig !== undefined ? deformation.pose.flat() : Array.from(deformation.q);
+    query.set(deformation.rig !== undefined ? 'rig' : 'defop', deformation.rig ?? deformation.defop);
+    body = new Float64Array(points.length + tail.length);
+    body.set(points);
+    body.set(tail, points.length);
+  }
   const response = await call(`/api/documents/${encodeURIComponent(document)}/export?${query}`, {
     method: 'POST',
     headers: { ...HEADERS, 'content-type': 'application/octet-stream' },
-    body: points,
+    body,
   });
   return response.text();
 }

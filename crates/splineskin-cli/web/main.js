@@ -655,16 +655,35 @@ function baseName() {
   return name.replace(/\.(svg|json)$/i, '').replace(/\s*\(bundled\)$/, '');
 }
 
+/**
+ * What deformed the drawing as shown, for the export (api.exportSvg): the rig and pose, or the
+ * operator and its configuration Q; null without handles or while no rig matches the scene.
+ */
+function shownDeformation() {
+  const { scene } = editor;
+  if (scene.handles.length === 0 || !rigReady()) return null;
+  if (isDefop(scene)) {
+    editor.rig.configuration(scene.pose);
+    return { defop: editor.rig.id, q: editor.rig.q };
+  }
+  return { rig: editor.rig.id, pose: scene.pose };
+}
+
 async function exportSvg() {
   try {
     const viewbox = $('export-viewbox').value;
-    const svg = await api.exportSvg(editor.info.id, editor.points, viewbox);
+    const svg = await api.exportSvg(editor.info.id, editor.points, viewbox, shownDeformation());
     download(svg, `${baseName()}-deformed.svg`, 'image/svg+xml');
     const outside = editor.viewBoxReport?.outside.length ?? 0;
     const how = !outside ? '' : viewbox === 'fit' ? ' (viewBox grown to include the art)' : ' (viewBox kept: art outside it is cropped)';
     say(`exported ${baseName()}-deformed.svg${how}`);
   } catch (e) {
     showError(e);
+    // The server keeps a few rigs only: an old one is built again, and Export works again.
+    if (e.status === 404 && editor.rig) {
+      editor.rigKey = null;
+      precompute();
+    }
   }
 }
 

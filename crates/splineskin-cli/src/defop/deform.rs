@@ -1,17 +1,27 @@
 //! `splineskin defop deform SCENE -o OUT.(svg|png|json) [--pose P] [--operator OP]
-//! [--viewbox keep|fit]`: the
+//! [--viewbox keep|fit] [--scale-strokes]`: the
 //! scene's drawing deformed through a trained operator ([`DefOpRig`], the join of the operator
 //! with the spline fit): the pose's maps move the point handles to `Q = (T_ℓ p_ℓ)_ℓ`, and the
 //! drawing's control points are `G_spline ψ(Q)`, junction constraints kept. The output is
 //! written as `splineskin deform` writes it (the input document with its path geometry
 //! replaced, a PNG render, or JSON).
+//!
+//! What is not a curve follows as in `splineskin deform`: user-space gradients and patterns,
+//! fixed-orientation markers, `<text>` and `<image>` are carried by the best-fit affine map
+//! ([`ElementMaps::from_map`]) of the **operator's own deformation** over each element. The
+//! operator offers point evaluation: its deformed mesh `u(Q) = Dᵀ G ψ(Q)` interpolated
+//! linearly in each triangle, nearest boundary point outside ([`MeshMap`]), the very map whose
+//! spline fit gives the curves (so a label moves with the curves around it). Fitting the
+//! affine to the deformed control points of nearby paths instead would make a label depend
+//! on which paths happen to be near and on the fit's junction constraints; it is not done.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
-use splineskin::defop::{DefOpRig, OperatorFile};
+use splineskin::defop::{DefOpRig, MeshMap, OperatorFile};
+use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::scene::{Compat, Scene, HANDLE_VERTEX_TOLERANCE};
 
 use crate::output::{warn_outside_view_box, write_deformed_view_box, ViewBoxArg};
@@ -34,6 +44,10 @@ pub struct Args {
     /// `splineskin deform`.
     #[arg(long, value_enum, default_value_t = ViewBoxArg::Keep)]
     viewbox: ViewBoxArg,
+    /// Scale stroke widths by the local scale of the operator's deformation over each element
+    /// (off by default, as in `splineskin deform`).
+    #[arg(long)]
+    scale_strokes: bool,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -106,7 +120,30 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     warn_outside_view_box(&args.output, &drawing, &points, args.viewbox);
-    write_deformed_view_box(&args.output, &drawing, &points, args.viewbox.into(), None)?;
+    // JSON holds the curves only: the element maps are for SVG and PNG.
+    let maps = match crate::output::Format::of(&args.output)? {
+        crate::output::Format::Json => None,
+        _ => {
+            let map = MeshMap::from_operator(&file.mesh, &file.op, &q).with_context(|| {
+                format!(
+                    "{}: pose {pose_index}: evaluating the operator {}",
+                    args.scene.display(),
+                    op_path.display()
+                )
+            })?;
+            let options = FollowOptions::default().with_scale_strokes(args.scale_strokes);
+            let maps = ElementMaps::from_map(&drawing, &mut |p| map.apply(p), &options)
+                .with_context(|| format!("{}: pose {pose_index}", args.scene.display()))?;
+            Some(maps)
+        }
+    };
+    write_deformed_view_box(
+        &args.output,
+        &drawing,
+        &points,
+        args.viewbox.into(),
+        maps.as_ref(),
+    )?;
     eprintln!(
         "{}: {} curves in {} paths, {} handles, operator {} ({} vertices), join {:.2} s, pose {pose_index} -> {}",
         args.scene.display(),

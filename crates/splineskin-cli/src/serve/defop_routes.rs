@@ -30,6 +30,7 @@ use splineskin::scene::Compat;
 use super::api::{binary, f64_bytes, run_job, ApiError, App, MAX_OPERATOR_BYTES};
 use super::progress::{Count, JOB_HEADER};
 use super::rig_routes::page_scene;
+use super::store::OperatorRig;
 use super::wire::{EditScene, SceneRequest};
 
 /// Training samples when the page names none: 100. Measured in the editor with a release
@@ -167,6 +168,7 @@ pub async fn defop(
         let t2 = Instant::now();
         let rig =
             DefOpRig::precompute(&drawing, &shape.mesh, &training.op, &fit).map_err(|e| bad(&e))?;
+
         let t3 = Instant::now();
         let basis = rig.handle_basis();
         let info = DefOpInfo {
@@ -196,10 +198,16 @@ pub async fn defop(
                 MAX_OPERATOR_BYTES >> 20
             )));
         }
+        let rig = OperatorRig {
+            document: request.document.clone(),
+            rig,
+            mesh: shape.mesh,
+            op: training.op,
+        };
         Ok((rig, info))
     })
     .await?;
-    let body = defop_body(&rig);
+    let body = defop_body(&rig.rig);
     let mut info = info;
     info.id = app.store().add_defop(rig);
     let mut response = binary(f64_bytes(&body), None)?;
@@ -312,7 +320,10 @@ pub async fn deform(
             .iter()
             .map(|&[x, y]| Point::new(x, y))
             .collect();
-        let points = rig.deform(&q).map_err(|e| ApiError::bad(e.to_string()))?;
+        let points = rig
+            .rig
+            .deform(&q)
+            .map_err(|e| ApiError::bad(e.to_string()))?;
         let flat: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y]).collect();
         Ok(f64_bytes(&flat))
     })

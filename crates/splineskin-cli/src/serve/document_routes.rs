@@ -9,16 +9,20 @@ use axum::extract::{Path, Query, State};
 use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use kurbo::Point;
+use kurbo::{Affine, Point};
+use splineskin::defop::MeshMap;
+use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::svg_out::{
-    art_bounds, art_outside_view_box, write_svg_view_box, ViewBoxRule,
+    art_bounds, art_outside_view_box, write_svg_following, write_svg_view_box, ViewBoxRule,
 };
+use splineskin::naive::skin_point;
 
 use super::api::{run_job, ApiError, App};
 use super::document::Document;
-use super::rig_routes::page_scene;
+use super::rig_routes::{gone_rig, page_scene};
 use super::scene_file::scene_json;
-use super::wire::{DocumentInfo, EditScene, OutsideWire, ViewBoxReport};
+use super::store::{OperatorRig, Rig};
+use super::wire::{DocumentInfo, EditScene, ExportQuery, OutsideWire, ViewBoxReport};
 
 /// `GET /api/initial`.
 pub async fn initial(State(app): State<Arc<App>>) -> Result<Json<DocumentInfo>, ApiError> {
@@ -70,15 +74,7 @@ fn percent_decode(s: &str) -> String {
     String::from_utf8_lossy(&out).into_owned()
 }
 
-/// The query of `POST /api/documents/{id}/export`: `?viewbox=keep|fit` (default `keep`).
-#[derive(Debug, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ExportQuery {
-    /// What the export does with the root viewBox when the deformed art leaves it.
-    viewbox: Option<String>,
-}
-
-/// `POST /api/documents/{id}/export`.
+/// `POST /api/documents/{id}/export` ([`ExportQuery`]: the query and the body's layout).
 pub async fn export(
     State(app): State<Arc<App>>,
     Path(id): Path<String>,
@@ -97,10 +93,33 @@ pub async fn export(
     };
     let body = body?;
     let document = app.document(&id)?;
+    let deformation =
+        match (&query.rig, &query.defop) {
+            (None, None) => Deformation::Unknown,
+            (Some(rig), None) => {
+                let found = app.store().rig(rig).ok_or_else(|| gone_rig(rig))?;
+                check_built_on(&found.document, &id, "rig", rig)?;
+                Deformation::Skinning(found)
+            }
+            (None, Some(op)) => {
+                let found = app.store().defop(op).ok_or_else(|| gone_operator(op))?;
+                check_built_on(&found.document, &id, "operator", op)?;
+                Deformation::Operator(found)
+            }
+            (Some(_), Some(_)) => return Err(ApiError::bad(
+                "export: rig= and defop= both given (expected the one that deformed the drawing)",
+            )),
+        };
     let svg = run_job(&app, move || {
-        let points = points_of(&document, &body)?;
-        write_svg_view_box(&document.drawing, &points, rule)
-            .map_err(|e| ApiError::bad(e.to_string()))
+        let n_bytes = 16 * document.drawing.n_points();
+        let points = points_of(&document, &body[..n_bytes.min(body.len())])?;
+        let tail = &body[n_bytes..];
+        let maps = deformation.element_maps(&document, tail)?;
+        match &maps {
+            Some(maps) => write_svg_following(&document.drawing, &points, maps, rule),
+            None => write_svg_view_box(&document.drawing, &points, rule),
+        }
+        .map_err(|e| ApiError::bad(e.to_string()))
     })
     .await?;
     Ok((
@@ -108,6 +127,111 @@ pub async fn export(
         svg,
     )
         .into_response())
+}
+
+/// What deformed an exported drawing ([`ExportQuery`]).
+enum Deformation {
+    /// Not said: only the points are known.
+    Unknown,
+    /// A rig's weights, under the pose the body carries.
+    Skinning(Arc<Rig>),
+    /// A trained operator, at the configuration the body carries.
+    Operator(Arc<OperatorRig>),
+}
+
+impl Deformation {
+    /// The best-fit maps of the deformation over the document's elements, reading its pose or
+    /// configuration from `tail` (the body after the points); `None` when it is not known.
+    fn element_maps(
+        &self,
+        document: &Document,
+        tail: &[u8],
+    ) -> Result<Option<ElementMaps>, ApiError> {
+        let name = &document.name;
+        let expect = |per_handle: usize, n_handles: usize, what: &str| {
+            let expected = 8 * per_handle * n_handles;
+            if tail.len() == expected {
+                Ok(f64s(tail))
+            } else {
+                Err(ApiError::bad(format!(
+                    "{name}: export: {} bytes after the points (expected {what}: {expected} \
+                     bytes, {per_handle} f64 for each of {n_handles} handles)",
+                    tail.len()
+                )))
+            }
+        };
+        let options = FollowOptions::default();
+        let bad = |e: &dyn std::fmt::Display| ApiError::bad(format!("{name}: export: {e}"));
+        let maps = match self {
+            Deformation::Unknown if tail.is_empty() => return Ok(None),
+            Deformation::Unknown => {
+                let n = document.drawing.n_points();
+                return Err(ApiError::bad(format!(
+                    "{name}: {} bytes of points for a drawing of {n} points (expected {}; a \
+                     pose or configuration after the points needs rig= or defop= in the query)",
+                    16 * n + tail.len(),
+                    16 * n
+                )));
+            }
+            Deformation::Skinning(rig) => {
+                let puppet = rig.puppet.lock().map_err(|_| {
+                    ApiError::new(
+                        StatusCode::INTERNAL_SERVER_ERROR,
+                        "the rig failed earlier (a bug): build it again",
+                    )
+                })?;
+                let field = puppet
+                    .weights()
+                    .ok_or_else(|| ApiError::bad("the rig's weights are not computed"))?;
+                let n_handles = field.n_handles();
+                let values = expect(6, n_handles, "the pose")?;
+                let pose: Vec<Affine> = values
+                    .chunks_exact(6)
+                    .map(|c| Affine::new(c.try_into().expect("6 values")))
+                    .collect();
+                if let Some(k) = pose.iter().position(|t| !t.is_finite()) {
+                    return Err(ApiError::bad(format!(
+                        "{name}: export: pose[{k}]: not finite"
+                    )));
+                }
+                let mut w = vec![0.0; n_handles];
+                let mut map = |p: Point| skin_point(field, &pose, p, &mut w);
+                ElementMaps::from_map(&document.drawing, &mut map, &options).map_err(|e| bad(&e))?
+            }
+            Deformation::Operator(rig) => {
+                let values = expect(2, rig.rig.n_handles(), "the configuration Q")?;
+                let q: Vec<Point> = values
+                    .chunks_exact(2)
+                    .map(|c| Point::new(c[0], c[1]))
+                    .collect();
+                if let Some(k) = q.iter().position(|p| !p.is_finite()) {
+                    return Err(ApiError::bad(format!("{name}: export: Q[{k}]: not finite")));
+                }
+                let map = MeshMap::from_operator(&rig.mesh, &rig.op, &q).map_err(|e| bad(&e))?;
+                ElementMaps::from_map(&document.drawing, &mut |p| map.apply(p), &options)
+                    .map_err(|e| bad(&e))?
+            }
+        };
+        Ok(Some(maps))
+    }
+}
+
+/// Refuses a rig or operator built on another document than the one exported.
+fn check_built_on(built_on: &str, document: &str, what: &str, id: &str) -> Result<(), ApiError> {
+    if built_on == document {
+        Ok(())
+    } else {
+        Err(ApiError::bad(format!(
+            "export: {what} {id} was built on document {built_on}, not {document}"
+        )))
+    }
+}
+
+fn gone_operator(id: &str) -> ApiError {
+    ApiError::new(
+        StatusCode::NOT_FOUND,
+        format!("operator {id} is no longer kept on the server: train it again"),
+    )
 }
 
 /// `POST /api/documents/{id}/outside`: which paths of the drawing through the posted points
@@ -165,14 +289,18 @@ fn points_of(document: &Document, body: &[u8]) -> Result<Vec<Point>, ApiError> {
             16 * n
         )));
     }
-    Ok(body
-        .chunks_exact(16)
-        .map(|c| {
-            let x = f64::from_le_bytes(c[..8].try_into().expect("8 bytes"));
-            let y = f64::from_le_bytes(c[8..].try_into().expect("8 bytes"));
-            Point::new(x, y)
-        })
+    Ok(f64s(body)
+        .chunks_exact(2)
+        .map(|c| Point::new(c[0], c[1]))
         .collect())
+}
+
+/// Little-endian `f64`s (a trailing partial number is ignored: callers check the length).
+fn f64s(bytes: &[u8]) -> Vec<f64> {
+    bytes
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .collect()
 }
 
 /// `POST /api/documents/{id}/scene`.

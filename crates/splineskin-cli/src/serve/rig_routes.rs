@@ -58,6 +58,7 @@ pub async fn rig(
 ) -> Result<Response, ApiError> {
     let Json(request) = request?;
     let document = app.document(&request.document)?;
+    let request_document = request.document.clone();
     if defop_energy(&request.scene.weights.family).is_some() {
         return Err(ApiError::bad(format!(
             "{}: '{}' is a deformation operator, trained by POST /api/defop, not weights",
@@ -86,7 +87,7 @@ pub async fn rig(
         Ok((puppet, operator))
     })
     .await?;
-    let id = app.store().add_rig(puppet);
+    let id = app.store().add_rig(&request_document, puppet);
     binary(operator, Some(&id))
 }
 
@@ -131,7 +132,7 @@ pub async fn solve(
     binary(points?, None)
 }
 
-fn gone_rig(id: &str) -> ApiError {
+pub(super) fn gone_rig(id: &str) -> ApiError {
     ApiError::new(
         StatusCode::NOT_FOUND,
         format!("rig {id} is no longer kept on the server: precompute again"),

@@ -4,7 +4,8 @@
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
 
-use splineskin::defop::DefOpRig;
+use splineskin::defop::{DefOp, DefOpRig};
+use splineskin::mesh::TriMesh;
 use splineskin::scene::Puppet;
 
 use super::document::Document;
@@ -19,8 +20,23 @@ pub const MAX_RIGS: usize = 4;
 /// A built rig: the puppet (weights, rig and, with flexible junctions, the solver and its warm
 /// start).
 pub struct Rig {
+    /// The id of the document it was built on.
+    pub document: String,
     /// The puppet; locked while a solve runs.
     pub puppet: Mutex<Puppet>,
+}
+
+/// A drawing joined to a deformation operator, with the operator and its mesh (whose
+/// deformation, [`splineskin::defop::MeshMap`], carries what is not a curve on export).
+pub struct OperatorRig {
+    /// The id of the document it was trained on.
+    pub document: String,
+    /// The join: the drawing's control points as `G_spline ψ(Q)`.
+    pub rig: DefOpRig,
+    /// The mesh the operator was trained on.
+    pub mesh: TriMesh,
+    /// The operator.
+    pub op: DefOp,
 }
 
 /// Documents and rigs by id.
@@ -31,7 +47,7 @@ pub struct Store {
     initial: Option<(String, Arc<Document>)>,
     documents: VecDeque<(String, Arc<Document>)>,
     rigs: VecDeque<(String, Arc<Rig>)>,
-    defops: VecDeque<(String, Arc<DefOpRig>)>,
+    defops: VecDeque<(String, Arc<OperatorRig>)>,
 }
 
 impl Store {
@@ -75,12 +91,14 @@ impl Store {
             .map(|(_, d)| d.clone())
     }
 
-    /// Keeps a rig, dropping the oldest past [`MAX_RIGS`]; returns its id.
-    pub fn add_rig(&mut self, puppet: Puppet) -> String {
+    /// Keeps a rig built on document `document`, dropping the oldest past [`MAX_RIGS`];
+    /// returns its id.
+    pub fn add_rig(&mut self, document: &str, puppet: Puppet) -> String {
         let id = self.new_id('r');
         self.rigs.push_back((
             id.clone(),
             Arc::new(Rig {
+                document: document.to_string(),
                 puppet: Mutex::new(puppet),
             }),
         ));
@@ -100,7 +118,7 @@ impl Store {
 
     /// Keeps a drawing joined to a deformation operator, dropping the oldest past
     /// [`MAX_RIGS`]; returns its id.
-    pub fn add_defop(&mut self, rig: DefOpRig) -> String {
+    pub fn add_defop(&mut self, rig: OperatorRig) -> String {
         let id = self.new_id('o');
         self.defops.push_back((id.clone(), Arc::new(rig)));
         while self.defops.len() > MAX_RIGS {
@@ -110,7 +128,7 @@ impl Store {
     }
 
     /// The operator rig `id`, if kept.
-    pub fn defop(&self, id: &str) -> Option<Arc<DefOpRig>> {
+    pub fn defop(&self, id: &str) -> Option<Arc<OperatorRig>> {
         self.defops
             .iter()
             .find(|(k, _)| k == id)

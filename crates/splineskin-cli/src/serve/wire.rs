@@ -170,3 +170,29 @@ pub struct OutsideWire {
     /// How far its curves' bounding box reaches beyond the viewBox, root user units.
     pub distance: f64,
 }
+
+/// The query of `POST /api/documents/{id}/export` (every key optional):
+/// `?viewbox=keep|fit&rig={id}` or `?viewbox=keep|fit&defop={id}`.
+///
+/// The body is always the deformed chain points, `f64` LE `x0, y0, x1, y1, …`; without `rig`
+/// or `defop` that is all, and gradients, patterns, markers, text and images are written at
+/// rest (the request as it was before they followed). With one of them the body goes on with
+/// what the deformation was, so that the export carries them by the best-fit affine map of
+/// that deformation over each element ([`splineskin::drawing::follow`]), as `splineskin
+/// deform` does:
+///
+/// | key | the rest of the body | the map carried |
+/// |---|---|---|
+/// | `rig` | the pose, `f64` LE `a, b, c, d, e, f` per handle (SVG order) | the skinning map `p ↦ Σ_i w_i(p) T_i p` of the rig's weights |
+/// | `defop` | the configuration `Q`, `f64` LE `x, y` per handle | the operator's deformation (its mesh, [`splineskin::defop::MeshMap`]) |
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExportQuery {
+    /// What the export does with the root viewBox when the deformed art leaves it: `keep`
+    /// (default) or `fit`.
+    pub viewbox: Option<String>,
+    /// A rig of `POST /api/rig` (its `x-splineskin-rig` id), built on this document.
+    pub rig: Option<String>,
+    /// An operator rig of `POST /api/defop` (its id), trained on this document.
+    pub defop: Option<String>,
+}

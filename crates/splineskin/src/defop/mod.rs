@@ -14,6 +14,7 @@
 //! | samples | configurations in discs, circles, Gaussians, Voronoi cells | [`Sampler`], [`SampleRegion`] |
 //! | fit | constrained least squares through its Kronecker structure | [`DefOp::fit`], [`DefOpOptions`] |
 //! | evaluation | `positions = Dᵀ G ψ(Q)`, allocation-free | [`DefOp`], [`DefOpEvaluator`] |
+//! | the map at any point | `D(x, Q) = Σ_v λ_v(x) u_v(Q)`, linear in each triangle | [`MeshMap`] |
 //! | training | sampling, ground truth (parallel), bootstrapping, fit | [`train`], [`TrainOptions`] |
 //! | error measure | root-mean-square distance over the shape | [`l2_distance`] |
 //! | the join with splines | a drawing's control points `G_spline ψ(Q)`, constraints kept | [`DefOpRig`], [`DrawingDefOp`] |
@@ -68,6 +69,7 @@ mod fit;
 mod handle_basis;
 mod handles;
 mod laplacian_eigen;
+mod mesh_map;
 mod operator;
 mod orientation;
 mod sample;
@@ -91,6 +93,7 @@ pub use file::{
 pub use fit::{DefOpOptions, DEFAULT_RANK_TOLERANCE};
 pub use handle_basis::{HandleBasis, HandleBasisKind};
 pub use laplacian_eigen::{EigenOperator, SHIFT_FRACTION};
+pub use mesh_map::MeshMap;
 pub use operator::{DefOp, DefOpEvaluator};
 pub use orientation::flipped_triangles;
 pub use sample::{SampleRegion, Sampler};
