@@ -6,8 +6,11 @@
 //! pose is deformed with the rig built once (fixed ratio: one mat-vec per frame; flexible: one
 //! flexible solve per frame), frames in parallel.
 //!
-//! * `-o NAME.svg`: one SVG whose deformed paths carry SMIL `<animate>` of their `d`
-//!   ([`splineskin::drawing::svg_animate`]); written atomically (temporary file, rename).
+//! * `-o NAME.svg`: one SVG whose deformed paths carry SMIL `<animate>` of their `d`, and
+//!   whose text, images, user-space gradients and patterns and fixed-orientation markers carry
+//!   animations of their transform (orient) through each frame's element maps
+//!   ([`splineskin::drawing::svg_animate::write_animated_svg_following`]); written atomically
+//!   (temporary file, rename).
 //! * `-o DIR` (any other name): `DIR/frame-0000.svg`, … and with `--png` also
 //!   `frame-0000.png`, …. The frames are written into a temporary folder beside `DIR`, which is
 //!   then renamed to `DIR`. An existing `DIR` is replaced only if it holds nothing but
@@ -29,7 +32,7 @@ use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use splineskin::animation::deform_frames;
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
-use splineskin::drawing::svg_animate::write_animated_svg_view_box;
+use splineskin::drawing::svg_animate::{write_animated_svg_following, write_animated_svg_view_box};
 use splineskin::drawing::svg_out::{write_svg_following, write_svg_view_box, ViewBoxRule};
 use splineskin::scene::{Compat, Deformer};
 
@@ -163,6 +166,13 @@ pub fn run(args: Args) -> Result<()> {
             )
         })
     };
+    // Each frame's gradients, patterns, markers, text and images follow its pose.
+    let maps_at = |f: usize| -> Result<Option<ElementMaps>> {
+        let mut pose = vec![kurbo::Affine::IDENTITY; sampler.n_handles()];
+        sampler.pose_at(times[f], &mut pose);
+        crate::deform::element_maps(&setup, &pose, &FollowOptions::default())
+            .with_context(|| format!("{scene_name}: frame {f}"))
+    };
     if as_svg {
         // Every frame is in the one file: refuse what would not fit in memory.
         let bytes = times.len() as f64 * n_points as f64 * BYTES_PER_ANIMATED_POINT;
@@ -180,8 +190,18 @@ pub fn run(args: Args) -> Result<()> {
         for (f, points) in frames.iter().enumerate() {
             outside.add(f, drawing, points);
         }
-        let svg = write_animated_svg_view_box(drawing, &frames, &times, outside.rule(args.viewbox))
-            .with_context(|| format!("{scene_name}: writing the animated SVG"))?;
+        // Each frame's gradients, patterns, markers, text and images follow its pose.
+        let maps: Option<Vec<ElementMaps>> = (0..times.len())
+            .map(&maps_at)
+            .collect::<Result<Vec<_>>>()?
+            .into_iter()
+            .collect();
+        let rule = outside.rule(args.viewbox);
+        let svg = match &maps {
+            Some(maps) => write_animated_svg_following(drawing, &frames, &times, maps, rule),
+            None => write_animated_svg_view_box(drawing, &frames, &times, rule),
+        }
+        .with_context(|| format!("{scene_name}: writing the animated SVG"))?;
         write_atomic(&args.output, svg.as_bytes())?;
         outside.report(&args.output, args.viewbox);
     } else {
@@ -197,13 +217,6 @@ pub fn run(args: Args) -> Result<()> {
         }
         let rule = outside.rule(args.viewbox);
         let gather = (args.viewbox == ViewBoxArg::Keep).then_some(&mut outside);
-        // Each frame's gradients, patterns, markers, text and images follow its pose.
-        let maps_at = |f: usize| -> Result<Option<ElementMaps>> {
-            let mut pose = vec![kurbo::Affine::IDENTITY; sampler.n_handles()];
-            sampler.pose_at(times[f], &mut pose);
-            crate::deform::element_maps(&setup, &pose, &FollowOptions::default())
-                .with_context(|| format!("{scene_name}: frame {f}"))
-        };
         write_frames(
             &args,
             &scene_name,

@@ -9,6 +9,7 @@
 pub mod authors_svg;
 pub mod follow;
 pub mod junction;
+pub mod smil;
 pub mod svg_animate;
 pub mod svg_in;
 pub mod svg_out;

@@ -14,14 +14,22 @@
 //! `Z` as in the source) because the deformation moves points and never changes the
 //! structure, so browsers interpolate between frames linearly, point by point. Numbers are
 //! written in the shortest form that reads back to the same `f64`, as in the static export.
+//!
+//! [`write_animated_svg_following`] also animates what is not a curve, frame by frame as
+//! [`super::svg_out::write_svg_following`] places it for one pose: the `transform` of text and
+//! images, the `gradientTransform`/`patternTransform` of each element's copy of a user-space
+//! paint server (as `animateTransform` elements, [`super::smil`]), and the `orient` of
+//! fixed-orientation markers.
 
 use std::fmt::Write as _;
 
 use kurbo::{Affine, Point};
 
+use super::follow::ElementMaps;
+use super::smil::Timing;
 use super::svg_out::{
-    art_bounds_at, chain_offsets, element_path_data, export_geometry_root, push_path_data,
-    root_attributes, ViewBoxRule,
+    art_bounds_at, chain_offsets, element_path_data, export_geometry_animated,
+    export_geometry_root, push_path_data, root_attributes, Follow, ViewBoxRule,
 };
 use super::{Drawing, SvgError};
 
@@ -106,6 +114,83 @@ pub fn write_animated_svg_view_box(
     times: &[f64],
     view_box: ViewBoxRule,
 ) -> Result<String, AnimateError> {
+    write_animated(drawing, frames, times, view_box, None)
+}
+
+/// [`write_animated_svg_view_box`], with everything that is not a curve carried through the
+/// animation by `maps` (one [`ElementMaps`] per frame, each computed for this drawing and that
+/// frame's pose): what [`super::svg_out::write_svg_following`] writes for one pose, animated.
+///
+/// - `<text>` and `<image>`: their `transform` attribute is the first frame's (as
+///   `write_svg_following` writes it: `matrix(P⁻¹ A₀ P)` then their own transform), and their
+///   first content is four `animateTransform` of it whose composition at frame `f` is
+///   `P⁻¹ A_f P · O` (`A_f` the element's best-fit map in frame `f`, `P` its parent's map to
+///   root user space, `O` its own transform), decomposed as [`super::smil`] says.
+/// - user-space gradients and patterns: each element's copy of its paint server has the first
+///   frame's `gradientTransform`/`patternTransform` `M₀ · G` and animates it through
+///   `M_f · G` in the same way (`M_f` the element's map in its local coordinates, `G` the
+///   server's own transform); elements whose maps agree in every frame share a copy.
+/// - fixed-orientation markers: the copy's `orient` is animated by an `<animate>` through the
+///   element's rotation in each frame (angles unwrapped: no spin between frames).
+/// - stroke widths, when the maps were computed with
+///   [`FollowOptions::scale_strokes`](super::follow::FollowOptions): an `<animate>` of
+///   `stroke-width` beside the element's `d`.
+///
+/// Every animation has the paths' `dur`, `keyTimes` and `calcMode`, so all parts of a frame
+/// are shown together; between frames the browser interpolates each part linearly (the
+/// translation, angle, skew and scale of a map, as it interpolates each point of a path). A
+/// drawing without a source document is written as by [`write_animated_svg_view_box`].
+///
+/// Errors: those of [`write_animated_svg_view_box`]; [`AnimateError::Svg`] with
+/// [`SvgError::SourceMismatch`] when `maps` are not one per frame of this drawing.
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::drawing::follow::{ElementMaps, FollowOptions};
+/// use splineskin::drawing::svg_animate::write_animated_svg_following;
+/// use splineskin::drawing::svg_out::ViewBoxRule;
+/// use splineskin::drawing::{read_svg, ImportOptions};
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <rect width="4" height="2"/><text x="1" y="8">hi</text></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let poses = [Affine::IDENTITY, Affine::rotate(0.5)];
+/// let frames: Vec<Vec<Point>> = poses
+///     .iter()
+///     .map(|&t| drawing.flat_points().iter().map(|&p| t * p).collect())
+///     .collect();
+/// let maps: Vec<ElementMaps> = poses
+///     .iter()
+///     .map(|&t| ElementMaps::from_map(&drawing, &mut |p| t * p, &FollowOptions::default()))
+///     .collect::<Result<_, _>>()
+///     .unwrap();
+/// let out =
+///     write_animated_svg_following(&drawing, &frames, &[0.0, 1.0], &maps, ViewBoxRule::Keep)
+///         .unwrap();
+/// // The text turns by 0 then 0.5 rad (28.6…°), composed after a translation.
+/// assert!(out.contains(r#"type="translate" additive="replace""#), "{out}");
+/// let rotate = r#"type="rotate" additive="sum" dur="1s" repeatCount="indefinite" calcMode="linear" keyTimes="0;1" values="0;"#;
+/// let at = out.find(rotate).unwrap() + rotate.len();
+/// let turn: f64 = out[at..at + out[at..].find('"').unwrap()].parse().unwrap();
+/// assert!((turn - 0.5f64.to_degrees()).abs() < 1e-9, "{turn}");
+/// ```
+pub fn write_animated_svg_following(
+    drawing: &Drawing,
+    frames: &[Vec<Point>],
+    times: &[f64],
+    maps: &[ElementMaps],
+    view_box: ViewBoxRule,
+) -> Result<String, AnimateError> {
+    write_animated(drawing, frames, times, view_box, Some(maps))
+}
+
+/// [`write_animated_svg_view_box`] and [`write_animated_svg_following`].
+fn write_animated(
+    drawing: &Drawing,
+    frames: &[Vec<Point>],
+    times: &[f64],
+    view_box: ViewBoxRule,
+    maps: Option<&[ElementMaps]>,
+) -> Result<String, AnimateError> {
     let invalid = |what: String| AnimateError::InvalidFrames { what };
     if frames.len() < 2 {
         return Err(invalid(format!(
@@ -159,9 +244,16 @@ pub fn write_animated_svg_view_box(
     for (f, points) in frames.iter().enumerate().skip(1) {
         chain_offsets(drawing, points).map_err(at(f))?;
     }
+    let timing = Timing {
+        attributes: format!(
+            " dur=\"{duration}s\" repeatCount=\"indefinite\" calcMode=\"linear\" \
+             keyTimes=\"{key_times}\""
+        ),
+        n_frames: frames.len(),
+    };
     let head = format!(
-        "<animate attributeName=\"d\" dur=\"{duration}s\" repeatCount=\"indefinite\" \
-         calcMode=\"linear\" keyTimes=\"{key_times}\" values=\""
+        "<animate attributeName=\"d\"{} values=\"",
+        timing.attributes
     );
     match &drawing.source {
         Some(source) => {
@@ -198,8 +290,18 @@ pub fn write_animated_svg_view_box(
             };
             let root = root_attributes(drawing, &frames[0], &offsets, source, view_box)
                 .map_err(|e| AnimateError::Svg(Box::new(e)))?;
-            export_geometry_root(source, first, children, None, root)
-                .map_err(|e| AnimateError::Svg(Box::new(e)))
+            match maps {
+                Some(maps) => {
+                    let follow = Follow {
+                        drawing,
+                        frames: maps,
+                        timing: Some(&timing),
+                    };
+                    export_geometry_animated(source, first, children, root, follow)
+                }
+                None => export_geometry_root(source, first, children, None, root),
+            }
+            .map_err(|e| AnimateError::Svg(Box::new(e)))
         }
         None => {
             let mut children = vec![head; drawing.paths.len()];
@@ -219,5 +321,158 @@ pub fn write_animated_svg_view_box(
                 drawing, &frames[0], &offsets, &children,
             ))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use kurbo::{Affine, Point};
+
+    use super::*;
+    use crate::drawing::follow::{ElementMaps, FollowOptions};
+    use crate::drawing::{read_svg, ImportOptions};
+
+    /// A drawing of ours: a plate with a user-space gradient that has its own transform, and a
+    /// label with its own transform inside a transformed group.
+    const SVG: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 60">
+      <linearGradient id="g" gradientUnits="userSpaceOnUse" x1="0" x2="80"
+          gradientTransform="translate(3 1) rotate(5)">
+        <stop offset="0" stop-color="red"/><stop offset="1" stop-color="blue"/></linearGradient>
+      <rect x="10" y="10" width="80" height="40" fill="url(#g)"/>
+      <g transform="translate(5 3) scale(1.5)">
+        <text x="10" y="22" font-size="8" transform="rotate(10 20 20)">label</text></g>
+    </svg>"##;
+
+    /// Frame `f`'s point map: a turn by 60°·f about (50, 30) after a bend (so that the
+    /// best-fit maps are not the turn itself); 9 frames turn through 480°.
+    fn map(f: usize, p: Point) -> Point {
+        let bent = Point::new(p.x, p.y + 0.002 * f as f64 * (p.x - 50.0).powi(2));
+        Affine::rotate_about((60.0 * f as f64).to_radians(), Point::new(50.0, 30.0)) * bent
+    }
+
+    /// The map the `animateTransform`s inside `node` animating `attribute` give at frame `f`.
+    fn recomposed(node: roxmltree::Node, attribute: &str, f: usize) -> (Affine, f64) {
+        let mut a = Affine::IDENTITY;
+        let mut angle = 0.0;
+        let mut kinds = Vec::new();
+        for n in node
+            .children()
+            .filter(|n| n.has_tag_name("animateTransform"))
+        {
+            assert_eq!(n.attribute("attributeName"), Some(attribute));
+            let value = n.attribute("values").unwrap().split(';').nth(f).unwrap();
+            let v: Vec<f64> = value.split(' ').map(|x| x.parse().unwrap()).collect();
+            let kind = n.attribute("type").unwrap();
+            kinds.push(kind);
+            let part = match kind {
+                "translate" => Affine::translate((v[0], v[1])),
+                "rotate" => {
+                    angle = v[0];
+                    Affine::rotate(v[0].to_radians())
+                }
+                "skewX" => Affine::skew(v[0].to_radians().tan(), 0.0),
+                _ => Affine::scale_non_uniform(v[0], v[1]),
+            };
+            a = match n.attribute("additive") {
+                Some("sum") => a * part,
+                _ => part,
+            };
+        }
+        assert_eq!(kinds, ["translate", "rotate", "skewX", "scale"]);
+        (a, angle)
+    }
+
+    fn assert_close(a: Affine, b: Affine, size: f64, what: &str) {
+        let (ca, cb) = (a.as_coeffs(), b.as_coeffs());
+        let lin = cb[..4].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for k in 0..6 {
+            let scale = if k < 4 { lin } else { lin * size + cb[k].abs() };
+            assert!(
+                (ca[k] - cb[k]).abs() <= 1e-9 * scale,
+                "{what}: {a:?} vs {b:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn svg_animate_following_recomposes_each_frames_element_maps() {
+        let drawing = read_svg(SVG, &ImportOptions::default()).unwrap();
+        let n_frames = 9;
+        let times: Vec<f64> = (0..n_frames).map(|f| 0.25 * f as f64).collect();
+        let frames: Vec<Vec<Point>> = (0..n_frames)
+            .map(|f| drawing.flat_points().iter().map(|&p| map(f, p)).collect())
+            .collect();
+        let maps: Vec<ElementMaps> = (0..n_frames)
+            .map(|f| ElementMaps::from_map(&drawing, &mut |p| map(f, p), &FollowOptions::default()))
+            .collect::<Result<_, _>>()
+            .unwrap();
+        let out = write_animated_svg_following(&drawing, &frames, &times, &maps, ViewBoxRule::Keep)
+            .unwrap();
+        let doc = roxmltree::Document::parse(&out).unwrap();
+        let source = drawing.source.as_ref().unwrap();
+        let text_offset = source.text.find("<text").unwrap();
+        let text = doc.descendants().find(|n| n.has_tag_name("text")).unwrap();
+        let copy = doc
+            .descendants()
+            .find(|n| n.has_tag_name("linearGradient") && n.attribute("id") != Some("g"))
+            .unwrap();
+        let parent = Affine::translate((5.0, 3.0)) * Affine::scale(1.5);
+        let own = Affine::rotate_about(10f64.to_radians(), Point::new(20.0, 20.0));
+        let gradient = Affine::translate((3.0, 1.0)) * Affine::rotate(5f64.to_radians());
+        let mut angles = Vec::new();
+        for (f, m) in maps.iter().enumerate() {
+            let a = m.carried_map(text_offset).unwrap();
+            let (shown, angle) = recomposed(text, "transform", f);
+            assert_close(shown, parent.inverse() * a * parent * own, 60.0, "text");
+            angles.push(angle);
+            let (shown, _) = recomposed(copy, "gradientTransform", f);
+            let expected = m.element_map(0).unwrap() * gradient;
+            assert_close(shown, expected, 100.0, "gradient");
+        }
+        // 0°, 60°, … 480° plus the bend's and the label's own turn: unwrapped, never a jump.
+        for w in angles.windows(2) {
+            assert!((w[1] - w[0] - 60.0).abs() < 15.0, "{angles:?}");
+        }
+        assert!(angles[n_frames - 1] > 400.0, "{angles:?}");
+        // A renderer without SMIL shows the first frame: the static attributes are frame 0's.
+        let still = Affine::new(
+            text.attribute("transform").unwrap()["matrix(".len()..]
+                .split([' ', ')'])
+                .take(6)
+                .map(|x| x.parse().unwrap())
+                .collect::<Vec<f64>>()
+                .try_into()
+                .unwrap(),
+        );
+        assert_close(
+            still,
+            recomposed(text, "transform", 0).0 * own.inverse(),
+            60.0,
+            "still",
+        );
+        assert!(text
+            .attribute("transform")
+            .unwrap()
+            .ends_with(") rotate(10 20 20)"));
+    }
+
+    #[test]
+    fn svg_animate_following_refuses_maps_of_another_length() {
+        let drawing = read_svg(SVG, &ImportOptions::default()).unwrap();
+        let rest = drawing.flat_points();
+        let maps =
+            vec![ElementMaps::from_map(&drawing, &mut |p| p, &FollowOptions::default()).unwrap()];
+        let err = write_animated_svg_following(
+            &drawing,
+            &[rest.clone(), rest],
+            &[0.0, 1.0],
+            &maps,
+            ViewBoxRule::Keep,
+        )
+        .unwrap_err();
+        assert!(
+            err.to_string().contains("1 element maps for 2 frames"),
+            "{err}"
+        );
     }
 }

@@ -18,6 +18,8 @@
 //! follows too ([`super::follow`]): copies of user-space gradients, patterns and
 //! fixed-orientation markers are written after their originals and named by an inline `style`
 //! on each element that uses them; `<text>` and `<image>` get a `transform`; strokes may scale.
+//! The animated export ([`super::svg_animate::write_animated_svg_following`]) writes the same
+//! attributes for its first frame and animates them through the others ([`super::smil`]).
 //!
 //! Each element's points are mapped back to its local coordinates with the inverse of its
 //! local → root transform and written as `M x y C … [Z]`, one `C` per cubic, numbers in the
@@ -35,6 +37,7 @@ use std::fmt::Write as _;
 use kurbo::{Affine, Point, Rect, Size};
 
 use super::follow::{self, ElementMaps};
+use super::smil::{self, Timing};
 use super::svg_in::{node_label, ElementKind, SvgError, SvgSource, MAX_SVG_BYTES};
 use super::{Drawing, Path};
 
@@ -134,7 +137,11 @@ fn write_svg_view(
         Some(source) => {
             let data = element_path_data(drawing, points, &offsets, source)?;
             let root = root_attributes(drawing, points, &offsets, source, view_box)?;
-            let follow = follow.map(|maps| (drawing, maps));
+            let follow = follow.map(|maps| Follow {
+                drawing,
+                frames: std::slice::from_ref(maps),
+                timing: None,
+            });
             export_geometry_follow(source, data, Vec::new(), marker, root, follow)
         }
         None => Ok(write_standalone(drawing, points, &offsets, &[])),
@@ -525,15 +532,44 @@ struct ExportPolicy<'e> {
     follow: FollowEdits,
 }
 
-/// The edits that carry what is not a curve ([`super::follow`]).
+/// The edits that carry what is not a curve ([`super::follow`]); in an animated document
+/// ([`Follow::timing`]) they hold the first frame, and the animation elements of the others.
 #[derive(Default)]
 struct FollowEdits {
     /// Per imported element, style declarations (property, value) to add inline.
     styles: Vec<Vec<(String, String)>>,
-    /// Per resource element (byte offset): the attributes of each copy written after it.
-    copies: HashMap<usize, Vec<Vec<(&'static str, String)>>>,
+    /// Per imported element, animation elements to write inside it (empty: none).
+    animations: Vec<String>,
+    /// Per resource element (byte offset): the copies written after it.
+    copies: HashMap<usize, Vec<CopyEdit>>,
     /// Per carried `<text>`/`<image>` (byte offset): its new `transform`.
     transforms: HashMap<usize, String>,
+    /// Per carried `<text>`/`<image>` (byte offset): the animation of its `transform`, written
+    /// as its first content.
+    contents: HashMap<usize, String>,
+}
+
+/// A copy of a resource element (a paint server or a marker).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct CopyEdit {
+    /// Attributes set on the copy (its new `id` first).
+    pub(crate) set: AttributeSet,
+    /// Text written as the copy's first content (its animation).
+    pub(crate) content: Option<String>,
+    /// Text written right after the copy (its animation, when it must not be a child: a pattern
+    /// without children inherits its template's, and a child would stop that).
+    pub(crate) after: Option<String>,
+}
+
+/// What follows the deformation besides the curves: the element maps of each frame (one for a
+/// still document) and, for an animated one, the timing of its animation elements.
+pub(crate) struct Follow<'f> {
+    /// The drawing the maps belong to.
+    pub(crate) drawing: &'f Drawing,
+    /// One per frame, at least one.
+    pub(crate) frames: &'f [ElementMaps],
+    /// `Some` for an animated document (then one map per frame of the timing).
+    pub(crate) timing: Option<&'f Timing>,
 }
 
 impl RewritePolicy for ExportPolicy<'_> {
@@ -552,11 +588,13 @@ impl RewritePolicy for ExportPolicy<'_> {
                 what: format!("{}: its byte range moved", self.source.elements[i].label),
             });
         }
-        let child = self
-            .children
-            .get_mut(i)
-            .map(std::mem::take)
-            .filter(|c| !c.is_empty());
+        let mut child = self.children.get_mut(i).map(std::mem::take);
+        if let Some(animation) = self.follow.animations.get_mut(i) {
+            child
+                .get_or_insert_with(String::new)
+                .push_str(&std::mem::take(animation));
+        }
+        let child = child.filter(|c| !c.is_empty());
         let mut set: Vec<(&'static str, String)> = self
             .marker
             .map(|name| (name, i.to_string()))
@@ -591,11 +629,18 @@ impl RewritePolicy for ExportPolicy<'_> {
         self.instances.contains(instance)
     }
 
-    fn copies(&mut self, node: roxmltree::Node) -> Vec<Vec<(&'static str, String)>> {
+    fn copies(&mut self, node: roxmltree::Node) -> Vec<CopyEdit> {
         self.follow
             .copies
             .remove(&node.range().start)
             .unwrap_or_default()
+    }
+
+    fn content(&mut self, node: roxmltree::Node, in_copy: bool) -> Option<String> {
+        if in_copy {
+            return None;
+        }
+        self.follow.contents.remove(&node.range().start)
     }
 
     fn attributes(&mut self, node: roxmltree::Node, in_copy: bool) -> Vec<(&'static str, String)> {
@@ -647,7 +692,7 @@ fn through_href<'a, 'i>(
 }
 
 /// Attributes set on a copy: (name, value).
-type AttributeSet = Vec<(&'static str, String)>;
+pub(crate) type AttributeSet = Vec<(&'static str, String)>;
 
 /// A paint server in user space: the name of its transform attribute, its transform (through
 /// templates), and the unit attributes its copy states explicitly. `None` for other servers
@@ -707,28 +752,60 @@ fn marker_reference<'a>(node: roxmltree::Node<'a, '_>, slot: &str) -> Option<Str
     None
 }
 
-/// The edits that carry paint servers, markers, text and images by `maps` ([`super::follow`]).
+/// The edits that carry paint servers, markers, text and images by the maps of
+/// `follow.frames` ([`super::follow`]): for a still document (one frame) the attributes, for an
+/// animated one those of the first frame and animation elements through all frames
+/// ([`super::smil`]; a paint server's, marker's or stroke width's is left out where every
+/// frame agrees with the first within [`follow::SAME_MAP`] or [`MIN_MARKER_TURN`]; a text's or
+/// image's is always written).
 ///
-/// Errors: [`SvgError::SourceMismatch`] when `maps` do not belong to this drawing.
+/// Errors: [`SvgError::SourceMismatch`] when the maps do not belong to this drawing, or their
+/// number is not the timing's.
 fn follow_edits(
-    drawing: &Drawing,
     source: &SvgSource,
     doc: &roxmltree::Document,
-    maps: &ElementMaps,
+    follow: &Follow,
 ) -> Result<FollowEdits, SvgError> {
-    if maps.n_paths != drawing.paths.len() || maps.elements.len() != source.elements.len() {
-        return Err(SvgError::SourceMismatch {
-            file: source.origin.clone(),
-            what: format!(
+    let Follow {
+        drawing,
+        frames,
+        timing,
+    } = *follow;
+    let mismatch = |what: String| SvgError::SourceMismatch {
+        file: source.origin.clone(),
+        what,
+    };
+    let expected = timing.map_or(1, |t| t.n_frames);
+    if frames.len() != expected {
+        return Err(mismatch(format!(
+            "{} element maps for {expected} frames",
+            frames.len()
+        )));
+    }
+    for maps in frames {
+        if maps.n_paths != drawing.paths.len() || maps.elements.len() != source.elements.len() {
+            return Err(mismatch(format!(
                 "the element maps were computed for {} paths in {} elements, the drawing has {} \
                  in {}",
                 maps.n_paths,
                 maps.elements.len(),
                 drawing.paths.len(),
                 source.elements.len()
-            ),
-        });
+            )));
+        }
+        let same_carried = maps.carried.len() == frames[0].carried.len()
+            && maps
+                .carried
+                .iter()
+                .zip(&frames[0].carried)
+                .all(|(a, b)| a.offset == b.offset);
+        if !same_carried {
+            return Err(mismatch(
+                "the frames' element maps carry different texts and images".to_string(),
+            ));
+        }
     }
+    let options = frames[0].options;
     let mut ids = HashMap::new();
     let mut nodes = HashMap::new();
     for n in doc.descendants().filter(|n| n.is_element()) {
@@ -739,36 +816,52 @@ fn follow_edits(
     }
     let prefix = super::svg_in::unique_prefix(doc);
     let mut edits = FollowEdits::default();
-    // Per resource (byte offset): the local maps (or marker turns) of its copies and their ids.
-    let mut made: HashMap<usize, Vec<(Affine, f64, String)>> = HashMap::new();
+    // Per resource (byte offset): the local maps (or marker turns) of its copies, one per
+    // frame, and their ids.
+    type Made = (Vec<Affine>, Vec<f64>, String);
+    let mut made: HashMap<usize, Vec<Made>> = HashMap::new();
     let mut new_copy = |edits: &mut FollowEdits,
                         resource: roxmltree::Node,
                         id: &str,
-                        same: &dyn Fn(Affine, f64) -> bool,
-                        key: (Affine, f64),
-                        set: Vec<(&'static str, String)>|
+                        same: &dyn Fn(&[Affine], &[f64]) -> bool,
+                        key: (Vec<Affine>, Vec<f64>),
+                        make: &dyn Fn(&str) -> CopyEdit|
      -> String {
         let list = made.entry(resource.range().start).or_default();
-        if let Some((_, _, copy)) = list.iter().find(|(m, t, _)| same(*m, *t)) {
+        if let Some((_, _, copy)) = list.iter().find(|(m, t, _)| same(m, t)) {
             return copy.clone();
         }
         let copy = format!("{prefix}{id}-{}", list.len() + 1);
         list.push((key.0, key.1, copy.clone()));
-        let mut attrs = vec![("id", copy.clone())];
-        attrs.extend(set);
+        let mut edit = make(&copy);
+        edit.set.insert(0, ("id", copy.clone()));
         edits
             .copies
             .entry(resource.range().start)
             .or_default()
-            .push(attrs);
+            .push(edit);
         copy
+    };
+    // Whether every frame's value agrees with the first's.
+    let still_maps =
+        |maps: &[Affine], size: f64| maps.iter().all(|&m| follow::same_map(m, maps[0], size));
+    let still_turns = |turns: &[f64]| {
+        turns
+            .iter()
+            .all(|&t| (t - turns[0]).abs() <= MIN_MARKER_TURN)
     };
     for (i, e) in source.elements.iter().enumerate() {
         let mut decls = Vec::new();
+        let mut animations = String::new();
         let l = e.local_to_root;
-        let m = l.inverse() * maps.elements[i] * l;
+        let ms: Vec<Affine> = frames
+            .iter()
+            .map(|maps| l.inverse() * maps.elements[i] * l)
+            .collect();
+        let m = ms[0];
         let Some(&node) = nodes.get(&e.range.start) else {
             edits.styles.push(decls);
+            edits.animations.push(animations);
             continue;
         };
         let diagonal = drawing.paths[e.paths.clone()]
@@ -790,18 +883,53 @@ fn follow_edits(
                 continue;
             };
             set.push((name, matrix(m * g)));
+            let animated = timing.filter(|_| !still_maps(&ms, size));
+            // A server with children gets its animation as a child; one without (a pattern
+            // inheriting its template's content) must stay childless: the animation follows
+            // it and names it.
+            let as_child = server.children().any(|c| c.is_element());
+            let make = |copy: &str| {
+                let mut edit = CopyEdit {
+                    set: set.clone(),
+                    ..CopyEdit::default()
+                };
+                if let Some(timing) = animated {
+                    let maps: Vec<Affine> = ms.iter().map(|&m| m * g).collect();
+                    let mut animation = String::new();
+                    let target = (!as_child).then_some(copy);
+                    smil::push_animate_transform(&mut animation, name, &maps, timing, target);
+                    match as_child {
+                        true => edit.content = Some(animation),
+                        false => edit.after = Some(animation),
+                    }
+                }
+                edit
+            };
             let id = server.attribute("id").unwrap_or("paint");
-            let same = |other: Affine, _: f64| follow::same_map(other, m, size);
-            let copy = new_copy(&mut edits, server, id, &same, (m, 0.0), set);
+            let same = |other: &[Affine], _: &[f64]| {
+                other
+                    .iter()
+                    .zip(&ms)
+                    .all(|(&o, &m)| follow::same_map(o, m, size))
+            };
+            let copy = new_copy(
+                &mut edits,
+                server,
+                id,
+                &same,
+                (ms.clone(), Vec::new()),
+                &make,
+            );
             decls.push((slot.to_string(), format!("url(#{copy})")));
         }
-        let turn = follow::rotation_angle(m);
+        let mut turns: Vec<f64> = ms.iter().map(|&m| follow::rotation_angle(m)).collect();
+        smil::unwrap_angles(&mut turns);
         let has_markers = matches!(
             e.kind,
             ElementKind::Path | ElementKind::Line | ElementKind::Polyline | ElementKind::Polygon
         );
         for slot in ["start", "mid", "end"] {
-            if !has_markers || turn.abs() <= MIN_MARKER_TURN {
+            if !has_markers || turns.iter().all(|t| t.abs() <= MIN_MARKER_TURN) {
                 break;
             }
             let Some(id) = marker_reference(node, slot) else {
@@ -820,22 +948,51 @@ fn follow_edits(
             let Ok(angle) = <svgtypes::Angle as std::str::FromStr>::from_str(orient) else {
                 continue;
             };
-            let set = vec![("orient", number(angle.to_degrees() + turn.to_degrees()))];
-            let same = |_: Affine, t: f64| (t - turn).abs() <= MIN_MARKER_TURN;
-            let copy = new_copy(&mut edits, marker, &id, &same, (m, turn), set);
+            let degrees: Vec<f64> = turns
+                .iter()
+                .map(|t| angle.to_degrees() + t.to_degrees())
+                .collect();
+            let make = |_: &str| {
+                let mut edit = CopyEdit {
+                    set: vec![("orient", number(degrees[0]))],
+                    ..CopyEdit::default()
+                };
+                if let Some(timing) = timing.filter(|_| !still_turns(&turns)) {
+                    let mut animation = String::new();
+                    smil::push_animate(&mut animation, "orient", &degrees, timing);
+                    edit.content = Some(animation);
+                }
+                edit
+            };
+            let same = |_: &[Affine], other: &[f64]| {
+                other
+                    .iter()
+                    .zip(&turns)
+                    .all(|(o, t)| (o - t).abs() <= MIN_MARKER_TURN)
+            };
+            let copy = new_copy(
+                &mut edits,
+                marker,
+                &id,
+                &same,
+                (Vec::new(), turns.clone()),
+                &make,
+            );
             decls.push((format!("marker-{slot}"), format!("url(#{copy})")));
         }
-        if maps.options.scale_strokes {
+        if options.scale_strokes {
             if let Some(w) = e.paint.stroke_width {
-                decls.push((
-                    "stroke-width".to_string(),
-                    number(w * follow::local_scale(m)),
-                ));
+                let widths: Vec<f64> = ms.iter().map(|&m| w * follow::local_scale(m)).collect();
+                decls.push(("stroke-width".to_string(), number(widths[0])));
+                if let Some(timing) = timing.filter(|_| !still_maps(&ms, size)) {
+                    smil::push_animate(&mut animations, "stroke-width", &widths, timing);
+                }
             }
         }
         edits.styles.push(decls);
+        edits.animations.push(animations);
     }
-    for c in &maps.carried {
+    for (k, c) in frames[0].carried.iter().enumerate() {
         let Some(&node) = nodes.get(&c.offset) else {
             continue;
         };
@@ -852,12 +1009,24 @@ fn follow_edits(
             );
             continue;
         }
-        let mut t = matrix(p.inverse() * c.map * p);
+        let local: Vec<Affine> = frames
+            .iter()
+            .map(|maps| p.inverse() * maps.carried[k].map * p)
+            .collect();
+        let mut t = matrix(local[0]);
         if let Some(own) = node.attribute("transform").filter(|v| !v.trim().is_empty()) {
             t.push(' ');
             t.push_str(own.trim());
         }
         edits.transforms.insert(c.offset, t);
+        if let Some(timing) = timing {
+            // The element's own transform is composed on the right of every frame's map.
+            let own = follow::own_transform(node);
+            let maps: Vec<Affine> = local.iter().map(|&m| m * own).collect();
+            let mut animation = String::new();
+            smil::push_animate_transform(&mut animation, "transform", &maps, timing, None);
+            edits.contents.insert(c.offset, animation);
+        }
     }
     Ok(edits)
 }
@@ -941,6 +1110,18 @@ pub(crate) fn export_geometry_root(
     export_geometry_follow(source, data, children, marker, root, None)
 }
 
+/// [`export_geometry_root`] for an animated document: what is not a curve follows each frame's
+/// maps, as animation elements with `timing` ([`super::smil`]).
+pub(crate) fn export_geometry_animated(
+    source: &SvgSource,
+    data: Vec<String>,
+    children: Vec<String>,
+    root: Vec<(&'static str, String)>,
+    follow: Follow,
+) -> Result<String, SvgError> {
+    export_geometry_follow(source, data, children, None, root, Some(follow))
+}
+
 /// [`export_geometry_root`], with what is not a curve carried by the maps of `follow`
 /// ([`write_svg_following`]).
 fn export_geometry_follow(
@@ -949,12 +1130,12 @@ fn export_geometry_follow(
     children: Vec<String>,
     marker: Option<&'static str>,
     root: Vec<(&'static str, String)>,
-    follow: Option<(&Drawing, &ElementMaps)>,
+    follow: Option<Follow>,
 ) -> Result<String, SvgError> {
     let origin = source.origin.as_str();
     let doc = super::svg_in::parse_xml(&source.text, origin)?;
     let follow = match follow {
-        Some((drawing, maps)) => follow_edits(drawing, source, &doc, maps)?,
+        Some(follow) => follow_edits(source, &doc, &follow)?,
         None => FollowEdits::default(),
     };
     let mut policy = ExportPolicy {
@@ -1029,7 +1210,7 @@ fn push_numbers(out: &mut String, values: &[f64]) {
 
 /// Appends `v` in the shortest text that parses back to the same `f64`: the shorter of Rust's
 /// shortest round-trip decimal (`{}`) and exponent (`{:e}`) forms; `0` for ±0.
-fn push_number(out: &mut String, v: f64) {
+pub(crate) fn push_number(out: &mut String, v: f64) {
     if v == 0.0 {
         out.push('0');
         return;
@@ -1091,11 +1272,17 @@ pub(crate) trait RewritePolicy {
         let _ = (node, in_copy);
         Vec::new()
     }
-    /// Copies of `node` (outside `use` copies) to write right after it, each with these
-    /// attributes set (ids inside removed). Default: none.
-    fn copies(&mut self, node: roxmltree::Node) -> Vec<Vec<(&'static str, String)>> {
+    /// Copies of `node` (outside `use` copies) to write right after it, each with its
+    /// attributes set (ids inside removed) and content added. Default: none.
+    fn copies(&mut self, node: roxmltree::Node) -> Vec<CopyEdit> {
         let _ = node;
         Vec::new()
+    }
+    /// Text written as the first content of `node`, a non-geometry element (`in_copy`: inside
+    /// an expanded `use`). Default: none.
+    fn content(&mut self, node: roxmltree::Node, in_copy: bool) -> Option<String> {
+        let _ = (node, in_copy);
+        None
     }
 }
 
@@ -1291,6 +1478,9 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
         };
         if !tag.is_empty() {
             spec.set.extend(self.policy.attributes(node, ctx.in_copy));
+            if ElementKind::from_tag(tag).is_none() {
+                spec.child = self.policy.content(node, ctx.in_copy);
+            }
         }
         if let Some(kind) = ElementKind::from_tag(tag) {
             let key = ElementKey {
@@ -1320,10 +1510,11 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
         }
         self.write_with(node, &spec, ctx, None)?;
         if !ctx.in_copy && !tag.is_empty() {
-            for set in self.policy.copies(node) {
+            for edit in self.policy.copies(node) {
                 let copy = TagSpec {
                     strip_ids: true,
-                    set,
+                    set: edit.set,
+                    child: edit.content,
                     ..TagSpec::default()
                 };
                 let inner = Context {
@@ -1331,6 +1522,9 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
                     ..ctx.clone()
                 };
                 self.write_with(node, &copy, &inner, None)?;
+                if let Some(after) = &edit.after {
+                    self.out.push_str(after);
+                }
             }
         }
         Ok(())
