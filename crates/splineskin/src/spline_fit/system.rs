@@ -321,24 +321,6 @@ pub(crate) fn solve_group(
         .collect())
 }
 
-/// The diagonal of the bounding box of `points` (0 for none or one).
-fn box_diagonal(points: impl IntoIterator<Item = Vec2>) -> f64 {
-    let (lo, hi) = points.into_iter().fold(
-        (Vec2::new(f64::MAX, f64::MAX), Vec2::new(f64::MIN, f64::MIN)),
-        |(lo, hi), p| {
-            (
-                Vec2::new(lo.x.min(p.x), lo.y.min(p.y)),
-                Vec2::new(hi.x.max(p.x), hi.y.max(p.y)),
-            )
-        },
-    );
-    if lo.x > hi.x {
-        0.0
-    } else {
-        (hi - lo).hypot()
-    }
-}
-
 /// The factor `s_p = (D / d_p)²` by which member `p`'s energy is multiplied in a group
 /// ([`solve_group`]; module doc, "Groups"): `d_p` the diagonal of the member's control-point
 /// box, `D` the largest of the group (so every factor is at least one). A member with no
@@ -349,7 +331,18 @@ fn relative_scales(members: &[GroupMember<'_>]) -> Vec<f64> {
     }
     let diagonals: Vec<f64> = members
         .iter()
-        .map(|m| box_diagonal(m.path.points.iter().map(|p| p.to_vec2())))
+        .map(|m| {
+            let (lo, hi) = m.path.points.iter().fold(
+                (Vec2::new(f64::MAX, f64::MAX), Vec2::new(f64::MIN, f64::MIN)),
+                |(lo, hi), p| {
+                    (
+                        Vec2::new(lo.x.min(p.x), lo.y.min(p.y)),
+                        Vec2::new(hi.x.max(p.x), hi.y.max(p.y)),
+                    )
+                },
+            );
+            (hi - lo).hypot()
+        })
         .collect();
     let largest = diagonals.iter().copied().fold(0.0, f64::max);
     let smallest = diagonals
@@ -584,7 +577,15 @@ fn reproduce_similarities(
             rest[col / 2].y
         };
     }
-
+    let (lo, hi) = rest.iter().fold(
+        (Vec2::new(f64::MAX, f64::MAX), Vec2::new(f64::MIN, f64::MIN)),
+        |(lo, hi), c| {
+            (
+                Vec2::new(lo.x.min(c.x), lo.y.min(c.y)),
+                Vec2::new(hi.x.max(c.x), hi.y.max(c.y)),
+            )
+        },
+    );
     // A group's rows are each written on its own path's copy of the shared curves, which
     // the canonical rest points match only to the sharing tolerance.
     let relative = if members.len() > 1 || !members[0].copies.is_empty() {
@@ -592,7 +593,7 @@ fn reproduce_similarities(
     } else {
         REST_RESIDUAL_TOLERANCE
     };
-    let tolerance = relative * box_diagonal(rest.iter().copied());
+    let tolerance = relative * (hi - lo).hypot();
     let rest_satisfies = residual.iter().all(|r| r.abs() <= tolerance);
     // The four similarity directions of the map coefficients (a, b, c, d, e, f), and the
     // image of a centred rest point c under each: scale c, quarter turn (−c_y, c_x), e, f.
