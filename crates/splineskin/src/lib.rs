@@ -12,27 +12,35 @@
 //! each frame:  transforms T_i ──► rig.update(&T, &mut points)   (points = O · vec(T))
 //! ```
 #![warn(clippy::print_stdout, clippy::print_stderr)]
+//!
+//! ## Crates
+//!
+//! This crate is the application layer and the facade of the workspace: it re-exports the
+//! crates below at the paths they always had, so `splineskin::spline_fit::SplineRig` and
+//! `splineskin::drawing::read_svg` work whichever crate holds them.
+//!
+//! | crate | what it computes | here as |
+//! |---|---|---|
+//! | `splineskin-core` | drawings, meshes, the domain, weights, the spline fit and its rig | [`bezier`], [`drawing`], [`mesh`], [`domain`], [`weights`], [`spline_fit`] |
+//! | `splineskin-svg` | SVG import, rewriting the same document, animated SVG, renders | [`drawing`] (`svg_in`, `svg_out`, …), [`render`], [`fonts`] |
+//! | `splineskin-subdiv` | Catmull–Clark limit surfaces and their closed-form rig | [`subdiv`] |
+//! | `splineskin-defop` | closed-form ARAP / symmetric-ARAP operators and their spline join | [`defop`] |
+//! | `splineskin` (this one) | scenes, comparisons, metrics, baselines, pictures, examples | [`scene`], [`compare`], [`metrics`], [`naive`], [`figure`], [`weight_map`], [`examples`], [`animation`] |
 
 pub mod animation;
-mod atomic_write;
-pub mod bezier;
 pub mod compare;
-pub mod defop;
-pub mod domain;
 pub mod drawing;
 pub mod examples;
 pub mod figure;
-pub mod fonts;
-pub mod mesh;
 pub mod metrics;
 pub mod naive;
-pub mod render;
 pub mod scene;
-mod sparse_cholesky;
-pub mod spline_fit;
 pub mod subdiv;
 pub mod weight_map;
-pub mod weights;
+
+pub use splineskin_core::{bezier, domain, mesh, spline_fit, weights};
+pub use splineskin_defop as defop;
+pub use splineskin_svg::{fonts, render};
 
 /// The README's code examples, compiled and run as doctests so they cannot go stale.
 #[cfg(doctest)]

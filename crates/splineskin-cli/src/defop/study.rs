@@ -143,7 +143,8 @@ pub fn run(args: Args) -> Result<()> {
         energy_name(s.energy),
         held_out
     );
-    let png = result.plot_png(&title).context("drawing the study plot")?;
+    let png =
+        splineskin::figure::study_plot_png(&result, &title).context("drawing the study plot")?;
     write_atomic(&args.output, &png)?;
 
     if args.json {

@@ -1,0 +1,316 @@
+//! Classification of the on-curve points of a chain into continuity kinds.
+//!
+//! At a junction between curve `C` (ending at `c3`) and curve `D` (starting at `d0 = c3`) the
+//! incoming tangent is `u = c3 − a` and the outgoing one `v = b − d0`, where `a` is the first of
+//! `c2, c1, c0` and `b` the first of `d1, d2, d3` farther than [`JunctionOptions::coincidence`]
+//! from the junction point (a control point on top of its end point has no direction; the next
+//! distinct point gives it). If either has no distinct point the junction is C⁰. Otherwise,
+//! with `θ` the angle between `u` and `v`:
+//!
+//! | condition | kind |
+//! |---|---|
+//! | `θ ≤ smooth_angle` and `‖u‖ = ‖v‖` within `c1_ratio` (relative) | [`JointKind::C1`] |
+//! | `θ ≤ smooth_angle` | [`JointKind::G1`] |
+//! | `|θ − 90°| ≤ right_angle` (if `keep_right_angles`) | [`JointKind::FixedAngle`] |
+//! | otherwise | [`JointKind::C0`] |
+//!
+//! The constraint each kind imposes is in [`crate::spline_fit`]. Every kind is satisfied by the
+//! input itself (G¹ and fixed angle use the input's own angle and length ratio), so the rest
+//! pose reproduces the drawing exactly.
+
+use kurbo::{Point, Vec2};
+use serde::{Deserialize, Serialize};
+
+/// The continuity imposed at an on-curve point of a chain.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum JointKind {
+    /// An end of an open path: no constraint.
+    #[serde(rename = "end")]
+    End,
+    /// Position continuity only: the two curves share the point.
+    C0,
+    /// Strict C¹: `c3' − c2' = d1' − d0'` (equal tangents).
+    C1,
+    /// G¹ with the input's tangent-length ratio: `c3' − c2' = r (d1' − d0')`.
+    G1,
+    /// The input's angle between the tangents and their length ratio are kept.
+    #[serde(rename = "angle")]
+    FixedAngle,
+}
+
+impl JointKind {
+    /// Short name as used in scenes and the CLI: `end`, `C0`, `C1`, `G1`, `angle`.
+    pub fn name(self) -> &'static str {
+        match self {
+            JointKind::End => "end",
+            JointKind::C0 => "C0",
+            JointKind::C1 => "C1",
+            JointKind::G1 => "G1",
+            JointKind::FixedAngle => "angle",
+        }
+    }
+}
+
+/// Default largest angle between incoming and outgoing tangents of a smooth junction:
+/// 1° (0.01745 rad). Drawings exported with three decimals put smooth points within ≈0.1° of
+/// parallel for handles longer than one unit; 1° leaves room for shorter handles while still
+/// being an angle nobody draws as a corner.
+pub const DEFAULT_SMOOTH_ANGLE: f64 = 1.0 * std::f64::consts::PI / 180.0;
+
+/// Default tolerance on `|θ − 90°|` for a right-angle corner kept at a fixed angle: 1°.
+pub const DEFAULT_RIGHT_ANGLE: f64 = 1.0 * std::f64::consts::PI / 180.0;
+
+/// Default relative tolerance on `|‖u‖/‖v‖ − 1|` for labelling a smooth junction C¹ rather than
+/// G¹: 1e-9. Strict C¹ moves the rest pose unless the input is C¹ to this precision; anything
+/// less exact is G¹, which keeps the input's ratio.
+pub const DEFAULT_C1_RATIO: f64 = 1e-9;
+
+/// Default distance (in drawing units, relative to the path's size) below which a control point
+/// counts as lying on its end point: 1e-9 of the path's bounding-box diagonal.
+pub const DEFAULT_COINCIDENCE: f64 = 1e-9;
+
+/// Tolerances of junction classification. See the module doc for how they are used.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct JunctionOptions {
+    /// Largest tangent angle (radians) of a smooth junction. Default: [`DEFAULT_SMOOTH_ANGLE`].
+    pub smooth_angle: f64,
+    /// Whether right-angle corners keep their angle ([`JointKind::FixedAngle`]) rather than
+    /// being C⁰. Default: `true` (as the paper's authors do).
+    pub keep_right_angles: bool,
+    /// Tolerance (radians) on a right angle. Default: [`DEFAULT_RIGHT_ANGLE`].
+    pub right_angle: f64,
+    /// Relative tolerance on equal tangent lengths for C¹. Default: [`DEFAULT_C1_RATIO`].
+    pub c1_ratio: f64,
+    /// Coincidence distance relative to the path's control-point bounding-box diagonal.
+    /// Default: [`DEFAULT_COINCIDENCE`].
+    pub coincidence: f64,
+}
+
+impl Default for JunctionOptions {
+    fn default() -> Self {
+        JunctionOptions {
+            smooth_angle: DEFAULT_SMOOTH_ANGLE,
+            keep_right_angles: true,
+            right_angle: DEFAULT_RIGHT_ANGLE,
+            c1_ratio: DEFAULT_C1_RATIO,
+            coincidence: DEFAULT_COINCIDENCE,
+        }
+    }
+}
+
+impl JunctionOptions {
+    /// Sets [`JunctionOptions::smooth_angle`].
+    pub fn with_smooth_angle(mut self, radians: f64) -> Self {
+        self.smooth_angle = radians;
+        self
+    }
+    /// Sets [`JunctionOptions::keep_right_angles`].
+    pub fn with_keep_right_angles(mut self, keep: bool) -> Self {
+        self.keep_right_angles = keep;
+        self
+    }
+}
+
+/// The tangent geometry at on-curve point `p` of a chain: the index of the first distinct point
+/// before it (within the previous curve) and after it (within the next curve).
+///
+/// `prev` and `next` are chain indices; for closed chains they wrap (index `3n` is index 0).
+/// `eps` is the coincidence distance.
+pub fn tangent_neighbours(
+    points: &[Point],
+    closed: bool,
+    p: usize,
+    eps: f64,
+) -> (Option<usize>, Option<usize>) {
+    let m = points.len() - 1; // 3n
+    let centre = points[p];
+    let prev = if p == 0 && !closed {
+        None
+    } else {
+        let base = if p == 0 { m } else { p };
+        (1..=3)
+            .map(|k| base - k)
+            .find(|&i| (points[i] - centre).hypot() > eps)
+    };
+    let next = if p == m && !closed {
+        None
+    } else {
+        let base = if p == m { 0 } else { p };
+        (1..=3)
+            .map(|k| base + k)
+            .find(|&i| (points[i] - centre).hypot() > eps)
+    };
+    (prev, next)
+}
+
+/// The coincidence distance for a chain: `relative` times its control-point diagonal (at
+/// least the smallest positive normal `f64`, so that exact duplicates always coincide).
+pub fn coincidence_distance(points: &[Point], relative: f64) -> f64 {
+    let (mut lo, mut hi) = (points[0], points[0]);
+    for p in points {
+        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
+        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
+    }
+    ((hi - lo).hypot() * relative).max(f64::MIN_POSITIVE)
+}
+
+/// Angle in `[0, π]` between two non-zero vectors.
+pub fn angle_between(u: Vec2, v: Vec2) -> f64 {
+    u.cross(v).atan2(u.dot(v)).abs()
+}
+
+/// Classifies every on-curve point of the chain `points` (`3n + 1` points; closed chains repeat
+/// the first point at the end). Returns `n + 1` kinds for an open chain, `n` for a closed one.
+///
+/// ```
+/// use kurbo::Point;
+/// use splineskin_core::drawing::{classify_joints, JointKind, JunctionOptions};
+/// // Two curves meeting smoothly (collinear tangents of different lengths) at (3, 0).
+/// let pts = [(0.0, 0.0), (1.0, 1.0), (2.0, 0.0), (3.0, 0.0), (5.0, 0.0), (6.0, 1.0), (7.0, 0.0)]
+///     .map(Point::from);
+/// let kinds = classify_joints(&pts, false, &JunctionOptions::default());
+/// assert_eq!(kinds, vec![JointKind::End, JointKind::G1, JointKind::End]);
+/// ```
+pub fn classify_joints(
+    points: &[Point],
+    closed: bool,
+    options: &JunctionOptions,
+) -> Vec<JointKind> {
+    let n = (points.len() - 1) / 3;
+    let eps = coincidence_distance(points, options.coincidence);
+    let count = if closed { n } else { n + 1 };
+    (0..count)
+        .map(|k| {
+            let p = 3 * k;
+            if !closed && (k == 0 || k == n) {
+                return JointKind::End;
+            }
+            let (prev, next) = tangent_neighbours(points, closed, p, eps);
+            let (Some(a), Some(b)) = (prev, next) else {
+                return JointKind::C0;
+            };
+            let u = points[p] - points[a];
+            let v = points[b] - points[p];
+            let theta = angle_between(u, v);
+            if theta <= options.smooth_angle {
+                let ratio = u.hypot() / v.hypot();
+                if (ratio - 1.0).abs() <= options.c1_ratio && theta <= options.c1_ratio {
+                    JointKind::C1
+                } else {
+                    JointKind::G1
+                }
+            } else if options.keep_right_angles
+                && (theta - std::f64::consts::FRAC_PI_2).abs() <= options.right_angle
+            {
+                JointKind::FixedAngle
+            } else {
+                JointKind::C0
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pts(v: &[(f64, f64)]) -> Vec<Point> {
+        v.iter().map(|&p| Point::from(p)).collect()
+    }
+
+    #[test]
+    fn junction_corner_is_c0() {
+        let p = pts(&[
+            (0., 0.),
+            (1., 0.),
+            (2., 0.),
+            (3., 0.),
+            (4., 1.),
+            (5., 2.),
+            (6., 3.),
+        ]);
+        let k = classify_joints(&p, false, &JunctionOptions::default());
+        assert_eq!(k[1], JointKind::C0);
+    }
+
+    #[test]
+    fn junction_equal_collinear_tangents_are_c1() {
+        let p = pts(&[
+            (0., 0.),
+            (1., 1.),
+            (2., 0.),
+            (3., 0.),
+            (4., 0.),
+            (5., 1.),
+            (6., 0.),
+        ]);
+        let k = classify_joints(&p, false, &JunctionOptions::default());
+        assert_eq!(k[1], JointKind::C1);
+    }
+
+    #[test]
+    fn junction_right_angle_is_fixed_unless_disabled() {
+        let p = pts(&[
+            (0., 0.),
+            (1., 0.),
+            (2., 0.),
+            (3., 0.),
+            (3., 1.),
+            (3., 2.),
+            (3., 3.),
+        ]);
+        let k = classify_joints(&p, false, &JunctionOptions::default());
+        assert_eq!(k[1], JointKind::FixedAngle);
+        let o = JunctionOptions::default().with_keep_right_angles(false);
+        assert_eq!(classify_joints(&p, false, &o)[1], JointKind::C0);
+    }
+
+    #[test]
+    fn junction_degenerate_tangent_uses_next_distinct_point() {
+        // c2 on top of c3, d1 on top of d0: directions come from c1 and d2.
+        let p = pts(&[
+            (0., 0.),
+            (1., 0.),
+            (3., 0.),
+            (3., 0.),
+            (3., 0.),
+            (6., 0.),
+            (7., 1.),
+        ]);
+        let k = classify_joints(&p, false, &JunctionOptions::default());
+        assert_eq!(k[1], JointKind::G1);
+    }
+
+    #[test]
+    fn junction_without_any_direction_is_c0() {
+        // The second curve is a single point.
+        let p = pts(&[
+            (0., 0.),
+            (1., 0.),
+            (2., 0.),
+            (3., 0.),
+            (3., 0.),
+            (3., 0.),
+            (3., 0.),
+        ]);
+        let k = classify_joints(&p, false, &JunctionOptions::default());
+        assert_eq!(k[1], JointKind::C0);
+    }
+
+    #[test]
+    fn junction_closed_chain_classifies_the_closing_point() {
+        // A circle-like closed chain of two curves, smooth everywhere.
+        let p = pts(&[
+            (1., 0.),
+            (1., 1.),
+            (-1., 1.),
+            (-1., 0.),
+            (-1., -1.),
+            (1., -1.),
+            (1., 0.),
+        ]);
+        let k = classify_joints(&p, true, &JunctionOptions::default());
+        assert_eq!(k, vec![JointKind::C1, JointKind::C1]);
+    }
+}

@@ -1,0 +1,805 @@
+//! The join of a deformation operator with the spline fit (DESIGN.md, "The join"; issue 7,
+//! item 6): point-handle, ARAP-quality deformation of a Bézier drawing in closed form, the
+//! drawing staying a drawing of the same cubics under its junction constraints.
+//!
+//! [`DefOpRig`] has the formula, its sources, the recipe and an example; [`DrawingDefOp`] builds
+//! everything from a drawing and its handles; [`training_domain_options`] sizes the domain.
+
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, MatMut, MatRef, Par};
+use std::collections::HashMap;
+use std::sync::Mutex;
+
+use kurbo::Point;
+
+use super::{
+    train, DefOp, DefOpError, HandleBasis, Progress, SpatialBasis, TrainOptions, Training,
+};
+use splineskin_core::domain::{Domain, DomainOptions, MeshWeights};
+use splineskin_core::drawing::Drawing;
+use splineskin_core::mesh::TriMesh;
+use splineskin_core::spline_fit::quadrature::SampledCurves;
+use splineskin_core::spline_fit::system::{solve_path, HandleMaps};
+use splineskin_core::spline_fit::{validate, FitOptions};
+use splineskin_core::weights::WeightField;
+
+/// Largest distance of a drawing's point outside the operator's mesh, as a fraction of the
+/// mesh's bounding-box diagonal: 0.05. Beyond it the nearest-boundary values are a guess too
+/// far from anything the operator was trained on (and a drawing wholly outside, in other
+/// units or coordinates, is caught).
+pub const OUTSIDE_TOLERANCE_FRACTION: f64 = 0.05;
+
+/// Curve samples per diagonal of the drawing in [`training_domain_options`]: 100 (a boundary
+/// or curve vertex every 1 % of the diagonal; the default, 500, is meant for weights solved
+/// once, not for 1 000 ground-truth solves).
+pub const TRAINING_SAMPLES_PER_DIAGONAL: f64 = 100.0;
+
+/// Largest triangle, as a fraction of the domain's area, in [`training_domain_options`]:
+/// 1/1000. On the bundled fish (padded box domain) this gives 1 917 vertices and 3 714
+/// triangles, the size of the paper's octopus (and of `splineskin::examples::octopus_domain`
+/// with `1/1800`).
+pub const TRAINING_MAX_AREA_FRACTION: f64 = 1.0 / 1000.0;
+
+/// [`DomainOptions`] for training an operator on a drawing's domain: the defaults with
+/// [`TRAINING_SAMPLES_PER_DIAGONAL`] and [`TRAINING_MAX_AREA_FRACTION`], about 2 000 vertices
+/// and 4 000 triangles for a drawing like the bundled fish (58 curves), which keeps a
+/// 1 000-sample training near the issue's budget (the octopus, 1 991 vertices: about 20 s on
+/// two cores). Drawings with many more curves get more curve vertices: lower
+/// `samples_per_diagonal` for them.
+///
+/// ```
+/// use splineskin_defop::{training_domain_options, TRAINING_MAX_AREA_FRACTION};
+/// let options = training_domain_options();
+/// assert_eq!(options.max_area_fraction, TRAINING_MAX_AREA_FRACTION);
+/// ```
+pub fn training_domain_options() -> DomainOptions {
+    DomainOptions::default()
+        .with_samples_per_diagonal(TRAINING_SAMPLES_PER_DIAGONAL)
+        .with_max_area_fraction(TRAINING_MAX_AREA_FRACTION)
+}
+
+/// A drawing joined to a deformation operator: the drawing's control points as a closed-form
+/// function of the handle configuration, `G_spline ψ(Q)`, junction constraints kept.
+///
+/// **Formula.** For a fixed handle configuration `Q` a [`DefOp`] (Poranne & Lipman 2016,
+/// Eq. (3)) is a sum of spatial functions times vectors,
+///
+/// ```text
+/// D(x, Q) = Σ_i φ_i(x) c_i(Q),      c(Q) = G ψ(Q)        (G: 2|Φ| × |Ψ|, DefOp::coefficients)
+/// ```
+///
+/// which is linear blend skinning (Liu et al. 2014 §3) with weights `φ_i` and the pure
+/// translations `T_i = [0 0 c_i]`. Between vertices a spatial function is the linear
+/// interpolation of its vertex values (the hats' own definition; a reduced basis is given by
+/// its vertex values `Dᵀ` only), so along a curve the target is the deformed mesh
+/// `positions(Q) = Dᵀ G ψ(Q)` interpolated linearly in each triangle. Paper 1's
+/// fit (Liu et al. 2014 §4; DESIGN.md §1: the junction-constrained least squares, solved per
+/// path) is linear in its target, so with `F` the fit operator from mesh vertex positions to
+/// the drawing's control points (junction constraints included),
+///
+/// ```text
+/// control points(Q) = F · positions(Q) = F Dᵀ G · ψ(Q) = G_spline · ψ(Q)
+/// G_spline = F Dᵀ G                                   (2 · n_points × |Ψ|, dense)
+/// ```
+///
+/// `F` is the spline fit with the mesh's hat functions as weights and translations as maps:
+/// column `(v, d)` of `F` is the fit of the target "hat of vertex `v`, times unit vector `d`".
+/// Only the vertices of the triangles a path's curves cross have a non-zero column, so `F` is
+/// assembled per path over those vertices (the quadrature cuts curves at mesh edges, where the
+/// hats have kinks: [`MeshWeights`]' rule, exact for the piecewise-cubic weights) and never
+/// over the whole mesh.
+///
+/// **Properties** (tested in `tests/defop_spline_join.rs`): at the rest configuration `Q = P`
+/// the operator reproduces the rest mesh, its linear interpolation reproduces the identity
+/// `x ↦ x` (every spatial basis here is linearly precise), and the fit reproduces a cubic
+/// target, so the drawing comes back unchanged (to rounding); at any
+/// `Q` the result satisfies every junction constraint of the drawing (C¹ equal tangents, G¹
+/// parallel tangents with the input's length ratio, closed paths closed).
+///
+/// **Outside the mesh.** The drawing should lie in the operator's mesh (for a mesh from
+/// [`Domain::build`] on the drawing, it does). Curve points outside it take the values of the
+/// nearest boundary point, as [`MeshWeights`] does; [`DefOpRig::n_nodes_outside`] counts the
+/// quadrature nodes where that happened, and a point farther out than
+/// [`OUTSIDE_TOLERANCE_FRACTION`] of the mesh's diagonal is refused
+/// ([`DefOpError::DrawingOutsideMesh`]).
+///
+/// ```text
+/// once:            let rig = DefOpRig::precompute(&drawing, &mesh, &op, &FitOptions::default())?;
+/// once per thread: let mut ev = rig.evaluator();          (owns ψ and the product's scratch)
+/// each frame:      ev.update(&q, &mut points)?;           (ψ(Q), one dense mat-vec; allocates nothing)
+/// ```
+///
+/// Without a mesh at hand, [`DrawingDefOp::train`] triangulates the drawing's domain
+/// ([`training_domain_options`]), trains the operator ([`train`]) and builds the rig.
+///
+/// ```
+/// use kurbo::{Point, Rect, Vec2};
+/// use splineskin_defop::{DefOp, DefOpOptions, DefOpRig, HandleBasisKind, SpatialBasis};
+/// use splineskin_core::drawing::{Drawing, JunctionOptions, Path};
+/// use splineskin_core::mesh::TriMesh;
+/// use splineskin_core::spline_fit::FitOptions;
+///
+/// // A strip with two handles and a made-up ground truth: every configuration translates the
+/// // strip by the first handle's offset. A linear operator reproduces it exactly.
+/// let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 8, 2)?;
+/// let handles = [9, 17]; // (0, 0.5) and (4, 0.5)
+/// let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+/// let shifts = [(0.0, 0.0), (0.3, 0.1), (-0.2, 0.4), (0.1, -0.3), (0.5, 0.2)];
+/// let configurations: Vec<Vec<Point>> =
+///     shifts.iter().map(|&s| rest.iter().map(|&p| p + Vec2::from(s)).collect()).collect();
+/// let solutions: Vec<Vec<Point>> =
+///     shifts.iter().map(|&s| mesh.vertices.iter().map(|&p| p + Vec2::from(s)).collect()).collect();
+/// let options = DefOpOptions::default().with_handle_basis(HandleBasisKind::Linear);
+/// let op = DefOp::fit(&mesh, &handles, &SpatialBasis::hats(&mesh)?, &configurations, &solutions, &options)?;
+///
+/// // A wave drawn on the strip.
+/// let wave = [(0.5, 0.5), (1.5, 0.9), (2.5, 0.1), (3.5, 0.5)].map(Point::from).to_vec();
+/// let drawing = Drawing {
+///     paths: vec![Path::new(wave.clone(), false, &JunctionOptions::default()).unwrap()],
+///     ..Default::default()
+/// };
+/// let rig = DefOpRig::precompute(&drawing, &mesh, &op, &FitOptions::default())?;
+/// let mut evaluator = rig.evaluator();
+/// let mut points = vec![Point::ZERO; rig.n_points()];
+/// let q: Vec<Point> = rest.iter().map(|&p| p + Vec2::new(0.25, -0.5)).collect();
+/// evaluator.update(&q, &mut points)?;
+/// for (p, w) in points.iter().zip(&wave) {
+///     assert!((*p - (*w + Vec2::new(0.25, -0.5))).hypot() < 1e-12);
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// Output layout: the chain points of every path, concatenated as in
+/// [`Drawing::flat_points`] (a closed path's last point repeats its first), as
+/// [`splineskin_core::spline_fit::SplineRig::update`] writes them.
+#[derive(Clone, Debug)]
+pub struct DefOpRig {
+    handle_basis: HandleBasis,
+    n_points: usize,
+    /// `G_spline`, column-major `2 n_points × |Ψ|`: row `2k + d` is coordinate `d` of point `k`.
+    coefficients: Vec<f64>,
+    n_nodes_outside: usize,
+    max_outside_distance: f64,
+    rank_deficient_paths: Vec<usize>,
+}
+
+/// The first pass over a path: a one-handle field that records every point it is evaluated at
+/// (the quadrature's, whatever the rule) and reports the mesh's kinks.
+struct Touched<'a> {
+    locator: &'a MeshWeights,
+    points: Mutex<Vec<Point>>,
+}
+
+impl WeightField for Touched<'_> {
+    fn n_handles(&self) -> usize {
+        1
+    }
+
+    fn eval(&self, p: Point, out: &mut [f64]) {
+        out.fill(0.0);
+        if let Ok(mut points) = self.points.lock() {
+            points.push(p);
+        }
+    }
+
+    fn kinks(&self, curve: &[Point; 4], out: &mut Vec<f64>) {
+        self.locator.kinks(curve, out)
+    }
+}
+
+/// A path's own vertices: the mesh vertices its quadrature nodes interpolate from, numbered
+/// locally. A [`WeightField`] whose handle `a` is the hat function of local vertex `a`.
+struct LocalHats<'a> {
+    locator: &'a MeshWeights,
+    /// Global vertex → local index, for the vertices the path touches.
+    local: &'a HashMap<u32, u32>,
+    n_local: usize,
+}
+
+impl WeightField for LocalHats<'_> {
+    fn n_handles(&self) -> usize {
+        self.n_local
+    }
+
+    fn eval(&self, p: Point, out: &mut [f64]) {
+        out.fill(0.0);
+        let Some(at) = self.locator.interpolation(p) else {
+            out.fill(f64::NAN);
+            return;
+        };
+        for (&v, &c) in at.vertices.iter().zip(&at.coefficients) {
+            match self.local.get(&v) {
+                Some(&a) => out[a as usize] += c,
+                // The vertices were gathered at these very points: unreachable. NaN makes the
+                // path's solve fail (FitError::Singular) rather than drop a weight.
+                _ if c != 0.0 => out.fill(f64::NAN),
+                _ => {}
+            }
+        }
+    }
+
+    fn kinks(&self, curve: &[Point; 4], out: &mut Vec<f64>) {
+        self.locator.kinks(curve, out)
+    }
+}
+
+impl DefOpRig {
+    /// Precomputes the join of `drawing` with `op`, an operator on `mesh` (the mesh it was
+    /// fitted or trained on), with the fit's quadrature, measure and junction constraints from
+    /// `options`: per path, the fit `F` over the vertices its curves touch (one sparse LU, `2`
+    /// right-hand sides per vertex), then `F Dᵀ G`.
+    ///
+    /// Errors: an invalid mesh, an operator of another vertex count
+    /// ([`DefOpError::BasisMismatch`]), a malformed drawing ([`DefOpError::Fit`]), a point of
+    /// the drawing farther outside the mesh than [`OUTSIDE_TOLERANCE_FRACTION`] of its
+    /// diagonal ([`DefOpError::DrawingOutsideMesh`]).
+    pub fn precompute(
+        drawing: &Drawing,
+        mesh: &TriMesh,
+        op: &DefOp,
+        options: &FitOptions,
+    ) -> Result<DefOpRig, DefOpError> {
+        mesh.check()?;
+        let n_vertices = mesh.n_vertices();
+        if op.n_vertices() != n_vertices {
+            return Err(DefOpError::BasisMismatch {
+                basis_vertices: op.n_vertices(),
+                n_vertices,
+            });
+        }
+        validate(drawing)?;
+        // One value per vertex (unused): the field only locates points and finds kinks.
+        let locator = MeshWeights::new(mesh, vec![0.0; n_vertices], 1)?;
+        let bounds = mesh.vertices.iter().fold(
+            kurbo::Rect::from_points(mesh.vertices[0], mesh.vertices[0]),
+            |r, &p| r.union_pt(p),
+        );
+        let tolerance = OUTSIDE_TOLERANCE_FRACTION * bounds.width().hypot(bounds.height());
+
+        let n_psi = op.handle_basis.n_functions();
+        let n_points = drawing.n_points();
+        let context = JoinContext {
+            op,
+            locator: &locator,
+            tolerance,
+            options,
+        };
+        // Paths are independent: join them (in parallel if asked), then place their rows.
+        let joined: Vec<PathJoin> = if options.parallel {
+            use rayon::prelude::*;
+            let results: Vec<_> = drawing
+                .paths
+                .par_iter()
+                .enumerate()
+                .map(|(pi, path)| context.join_path(pi, path))
+                .collect();
+            results.into_iter().collect::<Result<_, _>>()?
+        } else {
+            drawing
+                .paths
+                .iter()
+                .enumerate()
+                .map(|(pi, path)| context.join_path(pi, path))
+                .collect::<Result<_, _>>()?
+        };
+        let mut g_spline = Mat::<f64>::zeros(2 * n_points, n_psi);
+        let mut n_nodes_outside = 0;
+        let mut max_outside_distance: f64 = 0.0;
+        let mut rank_deficient_paths = Vec::new();
+        let paths = drawing.paths.iter().zip(drawing.path_ranges());
+        for (pi, ((path, range), joined)) in paths.zip(&joined).enumerate() {
+            let offset = range.start;
+            n_nodes_outside += joined.n_nodes_outside;
+            max_outside_distance = max_outside_distance.max(joined.max_outside_distance);
+            if joined.rank_deficient {
+                rank_deficient_paths.push(pi);
+            }
+            let m = path.n_unknown_points();
+            for k in 0..path.points.len() {
+                let src = if k >= m { k - m } else { k };
+                for d in 0..2 {
+                    g_spline
+                        .row_mut(2 * (offset + k) + d)
+                        .copy_from(joined.block.row(2 * src + d));
+                }
+            }
+        }
+        if n_nodes_outside > 0 {
+            tracing::warn!(
+                "{n_nodes_outside} quadrature nodes of the drawing lie outside the operator's mesh (at most {max_outside_distance:e} drawing units): they take the nearest boundary point's values"
+            );
+        }
+        let mut coefficients = Vec::with_capacity(2 * n_points * n_psi);
+        for col in g_spline.col_iter() {
+            coefficients.extend(col.iter().copied());
+        }
+        Ok(DefOpRig {
+            handle_basis: op.handle_basis.clone(),
+            n_points,
+            coefficients,
+            n_nodes_outside,
+            max_outside_distance,
+            rank_deficient_paths,
+        })
+    }
+
+    /// [`DefOpRig::precompute`] on the domain the operator was trained on: checks that the
+    /// domain's handle vertices are the operator's ([`DefOpError::HandleMismatch`]).
+    pub fn from_domain(
+        drawing: &Drawing,
+        domain: &Domain,
+        op: &DefOp,
+        options: &FitOptions,
+    ) -> Result<DefOpRig, DefOpError> {
+        if domain.handle_vertices != op.handles {
+            return Err(DefOpError::HandleMismatch {
+                domain: domain.handle_vertices.clone(),
+                op: op.handles.clone(),
+            });
+        }
+        DefOpRig::precompute(drawing, &domain.mesh, op, options)
+    }
+
+    /// A worker for updates, owning its scratch (one per thread).
+    pub fn evaluator(&self) -> DefOpRigEvaluator<'_> {
+        DefOpRigEvaluator {
+            rig: self,
+            psi: vec![0.0; self.handle_basis.n_functions()],
+            xy: vec![0.0; 2 * self.n_points],
+        }
+    }
+
+    /// The deformed control points at the configuration `q` (allocating; see
+    /// [`DefOpRigEvaluator::update`] for the per-frame form).
+    pub fn deform(&self, q: &[Point]) -> Result<Vec<Point>, DefOpError> {
+        let mut points = vec![Point::ZERO; self.n_points];
+        self.evaluator().update(q, &mut points)?;
+        Ok(points)
+    }
+
+    /// Number of handles a configuration has.
+    pub fn n_handles(&self) -> usize {
+        self.handle_basis.n_handles()
+    }
+
+    /// Number of chain points written (all paths, [`Drawing::flat_points`] layout).
+    pub fn n_points(&self) -> usize {
+        self.n_points
+    }
+
+    /// The handle basis `Ψ` (the operator's).
+    pub fn handle_basis(&self) -> &HandleBasis {
+        &self.handle_basis
+    }
+
+    /// `G_spline` as a column-major `2 n_points × |Ψ|` matrix: row `2k + d` gives coordinate
+    /// `d` of chain point `k`.
+    pub fn coefficients(&self) -> &[f64] {
+        &self.coefficients
+    }
+
+    /// Quadrature points of the drawing (where the fit evaluates its weights) that lie outside
+    /// the mesh: they took the values of the nearest boundary point (0 when the drawing is
+    /// inside the mesh).
+    pub fn n_nodes_outside(&self) -> usize {
+        self.n_nodes_outside
+    }
+
+    /// The largest distance of those nodes to the mesh, drawing units (0 when none).
+    pub fn max_outside_distance(&self) -> f64 {
+        self.max_outside_distance
+    }
+
+    /// Paths whose fit system was found rank deficient (only with
+    /// [`FitOptions::check_rank`], as [`splineskin_core::spline_fit::SplineRig::rank_deficient_paths`]);
+    /// their points are whatever the LU factorisation produced.
+    pub fn rank_deficient_paths(&self) -> &[usize] {
+        &self.rank_deficient_paths
+    }
+}
+
+/// What every path's join shares.
+struct JoinContext<'a> {
+    op: &'a DefOp,
+    locator: &'a MeshWeights,
+    /// Largest distance outside the mesh accepted, drawing units.
+    tolerance: f64,
+    options: &'a FitOptions,
+}
+
+/// One path's part of `G_spline` and what its precompute found.
+struct PathJoin {
+    /// `2m × |Ψ|` (`m` unknown points): row `2k + d` coordinate `d` of unknown point `k`.
+    block: Mat<f64>,
+    n_nodes_outside: usize,
+    max_outside_distance: f64,
+    rank_deficient: bool,
+}
+
+impl JoinContext<'_> {
+    /// `F Dᵀ G` for path `path` (index `pi`, for messages): its quadrature points and the
+    /// vertices they touch, its fit over those vertices' hats, times their rows of `Dᵀ G`.
+    fn join_path(
+        &self,
+        pi: usize,
+        path: &splineskin_core::drawing::Path,
+    ) -> Result<PathJoin, DefOpError> {
+        let one = Drawing {
+            paths: vec![path.clone()],
+            ..Default::default()
+        };
+        // First pass: the points where the path's quadrature evaluates its weights (nodes cut
+        // at mesh edges; the authors' rule's samples), and the vertices they touch.
+        let touched = Touched {
+            locator: self.locator,
+            points: Mutex::new(Vec::new()),
+        };
+        SampledCurves::sample(&one, &touched, self.options);
+        let points = touched.points.into_inner().unwrap_or_default();
+        let mut local: HashMap<u32, u32> = HashMap::new();
+        let mut vertices: Vec<u32> = Vec::new();
+        let mut n_nodes_outside = 0;
+        let mut max_outside_distance: f64 = 0.0;
+        for p in points {
+            let at = self.locator.interpolation(p).ok_or(DefOpError::Domain(
+                splineskin_core::domain::DomainError::EmptyDomain {
+                    reason: "the mesh has no boundary (a bug: valid meshes have one)",
+                },
+            ))?;
+            if at.outside_distance > 0.0 {
+                if at.outside_distance > self.tolerance {
+                    return Err(DefOpError::DrawingOutsideMesh {
+                        path: pi,
+                        x: p.x,
+                        y: p.y,
+                        distance: at.outside_distance,
+                        tolerance: self.tolerance,
+                    });
+                }
+                n_nodes_outside += 1;
+                max_outside_distance = max_outside_distance.max(at.outside_distance);
+            }
+            for &v in &at.vertices {
+                local.entry(v).or_insert_with(|| {
+                    vertices.push(v);
+                    (vertices.len() - 1) as u32
+                });
+            }
+        }
+        let field = LocalHats {
+            locator: self.locator,
+            local: &local,
+            n_local: vertices.len(),
+        };
+        let samples = SampledCurves::sample(&one, &field, self.options);
+        // F: 2m × 2 n_local, column 2a + d = translation coordinate d of local vertex a.
+        let solved = solve_path(pi, path, &samples, 0, self.options, HandleMaps::Translation)?;
+        let f = solved.operator;
+        // The local vertices' positions as rows over Ψ (row 2a + d: coordinate d of local
+        // vertex a), i.e. the rows of Dᵀ G at those vertices.
+        let n_phi = self.op.spatial.n_functions();
+        let n_psi = self.op.handle_basis.n_functions();
+        let g = MatRef::from_column_major_slice(&self.op.coefficients, 2 * n_phi, n_psi);
+        let positions = local_positions(self.op, g, &vertices);
+        let mut block = Mat::<f64>::zeros(f.nrows(), n_psi);
+        matmul(
+            block.as_mut(),
+            Accum::Replace,
+            f.as_ref(),
+            positions.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        Ok(PathJoin {
+            block,
+            n_nodes_outside,
+            max_outside_distance,
+            rank_deficient: solved.rank_deficient,
+        })
+    }
+}
+
+/// Rows of `Dᵀ G` at `vertices`: `2 · vertices.len() × |Ψ|`, row `2a + d` coordinate `d` of
+/// vertex `vertices[a]`'s position over `Ψ`.
+fn local_positions(op: &DefOp, g: MatRef<'_, f64>, vertices: &[u32]) -> Mat<f64> {
+    let n_phi = op.spatial.n_functions();
+    let n_local = vertices.len();
+    let mut out = Mat::<f64>::zeros(2 * n_local, g.ncols());
+    if op.spatial.is_hats() {
+        for (a, &v) in vertices.iter().enumerate() {
+            for d in 0..2 {
+                out.row_mut(2 * a + d)
+                    .copy_from(g.row(d * n_phi + v as usize));
+            }
+        }
+        return out;
+    }
+    // Dᵀ at the local vertices (n_local × |Φ|), times G's x rows and y rows.
+    let n_vertices = op.n_vertices();
+    let dt = Mat::<f64>::from_fn(n_local, n_phi, |a, i| {
+        op.vertex_values[i * n_vertices + vertices[a] as usize]
+    });
+    for d in 0..2 {
+        let mut part = Mat::<f64>::zeros(n_local, g.ncols());
+        matmul(
+            part.as_mut(),
+            Accum::Replace,
+            dt.as_ref(),
+            g.subrows(d * n_phi, n_phi),
+            1.0,
+            Par::Seq,
+        );
+        for a in 0..n_local {
+            out.row_mut(2 * a + d).copy_from(part.row(a));
+        }
+    }
+    out
+}
+
+/// Updates a [`DefOpRig`] without allocating: `ψ(Q)` and the product live in its buffers.
+///
+/// ```
+/// # use kurbo::{Point, Rect, Vec2};
+/// # use splineskin_defop::{DefOp, DefOpOptions, DefOpRig, HandleBasisKind, SpatialBasis};
+/// # use splineskin_core::drawing::{Drawing, JunctionOptions, Path};
+/// # use splineskin_core::mesh::TriMesh;
+/// # use splineskin_core::spline_fit::FitOptions;
+/// # let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 8, 2)?;
+/// # let handles = [9, 17];
+/// # let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+/// # let shifts = [(0.0, 0.0), (0.3, 0.1), (-0.2, 0.4), (0.1, -0.3), (0.5, 0.2)];
+/// # let configurations: Vec<Vec<Point>> =
+/// #     shifts.iter().map(|&s| rest.iter().map(|&p| p + Vec2::from(s)).collect()).collect();
+/// # let solutions: Vec<Vec<Point>> =
+/// #     shifts.iter().map(|&s| mesh.vertices.iter().map(|&p| p + Vec2::from(s)).collect()).collect();
+/// # let options = DefOpOptions::default().with_handle_basis(HandleBasisKind::Linear);
+/// # let op = DefOp::fit(&mesh, &handles, &SpatialBasis::hats(&mesh)?, &configurations, &solutions, &options)?;
+/// let line = [(0.5, 0.5), (1.5, 0.5), (2.5, 0.5), (3.5, 0.5)].map(Point::from).to_vec();
+/// let drawing = Drawing {
+///     paths: vec![Path::new(line.clone(), false, &JunctionOptions::default()).unwrap()],
+///     ..Default::default()
+/// };
+/// let rig = DefOpRig::precompute(&drawing, &mesh, &op, &FitOptions::default())?;
+/// let mut evaluator = rig.evaluator();
+/// let mut points = vec![Point::ZERO; rig.n_points()];
+/// // The rest configuration gives the drawing back.
+/// evaluator.update(&rest, &mut points)?;
+/// assert!(points.iter().zip(&line).all(|(p, l)| (*p - *l).hypot() < 1e-12));
+/// // One point per handle, finite: anything else is refused.
+/// assert!(evaluator.update(&rest[..1], &mut points).is_err());
+/// assert!(evaluator.update(&[rest[0], Point::new(f64::NAN, 0.0)], &mut points).is_err());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug)]
+pub struct DefOpRigEvaluator<'a> {
+    rig: &'a DefOpRig,
+    psi: Vec<f64>,
+    /// `G_spline ψ`: x, y of every point in turn.
+    xy: Vec<f64>,
+}
+
+impl DefOpRigEvaluator<'_> {
+    /// The rig evaluated.
+    pub fn rig(&self) -> &DefOpRig {
+        self.rig
+    }
+
+    /// Writes the drawing's control points at the configuration `q` (one point per handle)
+    /// into `out` ([`DefOpRig::n_points`] points): `ψ(q)`, then `G_spline ψ(q)`. Allocates
+    /// nothing. Errors (before any work) on a wrong count, a non-finite `q` or a wrong
+    /// buffer length.
+    pub fn update(&mut self, q: &[Point], out: &mut [Point]) -> Result<(), DefOpError> {
+        if out.len() != self.rig.n_points {
+            return Err(DefOpError::BufferLength {
+                given: out.len(),
+                expected: self.rig.n_points,
+            });
+        }
+        if q.len() != self.rig.n_handles() {
+            return Err(DefOpError::TargetCount {
+                given: q.len(),
+                n_handles: self.rig.n_handles(),
+            });
+        }
+        if let Some(handle) = q.iter().position(|p| !p.is_finite()) {
+            return Err(DefOpError::NonFiniteTarget {
+                handle,
+                x: q[handle].x,
+                y: q[handle].y,
+            });
+        }
+        self.rig.handle_basis.eval(q, &mut self.psi)?;
+        let rows = self.xy.len();
+        let g = MatRef::from_column_major_slice(&self.rig.coefficients, rows, self.psi.len());
+        let psi = MatRef::from_column_major_slice(&self.psi, self.psi.len(), 1);
+        let xy = MatMut::from_column_major_slice_mut(&mut self.xy, rows, 1);
+        matmul(xy, Accum::Replace, g, psi, 1.0, Par::Seq);
+        for (p, xy) in out.iter_mut().zip(self.xy.chunks_exact(2)) {
+            *p = Point::new(xy[0], xy[1]);
+        }
+        Ok(())
+    }
+}
+
+/// Everything from a drawing and its point handles: the triangulated domain, the trained
+/// operator (hat functions as the spatial basis) and the rig — the "mesh-free" use, where the
+/// mesh is an implementation detail.
+///
+/// ```text
+/// once:        let joined = DrawingDefOp::train(&drawing, &handles, &training_domain_options(),
+///                                               &TrainOptions::default(), &FitOptions::default(), &|_| {})?;
+/// each frame:  evaluator.update(&q, &mut points)?     (let mut evaluator = joined.rig.evaluator();)
+/// ```
+///
+/// ```
+/// use kurbo::{Point, Vec2};
+/// use splineskin_defop::{training_domain_options, DrawingDefOp, HandleBasisKind, TrainOptions};
+/// use splineskin_svg::{read_svg, ImportOptions};
+/// use splineskin_core::spline_fit::FitOptions;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 C30 40 70 40 100 0"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default())?;
+/// let handles = [Point::new(0.0, 0.0), Point::new(100.0, 0.0)];
+/// // A tiny training for the example: 10 samples, linear handle basis, a coarse domain.
+/// let domain = training_domain_options().with_max_area_fraction(0.02).with_samples_per_diagonal(20.0);
+/// let training = TrainOptions::default().with_n_samples(10).with_handle_basis(HandleBasisKind::Linear);
+/// let joined = DrawingDefOp::train(&drawing, &handles, &domain, &training, &FitOptions::default(), &|_| {})?;
+/// // The rest configuration gives the curve back; moving a handle moves it.
+/// let input = drawing.flat_points();
+/// let rest = joined.rig.deform(&handles)?;
+/// assert!(rest.iter().zip(&input).all(|(p, c)| (*p - *c).hypot() < 1e-9));
+/// let moved = joined.rig.deform(&[handles[0], handles[1] + Vec2::new(0.0, 8.0)])?;
+/// assert!(moved[3].y > 1.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub struct DrawingDefOp {
+    /// The triangulated domain of the drawing, handles at vertices.
+    pub domain: Domain,
+    /// The training (operator, samples, ground truths, stage reports).
+    pub training: Training,
+    /// The join of the drawing with the operator.
+    pub rig: DefOpRig,
+}
+
+impl DrawingDefOp {
+    /// Triangulates the domain of `drawing` with point handles `handles`
+    /// ([`Domain::build`] with `domain`; [`training_domain_options`] is a reasonable
+    /// choice), trains an operator on it with the hat functions as spatial basis ([`train`]
+    /// with `training`, `progress` called as it goes) and joins it with the drawing
+    /// ([`DefOpRig::precompute`] with `fit`).
+    pub fn train(
+        drawing: &Drawing,
+        handles: &[Point],
+        domain: &DomainOptions,
+        training: &TrainOptions,
+        fit: &FitOptions,
+        progress: &(dyn Fn(Progress) + Sync),
+    ) -> Result<DrawingDefOp, DefOpError> {
+        let domain = Domain::build(drawing, handles, &[], domain)?;
+        let spatial = SpatialBasis::hats(&domain.mesh)?;
+        let training = train(
+            &domain.mesh,
+            &domain.handle_vertices,
+            &spatial,
+            training,
+            progress,
+        )?;
+        let rig = DefOpRig::from_domain(drawing, &domain, &training.op, fit)?;
+        Ok(DrawingDefOp {
+            domain,
+            training,
+            rig,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use kurbo::{Affine, Rect, Vec2};
+
+    use super::*;
+    use crate::{Arap, ArapOptions, DefOpOptions, HandleBasisKind};
+    use splineskin_core::drawing::{JunctionOptions, Path};
+    use splineskin_core::spline_fit::SplineRig;
+
+    /// A strip `[0, 4] × [0, 1]` with two handles and a quadratic operator fitted to ARAP
+    /// solutions.
+    fn strip_operator() -> (TriMesh, DefOp, Vec<Point>) {
+        let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 16, 4).unwrap();
+        let handles = [34, 50]; // (0, 0.5) and (4, 0.5)
+        let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+        let arap = Arap::new(&mesh, &handles, ArapOptions::default()).unwrap();
+        let offsets = [
+            (0.0, 0.0, 0.0, 0.0),
+            (0.0, 0.0, -0.3, 0.8),
+            (0.2, -0.1, 0.1, -0.6),
+            (-0.2, 0.3, 0.4, 0.2),
+            (0.1, 0.2, -0.5, -0.3),
+            (0.3, -0.3, 0.2, 0.7),
+            (-0.1, -0.2, -0.2, 0.4),
+            (0.0, 0.4, 0.3, -0.1),
+        ];
+        let configurations: Vec<Vec<Point>> = offsets
+            .iter()
+            .map(|&(a, b, c, d)| vec![rest[0] + Vec2::new(a, b), rest[1] + Vec2::new(c, d)])
+            .collect();
+        let solutions: Vec<Vec<Point>> = configurations
+            .iter()
+            .map(|q| {
+                let mut u = mesh.vertices.clone();
+                arap.solve(q, &mut u).unwrap();
+                u
+            })
+            .collect();
+        let options = DefOpOptions::default().with_handle_basis(HandleBasisKind::Quadratic);
+        let spatial = SpatialBasis::hats(&mesh).unwrap();
+        let op = DefOp::fit(
+            &mesh,
+            &handles,
+            &spatial,
+            &configurations,
+            &solutions,
+            &options,
+        )
+        .unwrap();
+        (mesh, op, rest)
+    }
+
+    #[test]
+    fn join_outside_the_mesh_takes_the_nearest_boundary_values() {
+        let (mesh, op, rest) = strip_operator();
+        // A wave leaving the strip through its right side, 0.1 beyond it (tolerance: 5 % of
+        // the diagonal, 0.21).
+        let wave = [(2.5, 0.5), (3.2, 0.9), (3.8, 0.1), (4.1, 0.5)].map(Point::from);
+        let drawing = Drawing {
+            paths: vec![Path::new(wave.to_vec(), false, &JunctionOptions::default()).unwrap()],
+            ..Default::default()
+        };
+        let options = FitOptions::default();
+        let rig = DefOpRig::precompute(&drawing, &mesh, &op, &options).unwrap();
+        assert!(rig.n_nodes_outside() > 0);
+        // The last Gauss node is just before the end point.
+        let d = rig.max_outside_distance();
+        assert!(d > 0.09 && d < 0.1, "{d}");
+        // The same as the spline fit with MeshWeights of the deformed strip (its outside
+        // rule), whose x and y coordinates are the weights of two unit translations.
+        let q = [
+            rest[0] + Vec2::new(0.1, 0.3),
+            rest[1] + Vec2::new(-0.4, 0.5),
+        ];
+        let positions = op.eval(&q).unwrap();
+        let w: Vec<f64> = positions.iter().flat_map(|p| [p.x, p.y]).collect();
+        let field = MeshWeights::new(&mesh, w, 2).unwrap();
+        let spline = SplineRig::precompute(&drawing, &field, &options).unwrap();
+        let mut want = vec![Point::ZERO; 4];
+        let pose = [
+            Affine::new([0.0, 0.0, 0.0, 0.0, 1.0, 0.0]),
+            Affine::new([0.0, 0.0, 0.0, 0.0, 0.0, 1.0]),
+        ];
+        spline.update(&pose, &mut want).unwrap();
+        let got = rig.deform(&q).unwrap();
+        for (g, w) in got.iter().zip(&want) {
+            assert!((*g - *w).hypot() < 1e-12, "{got:?} vs {want:?}");
+        }
+        // At rest the target is the curve inside the mesh and its clamp to x ≤ 4 outside: not
+        // a cubic, so the fit moves the curve, by less than the clamp.
+        let rest_points = rig.deform(&rest).unwrap();
+        let moved = rest_points
+            .iter()
+            .zip(&wave)
+            .map(|(p, w)| (*p - *w).hypot())
+            .fold(0.0, f64::max);
+        assert!(moved > 1e-4 && moved < 0.1, "{moved}");
+        // Twice as far out: refused.
+        let far = [(2.5, 0.5), (3.2, 0.9), (3.8, 0.1), (4.3, 0.5)].map(Point::from);
+        let drawing = Drawing {
+            paths: vec![Path::new(far.to_vec(), false, &JunctionOptions::default()).unwrap()],
+            ..Default::default()
+        };
+        assert!(matches!(
+            DefOpRig::precompute(&drawing, &mesh, &op, &options),
+            Err(DefOpError::DrawingOutsideMesh { path: 0, .. })
+        ));
+    }
+}

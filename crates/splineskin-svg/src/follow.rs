@@ -1,0 +1,695 @@
+//! What is not a curve follows the deformation too: user-space gradients and patterns,
+//! fixed-orientation markers, `<text>` and `<image>` are carried by the **best-fit affine map**
+//! of the deformation over each element, and strokes optionally scale with it.
+//!
+//! # The map of an element
+//!
+//! The deformation is a point map `f` (for skinning, `f(p) = Σ_i w_i(p) T_i p̄`, DESIGN.md §1).
+//! Over an element's region `Ω` it is replaced by the affine map `A` minimising
+//!
+//! ```text
+//! E(A) = Σ_k ω_k ‖A p_k − f(p_k)‖²      (p_k samples of Ω, ω_k their weights)
+//! ```
+//!
+//! whose closed form is, with weighted means `p̄ = Σ ω_k p_k / Σ ω_k`, `q̄` likewise of the
+//! images `q_k = f(p_k)`, the scatter `C = Σ ω_k (p_k − p̄)(p_k − p̄)ᵀ` and the cross term
+//! `X = Σ ω_k (q_k − q̄)(p_k − p̄)ᵀ`:
+//!
+//! ```text
+//! linear part  M = X C⁻¹,      translation  q̄ − M p̄            (normal equations of E)
+//! ```
+//!
+//! ([`best_fit_affine`]). **Affine rather than similarity**, because (1) when every handle
+//! carries the same affine map `T` (a rigid pose, but also a uniform or non-uniform scale or a
+//! shear) the spline fit reproduces `T` exactly (DESIGN.md §1, consistency), and only the
+//! affine fit gives back exactly `T` for the carried elements too, so that a document under any
+//! common affine map stays one picture; (2) a shape stretched along one axis stretches its
+//! gradient, pattern, label or photo the same way, which is what the outline shows; a
+//! similarity would leave the fill's stripes at their old spacing inside a stretched shape.
+//! The price is that a strongly sheared bend also shears text; a user who wants rigid labels
+//! can keep them outside the deformed region.
+//!
+//! When the samples lie on one line (`det C ≤` [`FLAT_REGION`] `· (tr C)²`: a straight
+//! stroke), `C` cannot be inverted: the fit along the line is kept (`M u = X u / λ`, `u` the
+//! line's direction, `λ` its variance) and completed conformally across it
+//! (`M n = R₉₀ M u`, `n = R₉₀ u`). A region of a single point keeps only the translation.
+//!
+//! # The region of each element
+//!
+//! - a filled geometry element: the centres of a [`REGION_GRID`]² grid over its rest bounding
+//!   box that lie inside its fill (nonzero winding of its subpaths, each closed as a fill is),
+//!   equal weights; if fewer than three fall inside (a thin shape), or it is not filled, or its
+//!   fill has no area: its rest curves, [`CURVE_SAMPLES`] points per curve at
+//!   `t = (k + ½)/n`, each weighted by its curve's chord-polygon length `/ n`;
+//! - an `<image>`: its `x y width height` rectangle, a [`REGION_GRID`]² grid;
+//! - a `<text>`: an estimate of its box from its `x`, `y`, `font-size` (default 16), the
+//!   number of characters (advance [`TEXT_ADVANCE`] em each), and `text-anchor`, from
+//!   `0.8 em` above the baseline to `0.2 em` below, a [`REGION_GRID`]² grid. Glyph outlines are
+//!   not known here (no fonts are loaded); the estimate only chooses where the map is sampled.
+//!
+//! # How each kind is carried
+//!
+//! With `L` an element's local → root map and `A` its best-fit affine (root user space), its
+//! local map is `M = L⁻¹ A L`:
+//!
+//! - a `gradientUnits="userSpaceOnUse"` gradient, or a pattern with `patternUnits` and
+//!   `patternContentUnits` `userSpaceOnUse`, used by the element's fill or stroke: the element
+//!   gets its own copy of the paint server (written right after the original, id
+//!   `<prefix><id>-<k>`), `gradientTransform`/`patternTransform` `= M · G` (`G` the original's,
+//!   through `href` templates), and an inline `fill`/`stroke` naming the copy. Elements whose
+//!   maps agree (within [`SAME_MAP`] of their size) share a copy; the original is left as it
+//!   is for anything else that uses it. `objectBoundingBox` paint follows the deformed bounding
+//!   box already (not exactly: a rotated shape's box does not rotate) and is left as it is.
+//! - a marker with a fixed `orient` (an angle, default 0) on the element: SVG gives one
+//!   orientation per marker reference, and `marker-mid` applies to every vertex of the path,
+//!   so the marker is turned by the rotation of the **element's** best-fit map (not the local
+//!   rotation at each vertex, which would need the path split): `orient + θ`, `θ` the angle of
+//!   the rotation closest to `M`'s linear part (`θ = atan2(m₂₁ − m₁₂, m₁₁ + m₂₂)`), in a copy of
+//!   the marker named by an inline `marker-start`/`-mid`/`-end`. `orient="auto"` markers turn
+//!   with the deformed path's tangents already. Marker references are read from the element's
+//!   and its ancestors' `marker*` attributes and `style` declarations (not from style sheets).
+//! - `<text>` and `<image>` (outside `use` copies, `defs`, clip paths, masks, patterns,
+//!   markers and nested `svg` elements; text on a `textPath` follows its path already): a
+//!   `transform` attribute `matrix(P⁻¹ A P)` written before their own transform, `P` the map of
+//!   their parent's user space to root user space, so their new local → root map is `A L`.
+//! - stroke widths, with [`FollowOptions::scale_strokes`]: multiplied by the local scale
+//!   `√|det M|` of the element's map (one width per element: SVG strokes have no varying
+//!   width). **Off by default**, as in Adobe Illustrator, whose Puppet Warp moves anchor
+//!   points and leaves stroke weights as they are (Illustrator scales strokes only in its
+//!   transform tools, with the "Scale Strokes & Effects" preference). Carried text scales its
+//!   stroke with its transform in either case.
+
+use std::str::FromStr;
+
+use kurbo::{Affine, BezPath, Point, Rect, Shape, Vec2};
+
+use crate::document::SvgError;
+use splineskin_core::drawing::Drawing;
+
+/// Cells per side of the grid sampling an element's region: 16 (256 samples; the best-fit map
+/// of a smooth deformation changes by well under 1 % of its size from 8 to 32).
+pub const REGION_GRID: usize = 16;
+
+/// Samples per curve when an element's region is its curves: 8.
+pub const CURVE_SAMPLES: usize = 8;
+
+/// Average advance of a character, in em, for the estimated box of a `<text>`: 0.55 (that of
+/// common sans-serif faces on Latin text).
+pub const TEXT_ADVANCE: f64 = 0.55;
+
+/// Default `font-size` of a `<text>` in user units: 16 (CSS `medium`).
+const DEFAULT_FONT_SIZE: f64 = 16.0;
+
+/// Samples on one line: `det C ≤ FLAT_REGION · (tr C)²`, i.e. the smaller principal variance
+/// below about 1e-12 of the larger (relative, so scale-free).
+pub const FLAT_REGION: f64 = 1e-12;
+
+/// Two maps of one element agree (share a copy of its paint server or marker) when they differ
+/// by at most 1e-9 of the element's size (relative, so scale-free; far above rounding, far
+/// below anything visible).
+pub const SAME_MAP: f64 = 1e-9;
+
+/// Options of [`ElementMaps`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct FollowOptions {
+    /// Multiply stroke widths by the local scale of each element's map (module doc).
+    /// Default: `false`, as Illustrator's Puppet Warp.
+    pub scale_strokes: bool,
+}
+
+impl FollowOptions {
+    /// Sets [`FollowOptions::scale_strokes`].
+    pub fn with_scale_strokes(mut self, on: bool) -> Self {
+        self.scale_strokes = on;
+        self
+    }
+}
+
+/// The least-squares affine map taking `rest[k]` to `image[k]` with weights `weights[k]`
+/// (module doc: formula, one-line and one-point regions). `None` when the slices differ in
+/// length, are empty, or have no positive total weight or a non-finite value.
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin_svg::follow::best_fit_affine;
+/// let t = Affine::new([2.0, 0.5, -0.3, 1.5, 4.0, -1.0]);
+/// let rest = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 2.0)].map(Point::from);
+/// let image: Vec<Point> = rest.iter().map(|&p| t * p).collect();
+/// let a = best_fit_affine(&rest, &image, &[1.0; 4]).unwrap();
+/// for (x, y) in a.as_coeffs().iter().zip(t.as_coeffs()) {
+///     assert!((x - y).abs() < 1e-12);
+/// }
+/// ```
+pub fn best_fit_affine(rest: &[Point], image: &[Point], weights: &[f64]) -> Option<Affine> {
+    if rest.is_empty() || rest.len() != image.len() || rest.len() != weights.len() {
+        return None;
+    }
+    let total: f64 = weights.iter().sum();
+    if !(total > 0.0 && total.is_finite()) {
+        return None;
+    }
+    let mean = |pts: &[Point]| {
+        let mut m = Vec2::ZERO;
+        for (p, &w) in pts.iter().zip(weights) {
+            m += w * p.to_vec2();
+        }
+        (m / total).to_point()
+    };
+    let (p_mean, q_mean) = (mean(rest), mean(image));
+    let (mut cxx, mut cxy, mut cyy) = (0.0, 0.0, 0.0);
+    let mut x = [0.0; 4]; // [[x0, x1], [x2, x3]] = Σ ω (q − q̄)(p − p̄)ᵀ
+    for ((p, q), &w) in rest.iter().zip(image).zip(weights) {
+        let (dp, dq) = (*p - p_mean, *q - q_mean);
+        cxx += w * dp.x * dp.x;
+        cxy += w * dp.x * dp.y;
+        cyy += w * dp.y * dp.y;
+        x[0] += w * dq.x * dp.x;
+        x[1] += w * dq.x * dp.y;
+        x[2] += w * dq.y * dp.x;
+        x[3] += w * dq.y * dp.y;
+    }
+    let trace = cxx + cyy;
+    let det = cxx * cyy - cxy * cxy;
+    // m = [[m0, m1], [m2, m3]] acting on column vectors.
+    let m = if trace == 0.0 {
+        [1.0, 0.0, 0.0, 1.0]
+    } else if det <= FLAT_REGION * trace * trace {
+        let angle = 0.5 * (2.0 * cxy).atan2(cxx - cyy);
+        let u = Vec2::new(angle.cos(), angle.sin());
+        let lambda = u.x * (cxx * u.x + cxy * u.y) + u.y * (cxy * u.x + cyy * u.y);
+        let mu = Vec2::new(x[0] * u.x + x[1] * u.y, x[2] * u.x + x[3] * u.y) / lambda;
+        let n = Vec2::new(-u.y, u.x);
+        let mn = Vec2::new(-mu.y, mu.x);
+        // M = (M u) uᵀ + (M n) nᵀ
+        [
+            mu.x * u.x + mn.x * n.x,
+            mu.x * u.y + mn.x * n.y,
+            mu.y * u.x + mn.y * n.x,
+            mu.y * u.y + mn.y * n.y,
+        ]
+    } else {
+        // X C⁻¹, C⁻¹ = [[cyy, −cxy], [−cxy, cxx]] / det
+        [
+            (x[0] * cyy - x[1] * cxy) / det,
+            (x[1] * cxx - x[0] * cxy) / det,
+            (x[2] * cyy - x[3] * cxy) / det,
+            (x[3] * cxx - x[2] * cxy) / det,
+        ]
+    };
+    let t = q_mean.to_vec2()
+        - Vec2::new(
+            m[0] * p_mean.x + m[1] * p_mean.y,
+            m[2] * p_mean.x + m[3] * p_mean.y,
+        );
+    let a = Affine::new([m[0], m[2], m[1], m[3], t.x, t.y]);
+    a.is_finite().then_some(a)
+}
+
+/// The angle (radians) of the rotation closest to the linear part of `m` (its polar factor,
+/// for a map that keeps orientation): `atan2(b − c, a + d)` in `Affine`'s `(a, b, c, d)`.
+///
+/// ```
+/// use kurbo::Affine;
+/// use splineskin_svg::follow::rotation_angle;
+/// let m = Affine::rotate(0.3) * Affine::scale_non_uniform(2.0, 0.5);
+/// assert!((rotation_angle(m) - 0.3).abs() < 1e-12);
+/// ```
+pub fn rotation_angle(m: Affine) -> f64 {
+    let [a, b, c, d, _, _] = m.as_coeffs();
+    (b - c).atan2(a + d)
+}
+
+/// The local scale `√|det|` of the linear part of `m` (its area scale, as a length).
+pub fn local_scale(m: Affine) -> f64 {
+    m.determinant().abs().sqrt()
+}
+
+/// A `<text>` or `<image>` carried by its best-fit map ([`ElementMaps`]).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Carried {
+    /// Byte offset of the element in the source text.
+    pub(crate) offset: usize,
+    /// Its parent's user space → root user space (`P` in the module doc).
+    pub(crate) parent_to_root: Affine,
+    /// Its best-fit map, root user space (`A`).
+    pub(crate) map: Affine,
+}
+
+/// The best-fit affine map of a deformation over every element of a drawing's document that
+/// is not carried by its curves alone (module doc), computed once per pose and given to
+/// [`crate::svg_out::write_svg_following`].
+///
+/// Once per pose: [`ElementMaps::from_map`] with the deformation's point map (for skinning,
+/// `|p| splineskin::naive::skin_point(&weights, &pose, p, &mut scratch)`); then write with the
+/// deformed points. This module knows no weights: any point map will do (a deformation
+/// operator's, a test's closed form).
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin_svg::follow::{ElementMaps, FollowOptions};
+/// use splineskin_svg::{read_svg, ImportOptions};
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <rect width="4" height="2"/><text x="1" y="8">hi</text></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let t = Affine::rotate(0.5);
+/// let maps = ElementMaps::from_map(&drawing, &mut |p| t * p, &FollowOptions::default()).unwrap();
+/// let a = maps.element_map(0).unwrap();
+/// assert!(a.as_coeffs().iter().zip(t.as_coeffs()).all(|(x, y)| (x - y).abs() < 1e-12));
+/// assert_eq!(maps.n_carried(), 1); // the text
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct ElementMaps {
+    /// One per element of the source ([`splineskin_core::drawing::SvgSource::n_elements`]), root user space.
+    pub(crate) elements: Vec<Affine>,
+    /// Texts and images.
+    pub(crate) carried: Vec<Carried>,
+    /// The options they were computed with.
+    pub(crate) options: FollowOptions,
+    /// The number of paths of the drawing they were computed for (a consistency check).
+    pub(crate) n_paths: usize,
+}
+
+impl ElementMaps {
+    /// The best-fit affine maps of the point map `map` (root user space) over the elements of
+    /// `drawing`'s document. A drawing without a source document has only its paths: their
+    /// maps are computed, nothing else is carried.
+    ///
+    /// Errors: [`SvgError::Xml`] if the source no longer parses; [`SvgError::NonFinitePoint`]
+    /// when `map` gives a non-finite point on an element's region (naming the element).
+    pub fn from_map(
+        drawing: &Drawing,
+        map: &mut dyn FnMut(Point) -> Point,
+        options: &FollowOptions,
+    ) -> Result<ElementMaps, SvgError> {
+        let mut fit = |label: &dyn Fn() -> String,
+                       samples: &[Point],
+                       weights: &[f64]|
+         -> Result<Affine, SvgError> {
+            let image: Vec<Point> = samples.iter().map(|&p| map(p)).collect();
+            best_fit_affine(samples, &image, weights).ok_or_else(|| SvgError::NonFinitePoint {
+                file: origin(drawing).to_string(),
+                element: label(),
+                index: 0,
+            })
+        };
+        let mut elements = Vec::new();
+        let mut carried = Vec::new();
+        match &drawing.source {
+            None => {
+                for (i, path) in drawing.paths.iter().enumerate() {
+                    let (s, w) = curve_samples(std::slice::from_ref(path));
+                    elements.push(fit(&|| format!("path {i}"), &s, &w)?);
+                }
+            }
+            Some(source) => {
+                for e in &source.elements {
+                    let paths = &drawing.paths[e.paths.clone()];
+                    let (s, w) = match e.paint.filled && !e.zero_area_fill {
+                        true => area_samples(paths).unwrap_or_else(|| curve_samples(paths)),
+                        false => curve_samples(paths),
+                    };
+                    elements.push(fit(&|| e.label.clone(), &s, &w)?);
+                }
+                let doc = crate::document::parse_xml(&source.text, &source.origin)?;
+                for (node, parent_to_root, local) in carried_elements(&doc, source) {
+                    let local_to_root = parent_to_root * own_transform(node);
+                    let s: Vec<Point> =
+                        grid(local).into_iter().map(|p| local_to_root * p).collect();
+                    let label = || crate::document::node_label(&doc, node);
+                    let w = vec![1.0; s.len()];
+                    let map = fit(&label, &s, &w)?;
+                    carried.push(Carried {
+                        offset: node.range().start,
+                        parent_to_root,
+                        map,
+                    });
+                }
+            }
+        }
+        Ok(ElementMaps {
+            elements,
+            carried,
+            options: *options,
+            n_paths: drawing.paths.len(),
+        })
+    }
+
+    /// The best-fit map (root user space) of element `element` of the source
+    /// ([`splineskin_core::drawing::SvgSource::n_elements`] order; path `element` for a drawing without a source).
+    pub fn element_map(&self, element: usize) -> Option<Affine> {
+        self.elements.get(element).copied()
+    }
+
+    /// Number of `<text>` and `<image>` elements carried.
+    pub fn n_carried(&self) -> usize {
+        self.carried.len()
+    }
+
+    /// The best-fit map (root user space) of the carried `<text>` or `<image>` starting at byte
+    /// `offset` of the source text, if it is carried.
+    pub fn carried_map(&self, offset: usize) -> Option<Affine> {
+        self.carried
+            .iter()
+            .find(|c| c.offset == offset)
+            .map(|c| c.map)
+    }
+
+    /// The options they were computed with.
+    pub fn options(&self) -> FollowOptions {
+        self.options
+    }
+}
+
+fn origin(drawing: &Drawing) -> &str {
+    drawing
+        .source
+        .as_ref()
+        .map_or("<drawing>", |s| s.origin.as_str())
+}
+
+/// [`CURVE_SAMPLES`] points per curve, weighted by the curve's chord-polygon length over the
+/// number of samples (module doc).
+fn curve_samples(paths: &[splineskin_core::drawing::Path]) -> (Vec<Point>, Vec<f64>) {
+    let (mut s, mut w) = (Vec::new(), Vec::new());
+    for path in paths {
+        for j in 0..path.n_curves() {
+            let [p0, p1, p2, p3] = path.curve_points(j);
+            let length = (p1 - p0).hypot() + (p2 - p1).hypot() + (p3 - p2).hypot();
+            let c = path.curve(j);
+            for k in 0..CURVE_SAMPLES {
+                let t = (k as f64 + 0.5) / CURVE_SAMPLES as f64;
+                s.push(kurbo::ParamCurve::eval(&c, t));
+                w.push(length / CURVE_SAMPLES as f64);
+            }
+        }
+    }
+    if w.iter().all(|&x| x == 0.0) {
+        // All curves of zero length: their points, equally weighted.
+        w.iter_mut().for_each(|x| *x = 1.0);
+    }
+    (s, w)
+}
+
+/// Centres of a [`REGION_GRID`]² grid over the paths' control box inside their fill (nonzero
+/// rule, each subpath closed); `None` when fewer than three are inside.
+fn area_samples(paths: &[splineskin_core::drawing::Path]) -> Option<(Vec<Point>, Vec<f64>)> {
+    let mut bez = BezPath::new();
+    let mut bounds: Option<Rect> = None;
+    for path in paths {
+        bez.move_to(path.points[0]);
+        for j in 0..path.n_curves() {
+            let [_, p1, p2, p3] = path.curve_points(j);
+            bez.curve_to(p1, p2, p3);
+        }
+        bez.close_path();
+        for &p in &path.points {
+            bounds = Some(bounds.map_or(Rect::from_points(p, p), |r| r.union_pt(p)));
+        }
+    }
+    let inside: Vec<Point> = grid(bounds?)
+        .into_iter()
+        .filter(|&p| bez.winding(p) != 0)
+        .collect();
+    (inside.len() >= 3).then(|| {
+        let w = vec![1.0; inside.len()];
+        (inside, w)
+    })
+}
+
+/// Centres of a [`REGION_GRID`]² grid over `r`.
+fn grid(r: Rect) -> Vec<Point> {
+    let n = REGION_GRID;
+    let mut out = Vec::with_capacity(n * n);
+    for iy in 0..n {
+        for ix in 0..n {
+            let fx = (ix as f64 + 0.5) / n as f64;
+            let fy = (iy as f64 + 0.5) / n as f64;
+            out.push(Point::new(r.x0 + fx * r.width(), r.y0 + fy * r.height()));
+        }
+    }
+    out
+}
+
+/// The `transform` attribute of `node` (identity when absent or unreadable: import has
+/// checked every transform).
+pub(crate) fn own_transform(node: roxmltree::Node) -> Affine {
+    node.attribute("transform")
+        .and_then(|v| svgtypes::Transform::from_str(v).ok())
+        .map(|t| Affine::new([t.a, t.b, t.c, t.d, t.e, t.f]))
+        .unwrap_or(Affine::IDENTITY)
+}
+
+/// Containers through which a `<text>` or `<image>` is drawn as it is in root user space.
+const PLAIN_CONTAINERS: &[&str] = &["g", "a", "switch"];
+
+/// The `<text>` and `<image>` elements that are carried (module doc), with their parent's
+/// user space → root map and their region in their local coordinates.
+pub(crate) fn carried_elements<'a, 'i>(
+    doc: &'a roxmltree::Document<'i>,
+    source: &splineskin_core::drawing::SvgSource,
+) -> Vec<(roxmltree::Node<'a, 'i>, Affine, Rect)> {
+    let root = doc.root_element();
+    let mut out = Vec::new();
+    for node in doc.descendants() {
+        if !crate::document::is_svg_element(node) {
+            continue;
+        }
+        let tag = node.tag_name().name();
+        if tag != "text" && tag != "image" {
+            continue;
+        }
+        let mut parent_to_root = Affine::IDENTITY;
+        let mut plain = true;
+        for a in node.ancestors().skip(1) {
+            if a == root || !a.is_element() {
+                break;
+            }
+            if !(crate::document::is_svg_element(a)
+                && PLAIN_CONTAINERS.contains(&a.tag_name().name()))
+            {
+                plain = false;
+                if a.tag_name().name() == "svg" {
+                    tracing::warn!(
+                        file = source.origin.as_str(),
+                        element = %crate::document::node_label(doc, node),
+                        "text or image inside a nested <svg> is not carried by the deformation"
+                    );
+                }
+                break;
+            }
+            parent_to_root = own_transform(a) * parent_to_root;
+        }
+        if !plain {
+            continue;
+        }
+        let region = match tag {
+            "image" => image_region(node, source),
+            _ if node
+                .descendants()
+                .any(|d| d.tag_name().name() == "textPath") =>
+            {
+                None
+            }
+            _ => Some(text_region(node)),
+        };
+        if let Some(region) = region {
+            out.push((node, parent_to_root, region));
+        }
+    }
+    out
+}
+
+/// An image's `x y width height` (percentages of the root viewport); `None` without a size.
+fn image_region(
+    node: roxmltree::Node,
+    source: &splineskin_core::drawing::SvgSource,
+) -> Option<Rect> {
+    let vb = source.view_box;
+    let length = |name: &str, base: f64| {
+        node.attribute(name)
+            .map(|v| crate::document::user_length(v, base).ok())
+            .unwrap_or(Some(0.0))
+    };
+    let (x, y) = (length("x", vb.width())?, length("y", vb.height())?);
+    let (w, h) = (length("width", vb.width())?, length("height", vb.height())?);
+    if !(w > 0.0 && h > 0.0) {
+        tracing::warn!(
+            file = source.origin.as_str(),
+            "an <image> without width and height is not carried by the deformation"
+        );
+        return None;
+    }
+    Some(Rect::new(x, y, x + w, y + h))
+}
+
+/// The estimated box of a `<text>` (module doc), in its local coordinates.
+fn text_region(node: roxmltree::Node) -> Rect {
+    let first = |name: &str| {
+        node.attribute(name)
+            .and_then(|v| v.split([' ', ',']).find(|s| !s.is_empty()))
+            .and_then(|v| crate::document::user_length(v, 100.0).ok())
+            .unwrap_or(0.0)
+    };
+    let (x, y) = (first("x"), first("y"));
+    let em = inherited(node, "font-size")
+        .and_then(|v| crate::document::user_length(&v, DEFAULT_FONT_SIZE).ok())
+        .filter(|v| *v > 0.0)
+        .unwrap_or(DEFAULT_FONT_SIZE);
+    let n_chars = node
+        .descendants()
+        .filter(|d| d.is_text())
+        .filter_map(|d| d.text())
+        .map(|t| {
+            t.split_whitespace()
+                .collect::<Vec<_>>()
+                .join(" ")
+                .chars()
+                .count()
+        })
+        .sum::<usize>()
+        .max(1);
+    let width = TEXT_ADVANCE * em * n_chars as f64;
+    let x0 = match inherited(node, "text-anchor").as_deref() {
+        Some("middle") => x - width / 2.0,
+        Some("end") => x - width,
+        _ => x,
+    };
+    Rect::new(x0, y - 0.8 * em, x0 + width, y + 0.2 * em)
+}
+
+/// The value of property `name` on `node` or its nearest ancestor that sets it, from `style`
+/// declarations (first) or the presentation attribute (style sheets are not read).
+pub(crate) fn inherited(node: roxmltree::Node, name: &str) -> Option<String> {
+    for n in node.ancestors().filter(|n| n.is_element()) {
+        if let Some(v) = declared(n, name) {
+            return Some(v);
+        }
+    }
+    None
+}
+
+/// The value of property `name` declared on `node` itself (`style`, then the attribute).
+pub(crate) fn declared(node: roxmltree::Node, name: &str) -> Option<String> {
+    if let Some(style) = node.attribute("style") {
+        for decl in style.split(';') {
+            if let Some((k, v)) = decl.split_once(':') {
+                if k.trim() == name {
+                    return Some(v.trim().trim_end_matches("!important").trim().to_string());
+                }
+            }
+        }
+    }
+    node.attribute(name).map(|v| v.trim().to_string())
+}
+
+/// Whether two local maps agree within [`SAME_MAP`] over a region of size `size` (local
+/// units): `‖ΔM‖·size + ‖Δt‖ ≤ SAME_MAP · (‖M‖·size + ‖t‖)`, coefficient-wise max norms.
+pub(crate) fn same_map(a: Affine, b: Affine, size: f64) -> bool {
+    let (ca, cb) = (a.as_coeffs(), b.as_coeffs());
+    let lin = |c: &[f64; 6]| c[..4].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let tr = |c: &[f64; 6]| c[4].abs().max(c[5].abs());
+    let d: [f64; 6] = std::array::from_fn(|k| ca[k] - cb[k]);
+    lin(&d) * size + tr(&d) <= SAME_MAP * (lin(&ca) * size + tr(&ca))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Direct least squares in homogeneous coordinates: minimise Σ ω ‖A p̄ − q‖² by the 3×3
+    /// normal equations (Σ ω p̄ p̄ᵀ) aᵣ = Σ ω q_r p̄ for each row r, solved by Cramer's rule.
+    fn direct(rest: &[Point], image: &[Point], w: &[f64]) -> Affine {
+        let mut n = [[0.0; 3]; 3];
+        let mut rhs = [[0.0; 3]; 2];
+        for ((p, q), &wk) in rest.iter().zip(image).zip(w) {
+            let h = [p.x, p.y, 1.0];
+            for r in 0..3 {
+                for c in 0..3 {
+                    n[r][c] += wk * h[r] * h[c];
+                }
+                rhs[0][r] += wk * q.x * h[r];
+                rhs[1][r] += wk * q.y * h[r];
+            }
+        }
+        let det3 = |m: [[f64; 3]; 3]| {
+            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+        };
+        let d = det3(n);
+        let solve = |b: [f64; 3]| -> [f64; 3] {
+            std::array::from_fn(|k| {
+                let mut m = n;
+                for r in 0..3 {
+                    m[r][k] = b[r];
+                }
+                det3(m) / d
+            })
+        };
+        let (x, y) = (solve(rhs[0]), solve(rhs[1]));
+        Affine::new([x[0], y[0], x[1], y[1], x[2], y[2]])
+    }
+
+    #[test]
+    fn best_fit_affine_matches_normal_equations() {
+        let rest: Vec<Point> = (0..40)
+            .map(|k| {
+                let t = k as f64;
+                Point::new((t * 1.7).sin() * 3.0 + 10.0, (t * 0.9).cos() * 2.0 - 4.0)
+            })
+            .collect();
+        let image: Vec<Point> = rest
+            .iter()
+            .map(|p| Point::new(p.x + 0.1 * p.y * p.y, p.y - 0.2 * p.x.sin()))
+            .collect();
+        let w: Vec<f64> = (0..40).map(|k| 1.0 + (k % 3) as f64).collect();
+        let a = best_fit_affine(&rest, &image, &w).unwrap();
+        let b = direct(&rest, &image, &w);
+        for (x, y) in a.as_coeffs().iter().zip(b.as_coeffs()) {
+            assert!((x - y).abs() < 1e-9 * (1.0 + y.abs()), "{a:?} vs {b:?}");
+        }
+    }
+
+    #[test]
+    fn best_fit_affine_on_a_line_is_completed_conformally() {
+        let t = Affine::translate((3.0, 1.0)) * Affine::rotate(0.4) * Affine::scale(2.0);
+        let rest: Vec<Point> = (0..5)
+            .map(|k| Point::new(k as f64, 2.0 * k as f64))
+            .collect();
+        let image: Vec<Point> = rest.iter().map(|&p| t * p).collect();
+        let a = best_fit_affine(&rest, &image, &[1.0; 5]).unwrap();
+        for (x, y) in a.as_coeffs().iter().zip(t.as_coeffs()) {
+            assert!((x - y).abs() < 1e-12, "{a:?} vs {t:?}");
+        }
+        // One point: translation only.
+        let p = [Point::new(5.0, 5.0)];
+        let a = best_fit_affine(&p, &[Point::new(6.0, 4.0)], &[1.0]).unwrap();
+        assert_eq!(a, Affine::translate((1.0, -1.0)));
+    }
+
+    #[test]
+    fn best_fit_affine_is_scale_and_translation_invariant() {
+        let rest: Vec<Point> = (0..30)
+            .map(|k| Point::new((k as f64 * 2.1).sin(), (k as f64 * 1.3).cos()))
+            .collect();
+        let f = |p: Point| Point::new(p.x + 0.3 * p.y * p.y, p.y + 0.2 * p.x);
+        let a = best_fit_affine(
+            &rest,
+            &rest.iter().map(|&p| f(p)).collect::<Vec<_>>(),
+            &[1.0; 30],
+        )
+        .unwrap();
+        // Scaled by 10^±6 and moved a thousand times its size away (f64 keeps the samples'
+        // spread to ~1e-13 there).
+        for (s, d) in [(1e-6, 1e-3), (1e6, -3e9)] {
+            let to = Affine::translate((d, d)) * Affine::scale(s);
+            let rest2: Vec<Point> = rest.iter().map(|&p| to * p).collect();
+            let image2: Vec<Point> = rest.iter().map(|&p| to * f(p)).collect();
+            let b = best_fit_affine(&rest2, &image2, &[1.0; 30]).unwrap();
+            let expected = to * a * to.inverse();
+            let probe = to * Point::new(0.5, 0.5);
+            assert!((b * probe - expected * probe).hypot() < 1e-9 * s, "{s}");
+        }
+    }
+}

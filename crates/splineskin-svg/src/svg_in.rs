@@ -1,0 +1,1429 @@
+//! SVG import: a document becomes a [`Drawing`] of cubic chains in the root element's user
+//! space, plus an [`SvgSource`] that lets [`crate::svg_out`] write deformed geometry back into the
+//! same document.
+//!
+//! # What is read
+//!
+//! The text is checked ([`MAX_SVG_BYTES`], well-formed XML, an `<svg>` root, every `d`,
+//! `points`, `transform`, `viewBox` and shape/`use` length attribute parsed with `svgtypes` and
+//! required to be finite and within [`MAX_COORDINATE`]), then handed to usvg, which resolves
+//! styles, nested transforms, nested `svg` viewports and turns every path command (M, L, H, V,
+//! C, S, Q, T, A, Z, absolute or relative) and every basic shape (`rect` incl. rounded,
+//! `circle`, `ellipse`, `line`, `polyline`, `polygon`) into move / line / quadratic / cubic /
+//! close segments. usvg never touches the file system here (no resources directory, images are
+//! not loaded).
+//!
+//! The `d` of a `<path>` is read in `f64` with the same svgtypes simplification usvg applies
+//! (and checked against usvg's `f32` copy); shapes use usvg's `f32` points. Each segment then
+//! becomes a cubic, in `f64`:
+//!
+//! ```text
+//! line  p0 → p3:          c1 = p0 + (p3 − p0)/3,   c2 = p0 + 2(p3 − p0)/3          (exact)
+//! quad  p0, q, p3:        c1 = p0 + 2/3 (q − p0),  c2 = p3 + 2/3 (q − p3)          (exact)
+//! cubic:                  kept
+//! ```
+//!
+//! **Straight segments between corners** (neither end a C¹ or G¹ junction: corners, fixed
+//! angles, open ends) instead get their control points on their ends, `c1 = p0, c2 = p3` — the
+//! same straight line (the form Illustrator stores), parametrised with speed `6t(1−t)·(p3 − p0)`.
+//! The fit compares the deformed curve with the skinned one *at equal parameters*, so the
+//! parametrisation of a line chooses which cubic best follows its bent image; measured against
+//! the exactly skinned segment (random poses, bundled fish, the authors' turtles and U-shape),
+//! the end form is 10–40 % closer for segments between corners, while at smooth junctions the
+//! thirds are 5–10 times closer (the end form would leave no tangent there). Turn it off with
+//! [`ImportOptions::corner_lines_at_ends`].
+//!
+//! Elliptical arcs (in `d`, rounded-rect corners, circles and ellipses) are approximated by usvg
+//! and svgtypes with kurbo's standard arc approximation: at most 90° per cubic, control arms
+//! `4/3·tan(θ/4)` times the radius, so the radial error is at most `2.73e-4 × radius` per cubic
+//! (the classic quarter-circle figure, 0.0273 %), and at most 0.1 local units (more cubics are
+//! used on large arcs). This is the only geometric
+//! approximation of the import; everything else is exact up to usvg's `f32` storage of
+//! transform coefficients and shape attributes (relative error ≈ 6e-8).
+//!
+//! # Coordinates
+//!
+//! All points are in the root `<svg>` element's user space (viewBox units): every transform
+//! between the root and an element (group, element, `use`, nested `svg`) is applied, the
+//! root's own `transform` and its viewBox → viewport mapping are not. The composition of the
+//! individual transforms is done in `f64`.
+//!
+//! # Subpaths and degenerate input
+//!
+//! Every subpath becomes one [`Path`] in document order. `Z` closes it: if the last point
+//! differs from the first (by more than [`CLOSE_SNAP`] of the subpath's size) a closing line is
+//! added as one more cubic, otherwise the last point is set to the first and the path is marked
+//! closed. A subpath without `Z` whose last point equals its first exactly (as drawn in
+//! illustration tools that close a shape by returning to its start) is closed too: its ends are
+//! one point with a junction, so a deformation cannot open it; export writes it back without
+//! `Z`, so its stroke caps do not change. Zero-length segments, duplicate consecutive points and control points on top of
+//! their end points are **kept** as they are (so the curve count is stable: export writes the
+//! same curves back). Subpaths of a single point (`M` alone, `M … Z` with nothing in between)
+//! carry no curve: they are skipped with a `tracing` warning and are not written back.
+//!
+//! # What is not imported
+//!
+//! - The content of patterns and markers is not imported as art (it is drawn in the paint's or
+//!   marker's own coordinates); [`crate::follow`] carries user-space patterns and
+//!   fixed-orientation markers by each element's best-fit affine map. Paths that usvg emits
+//!   without a source element (marker contents, the two halves of a path split by
+//!   `paint-order` around markers) are skipped with a `tracing` warning.
+//!
+//! # Hidden layers, clip paths and masks
+//!
+//! Every path gets a [`PathRole`]. usvg drops `display: none` elements, so a document that
+//! mentions `display` is read a second time with a user style sheet showing everything
+//! (`* { display: inline !important }`); paths of that reading missing from the first are
+//! [`PathRole::Hidden`]: they are deformed and written back like the rest (their `display`
+//! kept), so unhiding a layer shows it posed. The geometry of a `<clipPath>` and the content of
+//! a `<mask>` applied to an element are imported before that element's own paths, in the
+//! clipped element's user space (its transforms, the clip's `transform` and, in
+//! `clipPathUnits="objectBoundingBox"`, the rest bounding box); export writes such a clip in
+//! `userSpaceOnUse` units with that map as its `transform`, so it does not follow the deformed
+//! bounding box a second time. A clip path or mask used by several elements is imported once,
+//! for its first use: uses in the same coordinates get the same deformation; a use in other
+//! coordinates (another transform, another bounding box) would need a second copy, which this
+//! version does not write: it says so with a `tracing` warning. Mask content in
+//! `maskContentUnits="objectBoundingBox"` is left at rest, with a warning; mask regions
+//! (`x y width height` of the `<mask>`) are not moved.
+//! - Images are not geometry here: they are kept verbatim on export, or carried by their
+//!   best-fit affine map with [`crate::svg_out::write_svg_following`]. So is text, unless
+//!   [`ImportOptions::text`] is [`TextMode::Outlines`]: then every `<text>` becomes `<path>`
+//!   elements of its glyph outlines before the document is read, and deforms as curves.
+//! - `use` elements are expanded before usvg sees them (the same expansion
+//!   [`crate::svg_out::write_svg`] writes: a `<g>` holding a copy of the referenced content),
+//!   so CSS rules that select the referenced content by id or position do not follow it into the
+//!   copy. A `use` of an `<svg>` element and `use` lengths in `em`/`ex` are unsupported
+//!   (an error), and the clipping of a referenced `symbol` to its viewport is dropped.
+//! - Elements created by DTD entity expansion are unsupported (an error).
+
+use std::collections::HashMap;
+use std::str::FromStr;
+use std::sync::Arc;
+
+use kurbo::{Affine, Point, Rect, Size};
+
+use crate::document::{node_label, parse_xml, unique_prefix, SHOW_HIDDEN_CSS};
+pub use crate::document::{SvgError, MAX_SVG_BYTES};
+use crate::rewrite::{GeometryEdit, RewritePolicy};
+use splineskin_core::drawing::source::{
+    ElementKey, ElementKind, ElementPaint, ImportedElement, SvgSource,
+};
+use splineskin_core::drawing::{Drawing, JointKind, JunctionOptions, Path, PathRole};
+
+/// Largest accepted absolute value of a coordinate, in user units: 1e9. Checked on every number
+/// of `d`, `points` and shape attributes, and on every point after transforms (root user
+/// space). usvg stores `f32`, whose spacing at 1e9 is already 64 units.
+pub const MAX_COORDINATE: f64 = 1e9;
+
+/// Distance, relative to the larger of a subpath's control-point bounding-box diagonal and its
+/// largest absolute coordinate (local units), below which the end of a closed subpath counts as
+/// its start: 1e-6. usvg's `f32` rounding (≈ 6e-8 relative) can leave arcs and circles ending a
+/// few ulps away from where they started; a closing line of that length would be a spurious
+/// degenerate curve.
+pub const CLOSE_SNAP: f64 = 1e-6;
+
+/// Options of the SVG import.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct ImportOptions {
+    /// How the junctions of every imported path are classified.
+    /// Default: [`JunctionOptions::default`].
+    pub junctions: JunctionOptions,
+    /// Place the control points of straight segments between corners on their ends rather
+    /// than at their thirds (see the module doc). Default: `true`.
+    pub corner_lines_at_ends: bool,
+    /// What becomes of `<text>` elements. Default: [`TextMode::Keep`].
+    pub text: TextMode,
+}
+
+/// What the import does with `<text>` elements ([`ImportOptions::text`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum TextMode {
+    /// Text stays text: it is not part of the drawing's curves, and export writes it as the
+    /// document has it. The default.
+    #[default]
+    Keep,
+    /// Every `<text>` becomes its glyph outlines before the document is read: `<path>`
+    /// elements (one per text span and decoration line, grouped when their paint differs)
+    /// with the text's attributes, its resolved paint (fill, stroke, opacities, …) and as `d`
+    /// the outlines usvg lays out in DejaVu Sans ([`crate::fonts`]), the font every render
+    /// uses, so at rest they draw exactly what a render of the text draws. They are then
+    /// imported like any path (quadratics elevated exactly to cubics), deformed as curves by
+    /// the fit, and written back as `<path>` elements where the `<text>` was;
+    /// [`SvgSource::text`] is the converted document.
+    ///
+    /// **What is lost**: the string. The outlines can no longer be edited, searched, selected
+    /// or read aloud as text, nor drawn in another font; text usvg cannot lay out (no
+    /// character of it in DejaVu Sans) stays text.
+    /// The extra `<path>` elements also shift the numbering of `<path>` elements that the
+    /// paper authors' scenes refer to ([`SvgSource::path_tag_position`]).
+    ///
+    /// ```
+    /// use splineskin_svg::{read_svg, ImportOptions, TextMode};
+    /// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 40">
+    ///   <rect width="100" height="40" fill="none" stroke="gray"/>
+    ///   <text id="t" x="10" y="30" font-size="24" fill="navy">Hi</text></svg>"#;
+    /// let kept = read_svg(svg, &ImportOptions::default()).unwrap();
+    /// assert_eq!(kept.paths.len(), 1); // the rectangle only
+    /// let outlined = read_svg(svg, &ImportOptions::default().with_text(TextMode::Outlines));
+    /// let outlined = outlined.unwrap();
+    /// assert_eq!(outlined.paths.len(), 1 + 3); // H: one outline, i: its stem and its dot
+    /// let source = outlined.source.as_ref().unwrap();
+    /// assert_eq!(source.element_label(1), "path#t (line 3)");
+    /// assert!(source.text().contains(r#"<path id="t" fill="navy" d="M"#));
+    /// ```
+    Outlines,
+}
+
+impl Default for ImportOptions {
+    fn default() -> Self {
+        ImportOptions {
+            junctions: JunctionOptions::default(),
+            corner_lines_at_ends: true,
+            text: TextMode::Keep,
+        }
+    }
+}
+
+impl ImportOptions {
+    /// Sets [`ImportOptions::corner_lines_at_ends`].
+    ///
+    /// ```
+    /// use splineskin_svg::{read_svg, ImportOptions};
+    /// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 L3 0"/></svg>"#;
+    /// let ends = read_svg(svg, &ImportOptions::default()).unwrap();
+    /// assert_eq!(ends.paths[0].points[1], kurbo::Point::new(0.0, 0.0));
+    /// let thirds = ImportOptions::default().with_corner_lines_at_ends(false);
+    /// let thirds = read_svg(svg, &thirds).unwrap();
+    /// assert_eq!(thirds.paths[0].points[1], kurbo::Point::new(1.0, 0.0));
+    /// ```
+    pub fn with_corner_lines_at_ends(mut self, on: bool) -> Self {
+        self.corner_lines_at_ends = on;
+        self
+    }
+
+    /// Sets [`ImportOptions::junctions`].
+    pub fn with_junctions(mut self, junctions: JunctionOptions) -> Self {
+        self.junctions = junctions;
+        self
+    }
+
+    /// Sets [`ImportOptions::text`].
+    pub fn with_text(mut self, text: TextMode) -> Self {
+        self.text = text;
+        self
+    }
+}
+
+/// The paint of a usvg path ([`ElementPaint`]).
+fn element_paint(path: &usvg::Path) -> ElementPaint {
+    let server = |paint: &usvg::Paint| match paint {
+        usvg::Paint::Color(_) => None,
+        usvg::Paint::LinearGradient(g) => Some(g.id().to_string()),
+        usvg::Paint::RadialGradient(g) => Some(g.id().to_string()),
+        usvg::Paint::Pattern(p) => Some(p.id().to_string()),
+    };
+    ElementPaint {
+        filled: path.fill().is_some(),
+        stroke_width: path.stroke().map(|s| f64::from(s.width().get())),
+        fill_server: path.fill().and_then(|f| server(f.paint())),
+        stroke_server: path.stroke().and_then(|s| server(s.paint())),
+    }
+}
+
+/// Name used in errors for documents that did not come from a file.
+const TEXT_ORIGIN: &str = "<svg text>";
+
+/// Longest attribute value quoted in an error message, in characters.
+const MAX_QUOTED_VALUE: usize = 60;
+
+/// Reads an SVG document into a [`Drawing`] whose [`Drawing::source`] allows writing it back.
+///
+/// See the module doc for what is read and how. Errors: [`SvgError::TooLarge`],
+/// [`SvgError::Empty`], [`SvgError::Xml`], [`SvgError::NoSvgRoot`],
+/// [`SvgError::InvalidAttribute`], [`SvgError::CoordinateOutOfRange`], [`SvgError::NoPaths`],
+/// [`SvgError::Usvg`], [`SvgError::Unsupported`].
+///
+/// ```
+/// use splineskin_svg::svg_in::{read_svg, ImportOptions};
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100" width="200">
+///   <g transform="translate(10 0)"><rect width="20" height="10"/></g>
+/// </svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// assert_eq!(drawing.paths.len(), 1);
+/// let rect = &drawing.paths[0];
+/// assert!(rect.closed);
+/// assert_eq!(rect.n_curves(), 4); // four sides, the last one the closing line
+/// assert_eq!(rect.points[3], kurbo::Point::new(30.0, 0.0)); // viewBox units, not pixels
+/// ```
+pub fn read_svg(text: &str, options: &ImportOptions) -> Result<Drawing, SvgError> {
+    read_svg_impl(text, options, TEXT_ORIGIN)
+}
+
+/// Reads an SVG document held in memory like [`read_svg`], naming it `origin` (the file or the
+/// scene it came from) in errors and in [`SvgSource::origin`] instead of `"<svg text>"`.
+///
+/// ```
+/// use splineskin_svg::svg_in::{read_svg_named, ImportOptions};
+/// let err = read_svg_named("<svg", &ImportOptions::default(), "fish.svg").unwrap_err();
+/// assert!(err.to_string().starts_with("fish.svg:1:"), "{err}");
+/// ```
+pub fn read_svg_named(
+    text: &str,
+    options: &ImportOptions,
+    origin: &str,
+) -> Result<Drawing, SvgError> {
+    read_svg_impl(text, options, origin)
+}
+
+/// Reads an SVG file (UTF-8, at most [`MAX_SVG_BYTES`]) like [`read_svg`]; errors name the
+/// file.
+///
+/// ```
+/// use splineskin_svg::svg_in::{read_svg_file, ImportOptions, SvgError};
+/// let err = read_svg_file(std::path::Path::new("/no/such.svg"), &ImportOptions::default());
+/// assert!(matches!(err, Err(SvgError::Io { .. })));
+/// ```
+pub fn read_svg_file(path: &std::path::Path, options: &ImportOptions) -> Result<Drawing, SvgError> {
+    use std::io::Read;
+    let origin = path.display().to_string();
+    let io = |source| SvgError::Io {
+        file: origin.clone(),
+        source,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let len = file.metadata().map_err(io)?.len();
+    if len > MAX_SVG_BYTES as u64 {
+        return Err(SvgError::TooLarge {
+            file: origin,
+            size: len,
+            limit: MAX_SVG_BYTES as u64,
+        });
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_SVG_BYTES as u64 + 1)
+        .read_to_end(&mut bytes)
+        .map_err(io)?;
+    if bytes.len() > MAX_SVG_BYTES {
+        return Err(SvgError::TooLarge {
+            file: origin,
+            size: bytes.len() as u64,
+            limit: MAX_SVG_BYTES as u64,
+        });
+    }
+    let text = String::from_utf8(bytes).map_err(|_| SvgError::NotUtf8 {
+        file: origin.clone(),
+    })?;
+    read_svg_impl(&text, options, &origin)
+}
+
+/// usvg options that keep usvg away from the file system: no resources directory, and no
+/// image is loaded (images are irrelevant to the geometry).
+fn usvg_options() -> usvg::Options<'static> {
+    usvg::Options {
+        resources_dir: None,
+        image_href_resolver: usvg::ImageHrefResolver {
+            resolve_data: Box::new(|_, _, _| None),
+            resolve_string: Box::new(|_, _| None),
+        },
+        ..usvg::Options::default()
+    }
+}
+
+/// [`usvg_options`] with [`SHOW_HIDDEN_CSS`].
+fn usvg_options_showing_hidden() -> usvg::Options<'static> {
+    usvg::Options {
+        style_sheet: Some(SHOW_HIDDEN_CSS.to_string()),
+        ..usvg_options()
+    }
+}
+
+fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Drawing, SvgError> {
+    if options.text == TextMode::Outlines {
+        if let Some(converted) = crate::text_outlines::outline_text(text, origin)? {
+            let rest = ImportOptions {
+                text: TextMode::Keep,
+                ..*options
+            };
+            return read_svg_impl(&converted, &rest, origin);
+        }
+    }
+    if text.len() > MAX_SVG_BYTES {
+        return Err(SvgError::TooLarge {
+            file: origin.to_string(),
+            size: text.len() as u64,
+            limit: MAX_SVG_BYTES as u64,
+        });
+    }
+    if text.trim().is_empty() {
+        return Err(SvgError::Empty {
+            file: origin.to_string(),
+        });
+    }
+    let doc = parse_xml(text, origin)?;
+    let root = doc.root_element();
+    if !(crate::document::is_svg_element(root) && root.tag_name().name() == "svg") {
+        let found = match root.tag_name().namespace() {
+            Some(ns) => format!("{} (namespace {ns})", root.tag_name().name()),
+            None => root.tag_name().name().to_string(),
+        };
+        return Err(SvgError::NoSvgRoot {
+            file: origin.to_string(),
+            found,
+        });
+    }
+    validate_document(&doc, origin)?;
+
+    // Give every geometry element an id usvg keeps, expand `use`, and wrap the root's content
+    // in a group of our own so that the root transform can be told apart.
+    let prefix = unique_prefix(&doc);
+    let wrapper_id = format!("{prefix}root");
+    let mut policy = PreparePolicy::new(&doc, &prefix);
+    let prepared = crate::rewrite::rewrite_document(
+        text,
+        &doc,
+        &mut policy,
+        origin,
+        Some(&wrapper_id),
+        root_viewport(root),
+    )?;
+    let ids = policy.ids;
+
+    let usvg_error = |e: usvg::Error| SvgError::Usvg {
+        file: origin.to_string(),
+        message: e.to_string(),
+    };
+    let shown = usvg::Tree::from_str(&prepared, &usvg_options()).map_err(usvg_error)?;
+    // Hidden layers: usvg drops `display: none` elements, so the document is read a second time
+    // with them shown; the paths of that reading missing from the first are hidden. Only when
+    // the text can hide anything (the property's name appears in it).
+    let with_hidden = if text.contains("display") {
+        Some(usvg::Tree::from_str(&prepared, &usvg_options_showing_hidden()).map_err(usvg_error)?)
+    } else {
+        None
+    };
+    let tree = with_hidden.as_ref().unwrap_or(&shown);
+    let clip_offsets: HashMap<String, usize> = doc
+        .descendants()
+        .filter(|n| crate::document::is_svg_element(*n))
+        .filter(|n| matches!(n.tag_name().name(), "clipPath" | "mask"))
+        .filter_map(|n| Some((n.attribute("id")?.to_string(), n.range().start)))
+        .collect();
+    let shown_ids: Option<std::collections::HashSet<&str>> = with_hidden.as_ref().map(|_| {
+        let mut found = Vec::new();
+        if let Some(usvg::Node::Group(wrapper)) = shown.node_by_id(&wrapper_id) {
+            collect_paths_in(
+                wrapper,
+                Affine::IDENTITY,
+                Context::Art,
+                &clip_offsets,
+                &mut found,
+            );
+        }
+        found.into_iter().map(|(p, _, _)| p.id()).collect()
+    });
+
+    let mut found = Vec::new();
+    let mut n_unmapped = 0usize;
+    if let Some(usvg::Node::Group(wrapper)) = tree.node_by_id(&wrapper_id) {
+        collect_paths_in(
+            wrapper,
+            Affine::IDENTITY,
+            Context::Art,
+            &clip_offsets,
+            &mut found,
+        );
+    }
+    // Every `<path>` element's position in document order (the authors' numbering).
+    let path_tags: HashMap<usize, usize> = doc
+        .descendants()
+        .filter(|n| crate::document::is_svg_element(*n) && n.tag_name().name() == "path")
+        .enumerate()
+        .map(|(k, n)| (n.range().start, k))
+        .collect();
+    let mut bbox_clips: Vec<(usize, Affine)> = Vec::new();
+    let nodes: HashMap<usize, roxmltree::Node> = doc
+        .descendants()
+        .filter(|n| n.is_element())
+        .map(|n| (n.range().start, n))
+        .collect();
+
+    let mut paths: Vec<Path> = Vec::new();
+    let mut path_elements = Vec::new();
+    let mut closed_without_z = Vec::new();
+    let mut elements: Vec<ImportedElement> = Vec::new();
+    let mut element_of_key: HashMap<ElementKey, usize> = HashMap::new();
+    for (usvg_path, local_to_root, context) in found {
+        let Some(key) = ids.get(usvg_path.id()) else {
+            n_unmapped += 1;
+            continue;
+        };
+        let Some(&node) = nodes.get(&key.element) else {
+            return Err(SvgError::Internal {
+                file: origin.to_string(),
+                what: format!("no element at byte {}", key.element),
+            });
+        };
+        let role = match context {
+            Context::Art
+                if shown_ids
+                    .as_ref()
+                    .is_some_and(|s| !s.contains(usvg_path.id())) =>
+            {
+                PathRole::Hidden
+            }
+            Context::Art if !usvg_path.is_visible() => PathRole::Unpainted,
+            Context::Art => PathRole::Visible,
+            Context::Clip { .. } => PathRole::ClipPath,
+            Context::Mask { .. } => PathRole::Mask,
+        };
+        if let Context::Mask { mask } = context {
+            if nodes
+                .get(&mask)
+                .and_then(|m| m.attribute("maskContentUnits"))
+                == Some("objectBoundingBox")
+            {
+                let label = key_label(&doc, &nodes, key);
+                tracing::warn!(
+                    file = origin,
+                    element = %label,
+                    "mask content in objectBoundingBox units is not deformed (left at rest)"
+                );
+                continue;
+            }
+        }
+        let index = match element_of_key.get(key) {
+            Some(&i) if matches!(role, PathRole::ClipPath | PathRole::Mask) => {
+                // A clip path or mask used by several elements: deformed once.
+                if !same_placement(elements[i].local_to_root, local_to_root) {
+                    tracing::warn!(
+                        file = origin,
+                        element = %elements[i].label,
+                        "this clip path or mask is used by elements in different coordinates; \
+                         it is deformed for its first use only (give each element its own copy \
+                         to deform it for each)"
+                    );
+                }
+                continue;
+            }
+            Some(&i) => {
+                if elements[i].paths.end != paths.len() {
+                    tracing::warn!(
+                        file = origin,
+                        element = %elements[i].label,
+                        "usvg emitted this element twice, not contiguously; the second copy is \
+                         not imported"
+                    );
+                    continue;
+                }
+                i
+            }
+            None => {
+                let kind = ElementKind::from_tag(node.tag_name().name()).ok_or_else(|| {
+                    SvgError::Internal {
+                        file: origin.to_string(),
+                        what: format!("<{}> mapped as geometry", node.tag_name().name()),
+                    }
+                })?;
+                if let Context::Clip { clip, units } = context {
+                    let bbox_units = nodes.get(&clip).and_then(|c| c.attribute("clipPathUnits"))
+                        == Some("objectBoundingBox");
+                    if bbox_units && !bbox_clips.iter().any(|(c, _)| *c == clip) {
+                        bbox_clips.push((clip, units));
+                    }
+                }
+                elements.push(ImportedElement {
+                    key: key.clone(),
+                    kind,
+                    label: key_label(&doc, &nodes, key),
+                    range: node.range(),
+                    local_to_root,
+                    paths: paths.len()..paths.len(),
+                    role,
+                    path_tag_index: (kind == ElementKind::Path && key.uses.is_empty())
+                        .then(|| path_tags.get(&key.element).copied())
+                        .flatten(),
+                    zero_area_fill: false,
+                    paint: element_paint(usvg_path),
+                });
+                element_of_key.insert(key.clone(), elements.len() - 1);
+                elements.len() - 1
+            }
+        };
+        let element = &mut elements[index];
+        let before = paths.len();
+        let usvg_segments = segments_of_usvg(usvg_path.data());
+        let segments = match (element.kind, node.attribute("d")) {
+            (ElementKind::Path, Some(d)) => {
+                let exact = segments_of_path_data(d);
+                if same_structure(&exact, &usvg_segments) {
+                    exact
+                } else {
+                    tracing::warn!(
+                        file = origin,
+                        element = %element.label,
+                        "path data read in f64 differs from usvg's; using usvg's f32 data"
+                    );
+                    usvg_segments
+                }
+            }
+            _ => usvg_segments,
+        };
+        convert_segments(
+            &segments,
+            element.local_to_root,
+            options,
+            origin,
+            &element.label,
+            &mut paths,
+            &mut closed_without_z,
+        )?;
+        element.paths.end = paths.len();
+        element.zero_area_fill = matches!(role, PathRole::Visible | PathRole::Hidden)
+            && usvg_path.fill().is_some()
+            && paths[element.paths.clone()]
+                .iter()
+                .all(|p| collinear(&p.points));
+        path_elements.extend(std::iter::repeat_n(index, paths.len() - before));
+    }
+    if n_unmapped > 0 {
+        tracing::warn!(
+            file = origin,
+            count = n_unmapped,
+            "paths without a source element (marker contents or paint-order split copies) are \
+             not imported"
+        );
+    }
+    // Elements that produced no subpath at all (all degenerate) are not kept.
+    if paths.is_empty() {
+        return Err(SvgError::NoPaths {
+            file: origin.to_string(),
+        });
+    }
+    let mut remap = vec![usize::MAX; elements.len()];
+    let mut kept = Vec::new();
+    for (i, e) in elements.into_iter().enumerate() {
+        if !e.paths.is_empty() {
+            remap[i] = kept.len();
+            kept.push(e);
+        }
+    }
+    let path_elements = path_elements.into_iter().map(|i| remap[i]).collect();
+
+    let size = Size::new(
+        f64::from(tree.size().width()),
+        f64::from(tree.size().height()),
+    );
+    let view_box = root
+        .attribute("viewBox")
+        .and_then(|v| svgtypes::ViewBox::from_str(v).ok())
+        .map(|vb| Rect::new(vb.x, vb.y, vb.x + vb.w, vb.y + vb.h))
+        .unwrap_or_else(|| Rect::from_origin_size(Point::ORIGIN, size));
+    let source = SvgSource {
+        origin: origin.to_string(),
+        text: text.to_string(),
+        elements: kept,
+        path_elements,
+        closed_without_z,
+        size,
+        view_box,
+        bbox_clips,
+    };
+    Ok(Drawing {
+        paths,
+        source: Some(Arc::new(source)),
+    })
+}
+
+/// The root viewport in user units (viewBox size, else absolute width/height, else 100 × 100
+/// as usvg assumes): what percentages in `use` lengths refer to.
+fn root_viewport(root: roxmltree::Node) -> Size {
+    if let Some(vb) = root
+        .attribute("viewBox")
+        .and_then(|v| svgtypes::ViewBox::from_str(v).ok())
+    {
+        return Size::new(vb.w, vb.h);
+    }
+    let length = |name| {
+        root.attribute(name)
+            .and_then(|v| crate::document::user_length(v, 100.0).ok())
+            .filter(|v| v.is_finite() && *v > 0.0)
+            .unwrap_or(100.0)
+    };
+    Size::new(length("width"), length("height"))
+}
+
+/// Import policy for the rewriter: keeps first-occurrence ids of direct geometry elements,
+/// gives every other geometry element (and every copy inside an expanded `use`) a synthetic
+/// id, records id → element, and expands every `use`.
+struct PreparePolicy<'p> {
+    prefix: &'p str,
+    /// Byte offset of the first element carrying each id.
+    first_owner: HashMap<&'p str, usize>,
+    ids: HashMap<String, ElementKey>,
+    n_synthetic: usize,
+}
+
+impl<'p> PreparePolicy<'p> {
+    fn new(doc: &'p roxmltree::Document, prefix: &'p str) -> Self {
+        let mut first_owner = HashMap::new();
+        for n in doc.descendants() {
+            if let Some(id) = n.attribute("id") {
+                first_owner.entry(id).or_insert(n.range().start);
+            }
+        }
+        PreparePolicy {
+            prefix,
+            first_owner,
+            ids: HashMap::new(),
+            n_synthetic: 0,
+        }
+    }
+}
+
+impl RewritePolicy for PreparePolicy<'_> {
+    fn geometry(
+        &mut self,
+        key: &ElementKey,
+        node: roxmltree::Node,
+        in_copy: bool,
+    ) -> Result<GeometryEdit, SvgError> {
+        if !in_copy {
+            if let Some(id) = node.attribute("id") {
+                if self.first_owner.get(id) == Some(&key.element) {
+                    self.ids.insert(id.to_string(), key.clone());
+                    return Ok(GeometryEdit::Keep);
+                }
+            }
+        }
+        let id = format!("{}{}", self.prefix, self.n_synthetic);
+        self.n_synthetic += 1;
+        self.ids.insert(id.clone(), key.clone());
+        Ok(GeometryEdit::SetId(id))
+    }
+
+    fn expand_use(&mut self, _instance: &[usize]) -> bool {
+        true
+    }
+}
+
+/// Largest distance of a chain point from the line through a subpath's two farthest-apart
+/// points, relative to their distance, for the subpath to count as having zero fill area:
+/// 1e-9 (`f64` rounding of lines elevated to cubics and of transforms).
+pub const ZERO_AREA: f64 = 1e-9;
+
+/// Whether all of `points` lie on one line, within [`ZERO_AREA`] of their extent.
+fn collinear(points: &[Point]) -> bool {
+    let Some(&a) = points.first() else {
+        return true;
+    };
+    let b = points
+        .iter()
+        .copied()
+        .max_by(|p, q| (*p - a).hypot2().total_cmp(&(*q - a).hypot2()))
+        .unwrap_or(a);
+    let d = b - a;
+    let len = d.hypot();
+    if len == 0.0 {
+        return true;
+    }
+    points
+        .iter()
+        .all(|p| (d.cross(*p - a)).abs() / len <= ZERO_AREA * len)
+}
+
+/// Where usvg emitted a path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Context {
+    /// Drawn content.
+    Art,
+    /// Inside the `<clipPath>` at byte offset `clip`, whose content → referencing user space
+    /// map (its `transform`, times the bounding-box map in `objectBoundingBox` units) is
+    /// `units`.
+    Clip { clip: usize, units: Affine },
+    /// Inside the `<mask>` at byte offset `mask`.
+    Mask { mask: usize },
+}
+
+/// Largest difference between coefficients, relative to their size, of two placements of a
+/// shared clip path or mask that still count as the same: 1e-9 (both come from the same
+/// `f32` transforms, composed in `f64`).
+const SAME_PLACEMENT: f64 = 1e-9;
+
+fn same_placement(a: Affine, b: Affine) -> bool {
+    let (a, b) = (a.as_coeffs(), b.as_coeffs());
+    let scale = a.iter().chain(&b).fold(1.0f64, |m, v| m.max(v.abs()));
+    a.iter()
+        .zip(&b)
+        .all(|(x, y)| (x - y).abs() <= SAME_PLACEMENT * scale)
+}
+
+/// The byte offset, in the text usvg read, of the element with `id`, as recorded in the
+/// ids usvg keeps for `<clipPath>` and `<mask>` (their own ids). Returns `usize::MAX` when
+/// unknown (then no special units are handled).
+fn offset_of_id(offsets: &HashMap<String, usize>, id: &str) -> usize {
+    offsets.get(id).copied().unwrap_or(usize::MAX)
+}
+
+/// The paths below `group` with their local → (wrapper) root transform, composed in `f64`,
+/// and where they were found. The geometry of clip paths and the content of masks applied
+/// to a group come first, in the group's coordinates (after its own transform), as resvg
+/// draws them; `clip_offsets` maps their ids to their byte offsets.
+fn collect_paths_in<'t>(
+    group: &'t usvg::Group,
+    ts: Affine,
+    context: Context,
+    offsets: &HashMap<String, usize>,
+    out: &mut Vec<(&'t usvg::Path, Affine, Context)>,
+) {
+    for child in group.children() {
+        match child {
+            usvg::Node::Group(g) => {
+                let inner = ts * affine(g.transform());
+                let mut clip = g.clip_path();
+                while let Some(c) = clip {
+                    let units = affine(c.transform());
+                    let content = inner * units;
+                    let ctx = Context::Clip {
+                        clip: offset_of_id(offsets, c.id()),
+                        units,
+                    };
+                    collect_paths_in(c.root(), content, ctx, offsets, out);
+                    clip = c.clip_path();
+                }
+                let mut mask = g.mask();
+                while let Some(m) = mask {
+                    let ctx = Context::Mask {
+                        mask: offset_of_id(offsets, m.id()),
+                    };
+                    collect_paths_in(m.root(), inner, ctx, offsets, out);
+                    mask = m.mask();
+                }
+                collect_paths_in(g, inner, context, offsets, out);
+            }
+            usvg::Node::Path(p) => out.push((p, ts, context)),
+            _ => {}
+        }
+    }
+}
+
+/// A tiny-skia transform as a kurbo affine (`x' = sx·x + kx·y + tx`, `y' = ky·x + sy·y + ty`,
+/// i.e. SVG's `matrix(sx ky kx sy tx ty)`), in `f64`.
+fn affine(t: usvg::Transform) -> Affine {
+    Affine::new([
+        f64::from(t.sx),
+        f64::from(t.ky),
+        f64::from(t.kx),
+        f64::from(t.sy),
+        f64::from(t.tx),
+        f64::from(t.ty),
+    ])
+}
+
+/// The label of an element key: the element, then the `use` elements it is instantiated
+/// through, innermost first.
+fn key_label(
+    doc: &roxmltree::Document,
+    nodes: &HashMap<usize, roxmltree::Node>,
+    key: &ElementKey,
+) -> String {
+    let label = |offset: &usize| match nodes.get(offset) {
+        Some(&n) => node_label(doc, n),
+        None => format!("element at byte {offset}"),
+    };
+    let mut s = label(&key.element);
+    for u in key.uses.iter().rev() {
+        s.push_str(" in ");
+        s.push_str(&label(u));
+    }
+    s
+}
+
+/// A segment of path data in local coordinates (`f64`), as tiny-skia's path builder stores
+/// it: absolute, arcs already cubics, `H`/`V`/`S`/`T` resolved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Segment {
+    Move(Point),
+    Line(Point),
+    Quad(Point, Point),
+    Cubic(Point, Point, Point),
+    Close,
+}
+
+/// usvg's (`f32`) path data as segments.
+fn segments_of_usvg(data: &usvg::tiny_skia_path::Path) -> Vec<Segment> {
+    use usvg::tiny_skia_path::PathSegment as S;
+    let pt = |p: usvg::tiny_skia_path::Point| Point::new(f64::from(p.x), f64::from(p.y));
+    data.segments()
+        .map(|s| match s {
+            S::MoveTo(p) => Segment::Move(pt(p)),
+            S::LineTo(p) => Segment::Line(pt(p)),
+            S::QuadTo(q, p) => Segment::Quad(pt(q), pt(p)),
+            S::CubicTo(c1, c2, p) => Segment::Cubic(pt(c1), pt(c2), pt(p)),
+            S::Close => Segment::Close,
+        })
+        .collect()
+}
+
+/// A validated `d` attribute as segments, in `f64`: the same svgtypes simplification usvg
+/// uses (arcs become cubics with kurbo at tolerance 0.1), with tiny-skia's path-builder rules
+/// (consecutive moves collapse, repeated closes collapse, drawing after a close starts at the
+/// subpath's start), but without usvg's rounding to `f32`.
+fn segments_of_path_data(d: &str) -> Vec<Segment> {
+    use svgtypes::SimplePathSegment as S;
+    let mut out: Vec<Segment> = Vec::new();
+    let mut last_move = Point::ORIGIN;
+    let mut move_required = true;
+    let move_to = |out: &mut Vec<Segment>, p: Point, last_move: &mut Point| {
+        match out.last_mut() {
+            Some(Segment::Move(q)) => *q = p,
+            _ => out.push(Segment::Move(p)),
+        }
+        *last_move = p;
+    };
+    for segment in svgtypes::SimplifyingPathParser::from(d) {
+        let Ok(segment) = segment else {
+            break; // as usvg does; validation has already refused such data
+        };
+        if !matches!(segment, S::MoveTo { .. } | S::ClosePath) && move_required {
+            move_to(&mut out, last_move, &mut last_move);
+            move_required = false;
+        }
+        match segment {
+            S::MoveTo { x, y } => {
+                move_to(&mut out, Point::new(x, y), &mut last_move);
+                move_required = false;
+            }
+            S::LineTo { x, y } => out.push(Segment::Line(Point::new(x, y))),
+            S::Quadratic { x1, y1, x, y } => {
+                out.push(Segment::Quad(Point::new(x1, y1), Point::new(x, y)))
+            }
+            S::CurveTo {
+                x1,
+                y1,
+                x2,
+                y2,
+                x,
+                y,
+            } => out.push(Segment::Cubic(
+                Point::new(x1, y1),
+                Point::new(x2, y2),
+                Point::new(x, y),
+            )),
+            S::ClosePath => {
+                if !matches!(out.last(), None | Some(Segment::Close)) {
+                    out.push(Segment::Close);
+                }
+                move_required = true;
+            }
+        }
+    }
+    out
+}
+
+/// Relative tolerance of the cross-check between our `f64` path data and usvg's `f32` one:
+/// 1e-6, a dozen `f32` ulps.
+const F32_CROSS_CHECK: f64 = 1e-6;
+
+/// Whether two segment lists have the same commands and points equal within `f32` rounding.
+fn same_structure(a: &[Segment], b: &[Segment]) -> bool {
+    let close = |p: &Point, q: &Point| {
+        (*p - *q).hypot() <= F32_CROSS_CHECK * (1.0 + p.x.abs().max(p.y.abs()))
+    };
+    a.len() == b.len()
+        && a.iter().zip(b).all(|pair| match pair {
+            (Segment::Move(p), Segment::Move(q)) | (Segment::Line(p), Segment::Line(q)) => {
+                close(p, q)
+            }
+            (Segment::Quad(p1, p), Segment::Quad(q1, q)) => close(p1, q1) && close(p, q),
+            (Segment::Cubic(p1, p2, p), Segment::Cubic(q1, q2, q)) => {
+                close(p1, q1) && close(p2, q2) && close(p, q)
+            }
+            (Segment::Close, Segment::Close) => true,
+            _ => false,
+        })
+}
+
+/// Appends the subpaths of `segments` (local coordinates) as [`Path`]s in root user space,
+/// and for each whether it is closed without a `Z` (to `closed_without_z`).
+fn convert_segments(
+    segments: &[Segment],
+    local_to_root: Affine,
+    options: &ImportOptions,
+    origin: &str,
+    label: &str,
+    out: &mut Vec<Path>,
+    closed_without_z: &mut Vec<bool>,
+) -> Result<(), SvgError> {
+    let mut current: Vec<Point> = Vec::new();
+    // Curves of the current subpath that are straight segments (`L`, `H`, `V`, closing lines).
+    let mut lines: Vec<usize> = Vec::new();
+    let mut finish = |points: &mut Vec<Point>,
+                      lines: &mut Vec<usize>,
+                      has_z: bool|
+     -> Result<(), SvgError> {
+        let mut points = std::mem::take(points);
+        let mut lines = std::mem::take(lines);
+        if points.is_empty() {
+            return Ok(());
+        }
+        if has_z {
+            let before = points.len();
+            close_subpath(&mut points);
+            if points.len() > before {
+                lines.push((before - 1) / 3);
+            }
+        }
+        let returns_to_start = !has_z && points.len() >= 4 && points[0] == points[points.len() - 1];
+        let closed = has_z || returns_to_start;
+        if points.len() < 4 {
+            tracing::warn!(
+                file = origin,
+                element = label,
+                x = points[0].x,
+                y = points[0].y,
+                "a subpath of a single point has no curve; skipped (it is not written back)"
+            );
+            return Ok(());
+        }
+        for p in &mut points {
+            *p = local_to_root * *p;
+            for v in [p.x, p.y] {
+                if v.is_nan() || v.abs() > MAX_COORDINATE {
+                    return Err(SvgError::CoordinateOutOfRange {
+                        file: origin.to_string(),
+                        element: label.to_string(),
+                        value: v,
+                        limit: MAX_COORDINATE,
+                    });
+                }
+            }
+        }
+        let mut path =
+            Path::new(points, closed, &options.junctions).ok_or_else(|| SvgError::Internal {
+                file: origin.to_string(),
+                what: format!("{label}: a subpath is not a 3n+1 chain"),
+            })?;
+        if options.corner_lines_at_ends {
+            place_corner_lines(&mut path, &lines);
+        }
+        out.push(path);
+        closed_without_z.push(returns_to_start);
+        Ok(())
+    };
+    for &segment in segments {
+        match segment {
+            Segment::Move(p) => {
+                finish(&mut current, &mut lines, false)?;
+                current.push(p);
+            }
+            Segment::Line(p3) => {
+                let p0 = start_point(&mut current);
+                lines.push((current.len() - 1) / 3);
+                current.extend([p0.lerp(p3, 1.0 / 3.0), p0.lerp(p3, 2.0 / 3.0), p3]);
+            }
+            Segment::Quad(q, p3) => {
+                let p0 = start_point(&mut current);
+                current.extend([p0.lerp(q, 2.0 / 3.0), p3.lerp(q, 2.0 / 3.0), p3]);
+            }
+            Segment::Cubic(c1, c2, p3) => {
+                start_point(&mut current);
+                current.extend([c1, c2, p3]);
+            }
+            Segment::Close => finish(&mut current, &mut lines, true)?,
+        }
+    }
+    finish(&mut current, &mut lines, false)
+}
+
+/// Moves the inner control points of the straight segments `lines` (curve indices) onto their
+/// ends when neither end is a smooth junction (see the module doc).
+fn place_corner_lines(path: &mut Path, lines: &[usize]) {
+    let n = path.n_curves();
+    let smooth = |k: usize| {
+        let joint = if path.closed { k % n } else { k };
+        matches!(path.joints.get(joint), Some(JointKind::C1 | JointKind::G1))
+    };
+    let corner_lines: Vec<usize> = lines
+        .iter()
+        .copied()
+        .filter(|&k| k < n && !smooth(k) && !smooth(k + 1))
+        .collect();
+    for k in corner_lines {
+        path.points[3 * k + 1] = path.points[3 * k];
+        path.points[3 * k + 2] = path.points[3 * k + 3];
+    }
+}
+
+/// The current point of a subpath being built; starts the subpath at the origin if it has
+/// none (tiny-skia always starts with a move, so this is only a guard).
+fn start_point(points: &mut Vec<Point>) -> Point {
+    match points.last() {
+        Some(&p) => p,
+        None => {
+            points.push(Point::ORIGIN);
+            Point::ORIGIN
+        }
+    }
+}
+
+/// Closes a subpath's chain (`≥ 1` point): snaps its last point onto the first when within
+/// [`CLOSE_SNAP`], otherwise appends the closing line as a cubic. A single point stays single.
+fn close_subpath(points: &mut Vec<Point>) {
+    let first = points[0];
+    let last = points[points.len() - 1];
+    if points.len() < 4 {
+        return;
+    }
+    let bounds = points
+        .iter()
+        .fold(Rect::from_points(first, first), |r, &p| r.union_pt(p));
+    let magnitude = points
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+    let scale = (bounds.width().hypot(bounds.height())).max(magnitude);
+    if (last - first).hypot() <= CLOSE_SNAP * scale {
+        let n = points.len();
+        points[n - 1] = first;
+    } else {
+        points.extend([
+            last.lerp(first, 1.0 / 3.0),
+            last.lerp(first, 2.0 / 3.0),
+            first,
+        ]);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Validation of the raw attributes (usvg and svgtypes silently truncate bad data).
+
+/// Attributes holding a `<length>` (or `auto` where allowed), per element.
+fn length_attributes(tag: &str) -> &'static [&'static str] {
+    match tag {
+        "rect" => &["x", "y", "width", "height", "rx", "ry"],
+        "circle" => &["cx", "cy", "r"],
+        "ellipse" => &["cx", "cy", "rx", "ry"],
+        "line" => &["x1", "y1", "x2", "y2"],
+        "use" | "svg" | "symbol" => &["x", "y", "width", "height"],
+        _ => &[],
+    }
+}
+
+/// Checks every geometry-relevant attribute of every SVG element: `transform`, `d`, `points`,
+/// shape and `use` lengths, `viewBox` and `preserveAspectRatio`.
+fn validate_document(doc: &roxmltree::Document, origin: &str) -> Result<(), SvgError> {
+    for node in doc
+        .descendants()
+        .filter(|n| crate::document::is_svg_element(*n))
+    {
+        let tag = node.tag_name().name();
+        let fail = |attribute: &str, value: &str, expected: String| SvgError::InvalidAttribute {
+            file: origin.to_string(),
+            element: node_label(doc, node),
+            attribute: attribute.to_string(),
+            value: shorten(value),
+            expected,
+        };
+        for attr in node.attributes().filter(|a| a.namespace().is_none()) {
+            let (name, value) = (attr.name(), attr.value());
+            let result = match name {
+                "transform" => check_transform(value),
+                "d" if tag == "path" => check_path_data(value),
+                "points" if tag == "polyline" || tag == "polygon" => check_points(value),
+                "viewBox" if matches!(tag, "svg" | "symbol" | "marker" | "pattern" | "view") => {
+                    check_view_box(value)
+                }
+                "preserveAspectRatio" => svgtypes::AspectRatio::from_str(value)
+                    .map(|_| ())
+                    .map_err(|e| {
+                        format!("[defer] <align> [meet|slice], e.g. \"xMidYMid meet\" ({e})")
+                    }),
+                _ if length_attributes(tag).contains(&name) => check_length(name, value),
+                _ => Ok(()),
+            };
+            result.map_err(|expected| fail(name, value, expected))?;
+        }
+    }
+    Ok(())
+}
+
+fn shorten(value: &str) -> String {
+    if value.chars().count() <= MAX_QUOTED_VALUE {
+        value.to_string()
+    } else {
+        let mut s: String = value.chars().take(MAX_QUOTED_VALUE).collect();
+        s.push('…');
+        s
+    }
+}
+
+fn check_number(v: f64, what: &str) -> Result<(), String> {
+    if !v.is_finite() {
+        Err(format!("finite numbers in {what} (found {v})"))
+    } else if v.abs() > MAX_COORDINATE {
+        Err(format!(
+            "numbers within ±{MAX_COORDINATE:e} in {what} (found {v:e})"
+        ))
+    } else {
+        Ok(())
+    }
+}
+
+fn check_transform(value: &str) -> Result<(), String> {
+    const EXPECTED: &str = "a transform list (matrix, translate, scale, rotate, skewX, skewY)";
+    for token in svgtypes::TransformListParser::from(value) {
+        use svgtypes::TransformListToken as T;
+        let numbers: Vec<f64> = match token.map_err(|e| format!("{EXPECTED} ({e})"))? {
+            T::Matrix { a, b, c, d, e, f } => vec![a, b, c, d, e, f],
+            T::Translate { tx, ty } => vec![tx, ty],
+            T::Scale { sx, sy } => vec![sx, sy],
+            T::Rotate { angle } => vec![angle],
+            T::SkewX { angle } | T::SkewY { angle } => vec![angle],
+        };
+        if let Some(v) = numbers.into_iter().find(|v| !v.is_finite()) {
+            return Err(format!("{EXPECTED} with finite numbers (found {v})"));
+        }
+    }
+    // The product within MAX_COORDINATE too: beyond it usvg's f32 copy of the transform can
+    // overflow, and usvg then drops the element silently (the document would have "no paths").
+    let t = svgtypes::Transform::from_str(value).map_err(|e| format!("{EXPECTED} ({e})"))?;
+    if [t.a, t.b, t.c, t.d, t.e, t.f]
+        .iter()
+        .all(|v| v.is_finite() && v.abs() <= MAX_COORDINATE)
+    {
+        Ok(())
+    } else {
+        Err(format!(
+            "{EXPECTED} whose product has finite coefficients within ±{MAX_COORDINATE:e}"
+        ))
+    }
+}
+
+fn check_path_data(value: &str) -> Result<(), String> {
+    const WHAT: &str = "path data";
+    for segment in svgtypes::PathParser::from(value) {
+        use svgtypes::PathSegment as S;
+        let segment = segment.map_err(|e| format!("SVG path data ({e})"))?;
+        let numbers: &[f64] = match &segment {
+            S::MoveTo { x, y, .. } | S::LineTo { x, y, .. } | S::SmoothQuadratic { x, y, .. } => {
+                &[*x, *y]
+            }
+            S::HorizontalLineTo { x, .. } => &[*x],
+            S::VerticalLineTo { y, .. } => &[*y],
+            S::CurveTo {
+                x1,
+                y1,
+                x2,
+                y2,
+                x,
+                y,
+                ..
+            } => &[*x1, *y1, *x2, *y2, *x, *y],
+            S::SmoothCurveTo { x2, y2, x, y, .. } => &[*x2, *y2, *x, *y],
+            S::Quadratic { x1, y1, x, y, .. } => &[*x1, *y1, *x, *y],
+            S::EllipticalArc {
+                rx,
+                ry,
+                x_axis_rotation,
+                x,
+                y,
+                ..
+            } => &[*rx, *ry, *x_axis_rotation, *x, *y],
+            S::ClosePath { .. } => &[],
+        };
+        for &v in numbers {
+            check_number(v, WHAT)?;
+        }
+    }
+    Ok(())
+}
+
+fn check_points(value: &str) -> Result<(), String> {
+    let mut count = 0usize;
+    for number in svgtypes::NumberListParser::from(value) {
+        let v = number.map_err(|e| format!("a list of x,y coordinates ({e})"))?;
+        check_number(v, "points")?;
+        count += 1;
+    }
+    if count % 2 == 1 {
+        return Err(format!(
+            "an even number of coordinates (x,y pairs); found {count}"
+        ));
+    }
+    Ok(())
+}
+
+fn check_view_box(value: &str) -> Result<(), String> {
+    const EXPECTED: &str =
+        "four numbers \"min-x min-y width height\" with positive width and height";
+    let vb = svgtypes::ViewBox::from_str(value).map_err(|e| format!("{EXPECTED} ({e})"))?;
+    for v in [vb.x, vb.y, vb.w, vb.h] {
+        check_number(v, "viewBox")?;
+    }
+    if vb.w > 0.0 && vb.h > 0.0 {
+        Ok(())
+    } else {
+        Err(EXPECTED.to_string())
+    }
+}
+
+fn check_length(name: &str, value: &str) -> Result<(), String> {
+    let auto_allowed = matches!(name, "rx" | "ry" | "width" | "height");
+    if auto_allowed && value.trim() == "auto" {
+        return Ok(());
+    }
+    let length = svgtypes::Length::from_str(value)
+        .map_err(|e| format!("a length such as \"10\", \"2.5px\" or \"50%\" ({e})"))?;
+    check_number(length.number, "a length")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn svg(body: &str) -> String {
+        format!("<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 100 100\">{body}</svg>")
+    }
+
+    fn read(body: &str) -> Result<Drawing, SvgError> {
+        read_svg(&svg(body), &ImportOptions::default())
+    }
+
+    #[test]
+    fn svg_in_line_is_elevated_exactly() {
+        let thirds = ImportOptions::default().with_corner_lines_at_ends(false);
+        let d = read_svg(&svg("<path d='M0 0 L3 6'/>"), &thirds).unwrap();
+        let p = &d.paths[0].points;
+        assert_eq!(p.len(), 4);
+        assert_eq!(p[1], Point::new(1.0, 2.0));
+        assert_eq!(p[2], Point::new(2.0, 4.0));
+        assert_eq!(p[3], Point::new(3.0, 6.0));
+    }
+
+    #[test]
+    fn svg_in_corner_lines_have_control_points_on_their_ends() {
+        // A square: four lines (the last one added by Z) between right-angle corners.
+        let d = read("<path d='M0 0 H3 V3 H0 Z'/>").unwrap();
+        let p = &d.paths[0].points;
+        assert_eq!(p.len(), 13);
+        for k in 0..4 {
+            assert_eq!(p[3 * k + 1], p[3 * k], "curve {k}");
+            assert_eq!(p[3 * k + 2], p[3 * k + 3], "curve {k}");
+        }
+        // A line leaving a curve smoothly keeps its thirds (it carries the tangent).
+        let d = read("<path d='M0 0 C1 1 2 1 3 1 L6 1 L6 4'/>").unwrap();
+        let p = &d.paths[0].points;
+        assert!(matches!(
+            d.paths[0].joints[1],
+            JointKind::C1 | JointKind::G1
+        ));
+        assert_eq!(p[4], Point::new(4.0, 1.0));
+        assert_eq!(p[5], Point::new(5.0, 1.0));
+        // The last line runs from a corner to an open end: on its ends.
+        assert_eq!(p[7], Point::new(6.0, 1.0));
+        assert_eq!(p[8], Point::new(6.0, 4.0));
+        // Curves are never touched.
+        assert_eq!(p[1], Point::new(1.0, 1.0));
+    }
+
+    #[test]
+    fn svg_in_quadratic_is_elevated_exactly() {
+        // Q with control (3, 6): c1 = p0 + 2/3 (q − p0) = (2, 4), c2 = p3 + 2/3 (q − p3) = (4, 4).
+        let d = read("<path d='M0 0 Q3 6 6 0'/>").unwrap();
+        let p = &d.paths[0].points;
+        assert_eq!(
+            p,
+            &[(0., 0.), (2., 4.), (4., 4.), (6., 0.)].map(Point::from)
+        );
+    }
+
+    #[test]
+    fn svg_in_close_adds_line_or_snaps() {
+        let open_end = read("<path d='M0 0 L10 0 L10 10 Z'/>").unwrap();
+        assert!(open_end.paths[0].closed);
+        assert_eq!(open_end.paths[0].n_curves(), 3);
+        let same_end = read("<path d='M0 0 L10 0 L10 10 L0 0 Z'/>").unwrap();
+        assert!(same_end.paths[0].closed);
+        assert_eq!(same_end.paths[0].n_curves(), 3);
+    }
+
+    #[test]
+    fn svg_in_return_to_start_without_z_is_closed() {
+        let d = read("<path d='M0 0 C1 1 2 1 3 0 C2 -1 1 -1 0 0'/>").unwrap();
+        assert!(d.paths[0].closed);
+        assert_eq!(d.paths[0].joints.len(), 2);
+        assert!(d.source.as_ref().unwrap().is_closed_without_z(0));
+        // Ending near, but not exactly on, the start leaves the subpath open.
+        let open = read("<path d='M0 0 C1 1 2 1 3 0 C2 -1 1 -1 0 0.001'/>").unwrap();
+        assert!(!open.paths[0].closed);
+        assert!(!open.source.as_ref().unwrap().is_closed_without_z(0));
+        let with_z = read("<path d='M0 0 C1 1 2 1 3 0 C2 -1 1 -1 0 0 Z'/>").unwrap();
+        assert!(with_z.paths[0].closed);
+        assert!(!with_z.source.as_ref().unwrap().is_closed_without_z(0));
+    }
+
+    #[test]
+    fn svg_in_close_snap_absorbs_float_noise() {
+        let mut pts = vec![
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 0.0),
+            Point::new(2.0, 0.0),
+            Point::new(3.0, 0.0),
+            Point::new(3.0, 1.0),
+            Point::new(0.0, 1.0),
+            Point::new(1e-9, 0.0),
+        ];
+        close_subpath(&mut pts);
+        assert_eq!(pts.len(), 7);
+        assert_eq!(pts[6], pts[0]);
+    }
+
+    #[test]
+    fn svg_in_transform_validation_rejects_non_finite() {
+        assert!(check_transform("translate(1e999 0)").is_err());
+        assert!(check_transform("rotate(30) scale(2)").is_ok());
+        assert!(check_transform("rotate(30").is_err());
+        // Finite but beyond MAX_COORDINATE: usvg would drop the element in f32.
+        assert!(check_transform("scale(1e300)").is_err());
+        assert!(check_transform("matrix(1 0 0 1 0 2e9)").is_err());
+        assert!(check_transform("translate(1e9 -1e9)").is_ok());
+    }
+
+    #[test]
+    fn svg_in_points_validation() {
+        assert!(check_points("0,0 1,1").is_ok());
+        assert!(check_points("0,0 1").is_err());
+        assert!(check_points("0,0 1,x").is_err());
+    }
+
+    #[test]
+    fn svg_in_f64_path_data_has_usvg_structure() {
+        for d in [
+            "M0 0 L1 1",
+            "M0 0 Z Z L1 1 Z",
+            "M1 1 M2 2 L3 3 M4 4",
+            "M0 0 L1 1 Z L2 2",
+            "m1 1 h2 v2 s1 1 2 0 t2 0 q1 1 2 2 z m3 3 l1 0",
+            "M10 0 A10 10 0 1 0 0 10 A3 7 30 0 1 5 5 A0 0 0 0 1 6 6",
+            "M0.1 0.2 C0.3 0.4 0.5 0.6 0.7 0.8",
+        ] {
+            let text = svg(&format!("<path id='p' d='{d}'/>"));
+            let tree = usvg::Tree::from_str(&text, &usvg_options()).unwrap();
+            let Some(usvg::Node::Path(p)) = tree.node_by_id("p") else {
+                panic!("{d}: no path");
+            };
+            let ours = segments_of_path_data(d);
+            let theirs = segments_of_usvg(p.data());
+            assert!(same_structure(&ours, &theirs), "{d}:\n{ours:?}\n{theirs:?}");
+        }
+    }
+
+    #[test]
+    fn svg_in_prefix_avoids_existing_ids() {
+        let text = svg("<path id='splineskin-0' d='M0 0 L1 1'/>");
+        let doc = parse_xml(&text, "t").unwrap();
+        assert_eq!(unique_prefix(&doc), "splineskin-x");
+    }
+}

@@ -1,0 +1,1301 @@
+//! SVG export: deformed chain points written back into the document they came from.
+//!
+//! The original text is spliced, not regenerated: every element, attribute, style, gradient,
+//! text, comment and the order of all of them are kept byte for byte, except for the geometry
+//! of imported elements:
+//!
+//! - `<path>`: its `d` value is replaced.
+//! - `<rect>`, `<circle>`, `<ellipse>`, `<line>`, `<polyline>`, `<polygon>`: renamed to
+//!   `<path>` (start and end tag), their geometric attributes (`x y width height rx ry`,
+//!   `cx cy r`, `x1 y1 x2 y2`, `points`) removed and `d` added.
+//! - `<use>` whose instance was imported: replaced by a `<g>` carrying the `use`'s attributes
+//!   except `href`, `xlink:href`, `x`, `y`, `width`, `height`, with
+//!   `transform` = the `use`'s transform, then `translate(x y)` (then the referenced symbol's
+//!   viewBox mapping), holding a copy of the referenced element (ids inside removed; a `symbol`
+//!   becomes a `g`) whose geometry elements carry the deformed instance geometry.
+//!
+//! With [`write_svg_following`] and the [`ElementMaps`] of the pose, what is not a curve
+//! follows too ([`crate::follow`]): copies of user-space gradients, patterns and
+//! fixed-orientation markers are written after their originals and named by an inline `style`
+//! on each element that uses them; `<text>` and `<image>` get a `transform`; strokes may scale.
+//! The animated export ([`crate::svg_animate::write_animated_svg_following`]) writes the same
+//! attributes for its first frame and animates them through the others ([`crate::smil`]).
+//!
+//! Each element's points are mapped back to its local coordinates with the inverse of its
+//! local → root transform and written as `M x y C … [Z]`, one `C` per cubic, numbers in the
+//! shortest form that reads back to the same `f64`. A closed path's last cubic ends on its first
+//! point (`P_0`, not `P_3n`), so that `Z` adds no closing segment. Reading the output back with
+//! [`crate::svg_in::read_svg`] gives the same paths and curve counts.
+//!
+//! The same rewriting machinery (with another `RewritePolicy`) prepares the text usvg reads at
+//! import: it injects ids and expands `use` elements exactly as export does, so that import and
+//! export agree on the structure of every instance.
+
+use std::collections::{HashMap, HashSet};
+use std::fmt::Write as _;
+
+use kurbo::{Affine, Point, Rect};
+
+use crate::document::{matrix, node_label, number, push_number, push_numbers, SvgError, XLINK_NS};
+use crate::follow::{self, ElementMaps};
+use crate::rewrite::{rewrite_document, AttributeSet, CopyEdit, GeometryEdit, RewritePolicy};
+pub use crate::rewrite::{MAX_EXPANDED_BYTES, MAX_USE_DEPTH};
+use crate::smil::{self, Timing};
+use splineskin_core::drawing::source::{ElementKey, ElementKind, SvgSource};
+use splineskin_core::drawing::{Drawing, Path};
+
+/// Margin around the points in the viewBox of a standalone export, relative to the larger side
+/// of their bounding box: 5 %.
+const STANDALONE_MARGIN: f64 = 0.05;
+
+/// Stroke width of a standalone export, relative to the larger side of the points' bounding
+/// box: 0.4 %, thin but visible at any zoom that shows the whole drawing.
+const STANDALONE_STROKE: f64 = 0.004;
+
+/// Relative size below which an element transform's determinant counts as zero (the transform
+/// cannot be inverted to write points in the element's coordinates): 1e-12.
+const SINGULAR_DETERMINANT: f64 = 1e-12;
+
+/// Writes `drawing` with its chain points replaced by `points` as SVG text.
+///
+/// `points` are the deformed chain points concatenated in path order: `drawing.n_points()` of
+/// them, laid out like [`Drawing::flat_points`]. If the drawing came from SVG
+/// ([`Drawing::source`]), the original document is kept and only the geometry of imported
+/// elements changes (module doc). Otherwise a minimal standalone document is written: one
+/// `<path>` per [`Path`] (black stroke, no fill) in a viewBox around the points.
+///
+/// Errors: [`SvgError::PointCount`], [`SvgError::NonFinitePoint`],
+/// [`SvgError::SourceMismatch`] (the drawing's paths no longer match its source),
+/// [`SvgError::SingularTransform`], [`SvgError::Unsupported`].
+///
+/// ```
+/// use kurbo::Vec2;
+/// use splineskin_svg::svg_in::{read_svg, ImportOptions};
+/// use splineskin_svg::svg_out::write_svg;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <rect id="box" x="1" y="1" width="2" height="2" fill="red"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let moved: Vec<_> = drawing.flat_points().iter().map(|&p| p + Vec2::new(5.0, 0.0)).collect();
+/// let out = write_svg(&drawing, &moved).unwrap();
+/// assert!(out.contains(r#"<path id="box" fill="red" d="M6 1 C"#));
+/// ```
+pub fn write_svg(drawing: &Drawing, points: &[Point]) -> Result<String, SvgError> {
+    write_svg_impl(drawing, points, None)
+}
+
+/// [`write_svg`], with every imported element (each `use` instance separately) also given the
+/// attribute `marker="k"`, `k` its index in [`SvgSource`]'s elements
+/// ([`SvgSource::element_paths`] gives its paths): what an editor needs to find, in the
+/// document it shows, the element whose `d` to rewrite as the drawing deforms. `marker` must be
+/// a plain attribute name the document does not use (e.g. `data-splineskin-element`). A
+/// drawing without a source gets no marker.
+///
+/// ```
+/// use splineskin_svg::svg_in::{read_svg, ImportOptions};
+/// use splineskin_svg::svg_out::write_svg_marked;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg"><rect width="2" height="2"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let out = write_svg_marked(&drawing, &drawing.flat_points(), "data-k").unwrap();
+/// assert!(out.contains(r#"<path d="M0 0 C"#) && out.contains(r#" data-k="0"/>"#), "{out}");
+/// ```
+pub fn write_svg_marked(
+    drawing: &Drawing,
+    points: &[Point],
+    marker: &'static str,
+) -> Result<String, SvgError> {
+    write_svg_impl(drawing, points, Some(marker))
+}
+
+fn write_svg_impl(
+    drawing: &Drawing,
+    points: &[Point],
+    marker: Option<&'static str>,
+) -> Result<String, SvgError> {
+    write_svg_view(drawing, points, marker, ViewBoxRule::Keep, None)
+}
+
+fn write_svg_view(
+    drawing: &Drawing,
+    points: &[Point],
+    marker: Option<&'static str>,
+    view_box: ViewBoxRule,
+    follow: Option<&ElementMaps>,
+) -> Result<String, SvgError> {
+    let offsets = chain_offsets(drawing, points)?;
+    match &drawing.source {
+        Some(source) => {
+            let data = element_path_data(drawing, points, &offsets, source)?;
+            let root = root_attributes(drawing, points, &offsets, source, view_box)?;
+            let follow = follow.map(|maps| Follow {
+                drawing,
+                frames: std::slice::from_ref(maps),
+                timing: None,
+            });
+            export_geometry_follow(source, data, Vec::new(), marker, root, follow)
+        }
+        None => Ok(write_standalone(drawing, points, &offsets, &[])),
+    }
+}
+
+/// What export does with the root `viewBox` when the deformed art leaves it.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[non_exhaustive]
+pub enum ViewBoxRule {
+    /// Keep the input's viewBox (art outside it is cropped by viewers). The default.
+    #[default]
+    Keep,
+    /// Grow the viewBox to the union of the input's and the deformed art's bounding box
+    /// ([`art_bounds`]: the paths [`art_outside_view_box`] looks at), and `width`/`height` in
+    /// proportion (same units; percentages are kept), so that the drawing keeps its scale on
+    /// screen.
+    Fit,
+    /// As [`ViewBoxRule::Fit`], with the art's bounding box given: the viewBox becomes the
+    /// union of the input's and this rectangle (root user units). An animation passes the
+    /// union of [`art_bounds`] over its frames, so that every frame has the same viewBox and
+    /// holds the art of all of them.
+    FitTo(Rect),
+}
+
+/// A path whose deformed curves leave the document's viewBox.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutsideViewBox {
+    /// Index into [`Drawing::paths`].
+    pub path_index: usize,
+    /// The element it comes from (`tag#id (line n)`).
+    pub element: String,
+    /// How far its curves' bounding box reaches beyond the viewBox, in root user units (the
+    /// largest overshoot over the four sides; strokes not counted).
+    pub distance: f64,
+}
+
+/// Whether path `i` counts for the viewBox: drawn or hidden art (what shows, or shows once its
+/// layer is unhidden); not clip geometry, mask content or unpainted paths.
+fn counts_for_view_box(drawing: &Drawing, i: usize) -> bool {
+    matches!(
+        drawing.path_role(i),
+        splineskin_core::drawing::PathRole::Visible | splineskin_core::drawing::PathRole::Hidden
+    )
+}
+
+/// The exact bounding box of path `path`'s curves through `points` (its chain points).
+fn curves_bounds(path: &Path, points: &[Point]) -> Rect {
+    use kurbo::ParamCurveExtrema;
+    let mut r = Rect::from_points(points[0], points[0]);
+    for j in 0..path.n_curves() {
+        let c = kurbo::CubicBez::new(
+            points[3 * j],
+            points[3 * j + 1],
+            points[3 * j + 2],
+            points[3 * j + 3],
+        );
+        r = r.union(c.bounding_box());
+    }
+    r
+}
+
+/// The paths of `drawing` (art only: drawn or hidden, see [`ViewBoxRule::Fit`]) whose curves
+/// through the deformed `points` (laid out like [`Drawing::flat_points`]) reach outside the
+/// document's viewBox, with how far. Empty for a drawing without a source document.
+///
+/// Errors: [`SvgError::PointCount`], [`SvgError::NonFinitePoint`].
+///
+/// ```
+/// use kurbo::Vec2;
+/// use splineskin_svg::svg_in::{read_svg, ImportOptions};
+/// use splineskin_svg::svg_out::art_outside_view_box;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <rect id="box" x="1" y="1" width="2" height="2"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let moved: Vec<_> = drawing.flat_points().iter().map(|&p| p + Vec2::new(8.5, 0.0)).collect();
+/// let outside = art_outside_view_box(&drawing, &moved).unwrap();
+/// assert_eq!(outside[0].element, "rect#box (line 2)");
+/// assert!((outside[0].distance - 1.5).abs() < 1e-12);
+/// ```
+pub fn art_outside_view_box(
+    drawing: &Drawing,
+    points: &[Point],
+) -> Result<Vec<OutsideViewBox>, SvgError> {
+    let offsets = chain_offsets(drawing, points)?;
+    let Some(source) = &drawing.source else {
+        return Ok(Vec::new());
+    };
+    let vb = source.view_box;
+    let mut out = Vec::new();
+    for (i, path) in drawing.paths.iter().enumerate() {
+        if !counts_for_view_box(drawing, i) {
+            continue;
+        }
+        let r = curves_bounds(path, &points[offsets[i]..offsets[i] + path.points.len()]);
+        let distance = [vb.x0 - r.x0, r.x1 - vb.x1, vb.y0 - r.y0, r.y1 - vb.y1]
+            .into_iter()
+            .fold(0.0f64, f64::max);
+        if distance > 0.0 {
+            out.push(OutsideViewBox {
+                path_index: i,
+                element: source.element_label(i),
+                distance,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// [`write_svg`] with the root viewBox chosen by `view_box` ([`ViewBoxRule`]).
+///
+/// ```
+/// use kurbo::Vec2;
+/// use splineskin_svg::svg_in::{read_svg, ImportOptions};
+/// use splineskin_svg::svg_out::{write_svg_view_box, ViewBoxRule};
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10" width="20mm"
+///   height="20mm"><rect x="1" y="1" width="2" height="2"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let moved: Vec<_> = drawing.flat_points().iter().map(|&p| p + Vec2::new(9.0, 0.0)).collect();
+/// let out = write_svg_view_box(&drawing, &moved, ViewBoxRule::Fit).unwrap();
+/// assert!(out.contains(r#"viewBox="0 0 12 10""#), "{out}");
+/// assert!(out.contains(r#"width="24mm""#), "{out}");
+/// ```
+pub fn write_svg_view_box(
+    drawing: &Drawing,
+    points: &[Point],
+    view_box: ViewBoxRule,
+) -> Result<String, SvgError> {
+    write_svg_view(drawing, points, None, view_box, None)
+}
+
+/// [`write_svg_view_box`], with everything that is not a curve carried by `maps` (computed for
+/// this drawing and pose): user-space gradients and patterns, fixed-orientation markers, text
+/// and images follow the deformation, and strokes scale if the maps were computed with
+/// [`FollowOptions::scale_strokes`](crate::follow::FollowOptions) ([`crate::follow`] says
+/// how). A drawing without a source document is written as by [`write_svg`].
+///
+/// Errors: those of [`write_svg`]; [`SvgError::SourceMismatch`] when `maps` were computed for
+/// another drawing.
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin_svg::follow::{ElementMaps, FollowOptions};
+/// use splineskin_svg::svg_out::{write_svg_following, ViewBoxRule};
+/// use splineskin_svg::{read_svg, ImportOptions};
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <rect width="4" height="2"/><text x="1" y="8">hi</text></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let t = Affine::translate((2.0, 0.0));
+/// let maps = ElementMaps::from_map(&drawing, &mut |p| t * p, &FollowOptions::default()).unwrap();
+/// let moved: Vec<Point> = drawing.flat_points().iter().map(|&p| t * p).collect();
+/// let out = write_svg_following(&drawing, &moved, &maps, ViewBoxRule::Keep).unwrap();
+/// // The text's new transform is the translation (up to rounding of the fit).
+/// assert!(out.contains(r#"<text x="1" y="8" transform="matrix(1 0 "#), "{out}");
+/// ```
+pub fn write_svg_following(
+    drawing: &Drawing,
+    points: &[Point],
+    maps: &ElementMaps,
+    view_box: ViewBoxRule,
+) -> Result<String, SvgError> {
+    write_svg_view(drawing, points, None, view_box, Some(maps))
+}
+
+/// The union of the exact bounding boxes of the art paths of `drawing` (drawn or hidden, not
+/// clip geometry, mask content or unpainted paths; strokes not counted) through `points` (laid
+/// out like [`Drawing::flat_points`]), in root user units; `None` when the drawing has no art
+/// path. For an animation, the union of this over its frames is what [`ViewBoxRule::FitTo`]
+/// takes.
+///
+/// Errors: [`SvgError::PointCount`], [`SvgError::NonFinitePoint`].
+///
+/// ```
+/// use kurbo::{Rect, Vec2};
+/// use splineskin_svg::svg_in::{read_svg, ImportOptions};
+/// use splineskin_svg::svg_out::art_bounds;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <rect x="1" y="1" width="2" height="2"/><circle cx="5" cy="5" r="1"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let moved: Vec<_> = drawing.flat_points().iter().map(|&p| p + Vec2::new(8.0, 0.0)).collect();
+/// let r = art_bounds(&drawing, &moved).unwrap().unwrap();
+/// let expected = Rect::new(9.0, 1.0, 14.0, 6.0);
+/// assert!((r.x0 - expected.x0).abs() + (r.x1 - expected.x1).abs() < 1e-12, "{r:?}");
+/// assert!((r.y0 - expected.y0).abs() + (r.y1 - expected.y1).abs() < 1e-12, "{r:?}");
+/// ```
+pub fn art_bounds(drawing: &Drawing, points: &[Point]) -> Result<Option<Rect>, SvgError> {
+    let offsets = chain_offsets(drawing, points)?;
+    Ok(art_bounds_at(drawing, points, &offsets))
+}
+
+/// [`art_bounds`] with the chain offsets checked already.
+pub(crate) fn art_bounds_at(
+    drawing: &Drawing,
+    points: &[Point],
+    offsets: &[usize],
+) -> Option<Rect> {
+    let mut bounds: Option<Rect> = None;
+    for (i, path) in drawing.paths.iter().enumerate() {
+        if counts_for_view_box(drawing, i) {
+            let r = curves_bounds(path, &points[offsets[i]..offsets[i] + path.points.len()]);
+            bounds = Some(bounds.map_or(r, |b| b.union(r)));
+        }
+    }
+    bounds
+}
+
+/// The attributes `rule` sets on the root element of the export of `points` (none for
+/// [`ViewBoxRule::Keep`], or when the art stays inside the viewBox).
+///
+/// Errors: [`SvgError::NonFinitePoint`] for a [`ViewBoxRule::FitTo`] rectangle that is not
+/// finite (its corner counted as point 0 or 1).
+pub(crate) fn root_attributes(
+    drawing: &Drawing,
+    points: &[Point],
+    offsets: &[usize],
+    source: &SvgSource,
+    rule: ViewBoxRule,
+) -> Result<Vec<(&'static str, String)>, SvgError> {
+    Ok(match rule {
+        ViewBoxRule::Keep => Vec::new(),
+        ViewBoxRule::Fit => match art_bounds_at(drawing, points, offsets) {
+            Some(bounds) => fitted_root(source, bounds),
+            None => Vec::new(),
+        },
+        ViewBoxRule::FitTo(bounds) => {
+            if let Some(index) = [bounds.origin(), Point::new(bounds.x1, bounds.y1)]
+                .iter()
+                .position(|p| !p.is_finite())
+            {
+                return Err(SvgError::NonFinitePoint {
+                    file: source.origin.clone(),
+                    element: "the corners of the viewBox to fit".to_string(),
+                    index,
+                });
+            }
+            fitted_root(source, bounds)
+        }
+    })
+}
+
+/// The root attributes of [`ViewBoxRule::FitTo`]`(bounds)` (`bounds` finite): none when
+/// `bounds` lies inside the viewBox.
+fn fitted_root(source: &SvgSource, bounds: Rect) -> Vec<(&'static str, String)> {
+    let vb = source.view_box;
+    let r = vb.union(bounds.abs());
+    if r == vb {
+        return Vec::new();
+    }
+    let mut set = vec![("viewBox", {
+        let mut s = String::new();
+        push_numbers(&mut s, &[r.x0, r.y0, r.width(), r.height()]);
+        s
+    })];
+    let Ok(doc) = crate::document::parse_xml(&source.text, &source.origin) else {
+        return set;
+    };
+    let root = doc.root_element();
+    // width and height grow in proportion, in their own units; absent ones are the viewBox's
+    // size (usvg's resolution), written in user units.
+    for (name, old, new, size) in [
+        ("width", vb.width(), r.width(), source.size.width),
+        ("height", vb.height(), r.height(), source.size.height),
+    ] {
+        use svgtypes::LengthUnit as U;
+        match root.attribute(name) {
+            Some(v) => {
+                let Ok(length) = <svgtypes::Length as std::str::FromStr>::from_str(v) else {
+                    continue;
+                };
+                let unit = match length.unit {
+                    U::None => "",
+                    U::Px => "px",
+                    U::In => "in",
+                    U::Cm => "cm",
+                    U::Mm => "mm",
+                    U::Pt => "pt",
+                    U::Pc => "pc",
+                    U::Em => "em",
+                    U::Ex => "ex",
+                    U::Percent => continue,
+                };
+                set.push((name, format!("{}{unit}", number(length.number * new / old))));
+            }
+            None => set.push((name, number(size * new / old))),
+        }
+    }
+    set
+}
+
+/// Where each path's chain points start in `points` (laid out like [`Drawing::flat_points`]),
+/// after checking that there are `drawing.n_points()` of them and all are finite.
+///
+/// Errors: [`SvgError::PointCount`], [`SvgError::NonFinitePoint`] (naming the element).
+pub(crate) fn chain_offsets(drawing: &Drawing, points: &[Point]) -> Result<Vec<usize>, SvgError> {
+    let origin = drawing
+        .source
+        .as_ref()
+        .map_or("<drawing>", |s| s.origin.as_str());
+    if points.len() != drawing.n_points() {
+        return Err(SvgError::PointCount {
+            file: origin.to_string(),
+            expected: drawing.n_points(),
+            found: points.len(),
+        });
+    }
+    let mut offsets = Vec::with_capacity(drawing.paths.len());
+    let mut offset = 0;
+    for (i, path) in drawing.paths.iter().enumerate() {
+        let chunk = &points[offset..offset + path.points.len()];
+        if let Some(k) = chunk
+            .iter()
+            .position(|p| !(p.x.is_finite() && p.y.is_finite()))
+        {
+            let element = match &drawing.source {
+                Some(s) => s.element_label(i),
+                None => format!("path {i}"),
+            };
+            return Err(SvgError::NonFinitePoint {
+                file: origin.to_string(),
+                element,
+                index: offset + k,
+            });
+        }
+        offsets.push(offset);
+        offset += path.points.len();
+    }
+    Ok(offsets)
+}
+
+/// A standalone document for a drawing built in code. `children[i]`, when present and not
+/// empty, is written as the content of path `i`'s element (e.g. an `<animate>`).
+pub(crate) fn write_standalone(
+    drawing: &Drawing,
+    points: &[Point],
+    offsets: &[usize],
+    children: &[String],
+) -> String {
+    let bounds = points
+        .iter()
+        .fold(None, |r: Option<Rect>, &p| {
+            Some(r.map_or(Rect::from_points(p, p), |r| r.union_pt(p)))
+        })
+        .unwrap_or(Rect::new(0.0, 0.0, 1.0, 1.0));
+    let side = bounds.width().max(bounds.height());
+    let side = if side > 0.0 { side } else { 1.0 };
+    let view = bounds.inflate(STANDALONE_MARGIN * side, STANDALONE_MARGIN * side);
+    let mut out = String::from("<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"");
+    push_numbers(&mut out, &[view.x0, view.y0, view.width(), view.height()]);
+    out.push_str("\">\n");
+    for (i, (path, &offset)) in drawing.paths.iter().zip(offsets).enumerate() {
+        out.push_str("  <path d=\"");
+        push_path_data(
+            &mut out,
+            path,
+            &points[offset..offset + path.points.len()],
+            Affine::IDENTITY,
+            true,
+        );
+        out.push_str("\" fill=\"none\" stroke=\"black\" stroke-width=\"");
+        push_number(&mut out, STANDALONE_STROKE * side);
+        match children.get(i).filter(|c| !c.is_empty()) {
+            Some(child) => {
+                out.push_str("\">");
+                out.push_str(child);
+                out.push_str("</path>\n");
+            }
+            None => out.push_str("\"/>\n"),
+        }
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
+/// Export policy: imported elements get their deformed `d`; `use` instances that were imported
+/// are expanded.
+struct ExportPolicy<'e> {
+    source: &'e SvgSource,
+    element_of_key: HashMap<&'e ElementKey, usize>,
+    instances: HashSet<&'e [usize]>,
+    data: Vec<String>,
+    /// Content written inside each element (empty: none).
+    children: Vec<String>,
+    /// The attribute that receives each element's index, if any.
+    marker: Option<&'static str>,
+    /// Attributes set on the root element (the fitted viewBox).
+    root: Vec<(&'static str, String)>,
+    /// What follows the deformation besides the curves ([`crate::follow`]).
+    follow: FollowEdits,
+}
+
+/// The edits that carry what is not a curve ([`crate::follow`]); in an animated document
+/// ([`Follow::timing`]) they hold the first frame, and the animation elements of the others.
+#[derive(Default)]
+struct FollowEdits {
+    /// Per imported element, style declarations (property, value) to add inline.
+    styles: Vec<Vec<(String, String)>>,
+    /// Per imported element, animation elements to write inside it (empty: none).
+    animations: Vec<String>,
+    /// Per resource element (byte offset): the copies written after it.
+    copies: HashMap<usize, Vec<CopyEdit>>,
+    /// Per carried `<text>`/`<image>` (byte offset): its new `transform`.
+    transforms: HashMap<usize, String>,
+    /// Per carried `<text>`/`<image>` (byte offset): the animation of its `transform`, written
+    /// as its first content.
+    contents: HashMap<usize, String>,
+}
+
+/// What follows the deformation besides the curves: the element maps of each frame (one for a
+/// still document) and, for an animated one, the timing of its animation elements.
+pub(crate) struct Follow<'f> {
+    /// The drawing the maps belong to.
+    pub(crate) drawing: &'f Drawing,
+    /// One per frame, at least one.
+    pub(crate) frames: &'f [ElementMaps],
+    /// `Some` for an animated document (then one map per frame of the timing).
+    pub(crate) timing: Option<&'f Timing>,
+}
+
+impl RewritePolicy for ExportPolicy<'_> {
+    fn geometry(
+        &mut self,
+        key: &ElementKey,
+        node: roxmltree::Node,
+        _in_copy: bool,
+    ) -> Result<GeometryEdit, SvgError> {
+        let Some(&i) = self.element_of_key.get(key) else {
+            return Ok(GeometryEdit::Keep);
+        };
+        if node.range() != self.source.elements[i].range {
+            return Err(SvgError::Internal {
+                file: self.source.origin.clone(),
+                what: format!("{}: its byte range moved", self.source.elements[i].label),
+            });
+        }
+        let mut child = self.children.get_mut(i).map(std::mem::take);
+        if let Some(animation) = self.follow.animations.get_mut(i) {
+            child
+                .get_or_insert_with(String::new)
+                .push_str(&std::mem::take(animation));
+        }
+        let child = child.filter(|c| !c.is_empty());
+        let mut set: Vec<(&'static str, String)> = self
+            .marker
+            .map(|name| (name, i.to_string()))
+            .into_iter()
+            .collect();
+        let mut decls: Vec<(String, String)> =
+            self.follow.styles.get(i).cloned().unwrap_or_default();
+        if self.source.elements[i].zero_area_fill {
+            // Its fill covered no area at rest: keep it invisible once bent (an inline style
+            // wins over attributes and style sheets; last, so it wins over a carried fill).
+            decls.push(("fill".to_string(), "none".to_string()));
+        }
+        if !decls.is_empty() {
+            let style = node.attribute("style").unwrap_or("").trim();
+            let mut style = style.trim_end_matches(';').trim().to_string();
+            for (name, value) in decls {
+                if !style.is_empty() {
+                    style.push(';');
+                }
+                let _ = write!(style, "{name}:{value}");
+            }
+            set.push(("style", style));
+        }
+        Ok(GeometryEdit::ToPath(
+            std::mem::take(&mut self.data[i]),
+            child,
+            set,
+        ))
+    }
+
+    fn expand_use(&mut self, instance: &[usize]) -> bool {
+        self.instances.contains(instance)
+    }
+
+    fn copies(&mut self, node: roxmltree::Node) -> Vec<CopyEdit> {
+        self.follow
+            .copies
+            .remove(&node.range().start)
+            .unwrap_or_default()
+    }
+
+    fn content(&mut self, node: roxmltree::Node, in_copy: bool) -> Option<String> {
+        if in_copy {
+            return None;
+        }
+        self.follow.contents.remove(&node.range().start)
+    }
+
+    fn attributes(&mut self, node: roxmltree::Node, in_copy: bool) -> Vec<(&'static str, String)> {
+        let start = node.range().start;
+        let mut set = Vec::new();
+        if !in_copy {
+            if let Some(t) = self.follow.transforms.get(&start) {
+                set.push(("transform", t.clone()));
+            }
+        }
+        if node.parent().is_some_and(|p| p.is_root()) {
+            set.append(&mut self.root);
+        }
+        if let Some((_, t)) = self.source.bbox_clips.iter().find(|(c, _)| *c == start) {
+            // The rest bounding-box map made explicit: the deformed geometry is written in
+            // these coordinates and must not follow the deformed element's bounding box.
+            set.push(("clipPathUnits", "userSpaceOnUse".to_string()));
+            set.push(("transform", matrix(*t)));
+        }
+        set
+    }
+}
+
+/// Longest `href` chain followed to resolve a paint server's attributes: 32.
+const MAX_HREF_CHAIN: usize = 32;
+
+/// The smallest rotation (radians) a fixed-orientation marker is turned by: 1e-9 (below,
+/// the marker is left as it is).
+const MIN_MARKER_TURN: f64 = 1e-9;
+
+/// The value of attribute `name` on `node` or, through `href`/`xlink:href`, on the template it
+/// names (as gradients and patterns inherit).
+fn through_href<'a, 'i>(
+    node: roxmltree::Node<'a, 'i>,
+    name: &str,
+    ids: &HashMap<&'a str, roxmltree::Node<'a, 'i>>,
+) -> Option<&'a str> {
+    let mut n = node;
+    for _ in 0..MAX_HREF_CHAIN {
+        if let Some(v) = n.attribute(name) {
+            return Some(v);
+        }
+        let href = n
+            .attribute("href")
+            .or_else(|| n.attribute((XLINK_NS, "href")))?;
+        n = *ids.get(href.trim().strip_prefix('#')?)?;
+    }
+    None
+}
+
+/// A paint server in user space: the name of its transform attribute, its transform (through
+/// templates), and the unit attributes its copy states explicitly. `None` for other servers
+/// (objectBoundingBox units) or other elements.
+fn user_space_server<'a, 'i>(
+    node: roxmltree::Node<'a, 'i>,
+    ids: &HashMap<&'a str, roxmltree::Node<'a, 'i>>,
+) -> Option<(&'static str, Affine, AttributeSet)> {
+    let user = |name: &str, default: &str| {
+        through_href(node, name, ids).unwrap_or(default).trim() == "userSpaceOnUse"
+    };
+    let (transform, units): (&'static str, &[&'static str]) = match node.tag_name().name() {
+        "linearGradient" | "radialGradient" if user("gradientUnits", "objectBoundingBox") => {
+            ("gradientTransform", &["gradientUnits"])
+        }
+        "pattern"
+            if user("patternUnits", "objectBoundingBox")
+                && user("patternContentUnits", "userSpaceOnUse") =>
+        {
+            ("patternTransform", &["patternUnits", "patternContentUnits"])
+        }
+        _ => return None,
+    };
+    let t = through_href(node, transform, ids)
+        .and_then(|v| <svgtypes::Transform as std::str::FromStr>::from_str(v).ok())
+        .map(|t| Affine::new([t.a, t.b, t.c, t.d, t.e, t.f]))
+        .unwrap_or(Affine::IDENTITY);
+    let units = units
+        .iter()
+        .map(|&u| (u, "userSpaceOnUse".to_string()))
+        .collect();
+    Some((transform, t, units))
+}
+
+/// The id in a paint or marker reference `url(#id)` (quotes allowed); `None` for `none` or
+/// anything else.
+fn url_id(value: &str) -> Option<&str> {
+    let inner = value.trim().strip_prefix("url(")?;
+    let inner = &inner[..inner.find(')')?];
+    inner
+        .trim()
+        .trim_matches(|c| c == '"' || c == '\'')
+        .strip_prefix('#')
+}
+
+/// The marker `node` uses at `slot` (`start`, `mid`, `end`): `marker-<slot>` or the `marker`
+/// shorthand on it or its nearest ancestor that sets either (styles then attributes; style
+/// sheets are not read).
+fn marker_reference<'a>(node: roxmltree::Node<'a, '_>, slot: &str) -> Option<String> {
+    let long = format!("marker-{slot}");
+    for n in node.ancestors().filter(|n| n.is_element()) {
+        let v = follow::declared(n, &long).or_else(|| follow::declared(n, "marker"));
+        if let Some(v) = v {
+            return url_id(&v).map(str::to_string);
+        }
+    }
+    None
+}
+
+/// The edits that carry paint servers, markers, text and images by the maps of
+/// `follow.frames` ([`crate::follow`]): for a still document (one frame) the attributes, for an
+/// animated one those of the first frame and animation elements through all frames
+/// ([`crate::smil`]; a paint server's, marker's or stroke width's is left out where every
+/// frame agrees with the first within [`follow::SAME_MAP`] or [`MIN_MARKER_TURN`]; a text's or
+/// image's is always written).
+///
+/// Errors: [`SvgError::SourceMismatch`] when the maps do not belong to this drawing, or their
+/// number is not the timing's.
+fn follow_edits(
+    source: &SvgSource,
+    doc: &roxmltree::Document,
+    follow: &Follow,
+) -> Result<FollowEdits, SvgError> {
+    let Follow {
+        drawing,
+        frames,
+        timing,
+    } = *follow;
+    let mismatch = |what: String| SvgError::SourceMismatch {
+        file: source.origin.clone(),
+        what,
+    };
+    let expected = timing.map_or(1, |t| t.n_frames);
+    if frames.len() != expected {
+        return Err(mismatch(format!(
+            "{} element maps for {expected} frames",
+            frames.len()
+        )));
+    }
+    for maps in frames {
+        if maps.n_paths != drawing.paths.len() || maps.elements.len() != source.elements.len() {
+            return Err(mismatch(format!(
+                "the element maps were computed for {} paths in {} elements, the drawing has {} \
+                 in {}",
+                maps.n_paths,
+                maps.elements.len(),
+                drawing.paths.len(),
+                source.elements.len()
+            )));
+        }
+        let same_carried = maps.carried.len() == frames[0].carried.len()
+            && maps
+                .carried
+                .iter()
+                .zip(&frames[0].carried)
+                .all(|(a, b)| a.offset == b.offset);
+        if !same_carried {
+            return Err(mismatch(
+                "the frames' element maps carry different texts and images".to_string(),
+            ));
+        }
+    }
+    let options = frames[0].options;
+    let mut ids = HashMap::new();
+    let mut nodes = HashMap::new();
+    for n in doc.descendants().filter(|n| n.is_element()) {
+        if let Some(id) = n.attribute("id") {
+            ids.entry(id).or_insert(n);
+        }
+        nodes.insert(n.range().start, n);
+    }
+    let prefix = crate::document::unique_prefix(doc);
+    let mut edits = FollowEdits::default();
+    // Per resource (byte offset): the local maps (or marker turns) of its copies, one per
+    // frame, and their ids.
+    type Made = (Vec<Affine>, Vec<f64>, String);
+    let mut made: HashMap<usize, Vec<Made>> = HashMap::new();
+    let mut new_copy = |edits: &mut FollowEdits,
+                        resource: roxmltree::Node,
+                        id: &str,
+                        same: &dyn Fn(&[Affine], &[f64]) -> bool,
+                        key: (Vec<Affine>, Vec<f64>),
+                        make: &dyn Fn(&str) -> CopyEdit|
+     -> String {
+        let list = made.entry(resource.range().start).or_default();
+        if let Some((_, _, copy)) = list.iter().find(|(m, t, _)| same(m, t)) {
+            return copy.clone();
+        }
+        let copy = format!("{prefix}{id}-{}", list.len() + 1);
+        list.push((key.0, key.1, copy.clone()));
+        let mut edit = make(&copy);
+        edit.set.insert(0, ("id", copy.clone()));
+        edits
+            .copies
+            .entry(resource.range().start)
+            .or_default()
+            .push(edit);
+        copy
+    };
+    // Whether every frame's value agrees with the first's.
+    let still_maps =
+        |maps: &[Affine], size: f64| maps.iter().all(|&m| follow::same_map(m, maps[0], size));
+    let still_turns = |turns: &[f64]| {
+        turns
+            .iter()
+            .all(|&t| (t - turns[0]).abs() <= MIN_MARKER_TURN)
+    };
+    for (i, e) in source.elements.iter().enumerate() {
+        let mut decls = Vec::new();
+        let mut animations = String::new();
+        let l = e.local_to_root;
+        let ms: Vec<Affine> = frames
+            .iter()
+            .map(|maps| l.inverse() * maps.elements[i] * l)
+            .collect();
+        let m = ms[0];
+        let Some(&node) = nodes.get(&e.range.start) else {
+            edits.styles.push(decls);
+            edits.animations.push(animations);
+            continue;
+        };
+        let diagonal = drawing.paths[e.paths.clone()]
+            .iter()
+            .flat_map(|p| p.points.iter())
+            .fold(None, |r: Option<Rect>, &p| {
+                Some(r.map_or(Rect::from_points(p, p), |r| r.union_pt(p)))
+            })
+            .map_or(0.0, |r| r.width().hypot(r.height()));
+        let size = diagonal / follow::local_scale(l);
+        for (slot, server) in [
+            ("fill", &e.paint.fill_server),
+            ("stroke", &e.paint.stroke_server),
+        ] {
+            let Some(&server) = server.as_deref().and_then(|id| ids.get(id)) else {
+                continue;
+            };
+            let Some((name, g, mut set)) = user_space_server(server, &ids) else {
+                continue;
+            };
+            set.push((name, matrix(m * g)));
+            let animated = timing.filter(|_| !still_maps(&ms, size));
+            // A server with children gets its animation as a child; one without (a pattern
+            // inheriting its template's content) must stay childless: the animation follows
+            // it and names it.
+            let as_child = server.children().any(|c| c.is_element());
+            let make = |copy: &str| {
+                let mut edit = CopyEdit {
+                    set: set.clone(),
+                    ..CopyEdit::default()
+                };
+                if let Some(timing) = animated {
+                    let maps: Vec<Affine> = ms.iter().map(|&m| m * g).collect();
+                    let mut animation = String::new();
+                    let target = (!as_child).then_some(copy);
+                    smil::push_animate_transform(&mut animation, name, &maps, timing, target);
+                    match as_child {
+                        true => edit.content = Some(animation),
+                        false => edit.after = Some(animation),
+                    }
+                }
+                edit
+            };
+            let id = server.attribute("id").unwrap_or("paint");
+            let same = |other: &[Affine], _: &[f64]| {
+                other
+                    .iter()
+                    .zip(&ms)
+                    .all(|(&o, &m)| follow::same_map(o, m, size))
+            };
+            let copy = new_copy(
+                &mut edits,
+                server,
+                id,
+                &same,
+                (ms.clone(), Vec::new()),
+                &make,
+            );
+            decls.push((slot.to_string(), format!("url(#{copy})")));
+        }
+        let mut turns: Vec<f64> = ms.iter().map(|&m| follow::rotation_angle(m)).collect();
+        smil::unwrap_angles(&mut turns);
+        let has_markers = matches!(
+            e.kind,
+            ElementKind::Path | ElementKind::Line | ElementKind::Polyline | ElementKind::Polygon
+        );
+        for slot in ["start", "mid", "end"] {
+            if !has_markers || turns.iter().all(|t| t.abs() <= MIN_MARKER_TURN) {
+                break;
+            }
+            let Some(id) = marker_reference(node, slot) else {
+                continue;
+            };
+            let Some(&marker) = ids.get(id.as_str()) else {
+                continue;
+            };
+            if marker.tag_name().name() != "marker" {
+                continue;
+            }
+            let orient = marker.attribute("orient").unwrap_or("0").trim();
+            if orient.starts_with("auto") {
+                continue;
+            }
+            let Ok(angle) = <svgtypes::Angle as std::str::FromStr>::from_str(orient) else {
+                continue;
+            };
+            let degrees: Vec<f64> = turns
+                .iter()
+                .map(|t| angle.to_degrees() + t.to_degrees())
+                .collect();
+            let make = |_: &str| {
+                let mut edit = CopyEdit {
+                    set: vec![("orient", number(degrees[0]))],
+                    ..CopyEdit::default()
+                };
+                if let Some(timing) = timing.filter(|_| !still_turns(&turns)) {
+                    let mut animation = String::new();
+                    smil::push_animate(&mut animation, "orient", &degrees, timing);
+                    edit.content = Some(animation);
+                }
+                edit
+            };
+            let same = |_: &[Affine], other: &[f64]| {
+                other
+                    .iter()
+                    .zip(&turns)
+                    .all(|(o, t)| (o - t).abs() <= MIN_MARKER_TURN)
+            };
+            let copy = new_copy(
+                &mut edits,
+                marker,
+                &id,
+                &same,
+                (Vec::new(), turns.clone()),
+                &make,
+            );
+            decls.push((format!("marker-{slot}"), format!("url(#{copy})")));
+        }
+        if options.scale_strokes {
+            if let Some(w) = e.paint.stroke_width {
+                let widths: Vec<f64> = ms.iter().map(|&m| w * follow::local_scale(m)).collect();
+                decls.push(("stroke-width".to_string(), number(widths[0])));
+                if let Some(timing) = timing.filter(|_| !still_maps(&ms, size)) {
+                    smil::push_animate(&mut animations, "stroke-width", &widths, timing);
+                }
+            }
+        }
+        edits.styles.push(decls);
+        edits.animations.push(animations);
+    }
+    for (k, c) in frames[0].carried.iter().enumerate() {
+        let Some(&node) = nodes.get(&c.offset) else {
+            continue;
+        };
+        let p = c.parent_to_root;
+        let [a, b, cc, d, _, _] = p.as_coeffs();
+        let det = a * d - b * cc;
+        let invertible =
+            det.abs() > SINGULAR_DETERMINANT * (a.abs() + b.abs()) * (cc.abs() + d.abs());
+        if !invertible {
+            tracing::warn!(
+                file = source.origin.as_str(),
+                element = %node_label(doc, node),
+                "its parent's transform is singular; left at rest"
+            );
+            continue;
+        }
+        let local: Vec<Affine> = frames
+            .iter()
+            .map(|maps| p.inverse() * maps.carried[k].map * p)
+            .collect();
+        let mut t = matrix(local[0]);
+        if let Some(own) = node.attribute("transform").filter(|v| !v.trim().is_empty()) {
+            t.push(' ');
+            t.push_str(own.trim());
+        }
+        edits.transforms.insert(c.offset, t);
+        if let Some(timing) = timing {
+            // The element's own transform is composed on the right of every frame's map.
+            let own = follow::own_transform(node);
+            let maps: Vec<Affine> = local.iter().map(|&m| m * own).collect();
+            let mut animation = String::new();
+            smil::push_animate_transform(&mut animation, "transform", &maps, timing, None);
+            edits.contents.insert(c.offset, animation);
+        }
+    }
+    Ok(edits)
+}
+
+/// The new `d` of every imported element of `source` (in [`SvgSource::elements`] order): its
+/// subpaths' deformed points mapped back to the element's local coordinates. `offsets` from
+/// [`chain_offsets`].
+///
+/// Errors: [`SvgError::SourceMismatch`], [`SvgError::SingularTransform`].
+pub(crate) fn element_path_data(
+    drawing: &Drawing,
+    points: &[Point],
+    offsets: &[usize],
+    source: &SvgSource,
+) -> Result<Vec<String>, SvgError> {
+    let origin = source.origin.as_str();
+    let mismatch = |what: String| SvgError::SourceMismatch {
+        file: origin.to_string(),
+        what,
+    };
+    if drawing.paths.len() != source.n_paths() {
+        return Err(mismatch(format!(
+            "it has {} paths, the document produced {}",
+            drawing.paths.len(),
+            source.n_paths()
+        )));
+    }
+    let mut data = Vec::with_capacity(source.elements.len());
+    for element in &source.elements {
+        let t = element.local_to_root;
+        let [a, b, c, d, _, _] = t.as_coeffs();
+        let det = a * d - b * c;
+        let scale = (a.abs() + b.abs()) * (c.abs() + d.abs());
+        if !(det.abs() > SINGULAR_DETERMINANT * scale && det.is_finite()) {
+            return Err(SvgError::SingularTransform {
+                file: origin.to_string(),
+                element: element.label.clone(),
+            });
+        }
+        let inverse = t.inverse();
+        let mut d = String::new();
+        for i in element.paths.clone() {
+            let path = &drawing.paths[i];
+            if !d.is_empty() {
+                d.push(' ');
+            }
+            push_path_data(
+                &mut d,
+                path,
+                &points[offsets[i]..offsets[i] + path.points.len()],
+                inverse,
+                !source.is_closed_without_z(i),
+            );
+        }
+        data.push(d);
+    }
+    Ok(data)
+}
+
+/// The document of `source` with every imported element's geometry replaced by `data` (one `d`
+/// per element, [`element_path_data`]), where `children` (one per element, or empty for none)
+/// holds text, that text written as the element's first content, each element given
+/// `marker="k"` when `marker` is set ([`write_svg_marked`]), and the root element given the
+/// attributes `root` (the fitted viewBox, [`root_attributes`]).
+pub(crate) fn export_geometry_root(
+    source: &SvgSource,
+    data: Vec<String>,
+    children: Vec<String>,
+    marker: Option<&'static str>,
+    root: Vec<(&'static str, String)>,
+) -> Result<String, SvgError> {
+    export_geometry_follow(source, data, children, marker, root, None)
+}
+
+/// [`export_geometry_root`] for an animated document: what is not a curve follows each frame's
+/// maps, as animation elements with `timing` ([`crate::smil`]).
+pub(crate) fn export_geometry_animated(
+    source: &SvgSource,
+    data: Vec<String>,
+    children: Vec<String>,
+    root: Vec<(&'static str, String)>,
+    follow: Follow,
+) -> Result<String, SvgError> {
+    export_geometry_follow(source, data, children, None, root, Some(follow))
+}
+
+/// [`export_geometry_root`], with what is not a curve carried by the maps of `follow`
+/// ([`write_svg_following`]).
+fn export_geometry_follow(
+    source: &SvgSource,
+    data: Vec<String>,
+    children: Vec<String>,
+    marker: Option<&'static str>,
+    root: Vec<(&'static str, String)>,
+    follow: Option<Follow>,
+) -> Result<String, SvgError> {
+    let origin = source.origin.as_str();
+    let doc = crate::document::parse_xml(&source.text, origin)?;
+    let follow = match follow {
+        Some(follow) => follow_edits(source, &doc, &follow)?,
+        None => FollowEdits::default(),
+    };
+    let mut policy = ExportPolicy {
+        source,
+        element_of_key: source
+            .elements
+            .iter()
+            .enumerate()
+            .map(|(i, e)| (&e.key, i))
+            .collect(),
+        instances: source
+            .elements
+            .iter()
+            .flat_map(|e| (1..=e.key.uses.len()).map(|n| &e.key.uses[..n]))
+            .collect(),
+        data,
+        children,
+        marker,
+        root,
+        follow,
+    };
+    let viewport = source.view_box.size();
+    rewrite_document(&source.text, &doc, &mut policy, origin, None, viewport)
+}
+
+/// Appends one subpath as `M x y C x1 y1 x2 y2 x y … [Z]`, each point mapped by `to_local`.
+/// `points` has `path.points.len()` entries; a closed path's last cubic ends on `points[0]`,
+/// followed by `Z` when `close_with_z` (a closed path whose source had no `Z` gets none).
+pub(crate) fn push_path_data(
+    out: &mut String,
+    path: &Path,
+    points: &[Point],
+    to_local: Affine,
+    close_with_z: bool,
+) {
+    let n = path.n_curves();
+    let local = |p: Point| {
+        let q = to_local * p;
+        [q.x, q.y]
+    };
+    out.push('M');
+    push_numbers(out, &local(points[0]));
+    for j in 0..n {
+        out.push_str(" C");
+        for k in 1..=3 {
+            let i = 3 * j + k;
+            let p = if path.closed && i == 3 * n {
+                points[0]
+            } else {
+                points[i]
+            };
+            if k > 1 {
+                out.push(' ');
+            }
+            push_numbers(out, &local(p));
+        }
+    }
+    if path.closed && close_with_z {
+        out.push_str(" Z");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::document::user_length;
+    use crate::rewrite::view_box_transform;
+
+    fn formatted(v: f64) -> String {
+        number(v)
+    }
+
+    #[test]
+    fn svg_out_number_round_trips_shortest() {
+        for v in [
+            0.1,
+            1.0 / 3.0,
+            -2.5,
+            1e-17,
+            123456789.0,
+            1.0e9,
+            5e-324,
+            -0.0,
+            0.0,
+        ] {
+            let s = formatted(v);
+            assert_eq!(s.parse::<f64>().unwrap(), v, "{s}");
+        }
+        assert_eq!(formatted(10.0), "10");
+        assert_eq!(formatted(-0.0), "0");
+        assert_eq!(formatted(1.5e-17), "1.5e-17");
+        assert_eq!(formatted(0.25), "0.25");
+    }
+
+    #[test]
+    fn svg_out_view_box_transform_matches_closed_form() {
+        let vb = svgtypes::ViewBox::new(-10.0, 0.0, 20.0, 10.0);
+        // meet into 100 × 100: scale 5, centred vertically: ty = (100 − 50)/2 = 25.
+        let t = view_box_transform(vb, svgtypes::AspectRatio::default(), 100.0, 100.0);
+        assert_eq!(t.as_coeffs(), [5.0, 0.0, 0.0, 5.0, 50.0, 25.0]);
+        let slice = svgtypes::AspectRatio {
+            defer: false,
+            align: svgtypes::Align::XMinYMin,
+            slice: true,
+        };
+        let t = view_box_transform(vb, slice, 100.0, 100.0);
+        assert_eq!(t.as_coeffs(), [10.0, 0.0, 0.0, 10.0, 100.0, 0.0]);
+    }
+
+    #[test]
+    fn svg_out_user_length_units() {
+        assert_eq!(user_length("10", 50.0), Ok(10.0));
+        assert_eq!(user_length("1in", 50.0), Ok(96.0));
+        assert_eq!(user_length("50%", 50.0), Ok(25.0));
+        assert!(user_length("2em", 50.0).is_err());
+    }
+
+    #[test]
+    fn svg_out_path_data_closed_ends_on_first_point() {
+        let pts: Vec<Point> = [
+            (0., 0.),
+            (1., 0.),
+            (2., 0.),
+            (3., 0.),
+            (2., 2.),
+            (1., 2.),
+            (0., 0.),
+        ]
+        .map(Point::from)
+        .to_vec();
+        let path = Path::new(pts.clone(), true, &Default::default()).unwrap();
+        let mut deformed = pts;
+        deformed[6] = Point::new(1e-12, 0.0); // a rig that lets P_3n drift
+        let mut s = String::new();
+        push_path_data(&mut s, &path, &deformed, Affine::IDENTITY, true);
+        assert_eq!(s, "M0 0 C1 0 2 0 3 0 C2 2 1 2 0 0 Z");
+    }
+
+    #[test]
+    fn svg_out_keeps_a_missing_z() {
+        let svg = "<svg xmlns='http://www.w3.org/2000/svg'>\
+                   <path d='M0 0 C1 1 2 1 3 0 C2 -1 1 -1 0 0'/>\
+                   <path d='M5 0 C6 1 7 1 8 0 C7 -1 6 -1 5 0 Z'/></svg>";
+        let drawing = crate::read_svg(svg, &Default::default()).unwrap();
+        assert!(drawing.paths.iter().all(|p| p.closed));
+        let points: Vec<Point> = drawing
+            .flat_points()
+            .iter()
+            .map(|p| *p + kurbo::Vec2::new(0.0, 1.0))
+            .collect();
+        let out = write_svg(&drawing, &points).unwrap();
+        assert!(out.contains("M0 1 C1 2 2 2 3 1 C2 0 1 0 0 1'"), "{out}");
+        assert!(out.contains("M5 1 C6 2 7 2 8 1 C7 0 6 0 5 1 Z'"), "{out}");
+    }
+
+    #[test]
+    fn svg_out_standalone_has_one_path_per_chain() {
+        let pts = [(0., 0.), (1., 1.), (2., 1.), (3., 0.)]
+            .map(Point::from)
+            .to_vec();
+        let path = Path::new(pts.clone(), false, &Default::default()).unwrap();
+        let drawing = Drawing {
+            paths: vec![path.clone(), path],
+            source: None,
+        };
+        let flat = drawing.flat_points();
+        let out = write_svg(&drawing, &flat).unwrap();
+        assert_eq!(out.matches("<path ").count(), 2);
+        assert!(out.contains("d=\"M0 0 C1 1 2 1 3 0\""));
+        let doc = roxmltree::Document::parse(&out).unwrap();
+        let vb: Vec<f64> = doc
+            .root_element()
+            .attribute("viewBox")
+            .unwrap()
+            .split(' ')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        // bounds (0, 0)–(3, 1), margin 5 % of 3 = 0.15 on every side
+        for (v, want) in vb.iter().zip([-0.15, -0.15, 3.3, 1.3]) {
+            assert!((v - want).abs() < 1e-12, "{vb:?}");
+        }
+        let bad = write_svg(&drawing, &flat[1..]);
+        assert!(matches!(
+            bad,
+            Err(SvgError::PointCount {
+                expected: 8,
+                found: 7,
+                ..
+            })
+        ));
+        let mut nan = flat.clone();
+        nan[5].y = f64::NAN;
+        assert!(matches!(
+            write_svg(&drawing, &nan),
+            Err(SvgError::NonFinitePoint { index: 5, .. })
+        ));
+    }
+}
