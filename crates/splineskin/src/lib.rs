@@ -36,11 +36,13 @@ pub mod metrics;
 pub mod naive;
 pub mod scene;
 pub mod subdiv;
-pub mod weight_map;
 
 pub use splineskin_core::{bezier, domain, mesh, spline_fit, weights};
 pub use splineskin_defop as defop;
 pub use splineskin_svg::{fonts, render};
+
+/// Pictures of handle weights, at the path they always had ([`figure::weight_map`]).
+pub use figure::weight_map;
 
 /// The README's code examples, compiled and run as doctests so they cannot go stale.
 #[cfg(doctest)]

@@ -25,15 +25,14 @@
 //!                       Comparison + posed handle markers ──► render_comparison ──► PNG
 //! ```
 
-mod picture;
-
-pub use picture::{
+pub use crate::figure::comparison::{
     render_comparison, ComparePicture, PictureOptions, DEFAULT_COMPARE_PANEL_WIDTH, ERROR_FLOOR,
 };
 
 use kurbo::{Affine, Point};
 
 use crate::drawing::Drawing;
+use crate::figure::weight_map::HandleMarker;
 use crate::metrics::{self, Metrics, MetricsError, MetricsOptions};
 use crate::naive::{self, Refit, RefitError, RefitOptions, WeightGradient};
 use crate::scene::HandleSet;
@@ -41,7 +40,6 @@ use crate::spline_fit::quadrature::SampledCurves;
 use crate::spline_fit::{
     FitError, FitOptions, FlexibleError, FlexibleOptions, FlexibleSolver, PoseError, SplineRig,
 };
-use crate::weight_map::HandleMarker;
 use crate::weights::WeightField;
 
 /// Default tolerance of the Schneider refit, as a fraction of the drawing's bounding-box

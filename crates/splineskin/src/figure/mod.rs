@@ -5,18 +5,20 @@
 //! pixel font for labels ([`glyphs`]) and a z-buffered triangle rasteriser for surfaces
 //! ([`surface_raster`]).
 //!
-//! Pictures: weight maps ([`crate::weight_map`], one panel per handle), method comparisons
-//! ([`crate::compare`], one panel per method), the subdivision comparison
+//! Pictures: weight maps ([`weight_map`], one panel per handle), method comparisons
+//! ([`comparison`] of [`crate::compare`], one panel per method), the subdivision comparison
 //! ([`subdiv_comparison`], Liu et al. 2014 Fig. 8) and the deformation-operator study plot
 //! ([`study_plot`], Poranne & Lipman 2016 Fig. 8).
 
 pub mod colour_map;
+pub mod comparison;
 pub mod glyphs;
 pub mod grid;
 pub mod strokes;
 pub mod study_plot;
 pub mod subdiv_comparison;
 pub mod surface_raster;
+pub mod weight_map;
 
 pub use grid::{GridError, PanelGrid};
 pub use study_plot::study_plot_png;

@@ -11,7 +11,7 @@
 //! ```
 //!
 //! Each dash of the target is coloured ([`error_colour`]) by the distance from the target to
-//! the result at the dash's middle ([`super::MethodResult::distances`], interpolated between
+//! the result at the dash's middle ([`crate::compare::MethodResult::distances`], interpolated between
 //! samples), divided by the largest distance over **all** panels (the paper's figure
 //! convention: the same colour is the same error in every panel), or by [`ERROR_FLOOR`] times
 //! the diagonal if that is larger (rounding is not an error). The colour bar's ticks give the
@@ -22,13 +22,13 @@ use resvg::tiny_skia::{
     self, LineCap, LineJoin, PathBuilder, Pixmap, PixmapPaint, Stroke, Transform,
 };
 
-use super::{CompareError, Comparison, Method, MethodResult};
-use crate::figure::colour_map::error_colour;
-use crate::figure::glyphs;
-use crate::figure::grid::{PanelGrid, TICK_LENGTH};
-use crate::figure::strokes::{self, paint, stroke, Line};
+use super::colour_map::error_colour;
+use super::glyphs;
+use super::grid::{PanelGrid, TICK_LENGTH};
+use super::strokes::{self, paint, stroke, Line};
+use super::weight_map::{draw_handle_marker, HandleMarker};
+use crate::compare::{CompareError, Comparison, Method, MethodResult};
 use crate::naive::Refit;
-use crate::weight_map::{draw_handle_marker, HandleMarker};
 
 /// Default panel width: 420 pixels (six panels fit a 1300-pixel-wide picture in three columns).
 pub const DEFAULT_COMPARE_PANEL_WIDTH: u32 = 420;
