@@ -262,29 +262,3 @@ pub fn study(
         held_out_seconds,
     })
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use kurbo::Rect;
-
-    #[test]
-    fn study_error_falls_with_samples_for_tps() {
-        let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 12, 3).unwrap();
-        let handles = [0, 12, 45, 51];
-        let spatial = SpatialBasis::hats(&mesh).unwrap();
-        let mut options = StudyOptions::new(
-            TrainOptions::default().with_regions(vec![(SampleRegion::Disc { radius: 0.3 }, 1.0)]),
-            vec![10, 40],
-        );
-        options.n_held_out = 6;
-        let result = study(&mesh, &handles, &spatial, &options, &|_| {}).unwrap();
-        let tps: Vec<f64> = result
-            .rows
-            .iter()
-            .filter(|r| r.basis == HandleBasisKind::ThinPlateSpline)
-            .map(|r| r.error)
-            .collect();
-        assert!(tps[1] < tps[0], "{tps:?}");
-    }
-}

@@ -275,7 +275,7 @@ mod tests {
     use splineskin_defop::{study, SampleRegion, SpatialBasis, StudyOptions, TrainOptions};
 
     #[test]
-    fn study_plot_has_the_plot_size() {
+    fn study_error_falls_with_samples_for_tps_and_plots() {
         let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 12, 3).unwrap();
         let handles = [0, 12, 45, 51];
         let spatial = SpatialBasis::hats(&mesh).unwrap();
@@ -285,6 +285,13 @@ mod tests {
         );
         options.n_held_out = 6;
         let result = study(&mesh, &handles, &spatial, &options, &|_| {}).unwrap();
+        let tps: Vec<f64> = result
+            .rows
+            .iter()
+            .filter(|r| r.basis == HandleBasisKind::ThinPlateSpline)
+            .map(|r| r.error)
+            .collect();
+        assert!(tps[1] < tps[0], "{tps:?}");
         let png = study_plot_png(&result, "TEST").unwrap();
         let pixmap = Pixmap::decode_png(&png).unwrap();
         assert_eq!((pixmap.width(), pixmap.height()), PLOT_SIZE);
