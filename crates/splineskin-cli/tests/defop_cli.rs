@@ -13,8 +13,8 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
+use common::cli::{failed, ok, s, splineskin};
 use common::test_dir::TestDir;
 use kurbo::Point;
 use splineskin::defop::OperatorFile;
@@ -37,33 +37,6 @@ fn write_scene(dir: &Path, extra: &str) -> std::path::PathBuf {
     let path = dir.join("bar-scene.json");
     std::fs::write(&path, scene).unwrap();
     path
-}
-
-fn splineskin(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_splineskin"))
-        .args(args)
-        .output()
-        .expect("run splineskin")
-}
-
-fn ok(out: &Output) -> String {
-    assert!(
-        out.status.success(),
-        "failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout.clone()).unwrap()
-}
-
-fn failed(out: &Output) -> String {
-    assert_eq!(out.status.code(), Some(1), "expected exit status 1");
-    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    stderr
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 /// Trains the bar's operator into `dir/op.bin`.

@@ -13,8 +13,8 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
+use common::cli::{ok, s, splineskin};
 use common::test_dir::TestDir;
 use kurbo::{Affine, Point};
 use splineskin::defop::OperatorFile;
@@ -31,26 +31,6 @@ fn turn() -> Affine {
     Affine::translate((50.0, 15.0))
         * Affine::rotate(5f64.to_radians())
         * Affine::translate((-50.0, -15.0))
-}
-
-fn splineskin(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_splineskin"))
-        .args(args)
-        .output()
-        .expect("run splineskin")
-}
-
-fn ok(out: &Output) -> String {
-    assert!(
-        out.status.success(),
-        "failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout.clone()).unwrap()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 /// The scene: the bar, its handles, the poses "turn" (every handle moved by [`turn`]) and

@@ -1,5 +1,7 @@
 //! Shared helpers of the command-line tests.
+#![allow(dead_code)]
 
+pub mod cli;
 // Where the external test data lives, how a test skips without it, and the per-test output
 // folders: one file each for both crates' tests.
 #[path = "../../../splineskin/tests/common/external_data.rs"]

@@ -1,0 +1,77 @@
+//! Running the `splineskin` binary under test and reading what it left behind.
+
+use std::ffi::OsStr;
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// Runs `splineskin args…` in `dir` (the test process's own folder when `None`).
+pub fn run_in<S: AsRef<OsStr>>(dir: Option<&Path>, args: &[S]) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_splineskin"));
+    command.args(args);
+    if let Some(dir) = dir {
+        command.current_dir(dir);
+    }
+    command.output().expect("run splineskin")
+}
+
+/// Runs `splineskin args…` in the test process's own folder (paths given absolute).
+pub fn splineskin(args: &[&str]) -> Output {
+    run_in(None, args)
+}
+
+/// Runs `splineskin args…` in `dir`.
+pub fn run(dir: &Path, args: &[&str]) -> Output {
+    run_in(Some(dir), args)
+}
+
+/// The run's stderr, lossily decoded.
+pub fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Asserts that the run succeeded (its stderr is the message otherwise) and returns its stdout.
+pub fn ok(out: &Output) -> String {
+    assert!(out.status.success(), "failed: {}", stderr(out));
+    String::from_utf8(out.stdout.clone()).unwrap()
+}
+
+/// Asserts that the run failed with exit status 1 and did not panic; returns its stderr.
+pub fn failed(out: &Output) -> String {
+    assert_eq!(out.status.code(), Some(1), "expected exit status 1");
+    let stderr = stderr(out);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    stderr
+}
+
+/// The entries of `dir` whose names mark an interrupted atomic write (`.NAME.tmp-*`).
+pub fn temporaries(dir: &Path) -> Vec<std::fs::DirEntry> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
+        .collect()
+}
+
+/// `path` as UTF-8 (the tests' folders are).
+pub fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// Runs `splineskin` in `dir` with the arguments of `line` split at whitespace (for argument
+/// lists without spaces: `"subdiv compare scene.json -o cmp.png"`).
+pub fn run_line(dir: &Path, line: &str) -> Output {
+    run(dir, &line.split_whitespace().collect::<Vec<_>>())
+}
+
+/// The JSON object on each line of `stdout` (`--json` output), read as `T`.
+pub fn json_lines<T: serde::de::DeserializeOwned>(stdout: &str) -> Vec<T> {
+    stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{e}: {l}")))
+        .collect()
+}
+
+/// [`run_line`] that must succeed ([`ok`]): its stdout.
+pub fn run_ok(dir: &Path, line: &str) -> String {
+    ok(&run_line(dir, line))
+}
