@@ -7,7 +7,7 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 use common::test_dir::TestDir;
@@ -41,19 +41,8 @@ struct OutputPath {
 }
 
 fn naive_cases(root: &Path) -> Vec<Case> {
-    let dir = root.join("vectorskinning/authors-solver-outputs");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .expect("authors-solver-outputs")
-        .map(|e| e.expect("entry").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .collect();
-    files.sort();
-    files
-        .iter()
-        .map(|f| {
-            let text = std::fs::read_to_string(f).expect("case file");
-            serde_json::from_str::<Case>(&text).expect("case JSON")
-        })
+    common::external_data::read_authors_solver_outputs::<Case>(root)
+        .into_iter()
         .filter(|c| ["fourcontrols", "twoendpoints", "jacobian"].contains(&c.engine_type.as_str()))
         .collect()
 }

@@ -11,9 +11,10 @@
 
 mod common;
 
+use common::measure::max_distance;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
+use common::cli::{assert_no_problems, failure_problems, run, stderr};
 use common::test_dir::TestDir;
 use kurbo::{BezPath, Point, Shape};
 use splineskin::drawing::{read_svg, read_svg_file, Drawing, ImportOptions};
@@ -32,18 +33,10 @@ const BLOCKS: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 20
   <path fill="none" stroke="black" d="M10 95 C60 99 120 99 190 95"/>
 </svg>"##;
 
-fn run(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_splineskin"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
-
 /// Runs and expects success, returning stderr.
 fn ok(dir: &Path, args: &[&str]) -> String {
     let out = run(dir, args);
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    let stderr = stderr(&out);
     assert!(out.status.success(), "{args:?} failed: {stderr}");
     stderr
 }
@@ -65,14 +58,6 @@ fn read_points(path: &Path) -> Vec<Point> {
         .flat_map(|p| p["points"].as_array().unwrap().clone())
         .map(|q| Point::new(q[0].as_f64().unwrap(), q[1].as_f64().unwrap()))
         .collect()
-}
-
-fn max_distance(a: &[Point], b: &[Point]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| (*p - *q).hypot())
-        .fold(0.0, f64::max)
 }
 
 /// The closed paths of `drawing` as kurbo paths, one per element of the source.
@@ -417,8 +402,21 @@ fn weights_of_an_svg_draw_its_pins() {
 struct Failure<'a> {
     name: &'a str,
     args: Vec<&'a str>,
-    expect: Vec<&'a str>,
+    expect: &'a [&'a str],
     output: &'a str,
+}
+
+/// A case named `name` running `line` (split at whitespace), whose output is the argument
+/// after `-o`.
+fn failure<'a>(name: &'a str, line: &'a str, expect: &'a [&'a str]) -> Failure<'a> {
+    let args: Vec<&str> = line.split_whitespace().collect();
+    let output = args[args.iter().position(|&a| a == "-o").unwrap() + 1];
+    Failure {
+        name,
+        args,
+        expect,
+        output,
+    }
 }
 
 #[test]
@@ -436,185 +434,100 @@ fn rig_and_svg_inputs_refuse_bad_input_clearly() {
     )
     .unwrap();
     let cases = [
-        Failure {
-            name: "nan pin",
-            args: vec!["rig", "blocks.svg", "-o", "out.json", "--pin", "nan,1"],
-            expect: vec!["--pin", "nan", "not a finite number"],
-            output: "out.json",
-        },
-        Failure {
-            name: "one number",
-            args: vec!["deform", "blocks.svg", "-o", "out.svg", "--pin", "12"],
-            expect: vec!["--pin", "expected X,Y"],
-            output: "out.svg",
-        },
-        Failure {
-            name: "not a number",
-            args: vec!["deform", "blocks.svg", "-o", "out.svg", "--pin", "1,x"],
-            expect: vec!["--pin", "'x' is not a number"],
-            output: "out.svg",
-        },
-        Failure {
-            name: "pin index out of range",
-            args: vec![
-                "deform",
-                "blocks.svg",
-                "-o",
-                "out.svg",
-                "--pin",
-                "30,50",
-                "--pin",
-                "160,50",
-                "--move",
-                "2:1,1",
-            ],
-            expect: vec!["--move 2", "there is no pin 2", "2 pins"],
-            output: "out.svg",
-        },
-        Failure {
-            name: "bad move",
-            args: vec!["deform", "blocks.svg", "-o", "out.svg", "--move", "a:1,1"],
-            expect: vec!["--move", "'a' is not a pin index", "I:DX,DY"],
-            output: "out.svg",
-        },
-        Failure {
-            name: "rotated twice",
-            args: vec![
-                "deform",
-                "blocks.svg",
-                "-o",
-                "out.svg",
-                "--rotate",
-                "0:5",
-                "--rotate",
-                "0:6",
-            ],
-            expect: vec!["--rotate is given twice for pin 0"],
-            output: "out.svg",
-        },
-        Failure {
-            name: "same pin twice",
-            args: vec![
-                "rig",
-                "blocks.svg",
-                "-o",
-                "out.json",
-                "--pin",
-                "30,50",
-                "--pin",
-                "30,50",
-            ],
-            expect: vec!["--pin 30,50", "given twice"],
-            output: "out.json",
-        },
-        Failure {
-            name: "nothing to pin",
-            args: vec!["rig", "empty.svg", "-o", "out.json"],
-            expect: vec!["empty.svg", "nothing to pin"],
-            output: "out.json",
-        },
-        Failure {
-            name: "zero pins",
-            args: vec!["rig", "blocks.svg", "-o", "out.json", "--pins", "0"],
-            expect: vec!["blocks.svg", "--pins", "expected a count from 1"],
-            output: "out.json",
-        },
-        Failure {
-            name: "fewer pins than given",
-            args: vec![
-                "rig",
-                "blocks.svg",
-                "-o",
-                "out.json",
-                "--pin",
-                "30,50",
-                "--pin",
-                "160,50",
-                "--pins",
-                "1",
-            ],
-            expect: vec!["--pins", "1 pins asked for with 2 given", "from 2"],
-            output: "out.json",
-        },
-        Failure {
-            name: "rig to svg",
-            args: vec!["rig", "blocks.svg", "-o", "out.svg"],
-            expect: vec!["out.svg", "expected a name ending in .json"],
-            output: "out.svg",
-        },
-        Failure {
-            name: "rig of a scene",
-            args: vec!["rig", "real.json", "-o", "out.json"],
-            expect: vec!["real.json", "expected an SVG drawing"],
-            output: "out.json",
-        },
-        Failure {
-            name: "flags on a scene",
-            args: vec![
-                "deform",
-                "real.json",
-                "-o",
-                "out.svg",
-                "--pin",
-                "1,1",
-                "--move",
-                "0:1,1",
-            ],
-            expect: vec!["real.json", "--pin, --move apply to an SVG drawing"],
-            output: "out.svg",
-        },
-        Failure {
-            name: "not a scene",
-            args: vec!["deform", "scene.json", "-o", "out.svg"],
-            expect: vec!["scene.json", "not a scene", "splineskin rig", "--pin X,Y"],
-            output: "out.svg",
-        },
-        Failure {
-            name: "animation without a pose",
-            args: vec!["animate", "blocks.svg", "-o", "out.svg", "--pins", "3"],
-            expect: vec!["blocks.svg", "nothing moves", "--move"],
-            output: "out.svg",
-        },
-        Failure {
-            name: "pins on a mesh",
-            args: vec![
-                "weights",
-                "--mesh",
-                "mesh.json",
-                "-o",
-                "out.json",
-                "--pin",
-                "1,1",
-            ],
-            expect: vec!["mesh.json", "--pin applies to an SVG drawing"],
-            output: "out.json",
-        },
+        failure(
+            "nan pin",
+            "rig blocks.svg -o out.json --pin nan,1",
+            &["--pin", "nan", "not a finite number"],
+        ),
+        failure(
+            "one number",
+            "deform blocks.svg -o out.svg --pin 12",
+            &["--pin", "expected X,Y"],
+        ),
+        failure(
+            "not a number",
+            "deform blocks.svg -o out.svg --pin 1,x",
+            &["--pin", "'x' is not a number"],
+        ),
+        failure(
+            "pin index out of range",
+            "deform blocks.svg -o out.svg --pin 30,50 --pin 160,50 --move 2:1,1",
+            &["--move 2", "there is no pin 2", "2 pins"],
+        ),
+        failure(
+            "bad move",
+            "deform blocks.svg -o out.svg --move a:1,1",
+            &["--move", "'a' is not a pin index", "I:DX,DY"],
+        ),
+        failure(
+            "rotated twice",
+            "deform blocks.svg -o out.svg --rotate 0:5 --rotate 0:6",
+            &["--rotate is given twice for pin 0"],
+        ),
+        failure(
+            "same pin twice",
+            "rig blocks.svg -o out.json --pin 30,50 --pin 30,50",
+            &["--pin 30,50", "given twice"],
+        ),
+        failure(
+            "nothing to pin",
+            "rig empty.svg -o out.json",
+            &["empty.svg", "nothing to pin"],
+        ),
+        failure(
+            "zero pins",
+            "rig blocks.svg -o out.json --pins 0",
+            &["blocks.svg", "--pins", "expected a count from 1"],
+        ),
+        failure(
+            "fewer pins than given",
+            "rig blocks.svg -o out.json --pin 30,50 --pin 160,50 --pins 1",
+            &["--pins", "1 pins asked for with 2 given", "from 2"],
+        ),
+        failure(
+            "rig to svg",
+            "rig blocks.svg -o out.svg",
+            &["out.svg", "expected a name ending in .json"],
+        ),
+        failure(
+            "rig of a scene",
+            "rig real.json -o out.json",
+            &["real.json", "expected an SVG drawing"],
+        ),
+        failure(
+            "flags on a scene",
+            "deform real.json -o out.svg --pin 1,1 --move 0:1,1",
+            &["real.json", "--pin, --move apply to an SVG drawing"],
+        ),
+        failure(
+            "not a scene",
+            "deform scene.json -o out.svg",
+            &["scene.json", "not a scene", "splineskin rig", "--pin X,Y"],
+        ),
+        failure(
+            "animation without a pose",
+            "animate blocks.svg -o out.svg --pins 3",
+            &["blocks.svg", "nothing moves", "--move"],
+        ),
+        failure(
+            "pins on a mesh",
+            "weights --mesh mesh.json -o out.json --pin 1,1",
+            &["mesh.json", "--pin applies to an SVG drawing"],
+        ),
     ];
     let mut problems = Vec::new();
     for case in &cases {
         let out = run(&dir, &case.args);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        let label = format!("{} ({})\nstderr: {stderr}", case.name, case.args.join(" "));
-        if out.status.success() {
-            problems.push(format!("{label}: succeeded"));
-            continue;
-        }
-        if stderr.contains("panicked") || !stderr.starts_with("error") {
-            problems.push(format!("{label}: no clean error"));
-        }
-        for want in &case.expect {
-            if !stderr.contains(want) {
-                problems.push(format!("{label}: stderr lacks {want:?}"));
-            }
-        }
-        for entry in std::fs::read_dir(&dir).unwrap().flatten() {
-            let name = entry.file_name().to_string_lossy().into_owned();
-            if name == case.output || name.starts_with(&format!(".{}.tmp-", case.output)) {
-                problems.push(format!("{label}: left {name} behind"));
-            }
-        }
+        problems.extend(failure_problems(
+            case.name,
+            &case.args,
+            &out,
+            &dir,
+            case.expect,
+            case.output,
+        ));
     }
-    assert!(problems.is_empty(), "{}", problems.join("\n\n"));
+    assert_no_problems(&problems, cases.len());
 }
 
 #[test]

@@ -4,11 +4,14 @@
 //!
 //! Its own test binary: the counting global allocator applies to the whole binary.
 
+#[path = "common/defop_data.rs"]
+mod defop_data;
+
 use counting_alloc::{count, CountingAlloc, Counts};
+use defop_data::{arap_solutions, rest_and_disc_samples};
 use kurbo::{Point, Rect, Vec2};
 use splineskin::defop::{
-    Arap, ArapOptions, DefOp, DefOpOptions, EigenOperator, HandleBasisKind, SampleRegion, Sampler,
-    SpatialBasis,
+    Arap, ArapOptions, DefOp, DefOpOptions, EigenOperator, HandleBasisKind, SpatialBasis,
 };
 use splineskin::mesh::TriMesh;
 use std::hint::black_box;
@@ -26,17 +29,8 @@ fn defop_evaluation_allocates_nothing() {
     let handles = [34, 50, 76];
     let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
     let arap = Arap::new(&mesh, &handles, ArapOptions::default()).unwrap();
-    let mut sampler = Sampler::new(&rest, &[(SampleRegion::Disc { radius: 0.5 }, 1.0)], 5).unwrap();
-    let mut configurations = vec![rest.clone()];
-    configurations.extend(sampler.configurations(20));
-    let solutions: Vec<Vec<Point>> = configurations
-        .iter()
-        .map(|q| {
-            let mut u = mesh.vertices.clone();
-            arap.solve(q, &mut u).unwrap();
-            u
-        })
-        .collect();
+    let configurations = rest_and_disc_samples(&rest, 0.5, 5, 20);
+    let solutions = arap_solutions(&arap, &mesh, &configurations);
     let bases = [
         SpatialBasis::hats(&mesh).unwrap(),
         SpatialBasis::laplacian_eigenfunctions(&mesh, 12, EigenOperator::LinearlyPrecise).unwrap(),
@@ -92,9 +86,7 @@ fn defop_evaluation_of_a_large_operator_allocates_nothing() {
         .map(|k| 61 * (10 + 20 * (k / 3)) + 10 + 20 * (k % 3))
         .collect();
     let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
-    let mut sampler = Sampler::new(&rest, &[(SampleRegion::Disc { radius: 0.5 }, 1.0)], 8).unwrap();
-    let mut configurations = vec![rest.clone()];
-    configurations.extend(sampler.configurations(399));
+    let configurations = rest_and_disc_samples(&rest, 0.5, 8, 399);
     let solutions: Vec<Vec<Point>> = configurations
         .iter()
         .map(|q| {
@@ -110,14 +102,15 @@ fn defop_evaluation_of_a_large_operator_allocates_nothing() {
             u
         })
         .collect();
-    let spatial = SpatialBasis::hats(&mesh).unwrap();
+    let hats = SpatialBasis::hats(&mesh).unwrap();
+    let options = DefOpOptions::default();
     let op = DefOp::fit(
         &mesh,
         &handles,
-        &spatial,
+        &hats,
         &configurations,
         &solutions,
-        &DefOpOptions::default(),
+        &options,
     )
     .unwrap();
     let mut evaluator = op.evaluator();

@@ -267,29 +267,8 @@ fn mesh_weights_fish_integrate_exactly_and_reproduce_identity() {
     // The rig on mesh weights: identity transforms reproduce the drawing, and one affine map
     // on every handle maps it (weights sum to one at every node, DESIGN.md §1).
     let rig = SplineRig::precompute(&d, &w, &FitOptions::default()).expect("rig");
-    let mut out = vec![Point::ZERO; rig.n_points()];
-    rig.update(&vec![Affine::IDENTITY; h.len()], &mut out)
-        .unwrap();
-    let diag = d.diagonal();
-    let input = d.flat_points();
-    let worst = out
-        .iter()
-        .zip(&input)
-        .map(|(a, b)| (*a - *b).hypot())
-        .fold(0.0, f64::max);
-    eprintln!(
-        "  fish: identity pose reproduced to {:e} of the diagonal",
-        worst / diag
-    );
-    assert!(worst < 1e-9 * diag, "{worst}");
     let a = Affine::translate((30.0, -12.0)) * Affine::rotate(0.4);
-    rig.update(&vec![a; h.len()], &mut out).unwrap();
-    let worst = out
-        .iter()
-        .zip(&input)
-        .map(|(p, q)| (*p - a * *q).hypot())
-        .fold(0.0, f64::max);
-    assert!(worst < 1e-9 * diag, "{worst}");
+    common::measure::assert_affine_reproduction(&rig, &d, h.len(), a, "  fish");
 }
 
 #[test]

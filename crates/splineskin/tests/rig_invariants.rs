@@ -29,6 +29,7 @@
 
 mod common;
 
+use common::measure::joint_count as count;
 use common::Rng;
 use kurbo::{Affine, Point, Vec2};
 use splineskin::drawing::svg_out::write_svg;
@@ -367,15 +368,6 @@ fn affine_invariant_copy(drawing: &Drawing, options: &JunctionOptions) -> Drawin
         }
     }
     copy
-}
-
-fn count(drawing: &Drawing, kind: JointKind) -> usize {
-    drawing
-        .paths
-        .iter()
-        .flat_map(|p| &p.joints)
-        .filter(|&&k| k == kind)
-        .count()
 }
 
 /// The bundled drawing (our importer) and the demo scene's handles.

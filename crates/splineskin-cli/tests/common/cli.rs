@@ -75,3 +75,56 @@ pub fn json_lines<T: serde::de::DeserializeOwned>(stdout: &str) -> Vec<T> {
 pub fn run_ok(dir: &Path, line: &str) -> String {
     ok(&run_line(dir, line))
 }
+
+/// What is wrong with a run `out` in `dir` that had to fail cleanly, each problem labelled by
+/// `name`, the arguments and stderr: it succeeded (then nothing else is checked); it panicked
+/// or its stderr does not start with `error`; its stderr lacks one of `expect`; `dir` holds
+/// `output` or a temporary of its atomic write (`.OUTPUT.tmp-*`).
+pub fn failure_problems(
+    name: &str,
+    args: &[&str],
+    out: &Output,
+    dir: &Path,
+    expect: &[&str],
+    output: &str,
+) -> Vec<String> {
+    let stderr = stderr(out);
+    let label = format!("{name} ({})\nstderr: {stderr}", args.join(" "));
+    if out.status.success() {
+        return vec![format!("{label}: succeeded")];
+    }
+    let mut problems = Vec::new();
+    if stderr.contains("panicked") {
+        problems.push(format!("{label}: panicked"));
+    }
+    if !stderr.starts_with("error") {
+        problems.push(format!("{label}: no error line"));
+    }
+    for want in expect {
+        if !stderr.contains(want) {
+            problems.push(format!("{label}: stderr lacks {want:?}"));
+        }
+    }
+    for entry in std::fs::read_dir(dir).unwrap().flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name == output || name.starts_with(&format!(".{output}.tmp-")) {
+            problems.push(format!("{label}: left {name} behind"));
+        }
+    }
+    problems
+}
+
+/// Asserts that none of `n_cases` cases reported a problem, listing them all otherwise.
+pub fn assert_no_problems(problems: &[String], n_cases: usize) {
+    assert!(
+        problems.is_empty(),
+        "{} problems in {n_cases} cases:\n\n{}",
+        problems.len(),
+        problems.join("\n\n")
+    );
+}
+
+/// The whitespace-separated words of `line`: an argument list written as one string.
+pub fn words(line: &str) -> Vec<&str> {
+    line.split_whitespace().collect()
+}

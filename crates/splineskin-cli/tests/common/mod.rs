@@ -6,5 +6,7 @@ pub mod cli;
 // folders: one file each for both crates' tests.
 #[path = "../../../splineskin/tests/common/external_data.rs"]
 pub mod external_data;
+#[path = "../../../splineskin/tests/common/measure.rs"]
+pub mod measure;
 #[path = "../../../splineskin/tests/common/test_dir.rs"]
 pub mod test_dir;
