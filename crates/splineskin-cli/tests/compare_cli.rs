@@ -15,6 +15,7 @@ mod common;
 use std::path::Path;
 use std::process::{Command, Output};
 
+use common::cli::ok;
 use common::test_dir::TestDir;
 
 use kurbo::Affine;
@@ -71,11 +72,7 @@ fn run(args: &[&str]) -> Output {
 }
 
 fn rows(out: &Output) -> Vec<JsonRow> {
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    ok(&out);
     String::from_utf8(out.stdout.clone())
         .unwrap()
         .lines()
@@ -292,11 +289,7 @@ fn compare_identity_pose_draws_the_target_in_the_zero_colour() {
             "--width",
             "400",
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        ok(&out);
         let (scene_value, c, transforms) = library(&scene, pose);
         let markers = posed_markers(&scene_value.handle_set(), &transforms);
         let picture = render_comparison(

@@ -14,7 +14,7 @@ mod common;
 use common::measure::max_distance;
 use std::path::{Path, PathBuf};
 
-use common::cli::{assert_no_problems, failure_problems, run, stderr};
+use common::cli::{assert_no_problems, failure_problems, ok_stderr, run, words};
 use common::test_dir::TestDir;
 use kurbo::{BezPath, Point, Shape};
 use splineskin::drawing::{read_svg, read_svg_file, Drawing, ImportOptions};
@@ -32,14 +32,6 @@ const BLOCKS: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 20
   <rect x="140" y="25" width="50" height="50" fill="#c88"/>
   <path fill="none" stroke="black" d="M10 95 C60 99 120 99 190 95"/>
 </svg>"##;
-
-/// Runs and expects success, returning stderr.
-fn ok(dir: &Path, args: &[&str]) -> String {
-    let out = run(dir, args);
-    let stderr = stderr(&out);
-    assert!(out.status.success(), "{args:?} failed: {stderr}");
-    stderr
-}
 
 fn blocks_dir(name: &str) -> TestDir {
     let dir = TestDir::new(&format!("splineskin-rig-cli-{name}-"));
@@ -102,7 +94,7 @@ fn rig_scene_reads_back_and_deforms_at_rest_to_the_drawing() {
     let dir = TestDir::new("splineskin-rig-cli-fish-");
     std::fs::create_dir(dir.join("scenes")).unwrap();
     let fish = fish();
-    let stderr = ok(
+    let stderr = ok_stderr(
         &dir,
         &["rig", fish.to_str().unwrap(), "-o", "scenes/fish.json"],
     );
@@ -143,7 +135,7 @@ fn rig_scene_reads_back_and_deforms_at_rest_to_the_drawing() {
     assert!(spread >= bound, "pins {spread} apart, bound {bound}");
 
     // deform at the rest pose reproduces the drawing (weights summing to one).
-    ok(&dir, &["deform", "scenes/fish.json", "-o", "rest.json"]);
+    ok_stderr(&dir, &words("deform scenes/fish.json -o rest.json"));
     let rest = read_points(&dir.join("rest.json"));
     let error = max_distance(&rest, &drawing.flat_points());
     assert!(
@@ -152,7 +144,7 @@ fn rig_scene_reads_back_and_deforms_at_rest_to_the_drawing() {
     );
 
     // --inline: the same scene with the document inside.
-    ok(
+    ok_stderr(
         &dir,
         &[
             "rig",
@@ -167,7 +159,7 @@ fn rig_scene_reads_back_and_deforms_at_rest_to_the_drawing() {
     assert_eq!(inline.svg_text, scene.svg_text);
 
     // --text-outlines: inline, the label as paths of its glyphs (14 outlines), same pins.
-    ok(
+    ok_stderr(
         &dir,
         &[
             "rig",
@@ -188,10 +180,7 @@ fn rig_scene_reads_back_and_deforms_at_rest_to_the_drawing() {
 #[test]
 fn rig_pins_land_on_each_shape_and_keep_given_ones() {
     let dir = blocks_dir("pins");
-    ok(
-        &dir,
-        &["rig", "blocks.svg", "-o", "auto.json", "--pins", "4"],
-    );
+    ok_stderr(&dir, &words("rig blocks.svg -o auto.json --pins 4"));
     let scene = Scene::load(&dir.join("auto.json")).unwrap();
     assert_eq!(scene.handles.len(), 4);
     let body = |p: &Point| p.x > 10.0 && p.x < 110.0 && p.y > 20.0 && p.y < 80.0;
@@ -208,23 +197,7 @@ fn rig_pins_land_on_each_shape_and_keep_given_ones() {
     assert_eq!(json["svg"], "blocks.svg");
 
     // Given pins are kept exactly (off the art too), first; --pins adds automatic ones.
-    ok(
-        &dir,
-        &[
-            "rig",
-            "blocks.svg",
-            "-o",
-            "mixed.json",
-            "--pin",
-            "0.1,0.2",
-            "--pin",
-            "-7.25,1e-3",
-            "--pins",
-            "3",
-            "--weights",
-            "shepard",
-        ],
-    );
+    ok_stderr(&dir, &words("rig blocks.svg -o mixed.json --pin 0.1,0.2 --pin -7.25,1e-3 --pins 3 --weights shepard"));
     let mixed = Scene::load(&dir.join("mixed.json")).unwrap();
     assert_eq!(mixed.handles.len(), 3);
     assert_eq!(mixed.handles[0], Point::new(0.1, 0.2));
@@ -232,18 +205,9 @@ fn rig_pins_land_on_each_shape_and_keep_given_ones() {
     assert!(body(&mixed.handles[2]) || square(&mixed.handles[2]));
     assert_eq!(mixed.weights, WeightSpec::Shepard { exponent: 2.0 });
     // --pin alone: exactly those pins.
-    ok(
+    ok_stderr(
         &dir,
-        &[
-            "rig",
-            "blocks.svg",
-            "-o",
-            "given.json",
-            "--pin",
-            "30,50",
-            "--pin",
-            "160,50",
-        ],
+        &words("rig blocks.svg -o given.json --pin 30,50 --pin 160,50"),
     );
     let given = Scene::load(&dir.join("given.json")).unwrap();
     assert_eq!(
@@ -279,7 +243,7 @@ fn deform_svg_with_pins_equals_deform_of_the_scene() {
     ];
     for family in ["shepard", "bbw"] {
         std::fs::write(dir.join("scene.json"), scene.replace("{family}", family)).unwrap();
-        ok(&dir, &["deform", "scene.json", "-o", "from-scene.svg"]);
+        ok_stderr(&dir, &words("deform scene.json -o from-scene.svg"));
         let mut args = vec![
             "deform",
             "blocks.svg",
@@ -289,7 +253,7 @@ fn deform_svg_with_pins_equals_deform_of_the_scene() {
             family,
         ];
         args.extend(flags);
-        let stderr = ok(&dir, &args);
+        let stderr = ok_stderr(&dir, &args);
         assert!(stderr.contains("pins 0 (30, 50) given"), "{stderr}");
         let a = std::fs::read_to_string(dir.join("from-scene.svg")).unwrap();
         let b = std::fs::read_to_string(dir.join("from-flags.svg")).unwrap();
@@ -305,8 +269,8 @@ fn deform_svg_with_pins_equals_deform_of_the_scene() {
             family,
         ];
         args.extend(flags);
-        ok(&dir, &args);
-        ok(&dir, &["deform", "rigged.json", "-o", "from-rig.svg"]);
+        ok_stderr(&dir, &args);
+        ok_stderr(&dir, &words("deform rigged.json -o from-rig.svg"));
         let c = std::fs::read_to_string(dir.join("from-rig.svg")).unwrap();
         assert_eq!(a, c, "{family}");
     }
@@ -315,24 +279,15 @@ fn deform_svg_with_pins_equals_deform_of_the_scene() {
 #[test]
 fn deform_svg_without_pins_places_them_and_rests() {
     let dir = blocks_dir("auto");
-    let stderr = ok(&dir, &["deform", "blocks.svg", "-o", "rest.json"]);
+    let stderr = ok_stderr(&dir, &words("deform blocks.svg -o rest.json"));
     assert!(stderr.contains("bbw weights"), "{stderr}");
     let drawing = read_svg(BLOCKS, &ImportOptions::default()).unwrap();
     let rest = read_points(&dir.join("rest.json"));
     assert!(max_distance(&rest, &drawing.flat_points()) <= 1e-9 * drawing.diagonal());
     // A move of an automatic pin moves the drawing.
-    ok(
+    ok_stderr(
         &dir,
-        &[
-            "deform",
-            "blocks.svg",
-            "-o",
-            "moved.json",
-            "--move",
-            "0:4,4",
-            "--weights",
-            "shepard",
-        ],
+        &words("deform blocks.svg -o moved.json --move 0:4,4 --weights shepard"),
     );
     let moved = read_points(&dir.join("moved.json"));
     assert!(max_distance(&moved, &drawing.flat_points()) > 1.0);
@@ -353,10 +308,10 @@ fn animate_svg_goes_to_the_pose_and_back() {
     ];
     let mut args = vec!["animate", "blocks.svg", "-o", "frames"];
     args.extend(pose);
-    ok(&dir, &args);
+    ok_stderr(&dir, &args);
     let mut args = vec!["deform", "blocks.svg", "-o", "posed.svg"];
     args.extend(pose);
-    ok(&dir, &args);
+    ok_stderr(&dir, &args);
     let frame = |name: &str| {
         read_svg_file(&dir.join(name), &ImportOptions::default())
             .unwrap()
@@ -378,18 +333,9 @@ fn animate_svg_goes_to_the_pose_and_back() {
 #[test]
 fn weights_of_an_svg_draw_its_pins() {
     let dir = blocks_dir("weights");
-    let stderr = ok(
+    let stderr = ok_stderr(
         &dir,
-        &[
-            "weights",
-            "blocks.svg",
-            "-o",
-            "w.png",
-            "--pins",
-            "3",
-            "--weights",
-            "shepard",
-        ],
+        &words("weights blocks.svg -o w.png --pins 3 --weights shepard"),
     );
     assert!(
         stderr.contains("shepard weights, 3 of 3 handles"),
@@ -550,12 +496,12 @@ fn deform_scale_strokes_scales_widths_only_when_asked() {
     for pin in ["0:2", "1:2", "2:2"] {
         args.extend(["--scale", pin]);
     }
-    ok(&dir, &args);
+    ok_stderr(&dir, &args);
     let plain = std::fs::read_to_string(dir.join("plain.svg")).unwrap();
     assert!(!plain.contains("stroke-width"), "{plain}");
     args[3] = "scaled.svg";
     args.push("--scale-strokes");
-    ok(&dir, &args);
+    ok_stderr(&dir, &args);
     let scaled = std::fs::read_to_string(dir.join("scaled.svg")).unwrap();
     // The open stroke (width 1, element 2) under every pin scaled by 2 about itself: the local
     // scale √|det| of the least-squares affine map of the Shepard skinning map over it.

@@ -128,3 +128,11 @@ pub fn assert_no_problems(problems: &[String], n_cases: usize) {
 pub fn words(line: &str) -> Vec<&str> {
     line.split_whitespace().collect()
 }
+
+/// Runs `args` in `dir`, asserts that the run succeeded, and returns its stderr (warnings).
+pub fn ok_stderr(dir: &Path, args: &[&str]) -> String {
+    let out = run(dir, args);
+    let stderr = stderr(&out);
+    assert!(out.status.success(), "{args:?} failed: {stderr}");
+    stderr
+}
