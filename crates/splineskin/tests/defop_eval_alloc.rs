@@ -36,18 +36,21 @@ fn defop_evaluation_allocates_nothing() {
         SpatialBasis::laplacian_eigenfunctions(&mesh, 12, EigenOperator::LinearlyPrecise).unwrap(),
     ];
     let q: Vec<Point> = rest.iter().map(|&p| p + Vec2::new(0.2, -0.1)).collect();
+    let fit = |spatial: &SpatialBasis, options: &DefOpOptions| {
+        DefOp::fit(
+            &mesh,
+            &handles,
+            spatial,
+            &configurations,
+            &solutions,
+            options,
+        )
+        .unwrap()
+    };
     for spatial in &bases {
         for kind in [HandleBasisKind::Cubic, HandleBasisKind::ThinPlateSpline] {
             let options = DefOpOptions::default().with_handle_basis(kind);
-            let op = DefOp::fit(
-                &mesh,
-                &handles,
-                spatial,
-                &configurations,
-                &solutions,
-                &options,
-            )
-            .unwrap();
+            let op = fit(spatial, &options);
             let mut evaluator = op.evaluator();
             let mut positions = vec![Point::ZERO; mesh.n_vertices()];
             evaluator.eval(&q, &mut positions).unwrap(); // warm-up

@@ -9,24 +9,15 @@ use std::time::Instant;
 use kurbo::{Affine, Point};
 use splineskin::domain::{Domain, DomainOptions, MeshWeights};
 use splineskin::drawing::{read_svg, ImportOptions};
-use splineskin::examples::DEMO_SVG;
+use splineskin::examples::{demo_scene, DEMO_SVG};
 use splineskin::spline_fit::{FitOptions, SplineRig};
 use splineskin::weights::harmonic::harmonic_weights;
 use splineskin::weights::WeightField;
 
-/// The demo scene's five handles (assets/demo-scene.json).
-const FISH_HANDLES: [(f64, f64); 5] = [
-    (440.0, 200.0),
-    (310.0, 200.0),
-    (110.0, 205.0),
-    (290.0, 70.0),
-    (230.0, 320.0),
-];
-
 #[test]
 fn domain_fish_harmonic_rig_reproduces_identity_and_affine_maps() {
     let d = read_svg(DEMO_SVG, &ImportOptions::default()).expect("demo svg");
-    let h = FISH_HANDLES.map(Point::from).to_vec();
+    let h = demo_scene().handles;
     let domain = Domain::build(&d, &h, &[], &DomainOptions::default()).expect("domain");
     let t = Instant::now();
     let w = harmonic_weights(&domain.mesh, &domain.handle_vertices, 1).expect("harmonic");
