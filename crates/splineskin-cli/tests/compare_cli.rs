@@ -21,8 +21,8 @@ use common::test_dir::TestDir;
 use kurbo::Affine;
 use serde::Deserialize;
 use splineskin::compare::{
-    compare_methods, posed_markers, render_comparison, CompareInputs, CompareOptions, Comparison,
-    Method, PictureOptions,
+    compare_methods, posed_markers, render_comparison, CompareInputs, CompareOptions,
+    ComparePicture, Comparison, Method, PictureOptions,
 };
 use splineskin::figure::colour_map::error_colour;
 use splineskin::metrics::MetricsOptions;
@@ -69,6 +69,22 @@ fn run(args: &[&str]) -> Output {
         .args(args)
         .output()
         .expect("run splineskin")
+}
+
+/// The library's picture of `c` with the handles of `scene` moved by `pose`, panels `width`
+/// pixels wide, and the PNG the command wrote to `png`.
+fn picture_and_png(
+    scene: &Scene,
+    c: &Comparison,
+    pose: &[Affine],
+    width: u32,
+    png: &Path,
+) -> (ComparePicture, RgbaImage) {
+    let markers = posed_markers(&scene.handle_set(), pose);
+    let options = PictureOptions::default().with_panel_width(width);
+    let picture = render_comparison(c, &markers, &options).unwrap();
+    let image = RgbaImage::decode_png(&std::fs::read(png).unwrap()).unwrap();
+    (picture, image)
 }
 
 fn rows(out: &Output) -> Vec<JsonRow> {
@@ -173,14 +189,7 @@ fn compare_json_and_picture_match_the_library() {
     for (a, b) in same.result.paths.iter().zip(&input.result.paths) {
         assert!(a.n_curves() <= b.n_curves());
     }
-    let markers = posed_markers(&scene_value.handle_set(), &pose);
-    let picture = render_comparison(
-        &c,
-        &markers,
-        &PictureOptions::default().with_panel_width(300),
-    )
-    .unwrap();
-    let image = RgbaImage::decode_png(&std::fs::read(&png).unwrap()).unwrap();
+    let (picture, image) = picture_and_png(&scene_value, &c, &pose, 300, &png);
     assert_eq!(
         (image.width, image.height),
         (picture.grid.width, picture.grid.height)
@@ -291,14 +300,7 @@ fn compare_identity_pose_draws_the_target_in_the_zero_colour() {
         ]);
         ok(&out);
         let (scene_value, c, transforms) = library(&scene, pose);
-        let markers = posed_markers(&scene_value.handle_set(), &transforms);
-        let picture = render_comparison(
-            &c,
-            &markers,
-            &PictureOptions::default().with_panel_width(400),
-        )
-        .unwrap();
-        let image = RgbaImage::decode_png(&std::fs::read(&png).unwrap()).unwrap();
+        let (picture, image) = picture_and_png(&scene_value, &c, &transforms, 400, &png);
         // Panels of the methods that keep the input's curves: ours, fourcontrols,
         // twoendpoints, jacobian.
         for panel in 0..4 {

@@ -83,10 +83,7 @@ fn assert_close(found: [f64; 4], expected: [f64; 4], what: &str) {
 #[test]
 fn viewbox_cli_deform_keep_warns_and_fit_grows() {
     let dir = folder("deform");
-    let stderr = ok_stderr(
-        &dir,
-        &["deform", "scene.json", "--pose", "right", "-o", "keep.svg"],
-    );
+    let stderr = ok_stderr(&dir, &words("deform scene.json --pose right -o keep.svg"));
     assert_eq!(view_box(&dir.join("keep.svg")), [0.0, 0.0, 100.0, 100.0]);
     assert!(
         stderr.contains("leaves the viewBox (cropped): path#a (line 2) by 20.000 (user units)"),
@@ -94,16 +91,7 @@ fn viewbox_cli_deform_keep_warns_and_fit_grows() {
     );
     let stderr = ok_stderr(
         &dir,
-        &[
-            "deform",
-            "scene.json",
-            "--pose",
-            "right",
-            "-o",
-            "fit.svg",
-            "--viewbox",
-            "fit",
-        ],
+        &words("deform scene.json --pose right -o fit.svg --viewbox fit"),
     );
     assert!(stderr.contains("grows to include 1 path(s)"), "{stderr}");
     // x from the input's 0 to 90 + 30.
@@ -147,10 +135,7 @@ fn viewbox_cli_animate_keep_names_frames_and_paths() {
 #[test]
 fn viewbox_cli_animate_fit_is_one_view_box_for_every_frame() {
     let dir = folder("fit");
-    let stderr = ok_stderr(
-        &dir,
-        &["animate", "scene.json", "-o", "out.svg", "--viewbox", "fit"],
-    );
+    let stderr = ok_stderr(&dir, &words("animate scene.json -o out.svg --viewbox fit"));
     assert!(
         stderr.contains("out.svg: the viewBox grows to hold every frame (2 path(s)"),
         "{stderr}"
@@ -165,10 +150,7 @@ fn viewbox_cli_animate_fit_is_one_view_box_for_every_frame() {
 
     // A frames folder: the same viewBox, to the byte, in every frame, and the frames' geometry
     // is that of a run keeping the viewBox.
-    ok_stderr(
-        &dir,
-        &["animate", "scene.json", "-o", "fit", "--viewbox", "fit"],
-    );
+    ok_stderr(&dir, &words("animate scene.json -o fit --viewbox fit"));
     ok_stderr(&dir, &words("animate scene.json -o keep"));
     let first = std::fs::read_to_string(dir.join("fit/frame-0000.svg")).unwrap();
     let first = root_attribute(&first, "viewBox").unwrap().to_string();

@@ -430,6 +430,20 @@ fn check_identity_and_maps(
     rig
 }
 
+/// [`check_identity_and_maps`] under `measure`: the invariants recorded, the options, the rig
+/// and a buffer for its points.
+fn checked_rig(
+    drawing: &Drawing,
+    handles: &[Point],
+    measure: Measure,
+) -> (Worst, FitOptions, SplineRig, Vec<Point>) {
+    let mut worst = Worst::default();
+    let options = FitOptions::default().with_measure(measure);
+    let rig = check_identity_and_maps(drawing, handles, &options, &mut worst);
+    let out = vec![Point::ZERO; rig.n_points()];
+    (worst, options, rig, out)
+}
+
 #[test]
 fn rig_invariants_demo_identity_and_maps() {
     let (drawing, handles, _) = demo();
@@ -506,10 +520,7 @@ fn rig_invariants_degenerate_handles_use_next_distinct_points() {
     assert_eq!(g1.points[2], g1.points[3]);
     let mut rng = Rng(0x5eed_0002);
     for measure in [Measure::LengthWeighted, Measure::ArcLength] {
-        let mut worst = Worst::default();
-        let options = FitOptions::default().with_measure(measure);
-        let rig = check_identity_and_maps(&drawing, &handles, &options, &mut worst);
-        let mut out = vec![Point::ZERO; rig.n_points()];
+        let (mut worst, options, rig, mut out) = checked_rig(&drawing, &handles, measure);
         for pose in poses
             .iter()
             .cloned()
@@ -533,10 +544,7 @@ fn rig_invariants_tiled_demo() {
     assert!((TILED_CURVES..2 * TILED_CURVES).contains(&tiled.n_curves()));
     let mut rng = Rng(0x5eed_0003);
     for measure in [Measure::LengthWeighted, Measure::ArcLength] {
-        let mut worst = Worst::default();
-        let options = FitOptions::default().with_measure(measure);
-        let rig = check_identity_and_maps(&tiled, &tiled_handles, &options, &mut worst);
-        let mut out = vec![Point::ZERO; rig.n_points()];
+        let (mut worst, options, rig, mut out) = checked_rig(&tiled, &tiled_handles, measure);
         rig.update(&rng.pose(&tiled_handles), &mut out).unwrap();
         check_junctions(&tiled, &out, &options.junctions, &mut worst);
         worst.assert_within(&format!(
