@@ -329,6 +329,19 @@ fn user_space_gradients_follow_a_rigid_pose() {
     assert_eq!(out.matches("<radialGradient").count(), 1 + 1, "{out}");
 }
 
+/// [`check_carried`] of the document around `body` under the [`rigid`] pose, whose art is
+/// `n_paths` paths (what `body` defines, patterns or markers, is not imported as art); the
+/// output SVG.
+fn check_rigid_with_art_paths(name: &str, body: &str, n_paths: usize) -> String {
+    let (drawing, out) = check_carried(name, &svg(body), rigid(), &FollowOptions::default());
+    assert_eq!(
+        drawing.paths.len(),
+        n_paths,
+        "{name}: content is not imported as art"
+    );
+    out
+}
+
 const PATTERN: &str = "<defs>\
     <pattern id='pt' patternUnits='userSpaceOnUse' width='12' height='12' patternTransform='rotate(20)'>\
       <rect width='6' height='6' fill='purple'/><circle cx='9' cy='9' r='2.5' fill='orange'/></pattern>\
@@ -337,13 +350,7 @@ const PATTERN: &str = "<defs>\
 
 #[test]
 fn user_space_patterns_follow_a_rigid_pose() {
-    let (drawing, out) =
-        check_carried("pattern", &svg(PATTERN), rigid(), &FollowOptions::default());
-    assert_eq!(
-        drawing.paths.len(),
-        1,
-        "pattern content is not imported as art"
-    );
+    let out = check_rigid_with_art_paths("pattern", PATTERN, 1);
     assert_eq!(out.matches("<pattern").count(), 2, "{out}");
 }
 
@@ -363,13 +370,7 @@ const MARKERS: &str = "<defs>\
 
 #[test]
 fn fixed_orient_markers_turn_with_a_rigid_pose() {
-    let (drawing, out) =
-        check_carried("markers", &svg(MARKERS), rigid(), &FollowOptions::default());
-    assert_eq!(
-        drawing.paths.len(),
-        2,
-        "marker content is not imported as art"
-    );
+    let out = check_rigid_with_art_paths("markers", MARKERS, 2);
     // star: one copy per user whose turn differs (the same rigid turn: shared); tri: one; dot
     // (orient auto) none.
     assert_eq!(out.matches("<marker").count(), 3 + 2, "{out}");
