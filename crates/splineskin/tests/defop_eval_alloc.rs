@@ -8,7 +8,7 @@
 mod defop_data;
 
 use counting_alloc::{count, CountingAlloc, Counts};
-use defop_data::{arap_solutions, rest_and_disc_samples};
+use defop_data::{arap_solutions, fit_on_hats, rest_and_disc_samples};
 use kurbo::{Point, Rect, Vec2};
 use splineskin::defop::{
     Arap, ArapOptions, DefOp, DefOpOptions, EigenOperator, HandleBasisKind, SpatialBasis,
@@ -105,17 +105,7 @@ fn defop_evaluation_of_a_large_operator_allocates_nothing() {
             u
         })
         .collect();
-    let hats = SpatialBasis::hats(&mesh).unwrap();
-    let options = DefOpOptions::default();
-    let op = DefOp::fit(
-        &mesh,
-        &handles,
-        &hats,
-        &configurations,
-        &solutions,
-        &options,
-    )
-    .unwrap();
+    let op = fit_on_hats(&mesh, &handles, &configurations, &solutions);
     let mut evaluator = op.evaluator();
     let mut positions = vec![Point::ZERO; mesh.n_vertices()];
     let q: Vec<Point> = rest.iter().map(|&p| p + Vec2::new(0.2, -0.1)).collect();

@@ -12,18 +12,10 @@ use splineskin::bezier::{bernstein, bernstein_gram, gauss_legendre};
 use splineskin::domain::{Boundary, Domain, DomainOptions, MeshWeights};
 use splineskin::drawing::{read_svg, read_svg_file, Drawing, ImportOptions};
 use splineskin::examples::{demo_scene, DEMO_SVG};
+use splineskin::scene::Scene;
 use splineskin::spline_fit::quadrature::SampledCurves;
 use splineskin::spline_fit::{FitOptions, SplineRig};
 use splineskin::weights::{Shepard, ShepardOptions, WeightField};
-
-/// The five handles of the authors' "wobble 4" turtles scene.
-const TURTLE_HANDLES: [(f64, f64); 5] = [
-    (363.0, 547.0),
-    (347.0, 138.0),
-    (378.0, 231.0),
-    (264.0, 624.0),
-    (464.0, 641.0),
-];
 
 fn fish() -> (Drawing, Vec<Point>) {
     let d = read_svg(DEMO_SVG, &ImportOptions::default()).expect("demo svg");
@@ -32,9 +24,12 @@ fn fish() -> (Drawing, Vec<Point>) {
 
 fn turtles() -> Option<(Drawing, Vec<Point>)> {
     let root = common::data_root()?;
-    let path = root.join("vectorskinning/turtle-seven-stack/wobble 4/turtles-seven.svg");
-    let d = read_svg_file(&path, &ImportOptions::default()).expect("turtles svg");
-    Some((d, TURTLE_HANDLES.map(Point::from).to_vec()))
+    let folder = root.join("vectorskinning/turtle-seven-stack/wobble 4");
+    let d = read_svg_file(&folder.join("turtles-seven.svg"), &ImportOptions::default())
+        .expect("turtles svg");
+    // The five handles of the authors' "wobble 4" turtles scene.
+    let scene = Scene::load(&folder.join("turtles-seven-deformation.json")).expect("scene");
+    Some((d, scene.handles))
 }
 
 fn build(name: &str, d: &Drawing, h: &[Point]) -> Domain {

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use kurbo::Point;
-use splineskin::defop::{Arap, SampleRegion, Sampler};
+use splineskin::defop::{Arap, DefOp, DefOpOptions, SampleRegion, Sampler, SpatialBasis};
 use splineskin::mesh::TriMesh;
 
 /// `rest` followed by `count` configurations sampled (seed `seed`) with every handle in a
@@ -35,4 +35,24 @@ pub fn arap_solutions(
             u
         })
         .collect()
+}
+
+/// The operator on the hat basis of `mesh` with the default options, fitted to the
+/// `solutions` at the `configurations` of the `handles`.
+pub fn fit_on_hats(
+    mesh: &TriMesh,
+    handles: &[usize],
+    configurations: &[Vec<Point>],
+    solutions: &[Vec<Point>],
+) -> DefOp {
+    let hats = SpatialBasis::hats(mesh).unwrap();
+    DefOp::fit(
+        mesh,
+        handles,
+        &hats,
+        configurations,
+        solutions,
+        &DefOpOptions::default(),
+    )
+    .unwrap()
 }
