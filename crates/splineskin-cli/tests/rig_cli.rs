@@ -94,10 +94,13 @@ fn rig_scene_reads_back_and_deforms_at_rest_to_the_drawing() {
     let dir = TestDir::new("splineskin-rig-cli-fish-");
     std::fs::create_dir(dir.join("scenes")).unwrap();
     let fish = fish();
-    let stderr = ok_stderr(
-        &dir,
-        &["rig", fish.to_str().unwrap(), "-o", "scenes/fish.json"],
-    );
+    // `splineskin rig FISH` with the arguments of `line`; its stderr.
+    let rig_fish = |line: &str| {
+        let mut args = vec!["rig", fish.to_str().unwrap()];
+        args.extend(words(line));
+        ok_stderr(&dir, &args)
+    };
+    let stderr = rig_fish("-o scenes/fish.json");
     assert!(stderr.contains("placed automatically"), "{stderr}");
     let text = std::fs::read_to_string(dir.join("scenes/fish.json")).unwrap();
     let json: serde_json::Value = serde_json::from_str(&text).unwrap();
@@ -144,31 +147,13 @@ fn rig_scene_reads_back_and_deforms_at_rest_to_the_drawing() {
     );
 
     // --inline: the same scene with the document inside.
-    ok_stderr(
-        &dir,
-        &[
-            "rig",
-            fish.to_str().unwrap(),
-            "-o",
-            "inline.json",
-            "--inline",
-        ],
-    );
+    rig_fish("-o inline.json --inline");
     let inline = Scene::load(&dir.join("inline.json")).unwrap();
     assert_eq!(inline.handles, scene.handles);
     assert_eq!(inline.svg_text, scene.svg_text);
 
     // --text-outlines: inline, the label as paths of its glyphs (14 outlines), same pins.
-    ok_stderr(
-        &dir,
-        &[
-            "rig",
-            fish.to_str().unwrap(),
-            "-o",
-            "outlined.json",
-            "--text-outlines",
-        ],
-    );
+    rig_fish("-o outlined.json --text-outlines");
     let outlined = Scene::load(&dir.join("outlined.json")).unwrap();
     assert_eq!(outlined.handles, scene.handles);
     assert!(!outlined.svg_text.contains("<text"));

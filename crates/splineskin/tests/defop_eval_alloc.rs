@@ -90,21 +90,18 @@ fn defop_evaluation_of_a_large_operator_allocates_nothing() {
         .collect();
     let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
     let configurations = rest_and_disc_samples(&rest, 0.5, 8, 399);
-    let solutions: Vec<Vec<Point>> = configurations
-        .iter()
-        .map(|q| {
-            let shift = q[4] - rest[4];
-            let mut u: Vec<Point> = mesh
-                .vertices
-                .iter()
-                .map(|&p| p + shift + Vec2::new((p.y * shift.x).sin(), (p.x * shift.y).cos() - 1.0))
-                .collect();
-            for (&h, &target) in handles.iter().zip(q) {
-                u[h] = target;
-            }
-            u
-        })
-        .collect();
+    // Made up: a smooth wave following handle 4's shift, then the handles on their targets.
+    let made_up = |q: &[Point]| {
+        let shift = q[4] - rest[4];
+        let wave =
+            |p: Point| p + shift + Vec2::new((p.y * shift.x).sin(), (p.x * shift.y).cos() - 1.0);
+        let mut u: Vec<Point> = mesh.vertices.iter().map(|&p| wave(p)).collect();
+        for (&h, &target) in handles.iter().zip(q) {
+            u[h] = target;
+        }
+        u
+    };
+    let solutions: Vec<Vec<Point>> = configurations.iter().map(|q| made_up(q)).collect();
     let op = fit_on_hats(&mesh, &handles, &configurations, &solutions);
     let mut evaluator = op.evaluator();
     let mut positions = vec![Point::ZERO; mesh.n_vertices()];
