@@ -12,7 +12,7 @@
 
 mod common;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use common::cli::ok;
@@ -61,6 +61,14 @@ struct JsonRow {
 /// A fresh folder for one test.
 fn folder(name: &str) -> TestDir {
     TestDir::new(&format!("splineskin-compare-cli-{name}-"))
+}
+
+/// A [`folder`] holding [`SCENE`] as `scene.json`, and that file's path.
+fn folder_with_scene(name: &str) -> (TestDir, PathBuf) {
+    let dir = folder(name);
+    let scene = dir.join("scene.json");
+    std::fs::write(&scene, SCENE).unwrap();
+    (dir, scene)
 }
 
 fn run(args: &[&str]) -> Output {
@@ -118,9 +126,7 @@ fn library(scene_path: &Path, pose: usize) -> (Scene, Comparison, Vec<Affine>) {
 
 #[test]
 fn compare_json_and_picture_match_the_library() {
-    let dir = folder("small");
-    let scene = dir.join("scene.json");
-    std::fs::write(&scene, SCENE).unwrap();
+    let (dir, scene) = folder_with_scene("small");
     let png = dir.join("compare.png");
     let args = [
         scene.to_str().unwrap(),
@@ -283,9 +289,7 @@ fn target_pixels(
 
 #[test]
 fn compare_identity_pose_draws_the_target_in_the_zero_colour() {
-    let dir = folder("identity");
-    let scene = dir.join("scene.json");
-    std::fs::write(&scene, SCENE).unwrap();
+    let (dir, scene) = folder_with_scene("identity");
     for (pose, exact) in [(0, true), (1, false)] {
         let png = dir.join(format!("pose-{pose}.png"));
         let pose_arg = pose.to_string();
@@ -327,9 +331,7 @@ fn compare_identity_pose_draws_the_target_in_the_zero_colour() {
 
 #[test]
 fn compare_errors_name_the_file_and_leave_nothing() {
-    let dir = folder("errors");
-    let scene = dir.join("scene.json");
-    std::fs::write(&scene, SCENE).unwrap();
+    let (dir, scene) = folder_with_scene("errors");
     let png = dir.join("out.png");
     let cases: [(Vec<String>, &str); 5] = [
         (

@@ -127,6 +127,17 @@ fn difference(name: &str, a: &str, b: &str) -> (f64, f64) {
     (diff as f64 / n, ink as f64 / n)
 }
 
+/// The pass mark of a comparison of renders: the art in view (`ink`, the fraction of inked
+/// pixels, over 2 %), and at most [`MAX_DIFFERENT`] of the pixels different (`diff`); `out`,
+/// the SVG written, is shown on failure.
+fn assert_same_render(name: &str, diff: f64, ink: f64, out: &str) {
+    assert!(ink > 0.02, "{name}: the art is not in view ({ink})");
+    assert!(
+        diff <= MAX_DIFFERENT,
+        "{name}: {diff} of the pixels differ\n{out}"
+    );
+}
+
 /// Reads `svg`, deforms it rigidly through a rig, and checks the render against the input
 /// rendered under the same map, after `unhide` (applied to both texts).
 fn check_rigid(name: &str, svg: &str, unhide: impl Fn(&str) -> String) -> Drawing {
@@ -140,11 +151,7 @@ fn check_rigid(name: &str, svg: &str, unhide: impl Fn(&str) -> String) -> Drawin
         100.0 * diff,
         100.0 * ink
     );
-    assert!(ink > 0.02, "{name}: the art is not in view ({ink})");
-    assert!(
-        diff <= MAX_DIFFERENT,
-        "{name}: {diff} of the pixels differ\n{out}"
-    );
+    assert_same_render(name, diff, ink, &out);
     drawing
 }
 
@@ -289,11 +296,7 @@ fn check_carried(
         100.0 * diff_plain,
         100.0 * ink
     );
-    assert!(ink > 0.02, "{name}: the art is not in view ({ink})");
-    assert!(
-        diff <= MAX_DIFFERENT,
-        "{name}: {diff} of the pixels differ\n{out}"
-    );
+    assert_same_render(name, diff, ink, &out);
     assert!(
         diff_plain > 4.0 * MAX_DIFFERENT,
         "{name}: the test cannot tell: {diff_plain} differ with nothing carried"
