@@ -49,7 +49,7 @@ fn scene_file(dir: &Path, family: &str) -> PathBuf {
     path
 }
 
-fn bench_json(scene: &PathBuf) -> Row {
+fn bench_json(scene: &Path) -> Row {
     let mut args = words("bench --json --updates 200");
     args.push(scene.to_str().unwrap());
     let stdout = ok(&splineskin(&args));

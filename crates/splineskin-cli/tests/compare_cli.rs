@@ -96,7 +96,7 @@ fn picture_and_png(
 }
 
 fn rows(out: &Output) -> Vec<JsonRow> {
-    ok(&out);
+    ok(out);
     String::from_utf8(out.stdout.clone())
         .unwrap()
         .lines()
