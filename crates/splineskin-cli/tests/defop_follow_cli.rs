@@ -14,7 +14,7 @@ mod common;
 
 use std::path::Path;
 
-use common::cli::{ok, s, splineskin};
+use common::cli::{ok, run_ok, s, splineskin};
 use common::test_dir::TestDir;
 use kurbo::{Affine, Point};
 use splineskin::defop::OperatorFile;
@@ -104,18 +104,13 @@ fn label_points() -> Vec<Point> {
 #[test]
 fn defop_deform_carries_text_and_gradients_with_the_operator() {
     let dir = TestDir::new("splineskin-defop-follow-");
-    let scene = write_scene(&dir);
+    write_scene(&dir);
     let deform = |pose: &str, name: &str| {
         let out = dir.join(name);
-        ok(&splineskin(&[
-            "defop",
-            "deform",
-            s(&scene),
-            "-o",
-            s(&out),
-            "--pose",
-            pose,
-        ]));
+        run_ok(
+            &dir,
+            &format!("defop deform bar-scene.json -o {name} --pose {pose}"),
+        );
         std::fs::read_to_string(&out).unwrap()
     };
 
