@@ -7,6 +7,7 @@ mod common;
 use std::path::Path;
 use std::process::Output;
 
+use common::cli::{ok, words};
 use common::test_dir::TestDir;
 
 const SVG: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100">
@@ -74,11 +75,7 @@ fn listing(dir: &Path) -> Vec<String> {
 fn animate_cli_writes_an_animated_svg() {
     let dir = folder("svg", &scene(GOOD));
     let out = animate(&dir, &["scene.json", "-o", "out.svg"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    ok(&out);
     let text = std::fs::read_to_string(dir.join("out.svg")).unwrap();
     let paths = animated_paths(&text);
     assert_eq!(paths.len(), 2, "the rect became a path");
@@ -95,23 +92,8 @@ fn animate_cli_writes_an_animated_svg() {
         assert!(values.iter().all(|v| n_c(v) == n_c(values[0])));
     }
     // The fps and duration overrides.
-    let out = animate(
-        &dir,
-        &[
-            "scene.json",
-            "-o",
-            "out.svg",
-            "--fps",
-            "4",
-            "--duration",
-            "2",
-        ],
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = animate(&dir, &words("scene.json -o out.svg --fps 4 --duration 2"));
+    ok(&out);
     let text = std::fs::read_to_string(dir.join("out.svg")).unwrap();
     assert!(text.contains(r#"dur="2s""#));
     assert_eq!(text.matches("<animate ").count(), 2);
@@ -123,12 +105,8 @@ fn animate_cli_writes_an_animated_svg() {
 #[test]
 fn animate_cli_writes_a_frames_folder() {
     let dir = folder("frames", &scene(GOOD));
-    let out = animate(&dir, &["scene.json", "-o", "frames", "--png", "--fps", "5"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = animate(&dir, &words("scene.json -o frames --png --fps 5"));
+    ok(&out);
     let want: Vec<String> = (0..6)
         .flat_map(|f| [format!("frame-{f:04}.png"), format!("frame-{f:04}.svg")])
         .collect();
@@ -136,12 +114,8 @@ fn animate_cli_writes_a_frames_folder() {
     let png = std::fs::read(dir.join("frames/frame-0003.png")).unwrap();
     assert_eq!(&png[1..4], b"PNG");
     // Again, without PNGs: the earlier frames folder is replaced.
-    let out = animate(&dir, &["scene.json", "-o", "frames", "--fps", "2"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = animate(&dir, &words("scene.json -o frames --fps 2"));
+    ok(&out);
     assert_eq!(
         listing(&dir.join("frames")),
         ["frame-0000.svg", "frame-0001.svg", "frame-0002.svg"]
@@ -240,7 +214,7 @@ fn animate_cli_errors_name_scene_and_element_and_write_nothing() {
     }
     // A bad override.
     let dir = folder("fps", &scene(GOOD));
-    let out = animate(&dir, &["scene.json", "-o", "out.svg", "--fps=-3"]);
+    let out = animate(&dir, &words("scene.json -o out.svg --fps=-3"));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
         stderr.contains("scene.json: --fps: frame rate -3 is not in (0, 1000]"),
@@ -272,11 +246,7 @@ fn animate_cli_frames_past_one_chunk_match_the_animated_svg() {
         &["scene.json", "-o", "all.svg", "--fps", "150"][..],
     ] {
         let out = animate(&dir, args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        ok(&out);
     }
     let frames = listing(&dir.join("frames"));
     assert_eq!(frames.len(), 151, "0, 1/150, …, 1 s");
@@ -338,7 +308,7 @@ fn png_outputs_name_the_font_families_they_substitute() {
     );
     let dir = folder("text", &scene(GOOD));
     std::fs::write(dir.join("drawing.svg"), &with_text).unwrap();
-    let out = animate(&dir, &["scene.json", "-o", "frames", "--png", "--fps", "2"]);
+    let out = animate(&dir, &words("scene.json -o frames --png --fps 2"));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(
@@ -392,12 +362,8 @@ fn text_outlines_deform_with_the_art() {
     );
     let dir = folder("outlines", &scene(GOOD));
     std::fs::write(dir.join("drawing.svg"), &with_text).unwrap();
-    let out = animate(&dir, &["scene.json", "-o", "anim.svg", "--text-outlines"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = animate(&dir, &words("scene.json -o anim.svg --text-outlines"));
+    ok(&out);
     let text = std::fs::read_to_string(dir.join("anim.svg")).unwrap();
     assert!(!text.contains("<text"), "{text}");
     // "Hi": H one outline, i its stem and dot, all animated as one path element.
@@ -411,11 +377,7 @@ fn text_outlines_deform_with_the_art() {
     assert_ne!(first_and_last[0], first_and_last[first_and_last.len() / 2]);
 
     let out = animate(&dir, &["scene.json", "-o", "kept.svg"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    ok(&out);
     let kept = std::fs::read_to_string(dir.join("kept.svg")).unwrap();
     assert!(
         kept.contains(r#"<text id="t""#) && kept.contains(">Hi</text>"),

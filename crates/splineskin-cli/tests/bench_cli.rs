@@ -6,8 +6,8 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
+use common::cli::{ok, splineskin, words};
 use common::test_dir::TestDir;
 use serde::Deserialize;
 use splineskin::scene::{Compat, Scene};
@@ -49,18 +49,10 @@ fn scene_file(dir: &Path, family: &str) -> PathBuf {
     path
 }
 
-fn bench_json(scene: &PathBuf) -> Row {
-    let out = Command::new(env!("CARGO_BIN_EXE_splineskin"))
-        .args(["bench", "--json", "--updates", "200"])
-        .arg(scene)
-        .output()
-        .expect("run splineskin");
-    assert!(
-        out.status.success(),
-        "bench failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8(out.stdout).expect("utf-8");
+fn bench_json(scene: &Path) -> Row {
+    let mut args = words("bench --json --updates 200");
+    args.push(scene.to_str().unwrap());
+    let stdout = ok(&splineskin(&args));
     let lines: Vec<&str> = stdout.lines().collect();
     assert_eq!(lines.len(), 1, "one line per scene: {stdout}");
     serde_json::from_str(lines[0]).expect("one JSON object with the documented keys")

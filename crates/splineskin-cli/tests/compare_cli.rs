@@ -12,16 +12,17 @@
 
 mod common;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use common::cli::ok;
 use common::test_dir::TestDir;
 
 use kurbo::Affine;
 use serde::Deserialize;
 use splineskin::compare::{
-    compare_methods, posed_markers, render_comparison, CompareInputs, CompareOptions, Comparison,
-    Method, PictureOptions,
+    compare_methods, posed_markers, render_comparison, CompareInputs, CompareOptions,
+    ComparePicture, Comparison, Method, PictureOptions,
 };
 use splineskin::figure::colour_map::error_colour;
 use splineskin::metrics::MetricsOptions;
@@ -62,6 +63,14 @@ fn folder(name: &str) -> TestDir {
     TestDir::new(&format!("splineskin-compare-cli-{name}-"))
 }
 
+/// A [`folder`] holding [`SCENE`] as `scene.json`, and that file's path.
+fn folder_with_scene(name: &str) -> (TestDir, PathBuf) {
+    let dir = folder(name);
+    let scene = dir.join("scene.json");
+    std::fs::write(&scene, SCENE).unwrap();
+    (dir, scene)
+}
+
 fn run(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_splineskin"))
         .arg("compare")
@@ -70,12 +79,24 @@ fn run(args: &[&str]) -> Output {
         .expect("run splineskin")
 }
 
+/// The library's picture of `c` with the handles of `scene` moved by `pose`, panels `width`
+/// pixels wide, and the PNG the command wrote to `png`.
+fn picture_and_png(
+    scene: &Scene,
+    c: &Comparison,
+    pose: &[Affine],
+    width: u32,
+    png: &Path,
+) -> (ComparePicture, RgbaImage) {
+    let markers = posed_markers(&scene.handle_set(), pose);
+    let options = PictureOptions::default().with_panel_width(width);
+    let picture = render_comparison(c, &markers, &options).unwrap();
+    let image = RgbaImage::decode_png(&std::fs::read(png).unwrap()).unwrap();
+    (picture, image)
+}
+
 fn rows(out: &Output) -> Vec<JsonRow> {
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    ok(out);
     String::from_utf8(out.stdout.clone())
         .unwrap()
         .lines()
@@ -105,9 +126,7 @@ fn library(scene_path: &Path, pose: usize) -> (Scene, Comparison, Vec<Affine>) {
 
 #[test]
 fn compare_json_and_picture_match_the_library() {
-    let dir = folder("small");
-    let scene = dir.join("scene.json");
-    std::fs::write(&scene, SCENE).unwrap();
+    let (dir, scene) = folder_with_scene("small");
     let png = dir.join("compare.png");
     let args = [
         scene.to_str().unwrap(),
@@ -176,14 +195,7 @@ fn compare_json_and_picture_match_the_library() {
     for (a, b) in same.result.paths.iter().zip(&input.result.paths) {
         assert!(a.n_curves() <= b.n_curves());
     }
-    let markers = posed_markers(&scene_value.handle_set(), &pose);
-    let picture = render_comparison(
-        &c,
-        &markers,
-        &PictureOptions::default().with_panel_width(300),
-    )
-    .unwrap();
-    let image = RgbaImage::decode_png(&std::fs::read(&png).unwrap()).unwrap();
+    let (picture, image) = picture_and_png(&scene_value, &c, &pose, 300, &png);
     assert_eq!(
         (image.width, image.height),
         (picture.grid.width, picture.grid.height)
@@ -277,9 +289,7 @@ fn target_pixels(
 
 #[test]
 fn compare_identity_pose_draws_the_target_in_the_zero_colour() {
-    let dir = folder("identity");
-    let scene = dir.join("scene.json");
-    std::fs::write(&scene, SCENE).unwrap();
+    let (dir, scene) = folder_with_scene("identity");
     for (pose, exact) in [(0, true), (1, false)] {
         let png = dir.join(format!("pose-{pose}.png"));
         let pose_arg = pose.to_string();
@@ -292,20 +302,9 @@ fn compare_identity_pose_draws_the_target_in_the_zero_colour() {
             "--width",
             "400",
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        ok(&out);
         let (scene_value, c, transforms) = library(&scene, pose);
-        let markers = posed_markers(&scene_value.handle_set(), &transforms);
-        let picture = render_comparison(
-            &c,
-            &markers,
-            &PictureOptions::default().with_panel_width(400),
-        )
-        .unwrap();
-        let image = RgbaImage::decode_png(&std::fs::read(&png).unwrap()).unwrap();
+        let (picture, image) = picture_and_png(&scene_value, &c, &transforms, 400, &png);
         // Panels of the methods that keep the input's curves: ours, fourcontrols,
         // twoendpoints, jacobian.
         for panel in 0..4 {
@@ -332,9 +331,7 @@ fn compare_identity_pose_draws_the_target_in_the_zero_colour() {
 
 #[test]
 fn compare_errors_name_the_file_and_leave_nothing() {
-    let dir = folder("errors");
-    let scene = dir.join("scene.json");
-    std::fs::write(&scene, SCENE).unwrap();
+    let (dir, scene) = folder_with_scene("errors");
     let png = dir.join("out.png");
     let cases: [(Vec<String>, &str); 5] = [
         (

@@ -13,8 +13,8 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
+use common::cli::{failed, ok, run_ok, s, splineskin};
 use common::test_dir::TestDir;
 use kurbo::Point;
 use splineskin::defop::OperatorFile;
@@ -39,46 +39,11 @@ fn write_scene(dir: &Path, extra: &str) -> std::path::PathBuf {
     path
 }
 
-fn splineskin(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_splineskin"))
-        .args(args)
-        .output()
-        .expect("run splineskin")
-}
-
-fn ok(out: &Output) -> String {
-    assert!(
-        out.status.success(),
-        "failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout.clone()).unwrap()
-}
-
-fn failed(out: &Output) -> String {
-    assert_eq!(out.status.code(), Some(1), "expected exit status 1");
-    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    stderr
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
 /// Trains the bar's operator into `dir/op.bin`.
 fn trained(dir: &Path) -> std::path::PathBuf {
-    let scene = write_scene(dir, "");
+    write_scene(dir, "");
     let op = dir.join("op.bin");
-    let stdout = ok(&splineskin(&[
-        "defop",
-        "train",
-        s(&scene),
-        "-o",
-        s(&op),
-        "--held-out",
-        "3",
-    ]));
+    let stdout = run_ok(dir, "defop train bar-scene.json -o op.bin --held-out 3");
     assert!(stdout.contains("3 handles, 24 samples"), "{stdout}");
     assert!(stdout.contains("held-out error"), "{stdout}");
     op
@@ -252,15 +217,10 @@ fn defop_cli_train_on_a_mesh_file() {
     std::fs::write(dir.join("bar.obj"), &obj).unwrap();
     let scene = write_scene(&dir, r#", "mesh": "bar.obj""#);
     let op = dir.join("mesh-op.bin");
-    let stdout = ok(&splineskin(&[
-        "defop",
-        "train",
-        s(&scene),
-        "-o",
-        s(&op),
-        "--held-out",
-        "0",
-    ]));
+    let stdout = run_ok(
+        &dir,
+        "defop train bar-scene.json -o mesh-op.bin --held-out 0",
+    );
     assert!(stdout.contains("15 vertices, 16 triangles"), "{stdout}");
     let file = OperatorFile::load(&op).unwrap();
     assert_eq!(file.op.handles(), &[5, 9, 7]);
@@ -361,15 +321,10 @@ fn defop_cli_deform_through_the_operator() {
     std::fs::write(&scene, text).unwrap();
     let json = |pose: &str, name: &str| {
         let out = dir.join(name);
-        ok(&splineskin(&[
-            "defop",
-            "deform",
-            s(&scene),
-            "-o",
-            s(&out),
-            "--pose",
-            pose,
-        ]));
+        run_ok(
+            &dir,
+            &format!("defop deform posed.json -o {name} --pose {pose}"),
+        );
         let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
         v["paths"][0]["points"]
             .as_array()

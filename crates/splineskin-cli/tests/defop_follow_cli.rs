@@ -13,8 +13,8 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
+use common::cli::{ok, run_ok, s, splineskin};
 use common::test_dir::TestDir;
 use kurbo::{Affine, Point};
 use splineskin::defop::OperatorFile;
@@ -31,26 +31,6 @@ fn turn() -> Affine {
     Affine::translate((50.0, 15.0))
         * Affine::rotate(5f64.to_radians())
         * Affine::translate((-50.0, -15.0))
-}
-
-fn splineskin(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_splineskin"))
-        .args(args)
-        .output()
-        .expect("run splineskin")
-}
-
-fn ok(out: &Output) -> String {
-    assert!(
-        out.status.success(),
-        "failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout.clone()).unwrap()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 /// The scene: the bar, its handles, the poses "turn" (every handle moved by [`turn`]) and
@@ -124,18 +104,13 @@ fn label_points() -> Vec<Point> {
 #[test]
 fn defop_deform_carries_text_and_gradients_with_the_operator() {
     let dir = TestDir::new("splineskin-defop-follow-");
-    let scene = write_scene(&dir);
+    write_scene(&dir);
     let deform = |pose: &str, name: &str| {
         let out = dir.join(name);
-        ok(&splineskin(&[
-            "defop",
-            "deform",
-            s(&scene),
-            "-o",
-            s(&out),
-            "--pose",
-            pose,
-        ]));
+        run_ok(
+            &dir,
+            &format!("defop deform bar-scene.json -o {name} --pose {pose}"),
+        );
         std::fs::read_to_string(&out).unwrap()
     };
 

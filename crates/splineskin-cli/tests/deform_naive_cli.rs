@@ -7,9 +7,9 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
+use common::cli::{ok, splineskin, stderr};
 use common::test_dir::TestDir;
 use serde::Deserialize;
 
@@ -41,19 +41,8 @@ struct OutputPath {
 }
 
 fn naive_cases(root: &Path) -> Vec<Case> {
-    let dir = root.join("vectorskinning/authors-solver-outputs");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .expect("authors-solver-outputs")
-        .map(|e| e.expect("entry").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .collect();
-    files.sort();
-    files
-        .iter()
-        .map(|f| {
-            let text = std::fs::read_to_string(f).expect("case file");
-            serde_json::from_str::<Case>(&text).expect("case JSON")
-        })
+    common::external_data::read_authors_solver_outputs::<Case>(root)
+        .into_iter()
         .filter(|c| ["fourcontrols", "twoendpoints", "jacobian"].contains(&c.engine_type.as_str()))
         .collect()
 }
@@ -79,19 +68,16 @@ fn deform_naive_engines_reproduce_the_authors_solver() {
             .expect("source under tests-and-results/");
         let scene = root.join("vectorskinning").join(source);
         let out = dir.join(format!("{}.json", case.case));
-        let run = Command::new(env!("CARGO_BIN_EXE_splineskin"))
-            .arg("deform")
-            .arg(&scene)
-            .args(["--compat", "vectorskinning", "-o"])
-            .arg(&out)
-            .output()
-            .expect("run splineskin");
-        assert!(
-            run.status.success(),
-            "{}: {}",
-            case.case,
-            String::from_utf8_lossy(&run.stderr)
-        );
+        let args = [&scene, &out].map(|p| p.to_str().unwrap());
+        let run = splineskin(&[
+            "deform",
+            args[0],
+            "--compat",
+            "vectorskinning",
+            "-o",
+            args[1],
+        ]);
+        assert!(run.status.success(), "{}: {}", case.case, stderr(&run));
         let text = std::fs::read_to_string(&out).expect("output");
         let ours: Output = serde_json::from_str(&text).expect("output JSON");
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
@@ -137,18 +123,8 @@ fn animate_naive_engine() {
     let scene_path = dir.join("scene.json");
     std::fs::write(&scene_path, text).expect("scene");
     let frames = dir.join("frames");
-    let run = Command::new(env!("CARGO_BIN_EXE_splineskin"))
-        .arg("animate")
-        .arg(&scene_path)
-        .arg("-o")
-        .arg(&frames)
-        .output()
-        .expect("run splineskin");
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    let args = [&scene_path, &frames].map(|p| p.to_str().unwrap());
+    ok(&splineskin(&["animate", args[0], "-o", args[1]]));
     // 1 s at 4 fps: frames 0..=4; the last is the last keyframe.
     let last = std::fs::read_to_string(frames.join("frame-0004.svg")).expect("last frame");
     // The path's d attribute (quoted as in the input, ' or ").

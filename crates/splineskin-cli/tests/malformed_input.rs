@@ -18,6 +18,7 @@ mod common;
 use std::path::Path;
 use std::process::{Command, Output};
 
+use common::cli::assert_no_problems;
 use common::test_dir::TestDir;
 
 /// A small valid drawing: one open cubic and a closed triangle.
@@ -178,13 +179,7 @@ fn run_failures(cases: Vec<Case>) {
             failed.push(dir);
         }
     }
-    assert!(
-        problems.is_empty(),
-        "{} of {} cases failed:\n\n{}",
-        problems.len(),
-        cases.len(),
-        problems.join("\n\n")
-    );
+    assert_no_problems(&problems, cases.len());
 }
 
 fn file(name: &str, contents: impl Into<Vec<u8>>) -> (&str, Vec<u8>) {

@@ -12,8 +12,8 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
+use common::cli::{json_lines, run_line, run_ok, temporaries};
 use common::test_dir::TestDir;
 use serde::Deserialize;
 
@@ -45,27 +45,25 @@ fn scene_with(weights: &str, poses: &str) -> String {
     )
 }
 
-fn run(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_splineskin"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run splineskin")
-}
-
-fn ok(out: &Output) -> String {
-    assert!(
-        out.status.success(),
-        "failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout.clone()).unwrap()
-}
-
 fn folder(name: &str) -> TestDir {
     let dir = TestDir::new(&format!("splineskin-subdiv-cli-{name}-"));
     std::fs::write(dir.join("box.obj"), BOX).unwrap();
     dir
+}
+
+/// [`folder`] with `scene.json`: the box scene under Shepard weights.
+fn shepard_folder(name: &str) -> TestDir {
+    let dir = folder(name);
+    std::fs::write(dir.join("scene.json"), scene(r#"{"family": "shepard"}"#)).unwrap();
+    dir
+}
+
+/// A [`shepard_folder`] named `name` and the two `--json` rows of `splineskin line` run there.
+fn shepard_rows<T: serde::de::DeserializeOwned>(name: &str, line: &str) -> (TestDir, Vec<T>) {
+    let dir = shepard_folder(name);
+    let rows: Vec<T> = json_lines(&run_ok(&dir, line));
+    assert_eq!(rows.len(), 2);
+    (dir, rows)
 }
 
 /// `(positions, faces, tag lines)` of an OBJ file.
@@ -90,22 +88,11 @@ fn read(path: &Path) -> (Vec<[f64; 3]>, usize, Vec<String>) {
 
 #[test]
 fn subdiv_cli_deform_writes_the_cage_and_its_limit_mesh() {
-    let dir = folder("deform");
-    std::fs::write(dir.join("scene.json"), scene(r#"{"family": "shepard"}"#)).unwrap();
-    ok(&run(
+    let dir = shepard_folder("deform");
+    run_ok(
         &dir,
-        &[
-            "subdiv",
-            "deform",
-            "scene.json",
-            "-o",
-            "out.obj",
-            "--limit-mesh",
-            "mesh.obj",
-            "--level",
-            "2",
-        ],
-    ));
+        "subdiv deform scene.json -o out.obj --limit-mesh mesh.obj --level 2",
+    );
     let (rest, faces, tags) = read(&dir.join("box.obj"));
     let (posed, posed_faces, posed_tags) = read(&dir.join("out.obj"));
     assert_eq!(
@@ -133,10 +120,7 @@ fn subdiv_cli_deform_writes_the_cage_and_its_limit_mesh() {
     // Without poses, pose 0 is the identity: the cage comes back.
     let identity = scene_with(r#"{"family": "bone_heat", "level": 2}"#, "[]");
     std::fs::write(dir.join("identity.json"), identity).unwrap();
-    ok(&run(
-        &dir,
-        &["subdiv", "deform", "identity.json", "-o", "same.obj"],
-    ));
+    run_ok(&dir, "subdiv deform identity.json -o same.obj");
     let (same, _, _) = read(&dir.join("same.obj"));
     for (a, b) in same.iter().zip(&rest) {
         for k in 0..3 {
@@ -150,20 +134,11 @@ fn subdiv_cli_deform_writes_the_cage_and_its_limit_mesh() {
 /// left (the cage used to be written first, then removed, losing the earlier file).
 #[test]
 fn subdiv_cli_deform_writes_both_files_or_neither() {
-    let dir = folder("deform-both");
-    std::fs::write(dir.join("scene.json"), scene(r#"{"family": "shepard"}"#)).unwrap();
+    let dir = shepard_folder("deform-both");
     std::fs::write(dir.join("out.obj"), "# an earlier cage\n").unwrap();
-    let out = run(
+    let out = run_line(
         &dir,
-        &[
-            "subdiv",
-            "deform",
-            "scene.json",
-            "-o",
-            "out.obj",
-            "--limit-mesh",
-            "missing-folder/mesh.obj",
-        ],
+        "subdiv deform scene.json -o out.obj --limit-mesh missing-folder/mesh.obj",
     );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
@@ -172,11 +147,7 @@ fn subdiv_cli_deform_writes_both_files_or_neither() {
         std::fs::read_to_string(dir.join("out.obj")).unwrap(),
         "# an earlier cage\n"
     );
-    let leftovers: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .flatten()
-        .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
-        .collect();
+    let leftovers = temporaries(&dir);
     assert!(leftovers.is_empty(), "{leftovers:?}");
 }
 
@@ -197,28 +168,10 @@ struct CompareRow {
 
 #[test]
 fn subdiv_cli_compare_writes_a_png_and_ours_beats_naive() {
-    let dir = folder("compare");
-    std::fs::write(dir.join("scene.json"), scene(r#"{"family": "shepard"}"#)).unwrap();
-    let stdout = ok(&run(
-        &dir,
-        &[
-            "subdiv",
-            "compare",
-            "scene.json",
-            "-o",
-            "cmp.png",
-            "--json",
-            "--level",
-            "2",
-            "--width",
-            "200",
-        ],
-    ));
-    let rows: Vec<CompareRow> = stdout
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
-    assert_eq!(rows.len(), 2);
+    let (dir, rows) = shepard_rows::<CompareRow>(
+        "compare",
+        "subdiv compare scene.json -o cmp.png --json --level 2 --width 200",
+    );
     assert_eq!(
         (rows[0].method.as_str(), rows[1].method.as_str()),
         ("ours", "naive")
@@ -248,27 +201,10 @@ struct BenchRow {
 
 #[test]
 fn subdiv_cli_bench_json_keys() {
-    let dir = folder("bench");
-    std::fs::write(dir.join("scene.json"), scene(r#"{"family": "shepard"}"#)).unwrap();
-    let stdout = ok(&run(
-        &dir,
-        &[
-            "subdiv",
-            "bench",
-            "--json",
-            "--updates",
-            "200",
-            "--handles",
-            "3",
-            "scene.json",
-            "box.obj",
-        ],
-    ));
-    let rows: Vec<BenchRow> = stdout
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
-    assert_eq!(rows.len(), 2);
+    let (_dir, rows) = shepard_rows::<BenchRow>(
+        "bench",
+        "subdiv bench --json --updates 200 --handles 3 scene.json box.obj",
+    );
     assert_eq!((rows[0].scene.as_str(), rows[0].handles), ("scene.json", 2));
     assert_eq!((rows[1].scene.as_str(), rows[1].handles), ("box.obj", 3));
     for r in &rows {
@@ -281,12 +217,7 @@ fn subdiv_cli_bench_json_keys() {
 #[test]
 fn subdiv_cli_refine_carries_tags() {
     let dir = folder("refine");
-    ok(&run(
-        &dir,
-        &[
-            "subdiv", "refine", "box.obj", "--levels", "2", "-o", "fine.obj",
-        ],
-    ));
+    run_ok(&dir, "subdiv refine box.obj --levels 2 -o fine.obj");
     let (v, faces, tags) = read(&dir.join("fine.obj"));
     assert_eq!(faces, 160);
     // The crease of sharpness 2.5 between vertices 1 and 4 (1-based 2, 5) is four level-2
@@ -311,16 +242,10 @@ fn subdiv_cli_car_scene() {
         serde_json::to_string(&obj.display().to_string()).unwrap()
     );
     std::fs::write(dir.join("car.json"), text).unwrap();
-    let stdout = ok(&run(
+    let rows: Vec<CompareRow> = json_lines(&run_ok(
         &dir,
-        &[
-            "subdiv", "compare", "car.json", "-o", "car.png", "--json", "--level", "2",
-        ],
+        "subdiv compare car.json -o car.png --json --level 2",
     ));
-    let rows: Vec<CompareRow> = stdout
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
     assert_eq!(rows[0].vertices, 1642);
     assert!(
         rows[0].rms < rows[1].rms,
@@ -332,10 +257,10 @@ fn subdiv_cli_car_scene() {
 
 /// A failing run: exit code 1, no panic, stderr naming `names`, and no `output` (nor a
 /// temporary of it) left in the folder.
-fn fails(dir: &Path, args: &[&str], names: &[&str], output: &str) {
-    let out = run(dir, args);
+fn fails(dir: &Path, line: &str, names: &[&str], output: &str) {
+    let out = run_line(dir, line);
     let stderr = String::from_utf8_lossy(&out.stderr);
-    let label = format!("{}\nstderr: {stderr}", args.join(" "));
+    let label = format!("{line}\nstderr: {stderr}");
     assert_eq!(out.status.code(), Some(1), "{label}");
     assert!(!stderr.contains("panicked"), "{label}");
     assert!(stderr.starts_with("error: "), "{label}");
@@ -343,133 +268,97 @@ fn fails(dir: &Path, args: &[&str], names: &[&str], output: &str) {
         assert!(stderr.contains(name), "{label}: lacks {name:?}");
     }
     assert!(!dir.join(output).exists(), "{label}: {output} was written");
-    let leftovers: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .flatten()
-        .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
-        .collect();
+    let leftovers = temporaries(dir);
     assert!(leftovers.is_empty(), "{label}: {leftovers:?}");
 }
 
 #[test]
 fn subdiv_cli_malformed_input_fails_cleanly() {
     let dir = folder("malformed");
+    let put = |name: &str, text: &str| std::fs::write(dir.join(name), text).unwrap();
     let shepard = scene(r#"{"family": "shepard"}"#);
-    std::fs::write(dir.join("scene.json"), &shepard).unwrap();
-    // A bad OBJ: a face with an index out of range, on line 2.
-    std::fs::write(dir.join("bad.obj"), "v 0 0 0\nf 1 2 3\n").unwrap();
-    std::fs::write(dir.join("bad.json"), shepard.replace("box.obj", "bad.obj")).unwrap();
-    fails(
-        &dir,
-        &["subdiv", "deform", "bad.json", "-o", "out.obj"],
-        &["bad.json", "bad.obj:2"],
-        "out.obj",
-    );
-    fails(
-        &dir,
-        &[
-            "subdiv", "refine", "bad.obj", "--levels", "1", "-o", "out.obj",
-        ],
-        &["bad.obj:2"],
-        "out.obj",
-    );
-    fails(
-        &dir,
-        &["subdiv", "bench", "bad.obj"],
-        &["bad.obj:2"],
-        "out.obj",
-    );
-    // Missing files.
-    fails(
-        &dir,
-        &["subdiv", "deform", "nope.json", "-o", "out.obj"],
-        &["nope.json", "cannot read"],
-        "out.obj",
-    );
-    std::fs::write(
-        dir.join("lost.json"),
-        shepard.replace("box.obj", "lost.obj"),
-    )
-    .unwrap();
-    fails(
-        &dir,
-        &["subdiv", "compare", "lost.json", "-o", "out.png"],
-        &["lost.json", "lost.obj", "cannot read"],
-        "out.png",
-    );
-    fails(
-        &dir,
-        &[
-            "subdiv", "refine", "none.obj", "--levels", "1", "-o", "out.obj",
-        ],
-        &["none.obj"],
-        "out.obj",
-    );
+    put("scene.json", &shepard);
+    // A bad OBJ: a face with an index out of range, on line 2; a scene of a missing OBJ.
+    put("bad.obj", "v 0 0 0\nf 1 2 3\n");
+    put("bad.json", &shepard.replace("box.obj", "bad.obj"));
+    put("lost.json", &shepard.replace("box.obj", "lost.obj"));
     // NaN in a scene: not JSON; an infinite coordinate: JSON, but refused by name.
-    std::fs::write(
-        dir.join("nan.json"),
-        shepard.replace("[0, 0.5, 0.5]", "[NaN, 0.5, 0.5]"),
-    )
-    .unwrap();
-    fails(
-        &dir,
-        &["subdiv", "deform", "nan.json", "-o", "out.obj"],
-        &["nan.json", "invalid scene JSON"],
-        "out.obj",
+    put(
+        "nan.json",
+        &shepard.replace("[0, 0.5, 0.5]", "[NaN, 0.5, 0.5]"),
     );
-    std::fs::write(
-        dir.join("inf.json"),
-        shepard.replace("[0, 0.5, 0.5]", "[1e999, 0.5, 0.5]"),
-    )
-    .unwrap();
-    fails(
-        &dir,
-        &["subdiv", "deform", "inf.json", "-o", "out.obj"],
-        &["inf.json"],
-        "out.obj",
+    put(
+        "inf.json",
+        &shepard.replace("[0, 0.5, 0.5]", "[1e999, 0.5, 0.5]"),
     );
     // A weight file with a wrong column count on line 3.
-    std::fs::write(dir.join("w.csv"), "1, 0\n1, 0\n1, 0, 0\n").unwrap();
-    std::fs::write(
-        dir.join("file.json"),
-        scene(r#"{"family": "file", "path": "w.csv"}"#),
-    )
-    .unwrap();
-    fails(
-        &dir,
-        &["subdiv", "compare", "file.json", "-o", "out.png"],
-        &[
-            "file.json",
-            "w.csv:3",
-            "3 columns; expected one per handle, 2",
-        ],
-        "out.png",
+    put("w.csv", "1, 0\n1, 0\n1, 0, 0\n");
+    put(
+        "file.json",
+        &scene(r#"{"family": "file", "path": "w.csv"}"#),
     );
-    // A pose that does not exist, and wrong output names.
-    fails(
-        &dir,
-        &[
-            "subdiv",
-            "deform",
-            "scene.json",
-            "-o",
+    let columns = "3 columns; expected one per handle, 2";
+    let cases: [(&str, &[&str], &str); 12] = [
+        (
+            "subdiv deform bad.json -o out.obj",
+            &["bad.json", "bad.obj:2"],
             "out.obj",
-            "--pose",
-            "3",
-        ],
-        &["scene.json", "pose 3"],
-        "out.obj",
-    );
-    fails(
-        &dir,
-        &["subdiv", "deform", "scene.json", "-o", "out.svg"],
-        &["out.svg", ".obj"],
-        "out.svg",
-    );
-    fails(
-        &dir,
-        &["subdiv", "compare", "scene.json", "-o", "out.obj"],
-        &["out.obj", ".png"],
-        "out.obj",
-    );
+        ),
+        (
+            "subdiv refine bad.obj --levels 1 -o out.obj",
+            &["bad.obj:2"],
+            "out.obj",
+        ),
+        ("subdiv bench bad.obj", &["bad.obj:2"], "out.obj"),
+        // Missing files.
+        (
+            "subdiv deform nope.json -o out.obj",
+            &["nope.json", "cannot read"],
+            "out.obj",
+        ),
+        (
+            "subdiv compare lost.json -o out.png",
+            &["lost.json", "lost.obj", "cannot read"],
+            "out.png",
+        ),
+        (
+            "subdiv refine none.obj --levels 1 -o out.obj",
+            &["none.obj"],
+            "out.obj",
+        ),
+        (
+            "subdiv deform nan.json -o out.obj",
+            &["nan.json", "invalid scene JSON"],
+            "out.obj",
+        ),
+        (
+            "subdiv deform inf.json -o out.obj",
+            &["inf.json"],
+            "out.obj",
+        ),
+        (
+            "subdiv compare file.json -o out.png",
+            &["file.json", "w.csv:3", columns],
+            "out.png",
+        ),
+        // A pose that does not exist, and wrong output names.
+        (
+            "subdiv deform scene.json -o out.obj --pose 3",
+            &["scene.json", "pose 3"],
+            "out.obj",
+        ),
+        (
+            "subdiv deform scene.json -o out.svg",
+            &["out.svg", ".obj"],
+            "out.svg",
+        ),
+        (
+            "subdiv compare scene.json -o out.obj",
+            &["out.obj", ".png"],
+            "out.obj",
+        ),
+    ];
+    for (line, names, output) in cases {
+        fails(&dir, line, names, output);
+    }
 }

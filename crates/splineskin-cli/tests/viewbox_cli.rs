@@ -13,8 +13,8 @@
 mod common;
 
 use std::path::Path;
-use std::process::Output;
 
+use common::cli::{ok_stderr, words};
 use common::test_dir::TestDir;
 
 /// Art at rest: path `a` spans x 10 … 90 (its end points; its control points lie between)
@@ -51,17 +51,6 @@ fn folder(name: &str) -> TestDir {
     dir
 }
 
-fn run(dir: &Path, args: &[&str]) -> String {
-    let out: Output = std::process::Command::new(env!("CARGO_BIN_EXE_splineskin"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(out.status.success(), "{args:?}: {stderr}");
-    stderr
-}
-
 /// The value of attribute `name` on the root `<svg>` start tag of `text`, if any.
 fn root_attribute<'t>(text: &'t str, name: &str) -> Option<&'t str> {
     let start = text.find("<svg").unwrap();
@@ -94,27 +83,15 @@ fn assert_close(found: [f64; 4], expected: [f64; 4], what: &str) {
 #[test]
 fn viewbox_cli_deform_keep_warns_and_fit_grows() {
     let dir = folder("deform");
-    let stderr = run(
-        &dir,
-        &["deform", "scene.json", "--pose", "right", "-o", "keep.svg"],
-    );
+    let stderr = ok_stderr(&dir, &words("deform scene.json --pose right -o keep.svg"));
     assert_eq!(view_box(&dir.join("keep.svg")), [0.0, 0.0, 100.0, 100.0]);
     assert!(
         stderr.contains("leaves the viewBox (cropped): path#a (line 2) by 20.000 (user units)"),
         "{stderr}"
     );
-    let stderr = run(
+    let stderr = ok_stderr(
         &dir,
-        &[
-            "deform",
-            "scene.json",
-            "--pose",
-            "right",
-            "-o",
-            "fit.svg",
-            "--viewbox",
-            "fit",
-        ],
+        &words("deform scene.json --pose right -o fit.svg --viewbox fit"),
     );
     assert!(stderr.contains("grows to include 1 path(s)"), "{stderr}");
     // x from the input's 0 to 90 + 30.
@@ -128,7 +105,7 @@ fn viewbox_cli_deform_keep_warns_and_fit_grows() {
 #[test]
 fn viewbox_cli_animate_keep_names_frames_and_paths() {
     let dir = folder("keep");
-    let stderr = run(&dir, &["animate", "scene.json", "-o", "out.svg"]);
+    let stderr = ok_stderr(&dir, &words("animate scene.json -o out.svg"));
     assert_eq!(view_box(&dir.join("out.svg")), [0.0, 0.0, 100.0, 100.0]);
     for expected in [
         "out.svg: the deformed art leaves the viewBox (cropped) in 7 of 11 frames (frames 2–10): ",
@@ -139,7 +116,7 @@ fn viewbox_cli_animate_keep_names_frames_and_paths() {
         assert!(stderr.contains(expected), "{expected:?} in {stderr}");
     }
     // A frames folder says the same and keeps the viewBox in every frame.
-    let stderr = run(&dir, &["animate", "scene.json", "-o", "frames"]);
+    let stderr = ok_stderr(&dir, &words("animate scene.json -o frames"));
     assert!(
         stderr.contains("in 7 of 11 frames (frames 2–10): path#a (line 2) by 20.000 at frame 5"),
         "{stderr}"
@@ -151,17 +128,14 @@ fn viewbox_cli_animate_keep_names_frames_and_paths() {
     // Nothing leaves: nothing said.
     let still = SCENE.replace("-25", "0").replace("30, 0", "0, 0");
     std::fs::write(dir.join("still.json"), still).unwrap();
-    let stderr = run(&dir, &["animate", "still.json", "-o", "still.svg"]);
+    let stderr = ok_stderr(&dir, &words("animate still.json -o still.svg"));
     assert!(!stderr.contains("viewBox"), "{stderr}");
 }
 
 #[test]
 fn viewbox_cli_animate_fit_is_one_view_box_for_every_frame() {
     let dir = folder("fit");
-    let stderr = run(
-        &dir,
-        &["animate", "scene.json", "-o", "out.svg", "--viewbox", "fit"],
-    );
+    let stderr = ok_stderr(&dir, &words("animate scene.json -o out.svg --viewbox fit"));
     assert!(
         stderr.contains("out.svg: the viewBox grows to hold every frame (2 path(s)"),
         "{stderr}"
@@ -176,11 +150,8 @@ fn viewbox_cli_animate_fit_is_one_view_box_for_every_frame() {
 
     // A frames folder: the same viewBox, to the byte, in every frame, and the frames' geometry
     // is that of a run keeping the viewBox.
-    run(
-        &dir,
-        &["animate", "scene.json", "-o", "fit", "--viewbox", "fit"],
-    );
-    run(&dir, &["animate", "scene.json", "-o", "keep"]);
+    ok_stderr(&dir, &words("animate scene.json -o fit --viewbox fit"));
+    ok_stderr(&dir, &words("animate scene.json -o keep"));
     let first = std::fs::read_to_string(dir.join("fit/frame-0000.svg")).unwrap();
     let first = root_attribute(&first, "viewBox").unwrap().to_string();
     for f in 0..11 {

@@ -13,8 +13,9 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
+use common::cli::{assert_no_problems, failure_problems, run, words};
 use common::test_dir::TestDir;
 use kurbo::Point;
 use serde::Deserialize;
@@ -64,15 +65,6 @@ fn case_subdir(root: &Path, name: &str) -> PathBuf {
     dir
 }
 
-/// Runs the binary in `dir` with `args`.
-fn run(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_splineskin"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
-
 #[derive(Deserialize)]
 struct WeightsOut {
     weights: Vec<Vec<f64>>,
@@ -95,29 +87,12 @@ struct Failure<'a> {
 /// Checks a failed run: `Err` says what is wrong. `output` must not exist afterwards, nor a
 /// temporary file of the atomic write.
 fn check_failure(case: &Failure, dir: &Path, out: &Output, output: &str) -> Result<(), String> {
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    let label = format!("{} ({})\nstderr: {stderr}", case.name, case.args.join(" "));
-    if out.status.success() {
-        return Err(format!("{label}: succeeded"));
+    let problems = failure_problems(case.name, &case.args, out, dir, &case.expect, output);
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems.join("\n"))
     }
-    if stderr.contains("panicked") {
-        return Err(format!("{label}: panicked"));
-    }
-    if !stderr.starts_with("error") {
-        return Err(format!("{label}: no error line"));
-    }
-    for want in &case.expect {
-        if !stderr.contains(want) {
-            return Err(format!("{label}: stderr lacks {want:?}"));
-        }
-    }
-    for entry in std::fs::read_dir(dir).unwrap().flatten() {
-        let name = entry.file_name().to_string_lossy().into_owned();
-        if name == output || name.starts_with(&format!(".{output}.tmp-")) {
-            return Err(format!("{label}: left {name} behind"));
-        }
-    }
-    Ok(())
 }
 
 fn run_failures(cases: Vec<Failure>) {
@@ -150,13 +125,7 @@ fn run_failures_in_place(root: &Path, cases: Vec<Failure>) {
             Err(e) => problems.push(e),
         }
     }
-    assert!(
-        problems.is_empty(),
-        "{} of {} cases failed:\n\n{}",
-        problems.len(),
-        cases.len(),
-        problems.join("\n\n")
-    );
+    assert_no_problems(&problems, cases.len());
 }
 
 /// Every kind on the small grid: handles interpolated, rows summing to one (harmonic and
@@ -274,15 +243,9 @@ fn weights_cli_reads_reference_igl_files() {
 #[test]
 fn weights_cli_bad_input_fails_cleanly() {
     let mesh_args = |kind: &'static str| {
-        vec![
-            "weights",
-            "--mesh",
-            "mesh.json",
-            "--kind",
-            kind,
-            "-o",
-            "out.json",
-        ]
+        let mut args = words("weights --mesh mesh.json -o out.json --kind");
+        args.push(kind);
+        args
     };
     let tri = Some("[[0, 0], [1, 0], [0, 1]]");
     run_failures(vec![
@@ -387,26 +350,19 @@ fn weights_cli_bad_input_fails_cleanly() {
         Failure {
             name: "output-not-json",
             mesh: Some(mesh_file(None, None, "[0, 11]")),
-            args: vec!["weights", "--mesh", "mesh.json", "-o", "out.png"],
+            args: words("weights --mesh mesh.json -o out.png"),
             expect: vec!["out.png", "written as JSON"],
         },
         Failure {
             name: "scene-and-mesh",
             mesh: Some(mesh_file(None, None, "[0, 11]")),
-            args: vec![
-                "weights",
-                "scene.json",
-                "--mesh",
-                "mesh.json",
-                "-o",
-                "out.json",
-            ],
+            args: words("weights scene.json --mesh mesh.json -o out.json"),
             expect: vec!["cannot be used with"],
         },
         Failure {
             name: "neither-scene-nor-mesh",
             mesh: None,
-            args: vec!["weights", "-o", "out.json"],
+            args: words("weights -o out.json"),
             expect: vec!["required", "--mesh"],
         },
     ]);
@@ -634,13 +590,13 @@ fn weights_cli_scene_bad_input_fails_cleanly() {
         Failure {
             name: "scene-missing",
             mesh: None,
-            args: vec!["weights", "missing.json", "-o", "w.png"],
+            args: words("weights missing.json -o w.png"),
             expect: vec!["missing.json", "cannot read"],
         },
         Failure {
             name: "scene-unknown-handle",
             mesh: None,
-            args: vec!["weights", "scene.json", "-o", "w.png", "--handle", "2"],
+            args: words("weights scene.json -o w.png --handle 2"),
             expect: vec![
                 "scene.json",
                 "--handle 2",
@@ -651,44 +607,37 @@ fn weights_cli_scene_bad_input_fails_cleanly() {
         Failure {
             name: "scene-unwritable-output",
             mesh: None,
-            args: vec!["weights", "scene.json", "-o", "no-such-folder/w.png"],
+            args: words("weights scene.json -o no-such-folder/w.png"),
             expect: vec!["no-such-folder/w.png", "cannot write"],
         },
         Failure {
             name: "scene-output-not-png",
             mesh: None,
-            args: vec!["weights", "scene.json", "-o", "w.jpg"],
+            args: words("weights scene.json -o w.jpg"),
             expect: vec!["w.jpg", "drawn as PNG", ".png"],
         },
         Failure {
             name: "scene-output-json",
             mesh: None,
-            args: vec!["weights", "scene.json", "-o", "w.json"],
+            args: words("weights scene.json -o w.json"),
             expect: vec!["w.json", "drawn as PNG"],
         },
         Failure {
             name: "scene-width-too-small",
             mesh: None,
-            args: vec!["weights", "scene.json", "-o", "w.png", "--width", "8"],
+            args: words("weights scene.json -o w.png --width 8"),
             expect: vec!["scene.json", "panel width 8 px", "32"],
         },
         Failure {
             name: "scene-kind",
             mesh: None,
-            args: vec!["weights", "scene.json", "--kind", "harmonic", "-o", "w.png"],
+            args: words("weights scene.json --kind harmonic -o w.png"),
             expect: vec!["--kind", "cannot be used with"],
         },
         Failure {
             name: "mesh-with-mesh-lines",
             mesh: Some(mesh_file(None, None, "[0, 11]")),
-            args: vec![
-                "weights",
-                "--mesh",
-                "mesh.json",
-                "--mesh-lines",
-                "-o",
-                "out.json",
-            ],
+            args: words("weights --mesh mesh.json --mesh-lines -o out.json"),
             expect: vec!["--mesh-lines", "cannot be used with"],
         },
     ];
@@ -701,7 +650,7 @@ fn weights_cli_scene_bad_input_fails_cleanly() {
     let bad_json = Failure {
         name: "scene-bad-json",
         mesh: None,
-        args: vec!["weights", "scene.json", "-o", "w.png"],
+        args: words("weights scene.json -o w.png"),
         expect: vec!["scene.json", "line 1"],
     };
     let dir = case_subdir(&root, bad_json.name);
@@ -719,7 +668,7 @@ fn weights_cli_failure_check_rejects_success() {
     let case = Failure {
         name: "control",
         mesh: Some(mesh_file(None, None, "[0, 11]")),
-        args: vec!["weights", "--mesh", "mesh.json", "-o", "out.json"],
+        args: words("weights --mesh mesh.json -o out.json"),
         expect: vec![],
     };
     let dir = case_dir(case.name);

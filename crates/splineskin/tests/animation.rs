@@ -15,7 +15,7 @@ use splineskin::animation::{
 };
 use splineskin::drawing::svg_animate::write_animated_svg;
 use splineskin::drawing::svg_out::write_svg;
-use splineskin::scene::{Compat, Scene};
+use splineskin::scene::{Compat, Scene, Setup};
 use splineskin::spline_fit::SplineRig;
 
 /// Round-off of composing a decomposed map with entries of order 1–10: a few ulps times the
@@ -40,6 +40,14 @@ fn max_diff(a: Affine, b: Affine) -> f64 {
         .zip(b.as_coeffs())
         .map(|(x, y)| (x - y).abs())
         .fold(0.0, f64::max)
+}
+
+/// `scene` set up in default mode, and the rig of its drawing and weights.
+fn setup_and_rig(scene: &Scene) -> (Setup, SplineRig) {
+    let setup = scene.setup(Compat::None).unwrap();
+    let rig =
+        SplineRig::precompute(&setup.drawing, setup.weights.as_ref(), &setup.options).unwrap();
+    (setup, rig)
 }
 
 #[test]
@@ -204,9 +212,7 @@ fn animation_frames_at_keyframes_equal_the_deformed_pose() {
         animation.keyframes()[2].transforms,
         scene.poses[1].transforms
     );
-    let setup = scene.setup(Compat::None).unwrap();
-    let rig =
-        SplineRig::precompute(&setup.drawing, setup.weights.as_ref(), &setup.options).unwrap();
+    let (setup, rig) = setup_and_rig(&scene);
     let times = animation.frame_times().unwrap();
     assert_eq!(times.len(), 13);
     let sampler = animation.sampler(&scene.handle_set().pivots()).unwrap();
@@ -332,9 +338,7 @@ fn animation_authors_turtles_zooming() {
         animation.keyframes()[599].transforms,
         scene.poses[600].transforms
     );
-    let setup = scene.setup(Compat::None).unwrap();
-    let rig =
-        SplineRig::precompute(&setup.drawing, setup.weights.as_ref(), &setup.options).unwrap();
+    let (setup, rig) = setup_and_rig(&scene);
     let sampler = animation.sampler(&scene.handle_set().pivots()).unwrap();
     let times = [0.0, 599.0 / 30.0, 19.99, 1199.0 / 30.0];
     let frames = deform_frames(&sampler, &times, rig.n_points(), false, |pose, out| {

@@ -4,11 +4,14 @@
 //!
 //! Its own test binary: the counting global allocator applies to the whole binary.
 
+#[path = "common/defop_data.rs"]
+mod defop_data;
+
 use counting_alloc::{count, CountingAlloc, Counts};
+use defop_data::{arap_solutions, fit_on_hats, rest_and_disc_samples};
 use kurbo::{Point, Rect, Vec2};
 use splineskin::defop::{
-    Arap, ArapOptions, DefOp, DefOpOptions, EigenOperator, HandleBasisKind, SampleRegion, Sampler,
-    SpatialBasis,
+    Arap, ArapOptions, DefOp, DefOpOptions, EigenOperator, HandleBasisKind, SpatialBasis,
 };
 use splineskin::mesh::TriMesh;
 use std::hint::black_box;
@@ -26,34 +29,28 @@ fn defop_evaluation_allocates_nothing() {
     let handles = [34, 50, 76];
     let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
     let arap = Arap::new(&mesh, &handles, ArapOptions::default()).unwrap();
-    let mut sampler = Sampler::new(&rest, &[(SampleRegion::Disc { radius: 0.5 }, 1.0)], 5).unwrap();
-    let mut configurations = vec![rest.clone()];
-    configurations.extend(sampler.configurations(20));
-    let solutions: Vec<Vec<Point>> = configurations
-        .iter()
-        .map(|q| {
-            let mut u = mesh.vertices.clone();
-            arap.solve(q, &mut u).unwrap();
-            u
-        })
-        .collect();
+    let configurations = rest_and_disc_samples(&rest, 0.5, 5, 20);
+    let solutions = arap_solutions(&arap, &mesh, &configurations);
     let bases = [
         SpatialBasis::hats(&mesh).unwrap(),
         SpatialBasis::laplacian_eigenfunctions(&mesh, 12, EigenOperator::LinearlyPrecise).unwrap(),
     ];
     let q: Vec<Point> = rest.iter().map(|&p| p + Vec2::new(0.2, -0.1)).collect();
+    let fit = |spatial: &SpatialBasis, options: &DefOpOptions| {
+        DefOp::fit(
+            &mesh,
+            &handles,
+            spatial,
+            &configurations,
+            &solutions,
+            options,
+        )
+        .unwrap()
+    };
     for spatial in &bases {
         for kind in [HandleBasisKind::Cubic, HandleBasisKind::ThinPlateSpline] {
             let options = DefOpOptions::default().with_handle_basis(kind);
-            let op = DefOp::fit(
-                &mesh,
-                &handles,
-                spatial,
-                &configurations,
-                &solutions,
-                &options,
-            )
-            .unwrap();
+            let op = fit(spatial, &options);
             let mut evaluator = op.evaluator();
             let mut positions = vec![Point::ZERO; mesh.n_vertices()];
             evaluator.eval(&q, &mut positions).unwrap(); // warm-up
@@ -92,34 +89,20 @@ fn defop_evaluation_of_a_large_operator_allocates_nothing() {
         .map(|k| 61 * (10 + 20 * (k / 3)) + 10 + 20 * (k % 3))
         .collect();
     let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
-    let mut sampler = Sampler::new(&rest, &[(SampleRegion::Disc { radius: 0.5 }, 1.0)], 8).unwrap();
-    let mut configurations = vec![rest.clone()];
-    configurations.extend(sampler.configurations(399));
-    let solutions: Vec<Vec<Point>> = configurations
-        .iter()
-        .map(|q| {
-            let shift = q[4] - rest[4];
-            let mut u: Vec<Point> = mesh
-                .vertices
-                .iter()
-                .map(|&p| p + shift + Vec2::new((p.y * shift.x).sin(), (p.x * shift.y).cos() - 1.0))
-                .collect();
-            for (&h, &target) in handles.iter().zip(q) {
-                u[h] = target;
-            }
-            u
-        })
-        .collect();
-    let spatial = SpatialBasis::hats(&mesh).unwrap();
-    let op = DefOp::fit(
-        &mesh,
-        &handles,
-        &spatial,
-        &configurations,
-        &solutions,
-        &DefOpOptions::default(),
-    )
-    .unwrap();
+    let configurations = rest_and_disc_samples(&rest, 0.5, 8, 399);
+    // Made up: a smooth wave following handle 4's shift, then the handles on their targets.
+    let made_up = |q: &[Point]| {
+        let shift = q[4] - rest[4];
+        let wave =
+            |p: Point| p + shift + Vec2::new((p.y * shift.x).sin(), (p.x * shift.y).cos() - 1.0);
+        let mut u: Vec<Point> = mesh.vertices.iter().map(|&p| wave(p)).collect();
+        for (&h, &target) in handles.iter().zip(q) {
+            u[h] = target;
+        }
+        u
+    };
+    let solutions: Vec<Vec<Point>> = configurations.iter().map(|q| made_up(q)).collect();
+    let op = fit_on_hats(&mesh, &handles, &configurations, &solutions);
     let mut evaluator = op.evaluator();
     let mut positions = vec![Point::ZERO; mesh.n_vertices()];
     let q: Vec<Point> = rest.iter().map(|&p| p + Vec2::new(0.2, -0.1)).collect();

@@ -5,7 +5,11 @@
 //! truth on held-out configurations falls as the samples grow. On a 4 × 1 bar (85 vertices)
 //! with three handles, so the ARAP ground truth is quick.
 
+#[path = "common/measure.rs"]
+mod measure;
+
 use kurbo::{Point, Rect};
+use measure::max_distance;
 use splineskin::defop::{
     l2_distance, Arap, ArapOptions, DefOp, DefOpError, DefOpOptions, EigenOperator,
     HandleBasisKind, SampleRegion, Sampler, SpatialBasis,
@@ -65,6 +69,17 @@ fn training(mesh: &TriMesh, count: usize, seed: u64) -> (Vec<Vec<Point>>, Vec<Ve
     (configurations, solutions)
 }
 
+/// The operator on `spatial` fitted to the training data with `options`.
+fn fit(
+    mesh: &TriMesh,
+    spatial: &SpatialBasis,
+    configurations: &[Vec<Point>],
+    solutions: &[Vec<Point>],
+    options: &DefOpOptions,
+) -> DefOp {
+    DefOp::fit(mesh, &HANDLES, spatial, configurations, solutions, options).unwrap()
+}
+
 fn spatial_bases(mesh: &TriMesh) -> Vec<(&'static str, SpatialBasis)> {
     vec![
         ("hats", SpatialBasis::hats(mesh).unwrap()),
@@ -82,13 +97,6 @@ fn spatial_bases(mesh: &TriMesh) -> Vec<(&'static str, SpatialBasis)> {
             SpatialBasis::biharmonic_coordinates_sampled(mesh, &HANDLES, 16).unwrap(),
         ),
     ]
-}
-
-fn max_distance(a: &[Point], b: &[Point]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| (*p - *q).hypot())
-        .fold(0.0, f64::max)
 }
 
 #[test]
@@ -111,15 +119,7 @@ fn handles_interpolated_at_every_configuration_and_rest_pose_reproduced() {
     for (name, spatial) in spatial_bases(&mesh) {
         for kind in ALL_HANDLE_BASES {
             let options = DefOpOptions::default().with_handle_basis(kind);
-            let op = DefOp::fit(
-                &mesh,
-                &HANDLES,
-                &spatial,
-                &configurations,
-                &solutions,
-                &options,
-            )
-            .unwrap();
+            let op = fit(&mesh, &spatial, &configurations, &solutions, &options);
             let at_rest = op.eval(&rest(&mesh)).unwrap();
             let rest_error = max_distance(&at_rest, &mesh.vertices);
             assert!(
@@ -150,15 +150,13 @@ fn thin_plate_splines_interpolate_every_training_sample() {
     let mesh = bar();
     let (configurations, solutions) = training(&mesh, 40, 2);
     let spatial = SpatialBasis::hats(&mesh).unwrap();
-    let op = DefOp::fit(
+    let op = fit(
         &mesh,
-        &HANDLES,
         &spatial,
         &configurations,
         &solutions,
         &DefOpOptions::default(),
-    )
-    .unwrap();
+    );
     let worst = configurations
         .iter()
         .zip(&solutions)
@@ -168,15 +166,13 @@ fn thin_plate_splines_interpolate_every_training_sample() {
     assert!(worst <= EXACT * diagonal(), "{worst:e}");
     // A polynomial basis with fewer functions than samples does not interpolate: the property
     // is the thin-plate basis', not the test's.
-    let linear = DefOp::fit(
+    let linear = fit(
         &mesh,
-        &HANDLES,
         &spatial,
         &configurations,
         &solutions,
         &DefOpOptions::default().with_handle_basis(HandleBasisKind::Linear),
-    )
-    .unwrap();
+    );
     let linear_worst = configurations
         .iter()
         .zip(&solutions)
@@ -197,15 +193,13 @@ fn error_against_ground_truth_falls_as_samples_grow() {
     for kind in ALL_HANDLE_BASES {
         let mut errors = Vec::new();
         for &m in &sizes {
-            let op = DefOp::fit(
+            let op = fit(
                 &mesh,
-                &HANDLES,
                 &spatial,
                 &all_configurations[..=m],
                 &all_solutions[..=m],
                 &DefOpOptions::default().with_handle_basis(kind),
-            )
-            .unwrap();
+            );
             let mean: f64 = held_out
                 .iter()
                 .zip(truths)

@@ -5,6 +5,13 @@
 //! ground truth (ARAP, symmetric ARAP) on held-out configurations the joined curves are close
 //! and closer than simpler deformations.
 
+#[path = "common/defop_data.rs"]
+mod defop_data;
+#[path = "common/measure.rs"]
+mod measure;
+
+use defop_data::{arap_solutions, rest_and_disc_samples};
+use measure::max_distance;
 use std::sync::OnceLock;
 use std::time::Instant;
 
@@ -114,16 +121,8 @@ fn reduced() -> &'static (Domain, DefOp) {
             SpatialBasis::laplacian_eigenfunctions(mesh, 40, EigenOperator::LinearlyPrecise)
                 .unwrap();
         let arap = Arap::new(mesh, &domain.handle_vertices, ArapOptions::default()).unwrap();
-        let mut configurations = vec![f.handles.clone()];
-        configurations.extend(configurations_in_discs(&f.handles, radius(), 3, 24));
-        let solutions: Vec<Vec<Point>> = configurations
-            .iter()
-            .map(|q| {
-                let mut u = mesh.vertices.clone();
-                arap.solve(q, &mut u).unwrap();
-                u
-            })
-            .collect();
+        let configurations = rest_and_disc_samples(&f.handles, radius(), 3, 24);
+        let solutions = arap_solutions(&arap, mesh, &configurations);
         let op = DefOp::fit(
             mesh,
             &domain.handle_vertices,
@@ -169,14 +168,6 @@ fn mesh_target(mesh: &TriMesh, positions: &[Point]) -> (MeshWeights, [Affine; 2]
         Affine::new([0.0, 0.0, 0.0, 0.0, 0.0, 1.0]),
     ];
     (field, pose)
-}
-
-fn max_distance(a: &[Point], b: &[Point]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| (*p - *q).hypot())
-        .fold(0.0, f64::max)
 }
 
 #[test]

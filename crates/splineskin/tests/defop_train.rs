@@ -3,9 +3,13 @@
 //! starts equal to independent cold solves, and the trained operator keeps the interpolation
 //! properties. On a 4 × 1 bar with three handles.
 
+#[path = "common/measure.rs"]
+mod measure;
+
+use measure::max_distance;
 use std::sync::Mutex;
 
-use kurbo::{Point, Rect};
+use kurbo::Rect;
 use splineskin::defop::{
     flipped_triangles, train, Arap, ArapOptions, DefOpError, Energy, HandleBasisKind, Progress,
     SampleRegion, Sampler, SarapOptions, SpatialBasis, SymmetricArap, TrainOptions, WarmStart,
@@ -21,13 +25,6 @@ const SAME: f64 = 1e-12;
 
 fn bar() -> TriMesh {
     TriMesh::grid(Rect::new(0., 0., 4., 1.), 16, 4).unwrap()
-}
-
-fn max_distance(a: &[Point], b: &[Point]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| (*p - *q).hypot())
-        .fold(0.0, f64::max)
 }
 
 fn options(energy: Energy) -> TrainOptions {

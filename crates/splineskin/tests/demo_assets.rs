@@ -2,6 +2,9 @@
 //! loads, names the bundled SVG, and has the handles and poses it promises; the SVG parses and
 //! contains the features it exists to show.
 
+#[path = "common/measure.rs"]
+mod measure;
+
 use std::path::Path as FsPath;
 
 use splineskin::drawing::svg_in::{read_svg, ImportOptions};
@@ -99,14 +102,7 @@ fn demo_svg_imports_with_every_joint_kind() {
     assert_eq!(drawing.paths[4].joints, [C0, C1, C0, C0, C1, C0]);
     // The gill is an open stroke with one G¹ bend.
     assert_eq!(drawing.paths[8].joints, [End, G1, End]);
-    let count = |kind| {
-        drawing
-            .paths
-            .iter()
-            .flat_map(|p| &p.joints)
-            .filter(|&&k| k == kind)
-            .count()
-    };
+    let count = |kind| measure::joint_count(&drawing, kind);
     assert!(count(G1) >= 6 && count(C1) >= 3 && count(C0) >= 6 && count(FixedAngle) >= 1);
 }
 

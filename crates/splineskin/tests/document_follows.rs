@@ -127,6 +127,17 @@ fn difference(name: &str, a: &str, b: &str) -> (f64, f64) {
     (diff as f64 / n, ink as f64 / n)
 }
 
+/// The pass mark of a comparison of renders: the art in view (`ink`, the fraction of inked
+/// pixels, over 2 %), and at most [`MAX_DIFFERENT`] of the pixels different (`diff`); `out`,
+/// the SVG written, is shown on failure.
+fn assert_same_render(name: &str, diff: f64, ink: f64, out: &str) {
+    assert!(ink > 0.02, "{name}: the art is not in view ({ink})");
+    assert!(
+        diff <= MAX_DIFFERENT,
+        "{name}: {diff} of the pixels differ\n{out}"
+    );
+}
+
 /// Reads `svg`, deforms it rigidly through a rig, and checks the render against the input
 /// rendered under the same map, after `unhide` (applied to both texts).
 fn check_rigid(name: &str, svg: &str, unhide: impl Fn(&str) -> String) -> Drawing {
@@ -140,11 +151,7 @@ fn check_rigid(name: &str, svg: &str, unhide: impl Fn(&str) -> String) -> Drawin
         100.0 * diff,
         100.0 * ink
     );
-    assert!(ink > 0.02, "{name}: the art is not in view ({ink})");
-    assert!(
-        diff <= MAX_DIFFERENT,
-        "{name}: {diff} of the pixels differ\n{out}"
-    );
+    assert_same_render(name, diff, ink, &out);
     drawing
 }
 
@@ -289,11 +296,7 @@ fn check_carried(
         100.0 * diff_plain,
         100.0 * ink
     );
-    assert!(ink > 0.02, "{name}: the art is not in view ({ink})");
-    assert!(
-        diff <= MAX_DIFFERENT,
-        "{name}: {diff} of the pixels differ\n{out}"
-    );
+    assert_same_render(name, diff, ink, &out);
     assert!(
         diff_plain > 4.0 * MAX_DIFFERENT,
         "{name}: the test cannot tell: {diff_plain} differ with nothing carried"
@@ -329,6 +332,19 @@ fn user_space_gradients_follow_a_rigid_pose() {
     assert_eq!(out.matches("<radialGradient").count(), 1 + 1, "{out}");
 }
 
+/// [`check_carried`] of the document around `body` under the [`rigid`] pose, whose art is
+/// `n_paths` paths (what `body` defines, patterns or markers, is not imported as art); the
+/// output SVG.
+fn check_rigid_with_art_paths(name: &str, body: &str, n_paths: usize) -> String {
+    let (drawing, out) = check_carried(name, &svg(body), rigid(), &FollowOptions::default());
+    assert_eq!(
+        drawing.paths.len(),
+        n_paths,
+        "{name}: content is not imported as art"
+    );
+    out
+}
+
 const PATTERN: &str = "<defs>\
     <pattern id='pt' patternUnits='userSpaceOnUse' width='12' height='12' patternTransform='rotate(20)'>\
       <rect width='6' height='6' fill='purple'/><circle cx='9' cy='9' r='2.5' fill='orange'/></pattern>\
@@ -337,13 +353,7 @@ const PATTERN: &str = "<defs>\
 
 #[test]
 fn user_space_patterns_follow_a_rigid_pose() {
-    let (drawing, out) =
-        check_carried("pattern", &svg(PATTERN), rigid(), &FollowOptions::default());
-    assert_eq!(
-        drawing.paths.len(),
-        1,
-        "pattern content is not imported as art"
-    );
+    let out = check_rigid_with_art_paths("pattern", PATTERN, 1);
     assert_eq!(out.matches("<pattern").count(), 2, "{out}");
 }
 
@@ -363,13 +373,7 @@ const MARKERS: &str = "<defs>\
 
 #[test]
 fn fixed_orient_markers_turn_with_a_rigid_pose() {
-    let (drawing, out) =
-        check_carried("markers", &svg(MARKERS), rigid(), &FollowOptions::default());
-    assert_eq!(
-        drawing.paths.len(),
-        2,
-        "marker content is not imported as art"
-    );
+    let out = check_rigid_with_art_paths("markers", MARKERS, 2);
     // star: one copy per user whose turn differs (the same rigid turn: shared); tri: one; dot
     // (orient auto) none.
     assert_eq!(out.matches("<marker").count(), 3 + 2, "{out}");

@@ -11,39 +11,25 @@ use kurbo::{Affine, Point};
 use splineskin::bezier::{bernstein, bernstein_gram, gauss_legendre};
 use splineskin::domain::{Boundary, Domain, DomainOptions, MeshWeights};
 use splineskin::drawing::{read_svg, read_svg_file, Drawing, ImportOptions};
-use splineskin::examples::DEMO_SVG;
+use splineskin::examples::{demo_scene, DEMO_SVG};
+use splineskin::scene::Scene;
 use splineskin::spline_fit::quadrature::SampledCurves;
 use splineskin::spline_fit::{FitOptions, SplineRig};
 use splineskin::weights::{Shepard, ShepardOptions, WeightField};
 
-/// The demo scene's five handles (assets/demo-scene.json).
-const FISH_HANDLES: [(f64, f64); 5] = [
-    (440.0, 200.0),
-    (310.0, 200.0),
-    (110.0, 205.0),
-    (290.0, 70.0),
-    (230.0, 320.0),
-];
-
-/// The five handles of the authors' "wobble 4" turtles scene.
-const TURTLE_HANDLES: [(f64, f64); 5] = [
-    (363.0, 547.0),
-    (347.0, 138.0),
-    (378.0, 231.0),
-    (264.0, 624.0),
-    (464.0, 641.0),
-];
-
 fn fish() -> (Drawing, Vec<Point>) {
     let d = read_svg(DEMO_SVG, &ImportOptions::default()).expect("demo svg");
-    (d, FISH_HANDLES.map(Point::from).to_vec())
+    (d, demo_scene().handles)
 }
 
 fn turtles() -> Option<(Drawing, Vec<Point>)> {
     let root = common::data_root()?;
-    let path = root.join("vectorskinning/turtle-seven-stack/wobble 4/turtles-seven.svg");
-    let d = read_svg_file(&path, &ImportOptions::default()).expect("turtles svg");
-    Some((d, TURTLE_HANDLES.map(Point::from).to_vec()))
+    let folder = root.join("vectorskinning/turtle-seven-stack/wobble 4");
+    let d = read_svg_file(&folder.join("turtles-seven.svg"), &ImportOptions::default())
+        .expect("turtles svg");
+    // The five handles of the authors' "wobble 4" turtles scene.
+    let scene = Scene::load(&folder.join("turtles-seven-deformation.json")).expect("scene");
+    Some((d, scene.handles))
 }
 
 fn build(name: &str, d: &Drawing, h: &[Point]) -> Domain {
@@ -252,57 +238,39 @@ const ACCEPTED_INTEGRATION_ERROR: f64 = 1e-12;
 /// Smallest error the check must see without kinks for it to count as able to fail: 1e-7.
 const NO_KINKS_DETECTED: f64 = 1e-7;
 
-#[test]
-fn mesh_weights_fish_integrate_exactly_and_reproduce_identity() {
-    let (d, h) = fish();
-    let domain = build("fish", &d, &h);
-    let w = vertex_shepard(&domain, &h);
-    let (err, control) = integration_error(&d, &w, 1);
+/// Builds the domain of `d` named `name` with vertex Shepard weights of the handles `h`, and
+/// checks that the quadrature with kinks integrates them exactly (every `stride`-th curve;
+/// [`ACCEPTED_INTEGRATION_ERROR`]) while the one without kinks does not
+/// ([`NO_KINKS_DETECTED`]). Returns the weights.
+fn check_exact_integration(name: &str, d: &Drawing, h: &[Point], stride: usize) -> MeshWeights {
+    let domain = build(name, d, h);
+    let w = vertex_shepard(&domain, h);
+    let (err, control) = integration_error(d, &w, stride);
     eprintln!(
-        "  fish: weighted Gram error with kinks {err:e}, without {control:e} (relative to ℓ Â00)"
+        "  {name}: weighted Gram error with kinks {err:e}, without {control:e} (relative to \
+         ℓ Â00, every curve in {stride})"
     );
     assert!(err < ACCEPTED_INTEGRATION_ERROR, "{err:e}");
     assert!(control > NO_KINKS_DETECTED, "{control:e}");
+    w
+}
+
+#[test]
+fn mesh_weights_fish_integrate_exactly_and_reproduce_identity() {
+    let (d, h) = fish();
+    let w = check_exact_integration("fish", &d, &h, 1);
 
     // The rig on mesh weights: identity transforms reproduce the drawing, and one affine map
     // on every handle maps it (weights sum to one at every node, DESIGN.md §1).
     let rig = SplineRig::precompute(&d, &w, &FitOptions::default()).expect("rig");
-    let mut out = vec![Point::ZERO; rig.n_points()];
-    rig.update(&vec![Affine::IDENTITY; h.len()], &mut out)
-        .unwrap();
-    let diag = d.diagonal();
-    let input = d.flat_points();
-    let worst = out
-        .iter()
-        .zip(&input)
-        .map(|(a, b)| (*a - *b).hypot())
-        .fold(0.0, f64::max);
-    eprintln!(
-        "  fish: identity pose reproduced to {:e} of the diagonal",
-        worst / diag
-    );
-    assert!(worst < 1e-9 * diag, "{worst}");
     let a = Affine::translate((30.0, -12.0)) * Affine::rotate(0.4);
-    rig.update(&vec![a; h.len()], &mut out).unwrap();
-    let worst = out
-        .iter()
-        .zip(&input)
-        .map(|(p, q)| (*p - a * *q).hypot())
-        .fold(0.0, f64::max);
-    assert!(worst < 1e-9 * diag, "{worst}");
+    common::measure::assert_affine_reproduction(&rig, &d, h.len(), a, "  fish");
 }
 
 #[test]
 fn mesh_weights_turtles_integrate_exactly() {
     let Some((d, h)) = turtles() else { return };
-    let domain = build("turtles", &d, &h);
-    let w = vertex_shepard(&domain, &h);
-    let (err, control) = integration_error(&d, &w, 3);
-    eprintln!(
-        "  turtles: weighted Gram error with kinks {err:e}, without {control:e} (every 3rd curve)"
-    );
-    assert!(err < ACCEPTED_INTEGRATION_ERROR, "{err:e}");
-    assert!(control > NO_KINKS_DETECTED, "{control:e}");
+    check_exact_integration("turtles", &d, &h, 3);
 }
 
 #[test]

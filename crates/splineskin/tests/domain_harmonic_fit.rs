@@ -1,29 +1,23 @@
 //! Harmonic weights solved on the triangulated domain of the bundled fish, evaluated in the
 //! fit through `MeshWeights`: the whole mesh-weights path, domain to deformed curves.
 
+#[path = "common/measure.rs"]
+mod measure;
+
 use std::time::Instant;
 
 use kurbo::{Affine, Point};
 use splineskin::domain::{Domain, DomainOptions, MeshWeights};
 use splineskin::drawing::{read_svg, ImportOptions};
-use splineskin::examples::DEMO_SVG;
+use splineskin::examples::{demo_scene, DEMO_SVG};
 use splineskin::spline_fit::{FitOptions, SplineRig};
 use splineskin::weights::harmonic::harmonic_weights;
 use splineskin::weights::WeightField;
 
-/// The demo scene's five handles (assets/demo-scene.json).
-const FISH_HANDLES: [(f64, f64); 5] = [
-    (440.0, 200.0),
-    (310.0, 200.0),
-    (110.0, 205.0),
-    (290.0, 70.0),
-    (230.0, 320.0),
-];
-
 #[test]
 fn domain_fish_harmonic_rig_reproduces_identity_and_affine_maps() {
     let d = read_svg(DEMO_SVG, &ImportOptions::default()).expect("demo svg");
-    let h = FISH_HANDLES.map(Point::from).to_vec();
+    let h = demo_scene().handles;
     let domain = Domain::build(&d, &h, &[], &DomainOptions::default()).expect("domain");
     let t = Instant::now();
     let w = harmonic_weights(&domain.mesh, &domain.handle_vertices, 1).expect("harmonic");
@@ -57,39 +51,17 @@ fn domain_fish_harmonic_rig_reproduces_identity_and_affine_maps() {
     }
 
     let rig = SplineRig::precompute(&d, &field, &FitOptions::default()).expect("rig");
+    let a = Affine::translate((-40.0, 25.0)) * Affine::rotate(-0.7) * Affine::scale(1.3);
+    measure::assert_affine_reproduction(&rig, &d, h.len(), a, "fish");
     let diag = d.diagonal();
     let input = d.flat_points();
     let mut points = vec![Point::ZERO; rig.n_points()];
-    rig.update(&vec![Affine::IDENTITY; h.len()], &mut points)
-        .unwrap();
-    let worst = points
-        .iter()
-        .zip(&input)
-        .map(|(a, b)| (*a - *b).hypot())
-        .fold(0.0, f64::max);
-    eprintln!(
-        "fish: identity pose reproduced to {:e} of the diagonal",
-        worst / diag
-    );
-    assert!(worst < 1e-9 * diag, "{worst}");
-    let a = Affine::translate((-40.0, 25.0)) * Affine::rotate(-0.7) * Affine::scale(1.3);
-    rig.update(&vec![a; h.len()], &mut points).unwrap();
-    let worst = points
-        .iter()
-        .zip(&input)
-        .map(|(p, q)| (*p - a * *q).hypot())
-        .fold(0.0, f64::max);
-    assert!(worst < 1e-9 * diag, "{worst}");
     // A real pose moves the fish and keeps every point finite.
     let pose: Vec<Affine> = (0..h.len())
         .map(|i| Affine::rotate_about(0.1 * i as f64, h[i]))
         .collect();
     rig.update(&pose, &mut points).unwrap();
     assert!(points.iter().all(|p| p.x.is_finite() && p.y.is_finite()));
-    let moved = points
-        .iter()
-        .zip(&input)
-        .map(|(a, b)| (*a - *b).hypot())
-        .fold(0.0, f64::max);
+    let moved = measure::max_distance(&points, &input);
     assert!(moved > 1e-3 * diag, "{moved}");
 }

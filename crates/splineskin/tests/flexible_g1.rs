@@ -365,12 +365,7 @@ fn flexible_authors_shepard_cases_conform() {
             deform_flexible(&scene, Compat::VectorSkinning, None);
         let diag = theirs.diagonal();
         let errors = authors_outputs::per_path_errors(&theirs, &points, &case.deformed_paths, diag);
-        let worst = errors
-            .iter()
-            .enumerate()
-            .filter(|(p, _)| !singular.contains(p))
-            .map(|(_, e)| *e)
-            .fold(0.0, f64::max);
+        let worst = authors_outputs::worst_except(&errors, &singular);
         eprintln!(
             "{}: {worst:.2e} of the diagonal; {} paths iterated, steps {} (max); singular {:?}",
             case.case, report.paths, report.steps, singular

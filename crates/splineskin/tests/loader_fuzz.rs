@@ -11,6 +11,9 @@
 //! number replaced by NaN, an infinity or an extreme value, an element or a JSON object
 //! duplicated or deleted. Sizes are capped so that a mutation cannot make the fit large.
 
+#[path = "common/measure.rs"]
+mod measure;
+
 use std::path::Path as FsPath;
 
 use kurbo::{Affine, Point};
@@ -517,11 +520,7 @@ fn check_scene(text: &str, base_dir: Option<&FsPath>) -> Result<(), TestCaseErro
                 .flat_map(|p| &p.points)
                 .fold(1.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
             let rest = setup.drawing.flat_points();
-            let worst = rest
-                .iter()
-                .zip(&out)
-                .map(|(a, b)| (*a - *b).hypot())
-                .fold(0.0f64, f64::max);
+            let worst = measure::max_distance(&rest, &out);
             prop_assert!(
                 scale > IDENTITY_CHECK_MAX_SCALE || worst <= IDENTITY_TOLERANCE * scale,
                 "{what}: identity pose moves a point by {worst:e} (scale {scale:e})"

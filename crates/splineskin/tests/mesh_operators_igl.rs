@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::reference_igl::{ReferenceIgl, SHAPES};
+use common::reference_igl::ReferenceIgl;
 use splineskin::mesh::operators::{cotangent_laplacian, lumped_mass, MassKind};
 
 /// `cotmatrix` tolerance, relative to the largest entry: our cotangents come from dot and
@@ -17,11 +17,7 @@ const MASS_RELATIVE: f64 = 1e-15;
 
 #[test]
 fn cotangent_laplacian_matches_libigl_cotmatrix() {
-    let Some(data) = common::data_root() else {
-        return;
-    };
-    for shape in SHAPES {
-        let reference = ReferenceIgl::read(&data, shape);
+    for (shape, reference) in ReferenceIgl::all() {
         let mesh = reference.tri_mesh();
         let l = cotangent_laplacian(&mesh);
         let coo = &reference.operators.cotmatrix;
@@ -58,11 +54,7 @@ fn cotangent_laplacian_matches_libigl_cotmatrix() {
 
 #[test]
 fn lumped_mass_matches_libigl_massmatrix() {
-    let Some(data) = common::data_root() else {
-        return;
-    };
-    for shape in SHAPES {
-        let reference = ReferenceIgl::read(&data, shape);
+    for (shape, reference) in ReferenceIgl::all() {
         let mesh = reference.tri_mesh();
         for (kind, expected) in [
             (
@@ -97,11 +89,7 @@ fn lumped_mass_matches_libigl_massmatrix() {
 
 #[test]
 fn boundary_loop_matches_reference() {
-    let Some(data) = common::data_root() else {
-        return;
-    };
-    for shape in SHAPES {
-        let reference = ReferenceIgl::read(&data, shape);
+    for (shape, reference) in ReferenceIgl::all() {
         let loops = reference.tri_mesh().boundary_loops().unwrap();
         assert_eq!(loops.len(), 1, "{shape}: one boundary loop");
         // Same cycle, up to the starting vertex.

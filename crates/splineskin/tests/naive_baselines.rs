@@ -61,20 +61,7 @@ impl AuthorsCase {
 }
 
 fn cases(root: &FsPath) -> Vec<AuthorsCase> {
-    let dir = root.join("vectorskinning/authors-solver-outputs");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .expect("authors-solver-outputs")
-        .map(|e| e.expect("dir entry").path())
-        .filter(|f| f.extension().is_some_and(|e| e == "json"))
-        .collect();
-    files.sort();
-    files
-        .iter()
-        .map(|f| {
-            let text = std::fs::read_to_string(f).expect("read case");
-            serde_json::from_str(&text).expect("parse case")
-        })
-        .collect()
+    external_data::read_authors_solver_outputs(root)
 }
 
 fn scene_of(root: &FsPath, source_json: &str) -> Scene {

@@ -403,92 +403,21 @@ fn element_of(drawing: &Drawing, pi: usize) -> String {
         .map_or_else(|| "no source".into(), |s| s.element_label(pi))
 }
 
-/// Checks that `got` (the rig's output, layout of [`Drawing::flat_points`]) is `map` of every
-/// point of `drawing`, path by path, to the exact tolerance ([`EXACT_RELATIVE`] of the path's
-/// diagonal plus [`EXACT_ULPS`] ulps of its largest coordinate). Returns the largest error /
-/// tolerance, or the worst failing path.
-fn check_exact(drawing: &Drawing, got: &[Point], map: Affine) -> Result<f64, PathFailure> {
-    let mut worst_ratio = 0.0f64;
-    let mut failure: Option<PathFailure> = None;
-    let mut n_failing = 0;
-    for (pi, (path, range)) in drawing.paths.iter().zip(drawing.path_ranges()).enumerate() {
-        let out = &got[range];
-        let bounds = bounds_of(&path.points);
-        let mut magnitude = 0.0f64;
-        let mut error = 0.0f64;
-        for (&p, &q) in path.points.iter().zip(out) {
-            let want = map * p;
-            magnitude = magnitude.max(p.x.abs().max(p.y.abs()));
-            magnitude = magnitude.max(want.x.abs().max(want.y.abs()));
-            let e = (q - want).hypot();
-            // NaN compares false: make it an infinite error.
-            error = if e.is_finite() {
-                error.max(e)
-            } else {
-                f64::INFINITY
-            };
-        }
-        let tolerance = EXACT_RELATIVE * diagonal(bounds) + EXACT_ULPS * f64::EPSILON * magnitude;
-        let ratio = error / tolerance;
-        if error <= tolerance {
-            worst_ratio = worst_ratio.max(ratio);
-        } else {
-            n_failing += 1;
-            let f = PathFailure {
-                path: pi,
-                element: element_of(drawing, pi),
-                n_curves: path.n_curves(),
-                closed: path.closed,
-                bounds,
-                error,
-                tolerance,
-                n_failing: 0,
-            };
-            if failure.as_ref().is_none_or(|w| f.ratio() > w.ratio()) {
-                failure = Some(f);
-            }
-        }
-    }
-    match failure {
-        Some(f) => Err(PathFailure { n_failing, ..f }),
-        None => Ok(worst_ratio),
-    }
-}
-
-/// Checks that every path of the deformed `got` stays within [`DEFORM_PATH_FRACTION`] of its
-/// diagonal plus [`DEFORM_DRAWING_FRACTION`] of the drawing's of the skinned target under
-/// `field` and `pose`, at [`DEFORM_SAMPLES`] parameters per curve. Returns the largest
-/// distance / tolerance, or the worst failing path.
-fn check_deformation(
+/// The path-by-path check of `got` (the rig's output, layout of [`Drawing::flat_points`]):
+/// `measure` gives a path's error and tolerance from the path, its bounds and its points in
+/// `got`, the paths visited in order. Returns the largest error / tolerance, or the worst
+/// failing path (its ratio the largest) with the count of failing paths.
+fn check_paths(
     drawing: &Drawing,
-    field: &dyn WeightField,
-    pose: &[Affine],
     got: &[Point],
+    mut measure: impl FnMut(&splineskin::drawing::Path, Rect, &[Point]) -> (f64, f64),
 ) -> Result<f64, PathFailure> {
-    let targets = target_samples(drawing, field, pose, DEFORM_SAMPLES);
-    let drawing_part = DEFORM_DRAWING_FRACTION * drawing.diagonal();
     let mut worst_ratio = 0.0f64;
     let mut failure: Option<PathFailure> = None;
     let mut n_failing = 0;
-    let mut targets = targets.iter();
     for (pi, (path, range)) in drawing.paths.iter().zip(drawing.path_ranges()).enumerate() {
-        let out = &got[range];
-        let mut error = 0.0f64;
-        for j in 0..path.n_curves() {
-            let c = [out[3 * j], out[3 * j + 1], out[3 * j + 2], out[3 * j + 3]];
-            for (k, target) in (0..DEFORM_SAMPLES).zip(&mut targets) {
-                let t = k as f64 / (DEFORM_SAMPLES - 1) as f64;
-                let d = (bezier::eval(&c, t) - *target).hypot();
-                // NaN compares false: make it an infinite error.
-                error = if d.is_finite() {
-                    error.max(d)
-                } else {
-                    f64::INFINITY
-                };
-            }
-        }
         let bounds = bounds_of(&path.points);
-        let tolerance = DEFORM_PATH_FRACTION * diagonal(bounds) + drawing_part;
+        let (error, tolerance) = measure(path, bounds, &got[range]);
         if error <= tolerance {
             worst_ratio = worst_ratio.max(error / tolerance);
         } else {
@@ -512,6 +441,61 @@ fn check_deformation(
         Some(f) => Err(PathFailure { n_failing, ..f }),
         None => Ok(worst_ratio),
     }
+}
+
+/// The larger of `error` and `e`, a NaN `e` (which compares false) counting as infinite.
+fn max_error(error: f64, e: f64) -> f64 {
+    if e.is_finite() {
+        error.max(e)
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Checks that `got` (the rig's output, layout of [`Drawing::flat_points`]) is `map` of every
+/// point of `drawing`, path by path, to the exact tolerance ([`EXACT_RELATIVE`] of the path's
+/// diagonal plus [`EXACT_ULPS`] ulps of its largest coordinate). Returns the largest error /
+/// tolerance, or the worst failing path.
+fn check_exact(drawing: &Drawing, got: &[Point], map: Affine) -> Result<f64, PathFailure> {
+    check_paths(drawing, got, |path, bounds, out| {
+        let mut magnitude = 0.0f64;
+        let mut error = 0.0f64;
+        for (&p, &q) in path.points.iter().zip(out) {
+            let want = map * p;
+            magnitude = magnitude.max(p.x.abs().max(p.y.abs()));
+            magnitude = magnitude.max(want.x.abs().max(want.y.abs()));
+            error = max_error(error, (q - want).hypot());
+        }
+        let tolerance = EXACT_RELATIVE * diagonal(bounds) + EXACT_ULPS * f64::EPSILON * magnitude;
+        (error, tolerance)
+    })
+}
+
+/// Checks that every path of the deformed `got` stays within [`DEFORM_PATH_FRACTION`] of its
+/// diagonal plus [`DEFORM_DRAWING_FRACTION`] of the drawing's of the skinned target under
+/// `field` and `pose`, at [`DEFORM_SAMPLES`] parameters per curve. Returns the largest
+/// distance / tolerance, or the worst failing path.
+fn check_deformation(
+    drawing: &Drawing,
+    field: &dyn WeightField,
+    pose: &[Affine],
+    got: &[Point],
+) -> Result<f64, PathFailure> {
+    let targets = target_samples(drawing, field, pose, DEFORM_SAMPLES);
+    let drawing_part = DEFORM_DRAWING_FRACTION * drawing.diagonal();
+    let mut targets = targets.iter();
+    check_paths(drawing, got, |path, bounds, out| {
+        let mut error = 0.0f64;
+        for j in 0..path.n_curves() {
+            let c = [out[3 * j], out[3 * j + 1], out[3 * j + 2], out[3 * j + 3]];
+            for (k, target) in (0..DEFORM_SAMPLES).zip(&mut targets) {
+                let t = k as f64 / (DEFORM_SAMPLES - 1) as f64;
+                error = max_error(error, (bezier::eval(&c, t) - *target).hypot());
+            }
+        }
+        let tolerance = DEFORM_PATH_FRACTION * diagonal(bounds) + drawing_part;
+        (error, tolerance)
+    })
 }
 
 /// Runs the three checks of one rig, recording them under `family`.

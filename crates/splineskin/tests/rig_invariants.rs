@@ -29,6 +29,7 @@
 
 mod common;
 
+use common::measure::joint_count as count;
 use common::Rng;
 use kurbo::{Affine, Point, Vec2};
 use splineskin::drawing::svg_out::write_svg;
@@ -369,15 +370,6 @@ fn affine_invariant_copy(drawing: &Drawing, options: &JunctionOptions) -> Drawin
     copy
 }
 
-fn count(drawing: &Drawing, kind: JointKind) -> usize {
-    drawing
-        .paths
-        .iter()
-        .flat_map(|p| &p.joints)
-        .filter(|&&k| k == kind)
-        .count()
-}
-
 /// The bundled drawing (our importer) and the demo scene's handles.
 fn demo() -> (Drawing, Vec<Point>, Vec<Vec<Affine>>) {
     let drawing = read_svg(DEMO_SVG, &ImportOptions::default()).unwrap();
@@ -398,13 +390,15 @@ fn test_maps() -> (Affine, Affine) {
     (similarity, general)
 }
 
-/// Identity and one-map invariants of `drawing` under `options`, recorded in `worst`.
+/// Identity and one-map invariants of `drawing` under `options`, recorded in `worst`. Returns
+/// the rig of `drawing` with Shepard weights of `handles` (the one checked under the identity
+/// and the similarity).
 fn check_identity_and_maps(
     drawing: &Drawing,
     handles: &[Point],
     options: &FitOptions,
     worst: &mut Worst,
-) {
+) -> SplineRig {
     let weights = shepard(handles);
     let diag = drawing.diagonal();
     let input = drawing.flat_points();
@@ -426,11 +420,28 @@ fn check_identity_and_maps(
     ));
 
     let relaxed = affine_invariant_copy(drawing, &options.junctions);
-    let rig = SplineRig::precompute(&relaxed, &weights, options).unwrap();
-    rig.update(&vec![general; handles.len()], &mut out).unwrap();
+    let relaxed_rig = SplineRig::precompute(&relaxed, &weights, options).unwrap();
+    relaxed_rig
+        .update(&vec![general; handles.len()], &mut out)
+        .unwrap();
     worst.affine = worst
         .affine
         .max(max_distance(input.iter().map(|&p| general * p), &out, diag));
+    rig
+}
+
+/// [`check_identity_and_maps`] under `measure`: the invariants recorded, the options, the rig
+/// and a buffer for its points.
+fn checked_rig(
+    drawing: &Drawing,
+    handles: &[Point],
+    measure: Measure,
+) -> (Worst, FitOptions, SplineRig, Vec<Point>) {
+    let mut worst = Worst::default();
+    let options = FitOptions::default().with_measure(measure);
+    let rig = check_identity_and_maps(drawing, handles, &options, &mut worst);
+    let out = vec![Point::ZERO; rig.n_points()];
+    (worst, options, rig, out)
 }
 
 #[test]
@@ -451,7 +462,7 @@ fn rig_invariants_demo_identity_and_maps() {
     for measure in [Measure::LengthWeighted, Measure::ArcLength] {
         let mut worst = Worst::default();
         let options = FitOptions::default().with_measure(measure);
-        check_identity_and_maps(&drawing, &handles, &options, &mut worst);
+        let _ = check_identity_and_maps(&drawing, &handles, &options, &mut worst);
         worst.assert_within(&format!("demo, {measure:?}"));
     }
 }
@@ -507,14 +518,9 @@ fn rig_invariants_degenerate_handles_use_next_distinct_points() {
     assert_eq!(g1.joints, [JointKind::End, JointKind::G1, JointKind::End]);
     assert_eq!(angle.joints[1], JointKind::FixedAngle);
     assert_eq!(g1.points[2], g1.points[3]);
-    let weights = shepard(&handles);
     let mut rng = Rng(0x5eed_0002);
     for measure in [Measure::LengthWeighted, Measure::ArcLength] {
-        let mut worst = Worst::default();
-        let options = FitOptions::default().with_measure(measure);
-        check_identity_and_maps(&drawing, &handles, &options, &mut worst);
-        let rig = SplineRig::precompute(&drawing, &weights, &options).unwrap();
-        let mut out = vec![Point::ZERO; rig.n_points()];
+        let (mut worst, options, rig, mut out) = checked_rig(&drawing, &handles, measure);
         for pose in poses
             .iter()
             .cloned()
@@ -536,14 +542,9 @@ fn rig_invariants_tiled_demo() {
     let (drawing, handles, _) = demo();
     let (tiled, tiled_handles) = tile(&drawing, &handles, TILED_CURVES);
     assert!((TILED_CURVES..2 * TILED_CURVES).contains(&tiled.n_curves()));
-    let weights = shepard(&tiled_handles);
     let mut rng = Rng(0x5eed_0003);
     for measure in [Measure::LengthWeighted, Measure::ArcLength] {
-        let mut worst = Worst::default();
-        let options = FitOptions::default().with_measure(measure);
-        check_identity_and_maps(&tiled, &tiled_handles, &options, &mut worst);
-        let rig = SplineRig::precompute(&tiled, &weights, &options).unwrap();
-        let mut out = vec![Point::ZERO; rig.n_points()];
+        let (mut worst, options, rig, mut out) = checked_rig(&tiled, &tiled_handles, measure);
         rig.update(&rng.pose(&tiled_handles), &mut out).unwrap();
         check_junctions(&tiled, &out, &options.junctions, &mut worst);
         worst.assert_within(&format!(

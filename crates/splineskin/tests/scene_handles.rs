@@ -3,7 +3,11 @@
 //!
 //! Mesh families run on coarse domains (the scene's `domain` options) to keep the tests fast.
 
-use kurbo::{Affine, Point, Rect};
+#[path = "common/measure.rs"]
+mod measure;
+
+use kurbo::{Affine, Point};
+use measure::diagonal;
 use splineskin::scene::{Bone, BoneTransform, Compat, Puppet, Scene, SceneError};
 use splineskin::spline_fit::SplineRig;
 use splineskin::weights::WeightField;
@@ -38,15 +42,6 @@ fn deform(scene: &Scene, pose: &[Affine]) -> (Vec<Point>, Vec<Point>) {
     let mut out = vec![Point::ZERO; rig.n_points()];
     rig.update(pose, &mut out).expect("update");
     (setup.drawing.flat_points(), out)
-}
-
-fn diagonal(points: &[Point]) -> f64 {
-    let r = points
-        .iter()
-        .fold(Rect::from_points(points[0], points[0]), |r, &p| {
-            r.union_pt(p)
-        });
-    r.width().hypot(r.height())
 }
 
 /// Largest distance between `map · rest[k]` and `out[k]`, as a fraction of the diagonal.

@@ -16,16 +16,9 @@ const TOLERANCE: f64 = 1e-12;
 
 #[test]
 fn subdiv_quadrature_isolation_matches_the_default() {
-    let Some(root) = common::data_root() else {
+    let Some(shapes) = common::subdiv_shapes() else {
         return;
     };
-    let mut shapes: Vec<_> = std::fs::read_dir(root.join("subdiv/shapes"))
-        .unwrap()
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
-        .collect();
-    shapes.sort();
     let mut checked = 0;
     let mut shallower = 0;
     for path in &shapes {

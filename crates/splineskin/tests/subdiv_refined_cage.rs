@@ -90,15 +90,9 @@ fn refined_location(
 
 #[test]
 fn subdiv_refined_cage_has_the_same_limit_surface() {
-    let Some(root) = common::data_root() else {
+    let Some(paths) = common::subdiv_shapes() else {
         return;
     };
-    let mut paths: Vec<_> = std::fs::read_dir(root.join("subdiv/shapes"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
-        .collect();
-    paths.sort();
     let mut worst = (0.0f64, String::new());
     let mut n_shapes = 0;
     for path in &paths {

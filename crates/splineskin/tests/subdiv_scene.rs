@@ -68,6 +68,16 @@ fn subdiv_scene_families_set_up_and_reproduce_the_cage() {
 #[test]
 fn subdiv_scene_errors_name_the_file() {
     let dir = TestDir::new("splineskin-subdiv-scene-errors-");
+    // The message of setting up the scene `scene.json` written with `weights`.
+    let setup_error = |weights: &str| {
+        let path = write(&dir, "scene.json", &scene(weights, ""));
+        SubdivScene::load(&path)
+            .unwrap()
+            .setup()
+            .err()
+            .unwrap()
+            .to_string()
+    };
     // The OBJ is missing.
     let path = write(&dir, "scene.json", &scene(r#"{"family": "shepard"}"#, ""));
     let scene_file = path.display().to_string();
@@ -80,12 +90,7 @@ fn subdiv_scene_errors_name_the_file() {
     assert!(message.starts_with(&scene_file), "{message}");
     // A bad OBJ: the OBJ's line is named.
     write(&dir, "box.obj", "v 0 0 0\nv 1 0 nan\nf 1 2 1\n");
-    let message = SubdivScene::load(&path)
-        .unwrap()
-        .setup()
-        .err()
-        .unwrap()
-        .to_string();
+    let message = setup_error(r#"{"family": "shepard"}"#);
     assert!(message.contains("box.obj:2"), "{message}");
     // A weight file with a NaN, and one that is missing.
     write(&dir, "box.obj", BOX);
@@ -93,32 +98,12 @@ fn subdiv_scene_errors_name_the_file() {
         .map(|v| if v == 7 { "NaN, 1\n" } else { "1, 0\n" })
         .collect();
     write(&dir, "w.csv", &csv);
-    let path = write(
-        &dir,
-        "scene.json",
-        &scene(r#"{"family": "file", "path": "w.csv"}"#, ""),
-    );
-    let message = SubdivScene::load(&path)
-        .unwrap()
-        .setup()
-        .err()
-        .unwrap()
-        .to_string();
+    let message = setup_error(r#"{"family": "file", "path": "w.csv"}"#);
     assert!(
         message.contains("w.csv:8: column 1: weight NaN; expected a finite number ≥ 0"),
         "{message}"
     );
-    let path = write(
-        &dir,
-        "scene.json",
-        &scene(r#"{"family": "file", "path": "missing.csv"}"#, ""),
-    );
-    let message = SubdivScene::load(&path)
-        .unwrap()
-        .setup()
-        .err()
-        .unwrap()
-        .to_string();
+    let message = setup_error(r#"{"family": "file", "path": "missing.csv"}"#);
     assert!(message.contains("missing.csv: cannot read"), "{message}");
     // A missing scene.
     let message = SubdivScene::load(&dir.join("nope.json"))

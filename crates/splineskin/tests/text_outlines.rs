@@ -13,7 +13,11 @@
 //!
 //! Set `TEXT_TEST_OUT=DIR` to keep the pictures.
 
+#[path = "common/measure.rs"]
+mod measure;
+
 use kurbo::{Affine, ParamCurve, Point, Rect, Vec2};
+use measure::diagonal;
 use splineskin::drawing::svg_out::write_svg;
 use splineskin::drawing::text_outlines::text_to_outlines;
 use splineskin::drawing::{read_svg, Drawing, ImportOptions, TextMode};
@@ -256,16 +260,6 @@ fn fish_scene() -> (Scene, splineskin::scene::Setup, SplineRig) {
     let setup = scene.setup(Compat::None).expect("setup");
     let rig = SplineRig::precompute(&setup.drawing, &*setup.weights, &setup.options).expect("rig");
     (scene, setup, rig)
-}
-
-/// The diagonal of a path's control points.
-fn diagonal(points: &[Point]) -> f64 {
-    let r = points
-        .iter()
-        .fold(Rect::from_points(points[0], points[0]), |r, &p| {
-            r.union_pt(p)
-        });
-    r.width().hypot(r.height())
 }
 
 /// Largest distance between `a` and `b` over each path, relative to the path's rest diagonal.

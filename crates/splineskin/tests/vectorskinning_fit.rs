@@ -44,11 +44,7 @@ fn drawing_of(case: &AuthorsCase) -> Drawing {
 
 #[test]
 fn vectorskinning_fit_matches_authors_on_their_curves() {
-    let Some(root) = common::data_root() else {
-        return;
-    };
-    let mut checked = 0;
-    for case in authors_outputs::shepard_linear_cases(&root) {
+    for (_, case) in authors_outputs::seven_shepard_linear_cases() {
         let drawing = drawing_of(&case);
         let diag = drawing.diagonal();
         let field = Shepard::new(
@@ -88,7 +84,5 @@ fn vectorskinning_fit_matches_authors_on_their_curves() {
                 .collect::<Vec<_>>()
         );
         assert!(worst <= COMPAT_TOLERANCE, "{}: {worst:e}", case.case);
-        checked += 1;
     }
-    assert_eq!(checked, 7, "expected the 7 Shepard linear cases");
 }

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::reference_igl::{ReferenceIgl, SHAPES};
+use common::reference_igl::ReferenceIgl;
 use splineskin::mesh::operators::polyharmonic_energy;
 use splineskin::weights::{
     bbw_weights, biharmonic_coordinates, bounded_biharmonic, harmonic_weights, BbwOptions,
@@ -64,11 +64,7 @@ fn max_row_sum_error(w: &VertexWeights) -> f64 {
 
 #[test]
 fn harmonic_weights_match_libigl() {
-    let Some(data) = common::data_root() else {
-        return;
-    };
-    for shape in SHAPES {
-        let reference = ReferenceIgl::read(&data, shape);
+    for (shape, reference) in ReferenceIgl::all() {
         let mesh = reference.tri_mesh();
         let handles = &reference.handles.indices;
         for (k, expected) in [
@@ -103,11 +99,7 @@ fn min_max(w: &VertexWeights) -> (f64, f64) {
 
 #[test]
 fn bbw_matches_libigl_raw_and_normalised() {
-    let Some(data) = common::data_root() else {
-        return;
-    };
-    for shape in SHAPES {
-        let reference = ReferenceIgl::read(&data, shape);
+    for (shape, reference) in ReferenceIgl::all() {
         let mesh = reference.tri_mesh();
         let handles = &reference.handles.indices;
         for parallel in [false, true] {
@@ -150,13 +142,9 @@ fn bbw_matches_libigl_raw_and_normalised() {
 /// libigl's.
 #[test]
 fn bbw_satisfies_kkt_conditions() {
-    let Some(data) = common::data_root() else {
-        return;
-    };
     // Rounding of g = Qw for w ∈ [0, 1]: a few units of 1e-16 times the ~20 entries of a row.
     const KKT_TOLERANCE: f64 = 1e-12;
-    for shape in SHAPES {
-        let reference = ReferenceIgl::read(&data, shape);
+    for (shape, reference) in ReferenceIgl::all() {
         let mesh = reference.tri_mesh();
         let handles = &reference.handles.indices;
         let raw = bounded_biharmonic(
@@ -216,11 +204,7 @@ fn bbw_satisfies_kkt_conditions() {
 
 #[test]
 fn biharmonic_coordinates_match_libigl() {
-    let Some(data) = common::data_root() else {
-        return;
-    };
-    for shape in SHAPES {
-        let reference = ReferenceIgl::read(&data, shape);
+    for (shape, reference) in ReferenceIgl::all() {
         let mesh = reference.tri_mesh();
         let handles = &reference.handles.indices;
         let w = biharmonic_coordinates(&mesh, handles).unwrap();

@@ -83,14 +83,7 @@ pub fn cases_where(
     data_root: &std::path::Path,
     keep: impl Fn(&AuthorsCase) -> bool,
 ) -> Vec<AuthorsCase> {
-    let dir = data_root.join("vectorskinning/authors-solver-outputs");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .expect("authors-solver-outputs")
-        .map(|e| e.expect("dir entry").path())
-        .filter(|f| f.extension().is_some_and(|e| e == "json"))
-        .collect();
-    files.sort();
-    files
+    super::external_data::authors_solver_outputs(data_root)
         .iter()
         .map(|f| AuthorsCase::load(f))
         .filter(|c| keep(c))
@@ -105,6 +98,18 @@ pub fn shepard_linear_cases(data_root: &std::path::Path) -> Vec<AuthorsCase> {
     })
 }
 
+/// The shared data folder with each of the 7 [`shepard_linear_cases`] (their count is
+/// asserted); none when the data is missing (the calling test then skips, see
+/// [`super::data_root`]).
+pub fn seven_shepard_linear_cases() -> Vec<(std::path::PathBuf, AuthorsCase)> {
+    let Some(root) = super::data_root() else {
+        return Vec::new();
+    };
+    let cases = shepard_linear_cases(&root);
+    assert_eq!(cases.len(), 7, "expected the 7 Shepard linear cases");
+    cases.into_iter().map(|c| (root.clone(), c)).collect()
+}
+
 /// Every case of `authors-solver-outputs` with Shepard weights, the paper's engine and G¹ or
 /// angle joints (flexible in their solver: the `fixed` flag of `[kind, fixed]` pins a joint's
 /// position, and is false everywhere), sorted by name.
@@ -116,6 +121,16 @@ pub fn shepard_flexible_cases(data_root: &std::path::Path) -> Vec<AuthorsCase> {
 
 /// Largest distance per path between `points` (flat, in the drawing's layout) and the
 /// authors' `deformed` chains, divided by `diag`.
+/// The largest of the per-path `errors` of the paths not in `excluded`.
+pub fn worst_except(errors: &[f64], excluded: &[usize]) -> f64 {
+    errors
+        .iter()
+        .enumerate()
+        .filter(|(p, _)| !excluded.contains(p))
+        .map(|(_, e)| *e)
+        .fold(0.0, f64::max)
+}
+
 pub fn per_path_errors(
     drawing: &splineskin::drawing::Drawing,
     points: &[Point],

@@ -27,25 +27,54 @@ pub const SKIP_LOG_VAR: &str = "SPLINESKIN_SKIP_LOG";
 /// `../shared/data` relative to the repository root, if present; else the test skips (see the
 /// module doc: with `CI` set, this panics).
 pub fn shared_data() -> Option<PathBuf> {
-    let root = repository_root().join("../shared/data");
-    if root.is_dir() {
-        Some(root)
-    } else {
-        skip("../shared/data not found next to the repository");
-        None
-    }
+    folder_or_skip(
+        "../shared/data",
+        "../shared/data not found next to the repository",
+    )
 }
 
 /// `test-art/node_modules` of the repository, if `npm ci` has been run there; else the test
 /// skips (see the module doc: with `CI` set, this panics).
 pub fn test_art() -> Option<PathBuf> {
-    let root = repository_root().join("test-art/node_modules");
-    if root.is_dir() {
-        Some(root)
+    folder_or_skip(
+        "test-art/node_modules",
+        "test-art/node_modules not found: run `npm ci` in test-art/ to install the art",
+    )
+}
+
+/// The folder `relative` to the repository root if it exists; else [`skip`] because `why`.
+fn folder_or_skip(relative: &str, why: &str) -> Option<PathBuf> {
+    let folder = repository_root().join(relative);
+    if folder.is_dir() {
+        Some(folder)
     } else {
-        skip("test-art/node_modules not found: run `npm ci` in test-art/ to install the art");
+        skip(why);
         None
     }
+}
+
+/// The `*.json` files of `vectorskinning/authors-solver-outputs` in `data_root` (the shared
+/// data), sorted by name: the paper authors' solver outputs, one case each.
+pub fn authors_solver_outputs(data_root: &Path) -> Vec<PathBuf> {
+    let dir = data_root.join("vectorskinning/authors-solver-outputs");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("authors-solver-outputs")
+        .map(|e| e.expect("dir entry").path())
+        .filter(|f| f.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// Each of [`authors_solver_outputs`] read as `T`.
+pub fn read_authors_solver_outputs<T: serde::de::DeserializeOwned>(data_root: &Path) -> Vec<T> {
+    authors_solver_outputs(data_root)
+        .iter()
+        .map(|f| {
+            let text = std::fs::read_to_string(f).expect("read case");
+            serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", f.display()))
+        })
+        .collect()
 }
 
 /// The repository's root folder (both crates live in `crates/<name>`).

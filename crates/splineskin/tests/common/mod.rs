@@ -10,6 +10,19 @@ pub fn data_root() -> Option<PathBuf> {
     external_data::shared_data()
 }
 
+/// The OpenSubdiv shapes, `subdiv/shapes/*.obj` of the shared data, sorted by name; `None`,
+/// and the calling test skips, when the data is missing (see [`data_root`]).
+pub fn subdiv_shapes() -> Option<Vec<PathBuf>> {
+    let root = data_root()?;
+    let mut shapes: Vec<_> = std::fs::read_dir(root.join("subdiv/shapes"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+        .collect();
+    shapes.sort();
+    Some(shapes)
+}
+
 /// A small deterministic generator (SplitMix64), so that random test inputs are reproducible.
 /// Test files add their own samplers (`impl Rng { fn pose(..) }`).
 pub struct Rng(pub u64);
@@ -33,6 +46,7 @@ impl Rng {
 
 pub mod authors_outputs;
 pub mod external_data;
+pub mod measure;
 pub mod reference_igl;
 pub mod scene_compare;
 pub mod test_dir;

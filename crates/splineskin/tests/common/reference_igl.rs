@@ -123,6 +123,18 @@ impl ReferenceIgl {
         serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
     }
 
+    /// Every shape of [`SHAPES`] with its reference; none when the shared data is missing
+    /// (the calling test then skips, see [`super::data_root`]).
+    pub fn all() -> Vec<(&'static str, ReferenceIgl)> {
+        let Some(data) = super::data_root() else {
+            return Vec::new();
+        };
+        SHAPES
+            .iter()
+            .map(|&shape| (shape, Self::read(&data, shape)))
+            .collect()
+    }
+
     /// The mesh, validated.
     pub fn tri_mesh(&self) -> TriMesh {
         let vertices = self.mesh.V.iter().map(|&[x, y]| Point::new(x, y)).collect();
