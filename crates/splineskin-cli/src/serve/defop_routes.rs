@@ -24,23 +24,15 @@ use axum::response::Response;
 use axum::Json;
 use kurbo::Point;
 use serde::{Deserialize, Serialize};
-use splineskin::defop::{train, DefOpRig, Energy, Progress};
+use splineskin::defop::{train, DefOpRig, Progress};
 use splineskin::scene::Compat;
 
-use super::api::{binary, f64_bytes, run_job, ApiError, App, MAX_OPERATOR_BYTES};
+use super::app::{binary, f64_bytes, run_job, ApiError, App, MAX_OPERATOR_BYTES};
 use super::progress::{Count, JOB_HEADER};
 use super::rig_routes::page_scene;
+use super::scene_file::defop_energy;
 use super::store::OperatorRig;
 use super::wire::{EditScene, SceneRequest};
-
-/// Training samples when the page names none: 100. Measured in the editor with a release
-/// build on two cores shared with other builds (thin-plate splines, the domain of
-/// [`super::scene_file::editor_defop_settings`]): the bundled fish (5 handles, 3 714
-/// triangles) trains in 4.6 s on symmetric ARAP (8–10 s under a load of 3.5; 19 of its 100
-/// samples fall back to a start from the rest pose; 60 samples on ARAP: 0.5–1.1 s), the
-/// octopus (9 handles, 2 240 triangles) in 2.7–2.9 s (discs of 0.05 of the diagonal) and
-/// 3.8 s (its scene's discs of 0.1) on symmetric ARAP.
-pub const DEFAULT_EDITOR_SAMPLES: usize = 100;
 
 /// Most training samples the page may ask for: 5 000 (about 2 minutes for the 9-handle
 /// octopus on two cores; the budget is 1 000 samples in 2 minutes).
@@ -52,15 +44,6 @@ pub const MAX_DEFOP_HANDLES: usize = 64;
 
 /// The header carrying [`DefOpInfo`] in [`defop`]'s response.
 pub const DEFOP_HEADER: &str = "x-splineskin-defop";
-
-/// The "family" names of the operators and their ground truths.
-pub fn defop_energy(family: &str) -> Option<Energy> {
-    match family {
-        "defop-arap" => Some(Energy::Arap),
-        "defop-sarap" => Some(Energy::SymmetricArap),
-        _ => None,
-    }
-}
 
 /// What the page needs, besides the numbers of the body, to evaluate `ψ(Q)`
 /// (`splineskin::defop::HandleBasis`): sent as JSON in the header [`DEFOP_HEADER`].

@@ -17,7 +17,7 @@ use splineskin::drawing::svg_out::{
 };
 use splineskin::naive::skin_point;
 
-use super::api::{run_job, ApiError, App};
+use super::app::{run_job, ApiError, App};
 use super::document::Document;
 use super::rig_routes::{gone_rig, page_scene};
 use super::scene_file::scene_json;

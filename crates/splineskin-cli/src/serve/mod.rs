@@ -27,6 +27,7 @@
 //! page uploads.
 
 pub mod api;
+mod app;
 mod assets;
 mod defop_routes;
 pub mod document;
@@ -94,7 +95,7 @@ pub fn run(args: Args) -> Result<()> {
                 )
             })?;
         let address = listener.local_addr().context("reading the bound address")?;
-        let app = api::App::new(document, allowed_hosts(address));
+        let app = app::App::new(document, allowed_hosts(address));
         // The URL on stdout (tests read it), flushed before serving.
         let mut out = std::io::stdout().lock();
         writeln!(out, "splineskin editor: http://{address}/ ({name})")?;

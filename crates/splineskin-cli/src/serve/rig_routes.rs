@@ -11,13 +11,12 @@ use serde::Deserialize;
 use splineskin::scene::{Compat, Puppet, PuppetStage, Scene};
 use std::sync::Arc;
 
-use super::api::{
+use super::app::{
     binary, f64_bytes, run_job, ApiError, App, MAX_GRID_SIDE, MAX_HANDLES, MAX_OPERATOR_BYTES,
 };
-use super::defop_routes::defop_energy;
 use super::document::Document;
 use super::progress::JOB_HEADER;
-use super::scene_file::scene_json;
+use super::scene_file::{defop_energy, scene_json};
 use super::wire::{EditScene, PoseRequest, SceneRequest};
 
 /// Reads the page's scene on `document` as a scene of ours (validating it like any scene

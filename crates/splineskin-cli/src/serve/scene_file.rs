@@ -5,11 +5,29 @@
 //! scene.
 
 use serde::Serialize;
+use splineskin::defop::Energy;
 use splineskin::domain::DomainOptions;
 use splineskin::scene::{energy_name, DefOpSettings, RegionSpec};
 
-use super::defop_routes::{defop_energy, DEFAULT_EDITOR_SAMPLES};
 use super::wire::{EditScene, JunctionWire, WeightsWire};
+
+/// Training samples when the page names none: 100. Measured in the editor with a release
+/// build on two cores shared with other builds (thin-plate splines, the domain of
+/// [`editor_defop_settings`]): the bundled fish (5 handles, 3 714
+/// triangles) trains in 4.6 s on symmetric ARAP (8–10 s under a load of 3.5; 19 of its 100
+/// samples fall back to a start from the rest pose; 60 samples on ARAP: 0.5–1.1 s), the
+/// octopus (9 handles, 2 240 triangles) in 2.7–2.9 s (discs of 0.05 of the diagonal) and
+/// 3.8 s (its scene's discs of 0.1) on symmetric ARAP.
+pub const DEFAULT_EDITOR_SAMPLES: usize = 100;
+
+/// The "family" names of the operators and their ground truths.
+pub fn defop_energy(family: &str) -> Option<Energy> {
+    match family {
+        "defop-arap" => Some(Energy::Arap),
+        "defop-sarap" => Some(Energy::SymmetricArap),
+        _ => None,
+    }
+}
 
 /// What a scene carries besides the page's [`EditScene`] and is kept as it was opened.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -9,7 +9,8 @@ use splineskin::drawing::{read_svg, ImportOptions};
 use splineskin::examples::DEMO_SVG;
 use tower::ServiceExt;
 
-use super::api::{router, App, API_HEADER, MAX_JOBS, RIG_HEADER};
+use super::api::router;
+use super::app::{App, API_HEADER, MAX_JOBS, RIG_HEADER};
 use super::defop_routes::DEFOP_HEADER;
 use super::document::{Document, MAX_UPLOAD_BYTES};
 use super::progress::Count;

@@ -39,7 +39,7 @@ pub struct WeightsWire {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub exponent: Option<f64>,
     /// Training samples of a deformation operator (default
-    /// [`super::defop_routes::DEFAULT_EDITOR_SAMPLES`]).
+    /// [`super::scene_file::DEFAULT_EDITOR_SAMPLES`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<usize>,
 }
