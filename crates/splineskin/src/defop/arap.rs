@@ -33,9 +33,9 @@ use super::arap_energy::arap_energy_of;
 use super::deformation_gradient::TriangleGradients;
 use super::handles::{bounding_box_diagonal, HandleSet, NOT_FREE};
 use super::DefOpError;
-use crate::mesh::operators::laplacian_csc;
+use crate::linalg::{CholeskyAnalysis, Ordering};
+use crate::mesh::cotangent::laplacian_csc;
 use crate::mesh::TriMesh;
-use crate::sparse_cholesky::{CholeskyAnalysis, Ordering};
 
 /// Default [`ArapOptions::max_iterations`]: 10 000 local–global iterations. libigl's
 /// reference solutions converged in 135–610 iterations on meshes of 575 and 1091 vertices

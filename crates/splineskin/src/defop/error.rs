@@ -1,7 +1,7 @@
 //! [`DefOpError`]: why a ground-truth deformation could not be set up or solved.
 
+use crate::linalg::LinalgError;
 use crate::mesh::MeshError;
-use crate::sparse_cholesky::CholeskyError;
 
 /// Why a point-handle deformation ([`super::Arap`], [`super::SymmetricArap`]) could not be set
 /// up or solved. Every variant names the handle, vertex or triangle at fault.
@@ -224,8 +224,8 @@ pub enum DefOpError {
     },
 }
 
-impl From<CholeskyError> for DefOpError {
-    fn from(e: CholeskyError) -> Self {
+impl From<LinalgError> for DefOpError {
+    fn from(e: LinalgError) -> Self {
         DefOpError::Factorization {
             detail: e.to_string(),
         }

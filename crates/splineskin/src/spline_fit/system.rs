@@ -1,5 +1,6 @@
 //! The fit system of one path: assembly of the KKT matrix and right-hand sides, one sparse LU
-//! factorisation, and the solve for all `6h` right-hand sides.
+//! factorisation (`crate::linalg::lu_solve_in_place`), and the solve for all `6h` right-hand
+//! sides.
 //!
 //! The energy of path `P` (Liu et al. 2014 §4; DESIGN.md §1) over its unknown chain points `x`
 //! (two coordinates each, interleaved) is
@@ -46,7 +47,6 @@
 //! constraint rows' (which are divided by their largest tangent length): the minimiser is the
 //! same, and the KKT matrix's conditioning no longer depends on the drawing's size.
 
-use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
 use kurbo::{Point, Vec2};
@@ -55,6 +55,7 @@ use super::constraints::{junction_rows, push_pins, tangent_junctions, Constraint
 use super::quadrature::SampledCurves;
 use super::{ConstraintForm, FitError, FitOptions};
 use crate::drawing::Path;
+use crate::linalg::lu_solve_in_place;
 
 /// Relative size of the smallest singular value below which a path's system counts as rank
 /// deficient (compatibility mode's check): 1e-12.
@@ -251,11 +252,10 @@ pub(crate) fn solve_group(
     })?;
 
     let rank_deficient = options.check_rank && is_rank_deficient(&kkt);
-    let lu = kkt.sp_lu().map_err(|e| FitError::Solver {
+    lu_solve_in_place(&kkt, rhs.as_mut()).map_err(|e| FitError::Solver {
         path: path_index,
-        detail: format!("LU factorisation: {e:?}"),
+        detail: e.to_string(),
     })?;
-    lu.solve_in_place(rhs.as_mut());
 
     let mut operator = rhs.subrows(0, n_x).to_owned();
     // The group's rest points, about the centre (one per unknown).

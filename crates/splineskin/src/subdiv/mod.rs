@@ -35,7 +35,6 @@ mod affine3;
 mod cage;
 mod compare;
 mod comparison_picture;
-mod cotangent_laplacian;
 mod error;
 mod handles;
 mod hierarchy;
