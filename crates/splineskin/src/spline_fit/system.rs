@@ -8,7 +8,7 @@
 //! ```text
 //! E(x) = Σ_j Σ_d  x_jdᵀ Â_j x_jd − 2 x_jdᵀ (Σ_i T_i Ŵ_ij)_d + const
 //! Â_j  = ∫ b bᵀ dμ_j                       (4×4, curve j)
-//! Ŵ_ij = C̄_j ∫ w_i(B_j(t)) b bᵀ dμ_j       (3×4, C̄_j the homogeneous input controls)
+//! Ŵ_ij = C̄_j ∫ w_i(B_j(t)) b bᵀ dμ_j       (3×4, C̄_j the homogeneous input controls; weighted_integrals.rs)
 //! ```
 //!
 //! with `x_jd` the four coordinates `d` of curve `j`. Minimising it subject to the junction rows
@@ -53,6 +53,7 @@ use kurbo::{Point, Vec2};
 
 use super::constraints::{junction_rows, push_pins, tangent_junctions, ConstraintRows};
 use super::quadrature::SampledCurves;
+use super::weighted_integrals::weighted_integral;
 use super::{ConstraintForm, FitError, FitOptions};
 use crate::drawing::Path;
 use crate::linalg::lu_solve_in_place;
@@ -221,19 +222,13 @@ pub(crate) fn solve_group(
                     }
                 }
             }
-            // Ŵ_ij[s][l] = Σ_k C̄[s][k] M_ij[k][l], C̄ rows = (x, y, 1).
             for (i, mij) in weighted.iter().enumerate() {
+                let w = weighted_integral(&c, mij);
                 for (l, &pl) in idx.iter().enumerate() {
-                    let mut w = [0.0; 3];
-                    for (k, ck) in c.iter().enumerate() {
-                        w[0] += ck.x * mij[k][l];
-                        w[1] += ck.y * mij[k][l];
-                        w[2] += mij[k][l];
-                    }
                     for (s, ws) in w.iter().enumerate().skip(first_row) {
                         for d in 0..2 {
                             rhs[(2 * pl + d, per_handle * i + 2 * (s - first_row) + d)] +=
-                                balance * ws;
+                                balance * ws[l];
                         }
                     }
                 }
