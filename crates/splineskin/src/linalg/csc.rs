@@ -27,25 +27,24 @@ pub(crate) struct Csc {
 }
 
 impl Csc {
-    /// Copies a faer matrix (square, sorted rows, no separate column counts: what this
-    /// module builds).
-    #[cfg(test)]
-    pub fn from_faer(m: &SparseColMat<usize, f64>) -> Csc {
-        let n = m.ncols();
+    /// The square matrix of order `n` whose column `j` holds the entries `(row, value)` that
+    /// `fill(j, column)` writes into `column` (cleared before each call), sorted by row;
+    /// `capacity` is the expected number of entries.
+    pub fn from_columns(
+        n: usize,
+        capacity: usize,
+        mut fill: impl FnMut(usize, &mut Vec<(usize, f64)>),
+    ) -> Csc {
         let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
-        let mut values = Vec::new();
+        let mut row_idx = Vec::with_capacity(capacity);
+        let mut values = Vec::with_capacity(capacity);
+        let mut column = Vec::new();
         col_ptr.push(0);
         for j in 0..n {
-            let rows = m.row_idx_of_col_raw(j);
-            let vals = m.val_of_col(j);
-            let mut col: Vec<(usize, f64)> =
-                rows.iter().copied().zip(vals.iter().copied()).collect();
-            col.sort_by_key(|&(i, _)| i);
-            for (i, v) in col {
-                row_idx.push(i);
-                values.push(v);
-            }
+            column.clear();
+            fill(j, &mut column);
+            row_idx.extend(column.iter().map(|&(i, _)| i));
+            values.extend(column.iter().map(|&(_, x)| x));
             col_ptr.push(row_idx.len());
         }
         Csc {
@@ -54,6 +53,26 @@ impl Csc {
             row_idx,
             values,
         }
+    }
+
+    /// Column `j` of the faer matrix `m`, `(row, value)` sorted by row, into `column`.
+    fn sorted_column_of(m: &SparseColMat<usize, f64>, j: usize, column: &mut Vec<(usize, f64)>) {
+        let range = m.col_range(j);
+        column.extend(
+            m.symbolic().row_idx()[range.clone()]
+                .iter()
+                .copied()
+                .zip(m.val()[range].iter().copied()),
+        );
+        column.sort_unstable_by_key(|&(i, _)| i);
+    }
+
+    /// Copies a faer matrix (square; rows sorted here).
+    #[cfg(test)]
+    pub fn from_faer(m: &SparseColMat<usize, f64>) -> Csc {
+        Csc::from_columns(m.ncols(), m.compute_nnz(), |j, column| {
+            Csc::sorted_column_of(m, j, column)
+        })
     }
 
     /// The square matrix of order `n` whose entry `(row, col)` is the sum of the triplets
@@ -104,34 +123,14 @@ impl Csc {
     /// The upper triangle of `m` (a full symmetric faer matrix), with `shift[j]` added to each
     /// diagonal entry `j` (a diagonal missing from `m` is created).
     pub fn upper_from_symmetric(m: &SparseColMat<usize, f64>, shift: &[f64]) -> Csc {
-        let n = m.nrows();
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
-        let mut values = Vec::new();
-        col_ptr.push(0);
-        for j in 0..n {
-            let range = m.col_range(j);
-            let mut column: Vec<(usize, f64)> = m.symbolic().row_idx()[range.clone()]
-                .iter()
-                .zip(&m.val()[range])
-                .filter(|(&i, _)| i <= j)
-                .map(|(&i, &x)| (i, x))
-                .collect();
-            column.sort_unstable_by_key(|&(i, _)| i);
+        Csc::from_columns(m.nrows(), 0, |j, column| {
+            Csc::sorted_column_of(m, j, column);
+            column.retain(|&(i, _)| i <= j);
             match column.last_mut() {
                 Some((i, x)) if *i == j => *x += shift[j],
                 _ => column.push((j, shift[j])),
             }
-            row_idx.extend(column.iter().map(|&(i, _)| i));
-            values.extend(column.iter().map(|&(_, x)| x));
-            col_ptr.push(row_idx.len());
-        }
-        Csc {
-            n,
-            col_ptr,
-            row_idx,
-            values,
-        }
+        })
     }
 
     /// The matrix as faer's.

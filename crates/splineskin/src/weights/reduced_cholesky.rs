@@ -49,14 +49,9 @@ impl EnergySystem {
         let n = q.n;
         let nnz = q.row_idx.len();
         let (order, inverse) = amd_order(&q)?;
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::with_capacity(nnz / 2 + n);
-        let mut values = Vec::with_capacity(nnz / 2 + n);
-        let mut column: Vec<(usize, f64)> = Vec::new();
-        col_ptr.push(0);
-        for (k, &v) in order.iter().enumerate() {
-            column.clear();
-            let (rows, vals) = q.column(v);
+        // Column k of P Q Pᵀ's upper triangle: vertex order[k]'s entries, renumbered.
+        let permuted = Csc::from_columns(n, nnz / 2 + n, |k, column| {
+            let (rows, vals) = q.column(order[k]);
             column.extend(
                 rows.iter()
                     .zip(vals)
@@ -64,16 +59,7 @@ impl EnergySystem {
                     .filter(|&(r, _)| r <= k),
             );
             column.sort_unstable_by_key(|&(r, _)| r);
-            row_idx.extend(column.iter().map(|&(r, _)| r));
-            values.extend(column.iter().map(|&(_, x)| x));
-            col_ptr.push(row_idx.len());
-        }
-        let permuted = Csc {
-            n,
-            col_ptr,
-            row_idx,
-            values,
-        };
+        });
         Ok(EnergySystem { q, order, permuted })
     }
 
