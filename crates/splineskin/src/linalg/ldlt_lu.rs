@@ -1,16 +1,15 @@
-//! A symmetric indefinite solve of fixed pattern, factored symbolically once and numerically
-//! per set of values: the KKT system of every flexible G¹ step,
+//! A symmetric indefinite solve of fixed pattern: the KKT system of every flexible G¹ step,
 //!
 //! ```text
 //! [ H  Cᵀ ] [ z ]   [ r ]
 //! [ C  0  ] [ λ ] = [ c ]
 //! ```
 //!
-//! (`H` positive definite on the null space of `C`, the constraint rows `C` independent) of
-//! fixed pattern, factored symbolically once and numerically per step: `LDLᵀ` without pivoting
-//! in an elimination order that puts every constraint row after its unknowns, and a sparse LU
-//! with partial pivoting where that fails or leaves a residual above [`KKT_RESIDUAL`]
-//! ([`LdltLu`]; the residual check is [`super::residual_within`]).
+//! (`H` positive definite on the null space of `C`, the constraint rows `C` independent),
+//! factored symbolically once and numerically per step: `LDLᵀ` without pivoting in an
+//! elimination order that puts every constraint row after its unknowns, and a sparse LU with
+//! partial pivoting where that fails or leaves a residual above [`KKT_RESIDUAL`] ([`LdltLu`];
+//! the residual check is [`super::residual_within`]).
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;

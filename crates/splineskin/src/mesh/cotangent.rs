@@ -19,8 +19,9 @@
 //! | 3D | `quad_stiffness_and_mass` | `K = −L` upper-triangle entries and the barycentric lumped mass (`A/3` to each corner), each quad the **average of its two triangulations** (`(0,1,2),(0,2,3)` and `(0,1,3),(1,2,3)`), so that the operators do not depend on a choice of diagonal — a mirror-symmetric mesh has mirror-symmetric operators |
 //!
 //! In 3D a triangle whose area is below [`DEGENERATE_AREA_FRACTION`] of its longest edge
-//! squared has unbounded cotangents and is left out of both operators; a planar [`TriMesh`]
-//! holds no such triangle (its constructors check positive area).
+//! squared has unbounded cotangents and is left out of both operators. In 2D every triangle
+//! counts, as in libigl: a [`TriMesh`]'s triangles have positive area (its constructors check
+//! it).
 
 use faer::sparse::SparseColMat;
 use kurbo::Point;
