@@ -4,7 +4,7 @@
 //! ([`drawing`], [`bezier`]), triangle meshes and their operators ([`mesh`]), the triangulated
 //! domain of a drawing ([`domain`]), skinning weights ([`weights`]: Shepard, harmonic, bounded
 //! biharmonic, mean-value coordinates, coarse-to-fine), the sparse factorisations they share
-//! ([`sparse_cholesky`]), and the closed-form spline fit with its per-frame rig
+//! ([`linalg`]), and the closed-form spline fit with its per-frame rig
 //! ([`spline_fit`]; Liu, Jacobson & Gingold 2014).
 //!
 //! ```text
@@ -20,7 +20,7 @@ pub mod atomic_write;
 pub mod bezier;
 pub mod domain;
 pub mod drawing;
+pub mod linalg;
 pub mod mesh;
-pub mod sparse_cholesky;
 pub mod spline_fit;
 pub mod weights;

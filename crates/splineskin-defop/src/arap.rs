@@ -33,9 +33,9 @@ use super::arap_energy::arap_energy_of;
 use super::deformation_gradient::TriangleGradients;
 use super::handles::{bounding_box_diagonal, HandleSet, NOT_FREE};
 use super::DefOpError;
-use splineskin_core::mesh::operators::laplacian_csc;
+use splineskin_core::linalg::{CholeskyAnalysis, Ordering};
+use splineskin_core::mesh::cotangent::laplacian_csc;
 use splineskin_core::mesh::TriMesh;
-use splineskin_core::sparse_cholesky::{CholeskyAnalysis, Ordering};
 
 /// Default [`ArapOptions::max_iterations`]: 10 000 local–global iterations. libigl's
 /// reference solutions converged in 135–610 iterations on meshes of 575 and 1091 vertices

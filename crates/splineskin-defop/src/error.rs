@@ -1,7 +1,7 @@
 //! [`DefOpError`]: why a ground-truth deformation could not be set up or solved.
 
+use splineskin_core::linalg::LinalgError;
 use splineskin_core::mesh::MeshError;
-use splineskin_core::sparse_cholesky::CholeskyError;
 
 /// Why a point-handle deformation ([`super::Arap`], [`super::SymmetricArap`]) could not be set
 /// up or solved. Every variant names the handle, vertex or triangle at fault.
@@ -224,8 +224,8 @@ pub enum DefOpError {
     },
 }
 
-impl From<CholeskyError> for DefOpError {
-    fn from(e: CholeskyError) -> Self {
+impl From<LinalgError> for DefOpError {
+    fn from(e: LinalgError) -> Self {
         DefOpError::Factorization {
             detail: e.to_string(),
         }

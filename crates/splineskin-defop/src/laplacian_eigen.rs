@@ -57,10 +57,12 @@ use faer::dyn_stack::MemBuffer;
 use faer::{Mat, MatRef};
 
 use super::DefOpError;
+use splineskin_core::linalg::Csc;
+use splineskin_core::linalg::{CholeskyAnalysis, Ordering};
+use splineskin_core::mesh::cotangent::laplacian_csc;
 use splineskin_core::mesh::crouzeix_raviart::linearly_precise_energy_csc;
-use splineskin_core::mesh::operators::{laplacian_csc, lumped_mass, Csc, MassKind};
+use splineskin_core::mesh::operators::{lumped_mass, MassKind};
 use splineskin_core::mesh::TriMesh;
-use splineskin_core::sparse_cholesky::{CholeskyAnalysis, Ordering};
 
 /// The shift `σ` as a fraction of `max_i K_ii / M_ii` (the operator's largest diagonal
 /// Rayleigh quotient, about its highest eigenvalue). It only has to make `K + σM` factor: the
@@ -216,9 +218,7 @@ pub(crate) fn smallest_eigenpairs(
     }
     let shifted = Csc::from_triplets(n, triplets);
     let analysis = CholeskyAnalysis::new(n, shifted.col_ptr, shifted.row_idx, Ordering::Amd)?;
-    let mut factor = vec![0.0; analysis.factor_len()];
-    let mut workspace = analysis.workspace(1)?;
-    analysis.factor(&shifted.values, &mut factor, &mut workspace)?;
+    let (factor, _) = analysis.factored(&shifted.values, 1)?;
     let sqrt_mass: Vec<f64> = mass.iter().map(|m| m.sqrt()).collect();
     // The null space in y = M^{1/2} φ coordinates, orthonormalised (Gram–Schmidt twice).
     let mut deflated: Vec<f64> = Vec::new();

@@ -43,9 +43,9 @@ use super::handles::{bounding_box_diagonal, HandleSet, NOT_FREE};
 use super::orientation::{double_area, max_orientation_preserving_step};
 use super::sarap_energy::{sarap_energy_of, triangle_derivatives};
 use super::DefOpError;
-use splineskin_core::mesh::operators::laplacian_csc;
+use splineskin_core::linalg::{CholeskyAnalysis, Ordering};
+use splineskin_core::mesh::cotangent::laplacian_csc;
 use splineskin_core::mesh::TriMesh;
-use splineskin_core::sparse_cholesky::{CholeskyAnalysis, Ordering};
 
 /// Default [`SarapOptions::max_iterations`]: 1 000 Newton iterations. Solves from the rest
 /// pose take the most: up to 20 on the reference shapes and the benchmark's octopus (rigid

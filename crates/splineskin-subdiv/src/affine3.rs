@@ -12,6 +12,7 @@
 //! an angle ([`rotation_axis_angle`]) or a unit quaternion ([`rotation_quaternion`]).
 
 use super::cage::Point3;
+pub(crate) use splineskin_core::mesh::vec3::{cross, dot, norm, sub};
 
 /// A 3D affine map as 3 rows of 4: `x' = T[0][0] x + T[0][1] y + T[0][2] z + T[0][3]`, and so
 /// on for `y'`, `z'` (the 3 × 4 matrix `T_i` acting on `(x, y, z, 1)`; module documentation).
@@ -152,32 +153,8 @@ pub fn affine3_is_finite(t: &Affine3) -> bool {
     t.iter().flatten().all(|x| x.is_finite())
 }
 
-/// `‖p‖`.
-pub fn norm(p: Point3) -> f64 {
-    (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt()
-}
-
-/// `a − b`.
-pub fn sub(a: Point3, b: Point3) -> Point3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-/// `a · b`.
-pub fn dot(a: Point3, b: Point3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// `a × b`.
-pub fn cross(a: Point3, b: Point3) -> Point3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
 /// `‖a − b‖²`.
-pub fn distance2(a: Point3, b: Point3) -> f64 {
+pub(crate) fn distance2(a: Point3, b: Point3) -> f64 {
     let d = sub(a, b);
     dot(d, d)
 }

@@ -34,7 +34,6 @@
 pub mod affine3;
 mod cage;
 mod compare;
-mod cotangent_laplacian;
 mod error;
 mod handles;
 mod hierarchy;

@@ -48,7 +48,7 @@ use super::affine3::Affine3;
 use super::cage::{Cage, Point3};
 use super::error::SubdivError;
 use super::quadrature::LimitQuadrature;
-use splineskin_core::sparse_cholesky::{solve_spd_in_place, UpperCsc};
+use splineskin_core::linalg::{solve_spd_in_place, Csc};
 
 /// Weight `ε` of the regularisation, relative to the diagonal of `Â` (module documentation):
 /// small enough that the fit to the skinned surface changes by about that fraction, large
@@ -284,7 +284,7 @@ fn solve_gram(
     rhs: &mut [f64],
 ) -> Result<(), SubdivError> {
     let shift: Vec<f64> = diagonal.iter().map(|d| RIG_REGULARIZATION * d).collect();
-    let upper = UpperCsc::from_symmetric(gram, &shift);
+    let upper = Csc::upper_from_symmetric(gram, &shift);
     solve_spd_in_place(&upper, rhs).map_err(|e| SubdivError::BadRig {
         what: format!("the Gram matrix Â: {e}; expected it positive definite"),
     })

@@ -26,8 +26,8 @@
 //! do not meet. Scaling `M_CR` (libigl divides it by its largest entry) scales `A` and does not
 //! change any minimiser; it is not done here.
 
-use super::operators::Csc;
 use super::TriMesh;
+use crate::linalg::Csc;
 
 /// The edges of a mesh and, per triangle corner, the edge opposite it.
 #[derive(Clone, Debug, PartialEq)]

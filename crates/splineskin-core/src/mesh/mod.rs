@@ -4,11 +4,14 @@
 //! A [`TriMesh`] is an indexed triangle list in the drawing's coordinates. Triangles are
 //! counter-clockwise (positive signed area) — every constructor and reader checks it.
 //!
-//! [`operators`] builds the discrete operators on a mesh: the cotangent Laplacian, the lumped
-//! mass matrices and the polyharmonic energies the weight families minimise.
+//! [`operators`] builds the discrete operators on a mesh: the cotangent Laplacian (of both
+//! dimensions in [`cotangent`]), the lumped mass matrices and the polyharmonic energies the
+//! weight families minimise.
 
+pub mod cotangent;
 pub mod crouzeix_raviart;
 pub mod operators;
+pub mod vec3;
 
 use std::collections::HashMap;
 

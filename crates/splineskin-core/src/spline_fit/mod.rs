@@ -4,7 +4,7 @@
 //! | paper (Liu et al. 2014 §4) | here |
 //! |---|---|
 //! | `Â` (Gram matrix of the Bernstein basis) | [`quadrature::CurveNodes::gram`] |
-//! | `Ŵ_i` (weighted Gram times `C̄`) | assembled in `system` from [`quadrature::CurveNodes::weighted_grams`] |
+//! | `Ŵ_i` (weighted Gram times `C̄`) | [`weighted_integrals`] ([`quadrature::CurveNodes::weighted_grams`] times `C̄`) |
 //! | continuity constraints (Table 1) | [`constraints`] |
 //! | per-handle operators `O_i` | [`SplineRig`] rows |
 //!
@@ -16,6 +16,7 @@ pub mod quadrature;
 mod rig;
 pub mod shared_curves;
 pub mod system;
+pub mod weighted_integrals;
 
 pub use constraints::ConstraintForm;
 pub use flexible::{FlexibleError, FlexibleOptions, FlexibleReport, FlexibleRule, FlexibleSolver};

@@ -1,5 +1,6 @@
 //! Quadrature along one curve: the nodes and node weights that integrate both the Gram matrix
-//! `Â_j = ∫ b bᵀ dμ` and the weighted matrices `M_ij = ∫ w_i(B(t)) b bᵀ dμ` of curve `j`.
+//! `Â_j = ∫ b bᵀ dμ` and the weighted matrices `M_ij = ∫ w_i(B(t)) b bᵀ dμ` of curve `j` (the
+//! weighted integrals `Ŵ_ij = C̄_j M_ij` are in [`super::weighted_integrals`]).
 //!
 //! Using one rule for both is what makes the fit exact on the invariants: when `Σ_i w_i ≡ 1`,
 //! `Σ_i M_ij = Â_j` to rounding, so identity transforms reproduce the curve and one affine map
@@ -223,7 +224,7 @@ pub struct CurveNodes<'a> {
     pub omega: &'a [f64],
     /// `w_i` at node `q`: entry `q · n_handles + i`.
     pub weights: &'a [f64],
-    n_handles: usize,
+    pub(super) n_handles: usize,
 }
 
 /// Builder of one curve's nodes, reused across curves to avoid reallocating.
@@ -384,34 +385,6 @@ impl CurveNodes<'_> {
             }
         }
         a
-    }
-
-    /// `M_i = Σ_q ω_q w_i(q) b(t_q) b(t_q)ᵀ` for every handle `i`, written to `out`
-    /// (one 4×4 matrix per handle).
-    pub fn weighted_grams(&self, out: &mut Vec<[[f64; 4]; 4]>) {
-        let n_handles = self.n_handles;
-        out.clear();
-        out.resize(n_handles, [[0.0; 4]; 4]);
-        for (q, (&t, &w)) in self.t.iter().zip(self.omega).enumerate() {
-            let b = bezier::bernstein(t);
-            let mut bb = [[0.0; 4]; 4];
-            for k in 0..4 {
-                for l in 0..4 {
-                    bb[k][l] = w * b[k] * b[l];
-                }
-            }
-            for (i, m) in out.iter_mut().enumerate() {
-                let wi = self.weights[q * n_handles + i];
-                if wi == 0.0 {
-                    continue;
-                }
-                for k in 0..4 {
-                    for l in 0..4 {
-                        m[k][l] += wi * bb[k][l];
-                    }
-                }
-            }
-        }
     }
 }
 

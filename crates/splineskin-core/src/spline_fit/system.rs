@@ -1,5 +1,6 @@
 //! The fit system of one path: assembly of the KKT matrix and right-hand sides, one sparse LU
-//! factorisation, and the solve for all `6h` right-hand sides.
+//! factorisation (`crate::linalg::lu_solve_in_place`), and the solve for all `6h` right-hand
+//! sides.
 //!
 //! The energy of path `P` (Liu et al. 2014 §4; DESIGN.md §1) over its unknown chain points `x`
 //! (two coordinates each, interleaved) is
@@ -7,7 +8,7 @@
 //! ```text
 //! E(x) = Σ_j Σ_d  x_jdᵀ Â_j x_jd − 2 x_jdᵀ (Σ_i T_i Ŵ_ij)_d + const
 //! Â_j  = ∫ b bᵀ dμ_j                       (4×4, curve j)
-//! Ŵ_ij = C̄_j ∫ w_i(B_j(t)) b bᵀ dμ_j       (3×4, C̄_j the homogeneous input controls)
+//! Ŵ_ij = C̄_j ∫ w_i(B_j(t)) b bᵀ dμ_j       (3×4, C̄_j the homogeneous input controls; weighted_integrals.rs)
 //! ```
 //!
 //! with `x_jd` the four coordinates `d` of curve `j`. Minimising it subject to the junction rows
@@ -46,15 +47,16 @@
 //! constraint rows' (which are divided by their largest tangent length): the minimiser is the
 //! same, and the KKT matrix's conditioning no longer depends on the drawing's size.
 
-use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
 use kurbo::{Point, Vec2};
 
 use super::constraints::{junction_rows, push_pins, tangent_junctions, ConstraintRows};
 use super::quadrature::SampledCurves;
+use super::weighted_integrals::weighted_integral;
 use super::{ConstraintForm, FitError, FitOptions};
 use crate::drawing::Path;
+use crate::linalg::lu_solve_in_place;
 
 /// Relative size of the smallest singular value below which a path's system counts as rank
 /// deficient (compatibility mode's check): 1e-12.
@@ -220,19 +222,13 @@ pub fn solve_group(
                     }
                 }
             }
-            // Ŵ_ij[s][l] = Σ_k C̄[s][k] M_ij[k][l], C̄ rows = (x, y, 1).
             for (i, mij) in weighted.iter().enumerate() {
+                let w = weighted_integral(&c, mij);
                 for (l, &pl) in idx.iter().enumerate() {
-                    let mut w = [0.0; 3];
-                    for (k, ck) in c.iter().enumerate() {
-                        w[0] += ck.x * mij[k][l];
-                        w[1] += ck.y * mij[k][l];
-                        w[2] += mij[k][l];
-                    }
                     for (s, ws) in w.iter().enumerate().skip(first_row) {
                         for d in 0..2 {
                             rhs[(2 * pl + d, per_handle * i + 2 * (s - first_row) + d)] +=
-                                balance * ws;
+                                balance * ws[l];
                         }
                     }
                 }
@@ -251,11 +247,10 @@ pub fn solve_group(
     })?;
 
     let rank_deficient = options.check_rank && is_rank_deficient(&kkt);
-    let lu = kkt.sp_lu().map_err(|e| FitError::Solver {
+    lu_solve_in_place(&kkt, rhs.as_mut()).map_err(|e| FitError::Solver {
         path: path_index,
-        detail: format!("LU factorisation: {e:?}"),
+        detail: e.to_string(),
     })?;
-    lu.solve_in_place(rhs.as_mut());
 
     let mut operator = rhs.subrows(0, n_x).to_owned();
     // The group's rest points, about the centre (one per unknown).

@@ -10,7 +10,7 @@
 //!
 //! (libigl's `min_quad_with_fixed` without linear term or equality rows). `Q_ff` is positive
 //! definite when every connected part of the mesh holds a fixed vertex, and is factored by the
-//! crate's sparse Cholesky (`crate::sparse_cholesky`: faer, supernodal or simplicial as faer
+//! crate's sparse Cholesky (`crate::linalg::cholesky`: faer, supernodal or simplicial as faer
 //! chooses, sequential) in the order described next.
 //!
 //! **Orderings.** The fill-reducing ordering is computed once, by AMD on the pattern of the
@@ -22,13 +22,10 @@
 //! the bounded solve, which factors a new `Q_ff` per active-set iteration, needs no ordering
 //! pass per iteration, only the (linear-time) symbolic analysis.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::amd;
-use faer::sparse::SymbolicSparseColMatRef;
+use faer::dyn_stack::MemBuffer;
 
 use super::WeightsError;
-use crate::mesh::operators::Csc;
-use crate::sparse_cholesky::{CholeskyAnalysis, CholeskyError, Ordering};
+use crate::linalg::{amd_order, CholeskyAnalysis, Csc, LinalgError, Ordering};
 
 /// Right-hand sides solved together: the workspace is sized for this many columns.
 const SOLVE_BLOCK: usize = 8;
@@ -50,28 +47,11 @@ impl EnergySystem {
     /// Wraps `q` and orders it by AMD (faer's, default parameters).
     pub fn new(q: Csc) -> Result<EnergySystem, WeightsError> {
         let n = q.n;
-        let mut order = vec![0usize; n];
-        let mut inverse = vec![0usize; n];
         let nnz = q.row_idx.len();
-        let mut memory = MemBuffer::try_new(amd::order_scratch::<usize>(n, nnz))
-            .map_err(|e| factorization_error("AMD workspace", e))?;
-        let pattern = SymbolicSparseColMatRef::new_checked(n, n, &q.col_ptr, None, &q.row_idx);
-        amd::order(
-            &mut order,
-            &mut inverse,
-            pattern,
-            amd::Control::default(),
-            MemStack::new(&mut memory),
-        )
-        .map_err(|e| factorization_error("AMD ordering", e))?;
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::with_capacity(nnz / 2 + n);
-        let mut values = Vec::with_capacity(nnz / 2 + n);
-        let mut column: Vec<(usize, f64)> = Vec::new();
-        col_ptr.push(0);
-        for (k, &v) in order.iter().enumerate() {
-            column.clear();
-            let (rows, vals) = q.column(v);
+        let (order, inverse) = amd_order(&q)?;
+        // Column k of P Q Pᵀ's upper triangle: vertex order[k]'s entries, renumbered.
+        let permuted = Csc::from_columns(n, nnz / 2 + n, |k, column| {
+            let (rows, vals) = q.column(order[k]);
             column.extend(
                 rows.iter()
                     .zip(vals)
@@ -79,16 +59,7 @@ impl EnergySystem {
                     .filter(|&(r, _)| r <= k),
             );
             column.sort_unstable_by_key(|&(r, _)| r);
-            row_idx.extend(column.iter().map(|&(r, _)| r));
-            values.extend(column.iter().map(|&(_, x)| x));
-            col_ptr.push(row_idx.len());
-        }
-        let permuted = Csc {
-            n,
-            col_ptr,
-            row_idx,
-            values,
-        };
+        });
         Ok(EnergySystem { q, order, permuted })
     }
 
@@ -151,9 +122,7 @@ impl EnergySystem {
             col_ptr.push(row_idx.len());
         }
         let analysis = CholeskyAnalysis::new(m, col_ptr, row_idx, Ordering::Identity)?;
-        let mut factor = vec![0.0; analysis.factor_len()];
-        let mut memory = analysis.workspace(SOLVE_BLOCK)?;
-        analysis.factor(&values, &mut factor, &mut memory)?;
+        let (factor, memory) = analysis.factored(&values, SOLVE_BLOCK)?;
         Ok(ReducedCholesky {
             vertices,
             position,
@@ -167,14 +136,8 @@ impl EnergySystem {
 /// Marks a vertex that is not free in [`ReducedCholesky`]'s position map.
 const NOT_FREE: usize = usize::MAX;
 
-fn factorization_error(stage: &str, e: impl std::fmt::Debug) -> WeightsError {
-    WeightsError::Factorization {
-        detail: format!("{stage}: {e:?}"),
-    }
-}
-
-impl From<CholeskyError> for WeightsError {
-    fn from(e: CholeskyError) -> Self {
+impl From<LinalgError> for WeightsError {
+    fn from(e: LinalgError) -> Self {
         WeightsError::Factorization {
             detail: e.to_string(),
         }

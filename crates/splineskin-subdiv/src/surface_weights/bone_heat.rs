@@ -8,7 +8,7 @@
 //!
 //! | symbol | meaning |
 //! |---|---|
-//! | `K = −L` | cotangent stiffness of the limit mesh ([`super::super::cotangent_laplacian`]), `n × n` |
+//! | `K = −L` | cotangent stiffness of the limit mesh ([`splineskin_core::mesh::cotangent`]), `n × n` |
 //! | `M` | its lumped (barycentric) mass, diagonal |
 //! | `H` | heat: `H_jj = k·c / d_j²` when the nearest *visible* handle of vertex `j` is at distance `d_j`, shared by `k` equidistant handles; `c =` [`HEAT_CONSTANT`]; 0 when no handle is visible |
 //! | `p_i` | `p_ij = 1/k` if handle `i` is one of the `k` nearest visible handles of `j`, else 0 |
@@ -44,13 +44,13 @@
 
 use super::super::affine3::{distance2, norm, sub};
 use super::super::cage::{Cage, Point3};
-use super::super::cotangent_laplacian::quad_stiffness_and_mass;
 use super::super::handles::Handles3;
 use super::super::limit::LimitSurface;
 use super::super::limit_mesh::LimitMesh;
 use super::super::visibility::TriangleBvh;
 use super::{SurfaceSample, SurfaceWeights, SurfaceWeightsError};
-use splineskin_core::sparse_cholesky::{solve_spd_in_place, UpperCsc};
+use splineskin_core::linalg::{solve_spd_in_place, Csc};
+use splineskin_core::mesh::cotangent::quad_stiffness_and_mass;
 
 /// The fewest quads of the limit mesh the default level reaches: 8 192 (the torus's 32 quads
 /// refined 4 times; the car's 1 575 twice, 25 200 quads). Enough for weights that vary over a
@@ -222,7 +222,7 @@ impl BoneHeat {
         }
         let (entries, mass) = quad_stiffness_and_mass(&positions, mesh.quads());
         let shift: Vec<f64> = (0..n).map(|j| mass[j] * heat[j]).collect();
-        let system = UpperCsc::from_entries(n, entries, &shift);
+        let system = Csc::upper_from_entries(n, entries, &shift);
         // Right-hand sides, column-major: column i is M H p_i.
         let mut columns = vec![0.0; n * h];
         for j in 0..n {

@@ -13,7 +13,7 @@
 //! with a margin. Pixels are sampled at their centres; [`Raster::to_rgba`] downsamples a
 //! supersampled raster by box filtering.
 
-use splineskin_subdiv::affine3::{cross, dot, norm, sub};
+use splineskin_core::mesh::vec3::{cross, dot, norm, sub};
 use splineskin_subdiv::Point3;
 
 /// Share of light every lit surface gets whatever its orientation: 0.35.

@@ -19,13 +19,14 @@
 //!   also builds the Newton step's matrix, `newton.rs`).
 //!
 //! Every KKT matrix keeps its pattern (every entry, zero or not) and is eliminated in chain
-//! order, each constraint row after its unknowns ([`elimination_keys`], `kkt.rs`).
+//! order, each constraint row after its unknowns ([`elimination_keys`]), and solved by
+//! `crate::linalg::LdltLu` (`LDLᵀ` in that order, a pivoting LU where that fails).
 
 use kurbo::{Point, Vec2};
 
 use super::energy::PathNodes;
-use super::kkt::{Kkt, KktScratch};
 use crate::drawing::JointKind;
+use crate::linalg::{LdltLu, LdltLuScratch, LinalgError};
 use crate::spline_fit::constraints::{
     push_pins, tangent_junctions, ConstraintRows, TangentJunction,
 };
@@ -62,10 +63,10 @@ pub(super) struct FlexPath {
     /// Index of the path in the drawing (and in [`FlexibleSolver::nodes`]).
     pub(super) path: usize,
     pub(super) layout: Layout,
-    pub(super) ratio: Kkt,
-    pub(super) direction: Kkt,
+    pub(super) ratio: LdltLu,
+    pub(super) direction: LdltLu,
     /// The Gauss–Newton step's system: the direction step's plus a turn per junction.
-    pub(super) newton: Kkt,
+    pub(super) newton: LdltLu,
 }
 
 /// Scratch of one path's solve.
@@ -74,7 +75,7 @@ pub(super) struct Scratch {
     pub(super) target: Vec<Point>,
     pub(super) b: Vec<f64>,
     pub(super) entries: Vec<(usize, usize, f64)>,
-    pub(super) kkt: KktScratch,
+    pub(super) kkt: LdltLuScratch,
     pub(super) rhs: Vec<f64>,
     /// The energy under which the path counts as converged ([`PathNodes::noise_floor`]).
     pub(super) floor: f64,
@@ -245,7 +246,8 @@ impl FlexPath {
         sc.rhs.extend_from_slice(&sc.b);
         sc.rhs.resize(self.ratio.n, 0.0);
         self.ratio
-            .solve(&sc.entries, &mut sc.kkt, &mut sc.rhs, self.path)?;
+            .solve(&sc.entries, &mut sc.kkt, &mut sc.rhs)
+            .map_err(kkt_error(self.path))?;
         Ok((0..nodes.m)
             .map(|k| Point::new(sc.rhs[2 * k], sc.rhs[2 * k + 1]))
             .collect())
@@ -272,7 +274,8 @@ impl FlexPath {
             }
         }
         self.direction
-            .solve(&sc.entries, &mut sc.kkt, &mut sc.rhs, self.path)?;
+            .solve(&sc.entries, &mut sc.kkt, &mut sc.rhs)
+            .map_err(kkt_error(self.path))?;
         let z = &sc.rhs;
         let point = |f: usize| Point::new(z[2 * f], z[2 * f + 1]);
         let scalars: Vec<f64> = (0..dirs.len()).map(|s| z[2 * layout.n_free + s]).collect();
@@ -464,7 +467,7 @@ pub(super) fn flex_path(
     let n_rows = layout.fixed_rows.n_rows + 2 * layout.flexible.len();
     let n = 2 * m + n_rows;
     let keys = elimination_keys(n, 2 * m, |i| (i / 2) as f64, &entries);
-    let ratio = Kkt::new(n, &entries, &keys, pi)?;
+    let ratio = LdltLu::new(n, &entries, &keys).map_err(kkt_error(pi))?;
     let dirs = vec![Vec2::new(1.0, 1.0); layout.n_scalars()];
     // Direction and Gauss–Newton unknowns in chain order too: a free point at its own place,
     // a scalar at its neighbour's, a turn at its junction point's.
@@ -489,14 +492,14 @@ pub(super) fn flex_path(
     let n_z = 2 * n_free + layout.n_scalars();
     let n = n_z + layout.fixed_rows.n_rows;
     let keys = elimination_keys(n, n_z, z_key, &entries);
-    let direction = Kkt::new(n, &entries, &keys, pi)?;
+    let direction = LdltLu::new(n, &entries, &keys).map_err(kkt_error(pi))?;
     let sigma = vec![1.0; layout.n_scalars()];
     let grad = vec![Vec2::new(1.0, 1.0); layout.n_scalars()];
     layout.direction_entries(nodes, &dirs, Some((&sigma, &grad)), &mut entries);
     let n_z = n_z + layout.flexible.len();
     let n = n_z + layout.fixed_rows.n_rows;
     let keys = elimination_keys(n, n_z, z_key, &entries);
-    let newton = Kkt::new(n, &entries, &keys, pi)?;
+    let newton = LdltLu::new(n, &entries, &keys).map_err(kkt_error(pi))?;
     Ok(Some(FlexPath {
         path: pi,
         layout,
@@ -504,6 +507,21 @@ pub(super) fn flex_path(
         direction,
         newton,
     }))
+}
+
+/// The fit error of a failed KKT solve of path `path`: [`FitError::Singular`] for a solution
+/// that is not finite, otherwise [`FitError::Solver`] with the stage and faer's report.
+pub(super) fn kkt_error(path: usize) -> impl Fn(LinalgError) -> FitError {
+    move |e| {
+        if e.is_singular() {
+            FitError::Singular { path }
+        } else {
+            FitError::Solver {
+                path,
+                detail: format!("flexible G1, {e}"),
+            }
+        }
+    }
 }
 
 #[cfg(test)]

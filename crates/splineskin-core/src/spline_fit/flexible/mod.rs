@@ -43,14 +43,13 @@
 //! |---|---|
 //! | `options.rs` | [`FlexibleRule`], [`FlexibleOptions`] and their defaults |
 //! | `energy.rs` | one path's `E`, skinned target, right-hand side, half-gradient and noise floor |
-//! | `kkt.rs` | the KKT solve of every step: `LDLᵀ` in chain order, a pivoting LU where that fails |
-//! | `layout.rs` | which junctions are flexible, the steps' unknowns and KKT patterns, the ratio and direction steps |
+//! | `layout.rs` | which junctions are flexible, the steps' unknowns and KKT patterns (solved by `crate::linalg::LdltLu`: `LDLᵀ` in chain order, a pivoting LU where that fails), the ratio and direction steps |
 //! | `newton.rs` | [`FlexibleRule::Newton`]: the (Gauss–)Newton step, its active set and line search |
 //! | `alternation.rs` | [`FlexibleRule::Alternating`]: direction and ratio steps in turn |
 //! | `authors.rs` | [`FlexibleRule::Authors`]: the authors' schedule and stopping test |
 //! | `mod.rs` | [`FlexibleSolver`]: building the paths' systems, the warm start, the dispatch to a rule, the report |
 //!
-//! Arrows go one way: `mod.rs` → the three rules → `layout.rs` → `energy.rs`, `kkt.rs` (the
+//! Arrows go one way: `mod.rs` → the three rules → `layout.rs` → `energy.rs`, `crate::linalg` (the
 //! rules read `energy.rs` and `options.rs` too); no file reads `mod.rs` outside tests.
 //!
 //! **Paths.** Paths are independent; only those with a flexible junction iterate, in parallel
@@ -72,7 +71,6 @@
 mod alternation;
 mod authors;
 mod energy;
-mod kkt;
 mod layout;
 mod newton;
 mod options;

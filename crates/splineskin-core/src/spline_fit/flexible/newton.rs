@@ -255,7 +255,8 @@ impl FlexPath {
             sc.rhs[zs] = diagonal * value;
         }
         self.newton
-            .solve(&sc.entries, &mut sc.kkt, &mut sc.rhs, self.path)?;
+            .solve(&sc.entries, &mut sc.kkt, &mut sc.rhs)
+            .map_err(super::layout::kkt_error(self.path))?;
         let z = &sc.rhs;
         let (nf, ns) = (layout.n_free, layout.n_scalars());
         Ok(NewtonStep {

@@ -1,14 +1,15 @@
-//! The linear solve of every flexible step: a symmetric KKT system
+//! A symmetric indefinite solve of fixed pattern: the KKT system of every flexible G¹ step,
 //!
 //! ```text
 //! [ H  Cᵀ ] [ z ]   [ r ]
 //! [ C  0  ] [ λ ] = [ c ]
 //! ```
 //!
-//! (`H` positive definite on the null space of `C`, the constraint rows `C` independent) of
-//! fixed pattern, factored symbolically once and numerically per step: `LDLᵀ` without pivoting
-//! in an elimination order that puts every constraint row after its unknowns, and a sparse LU
-//! with partial pivoting where that fails ([`Kkt`]).
+//! (`H` positive definite on the null space of `C`, the constraint rows `C` independent),
+//! factored symbolically once and numerically per step: `LDLᵀ` without pivoting in an
+//! elimination order that puts every constraint row after its unknowns, and a sparse LU with
+//! partial pivoting where that fails or leaves a residual above [`KKT_RESIDUAL`] ([`LdltLu`];
+//! the residual check is [`super::residual_within`]).
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
@@ -20,10 +21,10 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::{Argsort, Pair, SparseColMat, SparseColMatRef, SymbolicSparseColMat};
+use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
 
-use crate::spline_fit::FitError;
+use super::{residual_within, LinalgError};
 
 /// A KKT matrix `[H, Cᵀ; C, 0]` of fixed pattern (every entry is kept, zero or not): the
 /// symbolic structure, the order of its values, and its symbolic factorisations, computed once.
@@ -36,9 +37,9 @@ use crate::spline_fit::FitError;
 /// or leaves a residual above [`KKT_RESIDUAL`] (dependent rows, or growth) is redone with a
 /// sparse LU with partial pivoting, whose symbolic analysis is also done once.
 #[derive(Clone, Debug)]
-pub(super) struct Kkt {
+pub struct LdltLu {
     /// Rows (and columns).
-    pub(super) n: usize,
+    pub n: usize,
     symbolic: SymbolicSparseColMat<usize>,
     argsort: Argsort<usize>,
     ldlt: std::sync::Arc<SymbolicCholesky<usize>>,
@@ -49,32 +50,31 @@ pub(super) struct Kkt {
 
 /// Largest residual `‖K z − r‖∞` of a KKT solve by `LDLᵀ`, relative to `‖K‖∞ ‖z‖∞ + ‖r‖∞`,
 /// accepted before the solve is redone by LU: 1e-11.
-const KKT_RESIDUAL: f64 = 1e-11;
+pub const KKT_RESIDUAL: f64 = 1e-11;
 
-/// Reusable buffers of [`Kkt::solve`].
+/// Reusable buffers of [`LdltLu::solve`].
 #[derive(Default)]
-pub(super) struct KktScratch {
+pub struct LdltLuScratch {
     values: Vec<f64>,
     l_values: Vec<f64>,
     rhs: Vec<f64>,
     mem: Option<MemBuffer>,
 }
 
-impl Kkt {
+impl LdltLu {
     /// The pattern of `entries` (both triangles), eliminated in the order of `keys` (one per
     /// row/column; ties keep index order).
-    pub(super) fn new(
+    pub fn new(
         n: usize,
         entries: &[(usize, usize, f64)],
         keys: &[f64],
-        path: usize,
-    ) -> Result<Kkt, FitError> {
+    ) -> Result<LdltLu, LinalgError> {
         let pairs: Vec<Pair<usize, usize>> = entries
             .iter()
             .map(|&(row, col, _)| Pair { row, col })
             .collect();
         let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
-            .map_err(|e| solver_error(path, "assembling the pattern", e))?;
+            .map_err(|e| LinalgError::new("assembling the pattern", e))?;
         let mut order: Vec<usize> = (0..n).collect();
         order.sort_by(|&i, &j| keys[i].total_cmp(&keys[j]).then(i.cmp(&j)));
         let mut inverse = vec![0; n];
@@ -91,14 +91,14 @@ impl Kkt {
                 ..Default::default()
             },
         )
-        .map_err(|e| solver_error(path, "symbolic LDLT factorisation", e))?;
+        .map_err(|e| LinalgError::new("symbolic LDLT factorisation", e))?;
         let lu = SymbolicLu::try_new(symbolic.as_ref())
-            .map_err(|e| solver_error(path, "symbolic LU factorisation", e))?;
+            .map_err(|e| LinalgError::new("symbolic LU factorisation", e))?;
         let stack_req = StackReq::any_of(&[
             ldlt.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default()),
             ldlt.solve_in_place_scratch::<f64>(1, Par::Seq),
         ]);
-        Ok(Kkt {
+        Ok(LdltLu {
             n,
             symbolic,
             argsort,
@@ -109,18 +109,17 @@ impl Kkt {
     }
 
     /// Factors the matrix with `entries` (the same entries, in the same order, as given to
-    /// [`Kkt::new`]) and solves it for `rhs` in place.
-    pub(super) fn solve(
+    /// [`LdltLu::new`]) and solves it for `rhs` in place.
+    pub fn solve(
         &self,
         entries: &[(usize, usize, f64)],
-        sc: &mut KktScratch,
+        sc: &mut LdltLuScratch,
         rhs: &mut [f64],
-        path: usize,
-    ) -> Result<(), FitError> {
+    ) -> Result<(), LinalgError> {
         sc.values.clear();
         sc.values.extend(entries.iter().map(|e| e.2));
         let mat = SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, &sc.values)
-            .map_err(|e| solver_error(path, "filling the matrix", e))?;
+            .map_err(|e| LinalgError::new("filling the matrix", e))?;
         sc.rhs.clear();
         sc.rhs.extend_from_slice(rhs);
         sc.l_values.resize(self.ldlt.len_val(), 0.0);
@@ -145,44 +144,20 @@ impl Kkt {
                     Par::Seq,
                     stack,
                 );
-                residual_ok(mat.as_ref(), rhs, &sc.rhs)
+                residual_within(mat.as_ref(), rhs, &sc.rhs, KKT_RESIDUAL)
             }
             Err(_) => false,
         };
         if !ok {
             rhs.copy_from_slice(&sc.rhs);
             let lu = Lu::try_new_with_symbolic(self.lu.clone(), mat.as_ref())
-                .map_err(|e| solver_error(path, "LU factorisation", e))?;
+                .map_err(|e| LinalgError::new("LU factorisation", e))?;
             lu.solve_in_place(MatMut::from_column_major_slice_mut(rhs, self.n, 1));
         }
         if rhs.iter().any(|v| !v.is_finite()) {
-            return Err(FitError::Singular { path });
+            return Err(LinalgError::singular());
         }
         Ok(())
-    }
-}
-
-/// Whether `z` solves `K z = r` to [`KKT_RESIDUAL`].
-pub(super) fn residual_ok(k: SparseColMatRef<'_, usize, f64>, z: &[f64], r: &[f64]) -> bool {
-    let mut res = r.to_vec();
-    let mut norm_k: f64 = 0.0;
-    for j in 0..k.ncols() {
-        let mut col = 0.0;
-        for (i, v) in k.row_idx_of_col(j).zip(k.val_of_col(j)) {
-            res[i] -= v * z[j];
-            col += v.abs();
-        }
-        norm_k = norm_k.max(col);
-    }
-    let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let scale = norm_k * inf(z) + inf(r);
-    res.iter().all(|v| v.is_finite()) && inf(&res) <= KKT_RESIDUAL * scale
-}
-
-pub(super) fn solver_error(path: usize, what: &str, e: impl std::fmt::Debug) -> FitError {
-    FitError::Solver {
-        path,
-        detail: format!("flexible G1, {what}: {e:?}"),
     }
 }
 
@@ -200,10 +175,10 @@ mod tests {
         e
     }
 
-    fn solve(keys: &[f64], entries: &[(usize, usize, f64)]) -> Result<Vec<f64>, FitError> {
-        let kkt = Kkt::new(4, entries, keys, 0)?;
+    fn solve(keys: &[f64], entries: &[(usize, usize, f64)]) -> Result<Vec<f64>, LinalgError> {
+        let kkt = LdltLu::new(4, entries, keys)?;
         let mut rhs = vec![0.0, 0.0, 0.0, 1.0];
-        kkt.solve(entries, &mut KktScratch::default(), &mut rhs, 0)?;
+        kkt.solve(entries, &mut LdltLuScratch::default(), &mut rhs)?;
         Ok(rhs)
     }
 
@@ -233,9 +208,9 @@ mod tests {
         for v in &mut e[..3] {
             v.2 = 2.0;
         }
-        let kkt = Kkt::new(4, &equality_qp(), &[0.0, 1.0, 2.0, 2.5], 0).unwrap();
+        let kkt = LdltLu::new(4, &equality_qp(), &[0.0, 1.0, 2.0, 2.5]).unwrap();
         let mut rhs = vec![0.0, 0.0, 0.0, 1.0];
-        kkt.solve(&e, &mut KktScratch::default(), &mut rhs, 0)
+        kkt.solve(&e, &mut LdltLuScratch::default(), &mut rhs)
             .unwrap();
         let expected = [1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, -2.0 / 3.0];
         for (a, b) in rhs.iter().zip(expected) {
@@ -244,7 +219,7 @@ mod tests {
     }
 
     #[test]
-    fn residual_ok_accepts_the_solution_and_rejects_a_perturbed_one() {
+    fn residual_within_accepts_the_solution_and_rejects_a_perturbed_one() {
         let e = equality_qp();
         let pairs: Vec<Pair<usize, usize>> =
             e.iter().map(|&(row, col, _)| Pair { row, col }).collect();
@@ -252,9 +227,9 @@ mod tests {
         let values: Vec<f64> = e.iter().map(|v| v.2).collect();
         let k = SparseColMat::new_from_argsort(symbolic, &argsort, &values).unwrap();
         let r = [0.0, 0.0, 0.0, 1.0];
-        assert!(residual_ok(k.as_ref(), &EXPECTED, &r));
+        assert!(residual_within(k.as_ref(), &EXPECTED, &r, KKT_RESIDUAL));
         let mut z = EXPECTED;
         z[1] += 1e-9;
-        assert!(!residual_ok(k.as_ref(), &z, &r));
+        assert!(!residual_within(k.as_ref(), &z, &r, KKT_RESIDUAL));
     }
 }

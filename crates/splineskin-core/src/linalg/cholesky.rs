@@ -3,8 +3,8 @@
 //! its numeric factorisation (per set of values), with solves that allocate nothing (the caller
 //! owns the workspace). Shared by the weight solvers (`weights`), the ground-truth deformations
 //! (`defop`), the spatial bases of the deformation operators and the subdivision rig and its
-//! bone-heat weights ([`solve_spd_in_place`], one system solved once, built as an
-//! [`UpperCsc`]).
+//! bone-heat weights ([`solve_spd_in_place`], one system solved once, given as the upper
+//! triangle in a [`Csc`]).
 //!
 //! ```text
 //! once per pattern:   CholeskyAnalysis::new(n, col_ptr, row_idx, ordering)   (upper triangle, sorted rows)
@@ -19,12 +19,15 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::amd;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
     SymmetricOrdering,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
+
+use super::{Csc, LinalgError};
 
 /// The elimination order of a [`CholeskyAnalysis`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,29 +36,6 @@ pub enum Ordering {
     Amd,
     /// The pattern's own order (the caller has already ordered it).
     Identity,
-}
-
-/// Why a factorisation step failed: the stage and faer's report. Each module wraps it in its
-/// own error's `Factorization` variant.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CholeskyError {
-    /// "symbolic analysis", "workspace", "numeric factorisation".
-    pub stage: &'static str,
-    /// faer's error, formatted.
-    pub detail: String,
-}
-
-impl std::fmt::Display for CholeskyError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}: {}", self.stage, self.detail)
-    }
-}
-
-fn error(stage: &'static str, e: impl std::fmt::Debug) -> CholeskyError {
-    CholeskyError {
-        stage,
-        detail: format!("{e:?}"),
-    }
 }
 
 /// The symbolic analysis of a symmetric `n × n` pattern given by its upper triangle in
@@ -75,7 +55,7 @@ impl CholeskyAnalysis {
         col_ptr: Vec<usize>,
         row_idx: Vec<usize>,
         ordering: Ordering,
-    ) -> Result<CholeskyAnalysis, CholeskyError> {
+    ) -> Result<CholeskyAnalysis, LinalgError> {
         let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
         let ordering = match ordering {
             Ordering::Amd => SymmetricOrdering::Amd,
@@ -87,7 +67,7 @@ impl CholeskyAnalysis {
             ordering,
             CholeskySymbolicParams::default(),
         )
-        .map_err(|e| error("symbolic analysis", e))?;
+        .map_err(|e| LinalgError::new("symbolic analysis", e))?;
         Ok(CholeskyAnalysis {
             n,
             col_ptr,
@@ -130,8 +110,9 @@ impl CholeskyAnalysis {
 
     /// A workspace for [`CholeskyAnalysis::factor`] and for solves with up to `n_rhs`
     /// right-hand sides.
-    pub fn workspace(&self, n_rhs: usize) -> Result<MemBuffer, CholeskyError> {
-        MemBuffer::try_new(self.workspace_request(n_rhs)).map_err(|e| error("workspace", e))
+    pub fn workspace(&self, n_rhs: usize) -> Result<MemBuffer, LinalgError> {
+        MemBuffer::try_new(self.workspace_request(n_rhs))
+            .map_err(|e| LinalgError::new("workspace", e))
     }
 
     /// Factors the matrix with upper-triangle `values` (in this pattern's order) into
@@ -142,7 +123,7 @@ impl CholeskyAnalysis {
         values: &[f64],
         factor: &mut [f64],
         workspace: &mut MemBuffer,
-    ) -> Result<(), CholeskyError> {
+    ) -> Result<(), LinalgError> {
         let pattern = SymbolicSparseColMatRef::new_checked(
             self.n,
             self.n,
@@ -161,7 +142,21 @@ impl CholeskyAnalysis {
                 Default::default(),
             )
             .map(|_| ())
-            .map_err(|e| error("numeric factorisation", e))
+            .map_err(|e| LinalgError::new("numeric factorisation", e))
+    }
+
+    /// Factors the matrix with upper-triangle `values` into a new factor, with a new workspace
+    /// for solves with up to `n_rhs` right-hand sides: [`CholeskyAnalysis::factor`] for a
+    /// system factored once.
+    pub fn factored(
+        &self,
+        values: &[f64],
+        n_rhs: usize,
+    ) -> Result<(Vec<f64>, MemBuffer), LinalgError> {
+        let mut factor = vec![0.0; self.factor_len()];
+        let mut workspace = self.workspace(n_rhs)?;
+        self.factor(values, &mut factor, &mut workspace)?;
+        Ok((factor, workspace))
     }
 
     /// Overwrites `rhs` (`n × n_rhs`, column-major) with `A⁻¹ rhs` for the matrix factored
@@ -186,89 +181,6 @@ impl CholeskyAnalysis {
     }
 }
 
-/// The upper triangle of a symmetric `n × n` matrix in compressed columns (row indices sorted
-/// within each column).
-#[derive(Clone, Debug, Default)]
-pub struct UpperCsc {
-    /// The order `n`.
-    pub n: usize,
-    /// Where each column starts in `row_idx` and `values` (`n + 1` entries).
-    pub col_ptr: Vec<usize>,
-    /// The row of each stored entry, sorted within each column.
-    pub row_idx: Vec<usize>,
-    /// The value of each stored entry.
-    pub values: Vec<f64>,
-}
-
-impl UpperCsc {
-    /// The upper triangle of `m` (a full symmetric faer matrix), with `shift[j]` added to each
-    /// diagonal entry `j` (a diagonal missing from `m` is created).
-    pub fn from_symmetric(m: &faer::sparse::SparseColMat<usize, f64>, shift: &[f64]) -> Self {
-        let n = m.nrows();
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
-        let mut values = Vec::new();
-        col_ptr.push(0);
-        for j in 0..n {
-            let range = m.col_range(j);
-            let mut column: Vec<(usize, f64)> = m.symbolic().row_idx()[range.clone()]
-                .iter()
-                .zip(&m.val()[range])
-                .filter(|(&i, _)| i <= j)
-                .map(|(&i, &x)| (i, x))
-                .collect();
-            column.sort_unstable_by_key(|&(i, _)| i);
-            match column.last_mut() {
-                Some((i, x)) if *i == j => *x += shift[j],
-                _ => column.push((j, shift[j])),
-            }
-            row_idx.extend(column.iter().map(|&(i, _)| i));
-            values.extend(column.iter().map(|&(_, x)| x));
-            col_ptr.push(row_idx.len());
-        }
-        UpperCsc {
-            n,
-            col_ptr,
-            row_idx,
-            values,
-        }
-    }
-}
-
-impl UpperCsc {
-    /// The symmetric matrix with upper-triangle entries `entries` (`(row, column, value)`,
-    /// `row ≤ column`, repeated entries summed, in any order) plus `diagonal` on the diagonal
-    /// (`n` long).
-    pub fn from_entries(n: usize, mut entries: Vec<(usize, usize, f64)>, diagonal: &[f64]) -> Self {
-        entries.extend(diagonal.iter().enumerate().map(|(i, &d)| (i, i, d)));
-        entries.sort_unstable_by_key(|&(i, j, _)| (j, i));
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::with_capacity(entries.len());
-        let mut values = Vec::with_capacity(entries.len());
-        col_ptr.push(0);
-        let mut k = 0;
-        for j in 0..n {
-            while k < entries.len() && entries[k].1 == j {
-                let (i, _, mut x) = entries[k];
-                k += 1;
-                while k < entries.len() && entries[k].0 == i && entries[k].1 == j {
-                    x += entries[k].2;
-                    k += 1;
-                }
-                row_idx.push(i);
-                values.push(x);
-            }
-            col_ptr.push(row_idx.len());
-        }
-        UpperCsc {
-            n,
-            col_ptr,
-            row_idx,
-            values,
-        }
-    }
-}
-
 /// Number of right-hand sides [`solve_spd_in_place`] solves together.
 const SOLVE_BLOCK: usize = 64;
 
@@ -276,18 +188,39 @@ const SOLVE_BLOCK: usize = 64;
 /// factorisation of the symmetric positive definite `A` given by its upper triangle ([`Ordering::Amd`];
 /// the columns in blocks of 64). For one system solved once (the subdivision rig's Gram
 /// matrix, bone-heat weights); a pattern factored many times keeps its [`CholeskyAnalysis`].
-pub fn solve_spd_in_place(a: &UpperCsc, rhs: &mut [f64]) -> Result<(), CholeskyError> {
+pub fn solve_spd_in_place(a: &Csc, rhs: &mut [f64]) -> Result<(), LinalgError> {
     if a.n == 0 {
         return Ok(());
     }
     let analysis = CholeskyAnalysis::new(a.n, a.col_ptr.clone(), a.row_idx.clone(), Ordering::Amd)?;
-    let mut factor = vec![0.0; analysis.factor_len()];
-    let mut workspace = analysis.workspace(SOLVE_BLOCK)?;
-    analysis.factor(&a.values, &mut factor, &mut workspace)?;
+    let (factor, mut workspace) = analysis.factored(&a.values, SOLVE_BLOCK)?;
     for block in rhs.chunks_mut(a.n * SOLVE_BLOCK) {
         analysis.solve(&factor, block, &mut workspace);
     }
     Ok(())
+}
+
+/// The approximate minimum degree order of the symmetric pattern `pattern` (full storage,
+/// sorted rows; faer's AMD with default parameters): `(order, inverse)` with `order[k]` the
+/// index eliminated `k`-th and `inverse[order[k]] = k`. For callers that order a matrix once
+/// and factor principal submatrices of it in the induced order ([`Ordering::Identity`]).
+pub fn amd_order(pattern: &Csc) -> Result<(Vec<usize>, Vec<usize>), LinalgError> {
+    let n = pattern.n;
+    let mut order = vec![0usize; n];
+    let mut inverse = vec![0usize; n];
+    let mut memory = MemBuffer::try_new(amd::order_scratch::<usize>(n, pattern.row_idx.len()))
+        .map_err(|e| LinalgError::new("AMD workspace", e))?;
+    let symbolic =
+        SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx);
+    amd::order(
+        &mut order,
+        &mut inverse,
+        symbolic,
+        amd::Control::default(),
+        MemStack::new(&mut memory),
+    )
+    .map_err(|e| LinalgError::new("AMD ordering", e))?;
+    Ok((order, inverse))
 }
 
 #[cfg(test)]
