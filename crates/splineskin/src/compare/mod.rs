@@ -285,19 +285,12 @@ pub fn compare_methods(
     inputs: &CompareInputs<'_>,
     options: &CompareOptions,
 ) -> Result<Comparison, CompareError> {
-    let CompareInputs {
-        drawing,
-        weights,
-        fit,
-        flexible,
-        pose,
-        ..
-    } = *inputs;
-    check_inputs(drawing, weights, pose, options)?;
-    let solver = match flexible {
+    let (drawing, weights, fit) = (inputs.drawing, inputs.weights, &inputs.fit);
+    check_inputs(drawing, weights, inputs.pose, options)?;
+    let solver = match inputs.flexible {
         Some(flex) => {
-            let samples = SampledCurves::sample(drawing, weights, &fit);
-            Some(FlexibleSolver::new(drawing, &samples, &fit, flex)?)
+            let samples = SampledCurves::sample(drawing, weights, fit);
+            Some(FlexibleSolver::new(drawing, &samples, fit, flex)?)
         }
         None => None,
     };
@@ -305,7 +298,7 @@ pub fn compare_methods(
     let rig = match &solver {
         Some(s) => s.rig(),
         None => {
-            fixed_rig = SplineRig::precompute(drawing, weights, &fit)?;
+            fixed_rig = SplineRig::precompute(drawing, weights, fit)?;
             &fixed_rig
         }
     };
@@ -398,13 +391,8 @@ fn compare_fits(
     solver: Option<&FlexibleSolver>,
     options: &CompareOptions,
 ) -> Result<Comparison, CompareError> {
-    let CompareInputs {
-        drawing,
-        weights,
-        gradient,
-        pose,
-        ..
-    } = *inputs;
+    let (drawing, weights, gradient, pose) =
+        (inputs.drawing, inputs.weights, inputs.gradient, inputs.pose);
     let refit_tolerance = check_inputs(drawing, weights, pose, options)?;
     let diagonal = drawing.diagonal();
     let metrics_options = options.metrics;

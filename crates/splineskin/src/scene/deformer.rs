@@ -156,14 +156,8 @@ impl Deformer {
         pose: &[Affine],
         out: &mut [Point],
     ) -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
-        super::posed::pose_drawing(
-            self,
-            &setup.drawing,
-            setup.weights.as_ref(),
-            pose,
-            None,
-            out,
-        )?;
+        let (drawing, weights) = (&setup.drawing, setup.weights.as_ref());
+        super::posed::pose_drawing(self, drawing, weights, (pose, None), None, out)?;
         Ok(())
     }
 }

@@ -13,7 +13,8 @@
 //! deformed point must be finite. A rank-deficient system solved without a fallback (as the
 //! authors' code does, in compatibility mode) can give NaN, which no output format can hold;
 //! the error names the first path concerned, its SVG element and why. With the fixed-ratio rig
-//! an update is one matrix–vector product and that check, and allocates nothing.
+//! an update is one matrix–vector product and that check, and allocates nothing; the check
+//! costs `O(h)` there when a bound proves the product finite ([`finite_product_bound`]).
 
 use kurbo::{Affine, Point};
 
@@ -51,6 +52,8 @@ pub struct PosedDrawing {
     /// The scene's weights as an analytic [`Shepard`] field when they are Shepard weights of
     /// point handles (the Jacobian baseline's gradient).
     shepard: Option<Shepard>,
+    /// [`finite_product_bound`] of the fixed-ratio rig (`None`: scan every result).
+    bound: Option<f64>,
 }
 
 impl PosedDrawing {
@@ -92,6 +95,7 @@ impl PosedDrawing {
         Ok(PosedDrawing {
             origin: scene.origin.clone(),
             setup,
+            bound: finite_product_bound(&deformer),
             deformer,
             shepard: scene.point_shepard(compat),
         })
@@ -108,6 +112,7 @@ impl PosedDrawing {
         PosedDrawing {
             origin: origin.into(),
             setup,
+            bound: finite_product_bound(&deformer),
             deformer,
             shepard,
         }
@@ -138,12 +143,13 @@ impl PosedDrawing {
         warm: Option<&[Point]>,
         out: &mut [Point],
     ) -> Result<PoseReport, UpdateError> {
+        let (drawing, weights) = (&self.setup.drawing, self.setup.weights.as_ref());
         pose_drawing(
             &self.deformer,
-            &self.setup.drawing,
-            self.setup.weights.as_ref(),
-            pose,
-            warm,
+            drawing,
+            weights,
+            (pose, warm),
+            self.bound,
             out,
         )
     }
@@ -321,15 +327,16 @@ fn not_finite_reason(rank_deficient: bool) -> &'static str {
     }
 }
 
-/// Deforms `drawing` (weighted by `weights`) by `pose` with `deformer` into `out`, then checks
-/// that the result is finite: the work of [`PosedDrawing::update_from`] and
-/// [`Deformer::deform`].
+/// Deforms `drawing` (weighted by `weights`) by `pose` (and the flexible solve's `warm` start)
+/// with `deformer` into `out`, then checks that the result is finite — unless `bound`
+/// ([`finite_product_bound`] of the deformer) proves it: the work of
+/// [`PosedDrawing::update_from`] and [`Deformer::deform`].
 pub(super) fn pose_drawing(
     deformer: &Deformer,
     drawing: &Drawing,
     weights: &dyn WeightField,
-    pose: &[Affine],
-    warm: Option<&[Point]>,
+    (pose, warm): (&[Affine], Option<&[Point]>),
+    bound: Option<f64>,
     out: &mut [Point],
 ) -> Result<PoseReport, UpdateError> {
     let mut report = PoseReport {
@@ -352,8 +359,48 @@ pub(super) fn pose_drawing(
             )?
         }
     }
-    check_finite(drawing, out, deformer.rig())?;
+    if !bound.is_some_and(|b| keeps_finite(pose, b)) {
+        check_finite(drawing, out, deformer.rig())?;
+    }
     Ok(report)
+}
+
+/// Largest pose coefficient times [`finite_product_bound`] below which the rig's product is
+/// finite without looking: a quarter of `f64::MAX`, far more than the rounding of a sum of
+/// `6h` terms can add.
+const FINITE_PRODUCT_LIMIT: f64 = 0.25 * f64::MAX;
+
+/// For the fixed-ratio rig, `B = max_r Σ_c |O_rc|` over the rows of its operator `O`
+/// ([`SplineRig::operator`]). A point coordinate is `x_r = Σ_c O_rc t_c` with `t` the pose's
+/// coefficients, so `|x_r| ≤ m B` where `m = max_c |t_c|`: a finite pose with
+/// `m B ≤` [`FINITE_PRODUCT_LIMIT`] gives finite points and [`PosedDrawing::update`] need not
+/// scan them. `None` for the other engines, or when `B` is not finite (a rank-deficient system
+/// solved without a fallback can leave NaN in `O`).
+fn finite_product_bound(deformer: &Deformer) -> Option<f64> {
+    let Deformer::Fixed(rig) = deformer else {
+        return None;
+    };
+    let n_cols = 6 * rig.n_handles();
+    let bound = rig
+        .operator()
+        .chunks_exact(n_cols.max(1))
+        .map(|row| row.iter().map(|o| o.abs()).sum::<f64>())
+        .fold(0.0, f64::max);
+    let all_finite = rig.operator().iter().all(|o| o.is_finite());
+    (all_finite && bound.is_finite()).then_some(bound)
+}
+
+/// Whether every coefficient of `pose` is finite and the largest, times `bound`
+/// ([`finite_product_bound`]), is at most [`FINITE_PRODUCT_LIMIT`].
+fn keeps_finite(pose: &[Affine], bound: f64) -> bool {
+    let mut largest = 0.0f64;
+    for c in pose.iter().flat_map(|t| t.as_coeffs()) {
+        if !c.is_finite() {
+            return false;
+        }
+        largest = largest.max(c.abs());
+    }
+    largest * bound <= FINITE_PRODUCT_LIMIT
 }
 
 /// Applies the naive baseline `engine` ([`crate::naive`]); the Jacobian takes the analytic
@@ -384,7 +431,10 @@ fn check_finite(
     points: &[Point],
     rig: Option<&SplineRig>,
 ) -> Result<(), UpdateError> {
-    if points.iter().all(|p| p.is_finite()) {
+    if points
+        .iter()
+        .fold(true, |ok, p| ok & p.x.is_finite() & p.y.is_finite())
+    {
         return Ok(());
     }
     let path = drawing
@@ -496,5 +546,37 @@ mod tests {
         ));
         let e = posed.update(&pose(), &mut out[1..]).unwrap_err();
         assert!(matches!(e, UpdateError::Pose(PoseError::Output { .. })));
+        // A NaN coefficient is not covered by the bound: the result is scanned and refused.
+        let nan = Affine::new([1.0, 0.0, 0.0, 1.0, f64::NAN, 0.0]);
+        let e = posed
+            .update(&[Affine::IDENTITY, nan], &mut out)
+            .unwrap_err();
+        assert!(matches!(e, UpdateError::NotFinite { path: 0, .. }), "{e}");
+    }
+
+    /// The bound that lets the fixed rig's update skip its scan holds: every coordinate of a
+    /// result is at most the largest pose coefficient times the bound, and poses near the
+    /// limit are still scanned.
+    #[test]
+    fn posed_finite_product_bound_bounds_the_points() {
+        let posed = PosedDrawing::from_scene(&scene(""), Compat::None, false).unwrap();
+        let bound = finite_product_bound(posed.deformer()).unwrap();
+        // The drawing reaches y = 500 and the identity reproduces it: B ≥ 500.
+        assert!(bound >= 500.0, "{bound}");
+        let mut out = vec![Point::ZERO; posed.n_points()];
+        for pose in [pose(), [Affine::new([3.0, -2.0, 0.5, 7.0, -40.0, 9.0]); 2]] {
+            posed.update(&pose, &mut out).unwrap();
+            let m = pose
+                .iter()
+                .flat_map(|t| t.as_coeffs())
+                .fold(0.0f64, |m, c| m.max(c.abs()));
+            let largest = out
+                .iter()
+                .fold(0.0f64, |l, p| l.max(p.x.abs()).max(p.y.abs()));
+            assert!(largest <= m * bound, "{largest} > {m} · {bound}");
+            assert!(keeps_finite(&pose, bound));
+        }
+        let huge = Affine::scale(FINITE_PRODUCT_LIMIT / bound * 2.0);
+        assert!(!keeps_finite(&[huge; 2], bound));
     }
 }
