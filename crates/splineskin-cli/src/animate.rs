@@ -34,7 +34,7 @@ use splineskin::animation::deform_frames;
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::svg_animate::{write_animated_svg_following, write_animated_svg_view_box};
 use splineskin::drawing::svg_out::{write_svg_following, write_svg_view_box, ViewBoxRule};
-use splineskin::scene::{Compat, Deformer};
+use splineskin::scene::{Compat, PosedDrawing};
 
 use crate::output::{write_atomic, FramesOutside, ViewBoxArg, PNG_SIZE};
 use crate::CompatArg;
@@ -140,21 +140,21 @@ pub fn run(args: Args) -> Result<()> {
     for w in &setup.warnings {
         eprintln!("warning: {w}");
     }
-    let deformer = Deformer::new(&scene, &setup, compat, args.flexible)?;
-    if let Some(rig) = deformer.rig() {
-        for p in rig.rank_deficient_paths() {
-            eprintln!(
-                "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
-            );
-        }
+    let posed = PosedDrawing::new(&scene, setup, compat, args.flexible)?;
+    for p in posed.rank_deficient_paths() {
+        eprintln!(
+            "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
+        );
     }
+    let setup = posed.setup();
     let drawing = &setup.drawing;
     let n_points = drawing.n_points();
     // Frames `first..first + times.len()`, deformed in parallel.
     let deform_chunk = |first: usize, times: &[f64]| -> Result<Vec<Vec<Point>>> {
         deform_frames(&sampler, times, n_points, true, |pose, out| {
-            deformer
-                .deform(&setup, pose, out)
+            posed
+                .update(pose, out)
+                .map(|_| ())
                 .map_err(|e| anyhow::anyhow!("{e}"))
         })
         .map_err(|e| {
@@ -170,7 +170,7 @@ pub fn run(args: Args) -> Result<()> {
     let maps_at = |f: usize| -> Result<Option<ElementMaps>> {
         let mut pose = vec![kurbo::Affine::IDENTITY; sampler.n_handles()];
         sampler.pose_at(times[f], &mut pose);
-        crate::deform::element_maps(&setup, &pose, &FollowOptions::default())
+        crate::deform::element_maps(setup, &pose, &FollowOptions::default())
             .with_context(|| format!("{scene_name}: frame {f}"))
     };
     if as_svg {
@@ -237,7 +237,7 @@ pub fn run(args: Args) -> Result<()> {
         times.len(),
         animation.fps(),
         animation.duration(),
-        if matches!(deformer, Deformer::Flexible(_)) {
+        if posed.is_flexible() {
             " (flexible)"
         } else {
             ""

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result};
 use kurbo::{Affine, Point};
 use serde::Serialize;
-use splineskin::scene::{Compat, Engine, HandleSet, Scene, Setup};
+use splineskin::scene::{Compat, Deformer, Engine, HandleSet, PosedDrawing, Scene, Setup};
 use splineskin::spline_fit::quadrature::SampledCurves;
 use splineskin::spline_fit::{FlexibleOptions, FlexibleSolver, SplineRig};
 
@@ -122,9 +122,10 @@ pub fn run(args: Args) -> Result<()> {
         let flexible = scene
             .flexible_options_or(true, compat)
             .unwrap_or_else(|| compat.flexible_options());
+        let domain_vertices = setup.domain.as_ref().map(|d| d.mesh.n_vertices());
         let mut row = measure(
             &path.display().to_string(),
-            &setup,
+            setup,
             &base,
             &scene.handle_set(),
             args.updates,
@@ -132,7 +133,7 @@ pub fn run(args: Args) -> Result<()> {
         )
         .with_context(|| format!("{}: building the rig", path.display()))?;
         row.setup_s = median(setup_times);
-        row.domain_vertices = setup.domain.as_ref().map(|d| d.mesh.n_vertices());
+        row.domain_vertices = domain_vertices;
         print_row(&row, args.json);
     }
     if let Some(min_curves) = args.synthetic {
@@ -157,7 +158,7 @@ pub fn run(args: Args) -> Result<()> {
         let setup_s = start.elapsed().as_secs_f64();
         let mut row = measure(
             &name,
-            &setup,
+            setup,
             &base,
             &set,
             args.updates,
@@ -202,16 +203,18 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
 }
 
+/// Times the phases of posing `setup`'s drawing: weight sampling, precomputation, the update
+/// of the fixed-ratio [`PosedDrawing`] and, with G¹ or fixed-angle junctions, that of the
+/// flexible one.
 fn measure(
     name: &str,
-    setup: &Setup,
+    setup: Setup,
     base: &[Affine],
     handles: &HandleSet<'_>,
     updates: usize,
     flexible: FlexibleOptions,
 ) -> Result<Row> {
-    let drawing = &setup.drawing;
-    let weights = setup.weights.as_ref();
+    let (drawing, weights) = (&setup.drawing, setup.weights.as_ref());
     let start = Instant::now();
     let mut weight_times = Vec::new();
     let mut samples = None;
@@ -249,21 +252,36 @@ fn measure(
                 .collect()
         })
         .collect();
-    let mut out = vec![Point::ZERO; rig.n_points()];
+    let (curves, paths) = (drawing.n_curves(), drawing.paths.len());
+    let (n_handles, n_constraints) = (rig.n_handles(), rig.n_constraints());
+    let flexible_solver = FlexibleSolver::from_rig(
+        rig.clone(),
+        &setup.drawing,
+        &samples,
+        &setup.options,
+        flexible,
+    )?;
+    let posed = PosedDrawing::from_parts(name, setup, Deformer::Fixed(rig));
+    let mut out = vec![Point::ZERO; posed.n_points()];
     let mut update_times = Vec::with_capacity(n);
     for pose in &poses {
         let t = Instant::now();
-        rig.update(pose, &mut out)?;
+        posed.update(pose, &mut out)?;
         update_times.push(t.elapsed().as_secs_f64());
         std::hint::black_box(&out);
     }
-    let (flexible_s, flexible_warm_s) = measure_flexible(setup, &samples, &rig, &poses, flexible)?;
+    let posed = PosedDrawing::from_parts(
+        name,
+        posed.into_setup(),
+        Deformer::Flexible(Box::new(flexible_solver)),
+    );
+    let (flexible_s, flexible_warm_s) = measure_flexible(&posed, &poses)?;
     Ok(Row {
         scene: name.to_string(),
-        curves: drawing.n_curves(),
-        paths: drawing.paths.len(),
-        handles: rig.n_handles(),
-        constraints: rig.n_constraints(),
+        curves,
+        paths,
+        handles: n_handles,
+        constraints: n_constraints,
         domain_vertices: None,
         setup_s: 0.0,
         weights_s: median(weight_times),
@@ -279,33 +297,27 @@ fn measure(
 /// (from the previous pose's flexible solution). `None` when the drawing has no G¹ or
 /// fixed-angle junction.
 fn measure_flexible(
-    setup: &Setup,
-    samples: &SampledCurves,
-    rig: &SplineRig,
+    posed: &PosedDrawing,
     poses: &[Vec<Affine>],
-    options: FlexibleOptions,
 ) -> Result<(Option<f64>, Option<f64>)> {
-    let solver = FlexibleSolver::from_rig(
-        rig.clone(),
-        &setup.drawing,
-        samples,
-        &setup.options,
-        options,
-    )?;
-    if solver.n_flexible_junctions() == 0 {
+    if posed
+        .flexible_solver()
+        .map_or(0, |s| s.n_flexible_junctions())
+        == 0
+    {
         return Ok((None, None));
     }
     let n = FLEXIBLE_SOLVES.min(poses.len());
-    let mut out = vec![Point::ZERO; rig.n_points()];
-    let mut previous = vec![Point::ZERO; rig.n_points()];
+    let mut out = vec![Point::ZERO; posed.n_points()];
+    let mut previous = vec![Point::ZERO; posed.n_points()];
     let (mut cold, mut warm) = (Vec::with_capacity(n), Vec::with_capacity(n));
     for (k, pose) in poses.iter().take(n).enumerate() {
         let t = Instant::now();
-        solver.solve(pose, None, &mut out)?;
+        posed.update(pose, &mut out)?;
         cold.push(t.elapsed().as_secs_f64());
         if k > 0 {
             let t = Instant::now();
-            solver.solve(pose, Some(&previous), &mut out)?;
+            posed.update_from(pose, Some(&previous), &mut out)?;
             warm.push(t.elapsed().as_secs_f64());
         }
         std::mem::swap(&mut previous, &mut out);

@@ -17,12 +17,11 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use splineskin::compare::{
-    compare_methods, posed_markers, render_comparison, CompareInputs, CompareOptions, Comparison,
-    Method, PictureOptions, DEFAULT_COMPARE_PANEL_WIDTH, DEFAULT_REFIT_TOLERANCE_FRACTION,
+    compare_posed, posed_markers, render_comparison, CompareOptions, Comparison, Method,
+    PictureOptions, DEFAULT_COMPARE_PANEL_WIDTH, DEFAULT_REFIT_TOLERANCE_FRACTION,
 };
 use splineskin::metrics::MetricsOptions;
-use splineskin::naive::{FiniteDifferences, WeightGradient};
-use splineskin::scene::{Compat, Scene};
+use splineskin::scene::{Compat, Engine, PosedDrawing, Scene};
 
 use crate::output::{write_atomic, Format};
 use crate::CompatArg;
@@ -94,28 +93,12 @@ pub fn run(args: Args) -> Result<()> {
     for w in &setup.warnings {
         eprintln!("warning: {w}");
     }
-    let flexible = scene.flexible_options_or(args.flexible, compat);
-    let shepard = scene.point_shepard(compat);
-    let differences;
-    let gradient: &dyn WeightGradient = match &shepard {
-        Some(s) => s,
-        None => {
-            differences = FiniteDifferences::for_drawing(setup.weights.as_ref(), &setup.drawing);
-            &differences
-        }
-    };
-    let inputs = CompareInputs {
-        drawing: &setup.drawing,
-        weights: setup.weights.as_ref(),
-        gradient,
-        fit: setup.options,
-        flexible,
-        pose: &pose.transforms,
-    };
+    // Every method is compared whatever the scene's engine: the fit is built for all.
+    let posed = PosedDrawing::with_engine(&scene, setup, compat, Engine::Ours, args.flexible)?;
     let options = CompareOptions::default()
         .with_refit_tolerance(args.refit_tolerance)
-        .with_metrics(MetricsOptions::default().with_fit(setup.options));
-    let comparison = compare_methods(&inputs, &options)
+        .with_metrics(MetricsOptions::default().with_fit(*posed.fit_options()));
+    let comparison = compare_posed(&posed, &pose.transforms, &options)
         .with_context(|| format!("{}: pose {pose_index}", args.scene.display()))?;
     let markers = posed_markers(&scene.handle_set(), &pose.transforms);
     let picture = render_comparison(&comparison, &markers, &picture_options)

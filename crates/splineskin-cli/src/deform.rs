@@ -3,11 +3,10 @@
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use kurbo::{Affine, Point};
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
-use splineskin::drawing::Drawing;
-use splineskin::scene::{Compat, Deformer, Setup};
+use splineskin::scene::{Compat, PosedDrawing, Setup};
 
 use crate::output::{warn_outside_view_box, write_deformed_view_box, ViewBoxArg};
 use crate::CompatArg;
@@ -62,51 +61,25 @@ pub fn run(args: Args) -> Result<()> {
         .pose_by_key(&args.pose)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.scene.display()))?;
     let compat: Compat = args.compat.into();
-    let deformer = Deformer::new(&scene, &setup, compat, args.flexible)?;
-    let rank_deficient = deformer
-        .rig()
-        .map(|rig| rig.rank_deficient_paths().to_vec())
-        .unwrap_or_default();
-    for p in &rank_deficient {
+    let posed = PosedDrawing::new(&scene, setup, compat, args.flexible)?;
+    for p in posed.rank_deficient_paths() {
         eprintln!(
             "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
         );
     }
-    let mut points = vec![Point::ZERO; setup.drawing.n_points()];
-    let engine_note = match &deformer {
-        // The flexible solve is run here rather than through Deformer::deform, for its report.
-        Deformer::Flexible(s) => {
-            let report = s
-                .solve(&pose.transforms, None, &mut points)
-                .with_context(|| format!("{}: flexible solve", args.scene.display()))?;
-            format!(
-                ", flexible: {} junctions on {} paths, {} steps, energy {:.4e} -> {:.4e}",
-                s.n_flexible_junctions(),
-                report.paths,
-                report.steps,
-                report.fixed_ratio_energy,
-                report.energy()
-            )
-        }
-        Deformer::Naive { engine, .. } => {
-            deformer
-                .deform(&setup, &pose.transforms, &mut points)
-                .map_err(|e| {
-                    anyhow::anyhow!("{}: engine '{}': {e}", args.scene.display(), engine.name())
-                })?;
-            format!(", engine {} (a naive baseline)", engine.name())
-        }
-        Deformer::Fixed(_) => {
-            deformer
-                .deform(&setup, &pose.transforms, &mut points)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", args.scene.display()))?;
-            String::new()
-        }
-    };
-    check_finite(&args, pose_index, &setup.drawing, &points, &rank_deficient)?;
+    let mut points = vec![Point::ZERO; posed.n_points()];
+    let report = posed.update(&pose.transforms, &mut points).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: pose {pose_index}: {e}; nothing written to {}",
+            args.scene.display(),
+            args.output.display()
+        )
+    })?;
+    let engine_note = report.note().map(|n| format!(", {n}")).unwrap_or_default();
+    let setup = posed.setup();
     warn_outside_view_box(&args.output, &setup.drawing, &points, args.viewbox);
     let options = FollowOptions::default().with_scale_strokes(args.scale_strokes);
-    let maps = element_maps(&setup, &pose.transforms, &options)
+    let maps = element_maps(setup, &pose.transforms, &options)
         .with_context(|| format!("{}: pose {pose_index}", args.scene.display()))?;
     write_deformed_view_box(
         &args.output,
@@ -173,44 +146,4 @@ pub fn element_maps(
         &mut map,
         options,
     )?))
-}
-
-/// Errors, naming the scene, the pose and the first path concerned, if a deformed point is not
-/// finite: a rank-deficient system (compatibility mode solves them as the authors do, without
-/// a fallback) can give NaN, which no output format can hold.
-fn check_finite(
-    args: &Args,
-    pose_index: usize,
-    drawing: &Drawing,
-    points: &[Point],
-    rank_deficient: &[usize],
-) -> Result<()> {
-    let mut offset = 0;
-    for (i, path) in drawing.paths.iter().enumerate() {
-        let n = path.points.len();
-        let bad = points[offset..offset + n]
-            .iter()
-            .any(|p| !(p.x.is_finite() && p.y.is_finite()));
-        offset += n;
-        if bad {
-            let element = drawing
-                .source
-                .as_ref()
-                .map(|s| format!(" ({})", s.element_label(i)))
-                .unwrap_or_default();
-            let why = if rank_deficient.contains(&i) {
-                "its fit system is rank deficient, e.g. a curve of zero length"
-            } else {
-                "the fit is numerically unstable"
-            };
-            bail!(
-                "{}: pose {}: path {i}{element}: deformed points are not finite (expected finite \
-                 coordinates): {why}; nothing written to {}",
-                args.scene.display(),
-                pose_index,
-                args.output.display()
-            );
-        }
-    }
-    Ok(())
 }

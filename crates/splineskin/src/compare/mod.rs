@@ -22,6 +22,7 @@
 //!
 //! ```text
 //! once per comparison:  drawing + weights + pose ──► compare_methods ──► Comparison
+//!                       (or a PosedDrawing + pose ──► compare_posed: its rig is reused)
 //!                       Comparison + posed handle markers ──► render_comparison ──► PNG
 //! ```
 
@@ -35,7 +36,7 @@ use crate::drawing::Drawing;
 use crate::figure::weight_map::HandleMarker;
 use crate::metrics::{self, Metrics, MetricsError, MetricsOptions};
 use crate::naive::{self, Refit, RefitError, RefitOptions, WeightGradient};
-use crate::scene::HandleSet;
+use crate::scene::{HandleSet, PosedDrawing};
 use crate::spline_fit::quadrature::SampledCurves;
 use crate::spline_fit::{
     FitError, FitOptions, FlexibleError, FlexibleOptions, FlexibleSolver, PoseError, SplineRig,
@@ -282,14 +283,89 @@ pub fn compare_methods(
     inputs: &CompareInputs<'_>,
     options: &CompareOptions,
 ) -> Result<Comparison, CompareError> {
-    let CompareInputs {
+    let (drawing, weights, fit) = (inputs.drawing, inputs.weights, &inputs.fit);
+    check_inputs(drawing, weights, inputs.pose, options)?;
+    let solver = match inputs.flexible {
+        Some(flex) => {
+            let samples = SampledCurves::sample(drawing, weights, fit);
+            Some(FlexibleSolver::new(drawing, &samples, fit, flex)?)
+        }
+        None => None,
+    };
+    let fixed_rig;
+    let rig = match &solver {
+        Some(s) => s.rig(),
+        None => {
+            fixed_rig = SplineRig::precompute(drawing, weights, fit)?;
+            &fixed_rig
+        }
+    };
+    compare_fits(inputs, rig, solver.as_ref(), options)
+}
+
+/// [`compare_methods`] on a posed drawing: its rig (and flexible solver, when its junctions
+/// are flexible: then `ours-flexible` is compared too) are reused, not rebuilt; a posed
+/// drawing whose engine is a naive baseline has no rig, and one is built. The Jacobian
+/// baseline takes the analytic gradient of Shepard weights of point handles
+/// ([`PosedDrawing::point_shepard`]), else central differences of the weights
+/// ([`naive::FiniteDifferences`]).
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::compare::{compare_posed, CompareOptions, Method};
+/// use splineskin::scene::{Compat, PosedDrawing, Scene};
+/// let scene = Scene::from_json(r#"{"splineskin_scene": 1,
+///     "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C30 40 70 40 100 0'/></svg>",
+///     "handles": [{"position": [0, 0]}, {"position": [100, 0]}]}"#, "inline", None)?;
+/// let posed = PosedDrawing::from_scene(&scene, Compat::None, false)?;
+/// let pose = [Affine::IDENTITY, Affine::rotate_about(0.6, Point::new(100.0, 0.0))];
+/// let c = compare_posed(&posed, &pose, &CompareOptions::default())?;
+/// let energy = |m| c.get(m).unwrap().metrics.overall.energy;
+/// assert!(energy(Method::Ours) < energy(Method::FourControls));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn compare_posed(
+    posed: &PosedDrawing,
+    pose: &[Affine],
+    options: &CompareOptions,
+) -> Result<Comparison, CompareError> {
+    let (drawing, weights, fit) = (posed.drawing(), posed.weights(), *posed.fit_options());
+    check_inputs(drawing, weights, pose, options)?;
+    let differences;
+    let gradient: &dyn WeightGradient = match posed.point_shepard() {
+        Some(s) => s,
+        None => {
+            differences = naive::FiniteDifferences::for_drawing(weights, drawing);
+            &differences
+        }
+    };
+    let inputs = CompareInputs {
         drawing,
         weights,
         gradient,
         fit,
-        flexible,
+        flexible: posed.flexible_solver().map(|s| *s.options()),
         pose,
-    } = *inputs;
+    };
+    let built;
+    let rig = match posed.rig() {
+        Some(rig) => rig,
+        None => {
+            built = SplineRig::precompute(drawing, weights, &fit)?;
+            &built
+        }
+    };
+    compare_fits(&inputs, rig, posed.flexible_solver(), options)
+}
+
+/// Errors unless `pose` has one map per weight function and the refit tolerance is positive
+/// and finite in drawing units; returns that tolerance in drawing units.
+fn check_inputs(
+    drawing: &Drawing,
+    weights: &dyn WeightField,
+    pose: &[Affine],
+    options: &CompareOptions,
+) -> Result<f64, CompareError> {
     if pose.len() != weights.n_handles() {
         return Err(PoseError::Transforms {
             got: pose.len(),
@@ -298,35 +374,34 @@ pub fn compare_methods(
         .into());
     }
     let tolerance = options.refit_tolerance;
-    let diagonal = drawing.diagonal();
-    let refit_tolerance = tolerance * diagonal.max(f64::MIN_POSITIVE);
+    let refit_tolerance = tolerance * drawing.diagonal().max(f64::MIN_POSITIVE);
     if !(tolerance > 0.0 && refit_tolerance.is_finite() && refit_tolerance > 0.0) {
         return Err(CompareError::RefitTolerance(tolerance));
     }
+    Ok(refit_tolerance)
+}
+
+/// The comparison of `inputs` with the fit's rig and, when given, its flexible solver (built
+/// from the same drawing, weights and fit options).
+fn compare_fits(
+    inputs: &CompareInputs<'_>,
+    rig: &SplineRig,
+    solver: Option<&FlexibleSolver>,
+    options: &CompareOptions,
+) -> Result<Comparison, CompareError> {
+    let (drawing, weights, gradient, pose) =
+        (inputs.drawing, inputs.weights, inputs.gradient, inputs.pose);
+    let refit_tolerance = check_inputs(drawing, weights, pose, options)?;
+    let diagonal = drawing.diagonal();
     let metrics_options = options.metrics;
     let s = metrics_options.samples_per_curve.max(2);
 
     // The structured results, each in the rig's layout.
     let mut chains: Vec<(Method, Vec<Point>)> = Vec::new();
-    let solver = match flexible {
-        Some(flex) => {
-            let samples = SampledCurves::sample(drawing, weights, &fit);
-            Some(FlexibleSolver::new(drawing, &samples, &fit, flex)?)
-        }
-        None => None,
-    };
-    let fixed_rig;
-    let rig = match &solver {
-        Some(s) => s.rig(),
-        None => {
-            fixed_rig = SplineRig::precompute(drawing, weights, &fit)?;
-            &fixed_rig
-        }
-    };
     let mut points = vec![Point::ZERO; drawing.n_points()];
     rig.update(pose, &mut points)?;
     chains.push((Method::Ours, points.clone()));
-    if let Some(solver) = &solver {
+    if let Some(solver) = solver {
         solver.solve(pose, None, &mut points)?;
         chains.push((Method::OursFlexible, points.clone()));
     }

@@ -1,17 +1,18 @@
-//! [`Deformer`]: what turns a scene's pose into deformed control points, chosen from the scene —
-//! the spline fit's rig (one matrix–vector product per pose), the flexible solve (G¹ and
-//! fixed-angle ratios free, [`crate::spline_fit::flexible`]), or one of the paper's naive
-//! baselines ([`crate::naive`]) when the scene's engine asks for it. `deform`, `animate` and
-//! anything else that applies poses share it.
+//! [`Deformer`]: the engine inside a [`super::PosedDrawing`] — what turns a pose into deformed
+//! control points: the spline fit's rig (one matrix–vector product per pose), the flexible
+//! solve (G¹ and fixed-angle ratios free, [`crate::spline_fit::flexible`]), or one of the
+//! paper's naive baselines ([`crate::naive`]) when the scene's engine asks for it. It holds no
+//! drawing and no weights: [`super::PosedDrawing`] owns them with it, and its
+//! [`super::PosedDrawing::update`] is the way to apply a pose.
 
 use kurbo::{Affine, Point};
 
 use super::setup::{Compat, Setup};
 use super::{Engine, Scene, SceneError};
-use crate::naive::{self, FiniteDifferences};
+use crate::drawing::Drawing;
 use crate::spline_fit::quadrature::SampledCurves;
-use crate::spline_fit::{FlexibleSolver, SplineRig};
-use crate::weights::Shepard;
+use crate::spline_fit::{FitError, FitOptions, FlexibleOptions, FlexibleSolver, SplineRig};
+use crate::weights::{Shepard, WeightField};
 
 /// How a scene's poses are applied.
 pub enum Deformer {
@@ -39,6 +40,8 @@ impl Deformer {
     /// `flexible` asks), else the rig. Errors: `flexible` with a naive engine, or a rig that
     /// cannot be built (naming the scene).
     ///
+    /// [`super::PosedDrawing::new`] builds the same engine and keeps it with the setup.
+    ///
     /// ```
     /// use kurbo::{Affine, Point};
     /// use splineskin::scene::{Compat, Deformer, Scene};
@@ -58,39 +61,64 @@ impl Deformer {
         compat: Compat,
         flexible: bool,
     ) -> Result<Deformer, SceneError> {
-        let rig_error = |e: crate::spline_fit::FitError| SceneError::Rig {
-            origin: scene.origin.clone(),
-            source: Box::new(e),
-        };
-        if scene.engine != Engine::Ours {
+        Deformer::for_engine(scene, setup, compat, scene.engine, flexible)
+    }
+
+    /// [`Deformer::new`] with `engine` in place of the scene's (e.g. [`Engine::Ours`] to fit
+    /// a scene whose engine is a naive baseline).
+    pub fn for_engine(
+        scene: &Scene,
+        setup: &Setup,
+        compat: Compat,
+        engine: Engine,
+        flexible: bool,
+    ) -> Result<Deformer, SceneError> {
+        if engine != Engine::Ours {
             if flexible {
                 return Err(SceneError::Invalid {
                     origin: scene.origin.clone(),
                     element: "engine".into(),
                     message: format!(
                         "flexible junctions apply to engine 'ours'; this scene's engine is '{}'",
-                        scene.engine.name()
+                        engine.name()
                     ),
                 });
             }
             return Ok(Deformer::Naive {
-                engine: scene.engine,
+                engine,
                 shepard: scene.point_shepard(compat),
             });
         }
-        Ok(match scene.flexible_options_or(flexible, compat) {
+        let flexible = scene.flexible_options_or(flexible, compat);
+        Deformer::fit(
+            &setup.drawing,
+            setup.weights.as_ref(),
+            &setup.options,
+            flexible,
+        )
+        .map_err(|e| SceneError::Rig {
+            origin: scene.origin.clone(),
+            source: Box::new(e),
+        })
+    }
+
+    /// The spline fit of `drawing` with `weights` and `fit`: the flexible solver when
+    /// `flexible` options are given ([`FlexibleSolver::new`] on the weights sampled at the
+    /// quadrature nodes), else the fixed-ratio rig ([`SplineRig::precompute`]).
+    pub fn fit(
+        drawing: &Drawing,
+        weights: &dyn WeightField,
+        fit: &FitOptions,
+        flexible: Option<FlexibleOptions>,
+    ) -> Result<Deformer, FitError> {
+        Ok(match flexible {
             Some(options) => {
-                let samples =
-                    SampledCurves::sample(&setup.drawing, setup.weights.as_ref(), &setup.options);
-                Deformer::Flexible(Box::new(
-                    FlexibleSolver::new(&setup.drawing, &samples, &setup.options, options)
-                        .map_err(rig_error)?,
-                ))
+                let samples = SampledCurves::sample(drawing, weights, fit);
+                Deformer::Flexible(Box::new(FlexibleSolver::new(
+                    drawing, &samples, fit, options,
+                )?))
             }
-            None => Deformer::Fixed(
-                SplineRig::precompute(&setup.drawing, setup.weights.as_ref(), &setup.options)
-                    .map_err(rig_error)?,
-            ),
+            None => Deformer::Fixed(SplineRig::precompute(drawing, weights, fit)?),
         })
     }
 
@@ -103,33 +131,33 @@ impl Deformer {
         }
     }
 
+    /// The flexible solver (`None` unless junctions are flexible).
+    pub fn flexible_solver(&self) -> Option<&FlexibleSolver> {
+        match self {
+            Deformer::Flexible(solver) => Some(solver),
+            _ => None,
+        }
+    }
+
+    /// The engine: [`Engine::Ours`] for the fit, flexible or not, else the baseline's.
+    pub fn engine(&self) -> Engine {
+        match self {
+            Deformer::Naive { engine, .. } => *engine,
+            _ => Engine::Ours,
+        }
+    }
+
     /// Writes the drawing of `setup` deformed by `pose` (one map per handle) into `out`
-    /// (length [`crate::drawing::Drawing::n_points`]).
+    /// (length [`crate::drawing::Drawing::n_points`]): [`super::PosedDrawing::update`]'s work
+    /// (a result that is not finite is an error) for a setup kept apart from its deformer.
     pub fn deform(
         &self,
         setup: &Setup,
         pose: &[Affine],
         out: &mut [Point],
     ) -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
-        let drawing = &setup.drawing;
-        let field = setup.weights.as_ref();
-        match self {
-            Deformer::Fixed(rig) => rig.update(pose, out)?,
-            Deformer::Flexible(solver) => {
-                solver.solve(pose, None, out)?;
-            }
-            Deformer::Naive { engine, shepard } => match (engine, shepard) {
-                (Engine::FourControls, _) => naive::skin_control_points(drawing, field, pose, out)?,
-                (Engine::TwoEndpoints, _) => {
-                    naive::skin_on_curve_points(drawing, field, pose, out)?
-                }
-                (_, Some(shepard)) => naive::skin_with_jacobian(drawing, shepard, pose, out)?,
-                (_, None) => {
-                    let gradient = FiniteDifferences::for_drawing(field, drawing);
-                    naive::skin_with_jacobian(drawing, &gradient, pose, out)?
-                }
-            },
-        }
+        let (drawing, weights) = (&setup.drawing, setup.weights.as_ref());
+        super::posed::pose_drawing(self, drawing, weights, (pose, None), None, out)?;
         Ok(())
     }
 }

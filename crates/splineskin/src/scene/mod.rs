@@ -16,7 +16,10 @@
 //!
 //! Handles come in three kinds ([`handles`]): point handles ([`Scene::handles`]), bones
 //! ([`Scene::bones`]) and the vertices of a cage ([`Scene::cage`]); the rig numbers them in
-//! that order. [`Puppet`] keeps a scene's weights and rig cached while only its pose changes.
+//! that order. [`PosedDrawing`] is a scene's drawing with its weights and the engine that poses
+//! it ([`Deformer`]: the rig, the flexible solve or a naive baseline), applied by one
+//! `update(&pose, &mut points)`; [`Puppet`] is the editable layer over it, keeping the weights
+//! and rig cached while only the pose changes.
 //! [`place_pins`] places point handles on a drawing's filled shapes automatically ([`pins`]).
 
 pub mod authors;
@@ -26,6 +29,7 @@ mod domain_file;
 pub mod handles;
 pub mod ours;
 pub mod pins;
+mod posed;
 mod session;
 mod setup;
 
@@ -36,6 +40,7 @@ pub use defop::{
 pub use deformer::Deformer;
 pub use handles::{Bone, BonePoseError, BoneTransform, HandleKind, HandleSet};
 pub use pins::{place_pins, PinCount, PinError, PinOptions};
+pub use posed::{PoseReport, PosedDrawing, UpdateError};
 pub use session::{Puppet, PuppetStage, PuppetStats};
 pub use setup::{handle_weights, mesh_weights, Compat, Setup, AUTHORS_SHEPARD_SNAP};
 

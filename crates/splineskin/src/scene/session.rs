@@ -1,17 +1,20 @@
-//! [`Puppet`]: a scene's drawing and handles with their weights and rig cached, for
-//! interactive use (the editor): moving a handle's *transform* is one matrix–vector product;
-//! moving its *rest position* recomputes the weights and the rig (DESIGN.md §2: "weights are a
+//! [`Puppet`]: the editable layer over a [`PosedDrawing`], for interactive use (the editor):
+//! it keeps the rest handles, the weight family and the options, and the posed drawing built
+//! from them (weights and rig) until an edit invalidates it. Moving a handle's *transform* is
+//! one [`PosedDrawing::update`] (for the fixed-ratio rig one matrix–vector product); moving its
+//! *rest position* recomputes the weights and the rig (DESIGN.md §2: "weights are a
 //! precomputation; cache them with the rig").
 
 use kurbo::{Affine, Point};
 
+use super::deformer::Deformer;
 use super::handles::HandleSet;
-use super::setup::{check_rest_handles, handle_weights, Compat, WeightInputs};
+use super::posed::PosedDrawing;
+use super::setup::{check_rest_handles, handle_weights, Compat, Setup, WeightInputs};
 use super::{Bone, HandleKind, Scene, SceneError, SceneFormat, WeightSpec};
 use crate::domain::{Domain, DomainOptions};
 use crate::drawing::Drawing;
-use crate::spline_fit::quadrature::SampledCurves;
-use crate::spline_fit::{FitOptions, FlexibleOptions, FlexibleSolver, SplineRig};
+use crate::spline_fit::{FitOptions, FlexibleOptions, SplineRig};
 use crate::weights::WeightField;
 
 /// How often a [`Puppet`] has computed its weights and its rig, and run its update.
@@ -48,9 +51,9 @@ pub enum PuppetStage {
 ///
 /// **Flexible junctions.** When the scene asks for them (`"flexible": true`, the authors'
 /// scenes) or [`Puppet::set_flexible`] turns them on, [`Puppet::update`] runs the flexible
-/// solve ([`FlexibleSolver`]) instead of the mat-vec, warm-started from the previous update's
-/// result (a drag moves the pose a little between frames); this allocates and costs a few
-/// sparse refactorisations per frame.
+/// solve ([`crate::spline_fit::FlexibleSolver`]) instead of the mat-vec, warm-started from the
+/// previous update's result (a drag moves the pose a little between frames); this allocates
+/// and costs a few sparse refactorisations per frame.
 ///
 /// Recomputation is **lazy**: an edit marks what it invalidates as stale (and is checked at
 /// once: an edit that would make the handles invalid is refused and changes nothing); the
@@ -90,7 +93,6 @@ pub struct Puppet {
     origin: String,
     format: SceneFormat,
     compat: Compat,
-    drawing: Drawing,
     points: Vec<Point>,
     bones: Vec<Bone>,
     cage: Option<Vec<Point>>,
@@ -99,24 +101,48 @@ pub struct Puppet {
     fit_options: FitOptions,
     /// One map per handle, rig order.
     pose: Vec<Affine>,
-    /// `None`: stale.
-    weights: Option<(Box<dyn WeightField>, Option<Domain>)>,
-    /// `None`: stale.
-    rig: Option<SplineRig>,
+    /// What is computed: the drawing only, its weights too, or the whole posed drawing.
+    cache: Cache,
     /// Flexible G¹ options, `None` for the fixed-ratio fit.
     flexible: Option<FlexibleOptions>,
-    /// The flexible solver (flexible only; `None`: stale).
-    solver: Option<FlexibleSolver>,
     /// The last flexible result, the next solve's warm start (empty: none).
     last: Vec<Point>,
     stats: PuppetStats,
+}
+
+/// What a [`Puppet`] has computed.
+enum Cache {
+    /// The drawing only: the weights (and so the rig) are stale.
+    Drawing(Drawing),
+    /// The drawing and its weights (the setup's fit options may be stale): the rig is stale.
+    Weights(Setup),
+    /// Everything.
+    Posed(PosedDrawing),
+}
+
+impl Cache {
+    fn drawing(&self) -> &Drawing {
+        match self {
+            Cache::Drawing(drawing) => drawing,
+            Cache::Weights(setup) => &setup.drawing,
+            Cache::Posed(posed) => posed.drawing(),
+        }
+    }
+
+    fn setup(&self) -> Option<&Setup> {
+        match self {
+            Cache::Drawing(_) => None,
+            Cache::Weights(setup) => Some(setup),
+            Cache::Posed(posed) => Some(posed.setup()),
+        }
+    }
 }
 
 impl Puppet {
     /// Sets up `scene` in `compat` ([`Scene::setup`]: drawing with its junction kinds, weights)
     /// and builds the rig at once. The pose is the scene's first (identity without poses).
     /// Errors if the scene's engine is a naive baseline (those are not rigs:
-    /// [`super::Deformer`] applies them).
+    /// [`PosedDrawing`] applies them).
     pub fn from_scene(scene: &Scene, compat: Compat) -> Result<Puppet, SceneError> {
         Puppet::from_scene_staged(scene, compat, &mut |_| {})
     }
@@ -146,7 +172,7 @@ impl Puppet {
                 element: "engine".into(),
                 message: format!(
                     "a puppet deforms with engine 'ours'; this scene's engine is '{}' (a naive \
-                     baseline: apply it with scene::Deformer)",
+                     baseline: apply it with scene::PosedDrawing)",
                     scene.engine.name()
                 ),
             });
@@ -157,21 +183,18 @@ impl Puppet {
             origin: scene.origin.clone(),
             format: scene.format,
             compat,
-            drawing: setup.drawing,
             points: scene.handles.clone(),
             bones: scene.bones.clone(),
             cage: scene.cage.clone(),
             family: scene.weights.clone(),
             domain_options: scene.domain.clone(),
             fit_options: setup.options,
+            cache: Cache::Weights(setup),
             pose: scene
                 .pose(0)
                 .map(|p| p.transforms)
                 .unwrap_or_else(|| vec![Affine::IDENTITY; scene.n_handles()]),
-            weights: Some((setup.weights, setup.domain)),
-            rig: None,
             flexible: scene.flexible_options(compat),
-            solver: None,
             last: Vec::new(),
             stats: PuppetStats {
                 weight_builds: 1,
@@ -187,73 +210,76 @@ impl Puppet {
     /// or the domain options changed), then the rig (if the weights or the fit options did).
     /// Does nothing when nothing is stale. On error the stale parts stay stale.
     pub fn rebuild(&mut self) -> Result<(), SceneError> {
-        self.fresh_rig().map(|_| ())
+        let cache = self.take_cache();
+        let (cache, result) = self.refreshed(cache);
+        self.cache = cache;
+        result
     }
 
-    /// The rig (and with flexible junctions the flexible solver), recomputing what is stale
-    /// first.
-    fn fresh_rig(&mut self) -> Result<&SplineRig, SceneError> {
-        let weights = match self.weights.take() {
-            Some(w) => w,
-            None => {
-                let built = handle_weights(&self.drawing, &self.inputs())?;
-                self.stats.weight_builds += 1;
-                built
-            }
-        };
-        let weights = self.weights.insert(weights);
-        let rig_error = |origin: &str, e: crate::spline_fit::FitError| SceneError::Rig {
-            origin: origin.to_string(),
-            source: Box::new(e),
-        };
-        if self.rig.is_none() {
-            let (rig, solver) = match self.flexible {
-                None => (
-                    SplineRig::precompute(&self.drawing, weights.0.as_ref(), &self.fit_options)
-                        .map_err(|e| rig_error(&self.origin, e))?,
-                    None,
-                ),
-                Some(options) => {
-                    let samples =
-                        SampledCurves::sample(&self.drawing, weights.0.as_ref(), &self.fit_options);
-                    let solver =
-                        FlexibleSolver::new(&self.drawing, &samples, &self.fit_options, options)
-                            .map_err(|e| rig_error(&self.origin, e))?;
-                    (solver.rig().clone(), Some(solver))
+    /// `cache` with what is stale recomputed: the weights, then the rig (and with flexible
+    /// junctions the flexible solver). On error, what was computed before the failing step.
+    fn refreshed(&mut self, cache: Cache) -> (Cache, Result<(), SceneError>) {
+        let mut setup = match cache {
+            Cache::Posed(posed) => return (Cache::Posed(posed), Ok(())),
+            Cache::Weights(setup) => setup,
+            Cache::Drawing(drawing) => match handle_weights(&drawing, &self.inputs()) {
+                Ok((weights, domain)) => {
+                    self.stats.weight_builds += 1;
+                    Setup {
+                        drawing,
+                        weights,
+                        options: self.fit_options,
+                        warnings: Vec::new(),
+                        domain,
+                    }
                 }
-            };
-            self.solver = solver;
-            self.last.clear();
-            self.stats.rig_builds += 1;
-            self.rig = Some(rig);
+                Err(e) => return (Cache::Drawing(drawing), Err(e)),
+            },
+        };
+        setup.options = self.fit_options;
+        match Deformer::fit(
+            &setup.drawing,
+            setup.weights.as_ref(),
+            &setup.options,
+            self.flexible,
+        ) {
+            Ok(deformer) => {
+                self.last.clear();
+                self.stats.rig_builds += 1;
+                let posed = PosedDrawing::from_parts(self.origin.clone(), setup, deformer);
+                (Cache::Posed(posed), Ok(()))
+            }
+            Err(e) => {
+                let error = SceneError::Rig {
+                    origin: self.origin.clone(),
+                    source: Box::new(e),
+                };
+                (Cache::Weights(setup), Err(error))
+            }
         }
-        Ok(self.rig.as_ref().expect("just built"))
     }
 
     /// Writes the drawing deformed by the current pose into `out` (length
     /// [`Puppet::n_points`], layout of [`Drawing::flat_points`]). Recomputes stale weights and
-    /// rig first ([`Puppet::rebuild`]); otherwise one matrix–vector product, no allocation —
-    /// or, with flexible junctions, the flexible solve warm-started from the previous result.
+    /// rig first ([`Puppet::rebuild`]); then [`PosedDrawing::update`]: one matrix–vector
+    /// product, no allocation — or, with flexible junctions, the flexible solve warm-started
+    /// from the previous result. A result that is not finite is an error
+    /// ([`super::UpdateError::NotFinite`]).
     pub fn update(&mut self, out: &mut [Point]) -> Result<(), SceneError> {
-        self.fresh_rig()?;
-        let fit_error =
-            |origin: &str, e: Box<dyn std::error::Error + Send + Sync>| SceneError::Rig {
-                origin: origin.to_string(),
-                source: e,
-            };
-        match (&self.solver, &self.rig) {
-            (Some(solver), _) => {
-                let warm = (self.last.len() == out.len()).then_some(self.last.as_slice());
-                solver
-                    .solve(&self.pose, warm, out)
-                    .map_err(|e| fit_error(&self.origin, Box::new(e)))?;
-                self.last.clear();
-                self.last.extend_from_slice(out);
-            }
-            (None, Some(rig)) => rig
-                .update(&self.pose, out)
-                .map_err(|e| fit_error(&self.origin, Box::new(e)))?,
-            (None, None) => return Ok(()),
+        self.rebuild()?;
+        let Cache::Posed(posed) = &self.cache else {
+            return Ok(());
+        };
+        let warm = (self.last.len() == out.len()).then_some(self.last.as_slice());
+        let report = posed
+            .update_from(&self.pose, warm, out)
+            .map_err(|e| SceneError::Rig {
+                origin: self.origin.clone(),
+                source: Box::new(e),
+            })?;
+        if report.flexible.is_some() {
+            self.last.clear();
+            self.last.extend_from_slice(out);
         }
         self.stats.updates += 1;
         Ok(())
@@ -421,7 +447,7 @@ impl Puppet {
 
     /// The drawing (with its junction kinds).
     pub fn drawing(&self) -> &Drawing {
-        &self.drawing
+        self.cache.drawing()
     }
 
     /// The rest handles, rig order.
@@ -440,7 +466,7 @@ impl Puppet {
 
     /// Number of chain points [`Puppet::update`] writes.
     pub fn n_points(&self) -> usize {
-        self.drawing.n_points()
+        self.drawing().n_points()
     }
 
     /// The current pose, one map per handle.
@@ -465,23 +491,32 @@ impl Puppet {
 
     /// The cached weights, or `None` while stale.
     pub fn weights(&self) -> Option<&dyn WeightField> {
-        self.weights.as_ref().map(|w| w.0.as_ref())
+        self.cache.setup().map(|s| s.weights.as_ref())
     }
 
     /// The triangulated domain of the cached weights (mesh families), or `None` while stale
     /// or for closed-form families.
     pub fn domain(&self) -> Option<&Domain> {
-        self.weights.as_ref().and_then(|w| w.1.as_ref())
+        self.cache.setup().and_then(|s| s.domain.as_ref())
     }
 
     /// The cached rig, or `None` while stale.
     pub fn rig(&self) -> Option<&SplineRig> {
-        self.rig.as_ref()
+        self.posed().and_then(|p| p.rig())
+    }
+
+    /// The cached posed drawing (weights, rig and, with flexible junctions, the flexible
+    /// solver), or `None` while stale.
+    pub fn posed(&self) -> Option<&PosedDrawing> {
+        match &self.cache {
+            Cache::Posed(posed) => Some(posed),
+            _ => None,
+        }
     }
 
     /// Whether the next [`Puppet::update`] recomputes something.
     pub fn is_stale(&self) -> bool {
-        self.weights.is_none() || self.rig.is_none()
+        self.posed().is_none()
     }
 
     /// Counts of weight and rig computations and updates so far.
@@ -541,14 +576,26 @@ impl Puppet {
     }
 
     fn invalidate_weights(&mut self) {
-        self.weights = None;
-        self.invalidate_rig();
+        let drawing = match self.take_cache() {
+            Cache::Drawing(drawing) => drawing,
+            Cache::Weights(setup) => setup.drawing,
+            Cache::Posed(posed) => posed.into_setup().drawing,
+        };
+        self.cache = Cache::Drawing(drawing);
+        self.last.clear();
     }
 
     fn invalidate_rig(&mut self) {
-        self.rig = None;
-        self.solver = None;
+        self.cache = match self.take_cache() {
+            Cache::Posed(posed) => Cache::Weights(posed.into_setup()),
+            stale => stale,
+        };
         self.last.clear();
+    }
+
+    /// The cache, leaving an empty drawing in its place (to be replaced at once).
+    fn take_cache(&mut self) -> Cache {
+        std::mem::replace(&mut self.cache, Cache::Drawing(Drawing::default()))
     }
 
     fn inputs(&self) -> WeightInputs<'_> {
