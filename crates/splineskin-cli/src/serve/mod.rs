@@ -4,7 +4,7 @@
 //! ```text
 //! page (web/, embedded)                         server (this module)
 //!   open SVG / scene ───────── POST /api/open ──► Document: read by the library once
-//!   add / move rest handles ── POST /api/rig ───► Puppet: weights + SplineRig::precompute
+//!   add / move rest handles ── POST /api/rig ───► Puppet (editable PosedDrawing): weights + rig
 //!                          ◄── operator O (f64) ─┘
 //!   drag: points = O · vec(T), in the page, each frame
 //!   mouse-up (flexible G¹) ─── POST /api/rigs/{id}/solve ─► warm-started flexible solve
