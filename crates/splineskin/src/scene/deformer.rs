@@ -5,8 +5,6 @@
 //! drawing and no weights: [`super::PosedDrawing`] owns them with it, and its
 //! [`super::PosedDrawing::update`] is the way to apply a pose.
 
-use kurbo::{Affine, Point};
-
 use super::setup::{Compat, Setup};
 use super::{Engine, Scene, SceneError};
 use crate::drawing::Drawing;
@@ -145,19 +143,5 @@ impl Deformer {
             Deformer::Naive { engine, .. } => *engine,
             _ => Engine::Ours,
         }
-    }
-
-    /// Writes the drawing of `setup` deformed by `pose` (one map per handle) into `out`
-    /// (length [`crate::drawing::Drawing::n_points`]): [`super::PosedDrawing::update`]'s work
-    /// (a result that is not finite is an error) for a setup kept apart from its deformer.
-    pub fn deform(
-        &self,
-        setup: &Setup,
-        pose: &[Affine],
-        out: &mut [Point],
-    ) -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
-        let (drawing, weights) = (&setup.drawing, setup.weights.as_ref());
-        super::posed::pose_drawing(self, drawing, weights, (pose, None), None, out)?;
-        Ok(())
     }
 }

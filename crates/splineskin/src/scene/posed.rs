@@ -327,6 +327,22 @@ fn not_finite_reason(rank_deficient: bool) -> &'static str {
     }
 }
 
+impl Deformer {
+    /// Writes the drawing of `setup` deformed by `pose` (one map per handle) into `out`
+    /// (length [`crate::drawing::Drawing::n_points`]): [`super::PosedDrawing::update`]'s work
+    /// (a result that is not finite is an error) for a setup kept apart from its deformer.
+    pub fn deform(
+        &self,
+        setup: &Setup,
+        pose: &[Affine],
+        out: &mut [Point],
+    ) -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
+        let (drawing, weights) = (&setup.drawing, setup.weights.as_ref());
+        pose_drawing(self, drawing, weights, (pose, None), None, out)?;
+        Ok(())
+    }
+}
+
 /// Deforms `drawing` (weighted by `weights`) by `pose` (and the flexible solve's `warm` start)
 /// with `deformer` into `out`, then checks that the result is finite — unless `bound`
 /// ([`finite_product_bound`] of the deformer) proves it: the work of
