@@ -112,6 +112,21 @@ impl From<ViewBoxArg> for ViewBoxRule {
 /// Paths named in the warning of [`warn_outside_view_box`] before "and N more".
 const MAX_NAMED_OUTSIDE: usize = 5;
 
+/// A length in user units for messages: three decimals, or as many as four significant
+/// digits need, so that the overshoot of a drawing a millionth of a unit across does not read
+/// `0.000`.
+///
+/// `user_units(20.0) == "20.000"`, `user_units(2.5e-7) == "0.0000002500"`.
+fn user_units(v: f64) -> String {
+    let magnitude = if v != 0.0 && v.is_finite() {
+        v.abs().log10().floor() as i32
+    } else {
+        0
+    };
+    let decimals = (3 - magnitude).clamp(3, 17) as usize;
+    format!("{v:.decimals$}")
+}
+
 /// Says on stderr which paths of the deformed drawing leave the input's viewBox and how far
 /// (with `keep`: they are cropped; with `fit`: the viewBox grows), for SVG and PNG outputs.
 pub fn warn_outside_view_box(path: &Path, drawing: &Drawing, points: &[Point], rule: ViewBoxArg) {
@@ -128,7 +143,7 @@ pub fn warn_outside_view_box(path: &Path, drawing: &Drawing, points: &[Point], r
     let named = named_list(
         outside
             .iter()
-            .map(|o| format!("{} by {:.3}", o.element, o.distance)),
+            .map(|o| format!("{} by {}", o.element, user_units(o.distance))),
         outside.len(),
     );
     match rule {
@@ -138,11 +153,11 @@ pub fn warn_outside_view_box(path: &Path, drawing: &Drawing, points: &[Point], r
             path.display(),
         ),
         ViewBoxArg::Fit => eprintln!(
-            "note: {}: the viewBox grows to include {} path(s) that leave it, farthest {} by {:.3}",
+            "note: {}: the viewBox grows to include {} path(s) that leave it, farthest {} by {}",
             path.display(),
             outside.len(),
             outside[0].element,
-            outside[0].distance
+            user_units(outside[0].distance)
         ),
     }
 }
@@ -232,9 +247,9 @@ impl FramesOutside {
         let named = named_list(
             paths.iter().map(|p| {
                 format!(
-                    "{} by {:.3} at frame {} (outside in {} frame{})",
+                    "{} by {} at frame {} (outside in {} frame{})",
                     p.element,
-                    p.distance,
+                    user_units(p.distance),
                     p.frame,
                     p.n_frames,
                     if p.n_frames == 1 { "" } else { "s" }
@@ -255,19 +270,19 @@ impl FramesOutside {
                 let r = self.bounds.unwrap_or_default();
                 eprintln!(
                     "note: {}: the viewBox grows to hold every frame ({} path(s) leave the \
-                     input's in {} of {} frames, {frames}; farthest {} by {:.3} at frame {}); \
-                     the art spans x {:.3} … {:.3}, y {:.3} … {:.3}",
+                     input's in {} of {} frames, {frames}; farthest {} by {} at frame {}); \
+                     the art spans x {} … {}, y {} … {}",
                     path.display(),
                     paths.len(),
                     self.n_frames_outside,
                     self.n_frames,
                     paths[0].element,
-                    paths[0].distance,
+                    user_units(paths[0].distance),
                     paths[0].frame,
-                    r.x0,
-                    r.x1,
-                    r.y0,
-                    r.y1
+                    user_units(r.x0),
+                    user_units(r.x1),
+                    user_units(r.y0),
+                    user_units(r.y1)
                 )
             }
         }
@@ -400,4 +415,20 @@ fn temporary_beside(path: &Path) -> Result<PathBuf> {
         name.to_string_lossy(),
         std::process::id()
     )))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::user_units;
+
+    #[test]
+    fn user_units_keep_four_significant_digits_at_any_size() {
+        assert_eq!(user_units(20.0), "20.000");
+        assert_eq!(user_units(-1234.5), "-1234.500");
+        assert_eq!(user_units(0.0), "0.000");
+        assert_eq!(user_units(2.5e-7), "0.0000002500");
+        assert_eq!(user_units(0.01234), "0.01234");
+        // A drawing scaled by 1e-6 reads like the original, scaled.
+        assert_eq!(user_units(20.0e-6), "0.00002000");
+    }
 }
