@@ -57,7 +57,8 @@ pub(super) struct Layout {
     pub(super) n_free: usize,
 }
 
-/// One path with flexible junctions: its layout and the two step systems.
+/// One path with flexible junctions: its layout and its three step systems (ratio, direction,
+/// Gauss–Newton).
 #[derive(Clone, Debug)]
 pub(super) struct FlexPath {
     /// Index of the path in the drawing (and in [`FlexibleSolver::nodes`]).

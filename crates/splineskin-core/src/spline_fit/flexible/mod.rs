@@ -105,7 +105,8 @@ pub struct FlexibleReport {
     pub energies: Vec<f64>,
     /// The energy of the rig's fixed-ratio result for this pose.
     pub fixed_ratio_energy: f64,
-    /// Direction steps shortened to keep a tangent scalar positive.
+    /// Steps shortened to keep every tangent scalar positive (and, for Newton, every
+    /// junction's turn below [`MAX_TURN`]).
     pub shortened_steps: usize,
     /// Paths started from the `warm` solution's ratios (that had the lower energy).
     pub warm_started_paths: usize,
@@ -136,8 +137,8 @@ pub enum FlexibleError {
 }
 
 /// The fit with flexible G¹ and fixed-angle junctions (module doc): a [`SplineRig`] for the
-/// start and the paths without such junctions, plus the two step systems of every path that
-/// has them.
+/// start and the paths without such junctions, plus the step systems (ratio, direction and
+/// Gauss–Newton) of every path that has them.
 ///
 /// ```text
 /// once:        let solver = FlexibleSolver::new(&drawing, &samples, &fit, FlexibleOptions::default())?;

@@ -1,8 +1,9 @@
 //! The choice of rule ([`FlexibleRule`]) and its stopping parameters ([`FlexibleOptions`]),
 //! with their defaults.
 
-/// Default stopping tolerance: a round (a direction and a ratio step) lowering the path's
-/// energy by less than this fraction ends the iteration: 1e-4. On the authors' scenes and the
+/// Default stopping tolerance: a step ([`FlexibleRule::Newton`]) or a round of a direction and
+/// a ratio step ([`FlexibleRule::Alternating`]) lowering the path's energy by less than this
+/// fraction ends the iteration: 1e-5. On the authors' scenes and the
 /// bundled drawing, the points then move by less than 1e-4 of the bounding-box diagonal from
 /// where a 1e-9 tolerance takes them (tests/flexible_g1.rs), far below what can be seen.
 pub const DEFAULT_TOLERANCE: f64 = 1e-5;
