@@ -10,11 +10,12 @@ use axum::extract::rejection::{BytesRejection, JsonRejection};
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
+use splineskin::scene::Puppet;
 use tokio::sync::Semaphore;
 
 use super::document::{Document, MAX_UPLOAD_BYTES};
-use super::progress::ProgressBoard;
-use super::store::Store;
+use super::progress::{Followed, ProgressBoard, JOB_HEADER};
+use super::store::{Rig, Store};
 use super::wire::ErrorBody;
 
 /// Heavy jobs (precomputation, solves, weight grids, exports) run at once: 2, the cores of the
@@ -55,6 +56,13 @@ pub struct App {
 }
 
 impl App {
+    /// Follows the job the request names in its [`JOB_HEADER`] (if any, and if valid) until
+    /// the returned guard is dropped ([`ProgressBoard::follow`]).
+    pub(super) fn follow_job(&self, headers: &axum::http::HeaderMap) -> Option<Followed> {
+        let name = headers.get(JOB_HEADER)?.to_str().ok()?;
+        self.progress.follow(name)
+    }
+
     /// A server state holding `initial` as the drawing shown first; `hosts` as in
     /// [`App::hosts`].
     pub fn new(initial: Document, hosts: Vec<String>) -> Arc<App> {
@@ -187,4 +195,14 @@ pub(super) fn binary(bytes: Vec<u8>, rig: Option<&str>) -> Result<Response, ApiE
         );
     }
     Ok(response)
+}
+
+/// Locks `rig`'s puppet; a lock poisoned by a failed solve is an internal error.
+pub(super) fn lock_puppet(rig: &Rig) -> Result<std::sync::MutexGuard<'_, Puppet>, ApiError> {
+    rig.puppet.lock().map_err(|_| {
+        ApiError::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "the rig failed earlier (a bug): build it again",
+        )
+    })
 }

@@ -28,7 +28,7 @@ use splineskin::defop::{train, DefOpRig, Progress};
 use splineskin::scene::Compat;
 
 use super::app::{binary, f64_bytes, run_job, ApiError, App, MAX_OPERATOR_BYTES};
-use super::progress::{Count, JOB_HEADER};
+use super::progress::Count;
 use super::rig_routes::page_scene;
 use super::scene_file::defop_energy;
 use super::store::OperatorRig;
@@ -83,10 +83,7 @@ pub async fn defop(
 ) -> Result<Response, ApiError> {
     let Json(request) = request?;
     let document = app.document(&request.document)?;
-    let followed = headers
-        .get(JOB_HEADER)
-        .and_then(|v| v.to_str().ok())
-        .and_then(|name| app.progress.follow(name));
+    let followed = app.follow_job(&headers);
     let stage = followed.as_ref().map(|f| f.reporter());
     let count = followed.as_ref().map(|f| f.counter());
     let (rig, info) = run_job(&app, move || {

@@ -17,7 +17,7 @@ use splineskin::drawing::svg_out::{
 };
 use splineskin::naive::skin_point;
 
-use super::app::{run_job, ApiError, App};
+use super::app::{lock_puppet, run_job, ApiError, App};
 use super::document::Document;
 use super::rig_routes::{gone_rig, page_scene};
 use super::scene_file::scene_json;
@@ -174,12 +174,7 @@ impl Deformation {
                 )));
             }
             Deformation::Skinning(rig) => {
-                let puppet = rig.puppet.lock().map_err(|_| {
-                    ApiError::new(
-                        StatusCode::INTERNAL_SERVER_ERROR,
-                        "the rig failed earlier (a bug): build it again",
-                    )
-                })?;
+                let puppet = lock_puppet(rig)?;
                 let field = puppet
                     .weights()
                     .ok_or_else(|| ApiError::bad("the rig's weights are not computed"))?;

@@ -12,10 +12,10 @@ use splineskin::scene::{Compat, Puppet, PuppetStage, Scene};
 use std::sync::Arc;
 
 use super::app::{
-    binary, f64_bytes, run_job, ApiError, App, MAX_GRID_SIDE, MAX_HANDLES, MAX_OPERATOR_BYTES,
+    binary, f64_bytes, lock_puppet, run_job, ApiError, App, MAX_GRID_SIDE, MAX_HANDLES,
+    MAX_OPERATOR_BYTES,
 };
 use super::document::Document;
-use super::progress::JOB_HEADER;
 use super::scene_file::{defop_energy, scene_json};
 use super::wire::{EditScene, PoseRequest, SceneRequest};
 
@@ -65,10 +65,7 @@ pub async fn rig(
         )));
     }
     // Followed until this request ends, however it ends.
-    let followed = headers
-        .get(JOB_HEADER)
-        .and_then(|v| v.to_str().ok())
-        .and_then(|name| app.progress.follow(name));
+    let followed = app.follow_job(&headers);
     let report = followed.as_ref().map(|f| f.reporter());
     let (puppet, operator) = run_job(&app, move || {
         let scene = page_scene(&document, &request.scene)?;
@@ -106,12 +103,7 @@ pub async fn solve(
         {
             return Err(ApiError::bad(format!("pose[{k}]: not finite")));
         }
-        let mut puppet = rig.puppet.lock().map_err(|_| {
-            ApiError::new(
-                StatusCode::INTERNAL_SERVER_ERROR,
-                "the rig failed earlier (a bug): build it again",
-            )
-        })?;
+        let mut puppet = lock_puppet(&rig)?;
         puppet
             .set_pose(&pose)
             .map_err(|e| ApiError::bad(e.to_string()))?;
@@ -170,12 +162,7 @@ pub async fn weights(
         return Err(ApiError::bad("grid box: not finite"));
     }
     let grid = run_job(&app, move || {
-        let puppet = rig.puppet.lock().map_err(|_| {
-            ApiError::new(
-                StatusCode::INTERNAL_SERVER_ERROR,
-                "the rig failed earlier (a bug): build it again",
-            )
-        })?;
+        let puppet = lock_puppet(&rig)?;
         let field = puppet
             .weights()
             .ok_or_else(|| ApiError::bad("the rig's weights are not computed"))?;
