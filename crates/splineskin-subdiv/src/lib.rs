@@ -31,7 +31,7 @@
 //! the `opensubdiv-rs` port of OpenSubdiv's `Far`/`Vtr`/`Sdc` layers; every weight is computed
 //! here in `f64` (the port's weights are `f32`, about 1e-7 relative): the refinement masks in
 //! `masks.rs`, regular B-spline patches in `regular_patch.rs`.
-pub mod affine3;
+mod affine3;
 mod cage;
 mod compare;
 mod error;

@@ -1,6 +1,7 @@
-//! What reading and writing SVG share: the error type ([`SvgError`]), parsing XML
-//! ([`parse_xml`]), naming elements in messages ([`node_label`]), the namespaces, lengths
-//! ([`user_length`]) and the shortest exact number text ([`push_number`], [`matrix`]).
+//! What reading and writing SVG share: the error type ([`SvgError`]) and the size limit
+//! ([`MAX_SVG_BYTES`]), and inside the crate: parsing XML (`parse_xml`), naming elements in
+//! messages (`node_label`), the namespaces, lengths (`user_length`) and the shortest exact
+//! number text (`push_number`, `matrix`).
 //!
 //! Every other module of this crate builds on this one; it imports none of them.
 
@@ -173,7 +174,7 @@ pub enum SvgError {
 }
 
 /// roxmltree options shared by import and export (DTDs allowed, as usvg does).
-pub fn xml_options<'i>() -> roxmltree::ParsingOptions<'i> {
+pub(crate) fn xml_options<'i>() -> roxmltree::ParsingOptions<'i> {
     roxmltree::ParsingOptions {
         allow_dtd: true,
         ..Default::default()
@@ -181,7 +182,10 @@ pub fn xml_options<'i>() -> roxmltree::ParsingOptions<'i> {
 }
 
 /// Parses `text` as XML, mapping errors to [`SvgError::Xml`].
-pub fn parse_xml<'i>(text: &'i str, origin: &str) -> Result<roxmltree::Document<'i>, SvgError> {
+pub(crate) fn parse_xml<'i>(
+    text: &'i str,
+    origin: &str,
+) -> Result<roxmltree::Document<'i>, SvgError> {
     roxmltree::Document::parse_with_options(text, xml_options()).map_err(|e| {
         let pos = e.pos();
         SvgError::Xml {
@@ -196,10 +200,10 @@ pub fn parse_xml<'i>(text: &'i str, origin: &str) -> Result<roxmltree::Document<
 /// A user style sheet that shows every element usvg would leave out for `display: none`
 /// (an injected `!important` rule comes first and wins over the document's own rules, as in
 /// usvg's cascade): what import reads hidden layers with.
-pub const SHOW_HIDDEN_CSS: &str = "* { display: inline !important; }";
+pub(crate) const SHOW_HIDDEN_CSS: &str = "* { display: inline !important; }";
 
 /// `tag#id (line n)` for an element node.
-pub fn node_label(doc: &roxmltree::Document, node: roxmltree::Node) -> String {
+pub(crate) fn node_label(doc: &roxmltree::Document, node: roxmltree::Node) -> String {
     let line = doc.text_pos_at(node.range().start).row;
     match node.attribute("id") {
         Some(id) => format!("{}#{} (line {line})", node.tag_name().name(), id),
@@ -208,16 +212,16 @@ pub fn node_label(doc: &roxmltree::Document, node: roxmltree::Node) -> String {
 }
 
 /// The SVG namespace.
-pub const SVG_NS: &str = "http://www.w3.org/2000/svg";
+pub(crate) const SVG_NS: &str = "http://www.w3.org/2000/svg";
 
 /// The XLink namespace (`xlink:href`).
-pub const XLINK_NS: &str = "http://www.w3.org/1999/xlink";
+pub(crate) const XLINK_NS: &str = "http://www.w3.org/1999/xlink";
 
 /// The XML namespace (`xml:id`).
-pub const XML_NS: &str = "http://www.w3.org/XML/1998/namespace";
+pub(crate) const XML_NS: &str = "http://www.w3.org/XML/1998/namespace";
 
 /// `matrix(a b c d e f)` of an affine map, numbers in their shortest round-trip form.
-pub fn matrix(t: Affine) -> String {
+pub(crate) fn matrix(t: Affine) -> String {
     let c = t.as_coeffs();
     let mut s = String::from("matrix(");
     push_numbers(&mut s, &c);
@@ -226,7 +230,7 @@ pub fn matrix(t: Affine) -> String {
 }
 
 /// Appends numbers separated by single spaces (a leading space is the caller's business).
-pub fn push_numbers(out: &mut String, values: &[f64]) {
+pub(crate) fn push_numbers(out: &mut String, values: &[f64]) {
     for (i, &v) in values.iter().enumerate() {
         if i > 0 {
             out.push(' ');
@@ -237,7 +241,7 @@ pub fn push_numbers(out: &mut String, values: &[f64]) {
 
 /// Appends `v` in the shortest text that parses back to the same `f64`: the shorter of Rust's
 /// shortest round-trip decimal (`{}`) and exponent (`{:e}`) forms; `0` for ±0.
-pub fn push_number(out: &mut String, v: f64) {
+pub(crate) fn push_number(out: &mut String, v: f64) {
     if v == 0.0 {
         out.push('0');
         return;
@@ -252,20 +256,20 @@ pub fn push_number(out: &mut String, v: f64) {
 }
 
 /// [`push_number`] as a `String`.
-pub fn number(v: f64) -> String {
+pub(crate) fn number(v: f64) -> String {
     let mut s = String::new();
     push_number(&mut s, v);
     s
 }
 
 /// Whether `node` is an element in the SVG namespace (or in none, as usvg accepts).
-pub fn is_svg_element(node: roxmltree::Node) -> bool {
+pub(crate) fn is_svg_element(node: roxmltree::Node) -> bool {
     node.is_element() && matches!(node.tag_name().namespace(), None | Some(SVG_NS))
 }
 
 /// A `<length>` in user units: numbers, `px`, `in`, `cm`, `mm`, `pt`, `pc` (96 dpi) and
 /// percentages of `percent_base`; `em`/`ex` are refused (they need the font size).
-pub fn user_length(value: &str, percent_base: f64) -> Result<f64, String> {
+pub(crate) fn user_length(value: &str, percent_base: f64) -> Result<f64, String> {
     use svgtypes::LengthUnit as U;
     let length = <svgtypes::Length as std::str::FromStr>::from_str(value)
         .map_err(|e| format!("a length ({e})"))?;
@@ -283,7 +287,7 @@ pub fn user_length(value: &str, percent_base: f64) -> Result<f64, String> {
 }
 
 /// A prefix for synthetic ids that no id of the document starts with.
-pub fn unique_prefix(doc: &roxmltree::Document) -> String {
+pub(crate) fn unique_prefix(doc: &roxmltree::Document) -> String {
     let mut prefix = String::from("splineskin-");
     while doc
         .descendants()

@@ -120,7 +120,7 @@ pub fn solve_path(
 }
 
 /// A path of a group solved as one system ([`solve_group`]).
-pub struct GroupMember<'a> {
+pub(crate) struct GroupMember<'a> {
     /// Path index in the drawing (for messages).
     pub index: usize,
     /// The path.
@@ -139,7 +139,7 @@ pub struct GroupMember<'a> {
 /// `members[p].unknowns` says (`n_unknowns` points in all;
 /// [`super::shared_curves`]): each curve's energy once, every member's junction rows over the
 /// group's unknowns with dependent rows left out. Returns each member's operator.
-pub fn solve_group(
+pub(crate) fn solve_group(
     members: &[GroupMember<'_>],
     n_unknowns: usize,
     samples: &SampledCurves,
@@ -481,7 +481,7 @@ fn point_operator(
 }
 
 /// The centre of the bounding box of `points` (at least one).
-pub fn centre(points: impl IntoIterator<Item = Point>) -> Vec2 {
+pub(crate) fn centre(points: impl IntoIterator<Item = Point>) -> Vec2 {
     let mut points = points.into_iter();
     let first = points.next().expect("a chain has points");
     let (mut lo, mut hi) = (first, first);
