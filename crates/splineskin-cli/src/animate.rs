@@ -36,7 +36,7 @@ use splineskin::drawing::svg_animate::{write_animated_svg_following, write_anima
 use splineskin::drawing::svg_out::{write_svg_following, write_svg_view_box, ViewBoxRule};
 use splineskin::scene::{Compat, PosedDrawing};
 
-use crate::output::{write_atomic, FramesOutside, ViewBoxArg, PNG_SIZE};
+use crate::output::{has_extension, write_atomic, FramesOutside, ViewBoxArg, PNG_SIZE};
 use crate::CompatArg;
 
 #[derive(clap::Args)]
@@ -266,9 +266,7 @@ const FILE_EXTENSIONS: [&str; 9] = [
 
 /// Whether `path` names an `.svg` file (otherwise it names a frames folder).
 fn is_svg_name(path: &Path) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+    has_extension(path, "svg")
 }
 
 /// The name of frame `f` with extension `ext`: `frame-0000.svg`, … (at least four digits).

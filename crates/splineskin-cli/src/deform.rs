@@ -8,7 +8,7 @@ use kurbo::{Affine, Point};
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::scene::{Compat, PosedDrawing, Setup};
 
-use crate::output::{warn_outside_view_box, write_deformed_view_box, ViewBoxArg};
+use crate::output::DeformedOutputArgs;
 use crate::CompatArg;
 
 #[derive(clap::Args)]
@@ -38,14 +38,8 @@ pub struct Args {
     pose_args: crate::drawing_input::PoseArgs,
     #[command(flatten)]
     text: crate::drawing_input::TextArgs,
-    /// When the deformed art leaves the input's viewBox: `keep` it (a warning names the paths
-    /// and how far) or `fit` it (viewBox and width/height grow to include the art).
-    #[arg(long, value_enum, default_value_t = ViewBoxArg::Keep)]
-    viewbox: ViewBoxArg,
-    /// Scale stroke widths by the local scale of the deformation over each element (off by
-    /// default, as Illustrator's Puppet Warp leaves stroke weights as they are).
-    #[arg(long)]
-    scale_strokes: bool,
+    #[command(flatten)]
+    written: DeformedOutputArgs,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -77,17 +71,11 @@ pub fn run(args: Args) -> Result<()> {
     })?;
     let engine_note = report.note().map(|n| format!(", {n}")).unwrap_or_default();
     let setup = posed.setup();
-    warn_outside_view_box(&args.output, &setup.drawing, &points, args.viewbox);
-    let options = FollowOptions::default().with_scale_strokes(args.scale_strokes);
+    let options = args.written.follow_options();
     let maps = element_maps(setup, &pose.transforms, &options)
         .with_context(|| format!("{}: pose {pose_index}", args.scene.display()))?;
-    write_deformed_view_box(
-        &args.output,
-        &setup.drawing,
-        &points,
-        args.viewbox.into(),
-        maps.as_ref(),
-    )?;
+    args.written
+        .write(&args.output, &setup.drawing, &points, maps.as_ref())?;
     let set = scene.handle_set();
     let kinds = [
         (set.bones.len(), "bones"),

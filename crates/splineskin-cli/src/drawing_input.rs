@@ -16,6 +16,7 @@ use splineskin::drawing::{read_svg_file, Drawing, ImportOptions, SvgError};
 use splineskin::scene::handles::transform_about;
 use splineskin::scene::{place_pins, PinCount, PinOptions, Scene, MAX_COORDINATE};
 
+use crate::output::has_extension;
 use crate::serve::scene_file::{scene_json_with, SceneExtras, SvgRef};
 use crate::serve::wire::{EditScene, WeightsWire};
 
@@ -185,11 +186,7 @@ impl Family {
 /// non-blank character is `<` (scenes are JSON objects). An unreadable file is not one (the
 /// scene reader then says why it cannot read it).
 pub fn is_svg(path: &Path) -> bool {
-    if path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
-    {
+    if has_extension(path, "svg") {
         return true;
     }
     use std::io::Read;

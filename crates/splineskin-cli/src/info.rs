@@ -10,6 +10,7 @@ use splineskin::domain::{Boundary, Domain};
 use splineskin::drawing::{read_svg_file, Drawing, ImportOptions, JointKind};
 use splineskin::scene::{Compat, Scene};
 
+use crate::output::has_extension;
 use crate::CompatArg;
 
 #[derive(clap::Args)]
@@ -23,10 +24,7 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<()> {
     let compat: Compat = args.compat.into();
-    let is_scene = args
-        .file
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let is_scene = has_extension(&args.file, "json");
     let drawing = if is_scene {
         let scene = Scene::load(&args.file)?;
         print!("{}", describe_scene(&scene));

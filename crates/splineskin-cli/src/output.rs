@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, ensure, Context, Result};
 use kurbo::{Point, Rect};
 use serde::Serialize;
-use splineskin::drawing::follow::ElementMaps;
+use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::svg_out::{
     art_bounds, art_outside_view_box, write_svg_following, write_svg_view_box, ViewBoxRule,
 };
@@ -15,6 +15,13 @@ use splineskin::drawing::Drawing;
 
 /// Longest side of PNG renders, in pixels.
 pub const PNG_SIZE: u32 = 1200;
+
+/// Whether `path`'s name ends in `.ext`, in any case (`ext` without the dot).
+pub fn has_extension(path: &Path, ext: &str) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+}
 
 /// What a file name asks for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,21 +78,13 @@ pub fn paths_json(drawing: &Drawing, points: &[Point]) -> Result<String> {
     {
         bail!("deformed point {k} is not finite; expected finite coordinates");
     }
-    let mut offset = 0;
     let paths = drawing
         .paths
         .iter()
-        .map(|p| {
-            let n = p.points.len();
-            let pts = points[offset..offset + n]
-                .iter()
-                .map(|q| [q.x, q.y])
-                .collect();
-            offset += n;
-            JsonPath {
-                closed: p.closed,
-                points: pts,
-            }
+        .zip(drawing.path_ranges())
+        .map(|(p, range)| JsonPath {
+            closed: p.closed,
+            points: points[range].iter().map(|q| [q.x, q.y]).collect(),
         })
         .collect();
     Ok(serde_json::to_string(&JsonPaths { paths })?)
@@ -106,6 +105,40 @@ impl From<ViewBoxArg> for ViewBoxRule {
             ViewBoxArg::Keep => ViewBoxRule::Keep,
             ViewBoxArg::Fit => ViewBoxRule::Fit,
         }
+    }
+}
+
+/// How `deform` and `defop deform` write the deformed drawing: `--viewbox` and
+/// `--scale-strokes`.
+#[derive(clap::Args)]
+pub struct DeformedOutputArgs {
+    /// When the deformed art leaves the input's viewBox: `keep` it (a warning names the paths
+    /// and how far) or `fit` it (viewBox and width/height grow to include the art).
+    #[arg(long, value_enum, default_value_t = ViewBoxArg::Keep)]
+    pub viewbox: ViewBoxArg,
+    /// Scale stroke widths by the local scale of the deformation over each element (off by
+    /// default, as Illustrator's Puppet Warp leaves stroke weights as they are).
+    #[arg(long)]
+    pub scale_strokes: bool,
+}
+
+impl DeformedOutputArgs {
+    /// The options of the element maps ([`splineskin::drawing::follow`]).
+    pub fn follow_options(&self) -> FollowOptions {
+        FollowOptions::default().with_scale_strokes(self.scale_strokes)
+    }
+
+    /// Warns when the art leaves the viewBox ([`warn_outside_view_box`]), then writes `path`
+    /// ([`write_deformed_view_box`]).
+    pub fn write(
+        &self,
+        path: &Path,
+        drawing: &Drawing,
+        points: &[Point],
+        maps: Option<&ElementMaps>,
+    ) -> Result<()> {
+        warn_outside_view_box(path, drawing, points, self.viewbox);
+        write_deformed_view_box(path, drawing, points, self.viewbox.into(), maps)
     }
 }
 

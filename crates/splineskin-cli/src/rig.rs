@@ -11,7 +11,7 @@ use splineskin::drawing::text_outlines::text_to_outlines;
 use splineskin::scene::Scene;
 
 use crate::drawing_input::{folder_of, is_svg, PinArgs, PoseArgs, Rigged};
-use crate::output::write_atomic;
+use crate::output::{has_extension, write_atomic};
 use crate::serve::scene_file::SvgRef;
 
 #[derive(clap::Args)]
@@ -43,11 +43,7 @@ pub fn run(args: Args) -> Result<()> {
             args.drawing.display()
         );
     }
-    let is_json = args
-        .output
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let is_json = has_extension(&args.output, "json");
     if !is_json {
         bail!(
             "{}: a scene is JSON (expected a name ending in .json)",

@@ -30,7 +30,7 @@ use splineskin::weight_map::{
 };
 use splineskin::weights::{bbw_weights, harmonic_weights, BbwOptions, VertexWeights};
 
-use crate::output::{write_atomic, Format};
+use crate::output::{has_extension, write_atomic, Format};
 
 #[derive(clap::Args)]
 #[command(group(
@@ -132,11 +132,7 @@ pub fn run(args: Args) -> Result<()> {
 
 /// The scene mode: the scene's weights as a PNG picture.
 fn draw_scene(scene_path: &Path, args: &Args) -> Result<()> {
-    let is_png = args
-        .output
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    let is_png = has_extension(&args.output, "png");
     if !is_png {
         bail!(
             "{}: a scene's weights are drawn as PNG (expected a name ending in .png)",

@@ -14,7 +14,7 @@ mod common;
 
 use std::path::Path;
 
-use common::cli::{failed, ok, run_ok, s, splineskin};
+use common::cli::{defop_eval, failed, ok, run_ok, s, splineskin};
 use common::test_dir::TestDir;
 use kurbo::Point;
 use splineskin::defop::OperatorFile;
@@ -67,15 +67,7 @@ fn defop_cli_train_then_eval_round_trip() {
     let rest = dir.join("rest.json");
     std::fs::write(&rest, "[[10, 15], [90, 15], [50, 15]]").unwrap();
     let out = dir.join("rest-out.json");
-    ok(&splineskin(&[
-        "defop",
-        "eval",
-        s(&op_path),
-        "--handles",
-        s(&rest),
-        "-o",
-        s(&out),
-    ]));
+    ok(&defop_eval(&op_path, &rest, &out));
     let d: Deformed = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
     assert_eq!(d.triangles, file.mesh.triangles);
     for (a, b) in d.vertices.iter().zip(&file.mesh.vertices) {
@@ -93,15 +85,7 @@ fn defop_cli_train_then_eval_round_trip() {
         ),
     )
     .unwrap();
-    ok(&splineskin(&[
-        "defop",
-        "eval",
-        s(&op_path),
-        "--handles",
-        s(&moved),
-        "-o",
-        s(&out),
-    ]));
+    ok(&defop_eval(&op_path, &moved, &out));
     let d: Deformed = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
     assert_eq!(d.handles, targets.to_vec());
     for (&h, t) in file.op.handles().iter().zip(&targets) {
@@ -111,15 +95,7 @@ fn defop_cli_train_then_eval_round_trip() {
 
     // PNG: drawn, mostly white with the mesh in colour.
     let png = dir.join("moved.png");
-    ok(&splineskin(&[
-        "defop",
-        "eval",
-        s(&op_path),
-        "--handles",
-        s(&moved),
-        "-o",
-        s(&png),
-    ]));
+    ok(&defop_eval(&op_path, &moved, &png));
     let image = RgbaImage::decode_png(&std::fs::read(&png).unwrap()).unwrap();
     let coloured = image.pixels.iter().filter(|p| p[0] != p[2]).count();
     assert!(coloured > 1000, "{coloured} coloured pixels");
@@ -242,17 +218,7 @@ fn defop_cli_refuses_bad_inputs_naming_the_file() {
     let dir = TestDir::new("splineskin-defop-cli-");
     let op = trained(&dir);
     let out = dir.join("out.json");
-    let eval = |op: &Path, handles: &Path| {
-        splineskin(&[
-            "defop",
-            "eval",
-            s(op),
-            "--handles",
-            s(handles),
-            "-o",
-            s(&out),
-        ])
-    };
+    let eval = |op: &Path, handles: &Path| defop_eval(op, handles, &out);
     let write = |name: &str, text: &str| {
         let p = dir.join(name);
         std::fs::write(&p, text).unwrap();

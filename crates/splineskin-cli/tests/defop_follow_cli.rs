@@ -14,7 +14,7 @@ mod common;
 
 use std::path::Path;
 
-use common::cli::{ok, run_ok, s, splineskin};
+use common::cli::{defop_eval, ok, run_ok, s, splineskin};
 use common::test_dir::TestDir;
 use kurbo::{Affine, Point};
 use splineskin::defop::OperatorFile;
@@ -153,15 +153,7 @@ fn defop_deform_carries_text_and_gradients_with_the_operator() {
     let q = dir.join("q.json");
     std::fs::write(&q, "[[10, 15], [92, 22], [50, 15]]").unwrap();
     let eval = dir.join("eval.json");
-    ok(&splineskin(&[
-        "defop",
-        "eval",
-        s(&dir.join("op.bin")),
-        "--handles",
-        s(&q),
-        "-o",
-        s(&eval),
-    ]));
+    ok(&defop_eval(&dir.join("op.bin"), &q, &eval));
     #[derive(serde::Deserialize)]
     struct Deformed {
         vertices: Vec<[f64; 2]>,

@@ -12,6 +12,8 @@
 // Q is where the handles are: q_ℓ = T_ℓ(p_ℓ) for handle ℓ's map T_ℓ and rest position p_ℓ, so
 // only a handle's translation matters. Nothing is allocated per frame.
 
+import { matVec } from './rig.js';
+
 /** The handle basis kinds the server names, as in HandleBasisKind::name. */
 export const HANDLE_BASIS_KINDS = ['linear', 'quadratic', 'cubic', 'tps'];
 
@@ -124,13 +126,6 @@ export class DefOpLiveRig {
   deform(pose, out) {
     this.configuration(pose);
     this.evalPsi();
-    const { G, psi } = this;
-    const cols = psi.length;
-    const rows = 2 * this.nPoints;
-    for (let r = 0, base = 0; r < rows; r++, base += cols) {
-      let s = 0;
-      for (let c = 0; c < cols; c++) s += G[base + c] * psi[c];
-      out[r] = s;
-    }
+    matVec(this.G, this.psi, 2 * this.nPoints, out);
   }
 }

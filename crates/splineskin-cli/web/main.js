@@ -535,20 +535,20 @@ function cycleJunction(j) {
   say(`junction ${j.joint} of path ${j.path}: ${next}`);
 }
 
-function undo() {
-  const previous = editor.history.undo(editor.scene);
-  if (!previous) return;
-  editor.scene = previous;
-  if (editor.selected !== null && editor.selected >= previous.handles.length) editor.selected = null;
+/** Puts back a scene from the history (undo or redo); nothing when the history has none. */
+function restore(scene) {
+  if (!scene) return;
+  editor.scene = scene;
+  if (editor.selected !== null && editor.selected >= scene.handles.length) editor.selected = null;
   sceneChanged();
 }
 
+function undo() {
+  restore(editor.history.undo(editor.scene));
+}
+
 function redo() {
-  const next = editor.history.redo(editor.scene);
-  if (!next) return;
-  editor.scene = next;
-  if (editor.selected !== null && editor.selected >= next.handles.length) editor.selected = null;
-  sceneChanged();
+  restore(editor.history.redo(editor.scene));
 }
 
 function syncControls() {

@@ -22,18 +22,24 @@ export class LiveRig {
 
   /** Writes the deformed chain points x0, y0, x1, y1, … for `pose` (one map per handle). */
   deform(pose, out) {
-    const n = 6 * this.nHandles;
     const t = this.coefficients;
     for (let i = 0; i < this.nHandles; i++) {
       for (let c = 0; c < 6; c++) t[6 * i + c] = pose[i][c];
     }
-    const O = this.operator;
-    const rows = 2 * this.nPoints;
-    for (let r = 0, base = 0; r < rows; r++, base += n) {
-      let s = 0;
-      for (let c = 0; c < n; c++) s += O[base + c] * t[c];
-      out[r] = s;
-    }
+    matVec(this.operator, t, 2 * this.nPoints, out);
+  }
+}
+
+/**
+ * out[r] = Σ_c M[r · cols + c] · x[c] for r < rows, with M row-major and cols = x.length: the
+ * one dense product a frame costs.
+ */
+export function matVec(M, x, rows, out) {
+  const cols = x.length;
+  for (let r = 0, base = 0; r < rows; r++, base += cols) {
+    let s = 0;
+    for (let c = 0; c < cols; c++) s += M[base + c] * x[c];
+    out[r] = s;
   }
 }
 

@@ -21,10 +21,10 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use splineskin::defop::{DefOpRig, MeshMap, OperatorFile};
-use splineskin::drawing::follow::{ElementMaps, FollowOptions};
+use splineskin::drawing::follow::ElementMaps;
 use splineskin::scene::{Compat, Scene, HANDLE_VERTEX_TOLERANCE};
 
-use crate::output::{warn_outside_view_box, write_deformed_view_box, ViewBoxArg};
+use crate::output::DeformedOutputArgs;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -39,15 +39,8 @@ pub struct Args {
     /// The operator file (default: the scene's `defop.operator`).
     #[arg(long)]
     operator: Option<PathBuf>,
-    /// When the deformed art leaves the input's viewBox: `keep` it (a warning names the paths
-    /// and how far) or `fit` it (viewBox and width/height grow to include the art), as in
-    /// `splineskin deform`.
-    #[arg(long, value_enum, default_value_t = ViewBoxArg::Keep)]
-    viewbox: ViewBoxArg,
-    /// Scale stroke widths by the local scale of the operator's deformation over each element
-    /// (off by default, as in `splineskin deform`).
-    #[arg(long)]
-    scale_strokes: bool,
+    #[command(flatten)]
+    written: DeformedOutputArgs,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -119,7 +112,6 @@ pub fn run(args: Args) -> Result<()> {
             args.scene.display()
         );
     }
-    warn_outside_view_box(&args.output, &drawing, &points, args.viewbox);
     // JSON holds the curves only: the element maps are for SVG and PNG.
     let maps = match crate::output::Format::of(&args.output)? {
         crate::output::Format::Json => None,
@@ -131,19 +123,14 @@ pub fn run(args: Args) -> Result<()> {
                     op_path.display()
                 )
             })?;
-            let options = FollowOptions::default().with_scale_strokes(args.scale_strokes);
+            let options = args.written.follow_options();
             let maps = ElementMaps::from_map(&drawing, &mut |p| map.apply(p), &options)
                 .with_context(|| format!("{}: pose {pose_index}", args.scene.display()))?;
             Some(maps)
         }
     };
-    write_deformed_view_box(
-        &args.output,
-        &drawing,
-        &points,
-        args.viewbox.into(),
-        maps.as_ref(),
-    )?;
+    args.written
+        .write(&args.output, &drawing, &points, maps.as_ref())?;
     eprintln!(
         "{}: {} curves in {} paths, {} handles, operator {} ({} vertices), join {:.2} s, pose {pose_index} -> {}",
         args.scene.display(),

@@ -13,6 +13,7 @@ use super::scene_file::SceneExtras;
 use super::wire::{
     DocumentInfo, EditScene, ElementInfo, JunctionWire, OperatorInfo, PathInfo, WeightsWire,
 };
+use crate::output::has_extension;
 
 /// The attribute that marks each imported element in the shown document with its index
 /// ([`splineskin::drawing::svg_out::write_svg_marked`]).
@@ -243,10 +244,7 @@ impl Document {
     /// Opens the file given on the command line.
     pub fn from_path(path: &std::path::Path) -> Result<Document> {
         let name = path.display().to_string();
-        let is_json = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        let is_json = has_extension(path, "json");
         if is_json {
             // Scene::load resolves an SVG file named relative to the scene.
             let scene = Scene::load(path)?;

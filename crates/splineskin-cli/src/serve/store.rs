@@ -39,15 +39,62 @@ pub struct OperatorRig {
     pub op: DefOp,
 }
 
+/// Items kept under ids, newest last, the oldest dropped past `limit`.
+struct Kept<T> {
+    items: VecDeque<(String, Arc<T>)>,
+    limit: usize,
+}
+
+impl<T> Kept<T> {
+    fn new(limit: usize) -> Self {
+        Self {
+            items: VecDeque::new(),
+            limit,
+        }
+    }
+
+    /// Keeps `item` under `id`, dropping the oldest past the limit; returns the kept item.
+    fn add(&mut self, id: String, item: T) -> Arc<T> {
+        let item = Arc::new(item);
+        self.items.push_back((id, item.clone()));
+        while self.items.len() > self.limit {
+            self.items.pop_front();
+        }
+        item
+    }
+
+    fn iter(&self) -> impl Iterator<Item = &(String, Arc<T>)> {
+        self.items.iter()
+    }
+
+    /// The item `id`, if kept.
+    fn get(&self, id: &str) -> Option<Arc<T>> {
+        self.iter()
+            .find(|(k, _)| k == id)
+            .map(|(_, item)| item.clone())
+    }
+}
+
 /// Documents and rigs by id.
-#[derive(Default)]
 pub struct Store {
     next_id: u64,
     /// The document given on the command line (or the bundled one), never dropped.
     initial: Option<(String, Arc<Document>)>,
-    documents: VecDeque<(String, Arc<Document>)>,
-    rigs: VecDeque<(String, Arc<Rig>)>,
-    defops: VecDeque<(String, Arc<OperatorRig>)>,
+    documents: Kept<Document>,
+    rigs: Kept<Rig>,
+    defops: Kept<OperatorRig>,
+}
+
+impl Default for Store {
+    fn default() -> Self {
+        Self {
+            next_id: 0,
+            initial: None,
+            documents: Kept::new(MAX_DOCUMENTS),
+            rigs: Kept::new(MAX_RIGS),
+            defops: Kept::new(MAX_RIGS),
+        }
+    }
 }
 
 impl Store {
@@ -74,19 +121,14 @@ impl Store {
     pub fn add_document(&mut self, mut document: Document) -> Arc<Document> {
         let id = self.new_id('d');
         document.info.id = id.clone();
-        let document = Arc::new(document);
-        self.documents.push_back((id, document.clone()));
-        while self.documents.len() > MAX_DOCUMENTS {
-            self.documents.pop_front();
-        }
-        document
+        self.documents.add(id, document)
     }
 
     /// The document `id`, if kept.
     pub fn document(&self, id: &str) -> Option<Arc<Document>> {
         self.initial
             .iter()
-            .chain(&self.documents)
+            .chain(self.documents.iter())
             .find(|(k, _)| k == id)
             .map(|(_, d)| d.clone())
     }
@@ -95,48 +137,34 @@ impl Store {
     /// returns its id.
     pub fn add_rig(&mut self, document: &str, puppet: Puppet) -> String {
         let id = self.new_id('r');
-        self.rigs.push_back((
-            id.clone(),
-            Arc::new(Rig {
-                document: document.to_string(),
-                puppet: Mutex::new(puppet),
-            }),
-        ));
-        while self.rigs.len() > MAX_RIGS {
-            self.rigs.pop_front();
-        }
+        let rig = Rig {
+            document: document.to_string(),
+            puppet: Mutex::new(puppet),
+        };
+        self.rigs.add(id.clone(), rig);
         id
     }
 
     /// The rig `id`, if kept.
     pub fn rig(&self, id: &str) -> Option<Arc<Rig>> {
-        self.rigs
-            .iter()
-            .find(|(k, _)| k == id)
-            .map(|(_, r)| r.clone())
+        self.rigs.get(id)
     }
 
     /// Keeps a drawing joined to a deformation operator, dropping the oldest past
     /// [`MAX_RIGS`]; returns its id.
     pub fn add_defop(&mut self, rig: OperatorRig) -> String {
         let id = self.new_id('o');
-        self.defops.push_back((id.clone(), Arc::new(rig)));
-        while self.defops.len() > MAX_RIGS {
-            self.defops.pop_front();
-        }
+        self.defops.add(id.clone(), rig);
         id
     }
 
     /// The operator rig `id`, if kept.
     pub fn defop(&self, id: &str) -> Option<Arc<OperatorRig>> {
-        self.defops
-            .iter()
-            .find(|(k, _)| k == id)
-            .map(|(_, r)| r.clone())
+        self.defops.get(id)
     }
 
     /// Drops rig `id` (after a solve panicked while holding it).
     pub fn remove_rig(&mut self, id: &str) {
-        self.rigs.retain(|(k, _)| k != id);
+        self.rigs.items.retain(|(k, _)| k != id);
     }
 }

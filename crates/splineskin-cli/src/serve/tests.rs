@@ -45,6 +45,27 @@ async fn send(
     (status, headers, body)
 }
 
+/// Sends `request`, asserts that it succeeded (the body is the message otherwise) and returns
+/// the headers and body.
+/// The id of the rig a `POST /api/rig` answer names.
+fn rig_id(headers: &axum::http::HeaderMap) -> String {
+    headers[RIG_HEADER].to_str().expect("ascii").to_string()
+}
+
+async fn send_ok(app: &Router, request: Request<Body>) -> (axum::http::HeaderMap, Vec<u8>) {
+    let (status, headers, body) = send(app, request).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    (headers, body)
+}
+
+/// Sends `request`, asserts that it was refused with `expected` and returns the message of
+/// its JSON error body.
+async fn refused_with(app: &Router, request: Request<Body>, expected: StatusCode) -> String {
+    let (status, _, body) = send(app, request).await;
+    assert_eq!(status, expected, "{}", String::from_utf8_lossy(&body));
+    json(&body)["error"].as_str().expect("message").to_string()
+}
+
 fn get(uri: &str) -> Request<Body> {
     Request::get(uri)
         .header(header::HOST, HOST)
@@ -82,9 +103,16 @@ async fn open_demo_svg(app: &Router) -> serde_json::Value {
         .header("x-file-name", "fish%20drawing.svg")
         .body(Body::from(DEMO_SVG))
         .expect("a request");
-    let (status, _, body) = send(app, request).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let (_, body) = send_ok(app, request).await;
     json(&body)
+}
+
+/// A router with the bundled SVG opened: the router, the document's description and its id.
+async fn demo_app() -> (Router, serde_json::Value, String) {
+    let app = app();
+    let info = open_demo_svg(&app).await;
+    let id = info["id"].as_str().expect("id").to_string();
+    (app, info, id)
 }
 
 fn two_handle_scene(document: &str, flexible: bool) -> serde_json::Value {
@@ -153,9 +181,7 @@ async fn serve_rig_operator_reproduces_the_rest_pose_and_export_reads_back() {
     let info = open_demo_svg(&app).await;
     assert_eq!(info["name"], "fish drawing.svg");
     let id = info["id"].as_str().expect("id");
-    let (status, headers, body) =
-        send(&app, post_json("/api/rig", &two_handle_scene(id, false))).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let (headers, body) = send_ok(&app, post_json("/api/rig", &two_handle_scene(id, false))).await;
     assert!(headers[RIG_HEADER]
         .to_str()
         .expect("ascii")
@@ -185,8 +211,7 @@ async fn serve_rig_operator_reproduces_the_rest_pose_and_export_reads_back() {
     let request = post(&format!("/api/documents/{id}/export"))
         .body(Body::from(bytes))
         .expect("a request");
-    let (status, _, body) = send(&app, request).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let (_, body) = send_ok(&app, request).await;
     let svg = String::from_utf8(body).expect("text");
     let back = read_svg(&svg, &ImportOptions::default()).expect("the export reads back");
     assert_eq!(
@@ -197,26 +222,17 @@ async fn serve_rig_operator_reproduces_the_rest_pose_and_export_reads_back() {
     let request = post(&format!("/api/documents/{id}/export"))
         .body(Body::from(vec![0u8; 16]))
         .expect("a request");
-    let (status, _, body) = send(&app, request).await;
-    assert_eq!(status, StatusCode::BAD_REQUEST);
-    assert!(json(&body)["error"]
-        .as_str()
-        .expect("message")
-        .contains("expected"));
+    let message = refused_with(&app, request, StatusCode::BAD_REQUEST).await;
+    assert!(message.contains("expected"), "{message}");
 }
 
 #[tokio::test]
 async fn serve_flexible_solve_translates_exactly_under_one_translation() {
-    let app = app();
-    let info = open_demo_svg(&app).await;
-    let id = info["id"].as_str().expect("id");
-    let (status, headers, body) =
-        send(&app, post_json("/api/rig", &two_handle_scene(id, true))).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
-    let rig = headers[RIG_HEADER].to_str().expect("ascii").to_string();
+    let (app, info, id) = demo_app().await;
+    let (headers, _) = send_ok(&app, post_json("/api/rig", &two_handle_scene(&id, true))).await;
+    let rig = rig_id(&headers);
     let pose = serde_json::json!({"pose": [[1, 0, 0, 1, 12.5, -3], [1, 0, 0, 1, 12.5, -3]]});
-    let (status, _, body) = send(&app, post_json(&format!("/api/rigs/{rig}/solve"), &pose)).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let (_, body) = send_ok(&app, post_json(&format!("/api/rigs/{rig}/solve"), &pose)).await;
     let points = f64s(&body);
     let rest = info["rest"].as_array().expect("rest");
     assert_eq!(points.len(), rest.len());
@@ -229,26 +245,24 @@ async fn serve_flexible_solve_translates_exactly_under_one_translation() {
         );
     }
     // A rig that was never built is reported as gone.
-    let (status, _, body) = send(&app, post_json("/api/rigs/r999/solve", &pose)).await;
-    assert_eq!(status, StatusCode::NOT_FOUND);
-    assert!(json(&body)["error"]
-        .as_str()
-        .expect("message")
-        .contains("precompute again"));
+    let message = refused_with(
+        &app,
+        post_json("/api/rigs/r999/solve", &pose),
+        StatusCode::NOT_FOUND,
+    )
+    .await;
+    assert!(message.contains("precompute again"), "{message}");
 }
 
 #[tokio::test]
 async fn serve_weight_grid_is_one_at_its_handle() {
-    let app = app();
-    let info = open_demo_svg(&app).await;
-    let id = info["id"].as_str().expect("id");
-    let (_, headers, _) = send(&app, post_json("/api/rig", &two_handle_scene(id, false))).await;
-    let rig = headers[RIG_HEADER].to_str().expect("ascii").to_string();
+    let (app, _, id) = demo_app().await;
+    let (_, headers, _) = send(&app, post_json("/api/rig", &two_handle_scene(&id, false))).await;
+    let rig = rig_id(&headers);
     // A 3 × 3 grid whose centre sample is handle 1's rest position.
     let uri =
         format!("/api/rigs/{rig}/weights?handle=1&x0=107&y0=202&x1=113&y1=208&width=3&height=3");
-    let (status, _, body) = send(&app, get(&uri)).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let (_, body) = send_ok(&app, get(&uri)).await;
     let grid: Vec<f32> = body
         .chunks_exact(4)
         .map(|c| f32::from_le_bytes(c.try_into().expect("4 bytes")))
@@ -257,12 +271,8 @@ async fn serve_weight_grid_is_one_at_its_handle() {
     assert_eq!(grid[4], 1.0, "Shepard weights interpolate: {grid:?}");
     assert!(grid.iter().all(|&w| w > 0.9 && w <= 1.0), "{grid:?}");
     let uri = format!("/api/rigs/{rig}/weights?handle=2&x0=0&y0=0&x1=1&y1=1&width=3&height=3");
-    let (status, _, body) = send(&app, get(&uri)).await;
-    assert_eq!(status, StatusCode::BAD_REQUEST);
-    assert!(json(&body)["error"]
-        .as_str()
-        .expect("message")
-        .contains("no such handle"));
+    let message = refused_with(&app, get(&uri), StatusCode::BAD_REQUEST).await;
+    assert!(message.contains("no such handle"), "{message}");
 }
 
 #[tokio::test]
@@ -274,9 +284,7 @@ async fn serve_malformed_upload_is_a_message_and_the_server_goes_on() {
             "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C 1",
         ))
         .expect("a request");
-    let (status, _, body) = send(&app, request).await;
-    assert_eq!(status, StatusCode::BAD_REQUEST);
-    let message = json(&body)["error"].as_str().expect("message").to_string();
+    let message = refused_with(&app, request, StatusCode::BAD_REQUEST).await;
     assert!(message.starts_with("broken.svg"), "{message}");
     // Binary garbage, a scene of the wrong shape, a scene naming a file on the server.
     for (name, bytes) in [
@@ -291,9 +299,7 @@ async fn serve_malformed_upload_is_a_message_and_the_server_goes_on() {
             .header("x-file-name", name)
             .body(Body::from(bytes))
             .expect("a request");
-        let (status, _, body) = send(&app, request).await;
-        assert_eq!(status, StatusCode::BAD_REQUEST, "{name}");
-        let message = json(&body)["error"].as_str().expect("message").to_string();
+        let message = refused_with(&app, request, StatusCode::BAD_REQUEST).await;
         assert!(message.contains(name), "{message}");
         if name == "f.json" {
             assert!(message.contains("no file is read"), "{message}");
@@ -308,12 +314,8 @@ async fn serve_refuses_oversized_uploads_foreign_hosts_and_bare_posts() {
     let request = post("/api/open")
         .body(Body::from(vec![b' '; MAX_UPLOAD_BYTES + 1]))
         .expect("a request");
-    let (status, _, body) = send(&app, request).await;
-    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE);
-    assert!(json(&body)["error"]
-        .as_str()
-        .expect("message")
-        .contains("limit"));
+    let message = refused_with(&app, request, StatusCode::PAYLOAD_TOO_LARGE).await;
+    assert!(message.contains("limit"), "{message}");
     let request = Request::post("/api/open")
         .header(header::HOST, HOST)
         .body(Body::from(DEMO_SVG))
@@ -334,10 +336,8 @@ async fn serve_refuses_oversized_uploads_foreign_hosts_and_bare_posts() {
 
 #[tokio::test]
 async fn serve_saved_scene_reads_back_as_the_page_left_it() {
-    let app = app();
-    let info = open_demo_svg(&app).await;
-    let id = info["id"].as_str().expect("id");
-    let mut scene = two_handle_scene(id, true)["scene"].clone();
+    let (app, info, id) = demo_app().await;
+    let mut scene = two_handle_scene(&id, true)["scene"].clone();
     scene["pose"][1] = serde_json::json!([0.0, 1.0, -1.0, 0.0, 300.0, 100.0]);
     // A smooth junction made a corner.
     let (path, joint) = info["paths"]
@@ -351,12 +351,11 @@ async fn serve_saved_scene_reads_back_as_the_page_left_it() {
         })
         .expect("the fish has a G1 junction");
     scene["junctions"] = serde_json::json!([{"path": path, "joint": joint, "kind": "C0"}]);
-    let (status, _, body) = send(
+    let (_, body) = send_ok(
         &app,
         post_json(&format!("/api/documents/{id}/scene"), &scene),
     )
     .await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
     let text = String::from_utf8(body).expect("text");
     let read = splineskin::scene::Scene::from_json(&text, "saved", None).expect("it reads");
     assert_eq!(
@@ -374,22 +373,18 @@ async fn serve_saved_scene_reads_back_as_the_page_left_it() {
         .header("x-file-name", "saved.json")
         .body(Body::from(text))
         .expect("a request");
-    let (status, _, body) = send(&app, request).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let (_, body) = send_ok(&app, request).await;
     let reopened = json(&body);
     assert_eq!(reopened["scene"], scene);
     // Coincident handles are refused, naming the handle.
     scene["handles"][1] = serde_json::json!([440.0, 200.0]);
-    let (status, _, body) = send(
+    let message = refused_with(
         &app,
         post_json(&format!("/api/documents/{id}/scene"), &scene),
+        StatusCode::BAD_REQUEST,
     )
     .await;
-    assert_eq!(status, StatusCode::BAD_REQUEST);
-    assert!(json(&body)["error"]
-        .as_str()
-        .expect("message")
-        .contains("handles[1]"));
+    assert!(message.contains("handles[1]"), "{message}");
 }
 
 #[tokio::test]
@@ -408,8 +403,7 @@ async fn serve_requests_dropped_midway_leave_the_server_serving() {
         let _ = tokio::time::timeout(std::time::Duration::from_micros(1), pending).await;
     }
     // The server answers as before, and the abandoned jobs give their slots back when done.
-    let (status, _, body) = send(&app, post_json("/api/rig", &two_handle_scene(&id, false))).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    send_ok(&app, post_json("/api/rig", &two_handle_scene(&id, false))).await;
     for _ in 0..500 {
         if state.jobs.available_permits() == MAX_JOBS {
             break;
@@ -516,9 +510,7 @@ fn operator_points(info: &serde_json::Value, data: &[f64], q: &[[f64; 2]]) -> Ve
 
 #[tokio::test]
 async fn serve_operator_layout_reproduces_the_library_and_the_rest_drawing() {
-    let app = app();
-    let info = open_demo_svg(&app).await;
-    let id = info["id"].as_str().expect("id");
+    let (app, info, id) = demo_app().await;
     let rest: Vec<f64> = serde_json::from_value(info["rest"].clone()).expect("rest");
     let diagonal = {
         let (xs, ys): (Vec<f64>, Vec<f64>) = rest.chunks_exact(2).map(|p| (p[0], p[1])).unzip();
@@ -527,12 +519,11 @@ async fn serve_operator_layout_reproduces_the_library_and_the_rest_drawing() {
         };
         span(&xs).hypot(span(&ys))
     };
-    let (status, headers, body) = send(
+    let (headers, body) = send_ok(
         &app,
-        post_json("/api/defop", &operator_scene(id, "defop-arap", 12)),
+        post_json("/api/defop", &operator_scene(&id, "defop-arap", 12)),
     )
     .await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
     let op: serde_json::Value =
         serde_json::from_str(headers[DEFOP_HEADER].to_str().expect("ASCII")).expect("JSON");
     assert_eq!(op["kind"], "tps");
@@ -549,7 +540,7 @@ async fn serve_operator_layout_reproduces_the_library_and_the_rest_drawing() {
     let moved = [[452.0, 188.0], [104.0, 230.0]];
     let rig = op["id"].as_str().expect("id");
     for q in [handles, moved] {
-        let (status, _, body) = send(
+        let (_, body) = send_ok(
             &app,
             post_json(
                 &format!("/api/defops/{rig}/deform"),
@@ -557,7 +548,6 @@ async fn serve_operator_layout_reproduces_the_library_and_the_rest_drawing() {
             ),
         )
         .await;
-        assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
         let library = f64s(&body);
         let page = operator_points(&op, &data, &q);
         let worst = page
@@ -588,9 +578,7 @@ async fn serve_operator_layout_reproduces_the_library_and_the_rest_drawing() {
 
 #[tokio::test]
 async fn serve_operator_refuses_what_it_cannot_train_with_a_message() {
-    let app = app();
-    let info = open_demo_svg(&app).await;
-    let id = info["id"].as_str().expect("id");
+    let (app, _, id) = demo_app().await;
     let refused = |scene: serde_json::Value, expected: &'static str| {
         let app = app.clone();
         async move {
@@ -600,60 +588,54 @@ async fn serve_operator_refuses_what_it_cannot_train_with_a_message() {
             assert!(message.contains(expected), "{message}");
         }
     };
-    let mut none = operator_scene(id, "defop-sarap", 10);
+    let mut none = operator_scene(&id, "defop-sarap", 10);
     none["scene"]["handles"] = serde_json::json!([]);
     none["scene"]["pose"] = serde_json::json!([]);
     refused(none, "at least one point handle").await;
-    let mut flexible = operator_scene(id, "defop-sarap", 10);
+    let mut flexible = operator_scene(&id, "defop-sarap", 10);
     flexible["scene"]["flexible"] = serde_json::json!(true);
     refused(flexible, "flexible G¹ does not apply").await;
-    refused(operator_scene(id, "defop-sarap", 0), "training samples").await;
+    refused(operator_scene(&id, "defop-sarap", 0), "training samples").await;
     refused(
-        operator_scene(id, "defop-arap", 3),
+        operator_scene(&id, "defop-arap", 3),
         "2 handles need at least 4 training samples",
     )
     .await;
     refused(
-        operator_scene(id, "defop-sarap", 1_000_000),
+        operator_scene(&id, "defop-sarap", 1_000_000),
         "training samples",
     )
     .await;
     refused(
-        operator_scene(id, "shepard", 10),
+        operator_scene(&id, "shepard", 10),
         "not a deformation operator",
     )
     .await;
-    let mut nan = operator_scene(id, "defop-sarap", 10);
+    let mut nan = operator_scene(&id, "defop-sarap", 10);
     nan["scene"]["handles"][0][0] = serde_json::json!(f64::NAN); // JSON null
     refused(nan, "scene.handles[0]").await;
-    let (status, _, body) = send(
+    let message = refused_with(
         &app,
         post_json(
             "/api/defops/o999/deform",
             &serde_json::json!({"handles": [[0.0, 0.0]]}),
         ),
+        StatusCode::NOT_FOUND,
     )
     .await;
-    assert_eq!(status, StatusCode::NOT_FOUND);
-    assert!(json(&body)["error"]
-        .as_str()
-        .expect("message")
-        .contains("train it again"));
+    assert!(message.contains("train it again"), "{message}");
 }
 
 #[tokio::test]
 async fn serve_saved_operator_scene_records_its_defop_section_and_offers_it_reopened() {
-    let app = app();
-    let info = open_demo_svg(&app).await;
-    let id = info["id"].as_str().expect("id");
-    let mut scene = operator_scene(id, "defop-arap", 37)["scene"].clone();
+    let (app, _, id) = demo_app().await;
+    let mut scene = operator_scene(&id, "defop-arap", 37)["scene"].clone();
     scene["pose"][1] = serde_json::json!([1.0, 0.0, 0.0, 1.0, 12.0, -30.0]);
-    let (status, _, body) = send(
+    let (_, body) = send_ok(
         &app,
         post_json(&format!("/api/documents/{id}/scene"), &scene),
     )
     .await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
     let text = String::from_utf8(body).expect("text");
     let file: serde_json::Value = serde_json::from_str(&text).expect("JSON");
     // The weights stay a family the library knows; the operator is in its own section, every
@@ -677,8 +659,7 @@ async fn serve_saved_operator_scene_records_its_defop_section_and_offers_it_reop
         .header("x-file-name", "saved.json")
         .body(Body::from(text))
         .expect("a request");
-    let (status, _, body) = send(&app, request).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let (_, body) = send_ok(&app, request).await;
     let reopened = json(&body);
     let mut as_weights = scene.clone();
     as_weights["weights"] = serde_json::json!({"family": "shepard", "exponent": 2.0});
@@ -698,16 +679,13 @@ async fn serve_saved_operator_scene_records_its_defop_section_and_offers_it_reop
     assert_eq!(again["defop"], file["defop"]);
     assert_eq!(again["weights"], file["weights"]);
     // The weights route does not build an operator's scene as weights.
-    let (status, _, body) = send(
+    let message = refused_with(
         &app,
-        post_json("/api/rig", &operator_scene(id, "defop-sarap", 10)),
+        post_json("/api/rig", &operator_scene(&id, "defop-sarap", 10)),
+        StatusCode::BAD_REQUEST,
     )
     .await;
-    assert_eq!(status, StatusCode::BAD_REQUEST);
-    assert!(json(&body)["error"]
-        .as_str()
-        .expect("message")
-        .contains("POST /api/defop"));
+    assert!(message.contains("POST /api/defop"), "{message}");
 }
 
 /// The viewBox routes: every point moved by (+300, −20) takes the fish out of its viewBox;
@@ -716,9 +694,7 @@ async fn serve_saved_operator_scene_records_its_defop_section_and_offers_it_reop
 /// else is refused with a message.
 #[tokio::test]
 async fn serve_outside_reports_and_export_fits_the_view_box() {
-    let app = app();
-    let info = open_demo_svg(&app).await;
-    let id = info["id"].as_str().expect("id");
+    let (app, info, id) = demo_app().await;
     let drawing = read_svg(DEMO_SVG, &ImportOptions::default()).expect("the fish");
     let moved: Vec<Point> = drawing
         .flat_points()
@@ -735,8 +711,7 @@ async fn serve_outside_reports_and_export_fits_the_view_box() {
             .body(Body::from(bytes.clone()))
             .expect("a request")
     };
-    let (status, _, body) = send(&app, request(format!("/api/documents/{id}/outside"))).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let (_, body) = send_ok(&app, request(format!("/api/documents/{id}/outside"))).await;
     let report = json(&body);
     let expected = splineskin::drawing::svg_out::art_outside_view_box(&drawing, &moved).unwrap();
     let outside = report["outside"].as_array().expect("outside");
@@ -771,12 +746,11 @@ async fn serve_outside_reports_and_export_fits_the_view_box() {
         let at = text.find("viewBox=\"").expect("a viewBox") + 9;
         text[at..at + text[at..].find('"').unwrap()].to_string()
     };
-    let (status, _, body) = send(
+    let (_, body) = send_ok(
         &app,
         request(format!("/api/documents/{id}/export?viewbox=fit")),
     )
     .await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
     let numbers: Vec<f64> = view_box_of(&body)
         .split(' ')
         .map(|v| v.parse().expect("a number"))
@@ -789,16 +763,16 @@ async fn serve_outside_reports_and_export_fits_the_view_box() {
         assert_eq!(status, StatusCode::OK);
         assert_eq!(view_box_of(&body), input, "{query}");
     }
-    let (status, _, body) = send(
+    let message = refused_with(
         &app,
         request(format!("/api/documents/{id}/export?viewbox=grow")),
+        StatusCode::BAD_REQUEST,
     )
     .await;
-    assert_eq!(status, StatusCode::BAD_REQUEST);
-    assert!(json(&body)["error"]
-        .as_str()
-        .expect("message")
-        .contains("viewbox=grow (expected keep or fit)"));
+    assert!(
+        message.contains("viewbox=grow (expected keep or fit)"),
+        "{message}"
+    );
 }
 
 /// A drawing of our own for the export's carried elements: a plate filled with a horizontal
@@ -818,8 +792,7 @@ async fn open_plate(app: &Router) -> serde_json::Value {
         .header("x-file-name", "plate.svg")
         .body(Body::from(PLATE_SVG))
         .expect("a request");
-    let (status, _, body) = send(app, request).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let (_, body) = send_ok(app, request).await;
     json(&body)
 }
 
@@ -865,9 +838,8 @@ async fn serve_export_carries_gradients_and_text_with_the_rig_pose() {
             "flexible": false
         }
     });
-    let (status, headers, body) = send(&app, post_json("/api/rig", &scene)).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
-    let rig = headers[RIG_HEADER].to_str().expect("ascii").to_string();
+    let (headers, _) = send_ok(&app, post_json("/api/rig", &scene)).await;
+    let rig = rig_id(&headers);
     // The page's points: the rig operator times the pose; here the rotation of the rest points
     // (what that product gives under one map on every handle).
     let rest: Vec<Point> = info["rest"]
@@ -888,8 +860,7 @@ async fn serve_export_carries_gradients_and_text_with_the_rig_pose() {
     };
 
     let with_pose = [points.clone(), pose.clone()].concat();
-    let (status, _, body) = send(&app, export(format!("?rig={rig}"), with_pose.clone())).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let (_, body) = send_ok(&app, export(format!("?rig={rig}"), with_pose.clone())).await;
     let svg = String::from_utf8(body).expect("text");
     let text = matrix_in(&svg, "<text", "transform").expect("the label carries a transform");
     let gradient = matrix_in(
@@ -980,8 +951,7 @@ async fn serve_export_carries_text_with_the_operator() {
             "flexible": false
         }
     });
-    let (status, headers, body) = send(&app, post_json("/api/defop", &scene)).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let (headers, _) = send_ok(&app, post_json("/api/defop", &scene)).await;
     let defop_info: serde_json::Value =
         serde_json::from_str(headers[DEFOP_HEADER].to_str().expect("ascii")).expect("JSON");
     let op = defop_info["id"].as_str().expect("id");
@@ -1009,8 +979,7 @@ async fn serve_export_carries_text_with_the_operator() {
     let request = post(&format!("/api/documents/{id}/export?defop={op}"))
         .body(Body::from(body))
         .expect("a request");
-    let (status, _, body) = send(&app, request).await;
-    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let (_, body) = send_ok(&app, request).await;
     let svg = String::from_utf8(body).expect("text");
     let text = matrix_in(&svg, "<text", "transform").expect("the label carries a transform");
     // Over the label (x 70–125, y 44–64): within 0.5 units of the rotation (a quarter of a

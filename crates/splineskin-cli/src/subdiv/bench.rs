@@ -13,6 +13,7 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use crate::output::has_extension;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use splineskin::subdiv::{
@@ -90,10 +91,7 @@ pub fn run(args: Args) -> Result<()> {
 
 /// The scene to time and its cage: the file's own, or for an `.obj` one made around it.
 fn load(input: &Path, n_handles: usize) -> Result<(SubdivScene, Cage)> {
-    let is_obj = input
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+    let is_obj = has_extension(input, "obj");
     if !is_obj {
         let scene = SubdivScene::load(input)?;
         let cage = read_obj(&scene.obj)

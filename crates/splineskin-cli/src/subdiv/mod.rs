@@ -9,6 +9,7 @@ mod refine;
 
 use std::path::Path;
 
+use crate::output::has_extension;
 use anyhow::{bail, Result};
 use clap::Subcommand;
 
@@ -42,10 +43,7 @@ pub fn run(args: Args) -> Result<()> {
 
 /// Refuses an output name that does not end in `.ext` (any case), before any work is done.
 fn require_extension(path: &Path, ext: &str) -> Result<()> {
-    let ok = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case(ext));
+    let ok = has_extension(path, ext);
     if !ok {
         bail!("{}: expected a file name ending in .{ext}", path.display());
     }

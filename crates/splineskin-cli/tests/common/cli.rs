@@ -43,6 +43,19 @@ pub fn failed(out: &Output) -> String {
     stderr
 }
 
+/// Runs `splineskin defop eval OP --handles HANDLES -o OUT`.
+pub fn defop_eval(op: &Path, handles: &Path, out: &Path) -> Output {
+    splineskin(&[
+        "defop",
+        "eval",
+        s(op),
+        "--handles",
+        s(handles),
+        "-o",
+        s(out),
+    ])
+}
+
 /// The entries of `dir` whose names mark an interrupted atomic write (`.NAME.tmp-*`).
 pub fn temporaries(dir: &Path) -> Vec<std::fs::DirEntry> {
     std::fs::read_dir(dir)
