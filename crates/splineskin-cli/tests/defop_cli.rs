@@ -105,32 +105,20 @@ fn defop_cli_train_then_eval_round_trip() {
 fn defop_cli_bench_json() {
     let dir = TestDir::new("splineskin-defop-cli-");
     let op = trained(&dir);
-    let stdout = ok(&splineskin(&[
-        "defop",
-        "bench",
-        s(&op),
-        "--json",
-        "--batches",
-        "3",
-    ]));
-    let v: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    // `defop bench OP --json --batches 3 EXTRA…`, its one JSON line.
+    let bench = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec!["defop", "bench", s(&op), "--json", "--batches", "3"];
+        args.extend_from_slice(extra);
+        serde_json::from_str(ok(&splineskin(&args)).trim()).unwrap()
+    };
+    let v = bench(&[]);
     assert!(v["evals_per_s"].as_f64().unwrap() > 0.0);
     assert!(v["eval_s"].as_f64().unwrap() > 0.0);
     assert_eq!(v["handle_functions"].as_u64(), Some(1 + 6 + 25));
     assert!(v.get("join_update_s").is_none(), "{v}");
 
     // With the scene it was trained for: the join's precompute and per-frame update too.
-    let stdout = ok(&splineskin(&[
-        "defop",
-        "bench",
-        s(&op),
-        "--json",
-        "--batches",
-        "3",
-        "--scene",
-        s(&dir.join("bar-scene.json")),
-    ]));
-    let v: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    let v = bench(&["--scene", s(&dir.join("bar-scene.json"))]);
     assert!(v["join_precompute_s"].as_f64().unwrap() > 0.0, "{v}");
     assert!(v["join_update_s"].as_f64().unwrap() > 0.0, "{v}");
     assert!(v["join_points"].as_u64().unwrap() >= 4, "{v}");
