@@ -1,7 +1,9 @@
 //! `splineskin bench SCENE… [--json]`: medians of the scene's setup (reading the drawing and,
 //! for the mesh families, building the domain and solving the weights), weight sampling,
 //! precomputation and per-frame update, separately; for drawings with G¹ or fixed-angle
-//! junctions also the flexible solve, cold and warm-started.
+//! junctions also the flexible solve, cold and warm-started. The update's bytes per second (its
+//! operator read once) are printed beside the machine's read bandwidth
+//! ([`crate::read_bandwidth`]) and their ratio.
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -72,6 +74,15 @@ struct Row {
     /// The same, warm-started from the previous pose's flexible solution (a drag).
     #[serde(skip_serializing_if = "Option::is_none")]
     flexible_warm_s: Option<f64>,
+    /// Bytes of the rig's operator, which each update reads once.
+    update_bytes: usize,
+    /// `update_bytes / update_s`.
+    update_bytes_per_s: f64,
+    /// The machine's read bandwidth ([`crate::read_bandwidth`]), measured once per run.
+    read_bytes_per_s: f64,
+    /// `update_bytes_per_s / read_bytes_per_s`: how close the update is to streaming its
+    /// operator at memory speed (1).
+    bandwidth_ratio: f64,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -85,9 +96,17 @@ pub fn run(args: Args) -> Result<()> {
             "--synthetic {n}: expected at most {MAX_SYNTHETIC_CURVES} curves"
         );
     }
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let read_bytes_per_s = crate::read_bandwidth::read_bandwidth(threads);
     if !args.json {
         println!(
-            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10} {:>12} {:>14} {:>12}",
+            "memory read bandwidth: {:.1} GB/s (a sum over {} MiB on {threads} threads, median of {} passes)",
+            read_bytes_per_s / 1e9,
+            crate::read_bandwidth::BUFFER_BYTES >> 20,
+            crate::read_bandwidth::PASSES
+        );
+        println!(
+            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10} {:>12} {:>14} {:>12} {:>12} {:>9}",
             "scene",
             "curves",
             "handles",
@@ -96,7 +115,9 @@ pub fn run(args: Args) -> Result<()> {
             "setup (s)",
             "weights (s)",
             "precompute (s)",
-            "update (s)"
+            "update (s)",
+            "update GB/s",
+            "of memory"
         );
     }
     for path in &args.scenes {
@@ -130,6 +151,7 @@ pub fn run(args: Args) -> Result<()> {
             &scene.handle_set(),
             args.updates,
             flexible,
+            read_bytes_per_s,
         )
         .with_context(|| format!("{}: building the rig", path.display()))?;
         row.setup_s = median(setup_times);
@@ -163,6 +185,7 @@ pub fn run(args: Args) -> Result<()> {
             &set,
             args.updates,
             FlexibleOptions::default(),
+            read_bytes_per_s,
         )?;
         row.setup_s = setup_s;
         print_row(&row, args.json);
@@ -178,7 +201,7 @@ fn print_row(row: &Row, json: bool) {
         );
     } else {
         println!(
-            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10.3e} {:>12.3e} {:>14.3e} {:>12.3e}",
+            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10.3e} {:>12.3e} {:>14.3e} {:>12.3e} {:>12.2} {:>9.2}",
             row.scene,
             row.curves,
             row.handles,
@@ -188,7 +211,9 @@ fn print_row(row: &Row, json: bool) {
             row.setup_s,
             row.weights_s,
             row.precompute_s,
-            row.update_s
+            row.update_s,
+            row.update_bytes_per_s / 1e9,
+            row.bandwidth_ratio
         );
     }
 }
@@ -213,6 +238,7 @@ fn measure(
     handles: &HandleSet<'_>,
     updates: usize,
     flexible: FlexibleOptions,
+    read_bytes_per_s: f64,
 ) -> Result<Row> {
     let (drawing, weights) = (&setup.drawing, setup.weights.as_ref());
     let start = Instant::now();
@@ -254,6 +280,7 @@ fn measure(
         .collect();
     let (curves, paths) = (drawing.n_curves(), drawing.paths.len());
     let (n_handles, n_constraints) = (rig.n_handles(), rig.n_constraints());
+    let update_bytes = std::mem::size_of_val(rig.operator());
     let flexible_solver = FlexibleSolver::from_rig(
         rig.clone(),
         &setup.drawing,
@@ -276,6 +303,8 @@ fn measure(
         Deformer::Flexible(Box::new(flexible_solver)),
     );
     let (flexible_s, flexible_warm_s) = measure_flexible(&posed, &poses)?;
+    let update_s = median(update_times);
+    let update_bytes_per_s = update_bytes as f64 / update_s;
     Ok(Row {
         scene: name.to_string(),
         curves,
@@ -286,9 +315,13 @@ fn measure(
         setup_s: 0.0,
         weights_s: median(weight_times),
         precompute_s: median(pre_times),
-        update_s: median(update_times),
+        update_s,
         flexible_s,
         flexible_warm_s,
+        update_bytes,
+        update_bytes_per_s,
+        read_bytes_per_s,
+        bandwidth_ratio: update_bytes_per_s / read_bytes_per_s,
     })
 }
 

@@ -12,6 +12,7 @@ mod demo;
 mod drawing_input;
 mod info;
 mod output;
+mod read_bandwidth;
 mod rig;
 mod serve;
 mod subdiv;

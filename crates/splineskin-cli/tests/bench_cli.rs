@@ -27,6 +27,10 @@ struct Row {
     update_s: f64,
     flexible_s: Option<f64>,
     flexible_warm_s: Option<f64>,
+    update_bytes: usize,
+    update_bytes_per_s: f64,
+    read_bytes_per_s: f64,
+    bandwidth_ratio: f64,
 }
 
 /// A two-curve drawing with three point handles and the weight family `family`; the mesh
@@ -90,8 +94,24 @@ fn bench_json_reports_counts_and_medians() {
             ("weights_s", row.weights_s),
             ("precompute_s", row.precompute_s),
             ("update_s", row.update_s),
+            ("update_bytes_per_s", row.update_bytes_per_s),
+            ("read_bytes_per_s", row.read_bytes_per_s),
         ] {
             assert!(t.is_finite() && t > 0.0, "{family}: {name} = {t}");
         }
+        // The update reads its operator once: 2 coordinates × 6 coefficients × 3 handles per
+        // chain point, in f64; the rates are that over the medians.
+        let n_points = setup.drawing.n_points();
+        assert_eq!(row.update_bytes, n_points * 2 * 6 * 3 * 8, "{family}");
+        let rate = row.update_bytes as f64 / row.update_s;
+        assert!(
+            (row.update_bytes_per_s - rate).abs() <= 1e-12 * rate,
+            "{family}"
+        );
+        let ratio = row.update_bytes_per_s / row.read_bytes_per_s;
+        assert!(
+            (row.bandwidth_ratio - ratio).abs() <= 1e-12 * ratio,
+            "{family}"
+        );
     }
 }
