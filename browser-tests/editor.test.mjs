@@ -387,7 +387,7 @@ check('turtles: frame time while dragging (the authors\' 1 300-curve drawing, 3 
     // A reload while the server precomputes (harmonic weights on the turtles' domain): the
     // page comes back and the server serves it.
     await p.selectOption('#family', 'harmonic');
-    assert.equal(await p.evaluate(() => document.body.dataset.rig), 'computing');
+    assert.notEqual(await p.evaluate(() => document.body.dataset.rig), 'ready', 'precomputing');
     await p.reload();
     await p.waitForSelector('body[data-booted]', { timeout: WAIT });
     await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
@@ -399,6 +399,70 @@ check('turtles: frame time while dragging (the authors\' 1 300-curve drawing, 3 
     await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
     const stages = await p.evaluate(() => window.splineskinEditor.stagesSeen.join(', '));
     console.log(`turtles: bbw weights and rig in ${((Date.now() - started) / 1000).toFixed(1)} s; stages shown: ${stages || 'none'}`);
+
+    // A new handle with bbw weights: an inverse-distance rig stands in at once and follows a
+    // drag; the bbw rig replaces it without touching the pose, and the drawing is then its
+    // product at that pose (flexible G¹ off, so that the product is what is drawn).
+    await p.setChecked('#flexible', false);
+    await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+    await p.evaluate(() => {
+      window.splineskinEditor.rigStates = [];
+      new MutationObserver(() => window.splineskinEditor.rigStates.push(document.body.dataset.rig)).observe(
+        document.body,
+        { attributes: true, attributeFilter: ['data-rig'] },
+      );
+    });
+    const spot = await p.evaluate(() => {
+      // The middle of the first curve: on the art, not on a junction.
+      const r = window.splineskinEditor.info.rest;
+      const b = (k) => [r[2 * k], r[2 * k + 1]];
+      const [p0, p1, p2, p3] = [b(0), b(1), b(2), b(3)];
+      return [0, 1].map((d) => (p0[d] + 3 * p1[d] + 3 * p2[d] + p3[d]) / 8);
+    });
+    const [cx, cy] = await clientPoint(p, spot);
+    await p.mouse.click(cx, cy);
+    await p.waitForFunction(() => ['preview', 'ready'].includes(document.body.dataset.rig), null, { timeout: WAIT });
+    // The new handle starts with the deformation's blended map there (the drawing is posed).
+    const placedAt = (T, h) => [T[0] * h[0] + T[2] * h[1] + T[4], T[1] * h[0] + T[3] * h[1] + T[5]];
+    const added = await editorState(p);
+    const grabbed = placedAt(added.scene.pose[3], added.scene.handles[3]);
+    const delta = [0.03 * size, -0.02 * size];
+    await drag(p, grabbed, delta, 8);
+    await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+    const swap = await p.evaluate(() => {
+      const e = window.splineskinEditor;
+      const expected = new Float64Array(e.points.length);
+      e.rig.deform(e.scene.pose, expected);
+      let gap = 0;
+      for (let k = 0; k < expected.length; k++) gap = Math.max(gap, Math.abs(expected[k] - e.points[k]));
+      return {
+        states: e.rigStates,
+        preview: e.previewSeconds,
+        ready: e.rigSeconds,
+        pose: e.scene.pose,
+        rest: e.scene.handles,
+        handles: e.scene.handles.length,
+        family: e.scene.weights.family,
+        gap,
+        preview_flag: e.rigPreview,
+      };
+    });
+    console.log(
+      `turtles, a 4th handle with bbw: inverse-distance stand-in after ${swap.preview?.toFixed(3)} s, ` +
+        `bbw ready after ${swap.ready.toFixed(3)} s; states ${swap.states.join(' → ')}`,
+    );
+    assert.equal(swap.handles, 4);
+    assert.equal(swap.family, 'bbw');
+    assert.ok(swap.states.includes('preview'), `the stand-in was shown: ${swap.states.join(', ')}`);
+    assert.equal(swap.states.at(-1), 'ready');
+    assert.equal(swap.preview_flag, false, 'the bbw rig replaced the stand-in');
+    const now = placedAt(swap.pose[3], swap.rest[3]);
+    const travel = [now[0] - grabbed[0], now[1] - grabbed[1]];
+    assert.ok(
+      Math.hypot(travel[0] - delta[0], travel[1] - delta[1]) < 0.01 * size,
+      `the new handle keeps its drag: moved by ${travel}, dragged by ${delta}`,
+    );
+    assert.ok(swap.gap <= 1e-9 * size, `the drawing is the bbw rig's product at the pose (gap ${swap.gap})`);
   } finally {
     await p.close();
     await turtles.close();

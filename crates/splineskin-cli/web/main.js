@@ -28,6 +28,10 @@ const DEFAULT_DEFOP_SAMPLES = 100;
 const MAX_DEFOP_SAMPLES = 5000;
 /** The operator "families" of the weights menu and their ground truths. */
 const DEFOP_ENERGIES = { 'defop-arap': 'ARAP', 'defop-sarap': 'symmetric ARAP' };
+/** The weight families solved on a triangulated domain: seconds on big drawings. */
+const MESH_FAMILIES = new Set(['bbw', 'harmonic', 'biharmonic']);
+/** The weights of the rig that stands in while a mesh family computes (closed form, instant). */
+const PREVIEW_WEIGHTS = Object.freeze({ family: 'shepard', exponent: 2 });
 /** Junction markers shown on opening up to this many junctions (more: the checkbox). */
 const MAX_JUNCTIONS_SHOWN = 400;
 
@@ -37,6 +41,11 @@ const editor = {
   scene: null,
   rig: null,
   rigKey: null,
+  /** Whether `rig` is the Shepard stand-in of a mesh family still computing. */
+  rigPreview: false,
+  /** Seconds from the request to the stand-in's arrival, and to the real rig's (for the tests). */
+  previewSeconds: null,
+  rigSeconds: null,
   rest: null,
   points: null,
   selected: null,
@@ -131,6 +140,7 @@ function show(info) {
   editor.points = Float64Array.from(info.rest);
   editor.rig = null;
   editor.rigKey = null;
+  editor.rigPreview = false;
   editor.selected = null;
   editor.weightsShown = null;
   editor.history.clear();
@@ -188,6 +198,7 @@ function sceneChanged() {
     editor.abort?.abort();
     editor.rig = null;
     editor.rigKey = key;
+    editor.rigPreview = false;
     document.body.dataset.rig = 'none';
     progress(null);
     if (isDefop(editor.scene)) say(`${shortName()}: click to add point handles; the operator is trained for them`);
@@ -224,12 +235,15 @@ async function precompute() {
       editor.rig = new DefOpLiveRig(info, data, editor.view.nPoints, scene.handles);
       bytes = data.byteLength;
     } else {
+      editor.previewSeconds = null;
+      if (MESH_FAMILIES.has(scene.weights.family)) preview(scene, key, seq, abort.signal, started);
       const { id, operator } = await api.precompute(editor.info.id, scene, abort.signal, job);
       if (seq !== editor.precomputeSeq) return;
       editor.rig = new LiveRig(id, operator, editor.view.nPoints, scene.handles.length);
       bytes = operator.byteLength;
     }
     editor.rigKey = key;
+    editor.rigPreview = false;
     editor.rigSeconds = (performance.now() - started) / 1000;
     document.body.dataset.rig = 'ready';
     const size = bytes < 1 << 20 ? `${(bytes / 1024).toFixed(0)} KiB` : `${(bytes / (1 << 20)).toFixed(1)} MiB`;
@@ -254,6 +268,7 @@ async function precompute() {
     if (abort.signal.aborted || seq !== editor.precomputeSeq) return;
     editor.rig = null;
     editor.rigKey = null;
+    editor.rigPreview = false;
     document.body.dataset.rig = 'error';
     showError(e);
   } finally {
@@ -264,6 +279,34 @@ async function precompute() {
   render();
   flexibleSolve();
   updateWeights();
+}
+
+/**
+ * While a mesh family's weights compute (a second or more on big drawings), a rig of the same
+ * handles with Shepard weights stands in, so that the drawing follows the handles at once;
+ * `precompute` swaps the real rig in when it arrives. The pose is the scene's and stays as it
+ * is: only the weights under it change.
+ */
+async function preview(scene, key, seq, signal, started) {
+  const quick = { ...scene, weights: PREVIEW_WEIGHTS };
+  try {
+    const { id, operator } = await api.precompute(editor.info.id, quick, signal, `preview-${seq}`);
+    if (seq !== editor.precomputeSeq || document.body.dataset.rig !== 'computing') return;
+    editor.rig = new LiveRig(id, operator, editor.view.nPoints, scene.handles.length);
+    editor.rigKey = key;
+    editor.rigPreview = true;
+    editor.previewSeconds = (performance.now() - started) / 1000;
+    document.body.dataset.rig = 'preview';
+    say(
+      `${shortName()}: ${scene.handles.length} handles; inverse-distance preview while the ` +
+        `${scene.weights.family} weights compute`,
+    );
+    render();
+    flexibleSolve();
+    updateWeights();
+  } catch {
+    // The real rig's request reports what went wrong.
+  }
 }
 
 /** What the progress bar says in each stage the server reports. */

@@ -6,7 +6,7 @@ use splineskin::defop::Energy;
 use splineskin::drawing::svg_in::MAX_SVG_BYTES;
 use splineskin::drawing::svg_out::write_svg_marked;
 use splineskin::drawing::Drawing;
-use splineskin::scene::{Compat, Engine, Scene, WeightSpec};
+use splineskin::scene::{Compat, Engine, MeshFamily, Scene, WeightSpec};
 use splineskin::spline_fit::Measure;
 
 use super::scene_file::SceneExtras;
@@ -62,7 +62,8 @@ impl Document {
         }
     }
 
-    /// Opens an SVG document: no handles, Shepard weights.
+    /// Opens an SVG document: no handles, bounded biharmonic weights (Puppet Warp's shape-aware
+    /// behaviour; the page shows an inverse-distance stand-in while they compute).
     pub fn from_svg(name: &str, text: &str) -> Result<Document> {
         #[derive(serde::Serialize)]
         struct Minimal<'a> {
@@ -75,6 +76,7 @@ impl Document {
         })?;
         let mut scene = Scene::from_json(&json, name, None)?;
         scene.svg_origin = name.to_string();
+        scene.weights = WeightSpec::Mesh(MeshFamily::Bbw);
         Document::from_scene(scene, name)
     }
 

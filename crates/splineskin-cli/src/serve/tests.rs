@@ -180,6 +180,11 @@ async fn serve_rig_operator_reproduces_the_rest_pose_and_export_reads_back() {
     let app = app();
     let info = open_demo_svg(&app).await;
     assert_eq!(info["name"], "fish drawing.svg");
+    // An SVG opens with Puppet Warp's shape-aware weights.
+    assert_eq!(
+        info["scene"]["weights"],
+        serde_json::json!({"family": "bbw"})
+    );
     let id = info["id"].as_str().expect("id");
     let (headers, body) = send_ok(&app, post_json("/api/rig", &two_handle_scene(id, false))).await;
     assert!(headers[RIG_HEADER]
@@ -638,9 +643,10 @@ async fn serve_saved_operator_scene_records_its_defop_section_and_offers_it_reop
     .await;
     let text = String::from_utf8(body).expect("text");
     let file: serde_json::Value = serde_json::from_str(&text).expect("JSON");
-    // The weights stay a family the library knows; the operator is in its own section, every
-    // setting written out (the editor's domain included), so the CLI trains the same one.
-    assert_eq!(file["weights"]["family"], "shepard");
+    // The weights stay a family the library knows (the opened SVG's: bounded biharmonic); the
+    // operator is in its own section, every setting written out (the editor's domain
+    // included), so the CLI trains the same one.
+    assert_eq!(file["weights"]["family"], "bbw");
     assert_eq!(file["defop"]["energy"], "arap");
     assert_eq!(file["defop"]["samples"], 37);
     assert_eq!(file["defop"]["handle_basis"], "tps");
@@ -662,7 +668,7 @@ async fn serve_saved_operator_scene_records_its_defop_section_and_offers_it_reop
     let (_, body) = send_ok(&app, request).await;
     let reopened = json(&body);
     let mut as_weights = scene.clone();
-    as_weights["weights"] = serde_json::json!({"family": "shepard", "exponent": 2.0});
+    as_weights["weights"] = serde_json::json!({"family": "bbw"});
     assert_eq!(reopened["scene"], as_weights);
     assert_eq!(
         reopened["operator"],
