@@ -12,6 +12,7 @@
 
 pub mod constraints;
 pub mod flexible;
+mod frame_product;
 pub mod quadrature;
 mod rig;
 pub mod shared_curves;

@@ -2,6 +2,7 @@
 
 use kurbo::{Affine, Point};
 
+use super::frame_product::FrameProduct;
 use super::quadrature::SampledCurves;
 use super::shared_curves::{group_unknowns, SharedCurves};
 use super::system::{solve_group, solve_path, GroupMember, HandleMaps, PathOperator};
@@ -54,8 +55,8 @@ use crate::weights::WeightField;
 pub struct SplineRig {
     n_handles: usize,
     n_points: usize,
-    /// Row-major `(2 · n_points) × (6 · n_handles)`.
-    operator: Vec<f64>,
+    /// `O`, row-major `(2 · n_points) × (6 · n_handles)`, and its per-frame product.
+    product: FrameProduct,
     n_constraints: usize,
     rank_deficient_paths: Vec<usize>,
     shared_groups: usize,
@@ -230,7 +231,7 @@ impl SplineRig {
         Ok(SplineRig {
             n_handles: h,
             n_points,
-            operator,
+            product: FrameProduct::new(operator, n_points, h, options.parallel),
             n_constraints,
             rank_deficient_paths,
             shared_groups,
@@ -239,7 +240,9 @@ impl SplineRig {
 
     /// Deforms: writes the control points for the handle maps `pose` (one per handle) into
     /// `out` (length [`SplineRig::n_points`], layout of [`Drawing::flat_points`]). A dense
-    /// matrix–vector product; allocates nothing.
+    /// matrix–vector product; allocates nothing. Built with [`FitOptions::parallel`] and an
+    /// operator of 8 MiB or more, half of the points are computed by a helper thread started
+    /// with the rig (the result is the same to the bit).
     pub fn update(&self, pose: &[Affine], out: &mut [Point]) -> Result<(), PoseError> {
         if pose.len() != self.n_handles {
             return Err(PoseError::Transforms {
@@ -253,27 +256,7 @@ impl SplineRig {
                 expected: self.n_points,
             });
         }
-        let n_cols = 6 * self.n_handles;
-        for (p, rows) in out.iter_mut().zip(self.operator.chunks_exact(2 * n_cols)) {
-            let (rx, ry) = rows.split_at(n_cols);
-            let (mut x, mut y) = (0.0, 0.0);
-            for ((t, ox), oy) in pose.iter().zip(rx.chunks_exact(6)).zip(ry.chunks_exact(6)) {
-                let c = t.as_coeffs();
-                x += ox[0] * c[0]
-                    + ox[1] * c[1]
-                    + ox[2] * c[2]
-                    + ox[3] * c[3]
-                    + ox[4] * c[4]
-                    + ox[5] * c[5];
-                y += oy[0] * c[0]
-                    + oy[1] * c[1]
-                    + oy[2] * c[2]
-                    + oy[3] * c[3]
-                    + oy[4] * c[4]
-                    + oy[5] * c[5];
-            }
-            *p = Point::new(x, y);
-        }
+        self.product.apply(pose, out);
         Ok(())
     }
 
@@ -307,7 +290,7 @@ impl SplineRig {
     /// The operator `O`, row-major `(2 · n_points) × (6 · n_handles)`: row `2k + d` gives
     /// coordinate `d` of point `k`, column `6i + c` coefficient `c` of handle `i`'s map.
     pub fn operator(&self) -> &[f64] {
-        &self.operator
+        self.product.operator()
     }
 }
 

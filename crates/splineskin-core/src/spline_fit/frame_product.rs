@@ -1,0 +1,304 @@
+//! The per-frame product of a rig, `x = O · vec(T)` ([`super::SplineRig::update`]), on one
+//! thread or split between the calling thread and one helper thread.
+//!
+//! The product reads every entry of `O` once per frame (`2 · n_points × 6h` values), so on a
+//! large drawing it is bound by memory bandwidth, which one core does not exhaust. A helper
+//! thread started with the rig computes the second half of the points while the caller
+//! computes the first; the two meet on a mutex and condition variable. Nothing is allocated
+//! per frame: the helper keeps its own copy of the pose and its own output buffer (both sized
+//! once), and the caller copies the helper's points into place (16 bytes per point against
+//! the `96 h` bytes of operator each point reads). Every point is computed by the same
+//! function in the same order on either thread, so the result does not depend on the split.
+//!
+//! Small operators (below [`PARALLEL_MIN_BYTES`]) stay on the calling thread: waking a
+//! thread costs microseconds, more than such a product takes.
+
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+
+use kurbo::{Affine, Point};
+
+/// Smallest operator split between two threads: 8 MiB of `f64` (about 17 000 chain points
+/// with five handles). Below it the product takes well under a millisecond and fits in the
+/// caches of this machine's class.
+pub const PARALLEL_MIN_BYTES: usize = 8 << 20;
+
+/// `O`, row-major `(2 · n_points) × (6 · n_handles)`, and how its product is computed.
+pub(crate) struct FrameProduct {
+    n_points: usize,
+    n_handles: usize,
+    operator: Arc<[f64]>,
+    helper: Option<Helper>,
+}
+
+impl FrameProduct {
+    /// Wraps `operator` (row-major `(2 · n_points) × (6 · n_handles)`); with `parallel` and an
+    /// operator of at least [`PARALLEL_MIN_BYTES`] on a machine with two or more cores, starts
+    /// the helper thread.
+    pub fn new(operator: Vec<f64>, n_points: usize, n_handles: usize, parallel: bool) -> Self {
+        debug_assert_eq!(operator.len(), 2 * n_points * 6 * n_handles);
+        let operator: Arc<[f64]> = operator.into();
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let large = std::mem::size_of_val(&*operator) >= PARALLEL_MIN_BYTES;
+        let helper = if parallel && large && cores >= 2 {
+            Helper::start(operator.clone(), n_points, n_handles)
+        } else {
+            None
+        };
+        FrameProduct {
+            n_points,
+            n_handles,
+            operator,
+            helper,
+        }
+    }
+
+    /// The operator, row-major.
+    pub fn operator(&self) -> &[f64] {
+        &self.operator
+    }
+
+    /// Whether a helper thread computes half of each product.
+    pub fn is_split(&self) -> bool {
+        self.helper.is_some()
+    }
+
+    /// Writes `O · vec(pose)` into `out` as points. `pose.len() == n_handles` and
+    /// `out.len() == n_points` (checked by the caller). Allocates nothing.
+    pub fn apply(&self, pose: &[Affine], out: &mut [Point]) {
+        let n_cols = 6 * self.n_handles;
+        match &self.helper {
+            None => points_of(&self.operator, n_cols, pose, 0, out),
+            Some(helper) => {
+                // One product at a time per rig: the helper has one slot.
+                let _turn = lock(&helper.turn);
+                {
+                    let mut slot = lock(&helper.shared.slot);
+                    slot.pose.clear();
+                    slot.pose.extend_from_slice(pose);
+                    slot.state = State::Work;
+                }
+                helper.shared.wake.notify_one();
+                let (mine, theirs) = out.split_at_mut(helper.first);
+                points_of(&self.operator, n_cols, pose, 0, mine);
+                let mut slot = lock(&helper.shared.slot);
+                while slot.state != State::Done {
+                    slot = helper
+                        .shared
+                        .done
+                        .wait(slot)
+                        .unwrap_or_else(|e| e.into_inner());
+                }
+                theirs.copy_from_slice(&slot.points);
+                slot.state = State::Idle;
+            }
+        }
+    }
+}
+
+impl Clone for FrameProduct {
+    /// The same operator (shared, not copied), with a helper thread of its own if this one has
+    /// one.
+    fn clone(&self) -> Self {
+        FrameProduct {
+            n_points: self.n_points,
+            n_handles: self.n_handles,
+            operator: self.operator.clone(),
+            helper: self
+                .helper
+                .as_ref()
+                .and_then(|_| Helper::start(self.operator.clone(), self.n_points, self.n_handles)),
+        }
+    }
+}
+
+impl std::fmt::Debug for FrameProduct {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FrameProduct")
+            .field("n_points", &self.n_points)
+            .field("n_handles", &self.n_handles)
+            .field("operator_len", &self.operator.len())
+            .field("split", &self.is_split())
+            .finish()
+    }
+}
+
+/// Points `first, first + 1, …` of `O · vec(pose)` into `out`: for point `k`, rows `2k` and
+/// `2k + 1` of `O` against the six coefficients `(a, b, c, d, e, f)` of each handle's map.
+fn points_of(operator: &[f64], n_cols: usize, pose: &[Affine], first: usize, out: &mut [Point]) {
+    let rows = &operator[2 * first * n_cols..][..2 * out.len() * n_cols];
+    for (p, rows) in out.iter_mut().zip(rows.chunks_exact(2 * n_cols)) {
+        let (rx, ry) = rows.split_at(n_cols);
+        let (mut x, mut y) = (0.0, 0.0);
+        for ((t, ox), oy) in pose.iter().zip(rx.chunks_exact(6)).zip(ry.chunks_exact(6)) {
+            let c = t.as_coeffs();
+            x += dot6(ox, &c);
+            y += dot6(oy, &c);
+        }
+        *p = Point::new(x, y);
+    }
+}
+
+/// `Σ_k a_k c_k` over the six coefficients of a handle's affine map (`a`: six operator
+/// entries), summed left to right.
+#[inline]
+fn dot6(a: &[f64], c: &[f64; 6]) -> f64 {
+    a[0] * c[0] + a[1] * c[1] + a[2] * c[2] + a[3] * c[3] + a[4] * c[4] + a[5] * c[5]
+}
+
+/// Locks `m`, also after a panic elsewhere (the data are plain numbers, rewritten each frame).
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Where the helper is in a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum State {
+    Idle,
+    Work,
+    Done,
+    Exit,
+}
+
+/// What the caller and the helper share: the pose in, the helper's points out.
+struct Slot {
+    state: State,
+    pose: Vec<Affine>,
+    points: Vec<Point>,
+}
+
+struct Shared {
+    slot: Mutex<Slot>,
+    /// Signalled when there is work (or the rig is dropped).
+    wake: Condvar,
+    /// Signalled when the helper's points are ready.
+    done: Condvar,
+}
+
+/// The helper thread, computing points `first..n_points` of each product.
+struct Helper {
+    first: usize,
+    shared: Arc<Shared>,
+    /// Held by a caller for a whole product.
+    turn: Mutex<()>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Helper {
+    /// Starts the thread; `None` if the system refuses one (the product then stays on the
+    /// calling thread).
+    fn start(operator: Arc<[f64]>, n_points: usize, n_handles: usize) -> Option<Helper> {
+        let first = n_points / 2;
+        let shared = Arc::new(Shared {
+            slot: Mutex::new(Slot {
+                state: State::Idle,
+                pose: Vec::with_capacity(n_handles),
+                points: vec![Point::ZERO; n_points - first],
+            }),
+            wake: Condvar::new(),
+            done: Condvar::new(),
+        });
+        let theirs = shared.clone();
+        let thread = std::thread::Builder::new()
+            .name("splineskin-frame".into())
+            .spawn(move || {
+                let n_cols = 6 * n_handles;
+                let mut slot = lock(&theirs.slot);
+                loop {
+                    match slot.state {
+                        State::Exit => return,
+                        State::Work => {
+                            let Slot { pose, points, .. } = &mut *slot;
+                            points_of(&operator, n_cols, pose, first, points);
+                            slot.state = State::Done;
+                            theirs.done.notify_one();
+                        }
+                        State::Idle | State::Done => {}
+                    }
+                    slot = theirs.wake.wait(slot).unwrap_or_else(|e| e.into_inner());
+                }
+            })
+            .ok()?;
+        Some(Helper {
+            first,
+            shared,
+            turn: Mutex::new(()),
+            thread: Some(thread),
+        })
+    }
+}
+
+impl Drop for Helper {
+    fn drop(&mut self) {
+        lock(&self.shared.slot).state = State::Exit;
+        self.shared.wake.notify_one();
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An operator of `n_points` points and `h` handles with distinct, irregular entries.
+    fn operator(n_points: usize, h: usize) -> Vec<f64> {
+        (0..2 * n_points * 6 * h)
+            .map(|i| ((i as f64) * 0.618_033_988_7).fract() - 0.5)
+            .collect()
+    }
+
+    fn pose(h: usize, k: usize) -> Vec<Affine> {
+        (0..h)
+            .map(|i| {
+                let a = 0.1 * (i + k) as f64;
+                Affine::new([a.cos(), a.sin(), -a.sin(), a.cos(), i as f64, -(k as f64)])
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_split_product_equals_the_serial_one_bit_for_bit() {
+        // 9 MiB of operator: above the threshold.
+        let (n, h) = (50_000, 2);
+        let op = operator(n, h);
+        assert!(op.len() * 8 >= PARALLEL_MIN_BYTES);
+        let serial = FrameProduct::new(op.clone(), n, h, false);
+        let split = FrameProduct::new(op, n, h, true);
+        assert!(!serial.is_split());
+        let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+        assert_eq!(split.is_split(), cores >= 2);
+        let copy = split.clone();
+        assert_eq!(copy.is_split(), split.is_split());
+        let (mut a, mut b, mut c) = (
+            vec![Point::ZERO; n],
+            vec![Point::ZERO; n],
+            vec![Point::ZERO; n],
+        );
+        for k in 0..5 {
+            let t = pose(h, k);
+            serial.apply(&t, &mut a);
+            split.apply(&t, &mut b);
+            copy.apply(&t, &mut c);
+            assert_eq!(a, b, "frame {k}");
+            assert_eq!(a, c, "frame {k}");
+        }
+        // Point 0 restated: rows 0 and 1 against the coefficients.
+        let t = pose(h, 4);
+        let op = serial.operator();
+        let expected: f64 = (0..6 * h)
+            .map(|c| op[c] * t[c / 6].as_coeffs()[c % 6])
+            .sum();
+        assert!((a[0].x - expected).abs() <= 1e-12 * (1.0 + expected.abs()));
+    }
+
+    #[test]
+    fn small_operators_stay_on_the_calling_thread() {
+        let product = FrameProduct::new(operator(10, 3), 10, 3, true);
+        assert!(!product.is_split());
+        let mut out = vec![Point::ZERO; 10];
+        product.apply(&pose(3, 0), &mut out);
+        assert!(out.iter().all(|p| p.x.is_finite() && p.y.is_finite()));
+    }
+}
