@@ -28,7 +28,37 @@ pub(crate) struct FrameProduct {
     n_points: usize,
     n_handles: usize,
     operator: Arc<[f64]>,
+    /// What the product reads: `operator` itself, or its entries rounded to `f32`.
+    entries: Entries,
+    /// Whether a helper thread may take half of the product.
+    parallel: bool,
     helper: Option<Helper>,
+}
+
+/// The entries the per-frame product reads.
+#[derive(Clone)]
+enum Entries {
+    F64(Arc<[f64]>),
+    /// Each entry rounded to the nearest `f32`: half the bytes to stream, products summed in
+    /// `f64`.
+    F32(Arc<[f32]>),
+}
+
+impl Entries {
+    fn bytes(&self) -> usize {
+        match self {
+            Entries::F64(e) => std::mem::size_of_val(&**e),
+            Entries::F32(e) => std::mem::size_of_val(&**e),
+        }
+    }
+
+    /// Points `first, first + 1, …` of the product into `out`.
+    fn points(&self, n_cols: usize, pose: &[Affine], first: usize, out: &mut [Point]) {
+        match self {
+            Entries::F64(e) => points_of(e, n_cols, pose, first, out),
+            Entries::F32(e) => points_of(e, n_cols, pose, first, out),
+        }
+    }
 }
 
 impl FrameProduct {
@@ -38,10 +68,26 @@ impl FrameProduct {
     pub fn new(operator: Vec<f64>, n_points: usize, n_handles: usize, parallel: bool) -> Self {
         debug_assert_eq!(operator.len(), 2 * n_points * 6 * n_handles);
         let operator: Arc<[f64]> = operator.into();
+        FrameProduct::with_entries(
+            operator.clone(),
+            Entries::F64(operator),
+            n_points,
+            n_handles,
+            parallel,
+        )
+    }
+
+    fn with_entries(
+        operator: Arc<[f64]>,
+        entries: Entries,
+        n_points: usize,
+        n_handles: usize,
+        parallel: bool,
+    ) -> Self {
         let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let large = std::mem::size_of_val(&*operator) >= PARALLEL_MIN_BYTES;
+        let large = entries.bytes() >= PARALLEL_MIN_BYTES;
         let helper = if parallel && large && cores >= 2 {
-            Helper::start(operator.clone(), n_points, n_handles)
+            Helper::start(entries.clone(), n_points, n_handles)
         } else {
             None
         };
@@ -49,8 +95,37 @@ impl FrameProduct {
             n_points,
             n_handles,
             operator,
+            entries,
+            parallel,
             helper,
         }
+    }
+
+    /// The same operator with the product reading its entries rounded to `f32` (`single`) or
+    /// in full (`!single`); split between two threads as [`FrameProduct::new`] decides.
+    pub fn with_single_precision(&self, single: bool) -> Self {
+        let entries = if single {
+            Entries::F32(self.operator.iter().map(|&x| x as f32).collect())
+        } else {
+            Entries::F64(self.operator.clone())
+        };
+        FrameProduct::with_entries(
+            self.operator.clone(),
+            entries,
+            self.n_points,
+            self.n_handles,
+            self.parallel,
+        )
+    }
+
+    /// Whether the product reads `f32` entries.
+    pub fn is_single_precision(&self) -> bool {
+        matches!(self.entries, Entries::F32(_))
+    }
+
+    /// Bytes the product reads per frame.
+    pub fn bytes_per_frame(&self) -> usize {
+        self.entries.bytes()
     }
 
     /// The operator, row-major.
@@ -68,7 +143,7 @@ impl FrameProduct {
     pub fn apply(&self, pose: &[Affine], out: &mut [Point]) {
         let n_cols = 6 * self.n_handles;
         match &self.helper {
-            None => points_of(&self.operator, n_cols, pose, 0, out),
+            None => self.entries.points(n_cols, pose, 0, out),
             Some(helper) => {
                 // One product at a time per rig: the helper has one slot.
                 let _turn = lock(&helper.turn);
@@ -80,7 +155,7 @@ impl FrameProduct {
                 }
                 helper.shared.wake.notify_one();
                 let (mine, theirs) = out.split_at_mut(helper.first);
-                points_of(&self.operator, n_cols, pose, 0, mine);
+                self.entries.points(n_cols, pose, 0, mine);
                 let mut slot = lock(&helper.shared.slot);
                 while slot.state != State::Done {
                     slot = helper
@@ -104,10 +179,12 @@ impl Clone for FrameProduct {
             n_points: self.n_points,
             n_handles: self.n_handles,
             operator: self.operator.clone(),
+            entries: self.entries.clone(),
+            parallel: self.parallel,
             helper: self
                 .helper
                 .as_ref()
-                .and_then(|_| Helper::start(self.operator.clone(), self.n_points, self.n_handles)),
+                .and_then(|_| Helper::start(self.entries.clone(), self.n_points, self.n_handles)),
         }
     }
 }
@@ -119,13 +196,20 @@ impl std::fmt::Debug for FrameProduct {
             .field("n_handles", &self.n_handles)
             .field("operator_len", &self.operator.len())
             .field("split", &self.is_split())
+            .field("single_precision", &self.is_single_precision())
             .finish()
     }
 }
 
 /// Points `first, first + 1, …` of `O · vec(pose)` into `out`: for point `k`, rows `2k` and
 /// `2k + 1` of `O` against the six coefficients `(a, b, c, d, e, f)` of each handle's map.
-fn points_of(operator: &[f64], n_cols: usize, pose: &[Affine], first: usize, out: &mut [Point]) {
+fn points_of<T: Copy + Into<f64>>(
+    operator: &[T],
+    n_cols: usize,
+    pose: &[Affine],
+    first: usize,
+    out: &mut [Point],
+) {
     let rows = &operator[2 * first * n_cols..][..2 * out.len() * n_cols];
     for (p, rows) in out.iter_mut().zip(rows.chunks_exact(2 * n_cols)) {
         let (rx, ry) = rows.split_at(n_cols);
@@ -142,7 +226,8 @@ fn points_of(operator: &[f64], n_cols: usize, pose: &[Affine], first: usize, out
 /// `Σ_k a_k c_k` over the six coefficients of a handle's affine map (`a`: six operator
 /// entries), summed left to right.
 #[inline]
-fn dot6(a: &[f64], c: &[f64; 6]) -> f64 {
+fn dot6<T: Copy + Into<f64>>(a: &[T], c: &[f64; 6]) -> f64 {
+    let a: [f64; 6] = std::array::from_fn(|k| a[k].into());
     a[0] * c[0] + a[1] * c[1] + a[2] * c[2] + a[3] * c[3] + a[4] * c[4] + a[5] * c[5]
 }
 
@@ -187,7 +272,7 @@ struct Helper {
 impl Helper {
     /// Starts the thread; `None` if the system refuses one (the product then stays on the
     /// calling thread).
-    fn start(operator: Arc<[f64]>, n_points: usize, n_handles: usize) -> Option<Helper> {
+    fn start(entries: Entries, n_points: usize, n_handles: usize) -> Option<Helper> {
         let first = n_points / 2;
         let shared = Arc::new(Shared {
             slot: Mutex::new(Slot {
@@ -209,7 +294,7 @@ impl Helper {
                         State::Exit => return,
                         State::Work => {
                             let Slot { pose, points, .. } = &mut *slot;
-                            points_of(&operator, n_cols, pose, first, points);
+                            entries.points(n_cols, pose, first, points);
                             slot.state = State::Done;
                             theirs.done.notify_one();
                         }
@@ -291,6 +376,27 @@ mod tests {
             .map(|c| op[c] * t[c / 6].as_coeffs()[c % 6])
             .sum();
         assert!((a[0].x - expected).abs() <= 1e-12 * (1.0 + expected.abs()));
+    }
+
+    #[test]
+    fn single_precision_rounds_each_entry_once() {
+        let (n, h) = (50_000, 2);
+        let op = operator(n, h);
+        let full = FrameProduct::new(op.clone(), n, h, true);
+        let single = full.with_single_precision(true);
+        assert!(single.is_single_precision());
+        assert_eq!(single.bytes_per_frame(), full.bytes_per_frame() / 2);
+        // The f32 product equals the f64 product of the rounded entries, bit for bit.
+        let rounded: Vec<f64> = op.iter().map(|&x| f64::from(x as f32)).collect();
+        let reference = FrameProduct::new(rounded, n, h, false);
+        let (mut a, mut b) = (vec![Point::ZERO; n], vec![Point::ZERO; n]);
+        let t = pose(h, 2);
+        single.apply(&t, &mut a);
+        reference.apply(&t, &mut b);
+        assert_eq!(a, b);
+        let back = single.with_single_precision(false);
+        assert!(!back.is_single_precision());
+        assert_eq!(back.bytes_per_frame(), full.bytes_per_frame());
     }
 
     #[test]

@@ -260,6 +260,59 @@ impl SplineRig {
         Ok(())
     }
 
+    /// The same rig with [`SplineRig::update`] reading the operator's entries rounded to `f32`
+    /// (`single`), or in full `f64` (`!single`, how every rig is built). Rounded entries halve
+    /// the bytes each update streams from memory (what bounds the update of a large drawing)
+    /// at the price of a relative error of about `6e-8` per entry: the points move by up to
+    /// about `6e-8 · Σ |O_rc T_c|`, which grows with the drawing's distance from the origin,
+    /// not with its size. The products are summed in `f64`; [`SplineRig::operator`] stays the
+    /// `f64` one.
+    ///
+    /// ```
+    /// use kurbo::{Affine, Point};
+    /// use splineskin_core::drawing::{Drawing, JunctionOptions, Path};
+    /// use splineskin_core::spline_fit::{FitOptions, SplineRig};
+    /// use splineskin_core::weights::{Shepard, ShepardOptions};
+    ///
+    /// let pts = [(0.0, 0.0), (1.0, 1.0), (2.0, 1.0), (3.0, 0.0)].map(Point::from).to_vec();
+    /// let drawing = Drawing {
+    ///     paths: vec![Path::new(pts, false, &JunctionOptions::default()).unwrap()],
+    ///     ..Default::default()
+    /// };
+    /// let weights = Shepard::new(&[Point::ZERO, Point::new(3.0, 0.0)], ShepardOptions::default());
+    /// let rig = SplineRig::precompute(&drawing, &weights, &FitOptions::default()).unwrap();
+    /// let single = rig.with_single_precision(true);
+    /// assert_eq!(single.update_bytes(), rig.update_bytes() / 2);
+    /// let pose = [Affine::rotate(0.3), Affine::translate((1.0, 2.0))];
+    /// let (mut a, mut b) = (vec![Point::ZERO; rig.n_points()], vec![Point::ZERO; rig.n_points()]);
+    /// rig.update(&pose, &mut a).unwrap();
+    /// single.update(&pose, &mut b).unwrap();
+    /// for (p, q) in a.iter().zip(&b) {
+    ///     assert!((*p - *q).hypot() < 1e-6);
+    /// }
+    /// ```
+    pub fn with_single_precision(&self, single: bool) -> SplineRig {
+        SplineRig {
+            n_handles: self.n_handles,
+            n_points: self.n_points,
+            product: self.product.with_single_precision(single),
+            n_constraints: self.n_constraints,
+            rank_deficient_paths: self.rank_deficient_paths.clone(),
+            shared_groups: self.shared_groups,
+        }
+    }
+
+    /// Whether [`SplineRig::update`] reads `f32` entries ([`SplineRig::with_single_precision`]).
+    pub fn is_single_precision(&self) -> bool {
+        self.product.is_single_precision()
+    }
+
+    /// Bytes of operator each [`SplineRig::update`] reads: `2 · n_points × 6h` entries of 8
+    /// bytes, or 4 with [`SplineRig::with_single_precision`].
+    pub fn update_bytes(&self) -> usize {
+        self.product.bytes_per_frame()
+    }
+
     /// Number of handles `h`.
     pub fn n_handles(&self) -> usize {
         self.n_handles
