@@ -132,6 +132,16 @@ pub struct ArapReport {
     pub energy: f64,
 }
 
+impl ArapReport {
+    /// The report before the first iteration: none run, not converged, no step or energy yet.
+    const NOT_STARTED: ArapReport = ArapReport {
+        iterations: 0,
+        converged: false,
+        last_step: f64::INFINITY,
+        energy: f64::NAN,
+    };
+}
+
 /// ARAP deformation with point handles at mesh vertices, factored for one set of handles.
 ///
 /// Build once per mesh and handle set ([`Arap::new`]: the Cholesky factor of the Laplacian on
@@ -266,12 +276,7 @@ impl Arap {
         let mut rhs = vec![0.0; 2 * m];
         let mut workspace = self.analysis.workspace(2)?;
         let tolerance = self.options.step_tolerance * self.diagonal;
-        let mut report = ArapReport {
-            iterations: 0,
-            converged: false,
-            last_step: f64::INFINITY,
-            energy: f64::NAN,
-        };
+        let mut report = ArapReport::NOT_STARTED;
         for iteration in 1..=self.options.max_iterations {
             let mut step: f64 = 0.0;
             for (&v, &q) in self.handles.vertices.iter().zip(targets) {
@@ -347,12 +352,7 @@ impl Arap {
         let depth = self.options.anderson_depth;
         let mut workspace = self.analysis.workspace(2)?;
         let tolerance = self.options.step_tolerance * self.diagonal;
-        let mut report = ArapReport {
-            iterations: 0,
-            converged: false,
-            last_step: f64::INFINITY,
-            energy: f64::NAN,
-        };
+        let mut report = ArapReport::NOT_STARTED;
         let mut handle_step: f64 = 0.0;
         for (&v, &q) in self.handles.vertices.iter().zip(targets) {
             handle_step = handle_step.max(max_coordinate_change(positions[v], q));

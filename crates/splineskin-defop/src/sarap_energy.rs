@@ -40,6 +40,7 @@
 use kurbo::{Point, Vec2};
 
 use super::deformation_gradient::{ConformalSplit, TriangleGradients};
+use super::handles::check_position_count;
 use super::orientation::double_area;
 use super::DefOpError;
 use splineskin_core::mesh::TriMesh;
@@ -67,12 +68,7 @@ use splineskin_core::mesh::TriMesh;
 /// ```
 pub fn sarap_energy(mesh: &TriMesh, positions: &[Point]) -> Result<f64, DefOpError> {
     mesh.check()?;
-    if positions.len() != mesh.n_vertices() {
-        return Err(DefOpError::PositionCount {
-            given: positions.len(),
-            n_vertices: mesh.n_vertices(),
-        });
-    }
+    check_position_count(positions, mesh.n_vertices())?;
     Ok(sarap_energy_of(&TriangleGradients::new(mesh), positions))
 }
 

@@ -215,9 +215,7 @@ pub fn classify_joints(
 mod tests {
     use super::*;
 
-    fn pts(v: &[(f64, f64)]) -> Vec<Point> {
-        v.iter().map(|&p| Point::from(p)).collect()
-    }
+    use crate::test_support::pts;
 
     #[test]
     fn junction_corner_is_c0() {

@@ -191,15 +191,9 @@ impl SplineRig {
                 Ok(members.iter().map(|m| m.index).zip(ops).collect())
             }
         };
-        let solved: Vec<Vec<(usize, PathOperator)>> = if options.parallel {
-            use rayon::prelude::*;
-            // Collected in order first, so that an error names the first failing path
-            // whatever the threads' timing.
-            let results: Vec<_> = tasks.par_iter().map(solve).collect();
-            results.into_iter().collect::<Result<_, _>>()?
-        } else {
-            tasks.iter().map(solve).collect::<Result<_, _>>()?
-        };
+        // An error names the first failing path whatever the threads' timing.
+        let solved: Vec<Vec<(usize, PathOperator)>> =
+            crate::parallel::try_map(&tasks, options.parallel, |_, task| solve(task))?;
         let mut by_path: Vec<Option<PathOperator>> =
             (0..drawing.paths.len()).map(|_| None).collect();
         for (pi, op) in solved.into_iter().flatten() {
