@@ -31,6 +31,7 @@ use kurbo::{Point, Vec2};
 
 use super::arap_energy::arap_energy_of;
 use super::deformation_gradient::TriangleGradients;
+use super::error::check_count_option;
 use super::handles::{bounding_box_diagonal, HandleSet, NOT_FREE};
 use super::DefOpError;
 use splineskin_core::linalg::{CholeskyAnalysis, Ordering};
@@ -510,13 +511,7 @@ pub(super) fn check_iteration_options(
     max_iterations: usize,
     step_tolerance: f64,
 ) -> Result<(), DefOpError> {
-    if max_iterations == 0 {
-        return Err(DefOpError::InvalidOption {
-            name: "max_iterations",
-            value: "0".into(),
-            expected: "at least 1",
-        });
-    }
+    check_count_option("max_iterations", max_iterations)?;
     if !(step_tolerance.is_finite() && step_tolerance >= 0.0) {
         return Err(DefOpError::InvalidOption {
             name: "step_tolerance",

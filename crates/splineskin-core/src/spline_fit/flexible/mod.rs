@@ -452,15 +452,7 @@ pub(super) mod fixture {
     use crate::weights::{Shepard, ShepardOptions};
 
     /// The input's control points (one open path, curves 0–3 and 3–6).
-    pub(super) const INPUT: [(f64, f64); 7] = [
-        (0., 0.),
-        (1., 1.),
-        (2., 0.),
-        (3., 0.),
-        (5., 0.),
-        (6., 1.),
-        (7., 0.),
-    ];
+    pub(super) const INPUT: [(f64, f64); 7] = crate::test_support::SMOOTH_RATIO_2;
 
     /// One path's iteration state for a pose.
     pub(super) struct Case {
