@@ -282,14 +282,8 @@ impl DefOpRig {
             if joined.rank_deficient {
                 rank_deficient_paths.push(pi);
             }
-            let m = path.n_unknown_points();
-            for k in 0..path.points.len() {
-                let src = if k >= m { k - m } else { k };
-                for d in 0..2 {
-                    g_spline
-                        .row_mut(2 * (offset + k) + d)
-                        .copy_from(joined.block.row(2 * src + d));
-                }
+            for (row, src) in path.coordinate_rows(offset) {
+                g_spline.row_mut(row).copy_from(joined.block.row(src));
             }
         }
         if n_nodes_outside > 0 {

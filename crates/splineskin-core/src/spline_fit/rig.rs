@@ -209,14 +209,10 @@ impl SplineRig {
             if solved.rank_deficient {
                 rank_deficient_paths.push(pi);
             }
-            let m = path.n_unknown_points();
-            for k in 0..path.points.len() {
-                let src = if k >= m { k - m } else { k };
-                for d in 0..2 {
-                    let row = &mut operator[(2 * (offset + k) + d) * n_cols..][..n_cols];
-                    for (c, v) in row.iter_mut().enumerate() {
-                        *v = solved.operator[(2 * src + d, c)];
-                    }
+            for (row, src) in path.coordinate_rows(offset) {
+                let row = &mut operator[row * n_cols..][..n_cols];
+                for (c, v) in row.iter_mut().enumerate() {
+                    *v = solved.operator[(src, c)];
                 }
             }
         }
@@ -253,18 +249,8 @@ impl SplineRig {
             let (mut x, mut y) = (0.0, 0.0);
             for ((t, ox), oy) in pose.iter().zip(rx.chunks_exact(6)).zip(ry.chunks_exact(6)) {
                 let c = t.as_coeffs();
-                x += ox[0] * c[0]
-                    + ox[1] * c[1]
-                    + ox[2] * c[2]
-                    + ox[3] * c[3]
-                    + ox[4] * c[4]
-                    + ox[5] * c[5];
-                y += oy[0] * c[0]
-                    + oy[1] * c[1]
-                    + oy[2] * c[2]
-                    + oy[3] * c[3]
-                    + oy[4] * c[4]
-                    + oy[5] * c[5];
+                x += dot6(ox, &c);
+                y += dot6(oy, &c);
             }
             *p = Point::new(x, y);
         }
@@ -342,4 +328,11 @@ pub fn validate(drawing: &Drawing) -> Result<(), FitError> {
         }
     }
     Ok(())
+}
+
+/// `Σ_k a_k c_k` over the six coefficients of a handle's affine map (`a`: six operator
+/// entries), summed left to right.
+#[inline]
+fn dot6(a: &[f64], c: &[f64; 6]) -> f64 {
+    a[0] * c[0] + a[1] * c[1] + a[2] * c[2] + a[3] * c[3] + a[4] * c[4] + a[5] * c[5]
 }

@@ -195,8 +195,7 @@ pub(crate) fn group_unknowns(
     let total: usize = paths.iter().map(|p| p.n_unknown_points()).sum();
     let slot = |path: usize, chain: usize| {
         let g = group.binary_search(&path).expect("a copy of this group");
-        let m = paths[g].n_unknown_points();
-        offsets[g] + if chain >= m { chain - m } else { chain }
+        offsets[g] + paths[g].unknown_index(chain)
     };
     let mut parent = union_find::singletons(total);
     for c in copies {
