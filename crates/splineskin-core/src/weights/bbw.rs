@@ -543,22 +543,15 @@ mod tests {
             })
         ));
         for bad in [0.0, -1.0, f64::NAN] {
-            assert!(matches!(
-                bounded_biharmonic(
-                    &mesh,
-                    &data,
-                    &BbwOptions::default().with_feasibility_tolerance(bad)
-                ),
-                Err(WeightsError::InvalidOption { .. })
-            ));
-            assert!(matches!(
-                bounded_biharmonic(
-                    &mesh,
-                    &data,
-                    &BbwOptions::default().with_optimality_tolerance(bad)
-                ),
-                Err(WeightsError::InvalidOption { .. })
-            ));
+            for options in [
+                BbwOptions::default().with_feasibility_tolerance(bad),
+                BbwOptions::default().with_optimality_tolerance(bad),
+            ] {
+                assert!(matches!(
+                    bounded_biharmonic(&mesh, &data, &options),
+                    Err(WeightsError::InvalidOption { .. })
+                ));
+            }
         }
         let outside = DirichletData::new(vec![0, 5], vec![1.0, -0.5], 1).unwrap();
         assert_eq!(

@@ -73,71 +73,65 @@ pub fn bbw_coarse_to_fine<F>(
 where
     F: Fn(&Domain) -> Option<DirichletData>,
 {
-    solve_level(drawing, points, bones, options, fine, fine_data, &data, bbw)
-}
-
-/// Data of a coarse level from its domain.
-type LevelData<'a> = &'a dyn Fn(&Domain) -> Option<DirichletData>;
-
-/// [`bbw_coarse_to_fine`] with the data builder behind a reference (the levels recurse).
-#[allow(clippy::too_many_arguments)]
-fn solve_level(
-    drawing: &Drawing,
-    points: &[Point],
-    bones: &[[Point; 2]],
-    options: &DomainOptions,
-    fine: &Domain,
-    fine_data: &DirichletData,
-    data: LevelData<'_>,
-    bbw: &BbwOptions,
-) -> Result<VertexWeights, WeightsError> {
-    match coarse_guess(drawing, points, bones, options, fine, data, bbw) {
-        Some(guess) => bounded_biharmonic_from(&fine.mesh, fine_data, bbw, &guess),
-        None => bounded_biharmonic(&fine.mesh, fine_data, bbw),
-    }
-}
-
-/// The weights of the next coarser level interpolated at `fine`'s vertices, or `None` when
-/// `fine` is small enough to solve directly or a coarser level fails.
-fn coarse_guess(
-    drawing: &Drawing,
-    points: &[Point],
-    bones: &[[Point; 2]],
-    options: &DomainOptions,
-    fine: &Domain,
-    data: LevelData<'_>,
-    bbw: &BbwOptions,
-) -> Option<VertexWeights> {
-    if fine.mesh.n_vertices() <= DIRECT_VERTICES {
-        return None;
-    }
-    let coarse_options = coarser(options);
-    let coarse = Domain::build(drawing, points, bones, &coarse_options).ok()?;
-    // A coarser level that is not smaller (everything pinned by handles or the vertex cap)
-    // would not pay for itself.
-    if coarse.mesh.n_vertices() * 2 > fine.mesh.n_vertices() {
-        return None;
-    }
-    let coarse_data = data(&coarse)?;
-    let weights = solve_level(
+    let levels = Levels {
         drawing,
         points,
         bones,
-        &coarse_options,
-        &coarse,
-        &coarse_data,
-        data,
+        data: &data,
         bbw,
-    )
-    .ok()?;
-    let h = weights.n_handles();
-    let field = MeshWeights::new(&coarse.mesh, weights.into_values(), h).ok()?;
-    let n = fine.mesh.n_vertices();
-    let mut values = vec![0.0; n * h];
-    for (v, row) in values.chunks_mut(h).enumerate() {
-        field.eval(fine.mesh.vertices[v], row);
+    };
+    levels.solve(options, fine, fine_data)
+}
+
+/// What every level shares: the drawing, points and bones each level's domain is built from,
+/// the builder of a level's Dirichlet data, and the BBW options.
+struct Levels<'a> {
+    drawing: &'a Drawing,
+    points: &'a [Point],
+    bones: &'a [[Point; 2]],
+    data: &'a dyn Fn(&Domain) -> Option<DirichletData>,
+    bbw: &'a BbwOptions,
+}
+
+impl Levels<'_> {
+    /// The weights on `fine` (built with `options`) for `fine_data`, started from the next
+    /// coarser level when there is one.
+    fn solve(
+        &self,
+        options: &DomainOptions,
+        fine: &Domain,
+        fine_data: &DirichletData,
+    ) -> Result<VertexWeights, WeightsError> {
+        match self.coarse_guess(options, fine) {
+            Some(guess) => bounded_biharmonic_from(&fine.mesh, fine_data, self.bbw, &guess),
+            None => bounded_biharmonic(&fine.mesh, fine_data, self.bbw),
+        }
     }
-    VertexWeights::from_row_major(n, h, values).ok()
+
+    /// The weights of the next coarser level interpolated at `fine`'s vertices, or `None`
+    /// when `fine` is small enough to solve directly or a coarser level fails.
+    fn coarse_guess(&self, options: &DomainOptions, fine: &Domain) -> Option<VertexWeights> {
+        if fine.mesh.n_vertices() <= DIRECT_VERTICES {
+            return None;
+        }
+        let coarse_options = coarser(options);
+        let coarse = Domain::build(self.drawing, self.points, self.bones, &coarse_options).ok()?;
+        // A coarser level that is not smaller (everything pinned by handles or the vertex
+        // cap) would not pay for itself.
+        if coarse.mesh.n_vertices() * 2 > fine.mesh.n_vertices() {
+            return None;
+        }
+        let coarse_data = (self.data)(&coarse)?;
+        let weights = self.solve(&coarse_options, &coarse, &coarse_data).ok()?;
+        let h = weights.n_handles();
+        let field = MeshWeights::new(&coarse.mesh, weights.into_values(), h).ok()?;
+        let n = fine.mesh.n_vertices();
+        let mut values = vec![0.0; n * h];
+        for (v, row) in values.chunks_mut(h).enumerate() {
+            field.eval(fine.mesh.vertices[v], row);
+        }
+        VertexWeights::from_row_major(n, h, values).ok()
+    }
 }
 
 /// `options` one level coarser: samples [`LEVEL_FACTOR`] times sparser, triangles up to
@@ -186,6 +180,22 @@ mod tests {
         (drawing, handles, options, fine)
     }
 
+    /// The levels of `drawing` with point handles `handles` and no bones.
+    fn levels<'a>(
+        drawing: &'a Drawing,
+        handles: &'a [Point],
+        data: &'a dyn Fn(&Domain) -> Option<DirichletData>,
+        bbw: &'a BbwOptions,
+    ) -> Levels<'a> {
+        Levels {
+            drawing,
+            points: handles,
+            bones: &[],
+            data,
+            bbw,
+        }
+    }
+
     #[test]
     fn coarse_to_fine_equals_a_cold_solve() {
         let (drawing, handles, options, fine) = setup();
@@ -194,7 +204,8 @@ mod tests {
         let fine_data = data(&fine).unwrap();
         let bbw = BbwOptions::default();
         // The coarse level exists and is a real guess: bounded, but not the answer.
-        let guess = coarse_guess(&drawing, &handles, &[], &options, &fine, &data, &bbw)
+        let guess = levels(&drawing, &handles, &data, &bbw)
+            .coarse_guess(&options, &fine)
             .expect("a coarse level");
         let cold = bounded_biharmonic(&fine.mesh, &fine_data, &bbw).unwrap();
         let gap = |a: &VertexWeights| {
@@ -229,13 +240,15 @@ mod tests {
         assert!(small.mesh.n_vertices() <= DIRECT_VERTICES);
         let data = |d: &Domain| DirichletData::handles(&d.handle_vertices).ok();
         let bbw = BbwOptions::default();
-        assert!(
-            coarse_guess(&drawing, &handles, &[], &small_options, &small, &data, &bbw).is_none()
-        );
+        assert!(levels(&drawing, &handles, &data, &bbw)
+            .coarse_guess(&small_options, &small)
+            .is_none());
         // Coarse levels without data fall back to a cold start.
         let (drawing, handles, options, fine) = setup();
         let none = |_: &Domain| None;
-        assert!(coarse_guess(&drawing, &handles, &[], &options, &fine, &none, &bbw).is_none());
+        assert!(levels(&drawing, &handles, &none, &bbw)
+            .coarse_guess(&options, &fine)
+            .is_none());
         let fine_data = DirichletData::handles(&fine.handle_vertices).unwrap();
         let cold = bounded_biharmonic(&fine.mesh, &fine_data, &bbw).unwrap();
         let fallback = bbw_coarse_to_fine(
