@@ -148,9 +148,16 @@ mod tests {
     use super::*;
     use crate::drawing::{JunctionOptions, Path};
 
-    /// A wavy open curve and three handles along it, meshed to about 5 000 vertices: one
-    /// coarse level (about 350 vertices) below the fine one.
-    fn setup() -> (Drawing, Vec<Point>, DomainOptions, Domain) {
+    /// A wavy open curve and three handles along it (no bones), meshed with `options` to
+    /// about 5 000 vertices (`fine`): one coarse level (about 350 vertices) below the fine one.
+    struct Fixture {
+        drawing: Drawing,
+        handles: Vec<Point>,
+        options: DomainOptions,
+        fine: Domain,
+    }
+
+    fn setup() -> Fixture {
         // M0 0 C30 60 70 -60 100 0 S170 60 200 0
         let wave = [
             (0., 0.),
@@ -177,37 +184,63 @@ mod tests {
         ];
         let options = DomainOptions::default().with_max_area_fraction(1.0 / 4000.0);
         let fine = Domain::build(&drawing, &handles, &[], &options).unwrap();
-        (drawing, handles, options, fine)
+        Fixture {
+            drawing,
+            handles,
+            options,
+            fine,
+        }
     }
 
-    /// The levels of `drawing` with point handles `handles` and no bones.
-    fn levels<'a>(
-        drawing: &'a Drawing,
-        handles: &'a [Point],
-        data: &'a dyn Fn(&Domain) -> Option<DirichletData>,
-        bbw: &'a BbwOptions,
-    ) -> Levels<'a> {
-        Levels {
-            drawing,
-            points: handles,
-            bones: &[],
-            data,
-            bbw,
+    impl Fixture {
+        /// The levels of the fixture's drawing and handles.
+        fn levels<'a>(
+            &'a self,
+            data: &'a dyn Fn(&Domain) -> Option<DirichletData>,
+            bbw: &'a BbwOptions,
+        ) -> Levels<'a> {
+            Levels {
+                drawing: &self.drawing,
+                points: &self.handles,
+                bones: &[],
+                data,
+                bbw,
+            }
+        }
+
+        /// [`bbw_coarse_to_fine`] on the fine domain.
+        fn coarse_to_fine(
+            &self,
+            fine_data: &DirichletData,
+            data: impl Fn(&Domain) -> Option<DirichletData>,
+            bbw: &BbwOptions,
+        ) -> Result<VertexWeights, WeightsError> {
+            bbw_coarse_to_fine(
+                &self.drawing,
+                &self.handles,
+                &[],
+                &self.options,
+                &self.fine,
+                fine_data,
+                data,
+                bbw,
+            )
         }
     }
 
     #[test]
     fn coarse_to_fine_equals_a_cold_solve() {
-        let (drawing, handles, options, fine) = setup();
-        assert!(fine.mesh.n_vertices() > DIRECT_VERTICES);
+        let f = setup();
+        assert!(f.fine.mesh.n_vertices() > DIRECT_VERTICES);
         let data = |d: &Domain| DirichletData::handles(&d.handle_vertices).ok();
-        let fine_data = data(&fine).unwrap();
+        let fine_data = data(&f.fine).unwrap();
         let bbw = BbwOptions::default();
         // The coarse level exists and is a real guess: bounded, but not the answer.
-        let guess = levels(&drawing, &handles, &data, &bbw)
-            .coarse_guess(&options, &fine)
+        let guess = f
+            .levels(&data, &bbw)
+            .coarse_guess(&f.options, &f.fine)
             .expect("a coarse level");
-        let cold = bounded_biharmonic(&fine.mesh, &fine_data, &bbw).unwrap();
+        let cold = bounded_biharmonic(&f.fine.mesh, &fine_data, &bbw).unwrap();
         let gap = |a: &VertexWeights| {
             a.as_slice()
                 .iter()
@@ -216,17 +249,7 @@ mod tests {
                 .fold(0.0, f64::max)
         };
         assert!(gap(&guess) > 1e-4, "guess already exact: {:e}", gap(&guess));
-        let warm = bbw_coarse_to_fine(
-            &drawing,
-            &handles,
-            &[],
-            &options,
-            &fine,
-            &fine_data,
-            data,
-            &bbw,
-        )
-        .unwrap();
+        let warm = f.coarse_to_fine(&fine_data, data, &bbw).unwrap();
         // Same KKT tolerances, strictly convex program: the same minimiser up to the solve's
         // rounding (measured 1.5e-11 on the 20 437-vertex turtles domain).
         assert!(gap(&warm) < 1e-9, "{:e}", gap(&warm));
@@ -234,39 +257,30 @@ mod tests {
 
     #[test]
     fn small_domains_and_failed_levels_start_cold() {
-        let (drawing, handles, options, _) = setup();
-        let small_options = options.clone().with_max_area_fraction(1.0 / 200.0);
-        let small = Domain::build(&drawing, &handles, &[], &small_options).unwrap();
+        let f = setup();
+        let small_options = f.options.clone().with_max_area_fraction(1.0 / 200.0);
+        let small = Domain::build(&f.drawing, &f.handles, &[], &small_options).unwrap();
         assert!(small.mesh.n_vertices() <= DIRECT_VERTICES);
         let data = |d: &Domain| DirichletData::handles(&d.handle_vertices).ok();
         let bbw = BbwOptions::default();
-        assert!(levels(&drawing, &handles, &data, &bbw)
+        assert!(f
+            .levels(&data, &bbw)
             .coarse_guess(&small_options, &small)
             .is_none());
         // Coarse levels without data fall back to a cold start.
-        let (drawing, handles, options, fine) = setup();
         let none = |_: &Domain| None;
-        assert!(levels(&drawing, &handles, &none, &bbw)
-            .coarse_guess(&options, &fine)
+        assert!(f
+            .levels(&none, &bbw)
+            .coarse_guess(&f.options, &f.fine)
             .is_none());
-        let fine_data = DirichletData::handles(&fine.handle_vertices).unwrap();
-        let cold = bounded_biharmonic(&fine.mesh, &fine_data, &bbw).unwrap();
-        let fallback = bbw_coarse_to_fine(
-            &drawing,
-            &handles,
-            &[],
-            &options,
-            &fine,
-            &fine_data,
-            none,
-            &bbw,
-        )
-        .unwrap();
+        let fine_data = DirichletData::handles(&f.fine.handle_vertices).unwrap();
+        let cold = bounded_biharmonic(&f.fine.mesh, &fine_data, &bbw).unwrap();
+        let fallback = f.coarse_to_fine(&fine_data, none, &bbw).unwrap();
         assert_eq!(fallback, cold);
         // Errors of the fine level are errors.
         let bad = DirichletData::new(vec![0], vec![2.0], 1).unwrap();
         assert!(matches!(
-            bbw_coarse_to_fine(&drawing, &handles, &[], &options, &fine, &bad, data, &bbw),
+            f.coarse_to_fine(&bad, data, &bbw),
             Err(WeightsError::ValueOutOfBounds { .. })
         ));
     }
