@@ -66,17 +66,19 @@ pub fn bernstein_gram() -> [[f64; 4]; 4] {
 /// Evaluates the curve with control points `c` at `t` (de Casteljau-free Bernstein sum).
 #[inline]
 pub fn eval(c: &[Point; 4], t: f64) -> Point {
-    let b = bernstein(t);
-    Point::new(
-        b[0] * c[0].x + b[1] * c[1].x + b[2] * c[2].x + b[3] * c[3].x,
-        b[0] * c[0].y + b[1] * c[1].y + b[2] * c[2].y + b[3] * c[3].y,
-    )
+    combine(&bernstein(t), c).to_point()
 }
 
 /// The derivative `B'(t)` of the curve with control points `c`.
 #[inline]
 pub fn derivative(c: &[Point; 4], t: f64) -> Vec2 {
-    let b = bernstein_derivative(t);
+    combine(&bernstein_derivative(t), c)
+}
+
+/// `Σ_k b_k c_k`: the control points combined with the coefficients `b` (a basis at some
+/// `t`), summed left to right.
+#[inline]
+fn combine(b: &[f64; 4], c: &[Point; 4]) -> Vec2 {
     Vec2::new(
         b[0] * c[0].x + b[1] * c[1].x + b[2] * c[2].x + b[3] * c[3].x,
         b[0] * c[0].y + b[1] * c[1].y + b[2] * c[2].y + b[3] * c[3].y,

@@ -22,5 +22,9 @@ pub mod domain;
 pub mod drawing;
 pub mod linalg;
 pub mod mesh;
+pub mod parallel;
 pub mod spline_fit;
+#[cfg(test)]
+mod test_support;
+mod union_find;
 pub mod weights;

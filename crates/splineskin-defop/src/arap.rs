@@ -31,6 +31,7 @@ use kurbo::{Point, Vec2};
 
 use super::arap_energy::arap_energy_of;
 use super::deformation_gradient::TriangleGradients;
+use super::error::check_count_option;
 use super::handles::{bounding_box_diagonal, HandleSet, NOT_FREE};
 use super::DefOpError;
 use splineskin_core::linalg::{CholeskyAnalysis, Ordering};
@@ -130,6 +131,16 @@ pub struct ArapReport {
     pub last_step: f64,
     /// `E_ARAP` at the result ([`super::arap_energy`]).
     pub energy: f64,
+}
+
+impl ArapReport {
+    /// The report before the first iteration: none run, not converged, no step or energy yet.
+    const NOT_STARTED: ArapReport = ArapReport {
+        iterations: 0,
+        converged: false,
+        last_step: f64::INFINITY,
+        energy: f64::NAN,
+    };
 }
 
 /// ARAP deformation with point handles at mesh vertices, factored for one set of handles.
@@ -266,12 +277,7 @@ impl Arap {
         let mut rhs = vec![0.0; 2 * m];
         let mut workspace = self.analysis.workspace(2)?;
         let tolerance = self.options.step_tolerance * self.diagonal;
-        let mut report = ArapReport {
-            iterations: 0,
-            converged: false,
-            last_step: f64::INFINITY,
-            energy: f64::NAN,
-        };
+        let mut report = ArapReport::NOT_STARTED;
         for iteration in 1..=self.options.max_iterations {
             let mut step: f64 = 0.0;
             for (&v, &q) in self.handles.vertices.iter().zip(targets) {
@@ -347,12 +353,7 @@ impl Arap {
         let depth = self.options.anderson_depth;
         let mut workspace = self.analysis.workspace(2)?;
         let tolerance = self.options.step_tolerance * self.diagonal;
-        let mut report = ArapReport {
-            iterations: 0,
-            converged: false,
-            last_step: f64::INFINITY,
-            energy: f64::NAN,
-        };
+        let mut report = ArapReport::NOT_STARTED;
         let mut handle_step: f64 = 0.0;
         for (&v, &q) in self.handles.vertices.iter().zip(targets) {
             handle_step = handle_step.max(max_coordinate_change(positions[v], q));
@@ -510,13 +511,7 @@ pub(super) fn check_iteration_options(
     max_iterations: usize,
     step_tolerance: f64,
 ) -> Result<(), DefOpError> {
-    if max_iterations == 0 {
-        return Err(DefOpError::InvalidOption {
-            name: "max_iterations",
-            value: "0".into(),
-            expected: "at least 1",
-        });
-    }
+    check_count_option("max_iterations", max_iterations)?;
     if !(step_tolerance.is_finite() && step_tolerance >= 0.0) {
         return Err(DefOpError::InvalidOption {
             name: "step_tolerance",

@@ -14,6 +14,7 @@
 use kurbo::Point;
 
 use super::deformation_gradient::TriangleGradients;
+use super::handles::check_position_count;
 use super::DefOpError;
 use splineskin_core::mesh::TriMesh;
 
@@ -35,12 +36,7 @@ use splineskin_core::mesh::TriMesh;
 /// ```
 pub fn arap_energy(mesh: &TriMesh, positions: &[Point]) -> Result<f64, DefOpError> {
     mesh.check()?;
-    if positions.len() != mesh.n_vertices() {
-        return Err(DefOpError::PositionCount {
-            given: positions.len(),
-            n_vertices: mesh.n_vertices(),
-        });
-    }
+    check_position_count(positions, mesh.n_vertices())?;
     Ok(arap_energy_of(&TriangleGradients::new(mesh), positions))
 }
 

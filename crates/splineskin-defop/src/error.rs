@@ -231,3 +231,16 @@ impl From<LinalgError> for DefOpError {
         }
     }
 }
+
+/// Checks a count option (iterations, samples, …): [`DefOpError::InvalidOption`] naming
+/// `name` when `value` is 0, expecting "at least 1".
+pub(crate) fn check_count_option(name: &'static str, value: usize) -> Result<(), DefOpError> {
+    if value == 0 {
+        return Err(DefOpError::InvalidOption {
+            name,
+            value: "0".into(),
+            expected: "at least 1",
+        });
+    }
+    Ok(())
+}

@@ -305,18 +305,19 @@ impl OperatorFile {
             origin: origin.into(),
             detail,
         };
+        let truncated = |expected: usize, what: &'static str| OperatorFileError::Truncated {
+            origin: origin.into(),
+            found: bytes.len(),
+            expected,
+            what,
+        };
         if bytes.len() < 8 || bytes[..8] != OPERATOR_MAGIC {
             return Err(OperatorFileError::NotAnOperator {
                 origin: origin.into(),
             });
         }
         if bytes.len() < 16 {
-            return Err(OperatorFileError::Truncated {
-                origin: origin.into(),
-                found: bytes.len(),
-                expected: 16,
-                what: "the version and header length",
-            });
+            return Err(truncated(16, "the version and header length"));
         }
         let word = |at: usize| {
             u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]])
@@ -337,12 +338,7 @@ impl OperatorFile {
         }
         let header_end = 16 + header_len as usize;
         if bytes.len() < header_end {
-            return Err(OperatorFileError::Truncated {
-                origin: origin.into(),
-                found: bytes.len(),
-                expected: header_end,
-                what: "the header",
-            });
+            return Err(truncated(header_end, "the header"));
         }
         let header: Header = serde_json::from_slice(&bytes[16..header_end])
             .map_err(|e| invalid(format!("bad header JSON: {e}")))?;
@@ -409,12 +405,7 @@ impl OperatorFile {
             )));
         }
         if bytes.len() < total {
-            return Err(OperatorFileError::Truncated {
-                origin: origin.into(),
-                found: bytes.len(),
-                expected: total,
-                what: "the arrays the header announces",
-            });
+            return Err(truncated(total, "the arrays the header announces"));
         }
         if bytes.len() > total {
             return Err(invalid(format!(

@@ -30,6 +30,7 @@
 
 use kurbo::Point;
 
+use super::handles::{check_finite_targets, check_rest_handles};
 use super::DefOpError;
 
 /// Which family of handle functions.
@@ -151,14 +152,8 @@ impl HandleBasis {
                     n_handles: rest.len(),
                 });
             }
-            for (handle, (q, p)) in centre.iter().zip(rest).enumerate() {
-                if !q.is_finite() {
-                    return Err(DefOpError::NonFiniteTarget {
-                        handle,
-                        x: q.x,
-                        y: q.y,
-                    });
-                }
+            check_finite_targets(centre)?;
+            for (q, p) in centre.iter().zip(rest) {
                 flat.push((q.x - p.x) / scale);
                 flat.push((q.y - p.y) / scale);
             }
@@ -298,16 +293,7 @@ pub(crate) fn thin_plate(r2: f64) -> f64 {
 }
 
 fn check_rest(rest: &[Point], scale: f64) -> Result<(), DefOpError> {
-    if rest.is_empty() {
-        return Err(DefOpError::NoHandles);
-    }
-    if let Some(handle) = rest.iter().position(|p| !p.is_finite()) {
-        return Err(DefOpError::NonFiniteTarget {
-            handle,
-            x: rest[handle].x,
-            y: rest[handle].y,
-        });
-    }
+    check_rest_handles(rest)?;
     if !(scale.is_finite() && scale > 0.0) {
         return Err(DefOpError::InvalidOption {
             name: "scale",

@@ -97,20 +97,8 @@ impl HandleSet {
                 n_handles: self.n_handles(),
             });
         }
-        if let Some(handle) = targets.iter().position(|p| !p.is_finite()) {
-            let p = targets[handle];
-            return Err(DefOpError::NonFiniteTarget {
-                handle,
-                x: p.x,
-                y: p.y,
-            });
-        }
-        if positions.len() != self.free_index.len() {
-            return Err(DefOpError::PositionCount {
-                given: positions.len(),
-                n_vertices: self.free_index.len(),
-            });
-        }
+        check_finite_targets(targets)?;
+        check_position_count(positions, self.free_index.len())?;
         if let Some(vertex) = positions.iter().position(|p| !p.is_finite()) {
             let p = positions[vertex];
             return Err(DefOpError::NonFinitePosition {
@@ -121,6 +109,43 @@ impl HandleSet {
         }
         Ok(())
     }
+}
+
+/// Checks handle positions (targets, or a rest configuration): every one finite, else
+/// [`DefOpError::NonFiniteTarget`] for the first that is not.
+pub(crate) fn check_finite_targets(targets: &[Point]) -> Result<(), DefOpError> {
+    match targets.iter().position(|p| !p.is_finite()) {
+        Some(handle) => Err(DefOpError::NonFiniteTarget {
+            handle,
+            x: targets[handle].x,
+            y: targets[handle].y,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Checks a rest configuration of handles: at least one ([`DefOpError::NoHandles`]), every
+/// one finite ([`check_finite_targets`]).
+pub(crate) fn check_rest_handles(rest: &[Point]) -> Result<(), DefOpError> {
+    if rest.is_empty() {
+        return Err(DefOpError::NoHandles);
+    }
+    check_finite_targets(rest)
+}
+
+/// Checks that there is one position per vertex of a mesh of `n_vertices`, else
+/// [`DefOpError::PositionCount`].
+pub(crate) fn check_position_count(
+    positions: &[Point],
+    n_vertices: usize,
+) -> Result<(), DefOpError> {
+    if positions.len() != n_vertices {
+        return Err(DefOpError::PositionCount {
+            given: positions.len(),
+            n_vertices,
+        });
+    }
+    Ok(())
 }
 
 /// The diagonal of `mesh`'s bounding box: the length unit of the solvers' step tolerances

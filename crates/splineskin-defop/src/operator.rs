@@ -22,6 +22,7 @@ use faer::linalg::matmul::matmul;
 use faer::{Accum, MatMut, MatRef, Par};
 use kurbo::Point;
 
+use super::handles::check_finite_targets;
 use super::{DefOpError, HandleBasis, SpatialBasis};
 
 /// A deformation operator: spatial basis, handle basis and the fitted coefficients.
@@ -174,19 +175,34 @@ impl DefOpEvaluator<'_> {
     /// the x coefficient of every function, then the y ones (`2|Φ|` values). They are the
     /// translations of the linear blend skinning the operator is at `q`. Allocates nothing.
     pub fn spatial_coefficients(&mut self, q: &[Point]) -> Result<&[f64], DefOpError> {
-        if let Some(handle) = q.iter().position(|p| !p.is_finite()) {
-            return Err(DefOpError::NonFiniteTarget {
-                handle,
-                x: q[handle].x,
-                y: q[handle].y,
-            });
-        }
-        self.op.handle_basis.eval(q, &mut self.psi)?;
-        let rows = self.c.len();
-        let g = MatRef::from_column_major_slice(&self.op.coefficients, rows, self.psi.len());
-        let psi = MatRef::from_column_major_slice(&self.psi, self.psi.len(), 1);
-        let c = MatMut::from_column_major_slice_mut(&mut self.c, rows, 1);
-        matmul(c, Accum::Replace, g, psi, 1.0, Par::Seq);
+        coefficients_at(
+            &self.op.handle_basis,
+            &self.op.coefficients,
+            q,
+            &mut self.psi,
+            &mut self.c,
+        )?;
         Ok(&self.c)
     }
+}
+
+/// `out = G ψ(q)`: the handle functions `ψ` at the configuration `q` (written to `psi`, one per
+/// column of `G`), then `G` (`coefficients`, column-major, `out.len() × psi.len()`) times
+/// them. Errors on a target that is not finite. Allocates nothing: what both the operator's
+/// evaluator and the spline rig run each frame.
+pub(crate) fn coefficients_at(
+    handle_basis: &HandleBasis,
+    coefficients: &[f64],
+    q: &[Point],
+    psi: &mut [f64],
+    out: &mut [f64],
+) -> Result<(), DefOpError> {
+    check_finite_targets(q)?;
+    handle_basis.eval(q, psi)?;
+    let (rows, n_psi) = (out.len(), psi.len());
+    let g = MatRef::from_column_major_slice(coefficients, rows, n_psi);
+    let psi = MatRef::from_column_major_slice(&*psi, n_psi, 1);
+    let out = MatMut::from_column_major_slice_mut(out, rows, 1);
+    matmul(out, Accum::Replace, g, psi, 1.0, Par::Seq);
+    Ok(())
 }

@@ -19,6 +19,7 @@
 
 use kurbo::{Point, Rect, Vec2};
 
+use super::handles::check_rest_handles;
 use super::DefOpError;
 
 /// Rejection-sampling draws allowed per handle in a Voronoi cell before giving up: a cell
@@ -127,16 +128,7 @@ impl Sampler {
         regions: &[(SampleRegion, f64)],
         seed: u64,
     ) -> Result<Sampler, DefOpError> {
-        if rest.is_empty() {
-            return Err(DefOpError::NoHandles);
-        }
-        if let Some(handle) = rest.iter().position(|p| !p.is_finite()) {
-            return Err(DefOpError::NonFiniteTarget {
-                handle,
-                x: rest[handle].x,
-                y: rest[handle].y,
-            });
-        }
+        check_rest_handles(rest)?;
         let total: f64 = regions.iter().map(|&(_, w)| w).sum();
         let bad_weight = regions.iter().any(|&(_, w)| !(w.is_finite() && w >= 0.0));
         if regions.is_empty() || bad_weight || !(total > 0.0 && total.is_finite()) {

@@ -40,6 +40,7 @@
 use kurbo::{Point, Vec2};
 
 use super::deformation_gradient::{ConformalSplit, TriangleGradients};
+use super::handles::check_position_count;
 use super::orientation::double_area;
 use super::DefOpError;
 use splineskin_core::mesh::TriMesh;
@@ -67,12 +68,7 @@ use splineskin_core::mesh::TriMesh;
 /// ```
 pub fn sarap_energy(mesh: &TriMesh, positions: &[Point]) -> Result<f64, DefOpError> {
     mesh.check()?;
-    if positions.len() != mesh.n_vertices() {
-        return Err(DefOpError::PositionCount {
-            given: positions.len(),
-            n_vertices: mesh.n_vertices(),
-        });
-    }
+    check_position_count(positions, mesh.n_vertices())?;
     Ok(sarap_energy_of(&TriangleGradients::new(mesh), positions))
 }
 
@@ -239,9 +235,54 @@ mod tests {
         (TriangleGradients::new(&mesh), v)
     }
 
+    /// The corners with flat coordinates `x` (`u_0x, u_0y, u_1x, …`).
+    fn corners(x: &[f64; 6]) -> Vec<Point> {
+        (0..3).map(|k| Point::new(x[2 * k], x[2 * k + 1])).collect()
+    }
+
     fn energy_at(rest: &TriangleGradients, x: &[f64; 6]) -> f64 {
-        let u: Vec<Point> = (0..3).map(|k| Point::new(x[2 * k], x[2 * k + 1])).collect();
-        sarap_energy_of(rest, &u)
+        sarap_energy_of(rest, &corners(x))
+    }
+
+    /// The derivatives of the one triangle of `rest` at `x` (not flipped).
+    fn derivatives_at(rest: &TriangleGradients, x: &[f64; 6]) -> TriangleDerivatives {
+        triangle_derivatives(rest, 0, &corners(x)).unwrap()
+    }
+
+    /// The corners `v` under the linear map `(x, y) ↦ (a x + b y, c x + d y)`, flat.
+    fn linear_image(v: &[Point], [a, b, c, d]: [f64; 4]) -> [f64; 6] {
+        std::array::from_fn(|i| {
+            let p = v[i / 2];
+            if i % 2 == 0 {
+                a * p.x + b * p.y
+            } else {
+                c * p.x + d * p.y
+            }
+        })
+    }
+
+    /// Asserts that `hessian` is the derivative of the gradient at `x`: each column `k` within
+    /// 1e-6 of the central difference of the gradient along coordinate `k` (step 1e-6).
+    fn assert_hessian_matches_differences(
+        rest: &TriangleGradients,
+        x: &[f64; 6],
+        hessian: &[[f64; 6]; 6],
+    ) {
+        let h = 1e-6;
+        for k in 0..6 {
+            let (mut plus, mut minus) = (*x, *x);
+            plus[k] += h;
+            minus[k] -= h;
+            let (gp, gm) = (
+                derivatives_at(rest, &plus).gradient,
+                derivatives_at(rest, &minus).gradient,
+            );
+            for i in 0..6 {
+                let fd = (gp[i] - gm[i]) / (2.0 * h);
+                let exact = hessian[i][k];
+                assert!((fd - exact).abs() < 1e-6, "H[{i}][{k}]: {fd} vs {exact}");
+            }
+        }
     }
 
     /// A deformed configuration away from the crease (Σ ≠ σ) where ψ is smooth and its
@@ -260,8 +301,7 @@ mod tests {
     fn sarap_gradient_matches_finite_differences() {
         let (rest, v) = one_triangle();
         let x = deformed(&v);
-        let u: Vec<Point> = (0..3).map(|k| Point::new(x[2 * k], x[2 * k + 1])).collect();
-        let d = triangle_derivatives(&rest, 0, &u).unwrap();
+        let d = derivatives_at(&rest, &x);
         // Central differences: error O(h²) ≈ 1e-10 at h = 1e-5, plus rounding 1e-16/h.
         let h = 1e-5;
         for k in 0..6 {
@@ -282,32 +322,10 @@ mod tests {
         // A slight expansion (Q > 1, so the twist ψ_Q/Q > 0, and σ < 1.5, so h''(σ) > 0):
         // no eigenvalue is clamped and the projected Hessian is the true one.
         let (rest, v) = one_triangle();
-        let mut x = [0.0; 6];
-        for k in 0..3 {
-            x[2 * k] = 1.05 * v[k].x + 0.01 * v[k].y;
-            x[2 * k + 1] = 0.03 * v[k].x + 1.02 * v[k].y;
-        }
-        let grad = |x: &[f64; 6]| {
-            let u: Vec<Point> = (0..3).map(|k| Point::new(x[2 * k], x[2 * k + 1])).collect();
-            triangle_derivatives(&rest, 0, &u).unwrap()
-        };
-        let d = grad(&x);
-        let h = 1e-6;
-        for k in 0..6 {
-            let (mut plus, mut minus) = (x, x);
-            plus[k] += h;
-            minus[k] -= h;
-            let (gp, gm) = (grad(&plus).gradient, grad(&minus).gradient);
-            for i in 0..6 {
-                let fd = (gp[i] - gm[i]) / (2.0 * h);
-                assert!(
-                    (fd - d.hessian[i][k]).abs() < 1e-6,
-                    "H[{i}][{k}]: {fd} vs {}",
-                    d.hessian[i][k]
-                );
-                assert_eq!(d.hessian[i][k], d.exact_hessian[i][k]);
-            }
-        }
+        let x = linear_image(&v, [1.05, 0.01, 0.03, 1.02]);
+        let d = derivatives_at(&rest, &x);
+        assert_hessian_matches_differences(&rest, &x, &d.hessian);
+        assert_eq!(d.hessian, d.exact_hessian);
     }
 
     #[test]
@@ -315,36 +333,14 @@ mod tests {
         // Compressed (Q < 1: negative twist) and stretched past σ = 1.5 (negative h''): the
         // exact Hessian is indefinite, and must still be the derivative of the gradient.
         let (rest, v) = one_triangle();
-        for (a, b, c, d) in [(0.7, 0.1, -0.05, 0.8), (2.4, 0.2, 0.1, 1.9)] {
-            let x: [f64; 6] = std::array::from_fn(|i| {
-                let p = v[i / 2];
-                if i % 2 == 0 {
-                    a * p.x + b * p.y
-                } else {
-                    c * p.x + d * p.y
-                }
-            });
-            let at = |x: &[f64; 6]| {
-                let u: Vec<Point> = (0..3).map(|k| Point::new(x[2 * k], x[2 * k + 1])).collect();
-                triangle_derivatives(&rest, 0, &u).unwrap()
-            };
-            let derivatives = at(&x);
+        for map in [[0.7, 0.1, -0.05, 0.8], [2.4, 0.2, 0.1, 1.9]] {
+            let x = linear_image(&v, map);
+            let derivatives = derivatives_at(&rest, &x);
             assert_ne!(
                 derivatives.hessian, derivatives.exact_hessian,
                 "nothing clamped"
             );
-            let h = 1e-6;
-            for k in 0..6 {
-                let (mut plus, mut minus) = (x, x);
-                plus[k] += h;
-                minus[k] -= h;
-                let (gp, gm) = (at(&plus).gradient, at(&minus).gradient);
-                for i in 0..6 {
-                    let fd = (gp[i] - gm[i]) / (2.0 * h);
-                    let exact = derivatives.exact_hessian[i][k];
-                    assert!((fd - exact).abs() < 1e-6, "H[{i}][{k}]: {fd} vs {exact}");
-                }
-            }
+            assert_hessian_matches_differences(&rest, &x, &derivatives.exact_hessian);
         }
     }
 

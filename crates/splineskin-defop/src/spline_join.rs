@@ -6,12 +6,13 @@
 //! everything from a drawing and its handles; [`training_domain_options`] sizes the domain.
 
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, MatMut, MatRef, Par};
+use faer::{Accum, Mat, MatRef, Par};
 use std::collections::HashMap;
 use std::sync::Mutex;
 
 use kurbo::Point;
 
+use super::operator::coefficients_at;
 use super::{
     train, DefOp, DefOpError, HandleBasis, Progress, SpatialBasis, TrainOptions, Training,
 };
@@ -265,23 +266,10 @@ impl DefOpRig {
             options,
         };
         // Paths are independent: join them (in parallel if asked), then place their rows.
-        let joined: Vec<PathJoin> = if options.parallel {
-            use rayon::prelude::*;
-            let results: Vec<_> = drawing
-                .paths
-                .par_iter()
-                .enumerate()
-                .map(|(pi, path)| context.join_path(pi, path))
-                .collect();
-            results.into_iter().collect::<Result<_, _>>()?
-        } else {
-            drawing
-                .paths
-                .iter()
-                .enumerate()
-                .map(|(pi, path)| context.join_path(pi, path))
-                .collect::<Result<_, _>>()?
-        };
+        let joined: Vec<PathJoin> =
+            splineskin_core::parallel::try_map(&drawing.paths, options.parallel, |pi, path| {
+                context.join_path(pi, path)
+            })?;
         let mut g_spline = Mat::<f64>::zeros(2 * n_points, n_psi);
         let mut n_nodes_outside = 0;
         let mut max_outside_distance: f64 = 0.0;
@@ -294,14 +282,8 @@ impl DefOpRig {
             if joined.rank_deficient {
                 rank_deficient_paths.push(pi);
             }
-            let m = path.n_unknown_points();
-            for k in 0..path.points.len() {
-                let src = if k >= m { k - m } else { k };
-                for d in 0..2 {
-                    g_spline
-                        .row_mut(2 * (offset + k) + d)
-                        .copy_from(joined.block.row(2 * src + d));
-                }
+            for (row, src) in path.coordinate_rows(offset) {
+                g_spline.row_mut(row).copy_from(joined.block.row(src));
             }
         }
         if n_nodes_outside > 0 {
@@ -601,19 +583,13 @@ impl DefOpRigEvaluator<'_> {
                 n_handles: self.rig.n_handles(),
             });
         }
-        if let Some(handle) = q.iter().position(|p| !p.is_finite()) {
-            return Err(DefOpError::NonFiniteTarget {
-                handle,
-                x: q[handle].x,
-                y: q[handle].y,
-            });
-        }
-        self.rig.handle_basis.eval(q, &mut self.psi)?;
-        let rows = self.xy.len();
-        let g = MatRef::from_column_major_slice(&self.rig.coefficients, rows, self.psi.len());
-        let psi = MatRef::from_column_major_slice(&self.psi, self.psi.len(), 1);
-        let xy = MatMut::from_column_major_slice_mut(&mut self.xy, rows, 1);
-        matmul(xy, Accum::Replace, g, psi, 1.0, Par::Seq);
+        coefficients_at(
+            &self.rig.handle_basis,
+            &self.rig.coefficients,
+            q,
+            &mut self.psi,
+            &mut self.xy,
+        )?;
         for (p, xy) in out.iter_mut().zip(self.xy.chunks_exact(2)) {
             *p = Point::new(xy[0], xy[1]);
         }

@@ -21,6 +21,7 @@ use std::time::Instant;
 
 use kurbo::Point;
 
+use super::error::check_count_option;
 use super::handles::bounding_box_diagonal;
 use super::{
     ground_truths_from_rest, l2_distance, train, DefOp, DefOpError, HandleBasisKind, Progress,
@@ -178,13 +179,7 @@ pub fn study(
             expected: "at least one count, each at least 1",
         });
     }
-    if options.n_held_out == 0 {
-        return Err(DefOpError::InvalidOption {
-            name: "n_held_out",
-            value: "0".into(),
-            expected: "at least 1",
-        });
-    }
+    check_count_option("n_held_out", options.n_held_out)?;
     let train_options = options
         .train
         .clone()

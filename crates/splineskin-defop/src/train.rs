@@ -35,6 +35,7 @@ use std::time::Instant;
 use kurbo::Point;
 use rayon::prelude::*;
 
+use super::error::check_count_option;
 use super::handles::bounding_box_diagonal;
 use super::{
     flipped_triangles, Arap, ArapOptions, DefOp, DefOpError, DefOpOptions, HandleBasisKind,
@@ -299,13 +300,7 @@ pub fn train(
             expected: "at least 2",
         });
     }
-    if options.n_samples == 0 {
-        return Err(DefOpError::InvalidOption {
-            name: "n_samples",
-            value: "0".into(),
-            expected: "at least 1",
-        });
-    }
+    check_count_option("n_samples", options.n_samples)?;
     if options.fit.handle_basis == HandleBasisKind::ThinPlateSpline
         && options.n_samples < 2 * handles.len()
     {

@@ -373,19 +373,31 @@ impl Cage {
     /// # Ok::<(), splineskin_subdiv::CageError>(())
     /// ```
     pub fn bounding_box_diagonal(&self) -> f64 {
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for p in &self.positions {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
+        let (lo, hi) = bounds3(&self.positions);
         (0..3)
             .map(|k| (hi[k] - lo[k]).max(0.0).powi(2))
             .sum::<f64>()
             .sqrt()
     }
+}
+
+/// The corners `(lo, hi)` of the axis-aligned bounding box of `points`: their componentwise
+/// minimum and maximum (`([∞; 3], [−∞; 3])` for no points).
+///
+/// ```
+/// let (lo, hi) = splineskin_subdiv::bounds3(&[[1.0, 5.0, -2.0], [3.0, 4.0, 0.0]]);
+/// assert_eq!((lo, hi), ([1.0, 4.0, -2.0], [3.0, 5.0, 0.0]));
+/// ```
+pub fn bounds3<'a>(points: impl IntoIterator<Item = &'a Point3>) -> (Point3, Point3) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (lo, hi)
 }
 
 /// The directed edges `(v_j, v_{j+1})` of a face loop.

@@ -49,20 +49,17 @@ pub(crate) struct Hierarchy {
 impl Hierarchy {
     pub(crate) fn new(cage: &Cage, refine: Refine) -> Result<Self, SubdivError> {
         let sizes: Vec<usize> = cage.face_sizes().collect();
-        let mut creases: Vec<[u32; 2]> = cage.tags().creases.iter().map(|c| c.vertices).collect();
-        let mut crease_weights: Vec<f32> = cage
-            .tags()
+        let tags = cage.tags();
+        let (mut creases, mut crease_weights): (Vec<[u32; 2]>, Vec<f32>) = tags
             .creases
             .iter()
-            .map(|c| c.sharpness as f32)
-            .collect();
-        let mut corners: Vec<u32> = cage.tags().corners.iter().map(|c| c.vertex).collect();
-        let mut corner_weights: Vec<f32> = cage
-            .tags()
+            .map(|c| (c.vertices, c.sharpness as f32))
+            .unzip();
+        let (mut corners, mut corner_weights): (Vec<u32>, Vec<f32>) = tags
             .corners
             .iter()
-            .map(|c| c.sharpness as f32)
-            .collect();
+            .map(|c| (c.vertex, c.sharpness as f32))
+            .unzip();
         // Inconsistently oriented edges: OpenSubdiv's non-manifold sharpening, which
         // opensubdiv-rs applies only to edges with more than two faces.
         let (sharp_edges, sharp_vertices) = orientation_sharpness(cage);

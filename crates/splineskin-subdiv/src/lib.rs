@@ -56,7 +56,8 @@ pub use affine3::{
     LINEAR3_IDENTITY,
 };
 pub use cage::{
-    Cage, CageError, CornerTag, CreaseTag, OtherTag, Point3, SubdivTags, SHARPNESS_INFINITE,
+    bounds3, Cage, CageError, CornerTag, CreaseTag, OtherTag, Point3, SubdivTags,
+    SHARPNESS_INFINITE,
 };
 pub use compare::{
     compare_subdiv, skin_points, ComparisonSamples, ErrorSummary, MethodResult, SubdivCompareError,

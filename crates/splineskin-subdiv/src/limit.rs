@@ -380,13 +380,7 @@ impl LimitSurface {
     ) -> Result<Landing, SubdivError> {
         let h = &self.hierarchy;
         let base = h.level(0);
-        let bad = |what: &str| SubdivError::BadLocation {
-            face: at.face,
-            subface: at.subface,
-            u: at.u,
-            v: at.v,
-            what: what.to_owned(),
-        };
+        let bad = |what: &str| SubdivError::bad_location(at, what);
         if at.face as usize >= base.num_faces() {
             return Err(bad(&format!("expected a face < {}", base.num_faces())));
         }

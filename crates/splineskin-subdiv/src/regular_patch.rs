@@ -131,25 +131,22 @@ pub(crate) fn regular_grid(level: TopologyLevel<'_>, face: usize, frame: [u32; 4
                 if wall_next == wall_prev {
                     return None;
                 }
-                if wall_next {
-                    // Sector: this face and H across the edge from `prev`, whose other edge at
-                    // v is the second wall.
-                    let h = neighbour(level, face as u32, v, prev)?;
-                    let (v2, b2) = quad_others(level, h, v, prev)?;
-                    if !is_wall(level, v, v2)? {
-                        return None;
-                    }
-                    put(&mut grid, at(add(c, neg(dn))), v2)?;
-                    put(&mut grid, at(add(add(c, dp), neg(dn))), b2)?;
+                // Sector: this face and the face across its other edge at v (from `prev`
+                // when the edge to `next` is the wall, else to `next`), whose second edge at
+                // v is the second wall. That face's two other vertices go to `c − away` and
+                // `c + along − away` in the grid.
+                let (across, away, along) = if wall_next {
+                    (prev, dn, dp)
                 } else {
-                    let g = neighbour(level, face as u32, v, next)?;
-                    let (v1, a1) = quad_others(level, g, v, next)?;
-                    if !is_wall(level, v, v1)? {
-                        return None;
-                    }
-                    put(&mut grid, at(add(c, neg(dp))), v1)?;
-                    put(&mut grid, at(add(add(c, dn), neg(dp))), a1)?;
+                    (next, dp, dn)
+                };
+                let f = neighbour(level, face as u32, v, across)?;
+                let (w, corner) = quad_others(level, f, v, across)?;
+                if !is_wall(level, v, w)? {
+                    return None;
                 }
+                put(&mut grid, at(add(c, neg(away))), w)?;
+                put(&mut grid, at(add(add(c, along), neg(away))), corner)?;
             }
             _ => return None,
         }

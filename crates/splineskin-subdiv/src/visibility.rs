@@ -4,7 +4,7 @@
 //! surface point when the segment to its closest point crosses no part of the surface).
 
 use super::affine3::{cross, dot, sub};
-use super::cage::Point3;
+use super::cage::{bounds3, Point3};
 
 /// Triangles per leaf of the hierarchy.
 const LEAF_SIZE: usize = 4;
@@ -88,15 +88,7 @@ impl TriangleBvh {
 
 /// Fills node `k` for `tris[offset..]` (which `tris` holds), recursing.
 fn build(tris: &mut [[Point3; 3]], offset: usize, k: usize, nodes: &mut Vec<Node>) {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for t in tris.iter() {
-        for p in t {
-            for c in 0..3 {
-                lo[c] = lo[c].min(p[c]);
-                hi[c] = hi[c].max(p[c]);
-            }
-        }
-    }
+    let (lo, hi) = bounds3(tris.iter().flatten());
     if tris.len() <= LEAF_SIZE {
         nodes[k] = Node {
             lo,

@@ -423,17 +423,22 @@ impl MeshWeights {
                 out,
             );
         }
-        let found = &mut out[start..];
-        found.sort_by(f64::total_cmp);
-        let mut keep = start;
-        for k in start..out.len() {
-            if keep == start || out[k] - out[keep - 1] > KINK_MERGE {
-                out[keep] = out[k];
-                keep += 1;
-            }
-        }
-        out.truncate(keep);
+        merge_kinks(out, start);
     }
+}
+
+/// Sorts `out[start..]` ascending and keeps one parameter of each run whose successive gaps
+/// are at most [`KINK_MERGE`] (the run's first): crossings that close are one kink.
+pub(crate) fn merge_kinks(out: &mut Vec<f64>, start: usize) {
+    out[start..].sort_by(f64::total_cmp);
+    let mut keep = start;
+    for k in start..out.len() {
+        if keep == start || out[k] - out[keep - 1] > KINK_MERGE {
+            out[keep] = out[k];
+            keep += 1;
+        }
+    }
+    out.truncate(keep);
 }
 
 /// Meshes and fields of the tests here and of the mesh-family weight field's tests

@@ -341,9 +341,7 @@ fn crossing_point(a: Point, b: Point, c: Point, d: Point) -> Point {
 mod tests {
     use super::*;
 
-    fn pts(v: &[(f64, f64)]) -> Vec<Point> {
-        v.iter().map(|&p| Point::from(p)).collect()
-    }
+    use crate::test_support::pts;
 
     #[test]
     fn polygon_area_sign_follows_orientation() {

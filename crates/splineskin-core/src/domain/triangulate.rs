@@ -1032,10 +1032,10 @@ mod tests {
 
     #[test]
     fn domain_closed_curve_with_a_small_overshoot_loop_is_the_boundary() {
-        // A closed square whose closing curve overshoots its start and crosses back: a loop of
-        // about 0.2 % of the area (as drawn outlines often have).
-        let outline = path(
-            &[
+        // The closed 100 × 100 square whose last curve, from (0, 100) back to the origin, has
+        // the inner control points `c1` and `c2`.
+        let square_closed_by = |c1: (f64, f64), c2: (f64, f64)| {
+            let mut points = vec![
                 (0., 0.),
                 (33., 0.),
                 (67., 0.),
@@ -1046,14 +1046,15 @@ mod tests {
                 (67., 100.),
                 (33., 100.),
                 (0., 100.),
-                (-6., 30.),
-                (6., -8.),
-                (0., 0.),
-            ],
-            true,
-        );
+            ];
+            points.extend([c1, c2, (0., 0.)]);
+            path(&points, true)
+        };
+        // A closed square whose closing curve overshoots its start and crosses back: a loop of
+        // about 0.2 % of the area (as drawn outlines often have).
+        let outline = square_closed_by((-6., 30.), (6., -8.));
         let inner = path(&[(40., 50.), (45., 60.), (55., 60.), (60., 50.)], false);
-        let d = drawing(vec![inner, outline]);
+        let d = drawing(vec![inner.clone(), outline]);
         assert!(self_intersection(&{
             let mut p = Vec::new();
             for j in 0..d.paths[1].n_curves() {
@@ -1073,28 +1074,8 @@ mod tests {
             domain.area
         );
         // Control: a loop holding about 2 % of the area is the shape, not a blemish.
-        let big = path(
-            &[
-                (0., 0.),
-                (33., 0.),
-                (67., 0.),
-                (100., 0.),
-                (100., 33.),
-                (100., 67.),
-                (100., 100.),
-                (67., 100.),
-                (33., 100.),
-                (0., 100.),
-                (-20., 60.),
-                (80., -40.),
-                (0., 0.),
-            ],
-            true,
-        );
-        let d = drawing(vec![
-            path(&[(40., 50.), (45., 60.), (55., 60.), (60., 50.)], false),
-            big,
-        ]);
+        let big = square_closed_by((-20., 60.), (80., -40.));
+        let d = drawing(vec![inner, big]);
         let padded = Domain::build(&d, &handles, &[], &o).unwrap();
         assert_eq!(padded.boundary, Boundary::Padded);
     }

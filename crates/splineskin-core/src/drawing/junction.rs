@@ -214,14 +214,17 @@ pub fn classify_joints(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_support::{pts, CLOSED_TWO_CURVES, STACKED_HANDLES};
 
-    fn pts(v: &[(f64, f64)]) -> Vec<Point> {
-        v.iter().map(|&p| Point::from(p)).collect()
+    /// The kind of the junction (point 3) of two open curves with control points `p`
+    /// (points 0–3 and 3–6), under the default options.
+    fn middle_joint(p: &[(f64, f64)]) -> JointKind {
+        classify_joints(&pts(p), false, &JunctionOptions::default())[1]
     }
 
     #[test]
     fn junction_corner_is_c0() {
-        let p = pts(&[
+        let corner = [
             (0., 0.),
             (1., 0.),
             (2., 0.),
@@ -229,14 +232,13 @@ mod tests {
             (4., 1.),
             (5., 2.),
             (6., 3.),
-        ]);
-        let k = classify_joints(&p, false, &JunctionOptions::default());
-        assert_eq!(k[1], JointKind::C0);
+        ];
+        assert_eq!(middle_joint(&corner), JointKind::C0);
     }
 
     #[test]
     fn junction_equal_collinear_tangents_are_c1() {
-        let p = pts(&[
+        let smooth = [
             (0., 0.),
             (1., 1.),
             (2., 0.),
@@ -244,9 +246,8 @@ mod tests {
             (4., 0.),
             (5., 1.),
             (6., 0.),
-        ]);
-        let k = classify_joints(&p, false, &JunctionOptions::default());
-        assert_eq!(k[1], JointKind::C1);
+        ];
+        assert_eq!(middle_joint(&smooth), JointKind::C1);
     }
 
     #[test]
@@ -269,23 +270,13 @@ mod tests {
     #[test]
     fn junction_degenerate_tangent_uses_next_distinct_point() {
         // c2 on top of c3, d1 on top of d0: directions come from c1 and d2.
-        let p = pts(&[
-            (0., 0.),
-            (1., 0.),
-            (3., 0.),
-            (3., 0.),
-            (3., 0.),
-            (6., 0.),
-            (7., 1.),
-        ]);
-        let k = classify_joints(&p, false, &JunctionOptions::default());
-        assert_eq!(k[1], JointKind::G1);
+        assert_eq!(middle_joint(&STACKED_HANDLES), JointKind::G1);
     }
 
     #[test]
     fn junction_without_any_direction_is_c0() {
         // The second curve is a single point.
-        let p = pts(&[
+        let collapsed = [
             (0., 0.),
             (1., 0.),
             (2., 0.),
@@ -293,24 +284,14 @@ mod tests {
             (3., 0.),
             (3., 0.),
             (3., 0.),
-        ]);
-        let k = classify_joints(&p, false, &JunctionOptions::default());
-        assert_eq!(k[1], JointKind::C0);
+        ];
+        assert_eq!(middle_joint(&collapsed), JointKind::C0);
     }
 
     #[test]
     fn junction_closed_chain_classifies_the_closing_point() {
         // A circle-like closed chain of two curves, smooth everywhere.
-        let p = pts(&[
-            (1., 0.),
-            (1., 1.),
-            (-1., 1.),
-            (-1., 0.),
-            (-1., -1.),
-            (1., -1.),
-            (1., 0.),
-        ]);
-        let k = classify_joints(&p, true, &JunctionOptions::default());
+        let k = classify_joints(&pts(&CLOSED_TWO_CURVES), true, &JunctionOptions::default());
         assert_eq!(k, vec![JointKind::C1, JointKind::C1]);
     }
 }

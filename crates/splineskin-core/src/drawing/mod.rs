@@ -132,6 +132,41 @@ impl Path {
             self.points.len()
         }
     }
+
+    /// The unknown point (in `0..n_unknown_points()`) that chain point `k` is: `k` itself,
+    /// except the repeated last point of a closed path, which is point 0.
+    #[inline]
+    pub fn unknown_index(&self, k: usize) -> usize {
+        let m = self.n_unknown_points();
+        if k >= m {
+            k - m
+        } else {
+            k
+        }
+    }
+
+    /// The coordinate rows of the path's points: for each chain point `k` in order and axis
+    /// `d` (x = 0, y = 1), the row `2 (first + k) + d` of a drawing's flat coordinate list in
+    /// which the path's first point is point `first` ([`Drawing::path_ranges`]), with the
+    /// row `2 u + d` of its unknown `u` ([`Path::unknown_index`]): where a path's solved rows
+    /// go in the drawing's.
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin_core::drawing::{JunctionOptions, Path};
+    /// let p = [(0., 0.), (1., 1.), (2., 1.), (0., 0.)].map(Point::from);
+    /// let closed = Path::new(p.to_vec(), true, &JunctionOptions::default()).unwrap();
+    /// let rows: Vec<(usize, usize)> = closed.coordinate_rows(5).collect();
+    /// assert_eq!(rows[..2], [(10, 0), (11, 1)]);
+    /// // The closing point is point 0 again.
+    /// assert_eq!(rows[6..], [(16, 0), (17, 1)]);
+    /// ```
+    pub fn coordinate_rows(&self, first: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+        (0..self.points.len()).flat_map(move |k| {
+            let u = self.unknown_index(k);
+            (0..2).map(move |d| (2 * (first + k) + d, 2 * u + d))
+        })
+    }
 }
 
 /// Whether `points` is a chain of cubics: `3n + 1` points with `n ≥ 1`, and, if `closed`, the

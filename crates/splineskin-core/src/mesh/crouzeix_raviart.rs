@@ -141,16 +141,12 @@ pub fn linearly_precise_energy_csc(mesh: &TriMesh) -> Csc {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_support::pts;
     use kurbo::{Point, Rect};
 
     #[test]
     fn edges_of_two_triangles() {
-        let v = vec![
-            Point::new(0., 0.),
-            Point::new(1., 0.),
-            Point::new(1., 1.),
-            Point::new(0., 1.),
-        ];
+        let v = pts(&[(0., 0.), (1., 0.), (1., 1.), (0., 1.)]);
         let mesh = TriMesh::new(v, vec![[0, 1, 2], [0, 2, 3]]).unwrap();
         let edges = Edges::new(&mesh);
         assert_eq!(edges.ends, vec![[0, 1], [0, 2], [0, 3], [1, 2], [2, 3]]);

@@ -17,6 +17,8 @@ use std::collections::HashMap;
 
 use kurbo::Point;
 
+use crate::union_find;
+
 /// An indexed triangle mesh in the plane.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TriMesh {
@@ -255,36 +257,14 @@ impl TriMesh {
     /// # Ok::<(), splineskin_core::mesh::MeshError>(())
     /// ```
     pub fn components(&self) -> Vec<usize> {
-        // Union–find over the triangles' corners, with path halving.
-        let n = self.n_vertices();
-        let mut parent: Vec<usize> = (0..n).collect();
-        fn root(parent: &mut [usize], mut i: usize) -> usize {
-            while parent[i] != i {
-                parent[i] = parent[parent[i]];
-                i = parent[i];
-            }
-            i
-        }
+        // Union–find over the triangles' corners.
+        let mut parent = union_find::singletons(self.n_vertices());
         for t in &self.triangles {
             for k in 1..3 {
-                let (a, b) = (root(&mut parent, t[0]), root(&mut parent, t[k]));
-                if a != b {
-                    parent[a.max(b)] = a.min(b);
-                }
+                union_find::union(&mut parent, t[0], t[k]);
             }
         }
-        let mut label = vec![usize::MAX; n];
-        let mut out = vec![0; n];
-        let mut n_components = 0;
-        for i in 0..n {
-            let r = root(&mut parent, i);
-            if label[r] == usize::MAX {
-                label[r] = n_components;
-                n_components += 1;
-            }
-            out[i] = label[r];
-        }
-        out
+        union_find::labels(&mut parent).0
     }
 
     /// The boundary edges, each directed as its triangle traverses it (so the domain lies to
@@ -386,6 +366,7 @@ impl TriMesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_support::pts;
     use kurbo::Rect;
 
     /// A 3 × 3 grid with its centre cell removed: one outer loop and one hole.
@@ -420,13 +401,7 @@ mod tests {
 
     #[test]
     fn boundary_edges_reject_overlaps_and_pinches() {
-        let v = vec![
-            Point::new(0., 0.),
-            Point::new(1., 0.),
-            Point::new(0., 1.),
-            Point::new(-1., 0.),
-            Point::new(0., -1.),
-        ];
+        let v = pts(&[(0., 0.), (1., 0.), (0., 1.), (-1., 0.), (0., -1.)]);
         // The same triangle twice: its edges are used twice in the same direction.
         let twice = TriMesh::new(v.clone(), vec![[0, 1, 2], [1, 2, 0]]).unwrap();
         assert_eq!(

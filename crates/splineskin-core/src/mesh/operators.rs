@@ -178,6 +178,7 @@ pub fn polyharmonic_csc(mesh: &TriMesh, k: usize) -> Csc {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_support::pts;
     use kurbo::Point;
 
     /// A regular `n × n` grid of unit squares, each cut along alternating diagonals.
@@ -318,12 +319,7 @@ mod tests {
 
     #[test]
     fn unreferenced_vertex_has_empty_row() {
-        let v = vec![
-            Point::new(0., 0.),
-            Point::new(1., 0.),
-            Point::new(0., 1.),
-            Point::new(9., 9.),
-        ];
+        let v = pts(&[(0., 0.), (1., 0.), (0., 1.), (9., 9.)]);
         let mesh = TriMesh::new(v, vec![[0, 1, 2]]).unwrap();
         let q = Csc::from_faer(&polyharmonic_energy(&mesh, 2));
         assert!(q.column(3).0.is_empty());

@@ -394,15 +394,24 @@ pub(crate) fn push_pins(rows: &mut ConstraintRows, t: &TangentJunction) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_support::{self, CLOSED_TWO_CURVES, SMOOTH_RATIO_2, STACKED_HANDLES};
 
-    fn residuals(rows: &ConstraintRows, pts: &[Point], closed: bool) -> Vec<f64> {
+    /// The constraint rows of the chain `pts` (joint kinds `joints`, default options) in
+    /// `form`, and their residuals `A x` at the chain itself.
+    fn rows_and_residuals(
+        pts: &[Point],
+        closed: bool,
+        joints: &[JointKind],
+        form: ConstraintForm,
+    ) -> (ConstraintRows, Vec<f64>) {
+        let rows = junction_rows(pts, closed, joints, form, &JunctionOptions::default());
         let n_unknown = if closed { pts.len() - 1 } else { pts.len() };
         let x: Vec<f64> = pts[..n_unknown].iter().flat_map(|p| [p.x, p.y]).collect();
         let mut r = vec![0.0; rows.n_rows];
         for &(i, j, v) in &rows.entries {
             r[i] += v * x[j];
         }
-        r
+        (rows, r)
     }
 
     #[test]
@@ -429,9 +438,9 @@ mod tests {
             JointKind::End,
         ];
         for form in [ConstraintForm::Ours, ConstraintForm::Authors] {
-            let rows = junction_rows(&pts, false, &joints, form, &JunctionOptions::default());
+            let (rows, residuals) = rows_and_residuals(&pts, false, &joints, form);
             assert_eq!(rows.n_rows, 4);
-            for r in residuals(&rows, &pts, false) {
+            for r in residuals {
                 assert!(r.abs() < 1e-14, "{form:?}: {r}");
             }
         }
@@ -440,88 +449,34 @@ mod tests {
     #[test]
     fn constraints_c1_is_strict_in_our_form() {
         // Smooth with ratio 2: strict C1 is violated by the input, the authors' C1 is not.
-        let pts: Vec<Point> = [
-            (0., 0.),
-            (1., 1.),
-            (2., 0.),
-            (3., 0.),
-            (5., 0.),
-            (6., 1.),
-            (7., 0.),
-        ]
-        .map(Point::from)
-        .to_vec();
+        let pts = test_support::pts(&SMOOTH_RATIO_2);
         let joints = [JointKind::End, JointKind::C1, JointKind::End];
-        let ours = junction_rows(
-            &pts,
-            false,
-            &joints,
-            ConstraintForm::Ours,
-            &Default::default(),
-        );
-        assert!(residuals(&ours, &pts, false)[0].abs() > 0.1);
-        let theirs = junction_rows(
-            &pts,
-            false,
-            &joints,
-            ConstraintForm::Authors,
-            &Default::default(),
-        );
-        assert!(residuals(&theirs, &pts, false)[0].abs() < 1e-15);
+        let (_, ours) = rows_and_residuals(&pts, false, &joints, ConstraintForm::Ours);
+        assert!(ours[0].abs() > 0.1);
+        let (_, theirs) = rows_and_residuals(&pts, false, &joints, ConstraintForm::Authors);
+        assert!(theirs[0].abs() < 1e-15);
     }
 
     #[test]
     fn constraints_pin_degenerate_handles() {
         // c2 on c3 and d1 on d0: pins for both, tangent row between c1 and d2.
-        let pts: Vec<Point> = [
-            (0., 0.),
-            (1., 0.),
-            (3., 0.),
-            (3., 0.),
-            (3., 0.),
-            (6., 0.),
-            (7., 1.),
-        ]
-        .map(Point::from)
-        .to_vec();
+        let pts = test_support::pts(&STACKED_HANDLES);
         let joints = [JointKind::End, JointKind::G1, JointKind::End];
-        let rows = junction_rows(
-            &pts,
-            false,
-            &joints,
-            ConstraintForm::Ours,
-            &Default::default(),
-        );
+        let (rows, residuals) = rows_and_residuals(&pts, false, &joints, ConstraintForm::Ours);
         assert_eq!(rows.n_rows, 2 + 4);
-        for r in residuals(&rows, &pts, false) {
+        for r in residuals {
             assert!(r.abs() < 1e-15);
         }
     }
 
     #[test]
     fn constraints_closed_path_wraps() {
-        let pts: Vec<Point> = [
-            (1., 0.),
-            (1., 1.),
-            (-1., 1.),
-            (-1., 0.),
-            (-1., -1.),
-            (1., -1.),
-            (1., 0.),
-        ]
-        .map(Point::from)
-        .to_vec();
+        let pts = test_support::pts(&CLOSED_TWO_CURVES);
         let joints = [JointKind::C1, JointKind::C1];
-        let rows = junction_rows(
-            &pts,
-            true,
-            &joints,
-            ConstraintForm::Ours,
-            &Default::default(),
-        );
+        let (rows, residuals) = rows_and_residuals(&pts, true, &joints, ConstraintForm::Ours);
         assert_eq!(rows.n_rows, 4);
         assert!(rows.entries.iter().all(|&(_, c, _)| c < 12));
-        for r in residuals(&rows, &pts, true) {
+        for r in residuals {
             assert!(r.abs() < 1e-15);
         }
     }

@@ -32,7 +32,7 @@ pub(crate) struct FrameProduct {
     entries: Entries,
     /// Whether a helper thread may take half of the product.
     parallel: bool,
-    helper: Option<Helper>,
+    helper: Option<Box<Helper>>,
 }
 
 /// The entries the per-frame product reads.
@@ -126,6 +126,16 @@ impl FrameProduct {
     /// Bytes the product reads per frame.
     pub fn bytes_per_frame(&self) -> usize {
         self.entries.bytes()
+    }
+
+    /// Number of chain points (rows / 2).
+    pub fn n_points(&self) -> usize {
+        self.n_points
+    }
+
+    /// Number of handles (columns / 6).
+    pub fn n_handles(&self) -> usize {
+        self.n_handles
     }
 
     /// The operator, row-major.
@@ -272,7 +282,7 @@ struct Helper {
 impl Helper {
     /// Starts the thread; `None` if the system refuses one (the product then stays on the
     /// calling thread).
-    fn start(entries: Entries, n_points: usize, n_handles: usize) -> Option<Helper> {
+    fn start(entries: Entries, n_points: usize, n_handles: usize) -> Option<Box<Helper>> {
         let first = n_points / 2;
         let shared = Arc::new(Shared {
             slot: Mutex::new(Slot {
@@ -304,12 +314,12 @@ impl Helper {
                 }
             })
             .ok()?;
-        Some(Helper {
+        Some(Box::new(Helper {
             first,
             shared,
             turn: Mutex::new(()),
             thread: Some(thread),
-        })
+        }))
     }
 }
 

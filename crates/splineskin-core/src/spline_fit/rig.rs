@@ -53,8 +53,6 @@ use crate::weights::WeightField;
 /// ```
 #[derive(Clone, Debug)]
 pub struct SplineRig {
-    n_handles: usize,
-    n_points: usize,
     /// `O`, row-major `(2 · n_points) × (6 · n_handles)`, and its per-frame product.
     product: FrameProduct,
     n_constraints: usize,
@@ -192,15 +190,9 @@ impl SplineRig {
                 Ok(members.iter().map(|m| m.index).zip(ops).collect())
             }
         };
-        let solved: Vec<Vec<(usize, PathOperator)>> = if options.parallel {
-            use rayon::prelude::*;
-            // Collected in order first, so that an error names the first failing path
-            // whatever the threads' timing.
-            let results: Vec<_> = tasks.par_iter().map(solve).collect();
-            results.into_iter().collect::<Result<_, _>>()?
-        } else {
-            tasks.iter().map(solve).collect::<Result<_, _>>()?
-        };
+        // An error names the first failing path whatever the threads' timing.
+        let solved: Vec<Vec<(usize, PathOperator)>> =
+            crate::parallel::try_map(&tasks, options.parallel, |_, task| solve(task))?;
         let mut by_path: Vec<Option<PathOperator>> =
             (0..drawing.paths.len()).map(|_| None).collect();
         for (pi, op) in solved.into_iter().flatten() {
@@ -216,21 +208,15 @@ impl SplineRig {
             if solved.rank_deficient {
                 rank_deficient_paths.push(pi);
             }
-            let m = path.n_unknown_points();
-            for k in 0..path.points.len() {
-                let src = if k >= m { k - m } else { k };
-                for d in 0..2 {
-                    let row = &mut operator[(2 * (offset + k) + d) * n_cols..][..n_cols];
-                    for (c, v) in row.iter_mut().enumerate() {
-                        *v = solved.operator[(2 * src + d, c)];
-                    }
+            for (row, src) in path.coordinate_rows(offset) {
+                let row = &mut operator[row * n_cols..][..n_cols];
+                for (c, v) in row.iter_mut().enumerate() {
+                    *v = solved.operator[(src, c)];
                 }
             }
         }
         let shared_groups = shared.groups.len();
         Ok(SplineRig {
-            n_handles: h,
-            n_points,
             product: FrameProduct::new(operator, n_points, h, options.parallel),
             n_constraints,
             rank_deficient_paths,
@@ -244,16 +230,16 @@ impl SplineRig {
     /// operator of 8 MiB or more, half of the points are computed by a helper thread started
     /// with the rig (the result is the same to the bit).
     pub fn update(&self, pose: &[Affine], out: &mut [Point]) -> Result<(), PoseError> {
-        if pose.len() != self.n_handles {
+        if pose.len() != self.product.n_handles() {
             return Err(PoseError::Transforms {
                 got: pose.len(),
-                expected: self.n_handles,
+                expected: self.product.n_handles(),
             });
         }
-        if out.len() != self.n_points {
+        if out.len() != self.product.n_points() {
             return Err(PoseError::Output {
                 got: out.len(),
-                expected: self.n_points,
+                expected: self.product.n_points(),
             });
         }
         self.product.apply(pose, out);
@@ -293,8 +279,6 @@ impl SplineRig {
     /// ```
     pub fn with_single_precision(&self, single: bool) -> SplineRig {
         SplineRig {
-            n_handles: self.n_handles,
-            n_points: self.n_points,
             product: self.product.with_single_precision(single),
             n_constraints: self.n_constraints,
             rank_deficient_paths: self.rank_deficient_paths.clone(),
@@ -315,12 +299,12 @@ impl SplineRig {
 
     /// Number of handles `h`.
     pub fn n_handles(&self) -> usize {
-        self.n_handles
+        self.product.n_handles()
     }
 
     /// Number of chain points written by [`SplineRig::update`].
     pub fn n_points(&self) -> usize {
-        self.n_points
+        self.product.n_points()
     }
 
     /// Number of linear junction constraint rows over all paths.

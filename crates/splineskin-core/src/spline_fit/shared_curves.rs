@@ -30,6 +30,7 @@ use std::collections::HashMap;
 use kurbo::Point;
 
 use crate::drawing::{Drawing, Path};
+use crate::union_find;
 
 /// Largest distance between corresponding control points of two curves taken as one shared
 /// curve, relative to the larger control-polygon length of the two: 1e-7.
@@ -137,20 +138,17 @@ impl SharedCurves {
             }
         }
         // Groups: paths connected by copies.
-        let mut parent: Vec<usize> = (0..drawing.paths.len()).collect();
+        let mut parent = union_find::singletons(drawing.paths.len());
         for c in &copies {
-            let (a, b) = (
-                root(&mut parent, c.copy.path),
-                root(&mut parent, c.original.path),
-            );
-            if a != b {
-                parent[a.max(b)] = a.min(b);
-            }
+            union_find::union(&mut parent, c.copy.path, c.original.path);
         }
         let mut members: HashMap<usize, Vec<usize>> = HashMap::new();
         for c in &copies {
             for p in [c.copy.path, c.original.path] {
-                members.entry(root(&mut parent, p)).or_default().push(p);
+                members
+                    .entry(union_find::root(&mut parent, p))
+                    .or_default()
+                    .push(p);
             }
         }
         let mut groups: Vec<Vec<usize>> = members
@@ -171,15 +169,6 @@ impl SharedCurves {
             .iter()
             .position(|g| g.binary_search(&path).is_ok())
     }
-}
-
-/// The representative of `i` in a union-find forest `parent` (with path halving).
-fn root(parent: &mut [usize], mut i: usize) -> usize {
-    while parent[i] != i {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    i
 }
 
 /// The length of a curve's control polygon.
@@ -206,36 +195,23 @@ pub(crate) fn group_unknowns(
     let total: usize = paths.iter().map(|p| p.n_unknown_points()).sum();
     let slot = |path: usize, chain: usize| {
         let g = group.binary_search(&path).expect("a copy of this group");
-        let m = paths[g].n_unknown_points();
-        offsets[g] + if chain >= m { chain - m } else { chain }
+        offsets[g] + paths[g].unknown_index(chain)
     };
-    let mut parent: Vec<usize> = (0..total).collect();
+    let mut parent = union_find::singletons(total);
     for c in copies {
         if group.binary_search(&c.copy.path).is_err() {
             continue;
         }
         for k in 0..4 {
             let ko = if c.reversed { 3 - k } else { k };
-            let a = root(&mut parent, slot(c.copy.path, 3 * c.copy.curve + k));
-            let b = root(
+            union_find::union(
                 &mut parent,
+                slot(c.copy.path, 3 * c.copy.curve + k),
                 slot(c.original.path, 3 * c.original.curve + ko),
             );
-            if a != b {
-                parent[a.max(b)] = a.min(b);
-            }
         }
     }
-    let mut index = vec![usize::MAX; total];
-    let mut n = 0;
-    for s in 0..total {
-        let r = root(&mut parent, s);
-        if index[r] == usize::MAX {
-            index[r] = n;
-            n += 1;
-        }
-        index[s] = index[r];
-    }
+    let (index, n) = union_find::labels(&mut parent);
     let maps = paths
         .iter()
         .enumerate()

@@ -198,14 +198,7 @@ pub(crate) fn solve_group(
         // every member counts all of its curves, copies included, with its own scale.
         let skip_copies = members.len() == 1;
         let balance = balance * scale;
-        let m = path.n_unknown_points();
-        let unknown = |chain_index: usize| {
-            member.unknowns[if chain_index >= m {
-                chain_index - m
-            } else {
-                chain_index
-            }]
-        };
+        let unknown = |chain_index: usize| member.unknowns[path.unknown_index(chain_index)];
         for j in 0..path.n_curves() {
             if skip_copies && member.copies.contains(&j) {
                 continue;

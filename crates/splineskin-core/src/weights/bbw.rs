@@ -215,17 +215,11 @@ pub fn bounded_biharmonic(
     let h = data.n_columns();
     let system = prepare(mesh, data, 2)?;
     let n = system.n();
-    let mut columns = solve_unbounded(&system, data)?;
-    let solve = |(j, column): (usize, &mut [f64])| {
+    let columns = solve_unbounded(&system, data)?;
+    solve_columns(columns, n, h, options, |j, column| {
         let status = initial_status(n, data, None);
         solve_column(&system, j, column, status, false, options)
-    };
-    if options.parallel {
-        columns.par_chunks_mut(n).enumerate().try_for_each(solve)?;
-    } else {
-        columns.chunks_mut(n).enumerate().try_for_each(solve)?;
-    }
-    Ok(VertexWeights::from_columns(n, h, &columns))
+    })
 }
 
 /// [`bounded_biharmonic`] started from a guess of the solution (`n_vertices × data.n_columns()`,
@@ -280,10 +274,23 @@ pub fn bounded_biharmonic_from(
             column[v] = data.values_at(row)[j];
         }
     }
-    let solve = |(j, column): (usize, &mut [f64])| {
+    solve_columns(columns, n, h, options, |j, column| {
         let status = initial_status(n, data, Some(&*column));
         solve_column(&system, j, column, status, true, options)
-    };
+    })
+}
+
+/// Runs `solve(j, column)` on each of the `h` columns (length `n`, column-major in
+/// `columns`), in parallel when [`BbwOptions::parallel`] is set, and gathers the solved
+/// columns as weights.
+fn solve_columns(
+    mut columns: Vec<f64>,
+    n: usize,
+    h: usize,
+    options: &BbwOptions,
+    solve: impl Fn(usize, &mut [f64]) -> Result<(), WeightsError> + Sync + Send,
+) -> Result<VertexWeights, WeightsError> {
+    let solve = |(j, column): (usize, &mut [f64])| solve(j, column);
     if options.parallel {
         columns.par_chunks_mut(n).enumerate().try_for_each(solve)?;
     } else {
@@ -536,22 +543,15 @@ mod tests {
             })
         ));
         for bad in [0.0, -1.0, f64::NAN] {
-            assert!(matches!(
-                bounded_biharmonic(
-                    &mesh,
-                    &data,
-                    &BbwOptions::default().with_feasibility_tolerance(bad)
-                ),
-                Err(WeightsError::InvalidOption { .. })
-            ));
-            assert!(matches!(
-                bounded_biharmonic(
-                    &mesh,
-                    &data,
-                    &BbwOptions::default().with_optimality_tolerance(bad)
-                ),
-                Err(WeightsError::InvalidOption { .. })
-            ));
+            for options in [
+                BbwOptions::default().with_feasibility_tolerance(bad),
+                BbwOptions::default().with_optimality_tolerance(bad),
+            ] {
+                assert!(matches!(
+                    bounded_biharmonic(&mesh, &data, &options),
+                    Err(WeightsError::InvalidOption { .. })
+                ));
+            }
         }
         let outside = DirichletData::new(vec![0, 5], vec![1.0, -0.5], 1).unwrap();
         assert_eq!(

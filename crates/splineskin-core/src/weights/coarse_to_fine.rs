@@ -73,71 +73,65 @@ pub fn bbw_coarse_to_fine<F>(
 where
     F: Fn(&Domain) -> Option<DirichletData>,
 {
-    solve_level(drawing, points, bones, options, fine, fine_data, &data, bbw)
-}
-
-/// Data of a coarse level from its domain.
-type LevelData<'a> = &'a dyn Fn(&Domain) -> Option<DirichletData>;
-
-/// [`bbw_coarse_to_fine`] with the data builder behind a reference (the levels recurse).
-#[allow(clippy::too_many_arguments)]
-fn solve_level(
-    drawing: &Drawing,
-    points: &[Point],
-    bones: &[[Point; 2]],
-    options: &DomainOptions,
-    fine: &Domain,
-    fine_data: &DirichletData,
-    data: LevelData<'_>,
-    bbw: &BbwOptions,
-) -> Result<VertexWeights, WeightsError> {
-    match coarse_guess(drawing, points, bones, options, fine, data, bbw) {
-        Some(guess) => bounded_biharmonic_from(&fine.mesh, fine_data, bbw, &guess),
-        None => bounded_biharmonic(&fine.mesh, fine_data, bbw),
-    }
-}
-
-/// The weights of the next coarser level interpolated at `fine`'s vertices, or `None` when
-/// `fine` is small enough to solve directly or a coarser level fails.
-fn coarse_guess(
-    drawing: &Drawing,
-    points: &[Point],
-    bones: &[[Point; 2]],
-    options: &DomainOptions,
-    fine: &Domain,
-    data: LevelData<'_>,
-    bbw: &BbwOptions,
-) -> Option<VertexWeights> {
-    if fine.mesh.n_vertices() <= DIRECT_VERTICES {
-        return None;
-    }
-    let coarse_options = coarser(options);
-    let coarse = Domain::build(drawing, points, bones, &coarse_options).ok()?;
-    // A coarser level that is not smaller (everything pinned by handles or the vertex cap)
-    // would not pay for itself.
-    if coarse.mesh.n_vertices() * 2 > fine.mesh.n_vertices() {
-        return None;
-    }
-    let coarse_data = data(&coarse)?;
-    let weights = solve_level(
+    let levels = Levels {
         drawing,
         points,
         bones,
-        &coarse_options,
-        &coarse,
-        &coarse_data,
-        data,
+        data: &data,
         bbw,
-    )
-    .ok()?;
-    let h = weights.n_handles();
-    let field = MeshWeights::new(&coarse.mesh, weights.into_values(), h).ok()?;
-    let n = fine.mesh.n_vertices();
-    let mut values = vec![0.0; n * h];
-    for (v, row) in values.chunks_mut(h).enumerate() {
-        field.eval(fine.mesh.vertices[v], row);
+    };
+    levels.solve(options, fine, fine_data)
+}
+
+/// What every level shares: the drawing, points and bones each level's domain is built from,
+/// the builder of a level's Dirichlet data, and the BBW options.
+struct Levels<'a> {
+    drawing: &'a Drawing,
+    points: &'a [Point],
+    bones: &'a [[Point; 2]],
+    data: &'a dyn Fn(&Domain) -> Option<DirichletData>,
+    bbw: &'a BbwOptions,
+}
+
+impl Levels<'_> {
+    /// The weights on `fine` (built with `options`) for `fine_data`, started from the next
+    /// coarser level when there is one.
+    fn solve(
+        &self,
+        options: &DomainOptions,
+        fine: &Domain,
+        fine_data: &DirichletData,
+    ) -> Result<VertexWeights, WeightsError> {
+        match self.coarse_guess(options, fine) {
+            Some(guess) => bounded_biharmonic_from(&fine.mesh, fine_data, self.bbw, &guess),
+            None => bounded_biharmonic(&fine.mesh, fine_data, self.bbw),
+        }
     }
-    VertexWeights::from_row_major(n, h, values).ok()
+
+    /// The weights of the next coarser level interpolated at `fine`'s vertices, or `None`
+    /// when `fine` is small enough to solve directly or a coarser level fails.
+    fn coarse_guess(&self, options: &DomainOptions, fine: &Domain) -> Option<VertexWeights> {
+        if fine.mesh.n_vertices() <= DIRECT_VERTICES {
+            return None;
+        }
+        let coarse_options = coarser(options);
+        let coarse = Domain::build(self.drawing, self.points, self.bones, &coarse_options).ok()?;
+        // A coarser level that is not smaller (everything pinned by handles or the vertex
+        // cap) would not pay for itself.
+        if coarse.mesh.n_vertices() * 2 > fine.mesh.n_vertices() {
+            return None;
+        }
+        let coarse_data = (self.data)(&coarse)?;
+        let weights = self.solve(&coarse_options, &coarse, &coarse_data).ok()?;
+        let h = weights.n_handles();
+        let field = MeshWeights::new(&coarse.mesh, weights.into_values(), h).ok()?;
+        let n = fine.mesh.n_vertices();
+        let mut values = vec![0.0; n * h];
+        for (v, row) in values.chunks_mut(h).enumerate() {
+            field.eval(fine.mesh.vertices[v], row);
+        }
+        VertexWeights::from_row_major(n, h, values).ok()
+    }
 }
 
 /// `options` one level coarser: samples [`LEVEL_FACTOR`] times sparser, triangles up to
@@ -154,9 +148,16 @@ mod tests {
     use super::*;
     use crate::drawing::{JunctionOptions, Path};
 
-    /// A wavy open curve and three handles along it, meshed to about 5 000 vertices: one
-    /// coarse level (about 350 vertices) below the fine one.
-    fn setup() -> (Drawing, Vec<Point>, DomainOptions, Domain) {
+    /// A wavy open curve and three handles along it (no bones), meshed with `options` to
+    /// about 5 000 vertices (`fine`): one coarse level (about 350 vertices) below the fine one.
+    struct Fixture {
+        drawing: Drawing,
+        handles: Vec<Point>,
+        options: DomainOptions,
+        fine: Domain,
+    }
+
+    fn setup() -> Fixture {
         // M0 0 C30 60 70 -60 100 0 S170 60 200 0
         let wave = [
             (0., 0.),
@@ -183,20 +184,63 @@ mod tests {
         ];
         let options = DomainOptions::default().with_max_area_fraction(1.0 / 4000.0);
         let fine = Domain::build(&drawing, &handles, &[], &options).unwrap();
-        (drawing, handles, options, fine)
+        Fixture {
+            drawing,
+            handles,
+            options,
+            fine,
+        }
+    }
+
+    impl Fixture {
+        /// The levels of the fixture's drawing and handles.
+        fn levels<'a>(
+            &'a self,
+            data: &'a dyn Fn(&Domain) -> Option<DirichletData>,
+            bbw: &'a BbwOptions,
+        ) -> Levels<'a> {
+            Levels {
+                drawing: &self.drawing,
+                points: &self.handles,
+                bones: &[],
+                data,
+                bbw,
+            }
+        }
+
+        /// [`bbw_coarse_to_fine`] on the fine domain.
+        fn coarse_to_fine(
+            &self,
+            fine_data: &DirichletData,
+            data: impl Fn(&Domain) -> Option<DirichletData>,
+            bbw: &BbwOptions,
+        ) -> Result<VertexWeights, WeightsError> {
+            bbw_coarse_to_fine(
+                &self.drawing,
+                &self.handles,
+                &[],
+                &self.options,
+                &self.fine,
+                fine_data,
+                data,
+                bbw,
+            )
+        }
     }
 
     #[test]
     fn coarse_to_fine_equals_a_cold_solve() {
-        let (drawing, handles, options, fine) = setup();
-        assert!(fine.mesh.n_vertices() > DIRECT_VERTICES);
+        let f = setup();
+        assert!(f.fine.mesh.n_vertices() > DIRECT_VERTICES);
         let data = |d: &Domain| DirichletData::handles(&d.handle_vertices).ok();
-        let fine_data = data(&fine).unwrap();
+        let fine_data = data(&f.fine).unwrap();
         let bbw = BbwOptions::default();
         // The coarse level exists and is a real guess: bounded, but not the answer.
-        let guess = coarse_guess(&drawing, &handles, &[], &options, &fine, &data, &bbw)
+        let guess = f
+            .levels(&data, &bbw)
+            .coarse_guess(&f.options, &f.fine)
             .expect("a coarse level");
-        let cold = bounded_biharmonic(&fine.mesh, &fine_data, &bbw).unwrap();
+        let cold = bounded_biharmonic(&f.fine.mesh, &fine_data, &bbw).unwrap();
         let gap = |a: &VertexWeights| {
             a.as_slice()
                 .iter()
@@ -205,17 +249,7 @@ mod tests {
                 .fold(0.0, f64::max)
         };
         assert!(gap(&guess) > 1e-4, "guess already exact: {:e}", gap(&guess));
-        let warm = bbw_coarse_to_fine(
-            &drawing,
-            &handles,
-            &[],
-            &options,
-            &fine,
-            &fine_data,
-            data,
-            &bbw,
-        )
-        .unwrap();
+        let warm = f.coarse_to_fine(&fine_data, data, &bbw).unwrap();
         // Same KKT tolerances, strictly convex program: the same minimiser up to the solve's
         // rounding (measured 1.5e-11 on the 20 437-vertex turtles domain).
         assert!(gap(&warm) < 1e-9, "{:e}", gap(&warm));
@@ -223,37 +257,30 @@ mod tests {
 
     #[test]
     fn small_domains_and_failed_levels_start_cold() {
-        let (drawing, handles, options, _) = setup();
-        let small_options = options.clone().with_max_area_fraction(1.0 / 200.0);
-        let small = Domain::build(&drawing, &handles, &[], &small_options).unwrap();
+        let f = setup();
+        let small_options = f.options.clone().with_max_area_fraction(1.0 / 200.0);
+        let small = Domain::build(&f.drawing, &f.handles, &[], &small_options).unwrap();
         assert!(small.mesh.n_vertices() <= DIRECT_VERTICES);
         let data = |d: &Domain| DirichletData::handles(&d.handle_vertices).ok();
         let bbw = BbwOptions::default();
-        assert!(
-            coarse_guess(&drawing, &handles, &[], &small_options, &small, &data, &bbw).is_none()
-        );
+        assert!(f
+            .levels(&data, &bbw)
+            .coarse_guess(&small_options, &small)
+            .is_none());
         // Coarse levels without data fall back to a cold start.
-        let (drawing, handles, options, fine) = setup();
         let none = |_: &Domain| None;
-        assert!(coarse_guess(&drawing, &handles, &[], &options, &fine, &none, &bbw).is_none());
-        let fine_data = DirichletData::handles(&fine.handle_vertices).unwrap();
-        let cold = bounded_biharmonic(&fine.mesh, &fine_data, &bbw).unwrap();
-        let fallback = bbw_coarse_to_fine(
-            &drawing,
-            &handles,
-            &[],
-            &options,
-            &fine,
-            &fine_data,
-            none,
-            &bbw,
-        )
-        .unwrap();
+        assert!(f
+            .levels(&none, &bbw)
+            .coarse_guess(&f.options, &f.fine)
+            .is_none());
+        let fine_data = DirichletData::handles(&f.fine.handle_vertices).unwrap();
+        let cold = bounded_biharmonic(&f.fine.mesh, &fine_data, &bbw).unwrap();
+        let fallback = f.coarse_to_fine(&fine_data, none, &bbw).unwrap();
         assert_eq!(fallback, cold);
         // Errors of the fine level are errors.
         let bad = DirichletData::new(vec![0], vec![2.0], 1).unwrap();
         assert!(matches!(
-            bbw_coarse_to_fine(&drawing, &handles, &[], &options, &fine, &bad, data, &bbw),
+            f.coarse_to_fine(&bad, data, &bbw),
             Err(WeightsError::ValueOutOfBounds { .. })
         ));
     }

@@ -51,7 +51,7 @@ use kurbo::{Point, Rect, Vec2};
 
 use super::{WeightField, WeightsError};
 use crate::domain::crossings::cubic_segment_crossings;
-use crate::domain::locate::KINK_MERGE;
+use crate::domain::locate::merge_kinks;
 use crate::domain::polygon::check_cage;
 use crate::domain::{DomainError, COINCIDENT_RELATIVE};
 
@@ -272,7 +272,8 @@ impl WeightField for MeanValue {
     /// cubic's crossings of the two edges meeting at the vertex, found exactly on the cubic
     /// ([`crate::domain::crossings`]); a crossing counts when the curve point lies within
     /// [`COINCIDENT_RELATIVE`] × the larger of the cage's and the curve's control box
-    /// diagonals of the vertex. Crossings closer than [`KINK_MERGE`] are one kink (a curve
+    /// diagonals of the vertex. Crossings closer than
+    /// [`KINK_MERGE`](crate::domain::locate::KINK_MERGE) are one kink (a curve
     /// through a vertex crosses both of its edges there).
     fn kinks(&self, curve: &[Point; 4], out: &mut Vec<f64>) {
         let start = out.len();
@@ -302,15 +303,7 @@ impl WeightField for MeanValue {
             }
             out.truncate(keep);
         }
-        out[start..].sort_by(f64::total_cmp);
-        let mut keep = start;
-        for k in start..out.len() {
-            if keep == start || out[k] - out[keep - 1] > KINK_MERGE {
-                out[keep] = out[k];
-                keep += 1;
-            }
-        }
-        out.truncate(keep);
+        merge_kinks(out, start);
     }
 }
 
@@ -318,9 +311,7 @@ impl WeightField for MeanValue {
 mod tests {
     use super::*;
 
-    fn pts(v: &[(f64, f64)]) -> Vec<Point> {
-        v.iter().map(|&p| Point::from(p)).collect()
-    }
+    use crate::test_support::pts;
 
     /// Floater's formula as written, with the angles from `atan2` (an independent route to the
     /// same weights, valid off the polygon).

@@ -191,13 +191,16 @@ pub fn weights_from_squared_distances(out: &mut [f64], options: &ShepardOptions)
 mod tests {
     use super::*;
 
+    /// Three handles in general position.
+    const THREE_HANDLES: [Point; 3] = [
+        Point::new(0.0, 0.0),
+        Point::new(3.0, 1.0),
+        Point::new(-1.0, 4.0),
+    ];
+
     #[test]
     fn shepard_sums_to_one_and_matches_closed_form() {
-        let hs = [
-            Point::new(0.0, 0.0),
-            Point::new(3.0, 1.0),
-            Point::new(-1.0, 4.0),
-        ];
+        let hs = THREE_HANDLES;
         let w = Shepard::new(&hs, ShepardOptions::default().with_exponent(3.0));
         let x = Point::new(0.7, 0.2);
         let mut out = [0.0; 3];
@@ -227,11 +230,7 @@ mod tests {
 
     #[test]
     fn shepard_gradient_matches_central_differences() {
-        let hs = [
-            Point::new(0.0, 0.0),
-            Point::new(3.0, 1.0),
-            Point::new(-1.0, 4.0),
-        ];
+        let hs = THREE_HANDLES;
         // Central differences with step 1e-5 are accurate to about 1e-9 here (third
         // derivatives of order 1, rounding 1e-16 / 1e-5).
         const STEP: f64 = 1e-5;

@@ -43,7 +43,7 @@
 //! handle gets a large but finite heat (its weight is then 1 to about that fraction squared).
 
 use super::super::affine3::{distance2, norm, sub};
-use super::super::cage::{Cage, Point3};
+use super::super::cage::{bounds3, Cage, Point3};
 use super::super::handles::Handles3;
 use super::super::limit::LimitSurface;
 use super::super::limit_mesh::LimitMesh;
@@ -317,14 +317,7 @@ fn default_level(cage: &Cage, surface: &LimitSurface) -> usize {
 
 /// The length of the bounding-box diagonal of `points`.
 fn bounding_diagonal(points: &[Point3]) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+    let (lo, hi) = bounds3(points);
     distance2(lo, hi).sqrt()
 }
 

@@ -71,24 +71,23 @@ pub fn node_weights(
     cage: &Cage,
     quadrature: &LimitQuadrature,
 ) -> Result<Vec<f64>, SurfaceWeightsError> {
-    let h = field.n_handles();
     let mut g = vec![[0.0; 3]; quadrature.n_nodes()];
     quadrature.positions(cage.positions(), &mut g);
-    let mut out = vec![0.0; quadrature.n_nodes() * h];
-    for (k, (row, node)) in out.chunks_exact_mut(h).zip(quadrature.nodes()).enumerate() {
-        let st = quadrature.stencil(k);
-        let at = SurfaceSample {
-            location: node.location,
-            position: g[k],
-            indices: &st.indices,
-            weights: &st.weights,
-        };
-        field.eval(&at, row)?;
-        normalise(row, || {
-            format!("quadrature node {k} at {:?}", node.location)
-        })?;
-    }
-    Ok(out)
+    let nodes = quadrature.nodes();
+    weights_at_samples(
+        field,
+        nodes.len(),
+        |k| {
+            let st = quadrature.stencil(k);
+            SurfaceSample {
+                location: nodes[k].location,
+                position: g[k],
+                indices: &st.indices,
+                weights: &st.weights,
+            }
+        },
+        |k| format!("quadrature node {k} at {:?}", nodes[k].location),
+    )
 }
 
 /// The weights at every vertex of `mesh` (a limit mesh of `cage`), normalised, vertex-major
@@ -98,21 +97,38 @@ pub fn sample_weights(
     cage: &Cage,
     mesh: &LimitMesh,
 ) -> Result<Vec<f64>, SurfaceWeightsError> {
-    let h = field.n_handles();
     let mut p = vec![[0.0; 3]; mesh.n_vertices()];
     mesh.positions(cage.positions(), &mut p);
-    let mut out = vec![0.0; mesh.n_vertices() * h];
     let stencils = mesh.stencils();
-    for (v, row) in out.chunks_exact_mut(h).enumerate() {
-        let (indices, weights) = stencils.stencil(v);
-        let at = SurfaceSample {
-            location: mesh.locations()[v],
-            position: p[v],
-            indices,
-            weights,
-        };
-        field.eval(&at, row)?;
-        normalise(row, || format!("limit mesh vertex {v}"))?;
+    weights_at_samples(
+        field,
+        mesh.n_vertices(),
+        |v| {
+            let (indices, weights) = stencils.stencil(v);
+            SurfaceSample {
+                location: mesh.locations()[v],
+                position: p[v],
+                indices,
+                weights,
+            }
+        },
+        |v| format!("limit mesh vertex {v}"),
+    )
+}
+
+/// `field` at the samples `sample(0) … sample(n − 1)`, each row normalised (`name(k)` names
+/// sample `k` in errors), sample-major (`n · h`).
+fn weights_at_samples<'a>(
+    field: &dyn SurfaceWeights,
+    n: usize,
+    sample: impl Fn(usize) -> SurfaceSample<'a>,
+    name: impl Fn(usize) -> String,
+) -> Result<Vec<f64>, SurfaceWeightsError> {
+    let h = field.n_handles();
+    let mut out = vec![0.0; n * h];
+    for (k, row) in out.chunks_exact_mut(h).enumerate() {
+        field.eval(&sample(k), row)?;
+        normalise(row, || name(k))?;
     }
     Ok(out)
 }

@@ -28,15 +28,20 @@ pub(super) enum AbsKind {
     SmoothCubic(Point, Point),
     Quadratic(Point, Point),
     SmoothQuadratic(Point),
-    Arc {
-        rx: f64,
-        ry: f64,
-        rotation_degrees: f64,
-        large_arc: bool,
-        sweep: bool,
-        to: Point,
-    },
+    Arc(ArcTo),
     Close,
+}
+
+/// The parameters of an elliptical arc segment (`A`), its end point absolute.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ArcTo {
+    rx: f64,
+    ry: f64,
+    /// The x-axis rotation, in degrees.
+    rotation_degrees: f64,
+    large_arc: bool,
+    sweep: bool,
+    to: Point,
 }
 
 /// Steps 1–5 for one element's `d`, appending its chains to `out`.
@@ -185,14 +190,14 @@ pub(super) fn to_absolute(d: &str) -> Result<Vec<AbsSegment>, svgtypes::Error> {
                 sweep,
                 x,
                 y,
-            } => AbsKind::Arc {
+            } => AbsKind::Arc(ArcTo {
                 rx,
                 ry,
                 rotation_degrees: x_axis_rotation,
                 large_arc,
                 sweep,
                 to: at(x, y, abs),
-            },
+            }),
             PathSegment::ClosePath { .. } => AbsKind::Close,
         };
         pen = end_point(kind, pen, start);
@@ -217,7 +222,7 @@ pub(super) fn end_point(kind: AbsKind, pen: Point, start: Point) -> Point {
         | AbsKind::SmoothCubic(_, p)
         | AbsKind::Quadratic(_, p)
         | AbsKind::SmoothQuadratic(p)
-        | AbsKind::Arc { to: p, .. } => p,
+        | AbsKind::Arc(ArcTo { to: p, .. }) => p,
         AbsKind::Horizontal(x) => Point::new(x, pen.y),
         AbsKind::Vertical(y) => Point::new(pen.x, y),
         AbsKind::Close => start,
@@ -258,21 +263,13 @@ pub(super) fn round_segments_to_f32(segments: &mut [AbsSegment]) {
             AbsKind::SmoothCubic(b, p) => AbsKind::SmoothCubic(r(b), r(p)),
             AbsKind::Quadratic(a, p) => AbsKind::Quadratic(r(a), r(p)),
             AbsKind::SmoothQuadratic(p) => AbsKind::SmoothQuadratic(r(p)),
-            AbsKind::Arc {
-                rx,
-                ry,
-                rotation_degrees,
-                large_arc,
-                sweep,
-                to,
-            } => AbsKind::Arc {
-                rx: f32_round(rx),
-                ry: f32_round(ry),
-                rotation_degrees: f32_round(rotation_degrees),
-                large_arc,
-                sweep,
-                to: r(to),
-            },
+            AbsKind::Arc(arc) => AbsKind::Arc(ArcTo {
+                rx: f32_round(arc.rx),
+                ry: f32_round(arc.ry),
+                rotation_degrees: f32_round(arc.rotation_degrees),
+                to: r(arc.to),
+                ..arc
+            }),
             AbsKind::Close => AbsKind::Close,
         };
     }
@@ -350,14 +347,7 @@ impl SnapPen {
                 self.quad = (Some(c.x), Some(c.y));
                 vec![quadratic_to_cubic(p0, c, p)]
             }
-            AbsKind::Arc {
-                rx,
-                ry,
-                rotation_degrees,
-                large_arc,
-                sweep,
-                to,
-            } => arc_to_cubics(p0, rx, ry, rotation_degrees, large_arc, sweep, to),
+            AbsKind::Arc(arc) => arc_to_cubics(p0, arc),
         };
         if let Some(&[_, b, p]) = cubics.last() {
             self.pen = p;
@@ -421,18 +411,18 @@ pub(super) struct ArcPiece {
     cy: f64,
 }
 
-/// Snap 0.2.0's `a2c`: the cubics of the arc from `p0` to `to` (SVG arc parameters, rotation
-/// in degrees), in the arc's rotated frame until the final rotation back.
-pub(super) fn arc_to_cubics(
-    p0: Point,
-    rx: f64,
-    ry: f64,
-    rotation_degrees: f64,
-    large_arc: bool,
-    sweep: bool,
-    to: Point,
-) -> Vec<[Point; 3]> {
+/// Snap 0.2.0's `a2c`: the cubics of the arc `arc` from `p0` to `arc.to` (SVG arc parameters,
+/// rotation in degrees), in the arc's rotated frame until the final rotation back.
+pub(super) fn arc_to_cubics(p0: Point, arc: ArcTo) -> Vec<[Point; 3]> {
     use std::f64::consts::PI;
+    let ArcTo {
+        rx,
+        ry,
+        rotation_degrees,
+        large_arc,
+        sweep,
+        to,
+    } = arc;
     // `+angle || 0`
     let rad = PI / 180.0 * js_or(Some(rotation_degrees), 0.0);
     let a = snap_rotate(p0.x, p0.y, -rad);

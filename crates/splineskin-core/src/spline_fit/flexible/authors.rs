@@ -99,9 +99,19 @@ fn allclose(a: &[Point], b: &[Point]) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use super::super::fixture::{case, g1_sine, pose};
+    use super::super::fixture::{case, g1_sine, pose, Case};
     use super::super::options::FlexibleRule;
     use super::*;
+
+    /// The authors' iteration on the fixture at `pose(angle)` (tolerance 1e-5), with the case
+    /// it ran on.
+    fn authors_run(angle: f64) -> (PathRun, Case) {
+        let mut c = case(FlexibleRule::Authors, 1e-5, &pose(angle));
+        let fp = &c.solver.paths[0];
+        let nodes = &c.solver.nodes[fp.path];
+        let run = iterate_authors(fp, nodes, &mut c.sc, c.e_start, None).unwrap();
+        (run, c)
+    }
 
     #[test]
     fn allclose_is_numpys_rule() {
@@ -120,10 +130,7 @@ mod tests {
         // The identity pose's target is the input itself: the first direction step along the
         // input's tangents lands on it, the ratio step keeps it, and the round's direction
         // step agrees with it, so the iteration stops there.
-        let mut c = case(FlexibleRule::Authors, 1e-5, &pose(0.0));
-        let fp = &c.solver.paths[0];
-        let nodes = &c.solver.nodes[fp.path];
-        let run = iterate_authors(fp, nodes, &mut c.sc, c.e_start, None).unwrap();
+        let (run, c) = authors_run(0.0);
         assert_eq!(run.energies.len(), 4, "{:?}", run.energies);
         for (p, q) in run.x.iter().zip(&c.input) {
             assert!((*p - *q).hypot() <= 1e-12 * 10.0, "{p:?} vs {q:?}");
@@ -132,10 +139,7 @@ mod tests {
 
     #[test]
     fn iterate_authors_keeps_g1_within_its_round_cap() {
-        let mut c = case(FlexibleRule::Authors, 1e-5, &pose(0.5));
-        let fp = &c.solver.paths[0];
-        let nodes = &c.solver.nodes[fp.path];
-        let run = iterate_authors(fp, nodes, &mut c.sc, c.e_start, None).unwrap();
+        let (run, _) = authors_run(0.5);
         assert!(run.energies.len() <= 3 + 2 * AUTHORS_MAX_ROUNDS);
         assert!(g1_sine(&run.x) <= 1e-10);
         assert!(!run.warm);

@@ -178,7 +178,7 @@ pub(super) fn path_nodes(
     offset: usize,
 ) -> PathNodes {
     let m = path.n_unknown_points();
-    let unknown = |i: usize| if i >= m { i - m } else { i };
+    let unknown = |i: usize| path.unknown_index(i);
     let h = samples.n_handles();
     let mut n = PathNodes {
         offset,

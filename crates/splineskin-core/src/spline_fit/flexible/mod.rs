@@ -230,25 +230,14 @@ impl FlexibleSolver {
         } else {
             vec![false; drawing.paths.len()]
         };
-        let build = |(pi, path): (usize, &crate::drawing::Path)| {
-            if grouped[pi] {
-                Ok(None)
-            } else {
-                flex_path(pi, path, &nodes[pi], fit)
-            }
-        };
-        let built: Vec<Option<FlexPath>> = if fit.parallel {
-            use rayon::prelude::*;
-            let results: Vec<_> = drawing.paths.par_iter().enumerate().map(build).collect();
-            results.into_iter().collect::<Result<_, _>>()?
-        } else {
-            drawing
-                .paths
-                .iter()
-                .enumerate()
-                .map(build)
-                .collect::<Result<_, _>>()?
-        };
+        let built: Vec<Option<FlexPath>> =
+            crate::parallel::try_map(&drawing.paths, fit.parallel, |pi, path| {
+                if grouped[pi] {
+                    Ok(None)
+                } else {
+                    flex_path(pi, path, &nodes[pi], fit)
+                }
+            })?;
         Ok(FlexibleSolver {
             rig,
             nodes,
@@ -319,14 +308,9 @@ impl FlexibleSolver {
             }
         }
         self.rig.update(pose, out)?;
-        let run = |fp: &FlexPath| self.iterate(fp, pose, out, warm);
-        let runs: Vec<Result<PathRun, FitError>> = if self.parallel {
-            use rayon::prelude::*;
-            self.paths.par_iter().map(run).collect()
-        } else {
-            self.paths.iter().map(run).collect()
-        };
-        let runs = runs.into_iter().collect::<Result<Vec<_>, _>>()?;
+        let runs = crate::parallel::try_map(&self.paths, self.parallel, |_, fp| {
+            self.iterate(fp, pose, out, warm)
+        })?;
 
         // Energies: paths that do not iterate are constant.
         let mut s = Vec::new();
@@ -468,15 +452,7 @@ pub(super) mod fixture {
     use crate::weights::{Shepard, ShepardOptions};
 
     /// The input's control points (one open path, curves 0–3 and 3–6).
-    pub(super) const INPUT: [(f64, f64); 7] = [
-        (0., 0.),
-        (1., 1.),
-        (2., 0.),
-        (3., 0.),
-        (5., 0.),
-        (6., 1.),
-        (7., 0.),
-    ];
+    pub(super) const INPUT: [(f64, f64); 7] = crate::test_support::SMOOTH_RATIO_2;
 
     /// One path's iteration state for a pose.
     pub(super) struct Case {
