@@ -209,22 +209,34 @@ pub fn skin_on_curve_points(
 ) -> Result<(), PoseError> {
     check_sizes(drawing, field.n_handles(), pose, out)?;
     let mut w = vec![0.0; pose.len()];
-    let mut offset = 0;
-    for path in &drawing.paths {
+    carry_by_on_curve_points(drawing, out, |q| {
+        let a = blended_transform(field, pose, q, &mut w);
+        move |c| a * c
+    });
+    Ok(())
+}
+
+/// Writes every chain point of `drawing` into `out` (the layout of
+/// [`crate::spline_fit::SplineRig::update`], length checked by the caller) by the map that its
+/// on-curve point `q` gives: `map_at(q)` is called once per on-curve point and applied to `q`
+/// and to the off-curve points it owns (`P_3j±1`, see [`owner`]).
+fn carry_by_on_curve_points<F: Fn(Point) -> Point>(
+    drawing: &Drawing,
+    out: &mut [Point],
+    mut map_at: impl FnMut(Point) -> F,
+) {
+    for (path, range) in drawing.paths.iter().zip(drawing.path_ranges()) {
         let n = path.points.len();
-        let chunk = &mut out[offset..offset + n];
-        // Each on-curve point's transform, applied to it and its (up to two) neighbours.
+        let chunk = &mut out[range];
         for q in (0..n).step_by(3) {
-            let a = blended_transform(field, pose, path.points[q], &mut w);
+            let map = map_at(path.points[q]);
             for k in q.saturating_sub(1)..(q + 2).min(n) {
                 if owner(k) == q {
-                    chunk[k] = a * path.points[k];
+                    chunk[k] = map(path.points[k]);
                 }
             }
         }
-        offset += n;
     }
-    Ok(())
 }
 
 /// Weight functions with gradients: what [`skin_with_jacobian`] needs.
@@ -387,21 +399,10 @@ pub fn skin_with_jacobian(
     check_sizes(drawing, field.n_handles(), pose, out)?;
     let mut w = vec![0.0; pose.len()];
     let mut g = vec![Vec2::ZERO; pose.len()];
-    let mut offset = 0;
-    for path in &drawing.paths {
-        let n = path.points.len();
-        let chunk = &mut out[offset..offset + n];
-        for q in (0..n).step_by(3) {
-            let on = path.points[q];
-            let (fq, j) = jacobian_at(field, pose, on, &mut w, &mut g);
-            for k in q.saturating_sub(1)..(q + 2).min(n) {
-                if owner(k) == q {
-                    chunk[k] = fq + (j * (path.points[k] - on).to_point()).to_vec2();
-                }
-            }
-        }
-        offset += n;
-    }
+    carry_by_on_curve_points(drawing, out, |on| {
+        let (fq, j) = jacobian_at(field, pose, on, &mut w, &mut g);
+        move |c: Point| fq + (j * (c - on).to_point()).to_vec2()
+    });
     Ok(())
 }
 

@@ -114,17 +114,13 @@ impl Refit {
         if points.len() != drawing.n_points() {
             return None;
         }
-        let mut offset = 0;
         let paths = drawing
             .paths
             .iter()
-            .map(|p| {
-                let n = p.points.len();
-                offset += n;
-                RefitPath {
-                    points: points[offset - n..offset].to_vec(),
-                    closed: p.closed,
-                }
+            .zip(drawing.path_ranges())
+            .map(|(p, range)| RefitPath {
+                points: points[range].to_vec(),
+                closed: p.closed,
             })
             .collect();
         Some(Refit { paths })
