@@ -286,10 +286,8 @@ impl DefOpFile {
         origin: &str,
         base_dir: Option<&Path>,
     ) -> Result<DefOpSettings, SceneError> {
-        let invalid = |element: &str, message: String| SceneError::Invalid {
-            origin: origin.to_string(),
-            element: format!("defop.{element}"),
-            message,
+        let invalid = |element: &str, message: String| {
+            SceneError::invalid(origin, format!("defop.{element}"), message)
         };
         let mut s = DefOpSettings::default();
         if let Some(e) = &self.energy {
@@ -382,11 +380,8 @@ impl Scene {
     /// file: a scene with bones or a cage or without point handles, an unreadable mesh, a
     /// face that is not a triangle, `z ≠ 0`, a handle that is not a vertex.
     pub fn defop_shape(&self, settings: &DefOpSettings) -> Result<DefOpShape, SceneError> {
-        let invalid = |element: &str, message: String| SceneError::Invalid {
-            origin: self.origin.clone(),
-            element: element.to_string(),
-            message,
-        };
+        let invalid =
+            |element: &str, message: String| SceneError::invalid(&self.origin, element, message);
         if !self.bones.is_empty() || self.cage.is_some() {
             return Err(invalid(
                 "handles",
