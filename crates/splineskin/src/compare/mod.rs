@@ -254,6 +254,16 @@ pub enum CompareError {
     },
 }
 
+impl CompareError {
+    /// Wraps an error of measuring `method`'s result as [`CompareError::Metrics`].
+    fn metrics_of(method: Method) -> impl FnOnce(MetricsError) -> CompareError {
+        move |source| CompareError::Metrics {
+            method: method.name(),
+            source,
+        }
+    }
+}
+
 /// Deforms `inputs.drawing` by `inputs.pose` with every [`Method`] (the flexible fit when
 /// `inputs.flexible` is given) and measures each against the target (module doc).
 ///
@@ -421,16 +431,10 @@ fn compare_fits(
         })?;
         check_finite(method, &result)?;
         let metrics = metrics::chain_metrics(drawing, weights, pose, &points, &metrics_options)
-            .map_err(|source| CompareError::Metrics {
-                method: method.name(),
-                source,
-            })?;
+            .map_err(CompareError::metrics_of(method))?;
         let distances = metrics.distances.clone();
         let closest = metrics::refit_metrics(drawing, weights, pose, &result, &metrics_options)
-            .map_err(|source| CompareError::Metrics {
-                method: method.name(),
-                source,
-            })?;
+            .map_err(CompareError::metrics_of(method))?;
         methods.push(MethodResult {
             method,
             result,
@@ -449,10 +453,7 @@ fn compare_fits(
     ] {
         check_finite(method, &refit)?;
         let metrics = metrics::refit_metrics(drawing, weights, pose, &refit, &metrics_options)
-            .map_err(|source| CompareError::Metrics {
-                method: method.name(),
-                source,
-            })?;
+            .map_err(CompareError::metrics_of(method))?;
         let distances = metrics.distances.clone();
         methods.push(MethodResult {
             method,
