@@ -35,7 +35,7 @@ use kurbo::{Affine, Point};
 use crate::drawing::Drawing;
 use crate::figure::weight_map::HandleMarker;
 use crate::metrics::{self, Metrics, MetricsError, MetricsOptions};
-use crate::naive::{self, Refit, RefitError, RefitOptions, WeightGradient};
+use crate::naive::{self, check_pose_len, Refit, RefitError, RefitOptions, WeightGradient};
 use crate::scene::{HandleSet, PosedDrawing};
 use crate::spline_fit::quadrature::SampledCurves;
 use crate::spline_fit::{
@@ -376,13 +376,7 @@ fn check_inputs(
     pose: &[Affine],
     options: &CompareOptions,
 ) -> Result<f64, CompareError> {
-    if pose.len() != weights.n_handles() {
-        return Err(PoseError::Transforms {
-            got: pose.len(),
-            expected: weights.n_handles(),
-        }
-        .into());
-    }
+    check_pose_len(pose, weights.n_handles())?;
     let tolerance = options.refit_tolerance;
     let refit_tolerance = tolerance * drawing.diagonal().max(f64::MIN_POSITIVE);
     if !(tolerance > 0.0 && refit_tolerance.is_finite() && refit_tolerance > 0.0) {

@@ -102,6 +102,17 @@ pub(crate) fn blend(pose: &[Affine], w: &[f64]) -> Affine {
     Affine::new(c)
 }
 
+/// Checks that `pose` has one map per handle ([`PoseError::Transforms`] if not).
+pub(crate) fn check_pose_len(pose: &[Affine], n_handles: usize) -> Result<(), PoseError> {
+    if pose.len() != n_handles {
+        return Err(PoseError::Transforms {
+            got: pose.len(),
+            expected: n_handles,
+        });
+    }
+    Ok(())
+}
+
 /// Checks the pose length against the field and the output length against the drawing.
 fn check_sizes(
     drawing: &Drawing,
@@ -109,12 +120,7 @@ fn check_sizes(
     pose: &[Affine],
     out: &[Point],
 ) -> Result<(), PoseError> {
-    if pose.len() != n_handles {
-        return Err(PoseError::Transforms {
-            got: pose.len(),
-            expected: n_handles,
-        });
-    }
+    check_pose_len(pose, n_handles)?;
     if out.len() != drawing.n_points() {
         return Err(PoseError::Output {
             got: out.len(),
