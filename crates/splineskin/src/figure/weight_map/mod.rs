@@ -36,7 +36,7 @@ use resvg::tiny_skia::{self, PathBuilder, Pixmap, PixmapPaint, Transform};
 
 use crate::drawing::Drawing;
 use crate::figure::glyphs;
-use crate::figure::strokes::{self, paint, stroke, Line};
+use crate::figure::strokes::{self, paint, stroke, Line, COLOUR_BAR_LINE};
 use crate::mesh::TriMesh;
 use crate::weights::WeightField;
 use colour_map::{luma, range_of, weight_colour, Range, OUT_OF_RANGE_FULL};
@@ -716,11 +716,6 @@ const PANEL_BORDER: Line = Line {
     rgba: [120, 120, 120, 255],
     width: 1.0,
 };
-/// Outline and ticks of the colour bar (not scaled).
-const BAR_LINE: Line = Line {
-    rgba: [60, 60, 60, 255],
-    width: 1.0,
-};
 /// A panel's label.
 const LABEL_TEXT: [u8; 4] = [0, 0, 0, 255];
 /// The colour bar's tick values.
@@ -823,7 +818,7 @@ fn colour_bar(
         weight_colour(value_at(x))
     });
     let ls = layout.line_scale;
-    strokes::outline(image, (x_start, x_end), (bar.y0, bar.y1), BAR_LINE);
+    strokes::outline(image, (x_start, x_end), (bar.y0, bar.y1), COLOUR_BAR_LINE);
     let pixel_of = |w: f64| {
         if w < 0.0 {
             bar.x0 + w / OUT_OF_RANGE_FULL * ext
@@ -835,7 +830,12 @@ fn colour_bar(
     };
     // The middle of the pixel column holding `w`: a 1 px line covers it exactly.
     let tick = |image: &mut Pixmap, w: f64, length: f64| {
-        strokes::tick(image, (pixel_of(w).floor() + 0.5, bar.y1), length, BAR_LINE);
+        strokes::tick(
+            image,
+            (pixel_of(w).floor() + 0.5, bar.y1),
+            length,
+            COLOUR_BAR_LINE,
+        );
     };
     let minor = iso.unwrap_or(DEFAULT_ISO_STEP);
     let n_minor = (1.0 / minor).floor() as usize;
