@@ -452,6 +452,15 @@ mod tests {
         }
     }
 
+    /// A pose of [`field`]'s three handles that bends the drawing: a turn, a shift, the identity.
+    fn bend() -> [Affine; 3] {
+        [
+            Affine::rotate(0.4),
+            Affine::translate((5.0, -3.0)),
+            Affine::IDENTITY,
+        ]
+    }
+
     fn field() -> Shepard {
         Shepard::new(
             &[
@@ -537,11 +546,7 @@ mod tests {
     fn twoendpoints_and_jacobian_keep_g1_ratios() {
         let d = drop_drawing();
         let f = field();
-        let pose = [
-            Affine::rotate(0.4),
-            Affine::translate((5.0, -3.0)),
-            Affine::IDENTITY,
-        ];
+        let pose = bend();
         let mut out = vec![Point::ZERO; d.n_points()];
         for method in 0..2 {
             if method == 0 {
@@ -647,11 +652,7 @@ mod tests {
     fn schneider_refit_keeps_corners_and_closes_loops() {
         let d = drop_drawing();
         let f = field();
-        let pose = [
-            Affine::rotate(0.4),
-            Affine::translate((5.0, -3.0)),
-            Affine::IDENTITY,
-        ];
+        let pose = bend();
         let refit =
             schneider_refit(&d, &f, &pose, &RefitOptions::default().with_tolerance(0.05)).unwrap();
         let mut w = [0.0; 3];
