@@ -1,7 +1,7 @@
 //! What reading and writing SVG share: the error type ([`SvgError`]) and the size limit
-//! ([`MAX_SVG_BYTES`]), and inside the crate: parsing XML (`parse_xml`), naming elements in
-//! messages (`node_label`), the namespaces, lengths (`user_length`) and the shortest exact
-//! number text (`push_number`, `matrix`).
+//! ([`MAX_SVG_BYTES`]), and inside the crate: checking the size (`check_size`), parsing XML
+//! (`parse_xml`), naming elements in messages (`node_label`), the namespaces, lengths
+//! (`user_length`) and the shortest exact number text (`push_number`, `matrix`).
 //!
 //! Every other module of this crate builds on this one; it imports none of them.
 
@@ -171,6 +171,19 @@ pub enum SvgError {
         /// What went wrong.
         what: String,
     },
+}
+
+/// [`SvgError::TooLarge`] if `size` bytes of the document `file` are more than
+/// [`MAX_SVG_BYTES`].
+pub(crate) fn check_size(file: &str, size: u64) -> Result<(), SvgError> {
+    if size > MAX_SVG_BYTES as u64 {
+        return Err(SvgError::TooLarge {
+            file: file.to_string(),
+            size,
+            limit: MAX_SVG_BYTES as u64,
+        });
+    }
+    Ok(())
 }
 
 /// roxmltree options shared by import and export (DTDs allowed, as usvg does).

@@ -597,60 +597,6 @@ pub(crate) fn same_map(a: Affine, b: Affine, size: f64) -> bool {
 mod tests {
     use super::*;
 
-    /// Direct least squares in homogeneous coordinates: minimise Σ ω ‖A p̄ − q‖² by the 3×3
-    /// normal equations (Σ ω p̄ p̄ᵀ) aᵣ = Σ ω q_r p̄ for each row r, solved by Cramer's rule.
-    fn direct(rest: &[Point], image: &[Point], w: &[f64]) -> Affine {
-        let mut n = [[0.0; 3]; 3];
-        let mut rhs = [[0.0; 3]; 2];
-        for ((p, q), &wk) in rest.iter().zip(image).zip(w) {
-            let h = [p.x, p.y, 1.0];
-            for r in 0..3 {
-                for c in 0..3 {
-                    n[r][c] += wk * h[r] * h[c];
-                }
-                rhs[0][r] += wk * q.x * h[r];
-                rhs[1][r] += wk * q.y * h[r];
-            }
-        }
-        let det3 = |m: [[f64; 3]; 3]| {
-            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-        };
-        let d = det3(n);
-        let solve = |b: [f64; 3]| -> [f64; 3] {
-            std::array::from_fn(|k| {
-                let mut m = n;
-                for r in 0..3 {
-                    m[r][k] = b[r];
-                }
-                det3(m) / d
-            })
-        };
-        let (x, y) = (solve(rhs[0]), solve(rhs[1]));
-        Affine::new([x[0], y[0], x[1], y[1], x[2], y[2]])
-    }
-
-    #[test]
-    fn best_fit_affine_matches_normal_equations() {
-        let rest: Vec<Point> = (0..40)
-            .map(|k| {
-                let t = k as f64;
-                Point::new((t * 1.7).sin() * 3.0 + 10.0, (t * 0.9).cos() * 2.0 - 4.0)
-            })
-            .collect();
-        let image: Vec<Point> = rest
-            .iter()
-            .map(|p| Point::new(p.x + 0.1 * p.y * p.y, p.y - 0.2 * p.x.sin()))
-            .collect();
-        let w: Vec<f64> = (0..40).map(|k| 1.0 + (k % 3) as f64).collect();
-        let a = best_fit_affine(&rest, &image, &w).unwrap();
-        let b = direct(&rest, &image, &w);
-        for (x, y) in a.as_coeffs().iter().zip(b.as_coeffs()) {
-            assert!((x - y).abs() < 1e-9 * (1.0 + y.abs()), "{a:?} vs {b:?}");
-        }
-    }
-
     #[test]
     fn best_fit_affine_on_a_line_is_completed_conformally() {
         let t = Affine::translate((3.0, 1.0)) * Affine::rotate(0.4) * Affine::scale(2.0);

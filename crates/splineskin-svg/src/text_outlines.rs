@@ -39,7 +39,7 @@ use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 
 use crate::document::is_svg_element;
-use crate::document::{parse_xml, SvgError, MAX_SVG_BYTES, SHOW_HIDDEN_CSS};
+use crate::document::{check_size, parse_xml, SvgError, MAX_SVG_BYTES, SHOW_HIDDEN_CSS};
 
 /// Attributes of `<text>` that only lay text out: not carried to its outlines.
 const LAYOUT_ATTRIBUTES: &[&str] = &[
@@ -106,13 +106,7 @@ struct Outline {
 /// assert!(out.contains("fill:#0000ff"), "{out}");
 /// ```
 pub fn text_to_outlines(text: &str, origin: &str) -> Result<String, SvgError> {
-    if text.len() > MAX_SVG_BYTES {
-        return Err(SvgError::TooLarge {
-            file: origin.to_string(),
-            size: text.len() as u64,
-            limit: MAX_SVG_BYTES as u64,
-        });
-    }
+    check_size(origin, text.len() as u64)?;
     Ok(outline_text(text, origin)?.unwrap_or_else(|| text.to_string()))
 }
 

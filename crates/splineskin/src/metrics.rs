@@ -39,7 +39,7 @@ use kurbo::{Affine, CubicBez, ParamCurveNearest, Point, Rect};
 
 use crate::bezier;
 use crate::drawing::Drawing;
-use crate::naive::{Refit, RefitPath};
+use crate::naive::{check_pose_len, Refit, RefitPath};
 use crate::spline_fit::quadrature::SampledCurves;
 use crate::spline_fit::{FitOptions, PoseError};
 use crate::weights::WeightField;
@@ -268,13 +268,7 @@ fn check(
     pose: &[Affine],
     options: &MetricsOptions,
 ) -> Result<(), MetricsError> {
-    if pose.len() != field.n_handles() {
-        return Err(PoseError::Transforms {
-            got: pose.len(),
-            expected: field.n_handles(),
-        }
-        .into());
-    }
+    check_pose_len(pose, field.n_handles())?;
     if options.samples_per_curve < 2 {
         return Err(MetricsError::Samples(options.samples_per_curve));
     }

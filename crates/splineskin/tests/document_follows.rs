@@ -19,7 +19,7 @@
 //! checked against the deformation at the corners of its box in each of the scene's poses.
 
 use kurbo::{Affine, Point, Vec2};
-use splineskin::drawing::follow::{ElementMaps, FollowOptions, REGION_GRID};
+use splineskin::drawing::follow::{best_fit_affine, ElementMaps, FollowOptions, REGION_GRID};
 use splineskin::drawing::svg_out::{write_svg, write_svg_following, ViewBoxRule};
 use splineskin::drawing::{read_svg, Drawing, ImportOptions, PathRole};
 use splineskin::naive::skin_point;
@@ -528,20 +528,20 @@ fn text_renders_carried_by_a_rigid_pose() {
     assert_eq!(out.matches("<text").count(), 3, "{out}");
 }
 
-/// Direct least squares of the map `f` over `samples` (equal weights): the 3×3 normal
-/// equations (Σ p̄ p̄ᵀ) a_r = Σ f_r(p) p̄ per output row r, by Cramer's rule.
-fn direct_fit(samples: &[Point], f: &mut dyn FnMut(Point) -> Point) -> Affine {
+/// Direct least squares in homogeneous coordinates: minimise Σ ω ‖A p̄ − q‖² over the pairs
+/// (`rest`, `image`) with weights `w`, by the 3×3 normal equations (Σ ω p̄ p̄ᵀ) a_r =
+/// Σ ω q_r p̄ for each output row r, solved by Cramer's rule.
+fn direct_fit(rest: &[Point], image: &[Point], w: &[f64]) -> Affine {
     let mut n = [[0.0; 3]; 3];
     let mut rhs = [[0.0; 3]; 2];
-    for &p in samples {
-        let q = f(p);
+    for ((p, q), &wk) in rest.iter().zip(image).zip(w) {
         let h = [p.x, p.y, 1.0];
         for r in 0..3 {
             for c in 0..3 {
-                n[r][c] += h[r] * h[c];
+                n[r][c] += wk * h[r] * h[c];
             }
-            rhs[0][r] += q.x * h[r];
-            rhs[1][r] += q.y * h[r];
+            rhs[0][r] += wk * q.x * h[r];
+            rhs[1][r] += wk * q.y * h[r];
         }
     }
     let det3 = |m: [[f64; 3]; 3]| {
@@ -561,6 +561,32 @@ fn direct_fit(samples: &[Point], f: &mut dyn FnMut(Point) -> Point) -> Affine {
     };
     let (x, y) = (solve(rhs[0]), solve(rhs[1]));
     Affine::new([x[0], y[0], x[1], y[1], x[2], y[2]])
+}
+
+/// [`direct_fit`] of the map `f` over `samples`, all weights 1.
+fn direct_fit_of_map(samples: &[Point], f: &mut dyn FnMut(Point) -> Point) -> Affine {
+    let image: Vec<Point> = samples.iter().map(|&p| f(p)).collect();
+    direct_fit(samples, &image, &vec![1.0; samples.len()])
+}
+
+#[test]
+fn best_fit_affine_matches_normal_equations() {
+    let rest: Vec<Point> = (0..40)
+        .map(|k| {
+            let t = k as f64;
+            Point::new((t * 1.7).sin() * 3.0 + 10.0, (t * 0.9).cos() * 2.0 - 4.0)
+        })
+        .collect();
+    let image: Vec<Point> = rest
+        .iter()
+        .map(|p| Point::new(p.x + 0.1 * p.y * p.y, p.y - 0.2 * p.x.sin()))
+        .collect();
+    let w: Vec<f64> = (0..40).map(|k| 1.0 + (k % 3) as f64).collect();
+    let a = best_fit_affine(&rest, &image, &w).unwrap();
+    let b = direct_fit(&rest, &image, &w);
+    for (x, y) in a.as_coeffs().iter().zip(b.as_coeffs()) {
+        assert!((x - y).abs() < 1e-9 * (1.0 + y.abs()), "{a:?} vs {b:?}");
+    }
 }
 
 /// Centres of the `REGION_GRID`² grid over the rectangle, mapped by `t`.
@@ -605,7 +631,7 @@ fn under_a_bend_the_maps_are_the_least_squares_fits() {
     // The image: its rectangle in root space (parent translate(3 4)).
     let parent = Affine::translate((3.0, 4.0));
     let samples = grid_samples(20.0, 25.0, 48.0, 38.0, parent);
-    let direct = direct_fit(&samples, &mut f);
+    let direct = direct_fit_of_map(&samples, &mut f);
     let image_offset = doc.find("<image").unwrap();
     let fitted = element_maps
         .carried_map(image_offset)
@@ -643,7 +669,7 @@ fn under_a_bend_the_maps_are_the_least_squares_fits() {
         .element_of_path(drawing.paths.len() - 1)
         .unwrap();
     let samples = grid_samples(10.0, 10.0, 50.0, 30.0, Affine::IDENTITY);
-    let direct = direct_fit(&samples, &mut f);
+    let direct = direct_fit_of_map(&samples, &mut f);
     assert_close(
         element_maps.element_map(rect).unwrap(),
         direct,

@@ -109,6 +109,19 @@ fn residual(cage: &[Point], w: &[f64], p: Point) -> f64 {
 // Mean value coordinates
 // ---------------------------------------------------------------------------------------------
 
+/// The weight of corner `i` of an `n`-corner cage at the point `s` of the way along edge `k`
+/// (from corner `k` to corner `k + 1`): coordinates linear on the edge, `1 − s` and `s` on its
+/// ends, 0 on every other corner.
+fn on_edge_weight(n: usize, k: usize, s: f64, i: usize) -> f64 {
+    if i == k {
+        1.0 - s
+    } else if i == (k + 1) % n {
+        s
+    } else {
+        0.0
+    }
+}
+
 /// Partition of unity and linear precision: rounding of `n`-term sums of weights of order 1,
 /// measured worst 1.6e-15 (sum) and 3.5e-15 (residual over the diagonal) over the cages and
 /// points below. 1e-12, the figure, leaves room for other platforms' libm; a wrong
@@ -201,13 +214,7 @@ fn mvc_lagrange_at_vertices_and_linear_on_edges() {
                 // (1e-13 for the comb, 2000 from the origin), which moves the weights as much
                 // relative to the edge length.
                 for i in 0..n {
-                    let expected = if i == k {
-                        1.0 - s
-                    } else if i == (k + 1) % n {
-                        s
-                    } else {
-                        0.0
-                    };
+                    let expected = on_edge_weight(n, k, s, i);
                     assert!(
                         (w[i] - expected).abs() < 1e-12,
                         "edge {k}, s = {s}, weight {i}: {} vs {expected}",
@@ -507,13 +514,7 @@ fn harmonic_coordinates_boundary_values_are_piecewise_linear() {
             let (a, b) = (cage[k], cage[(k + 1) % n]);
             let s = (p - a).hypot() / (b - a).hypot();
             for i in 0..n {
-                let expected = if i == k {
-                    1.0 - s
-                } else if i == (k + 1) % n {
-                    s
-                } else {
-                    0.0
-                };
+                let expected = on_edge_weight(n, k, s, i);
                 // Exactly 0 off the edge's two corners; on them s by projection vs by
                 // distance, equal to rounding.
                 if expected == 0.0 {

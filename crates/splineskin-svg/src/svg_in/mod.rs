@@ -103,7 +103,7 @@ use std::sync::Arc;
 
 use kurbo::{Affine, Point, Rect, Size};
 
-use crate::document::{node_label, parse_xml, unique_prefix, SHOW_HIDDEN_CSS};
+use crate::document::{check_size, node_label, parse_xml, unique_prefix, SHOW_HIDDEN_CSS};
 mod segments;
 mod validate;
 
@@ -300,24 +300,12 @@ pub fn read_svg_file(path: &std::path::Path, options: &ImportOptions) -> Result<
     };
     let file = std::fs::File::open(path).map_err(io)?;
     let len = file.metadata().map_err(io)?.len();
-    if len > MAX_SVG_BYTES as u64 {
-        return Err(SvgError::TooLarge {
-            file: origin,
-            size: len,
-            limit: MAX_SVG_BYTES as u64,
-        });
-    }
+    check_size(&origin, len)?;
     let mut bytes = Vec::new();
     file.take(MAX_SVG_BYTES as u64 + 1)
         .read_to_end(&mut bytes)
         .map_err(io)?;
-    if bytes.len() > MAX_SVG_BYTES {
-        return Err(SvgError::TooLarge {
-            file: origin,
-            size: bytes.len() as u64,
-            limit: MAX_SVG_BYTES as u64,
-        });
-    }
+    check_size(&origin, bytes.len() as u64)?;
     let text = String::from_utf8(bytes).map_err(|_| SvgError::NotUtf8 {
         file: origin.clone(),
     })?;
@@ -355,13 +343,7 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
             return read_svg_impl(&converted, &rest, origin);
         }
     }
-    if text.len() > MAX_SVG_BYTES {
-        return Err(SvgError::TooLarge {
-            file: origin.to_string(),
-            size: text.len() as u64,
-            limit: MAX_SVG_BYTES as u64,
-        });
-    }
+    check_size(origin, text.len() as u64)?;
     if text.trim().is_empty() {
         return Err(SvgError::Empty {
             file: origin.to_string(),

@@ -35,7 +35,7 @@ use kurbo::{Affine, Point};
 use crate::drawing::Drawing;
 use crate::figure::weight_map::HandleMarker;
 use crate::metrics::{self, Metrics, MetricsError, MetricsOptions};
-use crate::naive::{self, Refit, RefitError, RefitOptions, WeightGradient};
+use crate::naive::{self, check_pose_len, Refit, RefitError, RefitOptions, WeightGradient};
 use crate::scene::{HandleSet, PosedDrawing};
 use crate::spline_fit::quadrature::SampledCurves;
 use crate::spline_fit::{
@@ -254,6 +254,16 @@ pub enum CompareError {
     },
 }
 
+impl CompareError {
+    /// Wraps an error of measuring `method`'s result as [`CompareError::Metrics`].
+    fn metrics_of(method: Method) -> impl FnOnce(MetricsError) -> CompareError {
+        move |source| CompareError::Metrics {
+            method: method.name(),
+            source,
+        }
+    }
+}
+
 /// Deforms `inputs.drawing` by `inputs.pose` with every [`Method`] (the flexible fit when
 /// `inputs.flexible` is given) and measures each against the target (module doc).
 ///
@@ -366,13 +376,7 @@ fn check_inputs(
     pose: &[Affine],
     options: &CompareOptions,
 ) -> Result<f64, CompareError> {
-    if pose.len() != weights.n_handles() {
-        return Err(PoseError::Transforms {
-            got: pose.len(),
-            expected: weights.n_handles(),
-        }
-        .into());
-    }
+    check_pose_len(pose, weights.n_handles())?;
     let tolerance = options.refit_tolerance;
     let refit_tolerance = tolerance * drawing.diagonal().max(f64::MIN_POSITIVE);
     if !(tolerance > 0.0 && refit_tolerance.is_finite() && refit_tolerance > 0.0) {
@@ -421,16 +425,10 @@ fn compare_fits(
         })?;
         check_finite(method, &result)?;
         let metrics = metrics::chain_metrics(drawing, weights, pose, &points, &metrics_options)
-            .map_err(|source| CompareError::Metrics {
-                method: method.name(),
-                source,
-            })?;
+            .map_err(CompareError::metrics_of(method))?;
         let distances = metrics.distances.clone();
         let closest = metrics::refit_metrics(drawing, weights, pose, &result, &metrics_options)
-            .map_err(|source| CompareError::Metrics {
-                method: method.name(),
-                source,
-            })?;
+            .map_err(CompareError::metrics_of(method))?;
         methods.push(MethodResult {
             method,
             result,
@@ -449,10 +447,7 @@ fn compare_fits(
     ] {
         check_finite(method, &refit)?;
         let metrics = metrics::refit_metrics(drawing, weights, pose, &refit, &metrics_options)
-            .map_err(|source| CompareError::Metrics {
-                method: method.name(),
-                source,
-            })?;
+            .map_err(CompareError::metrics_of(method))?;
         let distances = metrics.distances.clone();
         methods.push(MethodResult {
             method,

@@ -25,7 +25,7 @@ use resvg::tiny_skia::{
 use super::colour_map::error_colour;
 use super::glyphs;
 use super::grid::{PanelGrid, TICK_LENGTH};
-use super::strokes::{self, paint, stroke, Line};
+use super::strokes::{self, paint, stroke, Line, COLOUR_BAR_LINE};
 use super::weight_map::{draw_handle_marker, HandleMarker};
 use crate::compare::{CompareError, Comparison, Method, MethodResult};
 use crate::naive::Refit;
@@ -109,11 +109,6 @@ const TARGET_DASH: [f64; 2] = [2.4, 1.4];
 /// Frame around each panel (not scaled).
 const PANEL_BORDER: Line = Line {
     rgba: [150, 150, 150, 255],
-    width: 1.0,
-};
-/// Outline and ticks of the colour bar (not scaled).
-const BAR_LINE: Line = Line {
-    rgba: [60, 60, 60, 255],
     width: 1.0,
 };
 /// Method names.
@@ -484,13 +479,13 @@ fn colour_bar(image: &mut Pixmap, grid: &PanelGrid, top: f64) {
     strokes::fill_columns(image, (bar.x0, bar.x1), (bar.y0, bar.y1), |x| {
         error_colour((x - bar.x0) / bar.width())
     });
-    strokes::outline(image, (bar.x0, bar.x1), (bar.y0, bar.y1), BAR_LINE);
+    strokes::outline(image, (bar.x0, bar.x1), (bar.y0, bar.y1), COLOUR_BAR_LINE);
     let ls = grid.line_scale;
     let s = grid.glyph_scale;
     let text_top = bar.y1 + (TICK_LENGTH * ls).round() + f64::from(s) * 2.0;
     for v in [0.0, 0.5, 1.0] {
         let x = (bar.x0 + v * bar.width()).floor().min(bar.x1 - 1.0) + 0.5;
-        strokes::tick(image, (x, bar.y1), TICK_LENGTH * ls, BAR_LINE);
+        strokes::tick(image, (x, bar.y1), TICK_LENGTH * ls, COLOUR_BAR_LINE);
         let text = format!("{}%", percent(v * top));
         let tx = x - f64::from(glyphs::text_width(&text, s)) / 2.0;
         glyphs::draw_text(image, &text, tx.round(), text_top, s, &paint(FIGURE_TEXT));

@@ -13,12 +13,23 @@ pub struct Line {
     pub width: f64,
 }
 
+/// Outline and ticks of a colour bar: dark grey, 1 pixel (not scaled).
+pub const COLOUR_BAR_LINE: Line = Line {
+    rgba: [60, 60, 60, 255],
+    width: 1.0,
+};
+
 /// A paint of 8-bit RGBA, anti-aliased.
 pub fn paint(rgba: [u8; 4]) -> Paint<'static> {
     let mut paint = Paint::default();
     paint.set_color_rgba8(rgba[0], rgba[1], rgba[2], rgba[3]);
     paint.anti_alias = true;
     paint
+}
+
+/// Strokes `path` (pixel coordinates, no transform) with `stroke` in the colour `rgba`.
+fn stroke_in(pixmap: &mut Pixmap, path: &tiny_skia::Path, rgba: [u8; 4], stroke: &Stroke) {
+    pixmap.stroke_path(path, &paint(rgba), stroke, Transform::identity(), None);
 }
 
 /// Strokes `path` (pixel coordinates) in `line`, its width times `scale`, with round caps and
@@ -30,13 +41,7 @@ pub fn stroke(pixmap: &mut Pixmap, path: &tiny_skia::Path, line: Line, scale: f6
         line_join: tiny_skia::LineJoin::Round,
         ..Stroke::default()
     };
-    pixmap.stroke_path(
-        path,
-        &paint(line.rgba),
-        &stroke,
-        Transform::identity(),
-        None,
-    );
+    stroke_in(pixmap, path, line.rgba, &stroke);
 }
 
 /// Strokes `path` dashed: `dash` is (on, off) in line widths, butt caps.
@@ -47,13 +52,7 @@ pub fn dashed(pixmap: &mut Pixmap, path: &tiny_skia::Path, line: Line, scale: f6
         dash: tiny_skia::StrokeDash::new(dash.map(|d| (d * width) as f32).to_vec(), 0.0),
         ..Stroke::default()
     };
-    pixmap.stroke_path(
-        path,
-        &paint(line.rgba),
-        &stroke,
-        Transform::identity(),
-        None,
-    );
+    stroke_in(pixmap, path, line.rgba, &stroke);
 }
 
 /// A `width`-pixel frame just outside the `w × h` rectangle with top-left corner `(x, y)`.
@@ -114,12 +113,6 @@ pub fn tick(pixmap: &mut Pixmap, (x, y): (f64, f64), length: f64, line: Line) {
             width: line.width as f32,
             ..Stroke::default()
         };
-        pixmap.stroke_path(
-            &path,
-            &paint(line.rgba),
-            &stroke,
-            Transform::identity(),
-            None,
-        );
+        stroke_in(pixmap, &path, line.rgba, &stroke);
     }
 }

@@ -102,6 +102,17 @@ pub(crate) fn blend(pose: &[Affine], w: &[f64]) -> Affine {
     Affine::new(c)
 }
 
+/// Checks that `pose` has one map per handle ([`PoseError::Transforms`] if not).
+pub(crate) fn check_pose_len(pose: &[Affine], n_handles: usize) -> Result<(), PoseError> {
+    if pose.len() != n_handles {
+        return Err(PoseError::Transforms {
+            got: pose.len(),
+            expected: n_handles,
+        });
+    }
+    Ok(())
+}
+
 /// Checks the pose length against the field and the output length against the drawing.
 fn check_sizes(
     drawing: &Drawing,
@@ -109,12 +120,7 @@ fn check_sizes(
     pose: &[Affine],
     out: &[Point],
 ) -> Result<(), PoseError> {
-    if pose.len() != n_handles {
-        return Err(PoseError::Transforms {
-            got: pose.len(),
-            expected: n_handles,
-        });
-    }
+    check_pose_len(pose, n_handles)?;
     if out.len() != drawing.n_points() {
         return Err(PoseError::Output {
             got: out.len(),
@@ -209,22 +215,34 @@ pub fn skin_on_curve_points(
 ) -> Result<(), PoseError> {
     check_sizes(drawing, field.n_handles(), pose, out)?;
     let mut w = vec![0.0; pose.len()];
-    let mut offset = 0;
-    for path in &drawing.paths {
+    carry_by_on_curve_points(drawing, out, |q| {
+        let a = blended_transform(field, pose, q, &mut w);
+        move |c| a * c
+    });
+    Ok(())
+}
+
+/// Writes every chain point of `drawing` into `out` (the layout of
+/// [`crate::spline_fit::SplineRig::update`], length checked by the caller) by the map that its
+/// on-curve point `q` gives: `map_at(q)` is called once per on-curve point and applied to `q`
+/// and to the off-curve points it owns (`P_3j±1`, see [`owner`]).
+fn carry_by_on_curve_points<F: Fn(Point) -> Point>(
+    drawing: &Drawing,
+    out: &mut [Point],
+    mut map_at: impl FnMut(Point) -> F,
+) {
+    for (path, range) in drawing.paths.iter().zip(drawing.path_ranges()) {
         let n = path.points.len();
-        let chunk = &mut out[offset..offset + n];
-        // Each on-curve point's transform, applied to it and its (up to two) neighbours.
+        let chunk = &mut out[range];
         for q in (0..n).step_by(3) {
-            let a = blended_transform(field, pose, path.points[q], &mut w);
+            let map = map_at(path.points[q]);
             for k in q.saturating_sub(1)..(q + 2).min(n) {
                 if owner(k) == q {
-                    chunk[k] = a * path.points[k];
+                    chunk[k] = map(path.points[k]);
                 }
             }
         }
-        offset += n;
     }
-    Ok(())
 }
 
 /// Weight functions with gradients: what [`skin_with_jacobian`] needs.
@@ -387,21 +405,10 @@ pub fn skin_with_jacobian(
     check_sizes(drawing, field.n_handles(), pose, out)?;
     let mut w = vec![0.0; pose.len()];
     let mut g = vec![Vec2::ZERO; pose.len()];
-    let mut offset = 0;
-    for path in &drawing.paths {
-        let n = path.points.len();
-        let chunk = &mut out[offset..offset + n];
-        for q in (0..n).step_by(3) {
-            let on = path.points[q];
-            let (fq, j) = jacobian_at(field, pose, on, &mut w, &mut g);
-            for k in q.saturating_sub(1)..(q + 2).min(n) {
-                if owner(k) == q {
-                    chunk[k] = fq + (j * (path.points[k] - on).to_point()).to_vec2();
-                }
-            }
-        }
-        offset += n;
-    }
+    carry_by_on_curve_points(drawing, out, |on| {
+        let (fq, j) = jacobian_at(field, pose, on, &mut w, &mut g);
+        move |c: Point| fq + (j * (c - on).to_point()).to_vec2()
+    });
     Ok(())
 }
 
@@ -443,6 +450,15 @@ mod tests {
             ],
             ..Default::default()
         }
+    }
+
+    /// A pose of [`field`]'s three handles that bends the drawing: a turn, a shift, the identity.
+    fn bend() -> [Affine; 3] {
+        [
+            Affine::rotate(0.4),
+            Affine::translate((5.0, -3.0)),
+            Affine::IDENTITY,
+        ]
     }
 
     fn field() -> Shepard {
@@ -530,11 +546,7 @@ mod tests {
     fn twoendpoints_and_jacobian_keep_g1_ratios() {
         let d = drop_drawing();
         let f = field();
-        let pose = [
-            Affine::rotate(0.4),
-            Affine::translate((5.0, -3.0)),
-            Affine::IDENTITY,
-        ];
+        let pose = bend();
         let mut out = vec![Point::ZERO; d.n_points()];
         for method in 0..2 {
             if method == 0 {
@@ -640,11 +652,7 @@ mod tests {
     fn schneider_refit_keeps_corners_and_closes_loops() {
         let d = drop_drawing();
         let f = field();
-        let pose = [
-            Affine::rotate(0.4),
-            Affine::translate((5.0, -3.0)),
-            Affine::IDENTITY,
-        ];
+        let pose = bend();
         let refit =
             schneider_refit(&d, &f, &pose, &RefitOptions::default().with_tolerance(0.05)).unwrap();
         let mut w = [0.0; 3];

@@ -4,7 +4,7 @@
 
 use kurbo::{Affine, CubicBez, ParamCurve, Point, Vec2};
 
-use super::skin_point;
+use super::{check_pose_len, skin_point};
 use crate::bezier;
 use crate::drawing::{Drawing, JointKind, Path};
 use crate::spline_fit::PoseError;
@@ -114,17 +114,13 @@ impl Refit {
         if points.len() != drawing.n_points() {
             return None;
         }
-        let mut offset = 0;
         let paths = drawing
             .paths
             .iter()
-            .map(|p| {
-                let n = p.points.len();
-                offset += n;
-                RefitPath {
-                    points: points[offset - n..offset].to_vec(),
-                    closed: p.closed,
-                }
+            .zip(drawing.path_ranges())
+            .map(|(p, range)| RefitPath {
+                points: points[range].to_vec(),
+                closed: p.closed,
             })
             .collect();
         Some(Refit { paths })
@@ -206,13 +202,7 @@ fn check_refit_inputs(
     pose: &[Affine],
     options: &RefitOptions,
 ) -> Result<(), RefitError> {
-    if pose.len() != field.n_handles() {
-        return Err(PoseError::Transforms {
-            got: pose.len(),
-            expected: field.n_handles(),
-        }
-        .into());
-    }
+    check_pose_len(pose, field.n_handles())?;
     if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
         return Err(RefitError::Tolerance(options.tolerance));
     }

@@ -286,35 +286,27 @@ impl DefOpFile {
         origin: &str,
         base_dir: Option<&Path>,
     ) -> Result<DefOpSettings, SceneError> {
-        let invalid = |element: &str, message: String| SceneError::Invalid {
-            origin: origin.to_string(),
-            element: format!("defop.{element}"),
-            message,
+        let invalid = |element: &str, message: String| {
+            SceneError::invalid(origin, format!("defop.{element}"), message)
+        };
+        // A name that is none of the `expected` ones.
+        let unknown = |element: &str, text: &str, expected: &str| {
+            invalid(element, format!("{text:?}: expected {expected}"))
         };
         let mut s = DefOpSettings::default();
         if let Some(e) = &self.energy {
-            s.energy = parse_energy(e).ok_or_else(|| {
-                invalid(
-                    "energy",
-                    format!("{e:?}: expected \"arap\" or \"symmetric-arap\""),
-                )
-            })?;
+            let expected = "\"arap\" or \"symmetric-arap\"";
+            s.energy = parse_energy(e).ok_or_else(|| unknown("energy", e, expected))?;
         }
         if let Some(b) = &self.spatial_basis {
-            s.spatial_basis = SpatialBasisSpec::parse(b).ok_or_else(|| {
-                invalid(
-                    "spatial_basis",
-                    format!("{b:?}: expected \"hats\", \"eigen N\" or \"biharmonic N\""),
-                )
-            })?;
+            let expected = "\"hats\", \"eigen N\" or \"biharmonic N\"";
+            s.spatial_basis =
+                SpatialBasisSpec::parse(b).ok_or_else(|| unknown("spatial_basis", b, expected))?;
         }
         if let Some(b) = &self.handle_basis {
-            s.handle_basis = parse_handle_basis(b).ok_or_else(|| {
-                invalid(
-                    "handle_basis",
-                    format!("{b:?}: expected \"linear\", \"quadratic\", \"cubic\" or \"tps\""),
-                )
-            })?;
+            let expected = "\"linear\", \"quadratic\", \"cubic\" or \"tps\"";
+            s.handle_basis =
+                parse_handle_basis(b).ok_or_else(|| unknown("handle_basis", b, expected))?;
         }
         if let Some(n) = self.samples {
             if n == 0 {
@@ -382,11 +374,8 @@ impl Scene {
     /// file: a scene with bones or a cage or without point handles, an unreadable mesh, a
     /// face that is not a triangle, `z ≠ 0`, a handle that is not a vertex.
     pub fn defop_shape(&self, settings: &DefOpSettings) -> Result<DefOpShape, SceneError> {
-        let invalid = |element: &str, message: String| SceneError::Invalid {
-            origin: self.origin.clone(),
-            element: element.to_string(),
-            message,
-        };
+        let invalid =
+            |element: &str, message: String| SceneError::invalid(&self.origin, element, message);
         if !self.bones.is_empty() || self.cage.is_some() {
             return Err(invalid(
                 "handles",

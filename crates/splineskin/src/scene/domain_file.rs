@@ -35,31 +35,40 @@ impl DomainFile {
 
     /// `base` with the options this section sets.
     pub(crate) fn options_over(&self, base: DomainOptions) -> DomainOptions {
-        let mut o = base;
-        if let Some(v) = self.min_angle {
-            o = o.with_min_angle(v);
+        /// `o`, or `o` with `with(o, v)` when the section sets `v`.
+        fn set<T>(
+            o: DomainOptions,
+            v: Option<T>,
+            with: fn(DomainOptions, T) -> DomainOptions,
+        ) -> DomainOptions {
+            match v {
+                Some(v) => with(o, v),
+                None => o,
+            }
         }
-        if let Some(v) = self.max_area_fraction {
-            o = o.with_max_area_fraction(v);
-        }
-        if let Some(v) = self.holes {
-            o = o.with_holes(v);
-        }
-        if let Some(v) = self.max_vertices {
-            o = o.with_max_vertices(v);
-        }
-        if let Some(v) = self.samples_per_diagonal {
-            o = o.with_samples_per_diagonal(v);
-        }
-        if let Some(v) = self.max_samples_per_curve {
-            o = o.with_max_samples_per_curve(v);
-        }
-        if let Some(v) = self.max_curve_samples {
-            o = o.with_max_curve_samples(v);
-        }
-        if let Some(v) = self.padding {
-            o = o.with_padding(v);
-        }
-        o
+        let o = set(base, self.min_angle, DomainOptions::with_min_angle);
+        let o = set(
+            o,
+            self.max_area_fraction,
+            DomainOptions::with_max_area_fraction,
+        );
+        let o = set(o, self.holes, DomainOptions::with_holes);
+        let o = set(o, self.max_vertices, DomainOptions::with_max_vertices);
+        let o = set(
+            o,
+            self.samples_per_diagonal,
+            DomainOptions::with_samples_per_diagonal,
+        );
+        let o = set(
+            o,
+            self.max_samples_per_curve,
+            DomainOptions::with_max_samples_per_curve,
+        );
+        let o = set(
+            o,
+            self.max_curve_samples,
+            DomainOptions::with_max_curve_samples,
+        );
+        set(o, self.padding, DomainOptions::with_padding)
     }
 }

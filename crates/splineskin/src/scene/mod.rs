@@ -205,11 +205,11 @@ impl WeightSpec {
             "shepard" => {
                 let exponent = exponent.unwrap_or(crate::weights::shepard::DEFAULT_EXPONENT);
                 if !(exponent.is_finite() && exponent > 0.0 && exponent <= 64.0) {
-                    return Err(SceneError::Invalid {
-                        origin: origin.to_string(),
-                        element: "weights.exponent".into(),
-                        message: format!("Shepard exponent {exponent} is not in (0, 64]"),
-                    });
+                    return Err(SceneError::invalid(
+                        origin,
+                        "weights.exponent",
+                        format!("Shepard exponent {exponent} is not in (0, 64]"),
+                    ));
                 }
                 Ok(WeightSpec::Shepard { exponent })
             }
@@ -242,11 +242,7 @@ impl WeightSpec {
         origin: &str,
         element: &str,
     ) -> Result<(), SceneError> {
-        let invalid = |message: String| SceneError::Invalid {
-            origin: origin.to_string(),
-            element: element.to_string(),
-            message,
-        };
+        let invalid = |message: String| SceneError::invalid(origin, element, message);
         let has_others = !handles.points.is_empty() || !handles.bones.is_empty();
         match self {
             WeightSpec::Shepard { .. } if handles.cage.is_some() => Err(invalid(
@@ -378,6 +374,22 @@ pub enum SceneError {
         /// What (e.g. "weight function 'bbw'").
         what: String,
     },
+}
+
+impl SceneError {
+    /// [`SceneError::Invalid`]: `element` of the scene `origin` holds a value that is not
+    /// what `message` says was expected.
+    pub(crate) fn invalid(
+        origin: &str,
+        element: impl Into<String>,
+        message: impl Into<String>,
+    ) -> SceneError {
+        SceneError::Invalid {
+            origin: origin.to_string(),
+            element: element.into(),
+            message: message.into(),
+        }
+    }
 }
 
 impl Scene {

@@ -242,11 +242,7 @@ impl TransformFile {
         origin: &str,
         element: &str,
     ) -> Result<Affine, SceneError> {
-        let invalid = |message: String| SceneError::Invalid {
-            origin: origin.to_string(),
-            element: element.to_string(),
-            message,
-        };
+        let invalid = |message: String| SceneError::invalid(origin, element, message);
         let named = match self {
             TransformFile::Named(n) => Some(n),
             TransformFile::Matrix(_) => None,
@@ -315,11 +311,7 @@ impl TransformFile {
         origin: &str,
         element: &str,
     ) -> Result<Affine, SceneError> {
-        let invalid = |message: String| SceneError::Invalid {
-            origin: origin.to_string(),
-            element: element.to_string(),
-            message,
-        };
+        let invalid = |message: String| SceneError::invalid(origin, element, message);
         match self {
             TransformFile::Matrix(m) => Ok(Affine::new(*m)),
             TransformFile::Named(n) => {
@@ -377,11 +369,7 @@ pub(crate) fn parse(
             json_error(origin, e)
         }
     })?;
-    let invalid = |element: &str, message: String| SceneError::Invalid {
-        origin: origin.to_string(),
-        element: element.to_string(),
-        message,
-    };
+    let invalid = |element: &str, message: String| SceneError::invalid(origin, element, message);
     if file.splineskin_scene != SCENE_VERSION {
         return Err(invalid(
             "splineskin_scene",
@@ -591,11 +579,7 @@ fn animation(
     set: &HandleSet<'_>,
     origin: &str,
 ) -> Result<Animation, SceneError> {
-    let invalid = |element: String, message: String| SceneError::Invalid {
-        origin: origin.to_string(),
-        element,
-        message,
-    };
+    let invalid = |element: String, message: String| SceneError::invalid(origin, element, message);
     let n_poses = poses.len().max(1);
     let mut keyframes = Vec::with_capacity(file.keyframes.len());
     for (k, key) in file.keyframes.iter().enumerate() {
@@ -673,11 +657,7 @@ fn pose_transforms(
     origin: &str,
     pose: &str,
 ) -> Result<Vec<Affine>, SceneError> {
-    let invalid = |element: String, message: String| SceneError::Invalid {
-        origin: origin.to_string(),
-        element,
-        message,
-    };
+    let invalid = |element: String, message: String| SceneError::invalid(origin, element, message);
     let (n_p, n_b, n_c) = (set.points.len(), set.bones.len(), set.n_cage_vertices());
     let listed = match cage_positions {
         Some(_) => n_p + n_b,

@@ -614,10 +614,6 @@ impl Puppet {
     }
 
     fn invalid(&self, element: String, message: String) -> SceneError {
-        SceneError::Invalid {
-            origin: self.origin.clone(),
-            element,
-            message,
-        }
+        SceneError::invalid(&self.origin, element, message)
     }
 }

@@ -107,10 +107,8 @@ impl Scene {
             }
         }
         for (i, o) in self.junctions.iter().enumerate() {
-            let invalid = |message: String| SceneError::Invalid {
-                origin: self.origin.clone(),
-                element: format!("junctions[{i}]"),
-                message,
+            let invalid = |message: String| {
+                SceneError::invalid(&self.origin, format!("junctions[{i}]"), message)
             };
             let n_paths = drawing.paths.len();
             let path = drawing.paths.get_mut(o.path).ok_or_else(|| {
@@ -230,11 +228,11 @@ pub fn handle_weights(
         .family
         .check_handles(handles, inputs.origin, "weights")?;
     if handles.n_handles() == 0 {
-        return Err(SceneError::Invalid {
-            origin: inputs.origin.to_string(),
-            element: "handles".into(),
-            message: "no handles: place at least one (a point handle, a bone or a cage)".into(),
-        });
+        return Err(SceneError::invalid(
+            inputs.origin,
+            "handles",
+            "no handles: place at least one (a point handle, a bone or a cage)",
+        ));
     }
     match inputs.family {
         WeightSpec::Shepard { exponent } => {
@@ -399,10 +397,8 @@ pub fn handle_dirichlet_data(
     let (n_p, n_b) = (handles.points.len(), handles.bones.len());
     let h = handles.n_handles();
     let n_vertices = domain.mesh.n_vertices();
-    let invalid = |kind: HandleKind, message: String| SceneError::Invalid {
-        origin: inputs.origin.to_string(),
-        element: handle_element(inputs.format, kind),
-        message,
+    let invalid = |kind: HandleKind, message: String| {
+        SceneError::invalid(inputs.origin, handle_element(inputs.format, kind), message)
     };
     let bug = |what: &'static str| SceneError::Weights {
         origin: inputs.origin.to_string(),
@@ -513,11 +509,9 @@ impl DirichletRows {
 /// A domain error as a scene error naming the element concerned, where there is one.
 fn domain_error(e: DomainError, inputs: &WeightInputs<'_>, family: &'static str) -> SceneError {
     match domain_element(&e, inputs.format) {
-        Some(element) => SceneError::Invalid {
-            origin: inputs.origin.to_string(),
-            element,
-            message: format!("{family} weights: {e}"),
-        },
+        Some(element) => {
+            SceneError::invalid(inputs.origin, element, format!("{family} weights: {e}"))
+        }
         None => SceneError::Weights {
             origin: inputs.origin.to_string(),
             family,
@@ -568,10 +562,12 @@ pub fn check_rest_handles(
     origin: &str,
     format: SceneFormat,
 ) -> Result<(), SceneError> {
-    let inputs_error = |e: DomainError| SceneError::Invalid {
-        origin: origin.to_string(),
-        element: domain_element(&e, format).unwrap_or_else(|| "handles".into()),
-        message: e.to_string(),
+    let inputs_error = |e: DomainError| {
+        SceneError::invalid(
+            origin,
+            domain_element(&e, format).unwrap_or_else(|| "handles".into()),
+            e.to_string(),
+        )
     };
     if let Some(cage) = handles.cage {
         check_cage(cage, 0.0).map_err(inputs_error)?;

@@ -36,7 +36,7 @@ use resvg::tiny_skia::{self, PathBuilder, Pixmap, PixmapPaint, Transform};
 
 use crate::drawing::Drawing;
 use crate::figure::glyphs;
-use crate::figure::strokes::{self, paint, stroke, Line};
+use crate::figure::strokes::{self, paint, stroke, Line, COLOUR_BAR_LINE};
 use crate::mesh::TriMesh;
 use crate::weights::WeightField;
 use colour_map::{luma, range_of, weight_colour, Range, OUT_OF_RANGE_FULL};
@@ -716,11 +716,6 @@ const PANEL_BORDER: Line = Line {
     rgba: [120, 120, 120, 255],
     width: 1.0,
 };
-/// Outline and ticks of the colour bar (not scaled).
-const BAR_LINE: Line = Line {
-    rgba: [60, 60, 60, 255],
-    width: 1.0,
-};
 /// A panel's label.
 const LABEL_TEXT: [u8; 4] = [0, 0, 0, 255];
 /// The colour bar's tick values.
@@ -823,7 +818,7 @@ fn colour_bar(
         weight_colour(value_at(x))
     });
     let ls = layout.line_scale;
-    strokes::outline(image, (x_start, x_end), (bar.y0, bar.y1), BAR_LINE);
+    strokes::outline(image, (x_start, x_end), (bar.y0, bar.y1), COLOUR_BAR_LINE);
     let pixel_of = |w: f64| {
         if w < 0.0 {
             bar.x0 + w / OUT_OF_RANGE_FULL * ext
@@ -835,7 +830,12 @@ fn colour_bar(
     };
     // The middle of the pixel column holding `w`: a 1 px line covers it exactly.
     let tick = |image: &mut Pixmap, w: f64, length: f64| {
-        strokes::tick(image, (pixel_of(w).floor() + 0.5, bar.y1), length, BAR_LINE);
+        strokes::tick(
+            image,
+            (pixel_of(w).floor() + 0.5, bar.y1),
+            length,
+            COLOUR_BAR_LINE,
+        );
     };
     let minor = iso.unwrap_or(DEFAULT_ISO_STEP);
     let n_minor = (1.0 / minor).floor() as usize;
@@ -910,6 +910,20 @@ mod tests {
         let map = render_weight_map(drawing, &markers(handles), weights, mesh, options).unwrap();
         let image = RgbaImage::decode_png(&map.png).unwrap();
         (map, image)
+    }
+
+    /// [`render`] of [`linear_field`]`(a, b)` with its mesh and no drawing, the two handles at
+    /// the middles of the square's left and right sides.
+    fn render_linear_field(a: f64, b: f64, options: &WeightMapOptions) -> (WeightMap, RgbaImage) {
+        let (mesh, weights) = linear_field(a, b);
+        let handles = [Point::new(0.0, 5.0), Point::new(10.0, 5.0)];
+        render(
+            &Drawing::default(),
+            &handles,
+            &weights,
+            Some(&mesh),
+            options,
+        )
     }
 
     #[test]
@@ -1041,16 +1055,8 @@ mod tests {
 
     #[test]
     fn weight_map_linear_field_is_viridis_of_x_everywhere() {
-        let (mesh, weights) = linear_field(0.0, 0.1);
-        let handles = [Point::new(0.0, 5.0), Point::new(10.0, 5.0)];
         let options = WeightMapOptions::default().with_panel_width(110);
-        let (map, image) = render(
-            &Drawing::default(),
-            &handles,
-            &weights,
-            Some(&mesh),
-            &options,
-        );
+        let (map, image) = render_linear_field(0.0, 0.1, &options);
         let layout = &map.layout;
         // frame (−0.5, −0.5)–(10.5, 10.5), 10 px per unit
         assert_eq!(layout.frame, Rect::new(-0.5, -0.5, 10.5, 10.5));
@@ -1086,16 +1092,14 @@ mod tests {
 
     #[test]
     fn weight_map_iso_lines_and_mesh_lines_where_expected() {
-        let (mesh, weights) = linear_field(0.0, 0.1);
-        let handles = [Point::new(0.0, 5.0), Point::new(10.0, 5.0)];
         let base = WeightMapOptions::default()
             .with_panel_width(110)
             .with_handle(Some(0));
-        let (map, plain) = render(&Drawing::default(), &handles, &weights, Some(&mesh), &base);
+        let (map, plain) = render_linear_field(0.0, 0.1, &base);
         let iso = base.clone().with_iso_step(Some(0.1));
-        let (_, with_iso) = render(&Drawing::default(), &handles, &weights, Some(&mesh), &iso);
+        let (_, with_iso) = render_linear_field(0.0, 0.1, &iso);
         let lines = base.clone().with_mesh_lines(true);
-        let (_, with_mesh) = render(&Drawing::default(), &handles, &weights, Some(&mesh), &lines);
+        let (_, with_mesh) = render_linear_field(0.0, 0.1, &lines);
         let corner = map.layout.panels[0];
         let at = |col: u32, row: u32| {
             Point::new(
@@ -1141,16 +1145,8 @@ mod tests {
     #[test]
     fn weight_map_out_of_range_values_take_the_out_of_range_ramps() {
         // w0 = x/5 − 1/2: −0.5 at x = 0, 1.5 at x = 10 (biharmonic-like lobes, exaggerated).
-        let (mesh, weights) = linear_field(-0.5, 0.2);
-        let handles = [Point::new(0.0, 5.0), Point::new(10.0, 5.0)];
         let options = WeightMapOptions::default().with_panel_width(110);
-        let (map, image) = render(
-            &Drawing::default(),
-            &handles,
-            &weights,
-            Some(&mesh),
-            &options,
-        );
+        let (map, image) = render_linear_field(-0.5, 0.2, &options);
         let r = map.ranges[0];
         assert!(
             (r.min + 0.5).abs() < 1e-12 && (r.max - 1.5).abs() < 1e-12,
