@@ -60,14 +60,7 @@ impl Camera {
             r.map(|x| x / n)
         };
         let up = cross(back, right);
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for p in points {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
+        let (lo, hi) = splineskin_subdiv::bounds3(points);
         let centre: Point3 = std::array::from_fn(|k| 0.5 * (lo[k] + hi[k]));
         let (mut ex, mut ey) = (0.0f64, 0.0f64);
         for p in points {
