@@ -83,6 +83,14 @@ struct Row {
     /// `update_bytes_per_s / read_bytes_per_s`: how close the update is to streaming its
     /// operator at memory speed (1).
     bandwidth_ratio: f64,
+    /// Threads the update runs on ([`SplineRig::update_threads`]).
+    update_threads: usize,
+    /// Median seconds of the same updates reading the operator rounded to `f32`
+    /// ([`SplineRig::with_single_precision`]).
+    update_f32_s: f64,
+    /// Largest distance of an `f32` update's point from the `f64` one, over the timed poses,
+    /// relative to the drawing's diagonal.
+    f32_error: f64,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -106,7 +114,7 @@ pub fn run(args: Args) -> Result<()> {
             crate::read_bandwidth::PASSES
         );
         println!(
-            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10} {:>12} {:>14} {:>12} {:>12} {:>9}",
+            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10} {:>12} {:>14} {:>12} {:>12} {:>9} {:>12} {:>10}",
             "scene",
             "curves",
             "handles",
@@ -117,7 +125,9 @@ pub fn run(args: Args) -> Result<()> {
             "precompute (s)",
             "update (s)",
             "update GB/s",
-            "of memory"
+            "of memory",
+            "f32 upd (s)",
+            "f32 error"
         );
     }
     for path in &args.scenes {
@@ -201,7 +211,7 @@ fn print_row(row: &Row, json: bool) {
         );
     } else {
         println!(
-            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10.3e} {:>12.3e} {:>14.3e} {:>12.3e} {:>12.2} {:>9.2}",
+            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10.3e} {:>12.3e} {:>14.3e} {:>12.3e} {:>12.2} {:>9.2} {:>12.3e} {:>10.1e}",
             row.scene,
             row.curves,
             row.handles,
@@ -213,7 +223,9 @@ fn print_row(row: &Row, json: bool) {
             row.precompute_s,
             row.update_s,
             row.update_bytes_per_s / 1e9,
-            row.bandwidth_ratio
+            row.bandwidth_ratio,
+            row.update_f32_s,
+            row.f32_error
         );
     }
 }
@@ -288,6 +300,8 @@ fn measure(
         &setup.options,
         flexible,
     )?;
+    let update_threads = rig.update_threads();
+    let single = rig.with_single_precision(true);
     let posed = PosedDrawing::from_parts(name, setup, Deformer::Fixed(rig));
     let mut out = vec![Point::ZERO; posed.n_points()];
     let mut update_times = Vec::with_capacity(n);
@@ -296,6 +310,26 @@ fn measure(
         posed.update(pose, &mut out)?;
         update_times.push(t.elapsed().as_secs_f64());
         std::hint::black_box(&out);
+    }
+    // The same updates reading the operator rounded to f32, and how far their points land
+    // from the f64 ones (largest distance over the poses, relative to the diagonal).
+    let mut full = vec![Point::ZERO; posed.n_points()];
+    let diagonal = posed.drawing().diagonal();
+    let full_rig = posed.rig().context("a fixed rig")?.clone();
+    let posed = PosedDrawing::from_parts(name, posed.into_setup(), Deformer::Fixed(single));
+    let mut f32_times = Vec::with_capacity(n);
+    let mut f32_gap: f64 = 0.0;
+    for pose in &poses {
+        let t = Instant::now();
+        posed.update(pose, &mut out)?;
+        f32_times.push(t.elapsed().as_secs_f64());
+        full_rig.update(pose, &mut full)?;
+        let gap = out
+            .iter()
+            .zip(&full)
+            .map(|(a, b)| (*a - *b).hypot())
+            .fold(0.0, f64::max);
+        f32_gap = f32_gap.max(gap);
     }
     let posed = PosedDrawing::from_parts(
         name,
@@ -322,6 +356,9 @@ fn measure(
         update_bytes_per_s,
         read_bytes_per_s,
         bandwidth_ratio: update_bytes_per_s / read_bytes_per_s,
+        update_threads,
+        update_f32_s: median(f32_times),
+        f32_error: f32_gap / diagonal,
     })
 }
 

@@ -31,6 +31,9 @@ struct Row {
     update_bytes_per_s: f64,
     read_bytes_per_s: f64,
     bandwidth_ratio: f64,
+    update_threads: usize,
+    update_f32_s: f64,
+    f32_error: f64,
 }
 
 /// A two-curve drawing with three point handles and the weight family `family`; the mesh
@@ -107,6 +110,18 @@ fn bench_json_reports_counts_and_medians() {
         assert!(
             (row.update_bytes_per_s - rate).abs() <= 1e-12 * rate,
             "{family}"
+        );
+        // A small drawing: one thread; rounding the entries to f32 moves the points by a few
+        // units in the eighth digit of the coordinates (under 1e-6 of the diagonal here).
+        assert_eq!(row.update_threads, 1, "{family}");
+        assert!(
+            row.update_f32_s.is_finite() && row.update_f32_s > 0.0,
+            "{family}"
+        );
+        assert!(
+            row.f32_error > 0.0 && row.f32_error < 1e-6,
+            "{family}: {}",
+            row.f32_error
         );
         let ratio = row.update_bytes_per_s / row.read_bytes_per_s;
         assert!(

@@ -1,7 +1,8 @@
 //! `SplineRig::update` allocates nothing (STYLE.md: no allocation per frame): on the bundled
 //! drawing and on a tiling of it to about ten thousand curves, after a warm-up call, every
 //! pose (the scene's, the identity, general affine maps) and the rejected ones (wrong number of
-//! transforms, wrong buffer length) make no allocator request at all.
+//! transforms, wrong buffer length) make no allocator request at all; also when the tiled
+//! drawing's update is split over two threads, and when it reads single-precision entries.
 //!
 //! This file is its own test binary because its global allocator, which counts the requests
 //! of a thread while it is inside `counting_alloc::count`, applies to the whole binary.
@@ -92,6 +93,50 @@ fn update_alloc_none_on_the_bundled_drawing() {
     let mut poses = test_poses(&scene.handles);
     poses.extend(scene.poses.iter().map(|p| p.transforms.clone()));
     assert_update_allocates_nothing(&drawing, &scene.handles, &poses);
+}
+
+#[test]
+fn update_alloc_none_on_two_threads_and_in_single_precision() {
+    let drawing = read_svg(DEMO_SVG, &ImportOptions::default()).unwrap();
+    let (tiled, handles) = tile(&drawing, &demo_scene().handles, TILED_CURVES);
+    let weights = Shepard::new(&handles, ShepardOptions::default());
+    let serial = SplineRig::precompute(&tiled, &weights, &FitOptions::default()).unwrap();
+    let options = FitOptions::default().with_parallel(true);
+    let split = SplineRig::precompute(&tiled, &weights, &options).unwrap();
+    assert!(serial.update_bytes() >= 8 << 20, "large enough to split");
+    assert_eq!(serial.update_threads(), 1);
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    assert_eq!(split.update_threads(), if cores >= 2 { 2 } else { 1 });
+    let single = split.with_single_precision(true);
+    let poses = test_poses(&handles);
+    let mut expected = vec![Point::ZERO; serial.n_points()];
+    let mut out = expected.clone();
+    for rig in [&split, &single] {
+        rig.update(&poses[0], &mut out).unwrap(); // warm-up
+        for pose in &poses {
+            out.fill(Point::new(f64::NAN, f64::NAN));
+            let (result, counts) = count(|| rig.update(black_box(pose), black_box(&mut out)));
+            result.unwrap();
+            assert_eq!(counts, Counts::default(), "pose {pose:?}");
+            serial.update(pose, &mut expected).unwrap();
+            if rig.is_single_precision() {
+                // Entries rounded to f32: within 1e-6 of the drawing's diagonal here (the
+                // tiling lies within a few thousand units of the origin).
+                let gap = out
+                    .iter()
+                    .zip(&expected)
+                    .map(|(a, b)| (*a - *b).hypot())
+                    .fold(0.0, f64::max);
+                assert!(gap <= 1e-6 * tiled.diagonal(), "{gap}");
+            } else {
+                assert_eq!(
+                    out, expected,
+                    "two threads give the one-thread result exactly"
+                );
+            }
+        }
+        assert_refusals_allocate_nothing(|p, o| rig.update(p, o), &poses[0], &mut out);
+    }
 }
 
 #[test]

@@ -286,6 +286,17 @@ impl SplineRig {
         }
     }
 
+    /// Threads [`SplineRig::update`] runs on: 2 when the rig was built with
+    /// [`FitOptions::parallel`], its operator holds 8 MiB or more and the machine has two
+    /// cores; else 1.
+    pub fn update_threads(&self) -> usize {
+        if self.product.is_split() {
+            2
+        } else {
+            1
+        }
+    }
+
     /// Whether [`SplineRig::update`] reads `f32` entries ([`SplineRig::with_single_precision`]).
     pub fn is_single_precision(&self) -> bool {
         self.product.is_single_precision()
