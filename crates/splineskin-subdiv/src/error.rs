@@ -119,16 +119,3 @@ pub enum SubdivError {
         what: String,
     },
 }
-
-impl SubdivError {
-    /// [`SubdivError::BadLocation`] for `at`, saying `what` is wrong and what was expected.
-    pub(crate) fn bad_location(at: crate::limit::SurfaceLocation, what: &str) -> SubdivError {
-        SubdivError::BadLocation {
-            face: at.face,
-            subface: at.subface,
-            u: at.u,
-            v: at.v,
-            what: what.to_owned(),
-        }
-    }
-}

@@ -101,6 +101,20 @@ pub struct SurfaceLocation {
     pub v: f64,
 }
 
+impl SurfaceLocation {
+    /// [`SubdivError::BadLocation`] for this location, saying `what` is wrong and what was
+    /// expected.
+    pub(crate) fn error(self, what: &str) -> SubdivError {
+        SubdivError::BadLocation {
+            face: self.face,
+            subface: self.subface,
+            u: self.u,
+            v: self.v,
+            what: what.to_owned(),
+        }
+    }
+}
+
 /// The limit point of a cage vertex as weights over the cage vertices.
 #[derive(Clone, Debug, PartialEq)]
 pub struct VertexLimit {
@@ -380,7 +394,7 @@ impl LimitSurface {
     ) -> Result<Landing, SubdivError> {
         let h = &self.hierarchy;
         let base = h.level(0);
-        let bad = |what: &str| SubdivError::bad_location(at, what);
+        let bad = |what: &str| at.error(what);
         if at.face as usize >= base.num_faces() {
             return Err(bad(&format!("expected a face < {}", base.num_faces())));
         }

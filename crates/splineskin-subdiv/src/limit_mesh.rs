@@ -233,7 +233,7 @@ impl LimitMesh {
     /// The four vertices of the grid cell holding `at` and their bilinear weights (module
     /// documentation). Errors for a location on a hole, out of range, or outside `[0, 1]²`.
     pub fn locate(&self, at: SurfaceLocation) -> Result<[(u32, f64); 4], SubdivError> {
-        let bad = |what: &str| SubdivError::bad_location(at, what);
+        let bad = |what: &str| at.error(what);
         let first = *self
             .face_patch
             .get(at.face as usize)
