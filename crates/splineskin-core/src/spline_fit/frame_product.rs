@@ -237,8 +237,13 @@ fn points_of<T: Copy + Into<f64>>(
 /// entries), summed left to right.
 #[inline]
 fn dot6<T: Copy + Into<f64>>(a: &[T], c: &[f64; 6]) -> f64 {
-    let a: [f64; 6] = std::array::from_fn(|k| a[k].into());
-    a[0] * c[0] + a[1] * c[1] + a[2] * c[2] + a[3] * c[3] + a[4] * c[4] + a[5] * c[5]
+    let a = &a[..6];
+    a[0].into() * c[0]
+        + a[1].into() * c[1]
+        + a[2].into() * c[2]
+        + a[3].into() * c[3]
+        + a[4].into() * c[4]
+        + a[5].into() * c[5]
 }
 
 /// Locks `m`, also after a panic elsewhere (the data are plain numbers, rewritten each frame).
