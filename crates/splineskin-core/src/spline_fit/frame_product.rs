@@ -27,7 +27,7 @@ pub const PARALLEL_MIN_BYTES: usize = 8 << 20;
 pub(crate) struct FrameProduct {
     n_points: usize,
     n_handles: usize,
-    operator: Arc<[f64]>,
+    operator: Arc<Vec<f64>>,
     /// What the product reads: `operator` itself, or its entries rounded to `f32`.
     entries: Entries,
     /// Whether a helper thread may take half of the product.
@@ -35,20 +35,23 @@ pub(crate) struct FrameProduct {
     helper: Option<Box<Helper>>,
 }
 
-/// The entries the per-frame product reads.
+/// The entries the per-frame product reads. Kept in a `Vec` (behind the `Arc`) rather than an
+/// `Arc<[T]>`: a large `Vec` starts on a page boundary, where the `Arc`'s header would shift
+/// every row by 16 bytes; measured on the 10 000-curve tiling, the shifted rows streamed about
+/// a third slower at best.
 #[derive(Clone)]
 enum Entries {
-    F64(Arc<[f64]>),
+    F64(Arc<Vec<f64>>),
     /// Each entry rounded to the nearest `f32`: half the bytes to stream, products summed in
     /// `f64`.
-    F32(Arc<[f32]>),
+    F32(Arc<Vec<f32>>),
 }
 
 impl Entries {
     fn bytes(&self) -> usize {
         match self {
-            Entries::F64(e) => std::mem::size_of_val(&**e),
-            Entries::F32(e) => std::mem::size_of_val(&**e),
+            Entries::F64(e) => std::mem::size_of_val(e.as_slice()),
+            Entries::F32(e) => std::mem::size_of_val(e.as_slice()),
         }
     }
 
@@ -67,7 +70,7 @@ impl FrameProduct {
     /// the helper thread.
     pub fn new(operator: Vec<f64>, n_points: usize, n_handles: usize, parallel: bool) -> Self {
         debug_assert_eq!(operator.len(), 2 * n_points * 6 * n_handles);
-        let operator: Arc<[f64]> = operator.into();
+        let operator = Arc::new(operator);
         FrameProduct::with_entries(
             operator.clone(),
             Entries::F64(operator),
@@ -78,7 +81,7 @@ impl FrameProduct {
     }
 
     fn with_entries(
-        operator: Arc<[f64]>,
+        operator: Arc<Vec<f64>>,
         entries: Entries,
         n_points: usize,
         n_handles: usize,
@@ -105,7 +108,7 @@ impl FrameProduct {
     /// in full (`!single`); split between two threads as [`FrameProduct::new`] decides.
     pub fn with_single_precision(&self, single: bool) -> Self {
         let entries = if single {
-            Entries::F32(self.operator.iter().map(|&x| x as f32).collect())
+            Entries::F32(Arc::new(self.operator.iter().map(|&x| x as f32).collect()))
         } else {
             Entries::F64(self.operator.clone())
         };
