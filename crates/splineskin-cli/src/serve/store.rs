@@ -67,6 +67,11 @@ impl<T> Kept<T> {
         self.items.iter()
     }
 
+    /// Drops the item `id`, if kept.
+    fn remove(&mut self, id: &str) {
+        self.items.retain(|(k, _)| k != id);
+    }
+
     /// The item `id`, if kept.
     fn get(&self, id: &str) -> Option<Arc<T>> {
         self.iter()
@@ -165,6 +170,6 @@ impl Store {
 
     /// Drops rig `id` (after a solve panicked while holding it).
     pub fn remove_rig(&mut self, id: &str) {
-        self.rigs.items.retain(|(k, _)| k != id);
+        self.rigs.remove(id);
     }
 }
