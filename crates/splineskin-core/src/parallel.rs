@@ -42,3 +42,42 @@ where
             .collect()
     }
 }
+
+/// [`try_map`] over items the jobs may change: `f(k, &mut items[k])` for every `k`, in
+/// parallel when `parallel` is set; the results in the items' order, or the error of the first
+/// item (in the items' order) that failed. For jobs that each write into their own part of one
+/// output (say the disjoint slices of one buffer).
+///
+/// ```
+/// use splineskin_core::parallel::try_map_mut;
+/// let mut out = vec![0; 6];
+/// let mut parts: Vec<&mut [i32]> = out.chunks_mut(2).collect();
+/// let sums = try_map_mut(&mut parts, true, |k, part| {
+///     part.fill(k as i32 + 1);
+///     Ok::<_, ()>(part.len())
+/// });
+/// assert_eq!(sums, Ok(vec![2, 2, 2]));
+/// assert_eq!(out, [1, 1, 2, 2, 3, 3]);
+/// ```
+pub fn try_map_mut<T, U, E, F>(items: &mut [T], parallel: bool, f: F) -> Result<Vec<U>, E>
+where
+    T: Send,
+    U: Send,
+    E: Send,
+    F: Fn(usize, &mut T) -> Result<U, E> + Sync,
+{
+    if parallel {
+        let results: Vec<Result<U, E>> = items
+            .par_iter_mut()
+            .enumerate()
+            .map(|(k, item)| f(k, item))
+            .collect();
+        results.into_iter().collect()
+    } else {
+        items
+            .iter_mut()
+            .enumerate()
+            .map(|(k, item)| f(k, item))
+            .collect()
+    }
+}

@@ -7,7 +7,7 @@
 //! | [`Csc`] | square sparse matrix, compressed columns, sorted rows (full symmetric, or the upper triangle a factorisation takes) | mesh operators, weights, `defop`, `subdiv` |
 //! | [`cholesky`] | `A = L Lᵀ` of a symmetric positive definite `A`: symbolic analysis once per pattern ([`CholeskyAnalysis::new`], AMD or a given order, [`amd_order`]), numeric factorisation per set of values, allocation-free solves; [`solve_spd_in_place`] for a system solved once | weights (harmonic, BBW), `defop` (ARAP, SARAP, Laplacian eigenbasis), `subdiv` (rig, bone heat) |
 //! | [`ldlt_lu`] | symmetric indefinite (KKT) `[H Cᵀ; C 0]` of fixed pattern: `LDLᵀ` without pivoting in a given elimination order, checked by its residual, a pivoting sparse LU where that fails ([`LdltLu`]) | flexible G¹ (every step) |
-//! | [`lu`] | one sparse LU with partial pivoting, many right-hand sides ([`lu_solve_in_place`]) | the fit's KKT system |
+//! | [`lu`] | one LU with partial pivoting (dense when small, else sparse), many right-hand sides ([`lu_solve_in_place`]) | the fit's KKT system |
 //! | [`residual_within`] | `‖K z − r‖∞ ≤ τ (‖K‖ ‖z‖∞ + ‖r‖∞)` | [`ldlt_lu`] |
 //!
 //! Errors are [`LinalgError`]: the stage that failed and faer's report; each caller wraps it

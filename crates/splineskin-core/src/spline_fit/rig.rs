@@ -81,6 +81,17 @@ pub enum PoseError {
     },
 }
 
+/// The paths one system is solved for ([`SplineRig::precompute`]): a lone path, or the
+/// members of a group sharing curves, with each member's rows of the operator.
+struct Task<'a> {
+    /// The shared-curve group, if any.
+    group: Option<usize>,
+    /// Path indices, the group's order.
+    members: Vec<usize>,
+    /// `rows[k]`: the operator rows of `members[k]` (two per point, `6h` entries each).
+    rows: Vec<&'a mut [f64]>,
+}
+
 impl SplineRig {
     /// Builds the rig: validates the drawing, samples the weights at the quadrature nodes
     /// ([`SampledCurves::sample`]) and calls [`SplineRig::from_samples`].
@@ -128,8 +139,6 @@ impl SplineRig {
         let n_points = drawing.n_points();
         let n_cols = 6 * h;
         let mut operator = vec![0.0; 2 * n_points * n_cols];
-        // Paths are independent systems: solve them (in parallel if asked), then copy each
-        // path's operator rows into place.
         let mut first_curves = Vec::with_capacity(drawing.paths.len());
         let mut c = 0;
         for path in &drawing.paths {
@@ -149,72 +158,95 @@ impl SplineRig {
                 group_of[p] = Some(g);
             }
         }
-        let tasks: Vec<(usize, Option<usize>)> = (0..drawing.paths.len())
-            .filter_map(|pi| match group_of[pi] {
-                None => Some((pi, None)),
-                Some(g) if shared.groups[g][0] == pi => Some((pi, Some(g))),
-                Some(_) => None,
-            })
-            .collect();
-        let solve = |&(pi, group): &(usize, Option<usize>)| match group {
-            None => solve_path(
-                pi,
-                &drawing.paths[pi],
-                samples,
-                first_curves[pi],
-                options,
-                HandleMaps::Affine,
-            )
-            .map(|op| vec![(pi, op)]),
-            Some(g) => {
-                let members = &shared.groups[g];
-                let paths: Vec<_> = members.iter().map(|&p| &drawing.paths[p]).collect();
-                let (unknowns, n) = group_unknowns(&paths, members, &shared.copies);
-                let members: Vec<GroupMember<'_>> = members
-                    .iter()
-                    .zip(unknowns)
-                    .map(|(&p, unknowns)| GroupMember {
-                        index: p,
-                        path: &drawing.paths[p],
-                        first_curve: first_curves[p],
-                        unknowns,
-                        copies: shared
-                            .copies
-                            .iter()
-                            .filter(|c| c.copy.path == p)
-                            .map(|c| c.copy.curve)
-                            .collect(),
-                    })
-                    .collect();
-                let ops = solve_group(&members, n, samples, options, HandleMaps::Affine)?;
-                Ok(members.iter().map(|m| m.index).zip(ops).collect())
+        // Each path's rows of the operator (its points are consecutive), handed to the task
+        // that solves it: the tasks write their own rows, in parallel if asked, and the
+        // operator is never copied.
+        let mut rows_of: Vec<Option<&mut [f64]>> = Vec::with_capacity(drawing.paths.len());
+        let mut rest = operator.as_mut_slice();
+        for path in &drawing.paths {
+            let (mine, others) = rest.split_at_mut(2 * path.points.len() * n_cols);
+            rows_of.push(Some(mine));
+            rest = others;
+        }
+        let mut tasks: Vec<Task<'_>> = Vec::new();
+        for pi in 0..drawing.paths.len() {
+            let members = match group_of[pi] {
+                None => vec![pi],
+                Some(g) if shared.groups[g][0] == pi => shared.groups[g].clone(),
+                Some(_) => continue,
+            };
+            let rows = members
+                .iter()
+                .map(|&p| rows_of[p].take().expect("a path is in one task"))
+                .collect();
+            tasks.push(Task {
+                group: group_of[pi],
+                members,
+                rows,
+            });
+        }
+        let solve = |task: &Task<'_>| -> Result<Vec<PathOperator>, FitError> {
+            let pi = task.members[0];
+            match task.group {
+                None => solve_path(
+                    pi,
+                    &drawing.paths[pi],
+                    samples,
+                    first_curves[pi],
+                    options,
+                    HandleMaps::Affine,
+                )
+                .map(|op| vec![op]),
+                Some(g) => {
+                    let members = &shared.groups[g];
+                    let paths: Vec<_> = members.iter().map(|&p| &drawing.paths[p]).collect();
+                    let (unknowns, n) = group_unknowns(&paths, members, &shared.copies);
+                    let members: Vec<GroupMember<'_>> = members
+                        .iter()
+                        .zip(unknowns)
+                        .map(|(&p, unknowns)| GroupMember {
+                            index: p,
+                            path: &drawing.paths[p],
+                            first_curve: first_curves[p],
+                            unknowns,
+                            copies: shared
+                                .copies
+                                .iter()
+                                .filter(|c| c.copy.path == p)
+                                .map(|c| c.copy.curve)
+                                .collect(),
+                        })
+                        .collect();
+                    solve_group(&members, n, samples, options, HandleMaps::Affine)
+                }
             }
         };
         // An error names the first failing path whatever the threads' timing.
-        let solved: Vec<Vec<(usize, PathOperator)>> =
-            crate::parallel::try_map(&tasks, options.parallel, |_, task| solve(task))?;
-        let mut by_path: Vec<Option<PathOperator>> =
-            (0..drawing.paths.len()).map(|_| None).collect();
-        for (pi, op) in solved.into_iter().flatten() {
-            by_path[pi] = Some(op);
-        }
+        let solved: Vec<Vec<(usize, usize, bool)>> =
+            crate::parallel::try_map_mut(&mut tasks, options.parallel, |_, task| {
+                let ops = solve(task)?;
+                let mut counts = Vec::with_capacity(ops.len());
+                for ((&pi, rows), op) in task.members.iter().zip(&mut task.rows).zip(ops) {
+                    for (row, src) in drawing.paths[pi].coordinate_rows(0) {
+                        let row = &mut rows[row * n_cols..][..n_cols];
+                        for (c, v) in row.iter_mut().enumerate() {
+                            *v = op.operator[(src, c)];
+                        }
+                    }
+                    counts.push((pi, op.n_constraints, op.rank_deficient));
+                }
+                Ok(counts)
+            })?;
+        drop(tasks);
         let mut n_constraints = 0;
         let mut rank_deficient_paths = Vec::new();
-        let paths = drawing.paths.iter().zip(drawing.path_ranges());
-        for (pi, ((path, range), solved)) in paths.zip(&by_path).enumerate() {
-            let offset = range.start;
-            let solved = solved.as_ref().expect("every path is solved");
-            n_constraints += solved.n_constraints;
-            if solved.rank_deficient {
+        for (pi, constraints, rank_deficient) in solved.into_iter().flatten() {
+            n_constraints += constraints;
+            if rank_deficient {
                 rank_deficient_paths.push(pi);
             }
-            for (row, src) in path.coordinate_rows(offset) {
-                let row = &mut operator[row * n_cols..][..n_cols];
-                for (c, v) in row.iter_mut().enumerate() {
-                    *v = solved.operator[(src, c)];
-                }
-            }
         }
+        rank_deficient_paths.sort_unstable();
         let shared_groups = shared.groups.len();
         Ok(SplineRig {
             product: FrameProduct::new(operator, n_points, h, options.parallel),

@@ -1,5 +1,5 @@
-//! The fit system of one path: assembly of the KKT matrix and right-hand sides, one sparse LU
-//! factorisation (`crate::linalg::lu_solve_in_place`), and the solve for all `6h` right-hand
+//! The fit system of one path: assembly of the KKT matrix and right-hand sides, one LU
+//! factorisation (`crate::linalg::lu_solve_in_place`: dense for small paths, sparse otherwise), and the solve for all `6h` right-hand
 //! sides.
 //!
 //! The energy of path `P` (Liu et al. 2014 §4; DESIGN.md §1) over its unknown chain points `x`
@@ -47,7 +47,7 @@
 //! constraint rows' (which are divided by their largest tangent length): the minimiser is the
 //! same, and the KKT matrix's conditioning no longer depends on the drawing's size.
 
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::Triplet;
 use faer::Mat;
 use kurbo::{Point, Vec2};
 
@@ -232,18 +232,12 @@ pub(crate) fn solve_group(
         triplets.push(Triplet::new(n_x + r, col, v));
         triplets.push(Triplet::new(col, n_x + r, v));
     }
-    let kkt = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets).map_err(|e| {
-        FitError::Solver {
-            path: path_index,
-            detail: format!("assembling the system: {e:?}"),
-        }
-    })?;
-
-    let rank_deficient = options.check_rank && is_rank_deficient(&kkt);
-    lu_solve_in_place(&kkt, rhs.as_mut()).map_err(|e| FitError::Solver {
+    let solver_error = |e: crate::linalg::LinalgError| FitError::Solver {
         path: path_index,
         detail: e.to_string(),
-    })?;
+    };
+    let rank_deficient = options.check_rank && is_rank_deficient(n, &triplets);
+    lu_solve_in_place(n, &triplets, rhs.as_mut()).map_err(solver_error)?;
 
     let mut operator = rhs.subrows(0, n_x).to_owned();
     // The group's rest points, about the centre (one per unknown).
@@ -652,13 +646,15 @@ fn uncentre(operator: &mut Mat<f64>, o: Vec2) {
 /// Whether the (small) sparse matrix `k` is numerically singular: smallest singular value below
 /// [`RANK_TOLERANCE`] times the largest. Matrices larger than [`MAX_RANK_CHECK_SIZE`] are not
 /// checked (reported as full rank).
-fn is_rank_deficient(k: &SparseColMat<usize, f64>) -> bool {
-    let n = k.nrows();
+fn is_rank_deficient(n: usize, entries: &[Triplet<usize, usize, f64>]) -> bool {
     if n > MAX_RANK_CHECK_SIZE {
         tracing::warn!("rank check skipped for a system of size {n}");
         return false;
     }
-    let dense = k.to_dense();
+    // Entries out of range are reported by the solve that follows.
+    let Ok(dense) = crate::linalg::lu::dense(n, entries) else {
+        return false;
+    };
     match dense.singular_values() {
         Ok(s) => {
             let max = s.iter().cloned().fold(0.0, f64::max);

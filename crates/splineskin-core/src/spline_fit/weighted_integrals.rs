@@ -27,12 +27,16 @@ impl CurveNodes<'_> {
         let n_handles = self.n_handles;
         out.clear();
         out.resize(n_handles, [[0.0; 4]; 4]);
+        // The matrices are symmetric: accumulate the upper triangle (10 of 16 entries), then
+        // mirror it.
         for (q, (&t, &w)) in self.t.iter().zip(self.omega).enumerate() {
             let b = bezier::bernstein(t);
-            let mut bb = [[0.0; 4]; 4];
+            let mut bb = [0.0; 10];
+            let mut e = 0;
             for k in 0..4 {
-                for l in 0..4 {
-                    bb[k][l] = w * b[k] * b[l];
+                for l in k..4 {
+                    bb[e] = w * b[k] * b[l];
+                    e += 1;
                 }
             }
             for (i, m) in out.iter_mut().enumerate() {
@@ -40,10 +44,19 @@ impl CurveNodes<'_> {
                 if wi == 0.0 {
                     continue;
                 }
+                let mut e = 0;
                 for k in 0..4 {
-                    for l in 0..4 {
-                        m[k][l] += wi * bb[k][l];
+                    for l in k..4 {
+                        m[k][l] += wi * bb[e];
+                        e += 1;
                     }
+                }
+            }
+        }
+        for m in out.iter_mut() {
+            for k in 0..4 {
+                for l in 0..k {
+                    m[k][l] = m[l][k];
                 }
             }
         }
