@@ -11,6 +11,11 @@
 //!   animations of their transform (orient) through each frame's element maps
 //!   ([`splineskin::drawing::svg_animate::write_animated_svg_following`]); written atomically
 //!   (temporary file, rename).
+//! * `-o NAME.json`: a Lottie animation ([`splineskin::drawing::lottie`]): one path shape per
+//!   path, keyframed only where the player's linear interpolation would stray from the
+//!   deformation by more than `--lottie-tolerance` of the drawing's diagonal; paint from the
+//!   document, and a warning for each thing Lottie cannot express. Prints the keyframe count
+//!   and the file's size against keeping every frame.
 //! * `-o DIR` (any other name): `DIR/frame-0000.svg`, … and with `--png` also
 //!   `frame-0000.png`, …. The frames are written into a temporary folder beside `DIR`, which is
 //!   then renamed to `DIR`. An existing `DIR` is replaced only if it holds nothing but
@@ -32,6 +37,7 @@ use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use splineskin::animation::deform_frames;
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
+use splineskin::drawing::lottie::{write_lottie, LottieOptions};
 use splineskin::drawing::svg_animate::{write_animated_svg_following, write_animated_svg_view_box};
 use splineskin::drawing::svg_out::{write_svg_following, write_svg_view_box, ViewBoxRule};
 use splineskin::scene::{Compat, PosedDrawing};
@@ -46,8 +52,9 @@ pub struct Args {
     /// given by the flags below: it plays rest, pose, rest over 2 s (see --duration).
     #[arg(value_name = "SCENE|SVG")]
     scene: PathBuf,
-    /// `NAME.svg`: an animated SVG (SMIL, plays in browsers). Any other name: a folder of
-    /// numbered frames `frame-0000.svg`, … (replaced if it holds only an earlier run's frames).
+    /// `NAME.svg`: an animated SVG (SMIL, plays in browsers). `NAME.json`: a Lottie animation
+    /// (path keyframes; plays in Lottie players). Any other name: a folder of numbered frames
+    /// `frame-0000.svg`, … (replaced if it holds only an earlier run's frames).
     #[arg(short, long)]
     output: PathBuf,
     /// Also write `frame-NNNN.png` into the frames folder.
@@ -77,10 +84,16 @@ pub struct Args {
     viewbox: ViewBoxArg,
     #[command(flatten)]
     text: crate::drawing_input::TextArgs,
+    /// Lottie output: the largest distance allowed between the deformation and the player's
+    /// interpolation of the written keyframes, as a fraction of the drawing's bounding-box
+    /// diagonal (0 keeps every frame).
+    #[arg(long, default_value_t = splineskin::drawing::lottie::DEFAULT_TOLERANCE)]
+    lottie_tolerance: f64,
 }
 
 pub fn run(args: Args) -> Result<()> {
     let as_svg = is_svg_name(&args.output);
+    let as_lottie = has_extension(&args.output, "json");
     if let Some(ext) = args
         .output
         .extension()
@@ -88,8 +101,24 @@ pub fn run(args: Args) -> Result<()> {
         .filter(|e| FILE_EXTENSIONS.iter().any(|f| e.eq_ignore_ascii_case(f)))
     {
         bail!(
-            "{}: an animation is written as an animated .svg file or as a folder of frames              (expected a name ending in .svg, or a folder name without a .{ext} extension)",
+            "{}: an animation is written as an animated .svg file, a Lottie .json file or a \
+             folder of frames (expected a name ending in .svg or .json, or a folder name without \
+             a .{ext} extension)",
             args.output.display()
+        );
+    }
+    if as_lottie && (args.png || args.viewbox == ViewBoxArg::Fit) {
+        bail!(
+            "{}: --png and --viewbox fit are for SVG output; a Lottie animation keeps the \
+             drawing's viewBox",
+            args.output.display()
+        );
+    }
+    if !(args.lottie_tolerance.is_finite() && args.lottie_tolerance >= 0.0) {
+        bail!(
+            "--lottie-tolerance {}: expected a finite number, 0 or more (a fraction of the \
+             drawing's diagonal)",
+            args.lottie_tolerance
         );
     }
     if as_svg && args.png {
@@ -173,7 +202,54 @@ pub fn run(args: Args) -> Result<()> {
         crate::deform::element_maps(setup, &pose, &FollowOptions::default())
             .with_context(|| format!("{scene_name}: frame {f}"))
     };
-    if as_svg {
+    if as_lottie {
+        let bytes = times.len() as f64 * n_points as f64 * BYTES_PER_ANIMATED_POINT;
+        if bytes > MAX_ANIMATED_SVG_BYTES as f64 {
+            bail!(
+                "{}: {} frames of {n_points} points are too many to hold at once for a Lottie \
+                 file (expected fewer frames: lower --fps or --duration)",
+                args.output.display(),
+                times.len()
+            );
+        }
+        let frames = deform_chunk(0, &times)?;
+        let name = args
+            .scene
+            .file_stem()
+            .map_or("splineskin".into(), |s| s.to_string_lossy().into_owned());
+        let options = LottieOptions::default()
+            .with_tolerance(args.lottie_tolerance)
+            .with_name(name);
+        let fps = animation.fps();
+        // Gradients follow each frame's element maps, as in the animated SVG.
+        let maps: Option<Vec<ElementMaps>> = (0..times.len())
+            .map(&maps_at)
+            .collect::<Result<Vec<_>>>()?
+            .into_iter()
+            .collect();
+        let write = |options: &LottieOptions| {
+            write_lottie(drawing, &frames, &times, fps, maps.as_deref(), options)
+                .with_context(|| format!("{scene_name}: writing the Lottie animation"))
+        };
+        let lottie = write(&options)?;
+        let every = write(&options.clone().with_tolerance(0.0))?;
+        for w in &lottie.warnings {
+            eprintln!("warning: {}: {w}", args.output.display());
+        }
+        write_atomic(&args.output, lottie.json.as_bytes())?;
+        eprintln!(
+            "{}: {} path keyframes of {} ({} paths × {} frames) within {} of the diagonal; \
+             {} bytes ({} with every frame)",
+            args.output.display(),
+            lottie.keyframes,
+            lottie.every_frame_keyframes,
+            drawing.paths.len(),
+            times.len(),
+            args.lottie_tolerance,
+            lottie.json.len(),
+            every.json.len()
+        );
+    } else if as_svg {
         // Every frame is in the one file: refuse what would not fit in memory.
         let bytes = times.len() as f64 * n_points as f64 * BYTES_PER_ANIMATED_POINT;
         if bytes > MAX_ANIMATED_SVG_BYTES as f64 {
@@ -260,9 +336,7 @@ fn write_synced(path: &Path, bytes: &[u8]) -> Result<()> {
 
 /// Extensions of single files that are not an animated SVG: an output named so is refused
 /// rather than becoming a frames folder of that name.
-const FILE_EXTENSIONS: [&str; 9] = [
-    "png", "json", "jpg", "jpeg", "gif", "webp", "pdf", "html", "mp4",
-];
+const FILE_EXTENSIONS: [&str; 8] = ["png", "jpg", "jpeg", "gif", "webp", "pdf", "html", "mp4"];
 
 /// Whether `path` names an `.svg` file (otherwise it names a frames folder).
 fn is_svg_name(path: &Path) -> bool {

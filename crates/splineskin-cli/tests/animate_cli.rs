@@ -72,6 +72,52 @@ fn listing(dir: &Path) -> Vec<String> {
 }
 
 #[test]
+fn animate_cli_writes_lottie() {
+    let dir = folder("lottie", &scene(GOOD));
+    let out = animate(&dir, &["scene.json", "-o", "anim.json"]);
+    ok(&out);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("anim.json")).unwrap()).unwrap();
+    // 1 s at 10 fps: frames 0..=10, a shape per path (the curve, the rect).
+    assert_eq!(
+        (doc["fr"].as_f64(), doc["op"].as_f64()),
+        (Some(10.0), Some(10.0))
+    );
+    let layer = &doc["layers"][0];
+    assert_eq!(layer["ty"], 4);
+    let groups = layer["shapes"].as_array().unwrap();
+    assert_eq!(groups.len(), 2, "{groups:?}");
+    // The rect is on top, so first; both are filled black (SVG's default paint).
+    for g in groups {
+        let items = g["it"].as_array().unwrap();
+        assert_eq!(items[0]["ty"], "sh");
+        assert_eq!(items[0]["ks"]["a"], 1, "the shapes move");
+        assert_eq!(items[1]["ty"], "fl");
+        assert_eq!(items[1]["c"]["k"], serde_json::json!([0.0, 0.0, 0.0, 1.0]));
+    }
+    assert!(
+        stderr.contains("path keyframes of 22 (2 paths × 11 frames) within 0.001"),
+        "{stderr}"
+    );
+    // Every frame kept with tolerance 0, and bad tolerances refused.
+    let out = animate(&dir, &words("scene.json -o all.json --lottie-tolerance 0"));
+    ok(&out);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("22 path keyframes of 22"));
+    for bad in ["--lottie-tolerance=-1", "--lottie-tolerance=nan"] {
+        let out = animate(&dir, &["scene.json", "-o", "bad.json", bad]);
+        assert!(!out.status.success());
+        assert!(String::from_utf8_lossy(&out.stderr).contains("--lottie-tolerance"));
+    }
+    let out = animate(&dir, &words("scene.json -o bad.json --png"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("are for SVG output"));
+    assert_eq!(
+        listing(&dir),
+        ["all.json", "anim.json", "drawing.svg", "scene.json"]
+    );
+}
+
+#[test]
 fn animate_cli_writes_an_animated_svg() {
     let dir = folder("svg", &scene(GOOD));
     let out = animate(&dir, &["scene.json", "-o", "out.svg"]);
@@ -204,7 +250,7 @@ fn animate_cli_errors_name_scene_and_element_and_write_nothing() {
     ];
     for (name, text, want) in cases {
         let dir = folder(name, &text);
-        for target in ["out.svg", "frames"] {
+        for target in ["out.svg", "out.json", "frames"] {
             let out = animate(&dir, &["scene.json", "-o", target]);
             let stderr = String::from_utf8_lossy(&out.stderr);
             assert!(!out.status.success(), "{name}");
@@ -222,7 +268,7 @@ fn animate_cli_errors_name_scene_and_element_and_write_nothing() {
     );
     assert_eq!(listing(&dir), ["drawing.svg", "scene.json"]);
     // A single-file name that is not .svg is refused, not made into a folder of that name.
-    for target in ["anim.png", "anim.JSON"] {
+    for target in ["anim.png", "anim.GIF"] {
         let out = animate(&dir, &["scene.json", "-o", target]);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{target}");

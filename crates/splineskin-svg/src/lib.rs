@@ -34,6 +34,7 @@ pub mod authors_svg;
 pub mod document;
 pub mod follow;
 pub mod fonts;
+pub mod lottie;
 pub mod render;
 mod rewrite;
 pub mod smil;

@@ -363,21 +363,11 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
     }
     validate_document(&doc, origin)?;
 
-    // Give every geometry element an id usvg keeps, expand `use`, and wrap the root's content
-    // in a group of our own so that the root transform can be told apart.
-    let prefix = unique_prefix(&doc);
-    let wrapper_id = format!("{prefix}root");
-    let mut policy = PreparePolicy::new(&doc, &prefix);
-    let prepared = crate::rewrite::rewrite_document(
-        text,
-        &doc,
-        &mut policy,
-        origin,
-        Some(&wrapper_id),
-        root_viewport(root),
-    )?;
-    let ids = policy.ids;
-
+    let Prepared {
+        text: prepared,
+        ids,
+        wrapper_id,
+    } = prepare(text, &doc, origin)?;
     let usvg_error = |e: usvg::Error| SvgError::Usvg {
         file: origin.to_string(),
         message: e.to_string(),
@@ -640,6 +630,58 @@ fn root_viewport(root: roxmltree::Node) -> Size {
             .unwrap_or(100.0)
     };
     Size::new(length("width"), length("height"))
+}
+
+/// A document made ready for usvg: every geometry element given an id usvg keeps (`ids` maps
+/// each back to its element), every `use` expanded, and the root's content wrapped in a group
+/// of id `wrapper_id`, so that the root transform can be told apart.
+pub(crate) struct Prepared {
+    /// The rewritten text.
+    pub text: String,
+    /// usvg path id → the element (and `use` chain) it comes from.
+    pub ids: HashMap<String, ElementKey>,
+    /// Id of the group wrapping the root's content.
+    pub wrapper_id: String,
+}
+
+/// Prepares `text` (parsed as `doc`, already validated) for usvg ([`Prepared`]).
+pub(crate) fn prepare(
+    text: &str,
+    doc: &roxmltree::Document,
+    origin: &str,
+) -> Result<Prepared, SvgError> {
+    let prefix = unique_prefix(doc);
+    let wrapper_id = format!("{prefix}root");
+    let mut policy = PreparePolicy::new(doc, &prefix);
+    let text = crate::rewrite::rewrite_document(
+        text,
+        doc,
+        &mut policy,
+        origin,
+        Some(&wrapper_id),
+        root_viewport(doc.root_element()),
+    )?;
+    Ok(Prepared {
+        text,
+        ids: policy.ids,
+        wrapper_id,
+    })
+}
+
+/// The usvg tree of a drawing's source document, as the import read it ([`prepare`] and
+/// usvg with the import's options), with the map from usvg path ids to elements and the id of
+/// the group wrapping the root's content: for exporters that need the resolved paint of each
+/// imported element.
+pub(crate) fn source_tree(source: &SvgSource) -> Result<(usvg::Tree, Prepared), SvgError> {
+    let origin = source.origin.as_str();
+    let doc = parse_xml(&source.text, origin)?;
+    let prepared = prepare(&source.text, &doc, origin)?;
+    let tree =
+        usvg::Tree::from_str(&prepared.text, &usvg_options()).map_err(|e| SvgError::Usvg {
+            file: origin.to_string(),
+            message: e.to_string(),
+        })?;
+    Ok((tree, prepared))
 }
 
 /// Import policy for the rewriter: keeps first-occurrence ids of direct geometry elements,

@@ -1,0 +1,557 @@
+//! Lottie export: a deformed drawing's frames as a Lottie animation whose shapes are the same
+//! cubic paths, keyframed.
+//!
+//! The deformation moves control points and never changes a path's structure, so every frame
+//! of a path is the same list of cubics: one Lottie path shape (`"ty": "sh"`) per path of the
+//! drawing, its vertices `v` the chain's on-curve points and its tangents `i`/`o` the
+//! neighbouring control points relative to them:
+//!
+//! ```text
+//! chain  p₀ c₁ c₂ p₁ c₃ c₄ p₂ …        v = [p₀, p₁, p₂, …]
+//!                                      o[k] = c(after p_k) − p_k,   i[k] = c(before p_k) − p_k
+//! ```
+//!
+//! (a closed chain drops its repeated last point and sets `"c": true`; the tangents at an open
+//! chain's ends are zero). Players interpolate a shape's keyframes linearly, point by point
+//! (the keyframes here have linear easing), so a keyframe is needed only where that
+//! interpolation would stray from the deformation: [`keyframes`] keeps, per path, the fewest
+//! frames for which every frame in between is within the tolerance of the interpolation of its
+//! neighbouring kept frames. Since a Bézier curve is the convex combination of its control
+//! points, a curve is then within the tolerance of the deformed one at those frames too.
+//!
+//! Paint comes from the source document as usvg resolved it ([`crate::svg_in`]): solid and
+//! gradient fills and strokes (width, caps, joins, miter limit, dashes, opacity, fill rule),
+//! group opacity as nested groups. Everything is written in the root's user space (the
+//! drawing's coordinates), with one layer transform for the root viewBox. What Lottie cannot
+//! express, or this export does not write yet, is named in [`LottieExport::warnings`]:
+//! clip paths, masks, filters, patterns, text and images, non-pad gradient spreads, strokes
+//! and gradients under a non-uniform transform (approximated), and user-space gradients
+//! (written at rest; the SVG export moves them with the art).
+//!
+//! The JSON is built with `serde_json` values rather than `velato`'s schema types: we write
+//! a dozen object kinds, velato's types have no defaults (every optional field spelled out at
+//! each use), and the output is checked against the Lottie community's JSON schema by the
+//! browser tests, which also play it in lottie-web.
+
+mod keyframes;
+mod paint;
+
+use kurbo::{Point, Rect};
+use serde_json::{json, Value};
+
+use crate::follow::ElementMaps;
+use crate::svg_in::source_tree;
+use crate::SvgError;
+use splineskin_core::drawing::source::{ElementKey, SvgSource};
+use splineskin_core::drawing::{Drawing, Path, PathRole};
+
+pub use keyframes::keyframes;
+
+/// Default [`LottieOptions::tolerance`]: 1e-3 of the drawing's bounding-box diagonal.
+pub const DEFAULT_TOLERANCE: f64 = 1e-3;
+
+/// Options of [`write_lottie`].
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct LottieOptions {
+    /// Largest distance between the deformation at a frame and the player's linear
+    /// interpolation of the kept keyframes, as a fraction of the drawing's bounding-box
+    /// diagonal. `0` keeps every frame. Default: [`DEFAULT_TOLERANCE`].
+    pub tolerance: f64,
+    /// The animation's name (`"nm"`).
+    pub name: String,
+}
+
+impl Default for LottieOptions {
+    fn default() -> Self {
+        LottieOptions {
+            tolerance: DEFAULT_TOLERANCE,
+            name: "splineskin".into(),
+        }
+    }
+}
+
+impl LottieOptions {
+    /// Sets [`LottieOptions::tolerance`].
+    pub fn with_tolerance(mut self, tolerance: f64) -> Self {
+        self.tolerance = tolerance;
+        self
+    }
+    /// Sets [`LottieOptions::name`].
+    pub fn with_name(mut self, name: impl Into<String>) -> Self {
+        self.name = name.into();
+        self
+    }
+}
+
+/// A written Lottie animation.
+#[derive(Clone, Debug)]
+pub struct LottieExport {
+    /// The Lottie JSON document.
+    pub json: String,
+    /// What the document does not express (one line each, naming the element).
+    pub warnings: Vec<String>,
+    /// Path keyframes written, over all paths.
+    pub keyframes: usize,
+    /// Path keyframes if every frame were kept (paths × frames).
+    pub every_frame_keyframes: usize,
+}
+
+/// Why an animation could not be written as Lottie.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum LottieError {
+    /// The frames, their rate or the options are not valid (the message says what was
+    /// expected).
+    #[error("cannot write Lottie: {what}")]
+    Invalid {
+        /// What is wrong.
+        what: String,
+    },
+    /// The drawing has no SVG document behind it, so its paint is unknown.
+    #[error("cannot write Lottie: the drawing has no SVG document to take its paint from")]
+    NoSource,
+    /// The source document could not be read again.
+    #[error(transparent)]
+    Svg(#[from] Box<SvgError>),
+}
+
+/// Writes `drawing` animated through `frames` (each [`Drawing::n_points`] points laid out like
+/// [`Drawing::flat_points`]) at `times` (seconds, from 0, increasing), as a Lottie document
+/// (module documentation) of frame rate `fps`: frame `k` at Lottie frame `times[k] · fps`, the
+/// animation ending at the last.
+///
+/// Errors: [`LottieError::Invalid`] for fewer than two frames, times not one per frame, not
+/// starting at 0 or not increasing, a frame of the wrong length or with a non-finite point, a
+/// frame rate that is not positive and finite, or a tolerance that is negative or not finite; [`LottieError::NoSource`] for a drawing without its SVG
+/// document.
+///
+/// ```
+/// use kurbo::Vec2;
+/// use splineskin_svg::lottie::{write_lottie, LottieOptions};
+/// use splineskin_svg::svg_in::{read_svg, ImportOptions};
+/// let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <path d="M1 1 C2 3 4 3 5 1" fill="#f80" stroke="#000"/></svg>"##;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let rest = drawing.flat_points();
+/// // A uniform motion: the two ends are the only keyframes needed.
+/// let frames: Vec<Vec<_>> = (0..5)
+///     .map(|k| rest.iter().map(|&p| p + Vec2::new(0.5 * k as f64, 0.0)).collect())
+///     .collect();
+/// let times = [0.0, 0.1, 0.2, 0.3, 0.4];
+/// let out = write_lottie(&drawing, &frames, &times, 10.0, None, &LottieOptions::default())?;
+/// assert_eq!((out.keyframes, out.every_frame_keyframes), (2, 5));
+/// let doc: serde_json::Value = serde_json::from_str(&out.json).unwrap();
+/// assert_eq!(doc["fr"], 10.0);
+/// assert_eq!(doc["op"], 4.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn write_lottie(
+    drawing: &Drawing,
+    frames: &[Vec<Point>],
+    times: &[f64],
+    fps: f64,
+    maps: Option<&[ElementMaps]>,
+    options: &LottieOptions,
+) -> Result<LottieExport, LottieError> {
+    check(drawing, frames, times, fps, options)?;
+    if maps.is_some_and(|m| m.len() != frames.len()) {
+        return Err(LottieError::Invalid {
+            what: format!(
+                "{} element maps for {} frames (expected one per frame)",
+                maps.map_or(0, |m| m.len()),
+                frames.len()
+            ),
+        });
+    }
+    let source = drawing.source.as_deref().ok_or(LottieError::NoSource)?;
+    let tolerance = options.tolerance * drawing.diagonal();
+    let offsets: Vec<usize> = drawing.path_ranges().map(|r| r.start).collect();
+    let mut writer = Writer {
+        drawing,
+        source,
+        frames,
+        frame_numbers: times.iter().map(|t| t * fps).collect(),
+        maps,
+        offsets,
+        tolerance,
+        warnings: Vec::new(),
+        keyframes: 0,
+    };
+    let (tree, prepared) = source_tree(source).map_err(Box::new)?;
+    let element_of_key: std::collections::HashMap<&ElementKey, usize> = source
+        .elements
+        .iter()
+        .enumerate()
+        .map(|(i, e)| (&e.key, i))
+        .collect();
+    let mut shapes = Vec::new();
+    if let Some(usvg::Node::Group(wrapper)) = tree.node_by_id(&prepared.wrapper_id) {
+        let lookup = |id: &str| {
+            prepared
+                .ids
+                .get(id)
+                .and_then(|key| element_of_key.get(key))
+                .copied()
+        };
+        writer.group_items(wrapper, &lookup, &mut shapes);
+    }
+    let last_frame = times[times.len() - 1] * fps;
+    let (w, h, layer_transform) = root_transform(source);
+    let document = json!({
+        "v": "5.12.0",
+        "nm": options.name,
+        "fr": fps,
+        "ip": 0.0,
+        "op": last_frame,
+        "w": w,
+        "h": h,
+        "ddd": 0,
+        "assets": [],
+        "layers": [{
+            "ddd": 0,
+            "ind": 1,
+            "ty": 4,
+            "nm": options.name,
+            "sr": 1,
+            "ks": layer_transform,
+            "ao": 0,
+            "shapes": shapes,
+            "ip": 0.0,
+            "op": last_frame,
+            "st": 0.0,
+            "bm": 0
+        }]
+    });
+    let json = serde_json::to_string(&document).map_err(|e| LottieError::Invalid {
+        what: format!("serialising the document: {e}"),
+    })?;
+    Ok(LottieExport {
+        json,
+        warnings: writer.warnings,
+        keyframes: writer.keyframes,
+        every_frame_keyframes: drawing.paths.len() * frames.len(),
+    })
+}
+
+fn check(
+    drawing: &Drawing,
+    frames: &[Vec<Point>],
+    times: &[f64],
+    fps: f64,
+    options: &LottieOptions,
+) -> Result<(), LottieError> {
+    let invalid = |what: String| Err(LottieError::Invalid { what });
+    if frames.len() < 2 {
+        return invalid(format!(
+            "{} frame(s) given (expected at least two)",
+            frames.len()
+        ));
+    }
+    if times.len() != frames.len()
+        || times[0] != 0.0
+        || times.windows(2).any(|w| !(w[1] > w[0] && w[1].is_finite()))
+    {
+        return invalid(format!(
+            "{} times for {} frames (expected one per frame, from 0, increasing)",
+            times.len(),
+            frames.len()
+        ));
+    }
+    if !(fps.is_finite() && fps > 0.0) {
+        return invalid(format!(
+            "frame rate {fps} (expected a positive finite number)"
+        ));
+    }
+    if !(options.tolerance.is_finite() && options.tolerance >= 0.0) {
+        return invalid(format!(
+            "tolerance {} (expected a finite number, 0 or more)",
+            options.tolerance
+        ));
+    }
+    let n = drawing.n_points();
+    for (f, frame) in frames.iter().enumerate() {
+        if frame.len() != n {
+            return invalid(format!(
+                "frame {f} has {} points (expected {n}, the drawing's)",
+                frame.len()
+            ));
+        }
+        if let Some(k) = frame
+            .iter()
+            .position(|p| !(p.x.is_finite() && p.y.is_finite()))
+        {
+            return invalid(format!("frame {f}, point {k} is not finite"));
+        }
+    }
+    Ok(())
+}
+
+/// The document's size in whole pixels and the layer transform mapping the root viewBox onto
+/// it (`preserveAspectRatio` `xMidYMid meet`, SVG's default).
+fn root_transform(source: &SvgSource) -> (f64, f64, Value) {
+    let w = source.size.width.round().max(1.0);
+    let h = source.size.height.round().max(1.0);
+    let vb: Rect = source.view_box;
+    let s = if vb.width() > 0.0 && vb.height() > 0.0 {
+        (w / vb.width()).min(h / vb.height())
+    } else {
+        1.0
+    };
+    let tx = (w - vb.width() * s) / 2.0 - vb.x0 * s;
+    let ty = (h - vb.height() * s) / 2.0 - vb.y0 * s;
+    let transform = json!({
+        "a": {"a": 0, "k": [0.0, 0.0, 0.0]},
+        "p": {"a": 0, "k": [tx, ty, 0.0]},
+        "s": {"a": 0, "k": [100.0 * s, 100.0 * s, 100.0]},
+        "r": {"a": 0, "k": 0.0},
+        "o": {"a": 0, "k": 100.0}
+    });
+    (w, h, transform)
+}
+
+/// State of one export.
+struct Writer<'a> {
+    drawing: &'a Drawing,
+    source: &'a SvgSource,
+    frames: &'a [Vec<Point>],
+    /// Each frame's Lottie frame number (time × frame rate).
+    frame_numbers: Vec<f64>,
+    /// Each frame's element maps, which gradients follow.
+    maps: Option<&'a [ElementMaps]>,
+    /// First point of each path in a frame.
+    offsets: Vec<usize>,
+    /// In drawing units.
+    tolerance: f64,
+    warnings: Vec<String>,
+    keyframes: usize,
+}
+
+impl Writer<'_> {
+    /// The Lottie items of a usvg group's children, topmost first (Lottie lists what is drawn
+    /// last first; SVG the reverse).
+    fn group_items(
+        &mut self,
+        group: &usvg::Group,
+        lookup: &dyn Fn(&str) -> Option<usize>,
+        out: &mut Vec<Value>,
+    ) {
+        for child in group.children().iter().rev() {
+            match child {
+                usvg::Node::Group(g) => {
+                    let label = if g.id().is_empty() { "a group" } else { g.id() };
+                    if g.clip_path().is_some() {
+                        self.warn(format!(
+                            "{label}: its clip path is not written (the content is drawn unclipped)"
+                        ));
+                    }
+                    if g.mask().is_some() {
+                        self.warn(format!(
+                            "{label}: its mask is not written (the content is drawn unmasked)"
+                        ));
+                    }
+                    if !g.filters().is_empty() {
+                        self.warn(format!("{label}: its filters are not written"));
+                    }
+                    let opacity = f64::from(g.opacity().get());
+                    if opacity < 1.0 {
+                        let mut items = Vec::new();
+                        self.group_items(g, lookup, &mut items);
+                        items.push(group_transform(opacity));
+                        out.push(json!({"ty": "gr", "nm": label, "it": items}));
+                    } else {
+                        self.group_items(g, lookup, out);
+                    }
+                }
+                usvg::Node::Path(p) => {
+                    if let Some(element) = lookup(p.id()) {
+                        if let Some(item) = self.path_group(p, element) {
+                            out.push(item);
+                        }
+                    }
+                }
+                usvg::Node::Text(t) => self.warn(format!(
+                    "text {}: not written (read the drawing with its text as outlines to animate it)",
+                    t.id()
+                )),
+                usvg::Node::Image(i) => {
+                    self.warn(format!("image {}: not written", i.id()));
+                }
+            }
+        }
+    }
+
+    /// The group of one imported element: its paths keyframed, then its stroke and fill.
+    fn path_group(&mut self, p: &usvg::Path, element: usize) -> Option<Value> {
+        let e = &self.source.elements[element];
+        if e.role != PathRole::Visible || !p.is_visible() {
+            return None;
+        }
+        let label = e.label.clone();
+        let map = e.local_to_root;
+        let mut items = Vec::new();
+        for pi in e.paths.clone() {
+            let closed_in_source =
+                self.drawing.paths[pi].closed && !self.source.closed_without_z[pi];
+            let shape = self.path_shape(pi, closed_in_source);
+            items.push(shape);
+        }
+        let mut stroke = p
+            .stroke()
+            .and_then(|s| paint::stroke(s, map, &label, &mut self.warnings));
+        let mut fill = if e.zero_area_fill {
+            None
+        } else {
+            p.fill()
+                .and_then(|f| paint::fill(f, map, &label, &mut self.warnings))
+        };
+        for style in [&mut stroke, &mut fill].into_iter().flatten() {
+            self.follow_gradient(style, element);
+        }
+        // Items listed first are drawn on top: SVG's default paint order puts the stroke over
+        // the fill.
+        let styles = match p.paint_order() {
+            usvg::PaintOrder::FillAndStroke => [stroke, fill],
+            usvg::PaintOrder::StrokeAndFill => [fill, stroke],
+        };
+        items.extend(styles.into_iter().flatten());
+        items.push(group_transform(1.0));
+        Some(json!({"ty": "gr", "nm": label, "it": items}))
+    }
+
+    /// The path shape of drawing path `pi`, keyframed where needed.
+    fn path_shape(&mut self, pi: usize, closed: bool) -> Value {
+        let path = &self.drawing.paths[pi];
+        let range = self.offsets[pi]..self.offsets[pi] + path.points.len();
+        let per_frame: Vec<&[Point]> = self.frames.iter().map(|f| &f[range.clone()]).collect();
+        let kept = keyframes(&per_frame, &self.frame_numbers, self.tolerance);
+        self.keyframes += kept.len();
+        let value = if kept.len() == 1 {
+            json!({"a": 0, "k": bezier(path, per_frame[0], closed)})
+        } else {
+            let mut list: Vec<Value> = kept
+                .windows(2)
+                .map(|w| {
+                    json!({
+                        "t": self.frame_numbers[w[0]],
+                        "s": [bezier(path, per_frame[w[0]], closed)],
+                        "i": {"x": 1.0, "y": 1.0},
+                        "o": {"x": 0.0, "y": 0.0}
+                    })
+                })
+                .collect();
+            let last = *kept.last().expect("at least two keyframes");
+            list.push(json!({
+                "t": self.frame_numbers[last],
+                "s": [bezier(path, per_frame[last], closed)]
+            }));
+            json!({"a": 1, "k": list})
+        };
+        json!({"ty": "sh", "nm": format!("path {pi}"), "ks": value})
+    }
+
+    /// Keyframes a gradient style's end points (`s`, `e`) through the element's map at each
+    /// frame, where they move (a colour style is left alone). Without maps the gradient stays
+    /// at rest, with a warning.
+    fn follow_gradient(&mut self, style: &mut Value, element: usize) {
+        if style.get("g").is_none() {
+            return;
+        }
+        let Some(maps) = self.maps else {
+            let label = &self.source.elements[element].label;
+            self.warn(format!(
+                "{label}: its gradient is written at rest (no element maps were given)"
+            ));
+            return;
+        };
+        let at_rest = |key: &str| {
+            let k = &style[key]["k"];
+            Point::new(k[0].as_f64().unwrap_or(0.0), k[1].as_f64().unwrap_or(0.0))
+        };
+        let ends = [at_rest("s"), at_rest("e")];
+        let per_frame: Vec<Vec<Point>> = maps
+            .iter()
+            .map(|m| {
+                let a = m.element_map(element).unwrap_or(kurbo::Affine::IDENTITY);
+                ends.iter().map(|&p| a * p).collect()
+            })
+            .collect();
+        let views: Vec<&[Point]> = per_frame.iter().map(|f| f.as_slice()).collect();
+        let kept = keyframes(&views, &self.frame_numbers, self.tolerance);
+        for (k, key) in ["s", "e"].into_iter().enumerate() {
+            let value = if kept.len() == 1 {
+                let p = per_frame[0][k];
+                json!({"a": 0, "k": [p.x, p.y]})
+            } else {
+                let list: Vec<Value> = kept
+                    .iter()
+                    .enumerate()
+                    .map(|(j, &f)| {
+                        let p = per_frame[f][k];
+                        let mut key = json!({"t": self.frame_numbers[f], "s": [p.x, p.y]});
+                        if j + 1 < kept.len() {
+                            key["i"] = json!({"x": [1.0], "y": [1.0]});
+                            key["o"] = json!({"x": [0.0], "y": [0.0]});
+                        }
+                        key
+                    })
+                    .collect();
+                json!({"a": 1, "k": list})
+            };
+            style[key] = value;
+        }
+    }
+
+    fn warn(&mut self, warning: String) {
+        if !self.warnings.contains(&warning) {
+            self.warnings.push(warning);
+        }
+    }
+}
+
+/// A group's transform item (`"ty": "tr"`, last in its group): identity, with `opacity`.
+fn group_transform(opacity: f64) -> Value {
+    json!({
+        "ty": "tr",
+        "a": {"a": 0, "k": [0.0, 0.0]},
+        "p": {"a": 0, "k": [0.0, 0.0]},
+        "s": {"a": 0, "k": [100.0, 100.0]},
+        "r": {"a": 0, "k": 0.0},
+        "o": {"a": 0, "k": 100.0 * opacity},
+        "sk": {"a": 0, "k": 0.0},
+        "sa": {"a": 0, "k": 0.0}
+    })
+}
+
+/// A Lottie bezier (`{c, v, i, o}`) of a chain with control points `points` (module
+/// documentation). `closed`: the chain's last point repeats its first and is dropped.
+fn bezier(path: &Path, points: &[Point], closed: bool) -> Value {
+    debug_assert_eq!(points.len(), path.points.len());
+    let n_curves = (points.len() - 1) / 3;
+    let n_vertices = if closed { n_curves } else { n_curves + 1 };
+    let xy = |p: Point| [p.x, p.y];
+    let rel = |c: Point, p: Point| [c.x - p.x, c.y - p.y];
+    let mut v = Vec::with_capacity(n_vertices);
+    let mut i = Vec::with_capacity(n_vertices);
+    let mut o = Vec::with_capacity(n_vertices);
+    for k in 0..n_vertices {
+        let p = points[3 * k];
+        v.push(xy(p));
+        o.push(if 3 * k + 1 < points.len() {
+            rel(points[3 * k + 1], p)
+        } else {
+            [0.0, 0.0]
+        });
+        i.push(if k > 0 {
+            rel(points[3 * k - 1], p)
+        } else if closed {
+            rel(points[points.len() - 2], p)
+        } else {
+            [0.0, 0.0]
+        });
+    }
+    json!({"c": closed, "v": v, "i": i, "o": o})
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,320 @@
+//! Fills and strokes as Lottie style items (`fl`, `gf`, `st`, `gs`), in root user space.
+//!
+//! An element's paint is in its local coordinates; the export writes geometry in root user
+//! space, so widths, dash lengths and gradient geometry are mapped by the element's local →
+//! root map `M`. A similarity (rotation, uniform scale, reflection, translation) maps them
+//! exactly: lengths scale by `√|det M|`. Any other map is approximated (lengths by that mean
+//! scale, a gradient by its mapped end points) and named in a warning.
+
+use kurbo::{Affine, Point};
+use serde_json::{json, Value};
+
+/// Relative difference of a map's two singular values above which it is not a similarity.
+const SIMILARITY_TOLERANCE: f64 = 1e-9;
+
+/// The Lottie fill of a usvg fill, or `None` (with a warning) for what Lottie cannot fill with.
+pub(super) fn fill(
+    fill: &usvg::Fill,
+    map: Affine,
+    label: &str,
+    warnings: &mut Vec<String>,
+) -> Option<Value> {
+    let opacity = 100.0 * f64::from(fill.opacity().get());
+    let rule = match fill.rule() {
+        usvg::FillRule::NonZero => 1,
+        usvg::FillRule::EvenOdd => 2,
+    };
+    match fill.paint() {
+        usvg::Paint::Color(c) => Some(json!({
+            "ty": "fl",
+            "nm": "fill",
+            "c": {"a": 0, "k": color(*c)},
+            "o": {"a": 0, "k": opacity},
+            "r": rule
+        })),
+        paint => {
+            let mut g = gradient(paint, map, label, "fill", warnings)?;
+            let object = g.as_object_mut().expect("a gradient is an object");
+            object.insert("ty".into(), json!("gf"));
+            object.insert("nm".into(), json!("gradient fill"));
+            object.insert("o".into(), json!({"a": 0, "k": opacity}));
+            object.insert("r".into(), json!(rule));
+            Some(g)
+        }
+    }
+}
+
+/// The Lottie stroke of a usvg stroke, or `None` (with a warning) for what Lottie cannot
+/// stroke with.
+pub(super) fn stroke(
+    stroke: &usvg::Stroke,
+    map: Affine,
+    label: &str,
+    warnings: &mut Vec<String>,
+) -> Option<Value> {
+    let scale = mean_scale(map);
+    if !is_similarity(map) {
+        push(
+            warnings,
+            format!(
+                "{label}: its stroke is under a non-uniform transform; written with the mean \
+                 scale {scale} (widths along and across differ in the source)"
+            ),
+        );
+    }
+    let opacity = 100.0 * f64::from(stroke.opacity().get());
+    let cap = match stroke.linecap() {
+        usvg::LineCap::Butt => 1,
+        usvg::LineCap::Round => 2,
+        usvg::LineCap::Square => 3,
+    };
+    let join = match stroke.linejoin() {
+        usvg::LineJoin::Miter | usvg::LineJoin::MiterClip => 1,
+        usvg::LineJoin::Round => 2,
+        usvg::LineJoin::Bevel => 3,
+    };
+    let mut out = match stroke.paint() {
+        usvg::Paint::Color(c) => json!({
+            "ty": "st",
+            "nm": "stroke",
+            "c": {"a": 0, "k": color(*c)}
+        }),
+        paint => {
+            let mut g = gradient(paint, map, label, "stroke", warnings)?;
+            let object = g.as_object_mut().expect("a gradient is an object");
+            object.insert("ty".into(), json!("gs"));
+            object.insert("nm".into(), json!("gradient stroke"));
+            g
+        }
+    };
+    let object = out.as_object_mut().expect("a stroke is an object");
+    object.insert("o".into(), json!({"a": 0, "k": opacity}));
+    object.insert(
+        "w".into(),
+        json!({"a": 0, "k": scale * f64::from(stroke.width().get())}),
+    );
+    object.insert("lc".into(), json!(cap));
+    object.insert("lj".into(), json!(join));
+    object.insert("ml".into(), json!(f64::from(stroke.miterlimit().get())));
+    if let Some(dashes) = stroke.dasharray() {
+        let mut d: Vec<Value> = dashes
+            .iter()
+            .enumerate()
+            .map(|(k, &len)| {
+                let (n, nm) = if k % 2 == 0 {
+                    ("d", "dash")
+                } else {
+                    ("g", "gap")
+                };
+                json!({"n": n, "nm": nm, "v": {"a": 0, "k": scale * f64::from(len)}})
+            })
+            .collect();
+        d.push(json!({
+            "n": "o",
+            "nm": "offset",
+            "v": {"a": 0, "k": scale * f64::from(stroke.dashoffset())}
+        }));
+        object.insert("d".into(), json!(d));
+    }
+    Some(out)
+}
+
+/// The geometry and colours of a gradient paint (`t`, `s`, `e`, `h`, `a`, `g`), in root user
+/// space; `None` with a warning for a pattern.
+fn gradient(
+    paint: &usvg::Paint,
+    map: Affine,
+    label: &str,
+    what: &str,
+    warnings: &mut Vec<String>,
+) -> Option<Value> {
+    let (base, geometry) = match paint {
+        usvg::Paint::LinearGradient(g) => {
+            let m = map * affine(g.transform());
+            let s = m * Point::new(f64::from(g.x1()), f64::from(g.y1()));
+            let e = m * Point::new(f64::from(g.x2()), f64::from(g.y2()));
+            if !keeps_stripes_square(
+                m,
+                e - s,
+                Point::new(f64::from(g.x2() - g.x1()), f64::from(g.y2() - g.y1())).to_vec2(),
+            ) {
+                push(
+                    warnings,
+                    format!(
+                        "{label}: its {what} gradient is sheared by its transform (its stripes \
+                         are not square to its axis), which Lottie cannot draw: written through \
+                         its mapped end points"
+                    ),
+                );
+            }
+            (
+                &**g as &usvg::BaseGradient,
+                json!({"t": 1, "s": xy(s), "e": xy(e)}),
+            )
+        }
+        usvg::Paint::RadialGradient(g) => {
+            let m = map * affine(g.transform());
+            let c = Point::new(f64::from(g.cx()), f64::from(g.cy()));
+            let r = f64::from(g.r().get());
+            let f = Point::new(f64::from(g.fx()), f64::from(g.fy()));
+            let s = m * c;
+            let e = m * (c + kurbo::Vec2::new(r, 0.0));
+            // The focal point as Lottie's highlight: its distance from the centre as a
+            // percentage of the radius, at an angle from the start → end direction.
+            let (fm, radius) = (m * f, (e - s).hypot());
+            let offset = fm - s;
+            let h = if radius > 0.0 {
+                100.0 * offset.hypot() / radius
+            } else {
+                0.0
+            };
+            let a = (offset.y.atan2(offset.x) - (e - s).y.atan2((e - s).x)).to_degrees();
+            if !is_similarity(m) {
+                push(
+                    warnings,
+                    format!(
+                        "{label}: its {what} gradient is elliptical (non-uniform transform); \
+                         Lottie's radial gradients are circular: written with the radius along x"
+                    ),
+                );
+            }
+            if g.fr().get() > 0.0 {
+                push(
+                    warnings,
+                    format!("{label}: its {what} gradient's focal radius is not written"),
+                );
+            }
+            (
+                &**g as &usvg::BaseGradient,
+                json!({"t": 2, "s": xy(s), "e": xy(e), "h": {"a": 0, "k": h}, "a": {"a": 0, "k": a}}),
+            )
+        }
+        usvg::Paint::Pattern(p) => {
+            push(
+                warnings,
+                format!(
+                    "{label}: its {what} is a pattern ({}), which Lottie has no equivalent for: not written",
+                    p.id()
+                ),
+            );
+            return None;
+        }
+        usvg::Paint::Color(_) => unreachable!("colours are written by the callers"),
+    };
+    if base.spread_method() != usvg::SpreadMethod::Pad {
+        push(
+            warnings,
+            format!(
+                "{label}: its {what} gradient repeats or reflects, which Lottie cannot: written padded"
+            ),
+        );
+    }
+    let stops = base.stops();
+    let mut colours = Vec::with_capacity(4 * stops.len());
+    for s in stops {
+        colours.push(f64::from(s.offset().get()));
+        colours.extend(color(s.color()).into_iter().take(3));
+    }
+    if stops.iter().any(|s| s.opacity().get() < 1.0) {
+        for s in stops {
+            colours.push(f64::from(s.offset().get()));
+            colours.push(f64::from(s.opacity().get()));
+        }
+    }
+    let mut out = geometry;
+    let object = out.as_object_mut().expect("an object");
+    object.insert(
+        "g".into(),
+        json!({"p": stops.len(), "k": {"a": 0, "k": colours}}),
+    );
+    for key in ["s", "e"] {
+        let v = object.remove(key).expect("set above");
+        object.insert(key.into(), json!({"a": 0, "k": v}));
+    }
+    Some(out)
+}
+
+/// A colour as Lottie's `[r, g, b, 1]` in `[0, 1]`.
+fn color(c: usvg::Color) -> [f64; 4] {
+    [
+        f64::from(c.red) / 255.0,
+        f64::from(c.green) / 255.0,
+        f64::from(c.blue) / 255.0,
+        1.0,
+    ]
+}
+
+fn xy(p: Point) -> [f64; 2] {
+    [p.x, p.y]
+}
+
+fn affine(t: usvg::Transform) -> Affine {
+    Affine::new([
+        f64::from(t.sx),
+        f64::from(t.ky),
+        f64::from(t.kx),
+        f64::from(t.sy),
+        f64::from(t.tx),
+        f64::from(t.ty),
+    ])
+}
+
+/// Whether a linear gradient along `axis` (its own coordinates) still has stripes square to its
+/// axis under `m`, whose image of `axis` is `mapped`: Lottie draws a linear gradient's stripes
+/// square to its axis, SVG draws the image of the square ones.
+fn keeps_stripes_square(m: Affine, mapped: kurbo::Vec2, axis: kurbo::Vec2) -> bool {
+    let [a, b, c, d, _, _] = m.as_coeffs();
+    let stripe = kurbo::Vec2::new(-axis.y, axis.x);
+    let image = kurbo::Vec2::new(a * stripe.x + c * stripe.y, b * stripe.x + d * stripe.y);
+    let scale = mapped.hypot() * image.hypot();
+    scale == 0.0 || mapped.dot(image).abs() <= SIMILARITY_TOLERANCE * scale
+}
+
+/// `√|det M|`: the factor a similarity scales lengths by.
+fn mean_scale(m: Affine) -> f64 {
+    m.determinant().abs().sqrt()
+}
+
+/// Whether the linear part of `m` is a rotation or reflection times a uniform scale: its two
+/// columns orthogonal and of equal length (relative to their size).
+fn is_similarity(m: Affine) -> bool {
+    let [a, b, c, d, _, _] = m.as_coeffs();
+    let (n1, n2) = (a * a + b * b, c * c + d * d);
+    let scale = n1.max(n2);
+    scale == 0.0
+        || ((n1 - n2).abs() <= SIMILARITY_TOLERANCE * scale
+            && (a * c + b * d).abs() <= SIMILARITY_TOLERANCE * scale)
+}
+
+fn push(warnings: &mut Vec<String>, warning: String) {
+    if !warnings.contains(&warning) {
+        warnings.push(warning);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn similarity_test_tells_uniform_from_stretched_maps() {
+        assert!(is_similarity(Affine::rotate(0.3) * Affine::scale(2.5)));
+        assert!(is_similarity(
+            Affine::FLIP_X * Affine::translate((3.0, 4.0))
+        ));
+        assert!(!is_similarity(Affine::scale_non_uniform(1.0, 1.01)));
+        assert!(!is_similarity(Affine::skew(0.1, 0.0)));
+        assert!((mean_scale(Affine::rotate(1.0) * Affine::scale(3.0)) - 3.0).abs() < 1e-15);
+        // A horizontal gradient stretched along its axes keeps square stripes; a diagonal one
+        // does not.
+        let stretch = Affine::scale_non_uniform(3.0, 1.0);
+        let x = kurbo::Vec2::new(1.0, 0.0);
+        assert!(keeps_stripes_square(stretch, kurbo::Vec2::new(3.0, 0.0), x));
+        let diagonal = kurbo::Vec2::new(1.0, 1.0);
+        assert!(!keeps_stripes_square(
+            stretch,
+            kurbo::Vec2::new(3.0, 1.0),
+            diagonal
+        ));
+    }
+}

@@ -1,0 +1,388 @@
+use kurbo::{Affine, Point, Vec2};
+use serde_json::Value;
+
+use super::*;
+use crate::svg_in::{read_svg, ImportOptions};
+
+const ART: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100" viewBox="0 0 100 50">
+  <defs>
+    <linearGradient id="sky" x1="0" y1="0" x2="10" y2="0" gradientUnits="userSpaceOnUse">
+      <stop offset="0" stop-color="#ff0000"/><stop offset="1" stop-color="#0000ff" stop-opacity="0.5"/>
+    </linearGradient>
+    <pattern id="dots" width="4" height="4" patternUnits="userSpaceOnUse"><circle cx="2" cy="2" r="1"/></pattern>
+  </defs>
+  <path id="wave" d="M10 10 C20 0 30 20 40 10 S60 0 70 10" fill="none" stroke="#102030"
+        stroke-width="2" stroke-linecap="round" stroke-linejoin="bevel" stroke-dasharray="3 1"/>
+  <g transform="scale(2)" opacity="0.5">
+    <rect id="box" x="5" y="12" width="10" height="8" fill="url(#sky)" stroke="#00ff00" fill-rule="evenodd"/>
+  </g>
+  <circle id="dotted" cx="80" cy="30" r="8" fill="url(#dots)"/>
+</svg>"##;
+
+/// The drawing of `ART`, and frames turning it about a point by up to `turn` radians over
+/// `n` frames (a motion linear interpolation cannot follow exactly).
+fn turning(n: usize, turn: f64) -> (Drawing, Vec<Vec<Point>>) {
+    let drawing = read_svg(ART, &ImportOptions::default()).unwrap();
+    let rest = drawing.flat_points();
+    let frames = (0..n)
+        .map(|k| {
+            let m = Affine::rotate_about(turn * k as f64 / (n - 1) as f64, Point::new(50.0, 25.0));
+            rest.iter().map(|&p| m * p).collect()
+        })
+        .collect();
+    (drawing, frames)
+}
+
+/// `n` times `k / fps`.
+fn times(n: usize, fps: f64) -> Vec<f64> {
+    (0..n).map(|k| k as f64 / fps).collect()
+}
+
+/// Every shape item (`"ty": "sh"`) of the document, in document order (depth first).
+fn shapes(v: &Value, out: &mut Vec<Value>) {
+    match v {
+        Value::Object(o) => {
+            if o.get("ty") == Some(&Value::from("sh")) {
+                out.push(v.clone());
+            }
+            for x in o.values() {
+                shapes(x, out);
+            }
+        }
+        Value::Array(a) => a.iter().for_each(|x| shapes(x, out)),
+        _ => {}
+    }
+}
+
+/// The control points a player draws for a shape at frame `t`: the keyframes around `t`
+/// interpolated linearly (the export's easing), tangents made absolute, closed shapes closed.
+fn played(shape: &Value, t: f64) -> Vec<Point> {
+    let ks = &shape["ks"];
+    let bezier = if ks["a"] == 0 {
+        ks["k"].clone()
+    } else {
+        let keys = ks["k"].as_array().unwrap();
+        let time = |k: &Value| k["t"].as_f64().unwrap();
+        let j = keys.iter().rposition(|k| time(k) <= t).unwrap();
+        if j + 1 == keys.len() {
+            keys[j]["s"][0].clone()
+        } else {
+            let (a, b) = (&keys[j]["s"][0], &keys[j + 1]["s"][0]);
+            let u = (t - time(&keys[j])) / (time(&keys[j + 1]) - time(&keys[j]));
+            let mut out = a.clone();
+            for field in ["v", "i", "o"] {
+                for (k, p) in out[field].as_array_mut().unwrap().iter_mut().enumerate() {
+                    for d in 0..2 {
+                        let (x, y) = (
+                            a[field][k][d].as_f64().unwrap(),
+                            b[field][k][d].as_f64().unwrap(),
+                        );
+                        p[d] = Value::from(x + u * (y - x));
+                    }
+                }
+            }
+            out
+        }
+    };
+    let pt = |field: &str, k: usize| {
+        Point::new(
+            bezier[field][k][0].as_f64().unwrap(),
+            bezier[field][k][1].as_f64().unwrap(),
+        )
+    };
+    let n = bezier["v"].as_array().unwrap().len();
+    let closed = bezier["c"].as_bool().unwrap();
+    let mut points = vec![pt("v", 0)];
+    let segments = if closed { n } else { n - 1 };
+    for k in 0..segments {
+        let (a, b) = (k, (k + 1) % n);
+        points.push(pt("v", a) + pt("o", a).to_vec2());
+        points.push(pt("v", b) + pt("i", b).to_vec2());
+        points.push(pt("v", b));
+    }
+    points
+}
+
+#[test]
+fn lottie_shapes_follow_the_deformation_within_the_tolerance() {
+    let (drawing, frames) = turning(41, 0.8);
+    let diagonal = drawing.diagonal();
+    for tolerance in [1e-3, 1e-4] {
+        let options = LottieOptions::default().with_tolerance(tolerance);
+        let out = write_lottie(
+            &drawing,
+            &frames,
+            &times(frames.len(), 20.0),
+            20.0,
+            None,
+            &options,
+        )
+        .unwrap();
+        let doc: Value = serde_json::from_str(&out.json).unwrap();
+        let mut found = Vec::new();
+        shapes(&doc, &mut found);
+        assert_eq!(found.len(), drawing.paths.len());
+        assert!(
+            out.keyframes < out.every_frame_keyframes && out.keyframes > 2 * found.len(),
+            "{tolerance}: {} of {}",
+            out.keyframes,
+            out.every_frame_keyframes
+        );
+        // Shapes are listed topmost first: the last path of the document is the first shape.
+        let offsets: Vec<usize> = drawing.path_ranges().map(|r| r.start).collect();
+        for (f, frame) in frames.iter().enumerate() {
+            for (s, shape) in found.iter().enumerate() {
+                let pi = drawing.paths.len() - 1 - s;
+                let want = &frame[offsets[pi]..offsets[pi] + drawing.paths[pi].points.len()];
+                let got = played(shape, f as f64);
+                assert_eq!(got.len(), want.len(), "path {pi}");
+                let gap = got
+                    .iter()
+                    .zip(want)
+                    .map(|(a, b)| (*a - *b).hypot())
+                    .fold(0.0, f64::max);
+                assert!(
+                    gap <= tolerance * diagonal * (1.0 + 1e-9),
+                    "{tolerance}: frame {f}, path {pi}: {gap:e}"
+                );
+            }
+        }
+    }
+    // Tolerance 0 keeps every frame of every path that moves.
+    let out = write_lottie(
+        &drawing,
+        &frames,
+        &times(frames.len(), 20.0),
+        20.0,
+        None,
+        &LottieOptions::default().with_tolerance(0.0),
+    )
+    .unwrap();
+    assert_eq!(out.keyframes, out.every_frame_keyframes);
+}
+
+#[test]
+fn lottie_paint_is_the_documents() {
+    let (drawing, frames) = turning(3, 0.1);
+    let out = write_lottie(
+        &drawing,
+        &frames,
+        &times(3, 24.0),
+        24.0,
+        None,
+        &LottieOptions::default(),
+    )
+    .unwrap();
+    let doc: Value = serde_json::from_str(&out.json).unwrap();
+    assert_eq!(
+        (doc["w"].as_f64(), doc["h"].as_f64()),
+        (Some(200.0), Some(100.0))
+    );
+    // The viewBox 0 0 100 50 drawn at 200 × 100: scale 200 %.
+    assert_eq!(doc["layers"][0]["ks"]["s"]["k"][0], 200.0);
+    let items = doc["layers"][0]["shapes"].as_array().unwrap();
+    // Topmost first: the circle (its pattern fill not written), the half-opaque group with
+    // the rect, then the wave.
+    assert_eq!(items.len(), 3);
+    let wave = &items[2]["it"];
+    let stroke = &wave[1];
+    assert_eq!(stroke["ty"], "st");
+    assert_eq!(
+        stroke["c"]["k"],
+        serde_json::json!([16.0 / 255.0, 32.0 / 255.0, 48.0 / 255.0, 1.0])
+    );
+    assert_eq!(
+        (
+            stroke["w"]["k"].as_f64(),
+            stroke["lc"].as_i64(),
+            stroke["lj"].as_i64()
+        ),
+        (Some(2.0), Some(2), Some(3))
+    );
+    let dashes: Vec<(String, f64)> = stroke["d"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| {
+            (
+                d["n"].as_str().unwrap().to_string(),
+                d["v"]["k"].as_f64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        dashes,
+        [("d".into(), 3.0), ("g".into(), 1.0), ("o".into(), 0.0)]
+    );
+    assert_eq!(
+        wave.as_array().unwrap().len(),
+        3,
+        "path, stroke, transform: no fill"
+    );
+    let group = &items[1];
+    assert_eq!(group["ty"], "gr");
+    let group_items = group["it"].as_array().unwrap();
+    assert_eq!(group_items.last().unwrap()["o"]["k"], 50.0);
+    let rect = &group_items[0]["it"];
+    // Under scale(2): the stroke's width 1 becomes 2, the gradient's end (10, 0) becomes (20, 0).
+    let (rect_stroke, rect_fill) = (&rect[1], &rect[2]);
+    assert_eq!(rect_stroke["w"]["k"], 2.0);
+    assert_eq!(
+        (rect_fill["ty"].as_str(), rect_fill["r"].as_i64()),
+        (Some("gf"), Some(2))
+    );
+    assert_eq!(rect_fill["e"]["k"], serde_json::json!([20.0, 0.0]));
+    assert_eq!(rect_fill["g"]["p"], 2);
+    assert_eq!(
+        rect_fill["g"]["k"]["k"],
+        serde_json::json!([0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.5])
+    );
+    let circle = items[0]["it"].as_array().unwrap();
+    assert_eq!(
+        circle.len(),
+        2,
+        "path and transform: the pattern fill is not written"
+    );
+    let warned = |needle: &str| out.warnings.iter().any(|w| w.contains(needle));
+    assert!(warned("pattern (dots)"), "{:?}", out.warnings);
+    assert!(
+        warned("gradient is written at rest (no element maps"),
+        "{:?}",
+        out.warnings
+    );
+}
+
+#[test]
+fn lottie_rejects_bad_frames_and_options() {
+    let (drawing, frames) = turning(3, 0.1);
+    let options = LottieOptions::default();
+    let err = |frames: &[Vec<Point>], fps: f64, options: &LottieOptions| {
+        write_lottie(
+            &drawing,
+            frames,
+            &times(frames.len(), 10.0),
+            fps,
+            None,
+            options,
+        )
+        .unwrap_err()
+        .to_string()
+    };
+    assert!(err(&frames[..1], 10.0, &options).contains("1 frame(s) given"));
+    assert!(err(&frames, 0.0, &options).contains("frame rate 0"));
+    assert!(err(&frames, f64::NAN, &options).contains("frame rate NaN"));
+    assert!(err(&frames, 10.0, &options.clone().with_tolerance(-1.0)).contains("tolerance -1"));
+    let mut short = frames.clone();
+    short[1].pop();
+    assert!(err(&short, 10.0, &options).contains("frame 1 has"));
+    let mut nan = frames.clone();
+    nan[2][4] = Point::new(f64::NAN, 0.0);
+    assert!(err(&nan, 10.0, &options).contains("frame 2, point 4 is not finite"));
+    let bare = Drawing {
+        paths: drawing.paths.clone(),
+        source: None,
+    };
+    assert!(matches!(
+        write_lottie(&bare, &frames, &times(3, 10.0), 10.0, None, &options),
+        Err(LottieError::NoSource)
+    ));
+    // Far from the origin and scaled down: the same keyframes (the tolerance is relative).
+    let far = |frames: &[Vec<Point>]| -> Vec<Vec<Point>> {
+        frames
+            .iter()
+            .map(|f| {
+                f.iter()
+                    .map(|&p| (p.to_vec2() * 1e-6 + Vec2::new(1e6, -1e6)).to_point())
+                    .collect()
+            })
+            .collect()
+    };
+    let (drawing_far, _) = (
+        Drawing {
+            paths: drawing
+                .paths
+                .iter()
+                .map(|p| {
+                    let mut p = p.clone();
+                    p.points
+                        .iter_mut()
+                        .for_each(|q| *q = (q.to_vec2() * 1e-6 + Vec2::new(1e6, -1e6)).to_point());
+                    p
+                })
+                .collect(),
+            source: drawing.source.clone(),
+        },
+        (),
+    );
+    let (_, turning_frames) = turning(21, 0.8);
+    let t = times(21, 10.0);
+    let a = write_lottie(&drawing, &turning_frames, &t, 10.0, None, &options).unwrap();
+    let b = write_lottie(
+        &drawing_far,
+        &far(&turning_frames),
+        &t,
+        10.0,
+        None,
+        &options,
+    )
+    .unwrap();
+    assert!(write_lottie(&drawing, &turning_frames, &t[1..], 10.0, None, &options).is_err());
+    assert_eq!(a.keyframes, b.keyframes);
+}
+
+#[test]
+fn lottie_gradients_follow_their_elements() {
+    use crate::follow::{ElementMaps, FollowOptions};
+    let n = 5;
+    let (drawing, frames) = turning(n, 0.8);
+    let rotation =
+        |k: usize| Affine::rotate_about(0.8 * k as f64 / (n - 1) as f64, Point::new(50.0, 25.0));
+    let maps: Vec<ElementMaps> = (0..n)
+        .map(|k| {
+            let m = rotation(k);
+            ElementMaps::from_map(&drawing, &mut |p| m * p, &FollowOptions::default()).unwrap()
+        })
+        .collect();
+    let t = times(n, 10.0);
+    let out = write_lottie(
+        &drawing,
+        &frames,
+        &t,
+        10.0,
+        Some(&maps),
+        &LottieOptions::default(),
+    )
+    .unwrap();
+    assert!(
+        !out.warnings.iter().any(|w| w.contains("at rest")),
+        "{:?}",
+        out.warnings
+    );
+    let doc: Value = serde_json::from_str(&out.json).unwrap();
+    let fill = &doc["layers"][0]["shapes"][1]["it"][0]["it"][2];
+    assert_eq!(fill["ty"], "gf");
+    // The gradient's end (20, 0) at rest, turned with its element at each kept keyframe.
+    let keys = fill["e"]["k"].as_array().unwrap();
+    assert!(keys.len() >= 2 && fill["e"]["a"] == 1);
+    for key in keys {
+        let f = key["t"].as_f64().unwrap() as usize;
+        let want = rotation(f) * Point::new(20.0, 0.0);
+        let got = Point::new(key["s"][0].as_f64().unwrap(), key["s"][1].as_f64().unwrap());
+        assert!(
+            (got - want).hypot() < 1e-9,
+            "frame {f}: {got:?} vs {want:?}"
+        );
+    }
+    let wrong = write_lottie(
+        &drawing,
+        &frames,
+        &t,
+        10.0,
+        Some(&maps[1..]),
+        &LottieOptions::default(),
+    );
+    assert!(wrong
+        .unwrap_err()
+        .to_string()
+        .contains("4 element maps for 5 frames"));
+}
