@@ -416,7 +416,8 @@ impl Writer<'_> {
         };
         items.extend(styles.into_iter().flatten());
         items.push(group_transform(1.0));
-        Some(json!({"ty": "gr", "nm": label, "it": items}))
+        // `ln` becomes the group's id in SVG players: the element's own id where it has one.
+        Some(json!({"ty": "gr", "nm": label, "ln": p.id(), "it": items}))
     }
 
     /// The path shape of drawing path `pi`, keyframed where needed.
