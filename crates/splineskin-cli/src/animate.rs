@@ -16,6 +16,10 @@
 //!   deformation by more than `--lottie-tolerance` of the drawing's diagonal; paint from the
 //!   document, and a warning for each thing Lottie cannot express. Prints the keyframe count
 //!   and the file's size against keeping every frame.
+//! * `-o NAME.png` / `-o NAME.gif`: an animated PNG (APNG) or GIF preview that any viewer
+//!   plays ([`splineskin::drawing::animated_image`]): each frame rendered as `--png` renders it,
+//!   `--image-size` pixels on the longer side, shown until the next frame's time (the last for
+//!   the last interval), looping.
 //! * `-o DIR` (any other name): `DIR/frame-0000.svg`, … and with `--png` also
 //!   `frame-0000.png`, …. The frames are written into a temporary folder beside `DIR`, which is
 //!   then renamed to `DIR`. An existing `DIR` is replaced only if it holds nothing but
@@ -36,10 +40,12 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
 use splineskin::animation::deform_frames;
+use splineskin::drawing::animated_image::{AnimatedFormat, AnimatedImage};
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::lottie::{write_lottie, LottieOptions};
 use splineskin::drawing::svg_animate::{write_animated_svg_following, write_animated_svg_view_box};
 use splineskin::drawing::svg_out::{write_svg_following, write_svg_view_box, ViewBoxRule};
+use splineskin::render::MAX_RENDER_SIZE;
 use splineskin::scene::{Compat, PosedDrawing};
 
 use crate::output::{has_extension, write_atomic, FramesOutside, ViewBoxArg, PNG_SIZE};
@@ -84,6 +90,9 @@ pub struct Args {
     viewbox: ViewBoxArg,
     #[command(flatten)]
     text: crate::drawing_input::TextArgs,
+    /// Animated PNG or GIF output: pixels on the image's longer side.
+    #[arg(long, default_value_t = ANIMATED_IMAGE_SIZE)]
+    image_size: u32,
     /// Lottie output: the largest distance allowed between the deformation and the player's
     /// interpolation of the written keyframes, as a fraction of the drawing's bounding-box
     /// diagonal (0 keeps every frame).
@@ -94,6 +103,13 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     let as_svg = is_svg_name(&args.output);
     let as_lottie = has_extension(&args.output, "json");
+    let as_image = if has_extension(&args.output, "png") {
+        Some(AnimatedFormat::Apng)
+    } else if has_extension(&args.output, "gif") {
+        Some(AnimatedFormat::Gif)
+    } else {
+        None
+    };
     if let Some(ext) = args
         .output
         .extension()
@@ -101,10 +117,22 @@ pub fn run(args: Args) -> Result<()> {
         .filter(|e| FILE_EXTENSIONS.iter().any(|f| e.eq_ignore_ascii_case(f)))
     {
         bail!(
-            "{}: an animation is written as an animated .svg file, a Lottie .json file or a \
-             folder of frames (expected a name ending in .svg or .json, or a folder name without \
-             a .{ext} extension)",
+            "{}: an animation is written as an animated .svg file, a Lottie .json file, an \
+             animated .png or .gif, or a folder of frames (expected one of those extensions, or \
+             a folder name without a .{ext} extension)",
             args.output.display()
+        );
+    }
+    if as_image.is_some() && args.png {
+        bail!(
+            "{}: --png writes PNG frames into a folder; an animated .png or .gif is one file",
+            args.output.display()
+        );
+    }
+    if as_image.is_some() && !(1..=MAX_RENDER_SIZE).contains(&args.image_size) {
+        bail!(
+            "--image-size {}: expected 1 to {MAX_RENDER_SIZE} pixels",
+            args.image_size
         );
     }
     if as_lottie && (args.png || args.viewbox == ViewBoxArg::Fit) {
@@ -202,7 +230,59 @@ pub fn run(args: Args) -> Result<()> {
         crate::deform::element_maps(setup, &pose, &FollowOptions::default())
             .with_context(|| format!("{scene_name}: frame {f}"))
     };
-    if as_lottie {
+    if let Some(format) = as_image {
+        let mut outside = FramesOutside::default();
+        if args.viewbox == ViewBoxArg::Fit {
+            for (c, chunk) in times.chunks(FRAME_CHUNK).enumerate() {
+                let first = c * FRAME_CHUNK;
+                for (k, points) in deform_chunk(first, chunk)?.iter().enumerate() {
+                    outside.add(first + k, drawing, points);
+                }
+            }
+        }
+        let rule = outside.rule(args.viewbox);
+        let mut image: Option<AnimatedImage> = None;
+        for (c, chunk) in times.chunks(FRAME_CHUNK).enumerate() {
+            let first = c * FRAME_CHUNK;
+            for (k, points) in deform_chunk(first, chunk)?.iter().enumerate() {
+                let f = first + k;
+                if args.viewbox == ViewBoxArg::Keep {
+                    outside.add(f, drawing, points);
+                }
+                let svg = match maps_at(f)? {
+                    Some(maps) => write_svg_following(drawing, points, &maps, rule),
+                    None => write_svg_view_box(drawing, points, rule),
+                }
+                .with_context(|| format!("{scene_name}: frame {f}: writing the SVG"))?;
+                if f == 0 {
+                    crate::output::note_font_substitutes(&args.output, &svg);
+                }
+                let pixels = splineskin::render::render_rgba(&svg, args.image_size)
+                    .with_context(|| format!("{scene_name}: frame {f}: rendering"))?;
+                let image = match &mut image {
+                    Some(image) => image,
+                    None => image.insert(AnimatedImage::new(
+                        format,
+                        pixels.width,
+                        pixels.height,
+                        times.len(),
+                    )?),
+                };
+                // Shown until the next frame; the last one for the last interval.
+                let delay = if f + 1 < times.len() {
+                    times[f + 1] - times[f]
+                } else {
+                    times[f] - times[f - 1]
+                };
+                image
+                    .push(&pixels, delay)
+                    .with_context(|| format!("{scene_name}: frame {f}"))?;
+            }
+        }
+        let bytes = image.context("no frames")?.finish()?;
+        write_atomic(&args.output, &bytes)?;
+        outside.report(&args.output, args.viewbox);
+    } else if as_lottie {
         let bytes = times.len() as f64 * n_points as f64 * BYTES_PER_ANIMATED_POINT;
         if bytes > MAX_ANIMATED_SVG_BYTES as f64 {
             bail!(
@@ -336,7 +416,10 @@ fn write_synced(path: &Path, bytes: &[u8]) -> Result<()> {
 
 /// Extensions of single files that are not an animated SVG: an output named so is refused
 /// rather than becoming a frames folder of that name.
-const FILE_EXTENSIONS: [&str; 8] = ["png", "jpg", "jpeg", "gif", "webp", "pdf", "html", "mp4"];
+const FILE_EXTENSIONS: [&str; 6] = ["jpg", "jpeg", "webp", "pdf", "html", "mp4"];
+
+/// Default `--image-size`: 480 pixels on the longer side of an animated PNG or GIF.
+const ANIMATED_IMAGE_SIZE: u32 = 480;
 
 /// Whether `path` names an `.svg` file (otherwise it names a frames folder).
 fn is_svg_name(path: &Path) -> bool {

@@ -72,6 +72,53 @@ fn listing(dir: &Path) -> Vec<String> {
 }
 
 #[test]
+fn animate_cli_writes_animated_png_and_gif() {
+    let dir = folder("images", &scene(GOOD));
+    ok(&animate(&dir, &words("scene.json -o anim.png --image-size 80")));
+    ok(&animate(&dir, &words("scene.json -o anim.gif --image-size 80")));
+    ok(&animate(&dir, &words("scene.json -o frames")));
+    // 1 s at 10 fps: 11 frames, 0.1 s each (the last one too), 80 × 80 (a square viewBox).
+    let mut reader = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(dir.join("anim.png")).unwrap(),
+    ))
+    .read_info()
+    .unwrap();
+    let control = reader.info().animation_control.unwrap();
+    assert_eq!((control.num_frames, control.num_plays), (11, 0));
+    assert_eq!((reader.info().width, reader.info().height), (80, 80));
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let mut apng = Vec::new();
+    for _ in 0..11 {
+        reader.next_frame(&mut buf).unwrap();
+        let fc = reader.info().frame_control.unwrap();
+        assert_eq!((fc.delay_num, fc.delay_den), (100, 1000));
+        apng.push(buf.clone());
+    }
+    // Each APNG frame is the SVG frame of that time rendered at that size.
+    for f in [0, 3, 10] {
+        let svg = std::fs::read_to_string(dir.join(format!("frames/frame-{f:04}.svg"))).unwrap();
+        let want = splineskin::render::render_rgba(&svg, 80).unwrap();
+        assert_eq!(apng[f], want.data, "frame {f}");
+    }
+    assert_ne!(apng[0], apng[3], "the frames move");
+    let mut options = gif::DecodeOptions::new();
+    options.set_color_output(gif::ColorOutput::RGBA);
+    let mut decoder = options
+        .read_info(std::fs::File::open(dir.join("anim.gif")).unwrap())
+        .unwrap();
+    let mut n = 0;
+    while let Some(frame) = decoder.read_next_frame().unwrap() {
+        assert_eq!(frame.delay, 10);
+        n += 1;
+    }
+    assert_eq!(n, 11);
+    let out = animate(&dir, &words("scene.json -o bad.gif --image-size 0"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--image-size 0"));
+    let out = animate(&dir, &words("scene.json -o bad.png --png"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("is one file"));
+}
+
+#[test]
 fn animate_cli_writes_lottie() {
     let dir = folder("lottie", &scene(GOOD));
     let out = animate(&dir, &["scene.json", "-o", "anim.json"]);
@@ -250,7 +297,7 @@ fn animate_cli_errors_name_scene_and_element_and_write_nothing() {
     ];
     for (name, text, want) in cases {
         let dir = folder(name, &text);
-        for target in ["out.svg", "out.json", "frames"] {
+        for target in ["out.svg", "out.json", "out.png", "out.gif", "frames"] {
             let out = animate(&dir, &["scene.json", "-o", target]);
             let stderr = String::from_utf8_lossy(&out.stderr);
             assert!(!out.status.success(), "{name}");
@@ -268,7 +315,7 @@ fn animate_cli_errors_name_scene_and_element_and_write_nothing() {
     );
     assert_eq!(listing(&dir), ["drawing.svg", "scene.json"]);
     // A single-file name that is not .svg is refused, not made into a folder of that name.
-    for target in ["anim.png", "anim.GIF"] {
+    for target in ["anim.webp", "anim.JPG"] {
         let out = animate(&dir, &["scene.json", "-o", target]);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{target}");

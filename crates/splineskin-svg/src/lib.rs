@@ -30,6 +30,7 @@
 //! ```
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
+pub mod animated_image;
 pub mod authors_svg;
 pub mod document;
 pub mod follow;

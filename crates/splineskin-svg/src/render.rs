@@ -64,6 +64,54 @@ pub enum RenderError {
 /// assert_eq!((black.red(), white.red()), (0, 255));
 /// ```
 pub fn render_png(svg_text: &str, max_size: u32) -> Result<Vec<u8>, RenderError> {
+    render_pixmap(svg_text, max_size)?
+        .encode_png()
+        .map_err(|e| RenderError::Encode {
+            message: e.to_string(),
+        })
+}
+
+/// An image as 8-bit RGBA rows, top to bottom (premultiplication undone; opaque here, since
+/// the background is white).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RgbaImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `4 · width · height` bytes: red, green, blue, alpha per pixel.
+    pub data: Vec<u8>,
+}
+
+/// [`render_png`] without the encoding: the pixels.
+///
+/// ```
+/// use splineskin_svg::render::render_rgba;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 20 10">
+///   <rect width="10" height="10" fill="red"/></svg>"#;
+/// let image = render_rgba(svg, 20).unwrap();
+/// assert_eq!((image.width, image.height, image.data.len()), (20, 10, 800));
+/// assert_eq!(image.data[..4], [255, 0, 0, 255]);
+/// assert_eq!(image.data[4 * 15..4 * 16], [255, 255, 255, 255]);
+/// ```
+pub fn render_rgba(svg_text: &str, max_size: u32) -> Result<RgbaImage, RenderError> {
+    let pixmap = render_pixmap(svg_text, max_size)?;
+    let data = pixmap
+        .pixels()
+        .iter()
+        .flat_map(|p| {
+            let c = p.demultiply();
+            [c.red(), c.green(), c.blue(), c.alpha()]
+        })
+        .collect();
+    Ok(RgbaImage {
+        width: pixmap.width(),
+        height: pixmap.height(),
+        data,
+    })
+}
+
+fn render_pixmap(svg_text: &str, max_size: u32) -> Result<tiny_skia::Pixmap, RenderError> {
     if max_size == 0 || max_size > MAX_RENDER_SIZE {
         return Err(RenderError::InvalidSize {
             size: max_size,
@@ -84,9 +132,7 @@ pub fn render_png(svg_text: &str, max_size: u32) -> Result<Vec<u8>, RenderError>
     pixmap.fill(tiny_skia::Color::WHITE);
     let transform = tiny_skia::Transform::from_scale(scale as f32, scale as f32);
     resvg::render(&tree, transform, &mut pixmap.as_mut());
-    pixmap.encode_png().map_err(|e| RenderError::Encode {
-        message: e.to_string(),
-    })
+    Ok(pixmap)
 }
 
 /// The font families that text of the SVG document `svg_text` asks for but is drawn without

@@ -14,5 +14,5 @@ pub use splineskin_svg::svg_in::{
     read_svg, read_svg_file, read_svg_named, ImportOptions, SvgError, TextMode,
 };
 pub use splineskin_svg::{
-    authors_svg, follow, lottie, smil, svg_animate, svg_in, svg_out, text_outlines,
+    animated_image, authors_svg, follow, lottie, smil, svg_animate, svg_in, svg_out, text_outlines,
 };
