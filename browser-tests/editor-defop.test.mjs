@@ -324,7 +324,7 @@ check('defop: bad input is refused with a message', async () => {
       if (left > 1) assert.equal(await waitRig(page), 'ready', await page.textContent('#error'));
     }
     assert.equal(await page.evaluate(() => document.body.dataset.rig), 'none');
-    assert.match(await page.textContent('#message'), /click to add point handles/);
+    assert.match(await page.textContent('#message'), /click on the art to add point handles/);
     assert.equal(await page.isVisible('#error'), false);
   } finally {
     await page.close();

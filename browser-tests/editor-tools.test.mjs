@@ -247,3 +247,51 @@ check('the wheel zooms about the pointer and Fit shows the whole drawing again',
   await page.click('#fit');
   assert.ok(Math.abs((await unitsPerPixel()) - before) < 1e-9 * before);
 });
+
+check('a click on the art adds a handle, on empty canvas deselects, Alt-click adds one anywhere; Ctrl+Z works after clicking a checkbox', async () => {
+  const state = () => page.evaluate(() => ({ n: window.splineskinEditor.scene.handles.length, selected: window.splineskinEditor.selected }));
+  const artAt = (p) => page.evaluate(([x, y]) => window.splineskinEditor.view.artAt(x, y), p);
+  const n0 = (await scene()).handles.length;
+  // Empty canvas: near the frame's top-left corner, away from the fish.
+  const home = await page.evaluate(() => window.splineskinEditor.view.home);
+  const empty = await client([home[0] + 0.02 * home[2], home[1] + 0.02 * home[3]]);
+  assert.equal(await artAt(empty), false, 'the corner is empty canvas');
+  await page.mouse.click(...(await client(await posed(0))));
+  assert.deepEqual(await state(), { n: n0, selected: 0 });
+  await page.mouse.click(...empty);
+  assert.deepEqual(await state(), { n: n0, selected: null }, 'a click on empty canvas deselects and adds nothing');
+  // Alt-click: a pin anywhere, here outside the art.
+  await page.keyboard.down('Alt');
+  await page.mouse.click(...empty);
+  await page.keyboard.up('Alt');
+  assert.deepEqual(await state(), { n: n0 + 1, selected: n0 });
+  await waitRig();
+  // On the art: a spot near handle 0 where the fish is painted, clear of every handle.
+  const handles = [];
+  for (let i = 0; i < n0 + 1; i++) handles.push(await client(await posed(i)));
+  let onArt = null;
+  for (let r = 20; r <= 60 && !onArt; r += 10) {
+    for (let a = 0; a < 8 && !onArt; a++) {
+      const p = [handles[0][0] + r * Math.cos((a * Math.PI) / 4), handles[0][1] + r * Math.sin((a * Math.PI) / 4)];
+      if (handles.every((h) => Math.hypot(h[0] - p[0], h[1] - p[1]) > 15) && (await artAt(p))) onArt = p;
+    }
+  }
+  assert.ok(onArt, 'the fish is painted near handle 0');
+  const junctions = await page.isChecked('#show-junctions');
+  if (junctions) await page.click('#show-junctions'); // no junction marker under the click
+  await page.mouse.click(...onArt);
+  assert.deepEqual(await state(), { n: n0 + 2, selected: n0 + 1 });
+  await waitRig();
+  // The checkbox has the focus now; Ctrl+Z and Delete still reach the editor.
+  await page.click('#show-junctions');
+  assert.equal(await page.evaluate(() => document.activeElement.id), 'show-junctions');
+  await page.keyboard.press('Control+z');
+  assert.equal((await state()).n, n0 + 1, 'Ctrl+Z with a checkbox focused undoes the last handle');
+  await waitRig();
+  await page.mouse.click(...(await client(await posed(n0))));
+  await page.focus('#show-junctions');
+  await page.keyboard.press('Delete');
+  assert.equal((await state()).n, n0, 'Delete with a checkbox focused deletes the selected handle');
+  await waitRig();
+  if (!junctions) await page.click('#show-junctions');
+});

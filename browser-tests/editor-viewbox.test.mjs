@@ -208,10 +208,13 @@ check('dragging the art out of the viewBox is said in the status line and outlin
   assert.ok(await page.isHidden('#viewbox-note'), 'at rest, nothing leaves the viewBox and nothing is said');
   assert.equal(await page.inputValue('#export-viewbox'), 'keep', 'the export keeps the viewBox by default');
 
+  // Alt-click: a pin wherever asked, on the art or not.
+  await page.keyboard.down('Alt');
   for (const h of HANDLES) {
     const [x, y] = await clientPoint(page, h);
     await page.mouse.click(x, y);
   }
+  await page.keyboard.up('Alt');
   await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
   await drag(page, HANDLES[0], DRAG, 12);
   await page.waitForSelector('body[data-viewbox="outside"]', { timeout: WAIT });

@@ -1,5 +1,5 @@
-// Pointer gestures on the drawing: click to add a handle (or change the junction under the
-// pointer), press a handle to select it, drag it to translate, Shift-drag or its ring to rotate
+// Pointer gestures on the drawing: click on the art to add a handle (Alt-click: anywhere;
+// on empty canvas: deselect; or change the junction under the pointer), press a handle to select it, drag it to translate, Shift-drag or its ring to rotate
 // about it, Alt-drag or its square to scale about it; wheel to zoom, Space- or middle-drag to
 // pan. What a gesture does to the scene is the editor's business (`actions`).
 
@@ -26,7 +26,8 @@ const RING_HALF_WIDTH = 4;
  * - `selected(i)`: handle i was pressed and is now the selected one;
  * - `posed(i, map)`: a drag gives handle i the map `map` (called every pointer move);
  * - `dragged(before)`: a drag ended; `before` is the scene as it was when it started;
- * - `clicked(p)`: a click (no drag) on no handle, at drawing point p;
+ * - `clicked(p, client, altKey)`: a click (no drag) on no handle, at drawing point p, client
+ *   point `client`, with Alt held or not;
  * - `viewChanged()`: the shown frame was zoomed or panned.
  */
 export function installGestures(element, editor, actions) {
@@ -128,7 +129,9 @@ export function installGestures(element, editor, actions) {
       if (g.moved) actions.dragged(g.before);
       return;
     }
-    if (!g.moved) actions.clicked(editor.view.toUser(event.clientX, event.clientY));
+    if (!g.moved) {
+      actions.clicked(editor.view.toUser(event.clientX, event.clientY), [event.clientX, event.clientY], event.altKey);
+    }
   });
 
   element.addEventListener('pointercancel', () => (gesture = null));

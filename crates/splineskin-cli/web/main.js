@@ -201,7 +201,7 @@ function sceneChanged() {
     editor.rigPreview = false;
     document.body.dataset.rig = 'none';
     progress(null);
-    if (isDefop(editor.scene)) say(`${shortName()}: click to add point handles; the operator is trained for them`);
+    if (isDefop(editor.scene)) say(`${shortName()}: click on the art to add point handles; the operator is trained for them`);
     render();
   } else if (key !== editor.rigKey) {
     precompute();
@@ -661,12 +661,16 @@ const gestureActions = {
     editor.history.record(before);
     sceneChanged();
   },
-  clicked(p) {
+  clicked(p, [clientX, clientY], altKey) {
     const junction = $('show-junctions').checked ? editor.view.junctionAt(editor.points, p) : null;
     if (junction) {
       cycleJunction(junction);
-    } else {
+    } else if (altKey || editor.view.artAt(clientX, clientY)) {
+      // Pins go on the art, as in Puppet Warp; Alt places one anywhere (say, outside a shape).
       addHandle(p);
+    } else {
+      // Empty canvas: deselect.
+      deselect();
     }
   },
   viewChanged() {
@@ -816,7 +820,9 @@ function wire() {
 
   window.addEventListener('resize', () => editor.view && drawOverlay());
   window.addEventListener('keydown', (event) => {
-    if (event.target instanceof HTMLInputElement || event.target instanceof HTMLSelectElement) return;
+    // Shortcuts work whatever has the focus (a checkbox, a menu, a button), except where keys
+    // type text.
+    if (isTextField(event.target)) return;
     const key = event.key.toLowerCase();
     if ((event.ctrlKey || event.metaKey) && key === 'z') {
       event.preventDefault();
@@ -825,14 +831,27 @@ function wire() {
       event.preventDefault();
       redo();
     } else if (key === 'delete' || key === 'backspace') {
+      event.preventDefault();
       deleteHandle();
     } else if (key === 'escape') {
-      editor.selected = null;
-      drawOverlay();
-      syncControls();
-      updateWeights();
+      deselect();
     }
   });
+}
+
+/** Whether keys pressed in `target` type text (so shortcuts leave them alone). */
+function isTextField(target) {
+  if (target instanceof HTMLTextAreaElement || target?.isContentEditable) return true;
+  if (!(target instanceof HTMLInputElement)) return false;
+  return ['text', 'search', 'email', 'url', 'password', 'tel', 'number'].includes(target.type);
+}
+
+function deselect() {
+  if (editor.selected === null) return;
+  editor.selected = null;
+  drawOverlay();
+  syncControls();
+  updateWeights();
 }
 
 async function boot() {

@@ -108,6 +108,18 @@ export class DrawingView {
     root.append(this.overlay);
   }
 
+  /**
+   * Whether the drawing's art is painted under client point (x, y): some element of the
+   * document (not the editor's overlay) takes the pointer there, as the browser hit-tests it
+   * (painted fill or stroke, the document's own `pointer-events`).
+   */
+  artAt(clientX, clientY) {
+    return this.root
+      .getRootNode()
+      .elementsFromPoint(clientX, clientY)
+      .some((e) => e !== this.root && this.root.contains(e) && !this.overlay.contains(e));
+  }
+
   /** Outlines the document's viewBox (dashed), or hides the outline. */
   showViewBox(shown) {
     this.viewBoxFrame.style.display = shown ? '' : 'none';
