@@ -74,8 +74,14 @@ fn listing(dir: &Path) -> Vec<String> {
 #[test]
 fn animate_cli_writes_animated_png_and_gif() {
     let dir = folder("images", &scene(GOOD));
-    ok(&animate(&dir, &words("scene.json -o anim.png --image-size 80")));
-    ok(&animate(&dir, &words("scene.json -o anim.gif --image-size 80")));
+    ok(&animate(
+        &dir,
+        &words("scene.json -o anim.png --image-size 80"),
+    ));
+    ok(&animate(
+        &dir,
+        &words("scene.json -o anim.gif --image-size 80"),
+    ));
     ok(&animate(&dir, &words("scene.json -o frames")));
     // 1 s at 10 fps: 11 frames, 0.1 s each (the last one too), 80 × 80 (a square viewBox).
     let mut reader = png::Decoder::new(std::io::BufReader::new(
