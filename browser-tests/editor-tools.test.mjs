@@ -295,3 +295,67 @@ check('a click on the art adds a handle, on empty canvas deselects, Alt-click ad
   await waitRig();
   if (!junctions) await page.click('#show-junctions');
 });
+
+check('Fit shows a handle dragged out of the drawing\'s frame', async () => {
+  // Zoom out, drag handle 0 far to the right of the drawing, then Fit.
+  const canvas = await page.evaluate(() => {
+    const r = document.getElementById('canvas').getBoundingClientRect();
+    return [r.left, r.top, r.right, r.bottom];
+  });
+  const middle = [(canvas[0] + canvas[2]) / 2, (canvas[1] + canvas[3]) / 2];
+  await page.mouse.move(...middle);
+  await page.mouse.wheel(0, 600);
+  await page.waitForTimeout(100);
+  const from = await client(await posed(0));
+  const to = [canvas[2] - 5, from[1]];
+  await mouseDrag(from, to);
+  const home = await page.evaluate(() => window.splineskinEditor.view.home);
+  const [x] = await posed(0);
+  assert.ok(x > home[0] + home[2], `the handle is right of the drawing's frame (${x} > ${home[0] + home[2]})`);
+  await page.click('#fit');
+  const shown = await client(await posed(0));
+  assert.ok(
+    shown[0] > canvas[0] && shown[0] < canvas[2] && shown[1] > canvas[1] && shown[1] < canvas[3],
+    `after Fit the handle is on the canvas: ${shown} in ${canvas}`,
+  );
+  // The drawing's frame is still all shown.
+  const corner = await client([home[0] + home[2], home[1] + home[3]]);
+  assert.ok(corner[0] <= canvas[2] + 1 && corner[1] <= canvas[3] + 1, 'the drawing is in view too');
+  await page.click('#undo');
+  await waitRig();
+  await page.click('#fit');
+});
+
+check('an operator family moves pins only: no rotate or scale widgets, no hidden turns', async () => {
+  // Turn handle 1 first (weights: the fish's own family), then switch to an operator.
+  const centre = await client(await posed(1));
+  await page.mouse.click(...centre);
+  await mouseDrag(centre, [centre[0] + 90, centre[1]], { modifier: 'Shift' });
+  const turned = (await scene()).pose[1];
+  assert.ok(Math.abs(turned[1]) > 0.1, 'handle 1 is turned');
+  const posedBefore = await posed(1);
+  await page.selectOption('#family', 'defop-arap');
+  await waitRig();
+  const s = await scene();
+  for (const [i, T] of s.pose.entries()) {
+    assert.deepEqual(T.slice(0, 4), [1, 0, 0, 1], `handle ${i}: a translation`);
+  }
+  const posedAfter = await posed(1);
+  assert.ok(Math.hypot(posedAfter[0] - posedBefore[0], posedAfter[1] - posedBefore[1]) < 1e-9, 'the pin stays where it was');
+  assert.match(await page.textContent('#notice'), /turns and scales were set aside/);
+  // No ring or square on the selected handle; Shift-drag and Alt-drag translate.
+  await page.mouse.click(...(await client(await posed(1))));
+  assert.equal(await page.evaluate(() => document.getElementById('canvas').shadowRoot.querySelectorAll('.ss-ring, .ss-knob').length), 0);
+  for (const modifier of ['Shift', 'Alt']) {
+    const at = await client(await posed(1));
+    await mouseDrag(at, [at[0] + 40, at[1] + 10], { modifier });
+    const T = (await scene()).pose[1];
+    assert.deepEqual(T.slice(0, 4), [1, 0, 0, 1], `${modifier}-drag: still a translation`);
+  }
+  // Undo brings back the turn with the weights it was made with.
+  await page.click('#undo');
+  await page.click('#undo');
+  await page.click('#undo');
+  await waitRig();
+  assert.deepEqual((await scene()).pose[1], turned);
+});

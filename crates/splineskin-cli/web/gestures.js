@@ -22,7 +22,8 @@ const KNOB_SLOP = 2;
 const RING_HALF_WIDTH = 4;
 
 /**
- * Listens on `element` (holding `editor.view`'s drawing). `actions`:
+ * Listens on `element` (holding `editor.view`'s drawing); `editor.translateOnly()` says whether
+ * handles only move (an operator's: no rotate or scale). `actions`:
  * - `selected(i)`: handle i was pressed and is now the selected one;
  * - `posed(i, map)`: a drag gives handle i the map `map` (called every pointer move);
  * - `dragged(before)`: a drag ended; `before` is the scene as it was when it started;
@@ -50,7 +51,7 @@ export function installGestures(element, editor, actions) {
 
   /** 'knob', 'ring' or null: the widgets of the selected handle under p. */
   const hitWidget = (p) => {
-    if (editor.selected === null) return null;
+    if (editor.selected === null || editor.translateOnly()) return null;
     const u = editor.view.unitsPerPixel();
     const [cx, cy] = posedHandles(editor.scene)[editor.selected];
     const knob = Math.max(Math.abs(p[0] - (cx + RING_RADIUS * u)), Math.abs(p[1] - cy));
@@ -73,7 +74,8 @@ export function installGestures(element, editor, actions) {
     const handle = widget ? editor.selected : hitHandle(p);
     gesture = { start: p, client: [event.clientX, event.clientY], moved: false, handle };
     if (handle !== null) {
-      if (widget === 'knob' || (!widget && (event.altKey || event.ctrlKey))) gesture.mode = 'scale';
+      if (editor.translateOnly()) gesture.mode = 'translate';
+      else if (widget === 'knob' || (!widget && (event.altKey || event.ctrlKey))) gesture.mode = 'scale';
       else if (widget === 'ring' || event.shiftKey) gesture.mode = 'rotate';
       else gesture.mode = 'translate';
       gesture.before = structuredClone(editor.scene);

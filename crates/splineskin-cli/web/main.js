@@ -65,6 +65,8 @@ const editor = {
   viewBoxSeq: 0,
   abort: null,
   weightsShown: null,
+  /** Whether handles only move (an operator's family: no rotate or scale). */
+  translateOnly: () => editor.scene !== null && isDefop(editor.scene),
 };
 // For the browser tests and the console.
 window.splineskinEditor = editor;
@@ -405,7 +407,8 @@ function junctionKind(j) {
 function drawOverlay() {
   const { view } = editor;
   view.drawJunctions(editor.points, junctionKind, $('show-junctions').checked);
-  view.drawHandles(posedHandles(editor.scene), editor.selected);
+  // An operator moves pins only: no rotate or scale widgets.
+  view.drawHandles(posedHandles(editor.scene), editor.selected, !isDefop(editor.scene));
 }
 
 let frameRequested = false;
@@ -508,6 +511,22 @@ function showViewBoxReport(report) {
 // ---------------------------------------------------------------------------------------------
 // Edits
 
+/**
+ * Replaces every handle's map by the translation that puts the handle where its map does;
+ * whether any map changed.
+ */
+function translationsOnly(scene) {
+  let changed = false;
+  scene.pose = scene.pose.map((T, i) => {
+    if (T[0] === 1 && T[1] === 0 && T[2] === 0 && T[3] === 1) return T;
+    changed = true;
+    const h = scene.handles[i];
+    const [x, y] = affine.apply(T, h);
+    return [1, 0, 0, 1, x - h[0], y - h[1]];
+  });
+  return changed;
+}
+
 function edit(change) {
   editor.history.record(editor.scene);
   change(editor.scene);
@@ -545,7 +564,11 @@ function placeHandle(q) {
 }
 
 function addHandle(q) {
-  const { rest, map } = placeHandle(q);
+  const { rest, map: blended } = placeHandle(q);
+  // An operator's handles carry translations only (their posed point kept).
+  const map = isDefop(editor.scene)
+    ? [1, 0, 0, 1, ...affine.apply(blended, rest).map((v, d) => v - rest[d])]
+    : blended;
   if (!rest.every(Number.isFinite)) return;
   if (editor.scene.handles.some(([x, y]) => x === rest[0] && y === rest[1])) return;
   edit((scene) => {
@@ -794,6 +817,11 @@ function wire() {
         const samples = Number.parseInt($('defop-samples').value, 10);
         scene.weights = { family, samples: Number.isInteger(samples) ? samples : DEFAULT_DEFOP_SAMPLES };
         scene.flexible = false; // does not apply (syncControls disables it)
+        // The operator moves pins, it does not turn or scale them: set turns and scales aside
+        // here, visibly and undoably, rather than keep them unseen for another family.
+        if (translationsOnly(scene)) {
+          showNotice('the operator moves pins only: their turns and scales were set aside (Ctrl+Z brings them back)');
+        }
       } else {
         scene.weights = { family };
       }
@@ -814,8 +842,9 @@ function wire() {
   $('error').addEventListener('click', clearError);
   $('notice').addEventListener('click', () => showNotice(''));
   $('fit').addEventListener('click', () => {
-    editor.view?.fit();
-    editor.view && drawOverlay();
+    if (!editor.view) return;
+    editor.view.fit(posedHandles(editor.scene));
+    drawOverlay();
   });
 
   window.addEventListener('resize', () => editor.view && drawOverlay());

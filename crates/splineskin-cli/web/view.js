@@ -125,9 +125,23 @@ export class DrawingView {
     this.viewBoxFrame.style.display = shown ? '' : 'none';
   }
 
-  /** Shows the whole drawing again (the viewBox the document opened with). */
-  fit() {
-    this.frame = [...this.home];
+  /**
+   * Shows the whole drawing again (the viewBox the document opened with), grown to hold every
+   * point of `points` (say the posed handles) with a margin, so that nothing dragged out of
+   * the drawing's frame stays out of sight.
+   */
+  fit(points = []) {
+    const [x, y, w, h] = this.home;
+    const margin = VIEW_MARGIN * Math.max(w, h);
+    let [x0, y0, x1, y1] = [x, y, x + w, y + h];
+    for (const [px, py] of points) {
+      if (!(Number.isFinite(px) && Number.isFinite(py))) continue;
+      x0 = Math.min(x0, px - margin);
+      y0 = Math.min(y0, py - margin);
+      x1 = Math.max(x1, px + margin);
+      y1 = Math.max(y1, py + margin);
+    }
+    this.frame = [x0, y0, x1 - x0, y1 - y0];
     this.root.setAttribute('viewBox', this.frame.join(' '));
   }
 
@@ -255,11 +269,11 @@ export class DrawingView {
   }
 
   /** Draws handle markers at `positions` (posed), `selected` with its rotate ring and scale knob. */
-  drawHandles(positions, selected) {
+  drawHandles(positions, selected, widgets = true) {
     const u = this.unitsPerPixel();
     const layer = this.handleLayer;
     layer.replaceChildren();
-    if (selected !== null && positions[selected]) {
+    if (widgets && selected !== null && positions[selected]) {
       const [x, y] = positions[selected];
       layer.append(
         svgElement('circle', { class: 'ss-ring', cx: x, cy: y, r: RING_RADIUS * u, 'stroke-width': 5 * u }),
