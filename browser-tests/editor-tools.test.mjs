@@ -230,15 +230,22 @@ check('a saved scene reopens by drag and drop as it was', async () => {
 });
 
 check('the wheel zooms about the pointer and Fit shows the whole drawing again', async () => {
-  const at = await client(await posed(0));
+  // The pointer sits on whole pixels: zoom about the pixel nearest handle 0.
+  const handle = await client(await posed(0));
+  const at = handle.map(Math.round);
   const before = await unitsPerPixel();
   await page.mouse.move(...at);
   await page.mouse.wheel(0, -400);
   await page.waitForFunction((u) => window.splineskinEditor.view.unitsPerPixel() < u * 0.9, before);
   const after = await unitsPerPixel();
   console.log(`editor-tools: zoomed in ${(before / after).toFixed(2)}×`);
+  // The pixel under the pointer stays; the handle's offset from it grows by the zoom.
   const still = await client(await posed(0));
-  assert.ok(Math.hypot(still[0] - at[0], still[1] - at[1]) < 1, 'the point under the pointer stays');
+  const expected = at.map((p, d) => p + (before / after) * (handle[d] - p));
+  assert.ok(
+    Math.hypot(still[0] - expected[0], still[1] - expected[1]) < 0.25,
+    `the point under the pointer stays: handle ${handle} → ${still}, expected ${expected}`,
+  );
   // Handles still follow the pointer when zoomed.
   const s0 = await scene();
   await mouseDrag(still, [still[0] + 50, still[1]]);
@@ -358,4 +365,14 @@ check('an operator family moves pins only: no rotate or scale widgets, no hidden
   await page.click('#undo');
   await waitRig();
   assert.deepEqual((await scene()).pose[1], turned);
+});
+
+check('the toolbar fits one row at 1280 px', async () => {
+  await page.setViewportSize({ width: 1280, height: 760 });
+  const [toolbar, button] = await page.evaluate(() => [
+    document.getElementById('toolbar').getBoundingClientRect().height,
+    document.getElementById('fit').getBoundingClientRect().height,
+  ]);
+  await page.setViewportSize(VIEWPORT);
+  assert.ok(toolbar < 2 * button, `the toolbar is ${toolbar} px high, a button ${button} px`);
 });

@@ -505,7 +505,7 @@ function showViewBoxReport(report) {
   const [x, y, w, h] = report.fitted;
   note.title =
     outside.map((o) => `${o.element}: ${units(o.distance)}`).join('\n') +
-    `\n\nExport with viewBox "keep" crops them; "fit the art" writes viewBox ${[x, y, w, h].map(units).join(' ')}`;
+    `\n\nExport with viewBox "keep" crops them; "fit art" writes viewBox ${[x, y, w, h].map(units).join(' ')}`;
 }
 
 // ---------------------------------------------------------------------------------------------
