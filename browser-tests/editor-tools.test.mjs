@@ -158,6 +158,9 @@ check('delete removes the selected handle; undo brings it back', async () => {
 
 check('clicking a junction changes its kind, and the rig is built with it', async () => {
   await page.keyboard.press('Escape');
+  // Junction editing is a mode: the markers are hidden until "junctions" is checked.
+  assert.equal(await page.isChecked('#show-junctions'), false, 'junction markers are hidden by default');
+  await page.check('#show-junctions');
   // The G¹ junction farthest from every handle (a click near a handle selects the handle).
   const target = await page.evaluate(() => {
     const e = window.splineskinEditor;

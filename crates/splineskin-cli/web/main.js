@@ -32,8 +32,6 @@ const DEFOP_ENERGIES = { 'defop-arap': 'ARAP', 'defop-sarap': 'symmetric ARAP' }
 const MESH_FAMILIES = new Set(['bbw', 'harmonic', 'biharmonic']);
 /** The weights of the rig that stands in while a mesh family computes (closed form, instant). */
 const PREVIEW_WEIGHTS = Object.freeze({ family: 'shepard', exponent: 2 });
-/** Junction markers shown on opening up to this many junctions (more: the checkbox). */
-const MAX_JUNCTIONS_SHOWN = 400;
 
 const editor = {
   info: null,
@@ -153,8 +151,9 @@ function show(info) {
   document.body.dataset.rig = 'none';
   document.title = `${info.name} — splineskin editor`;
   clearError();
-  // Junction markers by default only where they do not bury the drawing.
-  $('show-junctions').checked = view.junctions().length <= MAX_JUNCTIONS_SHOWN;
+  // Junction markers are hidden by default (they clutter the art); showing them is the
+  // junction-editing mode, in which a click on a marker changes its kind.
+  $('show-junctions').checked = false;
   say(`${shortName()}: ${info.n_curves} curves in ${info.paths.length} paths`);
   // A scene's defop section: offered in the Weights menu, its sample count prefilled.
   $('defop-samples').value = info.operator?.samples ?? DEFAULT_DEFOP_SAMPLES;
