@@ -230,8 +230,25 @@ pub fn run(args: Args) -> Result<()> {
         crate::deform::element_maps(setup, &pose, &FollowOptions::default())
             .with_context(|| format!("{scene_name}: frame {f}"))
     };
-    if let Some(format) = as_image {
-        let mut outside = FramesOutside::default();
+    // Every frame's maps (`None` for a drawing without its document).
+    let all_maps = || -> Result<Option<Vec<ElementMaps>>> {
+        Ok((0..times.len())
+            .map(&maps_at)
+            .collect::<Result<Vec<_>>>()?
+            .into_iter()
+            .collect())
+    };
+    // Frame `f` (its `points`) as an SVG document with viewBox `rule`.
+    let frame_svg = |f: usize, points: &[Point], rule: ViewBoxRule| -> Result<String> {
+        match maps_at(f)? {
+            Some(maps) => write_svg_following(drawing, points, &maps, rule),
+            None => write_svg_view_box(drawing, points, rule),
+        }
+        .with_context(|| format!("{scene_name}: frame {f}: writing the SVG"))
+    };
+    // `--viewbox fit` for outputs written frame by frame: the union over every frame, deformed
+    // FRAME_CHUNK at a time, before any frame is written.
+    let union_first = |outside: &mut FramesOutside| -> Result<()> {
         if args.viewbox == ViewBoxArg::Fit {
             for (c, chunk) in times.chunks(FRAME_CHUNK).enumerate() {
                 let first = c * FRAME_CHUNK;
@@ -240,6 +257,27 @@ pub fn run(args: Args) -> Result<()> {
                 }
             }
         }
+        Ok(())
+    };
+    // Outputs holding every frame at once: refuse what would not fit in memory.
+    let check_in_memory = |what: &str| -> Result<()> {
+        let bytes = times.len() as f64 * n_points as f64 * BYTES_PER_ANIMATED_POINT;
+        if bytes > MAX_ANIMATED_SVG_BYTES as f64 {
+            bail!(
+                "{}: {} frames of {n_points} points make {what} of about {:.1} GB, more than \
+                 the limit of {:.1} GB (expected fewer frames: lower --fps or --duration, or \
+                 write a frames folder, which is written frame by frame)",
+                args.output.display(),
+                times.len(),
+                bytes / 1e9,
+                MAX_ANIMATED_SVG_BYTES as f64 / 1e9
+            );
+        }
+        Ok(())
+    };
+    if let Some(format) = as_image {
+        let mut outside = FramesOutside::default();
+        union_first(&mut outside)?;
         let rule = outside.rule(args.viewbox);
         let mut image: Option<AnimatedImage> = None;
         for (c, chunk) in times.chunks(FRAME_CHUNK).enumerate() {
@@ -249,11 +287,7 @@ pub fn run(args: Args) -> Result<()> {
                 if args.viewbox == ViewBoxArg::Keep {
                     outside.add(f, drawing, points);
                 }
-                let svg = match maps_at(f)? {
-                    Some(maps) => write_svg_following(drawing, points, &maps, rule),
-                    None => write_svg_view_box(drawing, points, rule),
-                }
-                .with_context(|| format!("{scene_name}: frame {f}: writing the SVG"))?;
+                let svg = frame_svg(f, points, rule)?;
                 if f == 0 {
                     crate::output::note_font_substitutes(&args.output, &svg);
                 }
@@ -283,15 +317,7 @@ pub fn run(args: Args) -> Result<()> {
         write_atomic(&args.output, &bytes)?;
         outside.report(&args.output, args.viewbox);
     } else if as_lottie {
-        let bytes = times.len() as f64 * n_points as f64 * BYTES_PER_ANIMATED_POINT;
-        if bytes > MAX_ANIMATED_SVG_BYTES as f64 {
-            bail!(
-                "{}: {} frames of {n_points} points are too many to hold at once for a Lottie \
-                 file (expected fewer frames: lower --fps or --duration)",
-                args.output.display(),
-                times.len()
-            );
-        }
+        check_in_memory("a Lottie file")?;
         let frames = deform_chunk(0, &times)?;
         let name = args
             .scene
@@ -302,11 +328,7 @@ pub fn run(args: Args) -> Result<()> {
             .with_name(name);
         let fps = animation.fps();
         // Gradients follow each frame's element maps, as in the animated SVG.
-        let maps: Option<Vec<ElementMaps>> = (0..times.len())
-            .map(&maps_at)
-            .collect::<Result<Vec<_>>>()?
-            .into_iter()
-            .collect();
+        let maps = all_maps()?;
         let write = |options: &LottieOptions| {
             write_lottie(drawing, &frames, &times, fps, maps.as_deref(), options)
                 .with_context(|| format!("{scene_name}: writing the Lottie animation"))
@@ -330,28 +352,14 @@ pub fn run(args: Args) -> Result<()> {
             every.json.len()
         );
     } else if as_svg {
-        // Every frame is in the one file: refuse what would not fit in memory.
-        let bytes = times.len() as f64 * n_points as f64 * BYTES_PER_ANIMATED_POINT;
-        if bytes > MAX_ANIMATED_SVG_BYTES as f64 {
-            bail!(
-                "{}: {} frames of {n_points} points make an animated SVG of about {:.1} GB,                  more than the limit of {:.1} GB (expected fewer frames: lower --fps or                  --duration, or write a frames folder, which is written frame by frame)",
-                args.output.display(),
-                times.len(),
-                bytes / 1e9,
-                MAX_ANIMATED_SVG_BYTES as f64 / 1e9
-            );
-        }
+        check_in_memory("an animated SVG")?;
         let frames = deform_chunk(0, &times)?;
         let mut outside = FramesOutside::default();
         for (f, points) in frames.iter().enumerate() {
             outside.add(f, drawing, points);
         }
         // Each frame's gradients, patterns, markers, text and images follow its pose.
-        let maps: Option<Vec<ElementMaps>> = (0..times.len())
-            .map(&maps_at)
-            .collect::<Result<Vec<_>>>()?
-            .into_iter()
-            .collect();
+        let maps = all_maps()?;
         let rule = outside.rule(args.viewbox);
         let svg = match &maps {
             Some(maps) => write_animated_svg_following(drawing, &frames, &times, maps, rule),
@@ -362,15 +370,7 @@ pub fn run(args: Args) -> Result<()> {
         outside.report(&args.output, args.viewbox);
     } else {
         let mut outside = FramesOutside::default();
-        if args.viewbox == ViewBoxArg::Fit {
-            // One viewBox for every frame: the union over all of them, before any is written.
-            for (c, chunk) in times.chunks(FRAME_CHUNK).enumerate() {
-                let first = c * FRAME_CHUNK;
-                for (k, points) in deform_chunk(first, chunk)?.iter().enumerate() {
-                    outside.add(first + k, drawing, points);
-                }
-            }
-        }
+        union_first(&mut outside)?;
         let rule = outside.rule(args.viewbox);
         let gather = (args.viewbox == ViewBoxArg::Keep).then_some(&mut outside);
         write_frames(
@@ -380,7 +380,7 @@ pub fn run(args: Args) -> Result<()> {
             &times,
             (rule, gather),
             deform_chunk,
-            maps_at,
+            frame_svg,
         )?;
         outside.report(&args.output, args.viewbox);
     }
@@ -456,8 +456,8 @@ const BYTES_PER_ANIMATED_POINT: f64 = 40.0;
 const MAX_ANIMATED_SVG_BYTES: u64 = 2_000_000_000;
 
 /// Writes the frames (deformed [`FRAME_CHUNK`] at a time by `deform_chunk(first, times)`) into
-/// a temporary folder beside `args.output`, then renames it into place (module doc). Each
-/// frame's viewBox follows `view.0`; `view.1`, if given, is told every frame written.
+/// a temporary folder beside `args.output`, then renames it into place (module doc), each as
+/// `frame_svg(f, points, view.0)` writes it; `view.1`, if given, is told every frame written.
 fn write_frames(
     args: &Args,
     scene_name: &str,
@@ -466,7 +466,7 @@ fn write_frames(
     view: (ViewBoxRule, Option<&mut FramesOutside>),
 
     deform_chunk: impl Fn(usize, &[f64]) -> Result<Vec<Vec<Point>>>,
-    maps_at: impl Fn(usize) -> Result<Option<ElementMaps>>,
+    frame_svg: impl Fn(usize, &[Point], ViewBoxRule) -> Result<String>,
 ) -> Result<()> {
     let (view_box, mut gather) = view;
     let dir = &args.output;
@@ -509,11 +509,7 @@ fn write_frames(
     let result = (|| -> Result<()> {
         std::fs::create_dir(&tmp).with_context(|| format!("{}: cannot create", tmp.display()))?;
         let write_one = |f: usize, points: &Vec<Point>| -> Result<()> {
-            let svg = match maps_at(f)? {
-                Some(maps) => write_svg_following(drawing, points, &maps, view_box),
-                None => write_svg_view_box(drawing, points, view_box),
-            }
-            .with_context(|| format!("{scene_name}: frame {f}: writing the SVG"))?;
+            let svg = frame_svg(f, points, view_box)?;
             write_synced(&tmp.join(frame_name(f, "svg")), svg.as_bytes())?;
             if args.png {
                 if f == 0 {

@@ -510,6 +510,12 @@ function showViewBoxReport(report) {
 // ---------------------------------------------------------------------------------------------
 // Edits
 
+/** The translation that puts point `h` where map `T` does. */
+function translationOf(T, h) {
+  const [x, y] = affine.apply(T, h);
+  return [1, 0, 0, 1, x - h[0], y - h[1]];
+}
+
 /**
  * Replaces every handle's map by the translation that puts the handle where its map does;
  * whether any map changed.
@@ -519,9 +525,7 @@ function translationsOnly(scene) {
   scene.pose = scene.pose.map((T, i) => {
     if (T[0] === 1 && T[1] === 0 && T[2] === 0 && T[3] === 1) return T;
     changed = true;
-    const h = scene.handles[i];
-    const [x, y] = affine.apply(T, h);
-    return [1, 0, 0, 1, x - h[0], y - h[1]];
+    return translationOf(T, scene.handles[i]);
   });
   return changed;
 }
@@ -565,9 +569,7 @@ function placeHandle(q) {
 function addHandle(q) {
   const { rest, map: blended } = placeHandle(q);
   // An operator's handles carry translations only (their posed point kept).
-  const map = isDefop(editor.scene)
-    ? [1, 0, 0, 1, ...affine.apply(blended, rest).map((v, d) => v - rest[d])]
-    : blended;
+  const map = isDefop(editor.scene) ? translationOf(blended, rest) : blended;
   if (!rest.every(Number.isFinite)) return;
   if (editor.scene.handles.some(([x, y]) => x === rest[0] && y === rest[1])) return;
   edit((scene) => {

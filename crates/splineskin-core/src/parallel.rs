@@ -27,20 +27,9 @@ where
     E: Send,
     F: Fn(usize, &T) -> Result<U, E> + Sync,
 {
-    if parallel {
-        let results: Vec<Result<U, E>> = items
-            .par_iter()
-            .enumerate()
-            .map(|(k, item)| f(k, item))
-            .collect();
-        results.into_iter().collect()
-    } else {
-        items
-            .iter()
-            .enumerate()
-            .map(|(k, item)| f(k, item))
-            .collect()
-    }
+    // The jobs take shared references: hand them out as the items of `try_map_mut`.
+    let mut refs: Vec<&T> = items.iter().collect();
+    try_map_mut(&mut refs, parallel, |k, item| f(k, item))
 }
 
 /// [`try_map`] over items the jobs may change: `f(k, &mut items[k])` for every `k`, in

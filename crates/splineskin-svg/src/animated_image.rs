@@ -65,6 +65,13 @@ pub struct AnimatedImage {
     written: usize,
 }
 
+/// An encoder's failure.
+fn encode(e: impl std::fmt::Display) -> AnimatedImageError {
+    AnimatedImageError::Encode {
+        message: e.to_string(),
+    }
+}
+
 /// The largest side a GIF can have: 65 535 pixels.
 const MAX_GIF_SIDE: u32 = u16::MAX as u32;
 
@@ -103,17 +110,14 @@ impl AnimatedImage {
         if n_frames == 0 || u32::try_from(n_frames).is_err() {
             return invalid(format!("{n_frames} frames (expected 1 to {})", u32::MAX));
         }
-        let encode = |e: &dyn std::fmt::Display| AnimatedImageError::Encode {
-            message: e.to_string(),
-        };
         let encoder = match format {
             AnimatedFormat::Apng => {
                 let buffer = Buffer::default();
                 let mut e = png::Encoder::new(buffer.clone(), width, height);
                 e.set_color(png::ColorType::Rgba);
                 e.set_depth(png::BitDepth::Eight);
-                e.set_animated(n_frames as u32, 0).map_err(|e| encode(&e))?;
-                Encoder::Apng(e.write_header().map_err(|e| encode(&e))?, buffer)
+                e.set_animated(n_frames as u32, 0).map_err(encode)?;
+                Encoder::Apng(e.write_header().map_err(encode)?, buffer)
             }
             AnimatedFormat::Gif => {
                 if width > MAX_GIF_SIDE || height > MAX_GIF_SIDE {
@@ -122,9 +126,8 @@ impl AnimatedImage {
                     ));
                 }
                 let mut e = gif::Encoder::new(Vec::new(), width as u16, height as u16, &[])
-                    .map_err(|e| encode(&e))?;
-                e.set_repeat(gif::Repeat::Infinite)
-                    .map_err(|e| encode(&e))?;
+                    .map_err(encode)?;
+                e.set_repeat(gif::Repeat::Infinite).map_err(encode)?;
                 Encoder::Gif(e)
             }
         };
@@ -162,14 +165,11 @@ impl AnimatedImage {
         if self.written == self.n_frames {
             return invalid(format!("more than the {} frames announced", self.n_frames));
         }
-        let encode = |e: &dyn std::fmt::Display| AnimatedImageError::Encode {
-            message: e.to_string(),
-        };
         match &mut self.encoder {
             Encoder::Apng(w, _) => {
                 let ms = (delay * 1000.0).round().max(1.0) as u16;
-                w.set_frame_delay(ms, 1000).map_err(|e| encode(&e))?;
-                w.write_image_data(&frame.data).map_err(|e| encode(&e))?;
+                w.set_frame_delay(ms, 1000).map_err(encode)?;
+                w.write_image_data(&frame.data).map_err(encode)?;
             }
             Encoder::Gif(e) => {
                 let mut pixels = frame.data.clone();
@@ -180,7 +180,7 @@ impl AnimatedImage {
                     GIF_QUANTIZER_SPEED,
                 );
                 f.delay = (delay * 100.0).round().max(2.0) as u16;
-                e.write_frame(&f).map_err(|e| encode(&e))?;
+                e.write_frame(&f).map_err(encode)?;
             }
         }
         self.written += 1;
@@ -197,15 +197,12 @@ impl AnimatedImage {
                 ),
             });
         }
-        let encode = |e: &dyn std::fmt::Display| AnimatedImageError::Encode {
-            message: e.to_string(),
-        };
         match self.encoder {
             Encoder::Apng(w, buffer) => {
-                w.finish().map_err(|e| encode(&e))?;
+                w.finish().map_err(encode)?;
                 Ok(buffer.0.take())
             }
-            Encoder::Gif(e) => e.into_inner().map_err(|e| encode(&e)),
+            Encoder::Gif(e) => e.into_inner().map_err(encode),
         }
     }
 }

@@ -84,9 +84,7 @@ pub enum PoseError {
 /// The paths one system is solved for ([`SplineRig::precompute`]): a lone path, or the
 /// members of a group sharing curves, with each member's rows of the operator.
 struct Task<'a> {
-    /// The shared-curve group, if any.
-    group: Option<usize>,
-    /// Path indices, the group's order.
+    /// Path indices: one lone path, or a shared-curve group's members in the group's order.
     members: Vec<usize>,
     /// `rows[k]`: the operator rows of `members[k]` (two per point, `6h` entries each).
     rows: Vec<&'a mut [f64]>,
@@ -179,15 +177,11 @@ impl SplineRig {
                 .iter()
                 .map(|&p| rows_of[p].take().expect("a path is in one task"))
                 .collect();
-            tasks.push(Task {
-                group: group_of[pi],
-                members,
-                rows,
-            });
+            tasks.push(Task { members, rows });
         }
         let solve = |task: &Task<'_>| -> Result<Vec<PathOperator>, FitError> {
             let pi = task.members[0];
-            match task.group {
+            match group_of[pi] {
                 None => solve_path(
                     pi,
                     &drawing.paths[pi],
@@ -197,8 +191,8 @@ impl SplineRig {
                     HandleMaps::Affine,
                 )
                 .map(|op| vec![op]),
-                Some(g) => {
-                    let members = &shared.groups[g];
+                Some(_) => {
+                    let members = &task.members;
                     let paths: Vec<_> = members.iter().map(|&p| &drawing.paths[p]).collect();
                     let (unknowns, n) = group_unknowns(&paths, members, &shared.copies);
                     let members: Vec<GroupMember<'_>> = members

@@ -1,6 +1,6 @@
 //! The fit system of one path: assembly of the KKT matrix and right-hand sides, one LU
-//! factorisation (`crate::linalg::lu_solve_in_place`: dense for small paths, sparse otherwise), and the solve for all `6h` right-hand
-//! sides.
+//! factorisation (`crate::linalg::lu_solve_in_place`: dense for small paths, sparse
+//! otherwise), and the solve for all `6h` right-hand sides.
 //!
 //! The energy of path `P` (Liu et al. 2014 §4; DESIGN.md §1) over its unknown chain points `x`
 //! (two coordinates each, interleaved) is
@@ -232,12 +232,11 @@ pub(crate) fn solve_group(
         triplets.push(Triplet::new(n_x + r, col, v));
         triplets.push(Triplet::new(col, n_x + r, v));
     }
-    let solver_error = |e: crate::linalg::LinalgError| FitError::Solver {
+    let rank_deficient = options.check_rank && is_rank_deficient(n, &triplets);
+    lu_solve_in_place(n, &triplets, rhs.as_mut()).map_err(|e| FitError::Solver {
         path: path_index,
         detail: e.to_string(),
-    };
-    let rank_deficient = options.check_rank && is_rank_deficient(n, &triplets);
-    lu_solve_in_place(n, &triplets, rhs.as_mut()).map_err(solver_error)?;
+    })?;
 
     let mut operator = rhs.subrows(0, n_x).to_owned();
     // The group's rest points, about the centre (one per unknown).
@@ -643,9 +642,9 @@ fn uncentre(operator: &mut Mat<f64>, o: Vec2) {
     }
 }
 
-/// Whether the (small) sparse matrix `k` is numerically singular: smallest singular value below
-/// [`RANK_TOLERANCE`] times the largest. Matrices larger than [`MAX_RANK_CHECK_SIZE`] are not
-/// checked (reported as full rank).
+/// Whether the (small) `n × n` matrix with `entries` is numerically singular: smallest
+/// singular value below [`RANK_TOLERANCE`] times the largest. Matrices larger than
+/// [`MAX_RANK_CHECK_SIZE`] are not checked (reported as full rank).
 fn is_rank_deficient(n: usize, entries: &[Triplet<usize, usize, f64>]) -> bool {
     if n > MAX_RANK_CHECK_SIZE {
         tracing::warn!("rank check skipped for a system of size {n}");

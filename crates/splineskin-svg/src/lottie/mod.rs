@@ -21,12 +21,13 @@
 //!
 //! Paint comes from the source document as usvg resolved it ([`crate::svg_in`]): solid and
 //! gradient fills and strokes (width, caps, joins, miter limit, dashes, opacity, fill rule),
-//! group opacity as nested groups. Everything is written in the root's user space (the
-//! drawing's coordinates), with one layer transform for the root viewBox. What Lottie cannot
-//! express, or this export does not write yet, is named in [`LottieExport::warnings`]:
-//! clip paths, masks, filters, patterns, text and images, non-pad gradient spreads, strokes
-//! and gradients under a non-uniform transform (approximated), and user-space gradients
-//! (written at rest; the SVG export moves them with the art).
+//! group opacity as nested groups. Gradients follow their element: their end points are
+//! keyframed through each frame's element maps ([`crate::follow`]), as the animated SVG moves
+//! them. Everything is written in the root's user space (the drawing's coordinates), with one
+//! layer transform for the root viewBox. What Lottie cannot express, or this export does not
+//! write yet, is named in [`LottieExport::warnings`]: clip paths, masks, filters, patterns,
+//! text and images, non-pad gradient spreads, strokes and gradients under a non-uniform
+//! transform (approximated), and gradients written at rest when no element maps are given.
 //!
 //! The JSON is built with `serde_json` values rather than `velato`'s schema types: we write
 //! a dozen object kinds, velato's types have no defaults (every optional field spelled out at
@@ -42,6 +43,7 @@ use serde_json::{json, Value};
 use crate::follow::ElementMaps;
 use crate::svg_in::source_tree;
 use crate::SvgError;
+use paint::Style;
 use splineskin_core::drawing::source::{ElementKey, SvgSource};
 use splineskin_core::drawing::{Drawing, Path, PathRole};
 
@@ -175,7 +177,7 @@ pub fn write_lottie(
         maps,
         offsets,
         tolerance,
-        warnings: Vec::new(),
+        warnings: Warnings::default(),
         keyframes: 0,
     };
     let (tree, prepared) = source_tree(source).map_err(Box::new)?;
@@ -228,7 +230,7 @@ pub fn write_lottie(
     })?;
     Ok(LottieExport {
         json,
-        warnings: writer.warnings,
+        warnings: writer.warnings.0,
         keyframes: writer.keyframes,
         every_frame_keyframes: drawing.paths.len() * frames.len(),
     })
@@ -323,7 +325,7 @@ struct Writer<'a> {
     offsets: Vec<usize>,
     /// In drawing units.
     tolerance: f64,
-    warnings: Vec<String>,
+    warnings: Warnings,
     keyframes: usize,
 }
 
@@ -341,17 +343,17 @@ impl Writer<'_> {
                 usvg::Node::Group(g) => {
                     let label = if g.id().is_empty() { "a group" } else { g.id() };
                     if g.clip_path().is_some() {
-                        self.warn(format!(
+                        self.warnings.add(format!(
                             "{label}: its clip path is not written (the content is drawn unclipped)"
                         ));
                     }
                     if g.mask().is_some() {
-                        self.warn(format!(
+                        self.warnings.add(format!(
                             "{label}: its mask is not written (the content is drawn unmasked)"
                         ));
                     }
                     if !g.filters().is_empty() {
-                        self.warn(format!("{label}: its filters are not written"));
+                        self.warnings.add(format!("{label}: its filters are not written"));
                     }
                     let opacity = f64::from(g.opacity().get());
                     if opacity < 1.0 {
@@ -370,12 +372,12 @@ impl Writer<'_> {
                         }
                     }
                 }
-                usvg::Node::Text(t) => self.warn(format!(
+                usvg::Node::Text(t) => self.warnings.add(format!(
                     "text {}: not written (read the drawing with its text as outlines to animate it)",
                     t.id()
                 )),
                 usvg::Node::Image(i) => {
-                    self.warn(format!("image {}: not written", i.id()));
+                    self.warnings.add(format!("image {}: not written", i.id()));
                 }
             }
         }
@@ -414,7 +416,7 @@ impl Writer<'_> {
             usvg::PaintOrder::FillAndStroke => [stroke, fill],
             usvg::PaintOrder::StrokeAndFill => [fill, stroke],
         };
-        items.extend(styles.into_iter().flatten());
+        items.extend(styles.into_iter().flatten().map(|style| style.value));
         items.push(group_transform(1.0));
         // `ln` becomes the group's id in SVG players: the element's own id where it has one.
         Some(json!({"ty": "gr", "nm": label, "ln": p.id(), "it": items}))
@@ -427,87 +429,102 @@ impl Writer<'_> {
         let per_frame: Vec<&[Point]> = self.frames.iter().map(|f| &f[range.clone()]).collect();
         let kept = keyframes(&per_frame, &self.frame_numbers, self.tolerance);
         self.keyframes += kept.len();
-        let value = if kept.len() == 1 {
-            json!({"a": 0, "k": bezier(path, per_frame[0], closed)})
-        } else {
-            let mut list: Vec<Value> = kept
-                .windows(2)
-                .map(|w| {
-                    json!({
-                        "t": self.frame_numbers[w[0]],
-                        "s": [bezier(path, per_frame[w[0]], closed)],
-                        "i": {"x": 1.0, "y": 1.0},
-                        "o": {"x": 0.0, "y": 0.0}
-                    })
-                })
-                .collect();
-            let last = *kept.last().expect("at least two keyframes");
-            list.push(json!({
-                "t": self.frame_numbers[last],
-                "s": [bezier(path, per_frame[last], closed)]
-            }));
-            json!({"a": 1, "k": list})
-        };
+        let value = property(&kept, &self.frame_numbers, Kind::Shape, |f| {
+            bezier(path, per_frame[f], closed)
+        });
         json!({"ty": "sh", "nm": format!("path {pi}"), "ks": value})
     }
 
     /// Keyframes a gradient style's end points (`s`, `e`) through the element's map at each
     /// frame, where they move (a colour style is left alone). Without maps the gradient stays
     /// at rest, with a warning.
-    fn follow_gradient(&mut self, style: &mut Value, element: usize) {
-        if style.get("g").is_none() {
+    fn follow_gradient(&mut self, style: &mut Style, element: usize) {
+        let Some(ends) = style.ends else {
             return;
-        }
+        };
         let Some(maps) = self.maps else {
             let label = &self.source.elements[element].label;
-            self.warn(format!(
+            self.warnings.add(format!(
                 "{label}: its gradient is written at rest (no element maps were given)"
             ));
             return;
         };
-        let at_rest = |key: &str| {
-            let k = &style[key]["k"];
-            Point::new(k[0].as_f64().unwrap_or(0.0), k[1].as_f64().unwrap_or(0.0))
-        };
-        let ends = [at_rest("s"), at_rest("e")];
-        let per_frame: Vec<Vec<Point>> = maps
+        let per_frame: Vec<[Point; 2]> = maps
             .iter()
             .map(|m| {
                 let a = m.element_map(element).unwrap_or(kurbo::Affine::IDENTITY);
-                ends.iter().map(|&p| a * p).collect()
+                ends.map(|p| a * p)
             })
             .collect();
         let views: Vec<&[Point]> = per_frame.iter().map(|f| f.as_slice()).collect();
         let kept = keyframes(&views, &self.frame_numbers, self.tolerance);
         for (k, key) in ["s", "e"].into_iter().enumerate() {
-            let value = if kept.len() == 1 {
-                let p = per_frame[0][k];
-                json!({"a": 0, "k": [p.x, p.y]})
-            } else {
-                let list: Vec<Value> = kept
-                    .iter()
-                    .enumerate()
-                    .map(|(j, &f)| {
-                        let p = per_frame[f][k];
-                        let mut key = json!({"t": self.frame_numbers[f], "s": [p.x, p.y]});
-                        if j + 1 < kept.len() {
-                            key["i"] = json!({"x": [1.0], "y": [1.0]});
-                            key["o"] = json!({"x": [0.0], "y": [0.0]});
-                        }
-                        key
-                    })
-                    .collect();
-                json!({"a": 1, "k": list})
-            };
-            style[key] = value;
+            style.value[key] = property(&kept, &self.frame_numbers, Kind::Vector, |f| {
+                let p = per_frame[f][k];
+                json!([p.x, p.y])
+            });
         }
     }
+}
 
-    fn warn(&mut self, warning: String) {
-        if !self.warnings.contains(&warning) {
-            self.warnings.push(warning);
+/// The warnings of one export, each once.
+#[derive(Debug, Default)]
+pub(super) struct Warnings(Vec<String>);
+
+impl Warnings {
+    /// Adds `warning` unless it was given already.
+    pub(super) fn add(&mut self, warning: String) {
+        if !self.0.contains(&warning) {
+            self.0.push(warning);
         }
     }
+}
+
+/// What a keyframed property holds: a shape (keyframe values wrapped in an array, scalar
+/// easing handles) or a vector (values as they are, one easing handle per dimension given
+/// once).
+#[derive(Clone, Copy)]
+enum Kind {
+    Shape,
+    Vector,
+}
+
+/// A Lottie property whose value at frame `f` is `value(f)`: static (`"a": 0`) when only one
+/// frame is kept, otherwise the kept frames as keyframes at their frame numbers with linear
+/// easing, the last one holding.
+fn property(
+    kept: &[usize],
+    frame_numbers: &[f64],
+    kind: Kind,
+    value: impl Fn(usize) -> Value,
+) -> Value {
+    if let [only] = kept {
+        return json!({"a": 0, "k": value(*only)});
+    }
+    let (into, out) = match kind {
+        Kind::Shape => (json!({"x": 1.0, "y": 1.0}), json!({"x": 0.0, "y": 0.0})),
+        Kind::Vector => (
+            json!({"x": [1.0], "y": [1.0]}),
+            json!({"x": [0.0], "y": [0.0]}),
+        ),
+    };
+    let list: Vec<Value> = kept
+        .iter()
+        .enumerate()
+        .map(|(j, &f)| {
+            let v = match kind {
+                Kind::Shape => json!([value(f)]),
+                Kind::Vector => value(f),
+            };
+            let mut key = json!({"t": frame_numbers[f], "s": v});
+            if j + 1 < kept.len() {
+                key["i"] = into.clone();
+                key["o"] = out.clone();
+            }
+            key
+        })
+        .collect();
+    json!({"a": 1, "k": list})
 }
 
 /// A group's transform item (`"ty": "tr"`, last in its group): identity, with `opacity`.

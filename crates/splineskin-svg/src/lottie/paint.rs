@@ -9,6 +9,16 @@
 use kurbo::{Affine, Point};
 use serde_json::{json, Value};
 
+use super::Warnings;
+use crate::svg_in::affine;
+
+/// A Lottie style item and, for a gradient, its end points (`s`, `e`, root user space, at
+/// rest), which the writer keyframes through the element's maps.
+pub(super) struct Style {
+    pub value: Value,
+    pub ends: Option<[Point; 2]>,
+}
+
 /// Relative difference of a map's two singular values above which it is not a similarity.
 const SIMILARITY_TOLERANCE: f64 = 1e-9;
 
@@ -17,31 +27,28 @@ pub(super) fn fill(
     fill: &usvg::Fill,
     map: Affine,
     label: &str,
-    warnings: &mut Vec<String>,
-) -> Option<Value> {
+    warnings: &mut Warnings,
+) -> Option<Style> {
     let opacity = 100.0 * f64::from(fill.opacity().get());
     let rule = match fill.rule() {
         usvg::FillRule::NonZero => 1,
         usvg::FillRule::EvenOdd => 2,
     };
-    match fill.paint() {
-        usvg::Paint::Color(c) => Some(json!({
-            "ty": "fl",
-            "nm": "fill",
-            "c": {"a": 0, "k": color(*c)},
-            "o": {"a": 0, "k": opacity},
-            "r": rule
-        })),
+    let (mut value, ends) = match fill.paint() {
+        usvg::Paint::Color(c) => (
+            json!({"ty": "fl", "nm": "fill", "c": {"a": 0, "k": color(*c)}}),
+            None,
+        ),
         paint => {
-            let mut g = gradient(paint, map, label, "fill", warnings)?;
-            let object = g.as_object_mut().expect("a gradient is an object");
-            object.insert("ty".into(), json!("gf"));
-            object.insert("nm".into(), json!("gradient fill"));
-            object.insert("o".into(), json!({"a": 0, "k": opacity}));
-            object.insert("r".into(), json!(rule));
-            Some(g)
+            let (mut g, ends) = gradient(paint, map, label, "fill", warnings)?;
+            g["ty"] = json!("gf");
+            g["nm"] = json!("gradient fill");
+            (g, Some(ends))
         }
-    }
+    };
+    value["o"] = json!({"a": 0, "k": opacity});
+    value["r"] = json!(rule);
+    Some(Style { value, ends })
 }
 
 /// The Lottie stroke of a usvg stroke, or `None` (with a warning) for what Lottie cannot
@@ -50,17 +57,14 @@ pub(super) fn stroke(
     stroke: &usvg::Stroke,
     map: Affine,
     label: &str,
-    warnings: &mut Vec<String>,
-) -> Option<Value> {
+    warnings: &mut Warnings,
+) -> Option<Style> {
     let scale = mean_scale(map);
     if !is_similarity(map) {
-        push(
-            warnings,
-            format!(
-                "{label}: its stroke is under a non-uniform transform; written with the mean \
-                 scale {scale} (widths along and across differ in the source)"
-            ),
-        );
+        warnings.add(format!(
+            "{label}: its stroke is under a non-uniform transform; written with the mean \
+             scale {scale} (widths along and across differ in the source)"
+        ));
     }
     let opacity = 100.0 * f64::from(stroke.opacity().get());
     let cap = match stroke.linecap() {
@@ -73,29 +77,23 @@ pub(super) fn stroke(
         usvg::LineJoin::Round => 2,
         usvg::LineJoin::Bevel => 3,
     };
-    let mut out = match stroke.paint() {
-        usvg::Paint::Color(c) => json!({
-            "ty": "st",
-            "nm": "stroke",
-            "c": {"a": 0, "k": color(*c)}
-        }),
+    let (mut value, ends) = match stroke.paint() {
+        usvg::Paint::Color(c) => (
+            json!({"ty": "st", "nm": "stroke", "c": {"a": 0, "k": color(*c)}}),
+            None,
+        ),
         paint => {
-            let mut g = gradient(paint, map, label, "stroke", warnings)?;
-            let object = g.as_object_mut().expect("a gradient is an object");
-            object.insert("ty".into(), json!("gs"));
-            object.insert("nm".into(), json!("gradient stroke"));
-            g
+            let (mut g, ends) = gradient(paint, map, label, "stroke", warnings)?;
+            g["ty"] = json!("gs");
+            g["nm"] = json!("gradient stroke");
+            (g, Some(ends))
         }
     };
-    let object = out.as_object_mut().expect("a stroke is an object");
-    object.insert("o".into(), json!({"a": 0, "k": opacity}));
-    object.insert(
-        "w".into(),
-        json!({"a": 0, "k": scale * f64::from(stroke.width().get())}),
-    );
-    object.insert("lc".into(), json!(cap));
-    object.insert("lj".into(), json!(join));
-    object.insert("ml".into(), json!(f64::from(stroke.miterlimit().get())));
+    value["o"] = json!({"a": 0, "k": opacity});
+    value["w"] = json!({"a": 0, "k": scale * f64::from(stroke.width().get())});
+    value["lc"] = json!(cap);
+    value["lj"] = json!(join);
+    value["ml"] = json!(f64::from(stroke.miterlimit().get()));
     if let Some(dashes) = stroke.dasharray() {
         let mut d: Vec<Value> = dashes
             .iter()
@@ -114,21 +112,21 @@ pub(super) fn stroke(
             "nm": "offset",
             "v": {"a": 0, "k": scale * f64::from(stroke.dashoffset())}
         }));
-        object.insert("d".into(), json!(d));
+        value["d"] = json!(d);
     }
-    Some(out)
+    Some(Style { value, ends })
 }
 
 /// The geometry and colours of a gradient paint (`t`, `s`, `e`, `h`, `a`, `g`), in root user
-/// space; `None` with a warning for a pattern.
+/// space, and its end points `s`, `e`; `None` with a warning for a pattern.
 fn gradient(
     paint: &usvg::Paint,
     map: Affine,
     label: &str,
     what: &str,
-    warnings: &mut Vec<String>,
-) -> Option<Value> {
-    let (base, geometry) = match paint {
+    warnings: &mut Warnings,
+) -> Option<(Value, [Point; 2])> {
+    let (base, mut out, ends) = match paint {
         usvg::Paint::LinearGradient(g) => {
             let m = map * affine(g.transform());
             let s = m * Point::new(f64::from(g.x1()), f64::from(g.y1()));
@@ -138,19 +136,13 @@ fn gradient(
                 e - s,
                 Point::new(f64::from(g.x2() - g.x1()), f64::from(g.y2() - g.y1())).to_vec2(),
             ) {
-                push(
-                    warnings,
-                    format!(
-                        "{label}: its {what} gradient is sheared by its transform (its stripes \
-                         are not square to its axis), which Lottie cannot draw: written through \
-                         its mapped end points"
-                    ),
-                );
+                warnings.add(format!(
+                    "{label}: its {what} gradient is sheared by its transform (its stripes are \
+                     not square to its axis), which Lottie cannot draw: written through its \
+                     mapped end points"
+                ));
             }
-            (
-                &**g as &usvg::BaseGradient,
-                json!({"t": 1, "s": xy(s), "e": xy(e)}),
-            )
+            (&**g as &usvg::BaseGradient, json!({"t": 1}), [s, e])
         }
         usvg::Paint::RadialGradient(g) => {
             let m = map * affine(g.transform());
@@ -170,44 +162,33 @@ fn gradient(
             };
             let a = (offset.y.atan2(offset.x) - (e - s).y.atan2((e - s).x)).to_degrees();
             if !is_similarity(m) {
-                push(
-                    warnings,
-                    format!(
-                        "{label}: its {what} gradient is elliptical (non-uniform transform); \
-                         Lottie's radial gradients are circular: written with the radius along x"
-                    ),
-                );
+                warnings.add(format!(
+                    "{label}: its {what} gradient is elliptical (non-uniform transform); \
+                     Lottie's radial gradients are circular: written with the radius along x"
+                ));
             }
             if g.fr().get() > 0.0 {
-                push(
-                    warnings,
-                    format!("{label}: its {what} gradient's focal radius is not written"),
-                );
+                warnings.add(format!(
+                    "{label}: its {what} gradient's focal radius is not written"
+                ));
             }
-            (
-                &**g as &usvg::BaseGradient,
-                json!({"t": 2, "s": xy(s), "e": xy(e), "h": {"a": 0, "k": h}, "a": {"a": 0, "k": a}}),
-            )
+            let highlight = json!({"t": 2, "h": {"a": 0, "k": h}, "a": {"a": 0, "k": a}});
+            (&**g as &usvg::BaseGradient, highlight, [s, e])
         }
         usvg::Paint::Pattern(p) => {
-            push(
-                warnings,
-                format!(
-                    "{label}: its {what} is a pattern ({}), which Lottie has no equivalent for: not written",
-                    p.id()
-                ),
-            );
+            warnings.add(format!(
+                "{label}: its {what} is a pattern ({}), which Lottie has no equivalent for: not \
+                 written",
+                p.id()
+            ));
             return None;
         }
         usvg::Paint::Color(_) => unreachable!("colours are written by the callers"),
     };
     if base.spread_method() != usvg::SpreadMethod::Pad {
-        push(
-            warnings,
-            format!(
-                "{label}: its {what} gradient repeats or reflects, which Lottie cannot: written padded"
-            ),
-        );
+        warnings.add(format!(
+            "{label}: its {what} gradient repeats or reflects, which Lottie cannot: written padded"
+        ));
     }
     let stops = base.stops();
     let mut colours = Vec::with_capacity(4 * stops.len());
@@ -221,17 +202,10 @@ fn gradient(
             colours.push(f64::from(s.opacity().get()));
         }
     }
-    let mut out = geometry;
-    let object = out.as_object_mut().expect("an object");
-    object.insert(
-        "g".into(),
-        json!({"p": stops.len(), "k": {"a": 0, "k": colours}}),
-    );
-    for key in ["s", "e"] {
-        let v = object.remove(key).expect("set above");
-        object.insert(key.into(), json!({"a": 0, "k": v}));
-    }
-    Some(out)
+    out["s"] = json!({"a": 0, "k": xy(ends[0])});
+    out["e"] = json!({"a": 0, "k": xy(ends[1])});
+    out["g"] = json!({"p": stops.len(), "k": {"a": 0, "k": colours}});
+    Some((out, ends))
 }
 
 /// A colour as Lottie's `[r, g, b, 1]` in `[0, 1]`.
@@ -246,17 +220,6 @@ fn color(c: usvg::Color) -> [f64; 4] {
 
 fn xy(p: Point) -> [f64; 2] {
     [p.x, p.y]
-}
-
-fn affine(t: usvg::Transform) -> Affine {
-    Affine::new([
-        f64::from(t.sx),
-        f64::from(t.ky),
-        f64::from(t.kx),
-        f64::from(t.sy),
-        f64::from(t.tx),
-        f64::from(t.ty),
-    ])
 }
 
 /// Whether a linear gradient along `axis` (its own coordinates) still has stripes square to its
@@ -284,12 +247,6 @@ fn is_similarity(m: Affine) -> bool {
     scale == 0.0
         || ((n1 - n2).abs() <= SIMILARITY_TOLERANCE * scale
             && (a * c + b * d).abs() <= SIMILARITY_TOLERANCE * scale)
-}
-
-fn push(warnings: &mut Vec<String>, warning: String) {
-    if !warnings.contains(&warning) {
-        warnings.push(warning);
-    }
 }
 
 #[cfg(test)]

@@ -840,7 +840,7 @@ fn collect_paths_in<'t>(
 
 /// A tiny-skia transform as a kurbo affine (`x' = sx·x + kx·y + tx`, `y' = ky·x + sy·y + ty`,
 /// i.e. SVG's `matrix(sx ky kx sy tx ty)`), in `f64`.
-fn affine(t: usvg::Transform) -> Affine {
+pub(crate) fn affine(t: usvg::Transform) -> Affine {
     Affine::new([
         f64::from(t.sx),
         f64::from(t.ky),
