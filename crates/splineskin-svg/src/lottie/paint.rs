@@ -34,21 +34,10 @@ pub(super) fn fill(
         usvg::FillRule::NonZero => 1,
         usvg::FillRule::EvenOdd => 2,
     };
-    let (mut value, ends) = match fill.paint() {
-        usvg::Paint::Color(c) => (
-            json!({"ty": "fl", "nm": "fill", "c": {"a": 0, "k": color(*c)}}),
-            None,
-        ),
-        paint => {
-            let (mut g, ends) = gradient(paint, map, label, "fill", warnings)?;
-            g["ty"] = json!("gf");
-            g["nm"] = json!("gradient fill");
-            (g, Some(ends))
-        }
-    };
-    value["o"] = json!({"a": 0, "k": opacity});
-    value["r"] = json!(rule);
-    Some(Style { value, ends })
+    let mut style = painted(fill.paint(), ["fl", "gf"], "fill", map, label, warnings)?;
+    style.value["o"] = json!({"a": 0, "k": opacity});
+    style.value["r"] = json!(rule);
+    Some(style)
 }
 
 /// The Lottie stroke of a usvg stroke, or `None` (with a warning) for what Lottie cannot
@@ -77,18 +66,8 @@ pub(super) fn stroke(
         usvg::LineJoin::Round => 2,
         usvg::LineJoin::Bevel => 3,
     };
-    let (mut value, ends) = match stroke.paint() {
-        usvg::Paint::Color(c) => (
-            json!({"ty": "st", "nm": "stroke", "c": {"a": 0, "k": color(*c)}}),
-            None,
-        ),
-        paint => {
-            let (mut g, ends) = gradient(paint, map, label, "stroke", warnings)?;
-            g["ty"] = json!("gs");
-            g["nm"] = json!("gradient stroke");
-            (g, Some(ends))
-        }
-    };
+    let mut style = painted(stroke.paint(), ["st", "gs"], "stroke", map, label, warnings)?;
+    let value = &mut style.value;
     value["o"] = json!({"a": 0, "k": opacity});
     value["w"] = json!({"a": 0, "k": scale * f64::from(stroke.width().get())});
     value["lc"] = json!(cap);
@@ -114,7 +93,34 @@ pub(super) fn stroke(
         }));
         value["d"] = json!(d);
     }
-    Some(Style { value, ends })
+    Some(style)
+}
+
+/// The style item of `paint` used for `what` ("fill" or "stroke"): of type `types[0]` with
+/// its colour, or `types[1]` with its gradient (and the gradient's end points).
+fn painted(
+    paint: &usvg::Paint,
+    types: [&str; 2],
+    what: &str,
+    map: Affine,
+    label: &str,
+    warnings: &mut Warnings,
+) -> Option<Style> {
+    Some(match paint {
+        usvg::Paint::Color(c) => Style {
+            value: json!({"ty": types[0], "nm": what, "c": {"a": 0, "k": color(*c)}}),
+            ends: None,
+        },
+        paint => {
+            let (mut value, ends) = gradient(paint, map, label, what, warnings)?;
+            value["ty"] = json!(types[1]);
+            value["nm"] = json!(format!("gradient {what}"));
+            Style {
+                value,
+                ends: Some(ends),
+            }
+        }
+    })
 }
 
 /// The geometry and colours of a gradient paint (`t`, `s`, `e`, `h`, `a`, `g`), in root user
