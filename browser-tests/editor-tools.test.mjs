@@ -379,3 +379,65 @@ check('the toolbar fits one row at 1280 px', async () => {
   await page.setViewportSize(VIEWPORT);
   assert.ok(toolbar < 2 * button, `the toolbar is ${toolbar} px high, a button ${button} px`);
 });
+
+check('a box selects several pins; dragging one moves them all, the ring turns them about their centre; Shift-click adds and removes', async () => {
+  const selection = () => page.evaluate(() => [...window.splineskinEditor.selection].sort());
+  const before = [await posed(0), await posed(1)];
+  // A box around handles 0 and 1 (drawing units), dragged from its corner.
+  const margin = 15 * (await unitsPerPixel());
+  const x0 = Math.min(before[0][0], before[1][0]) - margin;
+  const y0 = Math.min(before[0][1], before[1][1]) - margin;
+  const x1 = Math.max(before[0][0], before[1][0]) + margin;
+  const y1 = Math.max(before[0][1], before[1][1]) + margin;
+  await mouseDrag(await client([x0, y0]), await client([x1, y1]));
+  assert.deepEqual(await selection(), [0, 1], 'the box selected the two pins inside it');
+  const n = (await scene()).handles.length;
+  await page.screenshot({ path: join(out.path, 'box-selected.png') });
+
+  // Dragging pin 0 moves pin 1 by the same amount.
+  const from = await client(before[0]);
+  await mouseDrag(from, [from[0] + 40, from[1] + 25]);
+  const moved = [await posed(0), await posed(1)];
+  const d0 = [moved[0][0] - before[0][0], moved[0][1] - before[0][1]];
+  const d1 = [moved[1][0] - before[1][0], moved[1][1] - before[1][1]];
+  assert.ok(Math.hypot(...d0) > 10, 'pin 0 moved');
+  assert.ok(Math.hypot(d0[0] - d1[0], d0[1] - d1[1]) < 1e-9, `pin 1 moved with it: ${d1} vs ${d0}`);
+  assert.equal((await scene()).handles.length, n, 'nothing added');
+
+  // The ring is about the selection's centre: a quarter turn of the ring turns both pins about it.
+  const centre = [(moved[0][0] + moved[1][0]) / 2, (moved[0][1] + moved[1][1]) / 2];
+  const ring = await page.evaluate(() => {
+    const r = document.getElementById('canvas').shadowRoot.querySelector('.ss-ring');
+    return [Number(r.getAttribute('cx')), Number(r.getAttribute('cy')), Number(r.getAttribute('r'))];
+  });
+  assert.ok(Math.hypot(ring[0] - centre[0], ring[1] - centre[1]) < 1e-9, 'the ring is at the centre of the selection');
+  const c = await client(centre);
+  const r = ring[2] / (await unitsPerPixel());
+  await mouseDrag([c[0] - r, c[1]], [c[0], c[1] - r], { steps: 12 });
+  const T = (await scene()).pose[0];
+  const angle = Math.atan2(T[1], T[0]);
+  assert.ok(Math.abs(angle - Math.PI / 2) < DRAG_TOLERANCE, `turned by ${angle} rad`);
+  for (const [i, p] of moved.entries()) {
+    const [x, y] = [p[0] - centre[0], p[1] - centre[1]];
+    const want = [centre[0] + Math.cos(angle) * x - Math.sin(angle) * y, centre[1] + Math.sin(angle) * x + Math.cos(angle) * y];
+    const got = await posed(i);
+    assert.ok(Math.hypot(got[0] - want[0], got[1] - want[1]) < 1e-6, `pin ${i} turned about the centre: ${got} vs ${want}`);
+  }
+
+  // Shift-click adds pin 2, and takes it out again; a plain click selects one pin alone.
+  const third = await client(await posed(2));
+  await page.keyboard.down('Shift');
+  await page.mouse.click(...third);
+  assert.deepEqual(await selection(), [0, 1, 2]);
+  await page.mouse.click(...third);
+  await page.keyboard.up('Shift');
+  assert.deepEqual(await selection(), [0, 1]);
+  await page.mouse.click(...(await client(await posed(1))));
+  assert.deepEqual(await selection(), [1]);
+  // Undo twice: the turn, then the move.
+  await page.click('#undo');
+  await page.click('#undo');
+  await waitRig();
+  const back = [await posed(0), await posed(1)];
+  for (const i of [0, 1]) assert.ok(Math.hypot(back[i][0] - before[i][0], back[i][1] - before[i][1]) < 1e-9, `pin ${i} back`);
+});

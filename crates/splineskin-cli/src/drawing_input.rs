@@ -253,10 +253,7 @@ pub fn there_and_back(scene: &Scene) -> Result<Animation> {
         (2.0 * SECONDS_TO_POSE, &rest),
     ]
     .into_iter()
-    .map(|(time, transforms)| Keyframe {
-        time,
-        transforms: transforms.clone(),
-    })
+    .map(|(time, transforms)| Keyframe::new(time, transforms.clone()))
     .collect();
     Animation::new(DEFAULT_FPS, keyframes)
         .with_context(|| format!("{}: the animation to the pose", scene.origin))
@@ -336,6 +333,7 @@ impl Rigged {
             },
             junctions: Vec::new(),
             flexible: false,
+            animation: None,
         };
         scene_json_with(svg, &scene, &SceneExtras::default())
     }

@@ -7,11 +7,13 @@
 
 import * as api from './api.js';
 import * as affine from './affine.js';
+import * as anim from './animation.js';
 import { weightImage } from './colour.js';
 import { History } from './history.js';
 import { LiveRig, littleEndian } from './rig.js';
 import { DefOpLiveRig } from './defop.js';
-import { installGestures } from './gestures.js';
+import { installGestures, selectionCentre } from './gestures.js';
+import { TimelineRuler } from './timeline.js';
 import { DrawingView, JUNCTION_KINDS, posedHandles } from './view.js';
 
 const $ = (id) => document.getElementById(id);
@@ -46,7 +48,24 @@ const editor = {
   rigSeconds: null,
   rest: null,
   points: null,
+  /** The primary selected handle (weight field, last pressed), or null. */
   selected: null,
+  /** Every selected handle, `selected` among them. */
+  selection: [],
+  /** The time shown on the timeline, seconds. */
+  time: 0,
+  /** The keyframe selected on the timeline (index), or null. */
+  selectedKey: null,
+  /** Whether the timeline plays. */
+  playing: false,
+  /**
+   * Whether the pose follows the timeline (once the user goes to a time, plays or keys): then
+   * a dragged pin is keyed at the shown time.
+   */
+  animating: false,
+  ruler: null,
+  /** Chain points of the onion skin's two outlines. */
+  onionPoints: [null, null],
   history: new History(),
   /** Milliseconds of each frame drawn while dragging (product + path data). */
   frameTimes: [],
@@ -131,9 +150,11 @@ function median(values) {
 // ---------------------------------------------------------------------------------------------
 // Opening
 
-function show(info) {
+/** Shows document `info`; `source` is the text of the file the page opened (null: the server's). */
+function show(info, source = null) {
   const view = new DrawingView($('canvas'), info);
   editor.info = info;
+  editor.source = source;
   editor.view = view;
   editor.scene = structuredClone(info.scene);
   editor.rest = Float64Array.from(info.rest);
@@ -142,6 +163,12 @@ function show(info) {
   editor.rigKey = null;
   editor.rigPreview = false;
   editor.selected = null;
+  editor.selection = [];
+  pause();
+  editor.time = 0;
+  editor.selectedKey = null;
+  editor.animating = false;
+  editor.onionPoints = [null, null];
   editor.weightsShown = null;
   editor.history.clear();
   editor.frameTimes = [];
@@ -170,7 +197,8 @@ async function open(file) {
   say(`opening ${file.name}…`);
   progress(`reading ${file.name}`);
   try {
-    show(await api.openFile(file));
+    const source = await file.text();
+    show(await api.openFile(file), source);
   } catch (e) {
     showError(e);
     say(`${file.name} was not opened`);
@@ -212,6 +240,9 @@ function sceneChanged() {
   }
   syncControls();
   updateWeights();
+  drawTimeline();
+  updateOnion();
+  autosave();
 }
 
 async function precompute() {
@@ -280,6 +311,7 @@ async function precompute() {
   render();
   flexibleSolve();
   updateWeights();
+  updateOnion();
 }
 
 /**
@@ -407,7 +439,8 @@ function drawOverlay() {
   const { view } = editor;
   view.drawJunctions(editor.points, junctionKind, $('show-junctions').checked);
   // An operator moves pins only: no rotate or scale widgets.
-  view.drawHandles(posedHandles(editor.scene), editor.selected, !isDefop(editor.scene));
+  const centre = isDefop(editor.scene) ? null : selectionCentre(editor.scene, editor.selection);
+  view.drawHandles(posedHandles(editor.scene), editor.selection, centre);
 }
 
 let frameRequested = false;
@@ -522,11 +555,14 @@ function translationOf(T, h) {
  */
 function translationsOnly(scene) {
   let changed = false;
-  scene.pose = scene.pose.map((T, i) => {
-    if (T[0] === 1 && T[1] === 0 && T[2] === 0 && T[3] === 1) return T;
-    changed = true;
-    return translationOf(T, scene.handles[i]);
-  });
+  const only = (pose) =>
+    pose.map((T, i) => {
+      if (T[0] === 1 && T[1] === 0 && T[2] === 0 && T[3] === 1) return T;
+      changed = true;
+      return translationOf(T, scene.handles[i]);
+    });
+  scene.pose = only(scene.pose);
+  for (const key of scene.animation?.keyframes ?? []) key.pose = only(key.pose);
   return changed;
 }
 
@@ -546,13 +582,7 @@ function edit(change) {
 function placeHandle(q) {
   const { handles, pose } = editor.scene;
   if (pose.every((T) => affine.isIdentity(T))) return { rest: q, map: [...affine.IDENTITY] };
-  const blend = (p) => {
-    const w = handles.map(([x, y]) => 1 / Math.max(1e-12, (x - p[0]) ** 2 + (y - p[1]) ** 2));
-    const total = w.reduce((a, b) => a + b, 0);
-    const T = [0, 0, 0, 0, 0, 0];
-    pose.forEach((Ti, i) => Ti.forEach((v, c) => (T[c] += (w[i] / total) * v)));
-    return T;
-  };
+  const blend = (p) => blendedMap(handles, pose, p);
   let p = [...q];
   for (let step = 0; step < 30; step++) {
     const T = blend(p);
@@ -566,6 +596,16 @@ function placeHandle(q) {
   return { rest: p, map: blend(p) };
 }
 
+/** Σ wᵢ(p) Tᵢ: the maps of `pose` blended at rest point p by Shepard weights of `handles`. */
+function blendedMap(handles, pose, p) {
+  if (pose.every((T) => affine.isIdentity(T))) return [...affine.IDENTITY];
+  const w = handles.map(([x, y]) => 1 / Math.max(1e-12, (x - p[0]) ** 2 + (y - p[1]) ** 2));
+  const total = w.reduce((a, b) => a + b, 0);
+  const T = [0, 0, 0, 0, 0, 0];
+  pose.forEach((Ti, i) => Ti.forEach((v, c) => (T[c] += (w[i] / total) * v)));
+  return T;
+}
+
 function addHandle(q) {
   const { rest, map: blended } = placeHandle(q);
   // An operator's handles carry translations only (their posed point kept).
@@ -573,21 +613,34 @@ function addHandle(q) {
   if (!rest.every(Number.isFinite)) return;
   if (editor.scene.handles.some(([x, y]) => x === rest[0] && y === rest[1])) return;
   edit((scene) => {
+    // Every keyframe gives the new pin the map its pose has there (blended from the others), so
+    // that the animation plays on as before.
+    for (const key of scene.animation?.keyframes ?? []) {
+      const keyed = blendedMap(scene.handles, key.pose, rest);
+      key.pose.push(isDefop(scene) ? translationOf(keyed, rest) : keyed);
+    }
     scene.handles.push(rest);
     scene.pose.push(map);
   });
-  editor.selected = editor.scene.handles.length - 1;
+  const i = editor.scene.handles.length - 1;
+  editor.selected = i;
+  editor.selection = [i];
   drawOverlay();
+  syncControls();
   updateWeights();
 }
 
-function deleteHandle() {
-  const i = editor.selected;
-  if (i === null) return;
+/** Deletes the selected handles (from every keyframe too). */
+function deleteHandles() {
+  const doomed = new Set(editor.selection);
+  if (!doomed.size) return;
   editor.selected = null;
+  editor.selection = [];
+  const keep = (_, i) => !doomed.has(i);
   edit((scene) => {
-    scene.handles.splice(i, 1);
-    scene.pose.splice(i, 1);
+    scene.handles = scene.handles.filter(keep);
+    scene.pose = scene.pose.filter(keep);
+    for (const key of scene.animation?.keyframes ?? []) key.pose = key.pose.filter(keep);
   });
 }
 
@@ -606,11 +659,20 @@ function cycleJunction(j) {
 function restore(scene) {
   if (!scene) return;
   editor.scene = scene;
+  editor.selection = editor.selection.filter((i) => i < scene.handles.length);
   if (editor.selected !== null && editor.selected >= scene.handles.length) editor.selected = null;
+  const keys = scene.animation?.keyframes.length ?? 0;
+  if (editor.selectedKey !== null && editor.selectedKey >= keys) editor.selectedKey = null;
   sceneChanged();
 }
 
+/** K: keys the selected pins, or the whole pose when none is selected. */
+function keyShortcut() {
+  key(editor.selection.length ? [...editor.selection] : null);
+}
+
 function undo() {
+  pause();
   restore(editor.history.undo(editor.scene));
 }
 
@@ -632,7 +694,7 @@ function syncControls() {
   $('show-weights').disabled = defop;
   $('undo').disabled = !editor.history.canUndo;
   $('redo').disabled = !editor.history.canRedo;
-  $('delete-handle').disabled = editor.selected === null;
+  $('delete-handle').disabled = editor.selection.length === 0;
   $('reset-pose').disabled = scene.pose.every((T) => affine.isIdentity(T));
 }
 
@@ -670,20 +732,29 @@ async function updateWeights() {
 // Pointer gestures (gestures.js): what they do to the editor
 
 const gestureActions = {
-  selected(i) {
-    editor.selected = i;
+  select(selection, primary) {
+    editor.selection = selection;
+    editor.selected = primary;
     drawOverlay();
     syncControls();
     updateWeights();
   },
-  posed(i, map) {
-    editor.scene.pose[i] = map;
+  posed(maps) {
+    pause();
+    for (const [i, map] of maps) editor.scene.pose[i] = map;
     editor.solveSeq++; // a solve of an older pose must not land now
     scheduleFrame();
   },
-  dragged(before) {
+  dragged(before, handles) {
     editor.history.record(before);
+    // Animating: the dragged pins are keyed at the shown time.
+    if (editor.animating && editor.scene.animation?.keyframes.length) {
+      editor.selectedKey = anim.setKey(editor.scene, editor.time, editor.scene.pose, handles);
+    }
     sceneChanged();
+  },
+  boxChanged(box) {
+    editor.view.showBox(box);
   },
   clicked(p, [clientX, clientY], altKey) {
     const junction = $('show-junctions').checked ? editor.view.junctionAt(editor.points, p) : null;
@@ -701,6 +772,280 @@ const gestureActions = {
     drawOverlay();
   },
 };
+
+// ---------------------------------------------------------------------------------------------
+// Timeline: keyframes of the pose (the scene's `animation`), played as `splineskin animate` plays
+// them (animation.js samples them as the library does)
+
+/** The scene's keyframes (empty without an animation). */
+function keyframes() {
+  return editor.scene?.animation?.keyframes ?? [];
+}
+
+function fps() {
+  return editor.scene?.animation?.fps ?? anim.DEFAULT_FPS;
+}
+
+/** A time in seconds as the readout shows it, with its frame. */
+function timeLabel(t) {
+  return `${t.toFixed(2)} s`;
+}
+
+function drawTimeline() {
+  if (!editor.ruler || !editor.scene) return;
+  const keys = keyframes();
+  const k = editor.selectedKey;
+  editor.ruler.draw({ animation: editor.scene.animation, time: editor.time, selectedKey: k, fps: fps() });
+  $('time-readout').textContent = timeLabel(editor.time);
+  $('time-readout').title = `frame ${Math.round(editor.time * fps())} at ${fps()} fps`;
+  $('play').textContent = editor.playing ? '❚❚ Pause' : '▶ Play';
+  $('play').disabled = anim.duration(editor.scene.animation) <= 0;
+  const noHandles = editor.scene.handles.length === 0;
+  $('key-pose').disabled = noHandles;
+  $('key-pins').disabled = noHandles || editor.selection.length === 0;
+  $('duplicate-key').disabled = k === null;
+  $('delete-key').disabled = k === null;
+  $('easing').disabled = k === null || k === keys.length - 1;
+  $('easing').value = k === null ? 'linear' : keys[k].easing;
+  $('fps').disabled = !editor.scene.animation;
+  if (document.activeElement !== $('fps')) $('fps').value = fps();
+  document.body.dataset.keyframes = String(keys.length);
+}
+
+/**
+ * Shows time t: the pose is the animation's there (when it has keyframes). `timed`: drawn in
+ * the next animation frame and counted in the frame time (playback, scrubbing).
+ */
+function showTime(t, { timed = true } = {}) {
+  editor.time = t;
+  if (keyframes().length) {
+    editor.scene.pose = anim.poseAt(editor.scene.animation, editor.scene.handles, t);
+    editor.solveSeq++;
+  }
+  drawTimeline();
+  updateOnion();
+  if (timed) scheduleFrame();
+  else render();
+}
+
+/** Goes to time t (a click or drag on the ruler): from now on the pose follows the timeline. */
+function seek(t) {
+  pause();
+  editor.animating = true;
+  showTime(t);
+  autosave();
+}
+
+function play() {
+  const D = anim.duration(editor.scene?.animation);
+  if (!(D > 0) || editor.playing) return;
+  editor.playing = true;
+  editor.animating = true;
+  document.body.dataset.playing = '1';
+  const start = editor.time >= D - 1e-9 ? 0 : editor.time;
+  const t0 = performance.now();
+  const step = () => {
+    if (!editor.playing) return;
+    const duration = anim.duration(editor.scene.animation);
+    const rate = fps();
+    let t = start + (performance.now() - t0) / 1000;
+    if (t >= duration) {
+      if ($('loop').checked && duration > 0) {
+        t %= duration;
+      } else {
+        editor.playing = false;
+        delete document.body.dataset.playing;
+        showTime(duration, { timed: false });
+        return;
+      }
+    }
+    // Whole frames, as the exported animation has them: frame f is at f / fps exactly.
+    const frame = Math.floor(t * rate + 1e-9);
+    const shown = Math.min(frame / rate, duration);
+    if (shown !== editor.time) showTime(shown);
+    requestAnimationFrame(step);
+  };
+  drawTimeline();
+  requestAnimationFrame(step);
+}
+
+function pause() {
+  if (!editor.playing) return;
+  editor.playing = false;
+  delete document.body.dataset.playing;
+  drawTimeline();
+  render();
+  autosave();
+}
+
+/** Keys the whole pose (`only` null) or the handles `only` at the shown time. */
+function key(only = null) {
+  if (!editor.scene.handles.length) return;
+  pause();
+  editor.animating = true;
+  edit((scene) => {
+    editor.selectedKey = anim.setKey(scene, editor.time, scene.pose, only);
+  });
+}
+
+function deleteKey() {
+  const k = editor.selectedKey;
+  if (k === null) return;
+  editor.selectedKey = null;
+  edit((scene) => {
+    scene.animation.keyframes.splice(k, 1);
+    if (!scene.animation.keyframes.length) scene.animation = null;
+  });
+  if (keyframes().length) showTime(editor.time, { timed: false });
+}
+
+/**
+ * Copies the selected keyframe's pose to the shown time (or, when the shown time is that
+ * keyframe's, one second after the last keyframe).
+ */
+function duplicateKey() {
+  const k = editor.selectedKey;
+  if (k === null) return;
+  const source = keyframes()[k];
+  let t = editor.time;
+  if (anim.keyAt(editor.scene.animation, t) === k) t = anim.duration(editor.scene.animation) + 1;
+  t = Math.round(t * fps()) / fps();
+  edit((scene) => {
+    editor.selectedKey = anim.setKey(scene, t, source.pose);
+  });
+  showTime(t, { timed: false });
+}
+
+/** Keyframe dragging on the ruler: the scene as it was when the drag started. */
+let keyDragBefore = null;
+
+const rulerActions = {
+  seek,
+  keyPressed(k) {
+    pause();
+    editor.selectedKey = k;
+    keyDragBefore = structuredClone(editor.scene);
+    editor.animating = true;
+    showTime(keyframes()[k].time, { timed: false });
+  },
+  keyMoved(k, t, done) {
+    const keys = keyframes();
+    if (!keys[k]) return;
+    const step = 1 / fps();
+    const lo = k > 0 ? keys[k - 1].time : -Infinity;
+    const hi = k < keys.length - 1 ? keys[k + 1].time : Infinity;
+    // Between its neighbours: a keyframe does not pass another.
+    if (t <= lo) t = lo + step;
+    if (t >= hi) t = hi - step;
+    if (t > lo && t < hi && t >= 0) {
+      keys[k].time = t;
+      editor.time = t;
+      drawTimeline();
+    }
+    if (done && keyDragBefore) {
+      if (JSON.stringify(keyDragBefore.animation) !== JSON.stringify(editor.scene.animation)) {
+        editor.history.record(keyDragBefore);
+      }
+      keyDragBefore = null;
+      showTime(editor.time, { timed: false });
+      sceneChanged();
+    }
+  },
+};
+
+/** The drawing at the keyframes before and after the shown time, outlined (onion skin). */
+function updateOnion() {
+  const view = editor.view;
+  if (!view) return;
+  const keys = keyframes();
+  if (!$('onion').checked || !keys.length || !rigReady()) {
+    view.drawOnion(null, null);
+    return;
+  }
+  const t = editor.time;
+  const before = keys.filter((k) => k.time < t - 1e-9).pop();
+  const after = keys.find((k) => k.time > t + 1e-9);
+  const points = [before, after].map((k, side) => {
+    if (!k) return null;
+    const out = editor.onionPoints[side]?.length === 2 * view.nPoints ? editor.onionPoints[side] : new Float64Array(2 * view.nPoints);
+    editor.onionPoints[side] = out;
+    editor.rig.deform(k.pose, out);
+    return out;
+  });
+  view.drawOnion(...points);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Autosave: the session (the opened file, the scene, the shown time) in the browser's storage
+// after every change, offered back after a reload
+
+const AUTOSAVE_KEY = 'splineskin-editor-session';
+/** Largest opened file kept with the session, characters (storage holds a few MB). */
+const AUTOSAVE_MAX_SOURCE = 2_000_000;
+let autosaveTimer = null;
+
+/** Saves the session soon (changes in a burst are saved once). */
+function autosave() {
+  if (!editor.info || editor.restoring) return;
+  clearTimeout(autosaveTimer);
+  autosaveTimer = setTimeout(saveSessionNow, 150);
+}
+
+function saveSessionNow() {
+  if (!editor.info) return;
+  const session = {
+    version: 1,
+    name: editor.info.name,
+    // The file opened in this page (the server's own drawing needs none).
+    source: editor.source && editor.source.length <= AUTOSAVE_MAX_SOURCE ? editor.source : null,
+    svgLength: editor.info.svg.length,
+    scene: editor.scene,
+    time: editor.time,
+    savedAt: new Date().toISOString(),
+  };
+  try {
+    localStorage.setItem(AUTOSAVE_KEY, JSON.stringify(session));
+    document.body.dataset.autosaved = session.savedAt;
+  } catch {
+    // Storage full or refused: the session is simply not kept.
+  }
+}
+
+/** The saved session, if any and readable. */
+function savedSession() {
+  try {
+    const session = JSON.parse(localStorage.getItem(AUTOSAVE_KEY) ?? 'null');
+    return session?.version === 1 && session.scene ? session : null;
+  } catch {
+    return null;
+  }
+}
+
+/**
+ * Puts back a saved session after a reload: its file reopened (if it was one the page opened),
+ * its scene and time. Undo goes back to the drawing as it opened.
+ */
+async function recoverSession(session) {
+  if (session.source) {
+    const file = new File([session.source], session.name.split(/[\\/]/).pop());
+    const info = await api.openFile(file);
+    show(info, session.source);
+  } else if (session.name !== editor.info.name || session.svgLength !== editor.info.svg.length) {
+    return false;
+  }
+  const scene = session.scene;
+  if (!Array.isArray(scene.handles) || !Array.isArray(scene.pose) || scene.pose.length !== scene.handles.length) return false;
+  editor.history.record(editor.scene);
+  editor.scene = { ...structuredClone(editor.scene), ...scene };
+  editor.time = Number.isFinite(session.time) ? session.time : 0;
+  editor.animating = Boolean(scene.animation);
+  syncControls();
+  sceneChanged();
+  const when = new Date(session.savedAt).toLocaleString();
+  showNotice(`restored your session on ${shortName()} from ${when} (Undo goes back to the file as it opened)`);
+  document.body.dataset.recovered = '1';
+  return true;
+}
 
 // ---------------------------------------------------------------------------------------------
 // Files out
@@ -782,6 +1127,35 @@ async function saveScene() {
 
 function wire() {
   installGestures($('canvas'), editor, gestureActions);
+  editor.ruler = new TimelineRuler($('ruler'), rulerActions);
+  $('easing').replaceChildren(
+    ...anim.EASINGS.map((name) => {
+      const option = document.createElement('option');
+      option.value = name;
+      option.textContent = anim.EASING_LABELS[name];
+      return option;
+    }),
+  );
+  $('play').addEventListener('click', () => (editor.playing ? pause() : play()));
+  $('key-pose').addEventListener('click', () => key());
+  $('key-pins').addEventListener('click', () => key([...editor.selection]));
+  $('duplicate-key').addEventListener('click', duplicateKey);
+  $('delete-key').addEventListener('click', deleteKey);
+  $('easing').addEventListener('change', (event) => {
+    const k = editor.selectedKey;
+    if (k === null || !keyframes()[k]) return;
+    edit((scene) => (scene.animation.keyframes[k].easing = event.target.value));
+  });
+  $('fps').addEventListener('change', (event) => {
+    const rate = Number(event.target.value);
+    if (!(rate > 0 && rate <= anim.MAX_FPS)) {
+      showError(`frames per second: ${event.target.value} is not a number above 0 and at most ${anim.MAX_FPS}`);
+      drawTimeline();
+      return;
+    }
+    if (editor.scene.animation) edit((scene) => (scene.animation.fps = rate));
+  });
+  $('onion').addEventListener('change', updateOnion);
 
   $('open-file').addEventListener('change', (event) => {
     const file = event.target.files[0];
@@ -805,7 +1179,7 @@ function wire() {
   $('save-scene').addEventListener('click', saveScene);
   $('undo').addEventListener('click', undo);
   $('redo').addEventListener('click', redo);
-  $('delete-handle').addEventListener('click', deleteHandle);
+  $('delete-handle').addEventListener('click', deleteHandles);
   $('reset-pose').addEventListener('click', () =>
     edit((scene) => (scene.pose = scene.pose.map(() => [...affine.IDENTITY]))),
   );
@@ -862,9 +1236,18 @@ function wire() {
       redo();
     } else if (key === 'delete' || key === 'backspace') {
       event.preventDefault();
-      deleteHandle();
+      if (editor.selection.length) deleteHandles();
+      else if (editor.selectedKey !== null) deleteKey();
     } else if (key === 'escape') {
       deselect();
+    } else if ((event.ctrlKey || event.metaKey) && key === 'a') {
+      event.preventDefault();
+      const all = editor.scene.handles.map((_, i) => i);
+      gestureActions.select(all, all.length ? all[all.length - 1] : null);
+    } else if (key === 'k' && !event.ctrlKey && !event.metaKey) {
+      keyShortcut();
+    } else if ((key === ',' || key === '.') && !event.ctrlKey && !event.metaKey) {
+      seek(Math.max(0, Math.round(editor.time * fps() + (key === '.' ? 1 : -1)) / fps()));
     }
   });
 }
@@ -877,8 +1260,9 @@ function isTextField(target) {
 }
 
 function deselect() {
-  if (editor.selected === null) return;
+  if (editor.selected === null && !editor.selection.length) return;
   editor.selected = null;
+  editor.selection = [];
   drawOverlay();
   syncControls();
   updateWeights();
@@ -890,10 +1274,23 @@ async function boot() {
     showError('this browser stores numbers big-endian; the editor reads little-endian data');
     return;
   }
+  // Read before the first autosave replaces it.
+  const session = savedSession();
   try {
     show(await api.initialDocument());
   } catch (e) {
     showError(e);
+  }
+  if (session && editor.info) {
+    editor.restoring = true;
+    try {
+      await recoverSession(session);
+    } catch (e) {
+      showNotice(`the previous session could not be restored: ${e.message ?? e}`);
+    } finally {
+      editor.restoring = false;
+      autosave();
+    }
   }
   document.body.dataset.booted = '1';
 }

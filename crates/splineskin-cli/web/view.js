@@ -101,10 +101,23 @@ export class DrawingView {
       JUNCTION_KINDS.map((k) => [k, svgElement('path', { class: `ss-junctions ${k}` })]),
     );
     this.handleLayer = svgElement('g', { class: 'ss-handles' });
+    // Onion skin: the drawing at the keyframes before and after the shown time, outlined.
+    this.onion = { before: svgElement('path', { class: 'ss-onion before' }), after: svgElement('path', { class: 'ss-onion after' }) };
+    // The selection box while it is dragged.
+    this.box = svgElement('rect', { class: 'ss-box' });
+    this.box.style.display = 'none';
     // The document's viewBox, outlined while the deformed art leaves it (showViewBox).
     this.viewBoxFrame = svgElement('rect', { class: 'ss-view-box', x, y, width: w, height: h });
     this.viewBoxFrame.style.display = 'none';
-    this.overlay.append(this.weightImage, this.viewBoxFrame, ...Object.values(this.junctionPaths), this.handleLayer);
+    this.overlay.append(
+      this.weightImage,
+      this.viewBoxFrame,
+      this.onion.before,
+      this.onion.after,
+      ...Object.values(this.junctionPaths),
+      this.handleLayer,
+      this.box,
+    );
     root.append(this.overlay);
   }
 
@@ -268,13 +281,17 @@ export class DrawingView {
     return best;
   }
 
-  /** Draws handle markers at `positions` (posed), `selected` with its rotate ring and scale knob. */
-  drawHandles(positions, selected, widgets = true) {
+  /**
+   * Draws handle markers at `positions` (posed), those of `selection` (indices) filled, and
+   * the rotate ring and scale knob about `centre` (null: none).
+   */
+  drawHandles(positions, selection, centre = null) {
     const u = this.unitsPerPixel();
     const layer = this.handleLayer;
     layer.replaceChildren();
-    if (widgets && selected !== null && positions[selected]) {
-      const [x, y] = positions[selected];
+    const chosen = new Set(selection);
+    if (centre) {
+      const [x, y] = centre;
       layer.append(
         svgElement('circle', { class: 'ss-ring', cx: x, cy: y, r: RING_RADIUS * u, 'stroke-width': 5 * u }),
         svgElement('rect', {
@@ -290,7 +307,7 @@ export class DrawingView {
     positions.forEach(([x, y], i) => {
       layer.append(
         svgElement('circle', {
-          class: i === selected ? 'ss-handle selected' : 'ss-handle',
+          class: chosen.has(i) ? 'ss-handle selected' : 'ss-handle',
           cx: x,
           cy: y,
           r: HANDLE_RADIUS * u,
@@ -299,6 +316,43 @@ export class DrawingView {
         }),
       );
     });
+  }
+
+  /** Shows the selection box [x0, y0, x1, y1] (drawing units), or hides it (null). */
+  showBox(box) {
+    if (!box) {
+      this.box.style.display = 'none';
+      return;
+    }
+    const [x0, y0, x1, y1] = box;
+    for (const [k, v] of Object.entries({ x: x0, y: y0, width: x1 - x0, height: y1 - y0 })) this.box.setAttribute(k, v);
+    this.box.style.display = '';
+  }
+
+  /**
+   * Outlines the drawing with chain points `before` and `after` (x0, y0, …, root user units;
+   * null: that outline hidden).
+   */
+  drawOnion(before, after) {
+    this.onion.before.setAttribute('d', before ? this.outline(before) : '');
+    this.onion.after.setAttribute('d', after ? this.outline(after) : '');
+  }
+
+  /** Path data of every path of the drawing at chain points `points`, root user units. */
+  outline(points) {
+    const { info, offsets, format } = this;
+    const parts = [];
+    info.paths.forEach((path, p) => {
+      const o = offsets[p];
+      let d = '';
+      for (let i = 0; i < path.n_points; i++) {
+        const q = path.closed && i === path.n_points - 1 ? o : o + i;
+        d += (i === 0 ? 'M' : i % 3 === 1 ? ' C' : ' ') + format(points[2 * q]) + ' ' + format(points[2 * q + 1]);
+      }
+      if (path.close_with_z) d += ' Z';
+      parts.push(d);
+    });
+    return parts.join(' ');
   }
 
   /** Shows the image at `url` over box [x0, y0, x1, y1] (user units), or hides it (null). */

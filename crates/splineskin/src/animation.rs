@@ -26,7 +26,8 @@
 //! **Reflections** are carried by the sign of `s_y` (a flip across the rotated first axis);
 //! `s_x` and `θ` are those of the first column as for any map.
 //!
-//! **Interpolation** between keyframes `(t₀, T₀)` and `(t₁, T₁)` at `u = (t − t₀)/(t₁ − t₀)`:
+//! **Interpolation** between keyframes `(t₀, T₀)` and `(t₁, T₁)` at `u = e((t − t₀)/(t₁ − t₀))`,
+//! `e` the first keyframe's [`Easing`] (linear by default):
 //!
 //! ```text
 //! q(u)   = (1 − u) q₀ + u q₁                          linear
@@ -61,13 +62,121 @@ pub const MAX_FRAMES: usize = 100_000;
 /// intervals, not `n + 1` with a vanishing last one.
 const FRAME_COUNT_SLACK: f64 = 1e-9;
 
-/// One keyframe: a time and one affine map per handle (rig order).
+/// One keyframe: a time, one affine map per handle (rig order), and the easing of the segment
+/// from it to the next keyframe.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Keyframe {
     /// Time in seconds (≥ 0).
     pub time: f64,
     /// One map per handle.
     pub transforms: Vec<Affine>,
+    /// How the segment from this keyframe to the next runs (unused on the last keyframe).
+    pub easing: Easing,
+}
+
+impl Keyframe {
+    /// A keyframe at `time` with maps `transforms` and a linear segment after it.
+    ///
+    /// ```
+    /// use kurbo::Affine;
+    /// use splineskin::animation::{Easing, Keyframe};
+    /// let key = Keyframe::new(0.5, vec![Affine::IDENTITY]);
+    /// assert_eq!(key.easing, Easing::Linear);
+    /// ```
+    pub fn new(time: f64, transforms: Vec<Affine>) -> Keyframe {
+        Keyframe {
+            time,
+            transforms,
+            easing: Easing::Linear,
+        }
+    }
+}
+
+/// How a segment between two keyframes runs: a map `e` from the segment's fraction of elapsed
+/// time `u ∈ [0, 1]` to the fraction of the way from the first pose to the second
+/// ([`AffineParts::interpolate`]). Every easing has `e(0) = 0` and `e(1) = 1` (the hold jumps
+/// to 1 only at the next keyframe's time).
+///
+/// ```text
+/// linear        e(u) = u
+/// ease-in       e(u) = u²                 starts at rest
+/// ease-out      e(u) = u (2 − u)          arrives at rest
+/// ease-in-out   e(u) = u² (3 − 2u)        both (smoothstep)
+/// hold          e(u) = 0 for u < 1        the first pose until the next keyframe
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Easing {
+    /// Constant speed.
+    #[default]
+    Linear,
+    /// Starts at rest, speeds up.
+    EaseIn,
+    /// Slows down to rest.
+    EaseOut,
+    /// Starts and arrives at rest.
+    EaseInOut,
+    /// No motion: the first pose holds until the next keyframe.
+    Hold,
+}
+
+impl Easing {
+    /// Every easing, in the order menus list them.
+    pub const ALL: [Easing; 5] = [
+        Easing::Linear,
+        Easing::EaseIn,
+        Easing::EaseOut,
+        Easing::EaseInOut,
+        Easing::Hold,
+    ];
+
+    /// The easing's name in scene files: `linear`, `ease-in`, `ease-out`, `ease-in-out`,
+    /// `hold`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Easing::Linear => "linear",
+            Easing::EaseIn => "ease-in",
+            Easing::EaseOut => "ease-out",
+            Easing::EaseInOut => "ease-in-out",
+            Easing::Hold => "hold",
+        }
+    }
+
+    /// The easing named `name` ([`Easing::name`]), if any.
+    ///
+    /// ```
+    /// use splineskin::animation::Easing;
+    /// assert_eq!(Easing::from_name("ease-in-out"), Some(Easing::EaseInOut));
+    /// assert_eq!(Easing::from_name("bounce"), None);
+    /// ```
+    pub fn from_name(name: &str) -> Option<Easing> {
+        Easing::ALL.into_iter().find(|e| e.name() == name)
+    }
+
+    /// `e(u)` for `u ∈ [0, 1]` (type doc); exact at 0 and 1.
+    ///
+    /// ```
+    /// use splineskin::animation::Easing;
+    /// assert_eq!(Easing::EaseInOut.apply(0.5), 0.5);
+    /// assert_eq!(Easing::EaseIn.apply(0.5), 0.25);
+    /// assert_eq!(Easing::EaseOut.apply(0.5), 0.75);
+    /// assert_eq!(Easing::Hold.apply(0.999), 0.0);
+    /// assert_eq!(Easing::Hold.apply(1.0), 1.0);
+    /// ```
+    pub fn apply(self, u: f64) -> f64 {
+        match self {
+            Easing::Linear => u,
+            Easing::EaseIn => u * u,
+            Easing::EaseOut => u * (2.0 - u),
+            Easing::EaseInOut => u * u * (3.0 - 2.0 * u),
+            Easing::Hold => {
+                if u >= 1.0 {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+        }
+    }
 }
 
 /// Keyframes with strictly increasing times, and a frame rate.
@@ -156,7 +265,7 @@ impl Animation {
     /// ```
     /// use kurbo::Affine;
     /// use splineskin::animation::{Animation, AnimationError, Keyframe};
-    /// let key = |time: f64| Keyframe { time, transforms: vec![Affine::IDENTITY] };
+    /// let key = |time: f64| Keyframe::new(time, vec![Affine::IDENTITY]);
     /// assert!(Animation::new(30.0, vec![key(0.0), key(0.5), key(2.0)]).is_ok());
     /// assert_eq!(
     ///     Animation::new(30.0, vec![key(0.0), key(0.0)]),
@@ -254,6 +363,7 @@ impl Animation {
                     key.time * (duration / old)
                 },
                 transforms: key.transforms.clone(),
+                easing: key.easing,
             })
             .collect();
         Animation::new(self.fps, keyframes)
@@ -268,7 +378,7 @@ impl Animation {
     /// ```
     /// use kurbo::Affine;
     /// use splineskin::animation::{Animation, Keyframe};
-    /// let key = |time: f64| Keyframe { time, transforms: vec![Affine::IDENTITY] };
+    /// let key = |time: f64| Keyframe::new(time, vec![Affine::IDENTITY]);
     /// let a = Animation::new(4.0, vec![key(0.0), key(0.6)])?;
     /// assert_eq!(a.frame_times()?, vec![0.0, 0.25, 0.5, 0.6]);
     /// # Ok::<(), splineskin::animation::AnimationError>(())
@@ -348,7 +458,8 @@ impl PoseSampler {
     }
 
     /// Writes the pose at time `t` (seconds) into `out` (length [`PoseSampler::n_handles`]):
-    /// each handle's map interpolated between the keyframes around `t` (module doc). At a
+    /// each handle's map interpolated between the keyframes around `t` (module doc), at the
+    /// fraction the first keyframe's [`Easing`] gives. At a
     /// keyframe's time, and before the first or after the last keyframe, a keyframe's maps
     /// are copied exactly. No allocation.
     ///
@@ -360,8 +471,8 @@ impl PoseSampler {
     /// let c = Point::new(10.0, 0.0);
     /// let quarter = Affine::rotate_about(std::f64::consts::FRAC_PI_2, c);
     /// let a = Animation::new(30.0, vec![
-    ///     Keyframe { time: 0.0, transforms: vec![Affine::IDENTITY] },
-    ///     Keyframe { time: 2.0, transforms: vec![quarter] },
+    ///     Keyframe::new(0.0, vec![Affine::IDENTITY]),
+    ///     Keyframe::new(2.0, vec![quarter]),
     /// ])?;
     /// let sampler = a.sampler(&[c])?;
     /// let mut pose = [Affine::IDENTITY];
@@ -385,7 +496,14 @@ impl PoseSampler {
             return;
         }
         let (k0, k1) = (next - 1, next);
-        let u = (t - keys[k0].time) / (keys[k1].time - keys[k0].time);
+        let u = keys[k0]
+            .easing
+            .apply((t - keys[k0].time) / (keys[k1].time - keys[k0].time));
+        // A hold (or an easing at an end) is a keyframe's own maps, bit for bit.
+        if u == 0.0 || u == 1.0 {
+            out.copy_from_slice(&keys[if u == 0.0 { k0 } else { k1 }].transforms);
+            return;
+        }
         for (i, (slot, &c)) in out.iter_mut().zip(&self.pivots).enumerate() {
             let p0 = &self.parts[k0 * n + i];
             let p1 = &self.parts[k1 * n + i];
@@ -553,8 +671,8 @@ pub struct FrameError<E: std::fmt::Display + std::fmt::Debug> {
 /// use kurbo::{Affine, Point};
 /// use splineskin::animation::{deform_frames, Animation, Keyframe};
 /// let a = Animation::new(2.0, vec![
-///     Keyframe { time: 0.0, transforms: vec![Affine::IDENTITY] },
-///     Keyframe { time: 1.0, transforms: vec![Affine::translate((4.0, 0.0))] },
+///     Keyframe::new(0.0, vec![Affine::IDENTITY]),
+///     Keyframe::new(1.0, vec![Affine::translate((4.0, 0.0))]),
 /// ])?;
 /// let sampler = a.sampler(&[Point::ZERO])?;
 /// // A toy deformer: the handle's map applied to one point.
@@ -605,10 +723,7 @@ mod tests {
 
     #[test]
     fn frame_times_end_on_duration() {
-        let key = |time: f64| Keyframe {
-            time,
-            transforms: vec![Affine::IDENTITY],
-        };
+        let key = |time: f64| Keyframe::new(time, vec![Affine::IDENTITY]);
         // 2143 / 30 s at 30 fps: 2143 intervals, not 2144 with a sliver.
         let a = Animation::new(30.0, vec![key(0.0), key(2143.0 / 30.0)]).unwrap();
         let t = a.frame_times().unwrap();

@@ -11,7 +11,7 @@ use std::f64::consts::PI;
 
 use kurbo::{Affine, Point, Vec2};
 use splineskin::animation::{
-    deform_frames, interpolate_map, AffineParts, Animation, AnimationError, Keyframe,
+    deform_frames, interpolate_map, AffineParts, Animation, AnimationError, Easing, Keyframe,
 };
 use splineskin::drawing::svg_animate::write_animated_svg;
 use splineskin::drawing::svg_out::write_svg;
@@ -109,10 +109,7 @@ fn animation_exact_at_keyframes_with_uneven_times() {
     let times = [0.0, 0.1, 0.35, 1.0, 1.05, 3.0];
     let keys: Vec<Keyframe> = times
         .iter()
-        .map(|&time| Keyframe {
-            time,
-            transforms: random_pose(&mut rng, 3),
-        })
+        .map(|&time| Keyframe::new(time, random_pose(&mut rng, 3)))
         .collect();
     let a = Animation::new(30.0, keys.clone()).unwrap();
     let pivots = [
@@ -178,6 +175,53 @@ fn animation_halfway_between_rotations_is_the_half_angle_turn() {
     // Scales interpolate geometrically: halfway between ×1 and ×4 is ×2.
     let s = interpolate_map(Affine::IDENTITY, Affine::scale(4.0), Point::ZERO, 0.5).unwrap();
     assert!(max_diff(s, Affine::scale(2.0)) < EXACT);
+}
+
+/// A segment's easing changes only how far along it the pose is: at elapsed fraction `u` the
+/// pose is the linear segment's pose at `e(u)`, for each easing of a scene file; a hold keeps
+/// the first keyframe's maps bit for bit until the next keyframe's time.
+#[test]
+fn animation_easing_reparametrises_the_segment() {
+    let c = Point::new(12.0, -3.0);
+    let from = Affine::rotate_about(0.3, c) * Affine::scale(1.5);
+    let to = Affine::translate((40.0, 7.0)) * Affine::rotate_about(-1.1, c);
+    type Curve = fn(f64) -> f64;
+    let easings: [(&str, Curve); 5] = [
+        ("linear", |u: f64| u),
+        ("ease-in", |u: f64| u * u),
+        ("ease-out", |u: f64| 1.0 - (1.0 - u) * (1.0 - u)),
+        ("ease-in-out", |u: f64| 3.0 * u * u - 2.0 * u * u * u),
+        ("hold", |u: f64| if u < 1.0 { 0.0 } else { 1.0 }),
+    ];
+    for (name, e) in easings {
+        let easing = Easing::from_name(name).unwrap();
+        let mut first = Keyframe::new(0.5, vec![from]);
+        first.easing = easing;
+        let a = Animation::new(30.0, vec![first, Keyframe::new(2.5, vec![to])]).unwrap();
+        let sampler = a.sampler(&[c]).unwrap();
+        let mut pose = [Affine::IDENTITY];
+        for u in [0.0, 0.1, 0.25, 0.5, 0.8, 0.99, 1.0] {
+            sampler.pose_at(0.5 + 2.0 * u, &mut pose);
+            let want = interpolate_map(from, to, c, e(u)).unwrap();
+            assert!(
+                max_diff(pose[0], want) < EXACT,
+                "{name} at u = {u}: {:?} vs {want:?}",
+                pose[0]
+            );
+        }
+        if easing == Easing::Hold {
+            sampler.pose_at(2.4999, &mut pose);
+            assert_eq!(pose[0], from);
+        }
+    }
+    // The easing shows in a scene file, on the segment after its keyframe.
+    let scene = demo_scene(
+        r#"{"keyframes": [{"time": 0, "pose": 0, "easing": "ease-in"}, {"time": 1, "pose": 1}]}"#,
+    )
+    .unwrap();
+    let keys = scene.animation.unwrap();
+    assert_eq!(keys.keyframes()[0].easing, Easing::EaseIn);
+    assert_eq!(keys.keyframes()[1].easing, Easing::Linear);
 }
 
 /// The demo fish with an animation of uneven keyframes (inline, by index and by name).
@@ -399,6 +443,11 @@ fn animation_scene_errors_name_the_element() {
         e.contains("animation: keyframes[0]: time -1 is not a finite"),
         "{e}"
     );
+    let e = err(r#"{"keyframes": [{"time": 0, "pose": 0, "easing": "bounce"}]}"#);
+    assert!(
+        e.contains("animation.keyframes[0].easing: 'bounce' is not an easing (expected one of linear, ease-in, ease-out, ease-in-out, hold)"),
+        "{e}"
+    );
     let e = err(r#"{"fps": 0, "keyframes": [{"time": 0, "pose": 0}]}"#);
     assert!(e.contains("animation.fps: frame rate 0"), "{e}");
     let e = err(r#"{"keyframes": [{"time": 0, "pose": [[1, 2, 2, 4, 0, 0], {}, {}, {}, {}]}]}"#);
@@ -407,10 +456,7 @@ fn animation_scene_errors_name_the_element() {
         "{e}"
     );
     // NaN cannot be written in JSON; the library refuses it.
-    let key = |time: f64| Keyframe {
-        time,
-        transforms: vec![Affine::IDENTITY],
-    };
+    let key = |time: f64| Keyframe::new(time, vec![Affine::IDENTITY]);
     assert!(matches!(
         Animation::new(30.0, vec![key(0.0), key(f64::NAN)]),
         Err(AnimationError::Time { keyframe: 1, .. })

@@ -11,7 +11,8 @@ use splineskin::spline_fit::Measure;
 
 use super::scene_file::SceneExtras;
 use super::wire::{
-    DocumentInfo, EditScene, ElementInfo, JunctionWire, OperatorInfo, PathInfo, WeightsWire,
+    AnimationWire, DocumentInfo, EditScene, ElementInfo, JunctionWire, OperatorInfo, PathInfo,
+    WeightsWire,
 };
 use crate::output::has_extension;
 
@@ -172,6 +173,7 @@ impl Document {
             weights: weights.clone(),
             junctions,
             flexible: scene.flexible,
+            animation: scene.animation.as_ref().map(AnimationWire::of),
         };
         let extras = SceneExtras {
             arc_length: scene.measure == Measure::ArcLength,

@@ -9,7 +9,7 @@ use splineskin::defop::Energy;
 use splineskin::domain::DomainOptions;
 use splineskin::scene::{energy_name, DefOpSettings, RegionSpec};
 
-use super::wire::{EditScene, JunctionWire, WeightsWire};
+use super::wire::{AnimationWire, EditScene, JunctionWire, WeightsWire};
 
 /// Training samples when the page names none: 100. Measured in the editor with a release
 /// build on two cores shared with other builds (thin-plate splines, the domain of
@@ -87,6 +87,8 @@ struct SceneFile<'a> {
     flexible: bool,
     junctions: &'a [JunctionWire],
     pose: &'a [[f64; 6]],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    animation: Option<&'a AnimationWire>,
     #[serde(skip_serializing_if = "Option::is_none")]
     defop: Option<DefOpFile>,
 }
@@ -204,6 +206,7 @@ pub fn scene_json_with(svg: SvgRef<'_>, scene: &EditScene, extras: &SceneExtras)
         flexible: scene.flexible,
         junctions: &scene.junctions,
         pose: &scene.pose,
+        animation: scene.animation.as_ref(),
         defop,
     };
     serde_json::to_string_pretty(&file).expect("plain structs of strings and numbers serialise")

@@ -5,6 +5,7 @@ use axum::http::{header, Request, StatusCode};
 use axum::Router;
 use http_body_util::BodyExt;
 use kurbo::Point;
+use splineskin::animation::Easing;
 use splineskin::drawing::{read_svg, ImportOptions};
 use splineskin::examples::DEMO_SVG;
 use tower::ServiceExt;
@@ -145,6 +146,13 @@ async fn serve_initial_is_the_bundled_fish_marked_for_the_page() {
         info["scene"]["handles"].as_array().expect("handles").len(),
         5
     );
+    // Its animation is the page's timeline: five keyframes of five maps.
+    let keys = info["scene"]["animation"]["keyframes"]
+        .as_array()
+        .expect("the bundled scene's keyframes");
+    assert_eq!(keys.len(), 5);
+    assert_eq!(keys[1]["time"], 0.8);
+    assert_eq!(keys[1]["pose"].as_array().expect("a pose").len(), 5);
     let n_elements = info["elements"].as_array().expect("elements").len();
     let svg = info["svg"].as_str().expect("svg");
     for k in 0..n_elements {
@@ -356,6 +364,13 @@ async fn serve_saved_scene_reads_back_as_the_page_left_it() {
         })
         .expect("the fish has a G1 junction");
     scene["junctions"] = serde_json::json!([{"path": path, "joint": joint, "kind": "C0"}]);
+    // A timeline of three keyframes, the first segment eased.
+    let identity = [1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
+    scene["animation"] = serde_json::json!({"fps": 24.0, "keyframes": [
+        {"time": 0.0, "pose": [identity, identity], "easing": "ease-in-out"},
+        {"time": 0.75, "pose": [identity, [0.0, 1.0, -1.0, 0.0, 300.0, 100.0]], "easing": "hold"},
+        {"time": 1.5, "pose": [[1.0, 0.0, 0.0, 1.0, 5.0, 0.0], identity], "easing": "linear"}
+    ]});
     let (_, body) = send_ok(
         &app,
         post_json(&format!("/api/documents/{id}/scene"), &scene),
@@ -371,6 +386,21 @@ async fn serve_saved_scene_reads_back_as_the_page_left_it() {
     assert_eq!(read.junctions.len(), 1);
     assert_eq!(
         read.poses[0].transforms[1].as_coeffs(),
+        [0.0, 1.0, -1.0, 0.0, 300.0, 100.0]
+    );
+    let animation = read.animation.as_ref().expect("the timeline is saved");
+    assert_eq!(animation.fps(), 24.0);
+    let keys = animation.keyframes();
+    assert_eq!(
+        keys.iter().map(|k| (k.time, k.easing)).collect::<Vec<_>>(),
+        [
+            (0.0, Easing::EaseInOut),
+            (0.75, Easing::Hold),
+            (1.5, Easing::Linear)
+        ]
+    );
+    assert_eq!(
+        keys[1].transforms[1].as_coeffs(),
         [0.0, 1.0, -1.0, 0.0, 300.0, 100.0]
     );
     // Reopening it gives the page the same scene.

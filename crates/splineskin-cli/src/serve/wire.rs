@@ -24,6 +24,56 @@ pub struct EditScene {
     pub junctions: Vec<JunctionWire>,
     /// Whether G¹ and fixed-angle junctions are flexible (solved by the server on mouse-up).
     pub flexible: bool,
+    /// The timeline's keyframes, if any (a scene's `animation`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub animation: Option<AnimationWire>,
+}
+
+/// Keyframed poses as the page edits them and scene files hold them (`animation`): every
+/// keyframe's pose inline, one map per handle.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnimationWire {
+    /// Frames per second sampled.
+    pub fps: f64,
+    /// Keyframes, times increasing.
+    pub keyframes: Vec<KeyframeWire>,
+}
+
+/// One keyframe: its time, its pose, and the easing of the segment after it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KeyframeWire {
+    /// Seconds from the start.
+    pub time: f64,
+    /// One map per handle, SVG order `[a, b, c, d, e, f]`.
+    pub pose: Vec<[f64; 6]>,
+    /// `linear`, `ease-in`, `ease-out`, `ease-in-out` or `hold`
+    /// ([`splineskin::animation::Easing`]).
+    #[serde(default = "linear")]
+    pub easing: String,
+}
+
+fn linear() -> String {
+    "linear".into()
+}
+
+impl AnimationWire {
+    /// The page's form of a scene's animation.
+    pub fn of(animation: &splineskin::animation::Animation) -> AnimationWire {
+        AnimationWire {
+            fps: animation.fps(),
+            keyframes: animation
+                .keyframes()
+                .iter()
+                .map(|k| KeyframeWire {
+                    time: k.time,
+                    pose: k.transforms.iter().map(|t| t.as_coeffs()).collect(),
+                    easing: k.easing.name().into(),
+                })
+                .collect(),
+        }
+    }
 }
 
 /// A weight family by name (`shepard`, `harmonic`, `biharmonic`, `bbw`), with Shepard's

@@ -154,10 +154,7 @@ pub(crate) fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
             let keyframes = poses[1..]
                 .iter()
                 .enumerate()
-                .map(|(k, p)| Keyframe {
-                    time: k as f64 / AUTHORS_FPS,
-                    transforms: p.transforms.clone(),
-                })
+                .map(|(k, p)| Keyframe::new(k as f64 / AUTHORS_FPS, p.transforms.clone()))
                 .collect();
             Some(
                 Animation::new(AUTHORS_FPS, keyframes).map_err(|e| SceneError::Invalid {

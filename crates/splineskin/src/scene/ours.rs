@@ -46,7 +46,7 @@
 //! | `flexible` | `true`: G¹ and fixed-angle junctions keep parallel tangents (fixed angle: their angle) but not their tangent-length ratio, fitted by iteration ([`crate::spline_fit::flexible`]). Default false: the ratio is the input's, a linear fit |
 //! | `junctions` | overrides: path index (subpaths in document order), joint index (joint `k` starts curve `k`), `kind` ∈ `C0`, `C1`, `G1`, `angle` |
 //! | `pose` / `poses` | one pose (a list of transforms) or a list of `{name?, transforms, cage_positions?}` |
-//! | `animation` | keyframed poses: `fps` (frames per second sampled, default 30, at most 1000) and `keyframes`, a non-empty list of `{time, pose}`: `time` in seconds, ≥ 0, strictly increasing (uneven spacing is fine); `pose` is an index into `poses` (`0` is the identity in a scene without poses), a pose's `name`, a list of transforms (as in `pose`), or `{transforms, cage_positions?}` (as in `poses`). The animation runs from time 0 to the last keyframe; between keyframes each handle's map is interpolated by parts about its pivot ([`crate::animation`]), so every map must be invertible. Default: none |
+//! | `animation` | keyframed poses: `fps` (frames per second sampled, default 30, at most 1000) and `keyframes`, a non-empty list of `{time, pose, easing?}`: `time` in seconds, ≥ 0, strictly increasing (uneven spacing is fine); `pose` is an index into `poses` (`0` is the identity in a scene without poses), a pose's `name`, a list of transforms (as in `pose`), or `{transforms, cage_positions?}` (as in `poses`). The animation runs from time 0 to the last keyframe; between keyframes each handle's map is interpolated by parts about its pivot ([`crate::animation`]), so every map must be invertible; `easing` says how the segment from this keyframe to the next runs: `linear` (default), `ease-in`, `ease-out`, `ease-in-out` or `hold` ([`crate::animation::Easing`]). Default: none |
 //! | `defop` | training settings of a deformation operator for the point handles: `energy`, `spatial_basis`, `handle_basis`, `samples`, `region`, `seed`, `domain`, `mesh`, `operator`; keys, defaults and meaning in [`super::defop`] (`splineskin defop train`). Default: none (the defaults) |
 //!
 //! **Handle order.** The rig and every pose number the handles: point handles first (in
@@ -84,7 +84,7 @@ use super::{
     check_affine, check_point, handle_element, json_error, Bone, BoneTransform, Engine, HandleKind,
     HandleSet, JunctionOverride, Pose, Scene, SceneError, SceneFormat, WeightSpec, MAX_SCENE_BYTES,
 };
-use crate::animation::{Animation, AnimationError, Keyframe, DEFAULT_FPS};
+use crate::animation::{Animation, AnimationError, Easing, Keyframe, DEFAULT_FPS};
 use crate::domain::DomainOptions;
 use crate::drawing::JointKind;
 use crate::spline_fit::Measure;
@@ -141,6 +141,8 @@ struct AnimationFile {
 struct KeyframeFile {
     time: f64,
     pose: KeyframePoseFile,
+    #[serde(default)]
+    easing: Option<String>,
 }
 
 /// A keyframe's pose: an index into `poses`, a pose's name, a list of transforms, or a pose
@@ -624,9 +626,23 @@ fn animation(
                 &element,
             )?,
         };
+        let easing = match key.easing.as_deref() {
+            None => Easing::Linear,
+            Some(name) => Easing::from_name(name).ok_or_else(|| {
+                let names: Vec<&str> = Easing::ALL.iter().map(|e| e.name()).collect();
+                invalid(
+                    format!("animation.keyframes[{k}].easing"),
+                    format!(
+                        "'{name}' is not an easing (expected one of {})",
+                        names.join(", ")
+                    ),
+                )
+            })?,
+        };
         keyframes.push(Keyframe {
             time: key.time,
             transforms,
+            easing,
         });
     }
     let fps = file.fps.unwrap_or(DEFAULT_FPS);
