@@ -283,6 +283,27 @@ check('played and paused between keyframes, the drawing equals `splineskin anima
   });
 });
 
+check('Export Lottie downloads what `splineskin animate -o anim.json` writes of the saved scene', async () => {
+  assert.ok(savedScene, 'the scene was saved by the test before');
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export-lottie')]);
+  const fromEditor = join(out.path, 'editor.json');
+  await download.saveAs(fromEditor);
+  const report = await page.evaluate(() => window.splineskinEditor.lottieReport);
+  const cli = join(out.path, 'cli.json');
+  const stderr = await runSplineskin(['animate', join(out.path, 'timeline-scene.json'), '-o', cli]);
+  const [a, b] = [fromEditor, cli].map((f) => JSON.parse(readFileSync(f, 'utf8')));
+  // The animation's name is the file's (the drawing's in the editor, the scene's on the command line).
+  for (const x of [a, b]) {
+    delete x.nm;
+    delete x.layers[0].nm;
+  }
+  assert.deepEqual(a, b, 'the same animation');
+  assert.ok(report.keyframes > 0 && report.keyframes <= report.every_frame_keyframes);
+  assert.ok(stderr.includes(`${report.keyframes} path keyframes of ${report.every_frame_keyframes}`), stderr);
+  console.log(`timeline: Lottie from the editor: ${report.summary}`);
+  assert.match(await page.textContent('#message'), /exported demo\.json/);
+});
+
 check('a reload brings the session back: pins, keyframes, the shown time', async () => {
   const state = await editorState();
   await page.waitForFunction(() => document.body.dataset.autosaved, null, { timeout: WAIT });

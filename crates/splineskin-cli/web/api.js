@@ -140,3 +140,14 @@ export async function sceneFile(document, scene) {
 export async function progressOf(job) {
   return (await call(`/api/progress/${encodeURIComponent(job)}`)).json();
 }
+
+/**
+ * The Lottie animation of `scene`'s timeline on document `id`, as `splineskin animate` writes
+ * it: { json (text), report: { keyframes, every_frame_keyframes, bytes, every_frame_bytes,
+ * warnings, summary } }.
+ */
+export async function exportLottie(document, scene) {
+  const response = await postJson(`/api/documents/${encodeURIComponent(document)}/lottie`, scene);
+  const header = response.headers.get('x-splineskin-lottie');
+  return { json: await response.text(), report: header ? JSON.parse(header) : null };
+}

@@ -808,6 +808,7 @@ function drawTimeline() {
   $('easing').disabled = k === null || k === keys.length - 1;
   $('easing').value = k === null ? 'linear' : keys[k].easing;
   $('fps').disabled = !editor.scene.animation;
+  $('export-lottie').disabled = anim.duration(editor.scene.animation) <= 0 || isDefop(editor.scene);
   if (document.activeElement !== $('fps')) $('fps').value = fps();
   document.body.dataset.keyframes = String(keys.length);
 }
@@ -1103,6 +1104,22 @@ async function exportSvg() {
   }
 }
 
+async function exportLottie() {
+  pause();
+  progress('writing the Lottie animation');
+  try {
+    const { json, report } = await api.exportLottie(editor.info.id, editor.scene);
+    download(json, `${baseName()}.json`, 'application/json');
+    editor.lottieReport = report;
+    say(`exported ${baseName()}.json: ${report?.summary ?? `${json.length} bytes`}`);
+    showNotice(report?.warnings.length ? `Lottie: ${report.warnings.join('\n')}` : '');
+  } catch (e) {
+    showError(e);
+  } finally {
+    progress(null);
+  }
+}
+
 async function saveScene() {
   try {
     // With an operator, the file keeps the scene's weights and says how to train the operator
@@ -1177,6 +1194,7 @@ function wire() {
 
   $('export-svg').addEventListener('click', exportSvg);
   $('save-scene').addEventListener('click', saveScene);
+  $('export-lottie').addEventListener('click', exportLottie);
   $('undo').addEventListener('click', undo);
   $('redo').addEventListener('click', redo);
   $('delete-handle').addEventListener('click', deleteHandles);

@@ -14,6 +14,7 @@
 //! | `POST /api/documents/{id}/export?viewbox=keep\|fit[&rig={id}\|&defop={id}]` | deformed points, `f64` LE, then with `rig` the pose (`a…f` per handle) or with `defop` the configuration `Q` (`x, y` per handle), `f64` LE ([`ExportQuery`](super::wire::ExportQuery)) | the SVG document with them ([`write_svg_following`](splineskin::drawing::svg_out::write_svg_following)): gradients, patterns, markers, text and images carried by the best-fit affine map of the rig's skinning map or the operator's deformation (at rest without either); `fit` grows the viewBox to include the art, `keep` (default) leaves it |
 //! | `POST /api/documents/{id}/outside` | deformed points, `f64` LE | [`ViewBoxReport`](super::wire::ViewBoxReport): the paths that leave the viewBox, how far, and the viewBox `fit` writes |
 //! | `POST /api/documents/{id}/scene` | [`EditScene`] | the scene file (ours, drawing inline) |
+//! | `POST /api/documents/{id}/lottie` | [`EditScene`] with an `animation` | the Lottie animation `splineskin animate SCENE -o anim.json` writes of it; header `x-splineskin-lottie`: [`LottieReport`](super::document_routes::LottieReport) JSON (keyframes and bytes written and with every frame, warnings) |
 //!
 //! Errors are JSON [`ErrorBody`] `{"error": "…"}` naming the file and element concerned, with
 //! status 400 (bad input), 404 (no such document or rig: dropped, [`super::store`]), 413 (too
@@ -36,7 +37,7 @@ use axum::Router;
 use super::app::{ApiError, App, API_HEADER, MAX_JSON_BYTES};
 use super::defop_routes::{defop, deform};
 use super::document::MAX_UPLOAD_BYTES;
-use super::document_routes::{export, initial, open, outside, save_scene};
+use super::document_routes::{export, initial, lottie, open, outside, save_scene};
 use super::rig_routes::{progress, rig, solve, weights};
 
 /// The router of the editor on state `app`.
@@ -66,6 +67,7 @@ pub fn router(app: Arc<App>) -> Router {
             "/api/documents/{id}/scene",
             post(save_scene).layer(json_limit),
         )
+        .route("/api/documents/{id}/lottie", post(lottie).layer(json_limit))
         .route("/api/{*rest}", get(no_route).post(no_route))
         .route("/", get(super::assets::index))
         .route("/{*path}", get(super::assets::asset))

@@ -314,3 +314,100 @@ pub async fn save_scene(
     .await?;
     Ok(([(header::CONTENT_TYPE, "application/json")], json).into_response())
 }
+
+/// What `POST /api/documents/{id}/lottie` says of the file it sends (header
+/// [`LOTTIE_HEADER`], JSON).
+#[derive(Debug, serde::Serialize)]
+pub struct LottieReport {
+    /// Path keyframes written.
+    pub keyframes: usize,
+    /// Path keyframes with every frame keyed.
+    pub every_frame_keyframes: usize,
+    /// Bytes of the file sent.
+    pub bytes: usize,
+    /// Bytes it would have with every frame keyed.
+    pub every_frame_bytes: usize,
+    /// What Lottie cannot express, and what setting up the rig warned about.
+    pub warnings: Vec<String>,
+    /// The summary line `splineskin animate` prints.
+    pub summary: String,
+}
+
+/// The header of a Lottie export's [`LottieReport`].
+pub const LOTTIE_HEADER: &str = "x-splineskin-lottie";
+
+/// `POST /api/documents/{id}/lottie`: the page's scene, its timeline played as
+/// `splineskin animate SCENE -o anim.json` plays it.
+pub async fn lottie(
+    State(app): State<Arc<App>>,
+    Path(id): Path<String>,
+    request: Result<Json<EditScene>, JsonRejection>,
+) -> Result<Response, ApiError> {
+    let Json(scene) = request?;
+    let document = app.document(&id)?;
+    let (json, report) = run_job(&app, move || {
+        if super::scene_file::defop_energy(&scene.weights.family).is_some() {
+            return Err(ApiError::bad(format!(
+                "{}: Lottie export plays a rig of weights; pick a weight family (the trained \
+                 operators are not exported as animations yet)",
+                document.name
+            )));
+        }
+        let read = page_scene(&document, &scene)?;
+        let Some(animation) = read.animation.clone() else {
+            return Err(ApiError::bad(format!(
+                "{}: the timeline has no keyframes (key the pose at two times or more)",
+                document.name
+            )));
+        };
+        let stem = std::path::Path::new(&document.name)
+            .file_stem()
+            .map_or("splineskin".into(), |s| s.to_string_lossy().into_owned());
+        let options = splineskin::drawing::lottie::LottieOptions::default().with_name(stem);
+        let made = crate::animate::lottie_of_scene(
+            &read,
+            &animation,
+            splineskin::scene::Compat::None,
+            scene.flexible,
+            &options,
+            &document.name,
+        )?;
+        let mut warnings = made.rig_warnings.clone();
+        warnings.extend(made.lottie.warnings.iter().map(|w| w.to_string()));
+        let report = LottieReport {
+            keyframes: made.lottie.keyframes,
+            every_frame_keyframes: made.lottie.every_frame_keyframes,
+            bytes: made.lottie.json.len(),
+            every_frame_bytes: made.every_frame_bytes,
+            warnings,
+            summary: made.summary(&options),
+        };
+        Ok((made.lottie.json, report))
+    })
+    .await?;
+    let header =
+        ascii_json(&serde_json::to_string(&report).map_err(|e| ApiError::bad(e.to_string()))?);
+    let mut response = ([(header::CONTENT_TYPE, "application/json")], json).into_response();
+    response.headers_mut().insert(
+        LOTTIE_HEADER,
+        axum::http::HeaderValue::from_str(&header).map_err(|e| ApiError::bad(e.to_string()))?,
+    );
+    Ok(response)
+}
+
+/// JSON text with every character beyond ASCII written as `\uXXXX` escapes (UTF-16, as JSON
+/// has them), so that it fits in an HTTP header.
+fn ascii_json(json: &str) -> String {
+    let mut out = String::with_capacity(json.len());
+    for c in json.chars() {
+        if c.is_ascii() {
+            out.push(c);
+        } else {
+            let mut units = [0u16; 2];
+            for unit in c.encode_utf16(&mut units) {
+                out.push_str(&format!("\\u{unit:04x}"));
+            }
+        }
+    }
+    out
+}

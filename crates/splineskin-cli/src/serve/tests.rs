@@ -1032,3 +1032,61 @@ async fn serve_export_carries_text_with_the_operator() {
     assert!(at_rest > 4.0, "the rotation moves the label: {at_rest}");
     assert!(worst < 0.5, "the label is {worst} from the rotation");
 }
+
+#[tokio::test]
+async fn serve_lottie_plays_the_page_timeline_as_animate_does() {
+    let (app, _, id) = demo_app().await;
+    let mut scene = two_handle_scene(&id, false)["scene"].clone();
+    let uri = format!("/api/documents/{id}/lottie");
+    // No timeline: refused, saying what to do.
+    let message = refused_with(&app, post_json(&uri, &scene), StatusCode::BAD_REQUEST).await;
+    assert!(message.contains("no keyframes"), "{message}");
+    let identity = [1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
+    let turned = [0.0, 1.0, -1.0, 0.0, 315.0, 95.0];
+    scene["animation"] = serde_json::json!({"fps": 10.0, "keyframes": [
+        {"time": 0.0, "pose": [identity, identity], "easing": "ease-in-out"},
+        {"time": 1.0, "pose": [identity, turned]}
+    ]});
+    let (headers, body) = send_ok(&app, post_json(&uri, &scene)).await;
+    let report = json(headers[super::document_routes::LOTTIE_HEADER].as_bytes());
+    let lottie = json(&body);
+    assert_eq!(lottie["fr"], 10.0);
+    assert_eq!(lottie["op"], 10.0, "1 s at 10 fps: frames 0 … 10");
+    assert!(lottie["layers"].as_array().is_some_and(|l| !l.is_empty()));
+    assert_eq!(report["bytes"], body.len());
+    let (k, every) = (
+        report["keyframes"].as_u64().unwrap(),
+        report["every_frame_keyframes"].as_u64().unwrap(),
+    );
+    assert!(0 < k && k <= every, "{k} of {every}");
+    assert!(report["summary"]
+        .as_str()
+        .is_some_and(|s| s.contains("× 11 frames")));
+    // The same file as the command writes from the saved scene.
+    let (_, saved) = send_ok(
+        &app,
+        post_json(&format!("/api/documents/{id}/scene"), &scene),
+    )
+    .await;
+    let read = splineskin::scene::Scene::from_json(
+        std::str::from_utf8(&saved).expect("text"),
+        "fish drawing.svg",
+        None,
+    )
+    .expect("it reads");
+    let options = splineskin::drawing::lottie::LottieOptions::default().with_name("fish drawing");
+    let made = crate::animate::lottie_of_scene(
+        &read,
+        read.animation.as_ref().expect("animation"),
+        splineskin::scene::Compat::None,
+        false,
+        &options,
+        "saved",
+    )
+    .expect("the command's Lottie");
+    assert_eq!(made.lottie.json.as_bytes(), &body[..]);
+    // An operator family is refused with a message.
+    scene["weights"] = serde_json::json!({"family": "defop-arap", "samples": 10});
+    let message = refused_with(&app, post_json(&uri, &scene), StatusCode::BAD_REQUEST).await;
+    assert!(message.contains("pick a weight family"), "{message}");
+}
