@@ -1,7 +1,7 @@
 // `splineskin animate -o anim.json` (Lottie) played by lottie-web in chromium.
 //
 // For each drawing (the bundled fish, the bundled octopus, a real flag with gradients from the
-// flag-icons package) the same animation is written twice: as Lottie, and as a folder of SVG
+// flag-icons package, a real emoji with gradients: Noto's tropical fish) the same animation is written twice: as Lottie, and as a folder of SVG
 // frames at the same frame rate. The Lottie file is validated against the Lottie community's
 // JSON schema; then lottie-web plays it, paused at every frame time (most of them between the
 // Lottie keyframes, which the export thins out), and the path data lottie-web draws for each
@@ -23,6 +23,8 @@ const MODULES = join(REPO, 'browser-tests', 'node_modules');
 const SCHEMA = join(MODULES, '@lottie-animation-community', 'lottie-specs', 'src', 'data', 'lottie.schema.json');
 const PLAYER = join(MODULES, 'lottie-web', 'build', 'player', 'lottie_svg.min.js');
 const FLAG = join(REPO, 'test-art', 'node_modules', 'flag-icons', 'flags', '4x3', 'gs.svg');
+// Google's Noto emoji, as the Iconify package carries them (an icon's body, 128 × 128 units).
+const NOTO = join(REPO, 'test-art', 'node_modules', '@iconify-json', 'noto', 'icons.json');
 
 // The export's tolerance (a fraction of the drawing's diagonal, the command's default), and
 // what lottie-web's path data adds to it: it writes coordinates with 3 decimals.
@@ -109,22 +111,23 @@ function withIds(from, name) {
 
 /**
  * The numbers of the path data of every element with an id matching `selector` (the first
- * path under it, or itself), as points in the root's user space: each pair mapped by the
- * element's CTM relative to the root <svg>'s (lottie-web's groups carry none; our frames keep
- * the source's transforms).
+ * path under it, or itself), as points in the pixels of the root <svg>'s viewport: each pair
+ * mapped by the element's screen CTM, less the root's position on the page (lottie-web's
+ * groups carry no transforms and its coordinates are the composition's pixels; our frames keep
+ * the source's transforms and viewBox).
  */
 async function pathPoints(page, selector) {
   return page.evaluate((selector) => {
     const root = document.querySelector('svg');
-    const toRoot = root.getCTM().inverse();
+    const origin = root.getBoundingClientRect();
     const result = {};
     for (const el of document.querySelectorAll(selector)) {
       const path = el.tagName === 'path' ? el : el.querySelector('path');
       const d = path?.getAttribute('d');
       if (!el.id || !d) continue;
-      const m = toRoot.multiply(path.getCTM());
+      const m = path.getScreenCTM();
       // Subpath by subpath (lottie-web joins a group's shapes in its own order), each
-      // subpath's coordinates mapped to the root.
+      // subpath's coordinates mapped to the root's viewport.
       const subpaths = d
         .split(/(?=[Mm])/)
         .map((sub) => {
@@ -132,7 +135,7 @@ async function pathPoints(page, selector) {
           const points = [];
           for (let k = 0; k + 1 < numbers.length; k += 2) {
             const p = new DOMPoint(numbers[k], numbers[k + 1]).matrixTransform(m);
-            points.push(p.x, p.y);
+            points.push(p.x - origin.left, p.y - origin.top);
           }
           return points;
         })
@@ -143,11 +146,16 @@ async function pathPoints(page, selector) {
   }, selector);
 }
 
-/** The diagonal of the drawing's bounding box, from the SVG frame's geometry. */
+/**
+ * The diagonal of the drawing's bounding box, from the SVG frame's geometry, in pixels of the
+ * root's viewport (as pathPoints gives coordinates).
+ */
 async function diagonal(page) {
   return page.evaluate(() => {
-    const box = document.documentElement.getBBox();
-    return Math.hypot(box.width, box.height);
+    const root = document.documentElement;
+    const box = root.getBBox();
+    const m = root.getScreenCTM();
+    return Math.hypot(box.width, box.height) * Math.sqrt(Math.abs(m.a * m.d - m.b * m.c));
   });
 }
 
@@ -280,4 +288,17 @@ check('the octopus plays in lottie-web as the deformation', async (t) => {
 check('a real flag with gradients plays in lottie-web as the deformation', { skip: existsSync(FLAG) ? false : `${FLAG} missing (npm ci in test-art)` }, async (t) => {
   const flag = withIds(FLAG, 'flag');
   await playAndCompare(t, 'flag', [flag, '--pins', '4', '--rotate', '1:20', '--move', '2:30,-20'], { minElements: 30 });
+});
+
+check('a real emoji with gradients (Noto\'s tropical fish) plays in lottie-web as the deformation', { skip: existsSync(NOTO) ? false : `${NOTO} missing (npm ci in test-art)` }, async (t) => {
+  const noto = JSON.parse(readFileSync(NOTO, 'utf8'));
+  const icon = noto.icons['tropical-fish'];
+  assert.ok(icon, 'the package has the tropical fish');
+  const [w, h] = [icon.width ?? noto.width ?? 128, icon.height ?? noto.height ?? 128];
+  assert.ok((icon.body.match(/<(linear|radial)Gradient/g) ?? []).length >= 2, 'it has gradients');
+  // The icon as an SVG document, drawn at 4 pixels per unit.
+  const file = join(out.path, 'tropical-fish-source.svg');
+  writeFileSync(file, `<svg xmlns="http://www.w3.org/2000/svg" width="${4 * w}" height="${4 * h}" viewBox="0 0 ${w} ${h}">${icon.body}</svg>`);
+  const emoji = withIds(file, 'emoji');
+  await playAndCompare(t, 'emoji', [emoji, '--pins', '4', '--rotate', '1:20', '--move', '2:8,-6'], { minElements: 10 });
 });

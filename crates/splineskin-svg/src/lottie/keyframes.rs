@@ -25,19 +25,29 @@ use kurbo::Point;
 /// ```
 pub fn keyframes(frames: &[&[Point]], times: &[f64], tolerance: f64) -> Vec<usize> {
     debug_assert_eq!(frames.len(), times.len());
-    let n = frames.len();
+    if frames.iter().all(|f| *f == frames[0]) {
+        return if frames.is_empty() {
+            Vec::new()
+        } else {
+            vec![0]
+        };
+    }
+    keyframes_by(frames.len(), |a, b| spans(frames, times, a, b, tolerance))
+}
+
+/// The greedy choice of [`keyframes`] over `n` frames with another test: `spans(a, b)` says
+/// whether the player's interpolation from kept frame `a` to kept frame `b` passes every frame
+/// strictly between them. The first and last frames are kept.
+pub(super) fn keyframes_by(n: usize, spans: impl Fn(usize, usize) -> bool) -> Vec<usize> {
     if n == 0 {
         return Vec::new();
-    }
-    if frames.iter().all(|f| *f == frames[0]) {
-        return vec![0];
     }
     let mut kept = vec![0];
     let mut a = 0;
     while a + 1 < n {
         // The farthest b whose span a..b interpolates every frame in between.
         let mut b = a + 1;
-        while b + 1 < n && spans(frames, times, a, b + 1, tolerance) {
+        while b + 1 < n && spans(a, b + 1) {
             b += 1;
         }
         kept.push(b);

@@ -26,8 +26,15 @@
 //! them. Everything is written in the root's user space (the drawing's coordinates), with one
 //! layer transform for the root viewBox. What Lottie cannot express, or this export does not
 //! write yet, is named in [`LottieExport::warnings`]: clip paths, masks, filters, patterns,
-//! text and images, non-pad gradient spreads, strokes and gradients under a non-uniform
+//! text and images, non-pad gradient spreads, strokes and stroke gradients under a non-uniform
 //! transform (approximated), and gradients written at rest when no element maps are given.
+//!
+//! A fill gradient Lottie cannot draw in root user space (a radial gradient stretched into an
+//! ellipse, a linear one sheared by its transform: Lottie's are circular and square to their
+//! axis) is drawn exactly in its own space instead: a group whose transform (position,
+//! rotation, skew, scale) is the gradient's map at each frame, over the element's paths mapped
+//! back by it; its keyframes are kept where the player's interpolation of the two, composed,
+//! would stray from the deformation by more than the tolerance.
 //!
 //! The JSON is built with `serde_json` values rather than `velato`'s schema types: we write
 //! a dozen object kinds, velato's types have no defaults (every optional field spelled out at
@@ -48,6 +55,7 @@ use splineskin_core::drawing::source::{ElementKey, SvgSource};
 use splineskin_core::drawing::{Drawing, Path, PathRole};
 
 pub use keyframes::keyframes;
+use keyframes::keyframes_by;
 
 /// Default [`LottieOptions::tolerance`]: 1e-3 of the drawing's bounding-box diagonal.
 pub const DEFAULT_TOLERANCE: f64 = 1e-3;
@@ -391,13 +399,7 @@ impl Writer<'_> {
         }
         let label = e.label.clone();
         let map = e.local_to_root;
-        let mut items = Vec::new();
-        for pi in e.paths.clone() {
-            let closed_in_source =
-                self.drawing.paths[pi].closed && !self.source.closed_without_z[pi];
-            let shape = self.path_shape(pi, closed_in_source);
-            items.push(shape);
-        }
+        let paths = e.paths.clone();
         let mut stroke = p
             .stroke()
             .and_then(|s| paint::stroke(s, map, &label, &mut self.warnings));
@@ -407,16 +409,64 @@ impl Writer<'_> {
             p.fill()
                 .and_then(|f| paint::fill(f, map, &label, &mut self.warnings))
         };
+        // A fill drawn in its gradient's space has its own group, and the stroke then another.
+        let space = fill.as_ref().and_then(|f| f.space);
+        let fill_group = match (space, &fill) {
+            (Some(m), Some(style)) => {
+                let ends = style.ends.unwrap_or([Point::ZERO, Point::new(1.0, 0.0)]);
+                let group = self.gradient_space_group(
+                    element,
+                    m,
+                    ends,
+                    style.value.clone(),
+                    stroke.is_none(),
+                );
+                if group.is_none() {
+                    // A frame whose element map is singular: drawn in root space after all.
+                    fill = p.fill().and_then(|f| {
+                        paint::fill_in_root_space(f, map, &label, &mut self.warnings)
+                    });
+                }
+                group
+            }
+            _ => None,
+        };
         for style in [&mut stroke, &mut fill].into_iter().flatten() {
             self.follow_gradient(style, element);
         }
-        // Items listed first are drawn on top: SVG's default paint order puts the stroke over
-        // the fill.
-        let styles = match p.paint_order() {
-            usvg::PaintOrder::FillAndStroke => [stroke, fill],
-            usvg::PaintOrder::StrokeAndFill => [fill, stroke],
+        let mut items = Vec::new();
+        let shapes = |writer: &mut Self| -> Vec<Value> {
+            paths
+                .clone()
+                .map(|pi| {
+                    let closed =
+                        writer.drawing.paths[pi].closed && !writer.source.closed_without_z[pi];
+                    writer.path_shape(pi, closed)
+                })
+                .collect()
         };
-        items.extend(styles.into_iter().flatten().map(|style| style.value));
+        if let Some(fill_group) = fill_group {
+            let stroke_group = stroke.map(|style| {
+                let mut it = shapes(self);
+                it.push(style.value);
+                it.push(group_transform(1.0));
+                json!({"ty": "gr", "nm": "stroke", "it": it})
+            });
+            let groups = match p.paint_order() {
+                usvg::PaintOrder::FillAndStroke => [stroke_group, Some(fill_group)],
+                usvg::PaintOrder::StrokeAndFill => [Some(fill_group), stroke_group],
+            };
+            items.extend(groups.into_iter().flatten());
+        } else {
+            items = shapes(self);
+            // Items listed first are drawn on top: SVG's default paint order puts the stroke
+            // over the fill.
+            let styles = match p.paint_order() {
+                usvg::PaintOrder::FillAndStroke => [stroke, fill],
+                usvg::PaintOrder::StrokeAndFill => [fill, stroke],
+            };
+            items.extend(styles.into_iter().flatten().map(|style| style.value));
+        }
         items.push(group_transform(1.0));
         // `ln` becomes the group's id in SVG players: the element's own id where it has one.
         Some(json!({"ty": "gr", "nm": label, "ln": p.id(), "it": items}))
@@ -433,6 +483,124 @@ impl Writer<'_> {
             bezier(path, per_frame[f], closed)
         });
         json!({"ty": "sh", "nm": format!("path {pi}"), "ks": value})
+    }
+
+    /// The group of an element's fill drawn in its gradient's space (paint's [`Style::space`]):
+    /// the element's paths mapped by `G_f⁻¹` at each frame `f`, the fill `value` (geometry in
+    /// gradient units, `ends` its end points there), and a group transform `G_f = A_f · m`
+    /// (`A_f` the element's map at frame `f`, `m` gradient units → root user space at rest),
+    /// written as Lottie's position, rotation, skew and scale:
+    ///
+    /// ```text
+    /// G(x) = p + R(r) · [[1, −tan sk], [0, 1]] · diag(s_x, s_y) · x
+    /// A = [[a, c], [b, d]]:  r = atan2(b, a),  s_x = |(a, b)|,  s_y = det A / s_x,
+    ///                        tan(−sk) = ((a, b) · (c, d)) / (s_x s_y),  p = (e, f)
+    /// ```
+    ///
+    /// Frames are kept where the player's interpolation of the vertices and of those parts,
+    /// composed, strays from the deformed paths or the gradient's mapped geometry by more than
+    /// the tolerance ([`keyframes_by`]). `count`: its path keyframes count in the export's total
+    /// (not when a stroke group writes the same paths). `None` when some `G_f` is singular.
+    fn gradient_space_group(
+        &mut self,
+        element: usize,
+        m: kurbo::Affine,
+        ends: [Point; 2],
+        value: Value,
+        count: bool,
+    ) -> Option<Value> {
+        let e = &self.source.elements[element];
+        let paths: Vec<usize> = e.paths.clone().collect();
+        let n = self.frames.len();
+        let g: Vec<kurbo::Affine> = (0..n)
+            .map(|f| {
+                let a = self
+                    .maps
+                    .and_then(|maps| maps[f].element_map(element))
+                    .unwrap_or(kurbo::Affine::IDENTITY);
+                a * m
+            })
+            .collect();
+        if g.iter()
+            .any(|g| !(g.determinant().abs() > 0.0 && g.determinant().is_finite()))
+        {
+            return None;
+        }
+        let mut parts: Vec<LottieParts> = g.iter().map(|&g| LottieParts::of(g)).collect();
+        // Turns continuous from frame to frame (the player interpolates the angle itself).
+        for f in 1..n {
+            let previous = parts[f - 1].rotation;
+            let turns = ((previous - parts[f].rotation) / 360.0).round();
+            parts[f].rotation += 360.0 * turns;
+        }
+        // Per frame: every path's points in gradient units, and in root space.
+        let ranges: Vec<std::ops::Range<usize>> = paths
+            .iter()
+            .map(|&pi| self.offsets[pi]..self.offsets[pi] + self.drawing.paths[pi].points.len())
+            .collect();
+        let local: Vec<Vec<Point>> = (0..n)
+            .map(|f| {
+                let inverse = g[f].inverse();
+                ranges
+                    .iter()
+                    .flat_map(|r| self.frames[f][r.clone()].iter().map(move |&p| inverse * p))
+                    .collect()
+            })
+            .collect();
+        let root: Vec<Vec<Point>> = (0..n)
+            .map(|f| {
+                ranges
+                    .iter()
+                    .flat_map(|r| self.frames[f][r.clone()].iter().copied())
+                    .collect()
+            })
+            .collect();
+        // The gradient's geometry: its end points and the point square to them.
+        let axis = ends[1] - ends[0];
+        let gradient_points = [
+            ends[0],
+            ends[1],
+            ends[0] + kurbo::Vec2::new(-axis.y, axis.x),
+        ];
+        let tolerance2 = self.tolerance * self.tolerance;
+        let numbers = &self.frame_numbers;
+        let kept = keyframes_by(n, |a, b| {
+            (a + 1..b).all(|k| {
+                let u = (numbers[k] - numbers[a]) / (numbers[b] - numbers[a]);
+                let shown = parts[a].lerp(&parts[b], u).affine();
+                let paths_ok = local[k].iter().enumerate().all(|(i, _)| {
+                    let v = local[a][i].lerp(local[b][i], u);
+                    (shown * v - root[k][i]).hypot2() <= tolerance2
+                });
+                paths_ok
+                    && gradient_points
+                        .iter()
+                        .all(|&q| (shown * q - g[k] * q).hypot2() <= tolerance2)
+            })
+        });
+        if count {
+            self.keyframes += kept.len() * paths.len();
+        }
+        let mut items: Vec<Value> = Vec::new();
+        let mut start = 0;
+        for (&pi, range) in paths.iter().zip(&ranges) {
+            let path = &self.drawing.paths[pi];
+            let closed = path.closed && !self.source.closed_without_z[pi];
+            let len = range.len();
+            let ks = property(&kept, numbers, Kind::Shape, |f| {
+                bezier(path, &local[f][start..start + len], closed)
+            });
+            items.push(json!({"ty": "sh", "nm": format!("path {pi} in gradient space"), "ks": ks}));
+            start += len;
+        }
+        items.push(value);
+        let mut transform = group_transform(1.0);
+        transform["p"] = property(&kept, numbers, Kind::Vector, |f| json!(parts[f].position));
+        transform["s"] = property(&kept, numbers, Kind::Vector, |f| json!(parts[f].scale));
+        transform["r"] = property(&kept, numbers, Kind::Scalar, |f| json!(parts[f].rotation));
+        transform["sk"] = property(&kept, numbers, Kind::Scalar, |f| json!(parts[f].skew));
+        items.push(transform);
+        Some(json!({"ty": "gr", "nm": "fill in gradient space", "it": items}))
     }
 
     /// Keyframes a gradient style's end points (`s`, `e`) through the element's map at each
@@ -487,6 +655,64 @@ impl Warnings {
 enum Kind {
     Shape,
     Vector,
+    /// A number: static as it is, keyframe values as one-element arrays.
+    Scalar,
+}
+
+/// An affine map as a Lottie group transform's parts (anchor at the origin):
+/// `x ↦ p + R(r) · [[1, −tan sk], [0, 1]] · diag(s_x, s_y) · x`, angles in degrees, scales in
+/// percent (lottie-web's transform order: scale, skew, rotation, position).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct LottieParts {
+    position: [f64; 2],
+    scale: [f64; 2],
+    rotation: f64,
+    skew: f64,
+}
+
+impl LottieParts {
+    /// The parts of `g` (invertible): a QR factorisation of its linear part.
+    fn of(g: kurbo::Affine) -> LottieParts {
+        let [a, b, c, d, e, f] = g.as_coeffs();
+        let sx = a.hypot(b);
+        let (cos, sin) = (a / sx, b / sx);
+        let along = cos * c + sin * d;
+        let sy = -sin * c + cos * d;
+        LottieParts {
+            position: [e, f],
+            scale: [100.0 * sx, 100.0 * sy],
+            rotation: b.atan2(a).to_degrees(),
+            skew: -(along / sy).atan().to_degrees(),
+        }
+    }
+
+    /// The map these parts draw.
+    fn affine(&self) -> kurbo::Affine {
+        let (sin, cos) = self.rotation.to_radians().sin_cos();
+        let k = -self.skew.to_radians().tan();
+        let (sx, sy) = (self.scale[0] / 100.0, self.scale[1] / 100.0);
+        // R · [[sx, k sy], [0, sy]].
+        let (a, b) = (cos * sx, sin * sx);
+        let (c, d) = (cos * k * sy - sin * sy, sin * k * sy + cos * sy);
+        kurbo::Affine::new([a, b, c, d, self.position[0], self.position[1]])
+    }
+
+    /// The parts a player shows at fraction `u` from `self` to `other`: each one linearly.
+    fn lerp(&self, other: &LottieParts, u: f64) -> LottieParts {
+        let l = |x: f64, y: f64| x + u * (y - x);
+        LottieParts {
+            position: [
+                l(self.position[0], other.position[0]),
+                l(self.position[1], other.position[1]),
+            ],
+            scale: [
+                l(self.scale[0], other.scale[0]),
+                l(self.scale[1], other.scale[1]),
+            ],
+            rotation: l(self.rotation, other.rotation),
+            skew: l(self.skew, other.skew),
+        }
+    }
 }
 
 /// A Lottie property whose value at frame `f` is `value(f)`: static (`"a": 0`) when only one
@@ -503,7 +729,7 @@ fn property(
     }
     let (into, out) = match kind {
         Kind::Shape => (json!({"x": 1.0, "y": 1.0}), json!({"x": 0.0, "y": 0.0})),
-        Kind::Vector => (
+        Kind::Vector | Kind::Scalar => (
             json!({"x": [1.0], "y": [1.0]}),
             json!({"x": [0.0], "y": [0.0]}),
         ),
@@ -513,7 +739,7 @@ fn property(
         .enumerate()
         .map(|(j, &f)| {
             let v = match kind {
-                Kind::Shape => json!([value(f)]),
+                Kind::Shape | Kind::Scalar => json!([value(f)]),
                 Kind::Vector => value(f),
             };
             let mut key = json!({"t": frame_numbers[f], "s": v});

@@ -14,9 +14,17 @@ use crate::svg_in::affine;
 
 /// A Lottie style item and, for a gradient, its end points (`s`, `e`, root user space, at
 /// rest), which the writer keyframes through the element's maps.
+///
+/// A fill gradient that a Lottie gradient cannot draw in root user space (an elliptical radial
+/// gradient, a sheared linear one) is written in its own space instead: `space` is then the map
+/// `G` from gradient units to root user space, the style's geometry is in gradient units, and
+/// the writer puts the fill in a group whose transform is `G` (following the element's maps)
+/// over the paths mapped by `G⁻¹` — exact, since Lottie's group transform is a general affine
+/// map.
 pub(super) struct Style {
     pub value: Value,
     pub ends: Option<[Point; 2]>,
+    pub space: Option<Affine>,
 }
 
 /// Relative difference of a map's two singular values above which it is not a similarity.
@@ -29,15 +37,62 @@ pub(super) fn fill(
     label: &str,
     warnings: &mut Warnings,
 ) -> Option<Style> {
-    let opacity = 100.0 * f64::from(fill.opacity().get());
-    let rule = match fill.rule() {
+    let mut style = painted(
+        fill.paint(),
+        ["fl", "gf"],
+        "fill",
+        true,
+        map,
+        label,
+        warnings,
+    )?;
+    if let (usvg::Paint::LinearGradient(_) | usvg::Paint::RadialGradient(_), Some(ends)) =
+        (fill.paint(), style.ends)
+    {
+        let m = gradient_map(fill.paint(), map);
+        if !expressible(fill.paint(), m, ends) {
+            // Drawn in the gradient's own space (the writer's group transform maps it).
+            let (mut value, ends) = gradient(fill.paint(), None, true, label, "fill", warnings)?;
+            value["ty"] = json!("gf");
+            value["nm"] = json!("gradient fill");
+            style = Style {
+                value,
+                ends: Some(ends),
+                space: Some(m),
+            };
+        }
+    }
+    Some(with_fill_settings(style, fill))
+}
+
+/// `style` with the opacity and fill rule of `fill`.
+fn with_fill_settings(mut style: Style, fill: &usvg::Fill) -> Style {
+    style.value["o"] = json!({"a": 0, "k": 100.0 * f64::from(fill.opacity().get())});
+    style.value["r"] = json!(match fill.rule() {
         usvg::FillRule::NonZero => 1,
         usvg::FillRule::EvenOdd => 2,
-    };
-    let mut style = painted(fill.paint(), ["fl", "gf"], "fill", map, label, warnings)?;
-    style.value["o"] = json!({"a": 0, "k": opacity});
-    style.value["r"] = json!(rule);
-    Some(style)
+    });
+    style
+}
+
+/// The Lottie fill of a usvg fill in root user space whatever its gradient (approximated, with
+/// a warning, where Lottie's gradients cannot draw it there).
+pub(super) fn fill_in_root_space(
+    fill: &usvg::Fill,
+    map: Affine,
+    label: &str,
+    warnings: &mut Warnings,
+) -> Option<Style> {
+    let style = painted(
+        fill.paint(),
+        ["fl", "gf"],
+        "fill",
+        false,
+        map,
+        label,
+        warnings,
+    )?;
+    Some(with_fill_settings(style, fill))
 }
 
 /// The Lottie stroke of a usvg stroke, or `None` (with a warning) for what Lottie cannot
@@ -66,7 +121,15 @@ pub(super) fn stroke(
         usvg::LineJoin::Round => 2,
         usvg::LineJoin::Bevel => 3,
     };
-    let mut style = painted(stroke.paint(), ["st", "gs"], "stroke", map, label, warnings)?;
+    let mut style = painted(
+        stroke.paint(),
+        ["st", "gs"],
+        "stroke",
+        false,
+        map,
+        label,
+        warnings,
+    )?;
     let value = &mut style.value;
     value["o"] = json!({"a": 0, "k": opacity});
     value["w"] = json!({"a": 0, "k": scale * f64::from(stroke.width().get())});
@@ -97,11 +160,13 @@ pub(super) fn stroke(
 }
 
 /// The style item of `paint` used for `what` ("fill" or "stroke"): of type `types[0]` with
-/// its colour, or `types[1]` with its gradient (and the gradient's end points).
+/// its colour, or `types[1]` with its gradient (and the gradient's end points). `quiet`: no
+/// warning about gradient geometry Lottie cannot draw (the caller handles it).
 fn painted(
     paint: &usvg::Paint,
     types: [&str; 2],
     what: &str,
+    quiet: bool,
     map: Affine,
     label: &str,
     warnings: &mut Warnings,
@@ -110,14 +175,16 @@ fn painted(
         usvg::Paint::Color(c) => Style {
             value: json!({"ty": types[0], "nm": what, "c": {"a": 0, "k": color(*c)}}),
             ends: None,
+            space: None,
         },
         paint => {
-            let (mut value, ends) = gradient(paint, map, label, what, warnings)?;
+            let (mut value, ends) = gradient(paint, Some(map), quiet, label, what, warnings)?;
             value["ty"] = json!(types[1]);
             value["nm"] = json!(format!("gradient {what}"));
             Style {
                 value,
                 ends: Some(ends),
+                space: None,
             }
         }
     })
@@ -125,23 +192,31 @@ fn painted(
 
 /// The geometry and colours of a gradient paint (`t`, `s`, `e`, `h`, `a`, `g`), in root user
 /// space, and its end points `s`, `e`; `None` with a warning for a pattern.
+///
+/// `map`: the element's local → root map, or `None` for the geometry in the gradient's own
+/// units (its transform not applied either: see [`Style::space`]). `quiet`: no warning about
+/// geometry Lottie cannot draw (the caller handles it).
 fn gradient(
     paint: &usvg::Paint,
-    map: Affine,
+    map: Option<Affine>,
+    quiet: bool,
     label: &str,
     what: &str,
     warnings: &mut Warnings,
 ) -> Option<(Value, [Point; 2])> {
+    let to_root =
+        |transform: usvg::Transform| map.map_or(Affine::IDENTITY, |m| m * affine(transform));
     let (base, mut out, ends) = match paint {
         usvg::Paint::LinearGradient(g) => {
-            let m = map * affine(g.transform());
+            let m = to_root(g.transform());
             let s = m * Point::new(f64::from(g.x1()), f64::from(g.y1()));
             let e = m * Point::new(f64::from(g.x2()), f64::from(g.y2()));
             if !keeps_stripes_square(
                 m,
                 e - s,
                 Point::new(f64::from(g.x2() - g.x1()), f64::from(g.y2() - g.y1())).to_vec2(),
-            ) {
+            ) && !quiet
+            {
                 warnings.add(format!(
                     "{label}: its {what} gradient is sheared by its transform (its stripes are \
                      not square to its axis), which Lottie cannot draw: written through its \
@@ -151,7 +226,7 @@ fn gradient(
             (&**g as &usvg::BaseGradient, json!({"t": 1}), [s, e])
         }
         usvg::Paint::RadialGradient(g) => {
-            let m = map * affine(g.transform());
+            let m = to_root(g.transform());
             let c = Point::new(f64::from(g.cx()), f64::from(g.cy()));
             let r = f64::from(g.r().get());
             let f = Point::new(f64::from(g.fx()), f64::from(g.fy()));
@@ -167,7 +242,7 @@ fn gradient(
                 0.0
             };
             let a = (offset.y.atan2(offset.x) - (e - s).y.atan2((e - s).x)).to_degrees();
-            if !is_similarity(m) {
+            if !is_similarity(m) && !quiet {
                 warnings.add(format!(
                     "{label}: its {what} gradient is elliptical (non-uniform transform); \
                      Lottie's radial gradients are circular: written with the radius along x"
@@ -212,6 +287,31 @@ fn gradient(
     out["e"] = json!({"a": 0, "k": xy(ends[1])});
     out["g"] = json!({"p": stops.len(), "k": {"a": 0, "k": colours}});
     Some((out, ends))
+}
+
+/// The map from a gradient's own units to root user space: the element's local → root map
+/// `map` after the gradient's transform.
+fn gradient_map(paint: &usvg::Paint, map: Affine) -> Affine {
+    match paint {
+        usvg::Paint::LinearGradient(g) => map * affine(g.transform()),
+        usvg::Paint::RadialGradient(g) => map * affine(g.transform()),
+        _ => map,
+    }
+}
+
+/// Whether a Lottie gradient in root user space draws `paint` under `m` (its
+/// [`gradient_map`]) exactly: a radial one under a similarity, a linear one whose stripes stay
+/// square to its axis; `ends` are its end points mapped.
+fn expressible(paint: &usvg::Paint, m: Affine, ends: [Point; 2]) -> bool {
+    match paint {
+        usvg::Paint::RadialGradient(_) => is_similarity(m),
+        usvg::Paint::LinearGradient(g) => keeps_stripes_square(
+            m,
+            ends[1] - ends[0],
+            kurbo::Vec2::new(f64::from(g.x2() - g.x1()), f64::from(g.y2() - g.y1())),
+        ),
+        _ => true,
+    }
 }
 
 /// A colour as Lottie's `[r, g, b, 1]` in `[0, 1]`.

@@ -386,3 +386,138 @@ fn lottie_gradients_follow_their_elements() {
         .to_string()
         .contains("4 element maps for 5 frames"));
 }
+
+#[test]
+fn lottie_transform_parts_round_trip_general_maps() {
+    for g in [
+        Affine::new([2.0, 0.5, -0.3, 1.2, 7.0, -4.0]),
+        Affine::rotate(2.9) * Affine::scale_non_uniform(0.2, -3.0) * Affine::skew(0.4, 0.0),
+        Affine::FLIP_Y * Affine::translate((1e6, -2e6)),
+    ] {
+        let back = LottieParts::of(g).affine();
+        let scale = g.as_coeffs().iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        for (a, b) in back.as_coeffs().iter().zip(g.as_coeffs()) {
+            assert!((a - b).abs() <= 1e-12 * scale, "{g:?} -> {back:?}");
+        }
+    }
+}
+
+/// An elliptical radial gradient (stretched by its transform, then turning with its element)
+/// is drawn in its own space: a group whose transform is the gradient's map at each frame, over
+/// the path mapped back by it, so that the player draws the deformed path and the gradient's
+/// true ellipse; nothing is approximated, so no warning.
+#[test]
+fn lottie_elliptical_gradient_fill_is_drawn_in_its_own_space() {
+    use crate::follow::{ElementMaps, FollowOptions};
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100" viewBox="0 0 100 100">
+      <radialGradient id="glow" cx="0" cy="0" r="10" gradientUnits="userSpaceOnUse"
+          gradientTransform="translate(50 50) rotate(30) scale(1 3)">
+        <stop offset="0" stop-color="#ffee00"/><stop offset="1" stop-color="#0044ff"/>
+      </radialGradient>
+      <path id="blob" d="M20 50 C20 20 80 20 80 50 C80 80 20 80 20 50 Z" fill="url(#glow)" stroke="#000"/>
+    </svg>"##;
+    let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+    let rest = drawing.flat_points();
+    let n = 9;
+    let motion = |k: usize| {
+        let u = k as f64 / (n - 1) as f64;
+        Affine::translate((10.0 * u, 0.0)) * Affine::rotate_about(1.2 * u, Point::new(50.0, 50.0))
+    };
+    let frames: Vec<Vec<Point>> = (0..n)
+        .map(|k| rest.iter().map(|&p| motion(k) * p).collect())
+        .collect();
+    let maps: Vec<ElementMaps> = (0..n)
+        .map(|k| {
+            let m = motion(k);
+            ElementMaps::from_map(&drawing, &mut |p| m * p, &FollowOptions::default()).unwrap()
+        })
+        .collect();
+    let t = times(n, 8.0);
+    let out = write_lottie(
+        &drawing,
+        &frames,
+        &t,
+        8.0,
+        Some(&maps),
+        &LottieOptions::default(),
+    )
+    .unwrap();
+    assert!(
+        !out.warnings.iter().any(|w| w.contains("elliptical")),
+        "{:?}",
+        out.warnings
+    );
+    let doc: Value = serde_json::from_str(&out.json).unwrap();
+    let element = &doc["layers"][0]["shapes"][0]["it"];
+    let group = element
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|i| i["nm"] == "fill in gradient space")
+        .expect("the fill has its gradient-space group");
+    let items = group["it"].as_array().unwrap();
+    let (shape, fill, transform) = (&items[0], &items[1], &items[2]);
+    assert_eq!(fill["ty"], "gf");
+    // In gradient units: the centre at the origin, the end on the unit circle of radius 10.
+    assert_eq!(fill["s"]["k"], serde_json::json!([0.0, 0.0]));
+    assert_eq!(fill["e"]["k"], serde_json::json!([10.0, 0.0]));
+    // At every frame (most between keyframes), the group transform the player interpolates
+    // applied to the vertices it interpolates is the deformed path within the tolerance, and the
+    // gradient's ellipse is where the frame's map puts it.
+    let gradient = Affine::translate((50.0, 50.0))
+        * Affine::rotate(30f64.to_radians())
+        * Affine::scale_non_uniform(1.0, 3.0);
+    let tolerance = 1e-3 * drawing.diagonal() + 1e-9;
+    let value = |p: &Value, f: f64| -> Vec<f64> {
+        if p["a"] == 0 {
+            return match &p["k"] {
+                Value::Array(a) => a.iter().map(|v| v.as_f64().unwrap()).collect(),
+                v => vec![v.as_f64().unwrap()],
+            };
+        }
+        let keys = p["k"].as_array().unwrap();
+        let time = |k: &Value| k["t"].as_f64().unwrap();
+        let j = keys.iter().rposition(|k| time(k) <= f).unwrap();
+        let s = |k: &Value| -> Vec<f64> {
+            k["s"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect()
+        };
+        if j + 1 == keys.len() {
+            return s(&keys[j]);
+        }
+        let u = (f - time(&keys[j])) / (time(&keys[j + 1]) - time(&keys[j]));
+        s(&keys[j])
+            .iter()
+            .zip(s(&keys[j + 1]))
+            .map(|(a, b)| a + u * (b - a))
+            .collect()
+    };
+    for k in 0..n {
+        let f = k as f64;
+        let parts = LottieParts {
+            position: value(&transform["p"], f).try_into().unwrap(),
+            scale: value(&transform["s"], f).try_into().unwrap(),
+            rotation: value(&transform["r"], f)[0],
+            skew: value(&transform["sk"], f)[0],
+        };
+        let shown = parts.affine();
+        let drawn: Vec<Point> = played(shape, f).iter().map(|&p| shown * p).collect();
+        for (p, q) in drawn.iter().zip(&frames[k]) {
+            assert!((*p - *q).hypot() <= tolerance, "frame {k}: {p:?} vs {q:?}");
+        }
+        let truth = motion(k) * gradient;
+        for q in [Point::ZERO, Point::new(10.0, 0.0), Point::new(0.0, 10.0)] {
+            assert!(
+                (shown * q - truth * q).hypot() <= tolerance,
+                "frame {k}: gradient at {q:?}"
+            );
+        }
+    }
+    // Control: the same fill without its group would be a circle, not the ellipse (y stretched
+    // by 3).
+    assert!((gradient * Point::new(0.0, 10.0) - gradient * Point::ZERO).hypot() > 25.0);
+}
