@@ -112,9 +112,7 @@ function handleOnScreen(page, i) {
     const { scene } = window.splineskinEditor;
     const [x, y] = scene.handles[i];
     const T = scene.pose[i];
-    const m = document.getElementById('canvas').shadowRoot.querySelector('.ss-overlay').getScreenCTM();
-    const q = new DOMPoint(T[0] * x + T[2] * y + T[4], T[1] * x + T[3] * y + T[5]).matrixTransform(m);
-    return [q.x, q.y];
+    return window.splineskinEditor.view.toClient([T[0] * x + T[2] * y + T[4], T[1] * x + T[3] * y + T[5]]);
   }, i);
 }
 

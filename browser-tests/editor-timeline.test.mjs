@@ -48,9 +48,7 @@ const editorState = () =>
 /** Client coordinates of drawing point p. */
 const client = (p) =>
   page.evaluate(([x, y]) => {
-    const m = document.getElementById('canvas').shadowRoot.querySelector('.ss-overlay').getScreenCTM();
-    const q = new DOMPoint(x, y).matrixTransform(m);
-    return [q.x, q.y];
+    return window.splineskinEditor.view.toClient([x, y]);
   }, p);
 
 async function posed(i) {

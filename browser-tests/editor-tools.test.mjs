@@ -4,7 +4,7 @@
 // its weight field, flexible G¹ solved on mouse-up, and a saved scene reopened by drag and drop.
 
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
+import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before } from 'node:test';
 
@@ -47,9 +47,7 @@ const shownData = () =>
 /** Client coordinates of drawing point p. */
 function client(p) {
   return page.evaluate(([x, y]) => {
-    const m = document.getElementById('canvas').shadowRoot.querySelector('.ss-overlay').getScreenCTM();
-    const q = new DOMPoint(x, y).matrixTransform(m);
-    return [q.x, q.y];
+    return window.splineskinEditor.view.toClient([x, y]);
   }, p);
 }
 
@@ -188,6 +186,8 @@ check('another weight family: harmonic weights are computed and the weight field
   await page.selectOption('#family', 'harmonic');
   await waitRig();
   assert.equal((await scene()).weights.family, 'harmonic');
+  // At rest the field is an image over the drawing's frame.
+  if (!(await page.isDisabled('#reset-pose'))) await page.click('#reset-pose');
   await page.mouse.click(...(await client(await posed(2))));
   await page.check('#show-weights');
   await page.waitForFunction(() => {
@@ -198,6 +198,40 @@ check('another weight family: harmonic weights are computed and the weight field
   const shot = join(out.path, 'weight-field.png');
   await page.screenshot({ path: shot });
   console.log(`editor-tools: screenshot ${shot}`);
+
+  // Posed, the field follows the drawing: its brightest cells (weight 1) sit around handle 2
+  // where the pose puts it, not where it rests.
+  const rest = (await scene()).handles[2];
+  const from = await client(await posed(2));
+  await mouseDrag(from, [from[0] + 90, from[1] - 60]);
+  const moved = await posed(2);
+  await page.waitForFunction(() => {
+    const mesh = document.getElementById('canvas').shadowRoot.querySelector('g.ss-weights');
+    return mesh.style.display !== 'none' && mesh.children.length > 10;
+  }, null, { timeout: WAIT });
+  const bright = await page.evaluate(() => {
+    const { view } = window.splineskinEditor;
+    const mesh = view.root.getRootNode().querySelector('g.ss-weights');
+    const yellow = [253, 231, 37];
+    let best = null;
+    for (const path of mesh.children) {
+      const rgb = path.getAttribute('fill').match(/[\d.]+/g).map(Number);
+      const d = Math.hypot(...rgb.map((v, k) => v - yellow[k]));
+      if (!best || d < best.d) best = { d, path };
+    }
+    // The brightest cells' corners, drawing units.
+    const numbers = best.path.getAttribute('d').match(/-?[\d.]+/g).map(Number);
+    const corners = [];
+    for (let k = 0; k < numbers.length; k += 2) corners.push([numbers[k] + view.origin[0], numbers[k + 1] + view.origin[1]]);
+    return corners;
+  });
+  const u = await unitsPerPixel();
+  const nearest = (p) => Math.min(...bright.map((q) => Math.hypot(q[0] - p[0], q[1] - p[1])));
+  await page.screenshot({ path: join(out.path, 'weight-field-posed.png') });
+  // The grid's cells are about 12 pixels; the handle is 150 pixels from where it rests.
+  assert.ok(nearest(moved) < 25 * u, `the brightest cells are at the posed handle (${nearest(moved)} units away)`);
+  assert.ok(nearest(rest) > 60 * u, `none is left where the handle rests (${nearest(rest)} units away)`);
+  await page.click('#undo');
   await page.uncheck('#show-weights');
 });
 
@@ -408,7 +442,8 @@ check('a box selects several pins; dragging one moves them all, the ring turns t
   const centre = [(moved[0][0] + moved[1][0]) / 2, (moved[0][1] + moved[1][1]) / 2];
   const ring = await page.evaluate(() => {
     const r = document.getElementById('canvas').shadowRoot.querySelector('.ss-ring');
-    return [Number(r.getAttribute('cx')), Number(r.getAttribute('cy')), Number(r.getAttribute('r'))];
+    const [ox, oy] = window.splineskinEditor.view.origin;
+    return [Number(r.getAttribute('cx')) + ox, Number(r.getAttribute('cy')) + oy, Number(r.getAttribute('r'))];
   });
   assert.ok(Math.hypot(ring[0] - centre[0], ring[1] - centre[1]) < 1e-9, 'the ring is at the centre of the selection');
   const c = await client(centre);
@@ -440,4 +475,34 @@ check('a box selects several pins; dragging one moves them all, the ring turns t
   await waitRig();
   const back = [await posed(0), await posed(1)];
   for (const i of [0, 1]) assert.ok(Math.hypot(back[i][0] - before[i][0], back[i][1] - before[i][1]) < 1e-9, `pin ${i} back`);
+});
+
+check('far from the origin (3e7 units) a pin lands where it is clicked and is drawn round', async () => {
+  // A drawing whose coordinates are all about 3e7: single precision there is 2 units apart.
+  const file = join(out.path, 'far.svg');
+  writeFileSync(
+    file,
+    '<svg xmlns="http://www.w3.org/2000/svg" width="400" height="400" viewBox="30000000 30000000 100 100">' +
+      '<path id="far" d="M30000010 30000010 C30000040 30000000 30000060 30000020 30000090 30000010 L30000090 30000090 L30000010 30000090 Z" fill="#f80" stroke="#333"/></svg>',
+  );
+  await page.setInputFiles('#open-file', file);
+  await page.waitForFunction(() => window.splineskinEditor.info?.name.endsWith('far.svg'), null, { timeout: WAIT });
+  // Alt-click at a point a third of a unit off the single-precision grid.
+  const target = [30000050.3, 30000050.7];
+  const at = await client(target);
+  await page.keyboard.down('Alt');
+  await page.mouse.click(...at);
+  await page.keyboard.up('Alt');
+  const s = await scene();
+  assert.equal(s.handles.length, 1);
+  const u = await unitsPerPixel();
+  const [hx, hy] = s.handles[0];
+  assert.ok(Math.hypot(hx - target[0], hy - target[1]) < 1.5 * u, `the pin is where clicked: ${hx}, ${hy}`);
+  const shown = await page.evaluate(() => {
+    const r = document.getElementById('canvas').shadowRoot.querySelector('.ss-handle').getBoundingClientRect();
+    return [r.left + r.width / 2, r.top + r.height / 2, r.width, r.height];
+  });
+  assert.ok(Math.hypot(shown[0] - at[0], shown[1] - at[1]) < 1.5, `the marker is drawn at the click: ${shown} vs ${at}`);
+  assert.ok(Math.abs(shown[2] - shown[3]) < 0.5, `round: ${shown[2]} × ${shown[3]} px`);
+  await page.screenshot({ path: join(out.path, 'far.png') });
 });

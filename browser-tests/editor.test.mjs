@@ -86,9 +86,7 @@ function pathData(p) {
 /** Client (CSS pixel) coordinates of drawing point [x, y]. */
 function clientPoint(p, [x, y]) {
   return p.evaluate(([x, y]) => {
-    const m = document.getElementById('canvas').shadowRoot.querySelector('.ss-overlay').getScreenCTM();
-    const q = new DOMPoint(x, y).matrixTransform(m);
-    return [q.x, q.y];
+    return window.splineskinEditor.view.toClient([x, y]);
   }, [x, y]);
 }
 

@@ -8,7 +8,7 @@
 import * as api from './api.js';
 import * as affine from './affine.js';
 import * as anim from './animation.js';
-import { weightImage } from './colour.js';
+import { weightColour, weightImage } from './colour.js';
 import { History } from './history.js';
 import { LiveRig, littleEndian } from './rig.js';
 import { DefOpLiveRig } from './defop.js';
@@ -22,6 +22,8 @@ const $ = (id) => document.getElementById(id);
 const FRAME_WINDOW = 120;
 /** Samples on the long side of the weight grid. */
 const WEIGHT_GRID = 200;
+/** Samples on the long side of the weight grid drawn on the posed drawing (cells of a mesh). */
+const POSED_WEIGHT_GRID = 90;
 /** How often the progress of a precomputation is asked for, ms. */
 const PROGRESS_POLL_MS = 150;
 /** Training samples of an operator when the user has not chosen (DEFAULT_EDITOR_SAMPLES). */
@@ -138,6 +140,11 @@ function progress(label, fraction = null, restart = true) {
   tick();
   box.hidden = false;
   progressTimer = setInterval(tick, 100);
+}
+
+/** `n thing` or `n things`. */
+function plural(n, thing) {
+  return `${n} ${thing}${n === 1 ? '' : 's'}`;
 }
 
 function median(values) {
@@ -283,7 +290,7 @@ async function precompute() {
       const { info } = editor.rig;
       const [domain, training, join] = info.seconds;
       say(
-        `${shortName()}: ${scene.handles.length} handles, ${DEFOP_ENERGIES[scene.weights.family]} operator ` +
+        `${shortName()}: ${plural(scene.handles.length, 'handle')}, ${DEFOP_ENERGIES[scene.weights.family]} operator ` +
           `(${info.n_samples} samples, ${info.kind} |Ψ| = ${info.n_functions}, ${info.n_triangles} triangles) ` +
           `trained in ${editor.rigSeconds.toFixed(2)} s (domain ${domain.toFixed(2)}, training ` +
           `${training.toFixed(2)}, join ${join.toFixed(2)}); ${size}. Only dragging moves the drawing: ` +
@@ -291,7 +298,7 @@ async function precompute() {
       );
     } else {
       say(
-        `${shortName()}: ${editor.info.n_curves} curves, ${scene.handles.length} handles ` +
+        `${shortName()}: ${editor.info.n_curves} curves, ${plural(scene.handles.length, 'handle')} ` +
           `(${scene.weights.family}); rig of ${size} in ${editor.rigSeconds.toFixed(2)} s`,
       );
     }
@@ -331,7 +338,7 @@ async function preview(scene, key, seq, signal, started) {
     editor.previewSeconds = (performance.now() - started) / 1000;
     document.body.dataset.rig = 'preview';
     say(
-      `${shortName()}: ${scene.handles.length} handles; inverse-distance preview while the ` +
+      `${shortName()}: ${plural(scene.handles.length, 'handle')}; inverse-distance preview while the ` +
         `${scene.weights.family} weights compute`,
     );
     render();
@@ -710,18 +717,46 @@ async function updateWeights() {
     editor.view?.showWeights(null);
     return;
   }
-  const key = `${editor.rig.id}/${editor.selected}`;
+  const { pose } = editor.scene;
+  const atRest = pose.every((T) => affine.isIdentity(T));
+  // Posed, the field is drawn where the pose puts it (its key changes with the pose).
+  const key = `${editor.rig.id}/${editor.selected}${atRest ? '' : `/${JSON.stringify(pose)}`}`;
   if (editor.weightsShown === key) return;
   editor.weightsShown = key;
   const [x, y, w, h] = editor.info.view_box;
   const box = [x, y, x + w, y + h];
-  const scale = WEIGHT_GRID / Math.max(w, h);
-  const width = Math.max(1, Math.round(w * scale));
-  const height = Math.max(1, Math.round(h * scale));
+  const cells = atRest ? WEIGHT_GRID : POSED_WEIGHT_GRID;
+  const scale = cells / Math.max(w, h);
+  const width = Math.max(2, Math.round(w * scale));
+  const height = Math.max(2, Math.round(h * scale));
   try {
-    const values = await api.weightGrid(editor.rig.id, editor.selected, box, width, height);
+    if (atRest) {
+      const values = await api.weightGrid(editor.rig.id, editor.selected, box, width, height);
+      if (editor.weightsShown !== key) return;
+      editor.view.showWeights(weightImage(values, width, height), box);
+      return;
+    }
+    // Every handle's weights at the grid's points, each point carried where the skinning
+    // map Σᵢ wᵢ(x) Tᵢ x puts it, the selected handle's weight coloured over the cells between.
+    const grids = await Promise.all(pose.map((_, i) => api.weightGrid(editor.rig.id, i, box, width, height)));
     if (editor.weightsShown !== key) return;
-    editor.view.showWeights(weightImage(values, width, height), box);
+    const [x0, y0, x1, y1] = box;
+    const points = new Float64Array(2 * width * height);
+    for (let r = 0; r < height; r++) {
+      for (let c = 0; c < width; c++) {
+        const k = r * width + c;
+        const p = [x0 + ((c + 0.5) * (x1 - x0)) / width, y0 + ((r + 0.5) * (y1 - y0)) / height];
+        let [sx, sy] = [0, 0];
+        pose.forEach((T, i) => {
+          const wi = grids[i][k];
+          sx += wi * (T[0] * p[0] + T[2] * p[1] + T[4]);
+          sy += wi * (T[1] * p[0] + T[3] * p[1] + T[5]);
+        });
+        points[2 * k] = sx;
+        points[2 * k + 1] = sy;
+      }
+    }
+    editor.view.showWeightMesh(points, grids[editor.selected], width, height, weightColour);
   } catch (e) {
     editor.weightsShown = null;
     showError(e);
@@ -825,6 +860,7 @@ function showTime(t, { timed = true } = {}) {
   }
   drawTimeline();
   updateOnion();
+  if (!editor.playing) updateWeights();
   if (timed) scheduleFrame();
   else render();
 }

@@ -69,10 +69,8 @@ export class DrawingView {
     const m = VIEW_MARGIN * Math.max(w, h);
     this.home = [x - m, y - m, w + 2 * m, h + 2 * m];
     this.frame = [...this.home];
-    root.setAttribute('viewBox', this.frame.join(' '));
     root.setAttribute('width', '100%');
     root.setAttribute('height', '100%');
-    shadow.replaceChildren(sheet, root);
     this.root = root;
     this.info = info;
 
@@ -94,9 +92,19 @@ export class DrawingView {
     this.format = fixedFormatter(this.digits);
     this.localMaps = info.elements.map((e) => (isIdentity(e.to_local) ? null : e.to_local));
 
+    // The overlay is an <svg> of its own over the drawing's, its user space the drawing's less
+    // an origin in the middle of the drawing's frame: far from 0 (say 3e7 units) the browser
+    // draws coordinates in single precision, which would misplace and distort markers of a few
+    // pixels; relative to the origin they stay small. It takes no pointer events (the editor
+    // hit-tests handles itself), so the drawing under it does.
+    this.origin = [x + w / 2, y + h / 2];
+    this.overlayRoot = svgElement('svg', { class: 'ss-overlay-root', width: '100%', height: '100%' });
     this.overlay = svgElement('g', { class: 'ss-overlay' });
     this.weightImage = svgElement('image', { class: 'ss-weights', preserveAspectRatio: 'none' });
     this.weightImage.style.display = 'none';
+    // The weight field on the posed drawing (showWeightMesh).
+    this.weightMesh = svgElement('g', { class: 'ss-weights' });
+    this.weightMesh.style.display = 'none';
     this.junctionPaths = Object.fromEntries(
       JUNCTION_KINDS.map((k) => [k, svgElement('path', { class: `ss-junctions ${k}` })]),
     );
@@ -107,10 +115,17 @@ export class DrawingView {
     this.box = svgElement('rect', { class: 'ss-box' });
     this.box.style.display = 'none';
     // The document's viewBox, outlined while the deformed art leaves it (showViewBox).
-    this.viewBoxFrame = svgElement('rect', { class: 'ss-view-box', x, y, width: w, height: h });
+    this.viewBoxFrame = svgElement('rect', {
+      class: 'ss-view-box',
+      x: x - this.origin[0],
+      y: y - this.origin[1],
+      width: w,
+      height: h,
+    });
     this.viewBoxFrame.style.display = 'none';
     this.overlay.append(
       this.weightImage,
+      this.weightMesh,
       this.viewBoxFrame,
       this.onion.before,
       this.onion.after,
@@ -118,7 +133,9 @@ export class DrawingView {
       this.handleLayer,
       this.box,
     );
-    root.append(this.overlay);
+    this.overlayRoot.append(this.overlay);
+    shadow.replaceChildren(sheet, root, this.overlayRoot);
+    this.setFrame(this.frame);
   }
 
   /**
@@ -130,7 +147,7 @@ export class DrawingView {
     return this.root
       .getRootNode()
       .elementsFromPoint(clientX, clientY)
-      .some((e) => e !== this.root && this.root.contains(e) && !this.overlay.contains(e));
+      .some((e) => e !== this.root && this.root.contains(e));
   }
 
   /** Outlines the document's viewBox (dashed), or hides the outline. */
@@ -154,8 +171,7 @@ export class DrawingView {
       x1 = Math.max(x1, px + margin);
       y1 = Math.max(y1, py + margin);
     }
-    this.frame = [x0, y0, x1 - x0, y1 - y0];
-    this.root.setAttribute('viewBox', this.frame.join(' '));
+    this.setFrame([x0, y0, x1 - x0, y1 - y0]);
   }
 
   /**
@@ -166,16 +182,29 @@ export class DrawingView {
     const [px, py] = this.toUser(clientX, clientY);
     const [x, y, w, h] = this.frame;
     const scale = Math.min(Math.max(1 / factor, (this.home[2] * MIN_ZOOM) / w), (this.home[2] * MAX_ZOOM) / w);
-    this.frame = [px - (px - x) * scale, py - (py - y) * scale, w * scale, h * scale];
-    this.root.setAttribute('viewBox', this.frame.join(' '));
+    this.setFrame([px - (px - x) * scale, py - (py - y) * scale, w * scale, h * scale]);
   }
 
   /** Moves the shown frame by (dx, dy) CSS pixels. */
   pan(dx, dy) {
     const u = this.unitsPerPixel();
-    this.frame[0] -= dx * u;
-    this.frame[1] -= dy * u;
-    this.root.setAttribute('viewBox', this.frame.join(' '));
+    const [x, y, w, h] = this.frame;
+    this.setFrame([x - dx * u, y - dy * u, w, h]);
+  }
+
+  /** Shows `frame` ([x, y, w, h], drawing units): the drawing's viewBox and the overlay's. */
+  setFrame(frame) {
+    this.frame = frame;
+    const [x, y, w, h] = frame;
+    this.root.setAttribute('viewBox', frame.join(' '));
+    this.overlayRoot.setAttribute('viewBox', [x - this.origin[0], y - this.origin[1], w, h].join(' '));
+  }
+
+  /** The client point of drawing point p. */
+  toClient([x, y]) {
+    const m = this.overlay.getScreenCTM();
+    const q = new DOMPoint(x - this.origin[0], y - this.origin[1]).matrixTransform(m);
+    return [q.x, q.y];
   }
 
   /** User units per CSS pixel at the current size. */
@@ -190,7 +219,20 @@ export class DrawingView {
     const m = this.overlay.getScreenCTM();
     if (!m) return [clientX, clientY];
     const p = new DOMPoint(clientX, clientY).matrixTransform(m.inverse());
-    return [p.x, p.y];
+    return [p.x + this.origin[0], p.y + this.origin[1]];
+  }
+
+  /**
+   * A formatter of mark coordinates (relative to the origin): decimals enough for 1e-3 of a
+   * pixel at the current zoom.
+   */
+  markFormat() {
+    const digits = Math.min(12, Math.max(0, Math.ceil(3 - Math.log10(this.unitsPerPixel()))));
+    if (this._markDigits !== digits) {
+      this._markDigits = digits;
+      this._markFormat = fixedFormatter(digits);
+    }
+    return this._markFormat;
   }
 
   /** Rewrites the `d` of every imported element from chain points x0, y0, x1, y1, …. */
@@ -246,10 +288,11 @@ export class DrawingView {
     const r = JUNCTION_RADIUS * this.unitsPerPixel();
     const data = Object.fromEntries(JUNCTION_KINDS.map((k) => [k, []]));
     if (visible) {
-      const f = this.format;
+      const f = this.markFormat();
+      const [ox, oy] = this.origin;
       for (const j of this.junctions()) {
-        const x = points[2 * j.point];
-        const y = points[2 * j.point + 1];
+        const x = points[2 * j.point] - ox;
+        const y = points[2 * j.point + 1] - oy;
         const kind = kindOf(j);
         const list = data[kind];
         if (!list) continue;
@@ -290,8 +333,9 @@ export class DrawingView {
     const layer = this.handleLayer;
     layer.replaceChildren();
     const chosen = new Set(selection);
+    const [ox, oy] = this.origin;
     if (centre) {
-      const [x, y] = centre;
+      const [x, y] = [centre[0] - ox, centre[1] - oy];
       layer.append(
         svgElement('circle', { class: 'ss-ring', cx: x, cy: y, r: RING_RADIUS * u, 'stroke-width': 5 * u }),
         svgElement('rect', {
@@ -308,8 +352,8 @@ export class DrawingView {
       layer.append(
         svgElement('circle', {
           class: chosen.has(i) ? 'ss-handle selected' : 'ss-handle',
-          cx: x,
-          cy: y,
+          cx: x - ox,
+          cy: y - oy,
           r: HANDLE_RADIUS * u,
           'stroke-width': 2 * u,
           'data-handle': i,
@@ -325,7 +369,8 @@ export class DrawingView {
       return;
     }
     const [x0, y0, x1, y1] = box;
-    for (const [k, v] of Object.entries({ x: x0, y: y0, width: x1 - x0, height: y1 - y0 })) this.box.setAttribute(k, v);
+    const [ox, oy] = this.origin;
+    for (const [k, v] of Object.entries({ x: x0 - ox, y: y0 - oy, width: x1 - x0, height: y1 - y0 })) this.box.setAttribute(k, v);
     this.box.style.display = '';
   }
 
@@ -338,16 +383,18 @@ export class DrawingView {
     this.onion.after.setAttribute('d', after ? this.outline(after) : '');
   }
 
-  /** Path data of every path of the drawing at chain points `points`, root user units. */
+  /** Path data of every path of the drawing at chain points `points`, relative to the origin. */
   outline(points) {
-    const { info, offsets, format } = this;
+    const { info, offsets } = this;
+    const format = this.markFormat();
+    const [ox, oy] = this.origin;
     const parts = [];
     info.paths.forEach((path, p) => {
       const o = offsets[p];
       let d = '';
       for (let i = 0; i < path.n_points; i++) {
         const q = path.closed && i === path.n_points - 1 ? o : o + i;
-        d += (i === 0 ? 'M' : i % 3 === 1 ? ' C' : ' ') + format(points[2 * q]) + ' ' + format(points[2 * q + 1]);
+        d += (i === 0 ? 'M' : i % 3 === 1 ? ' C' : ' ') + format(points[2 * q] - ox) + ' ' + format(points[2 * q + 1] - oy);
       }
       if (path.close_with_z) d += ' Z';
       parts.push(d);
@@ -355,16 +402,52 @@ export class DrawingView {
     return parts.join(' ');
   }
 
+  /**
+   * Shows a weight field on the posed drawing: a `width × height` lattice of points (x0, y0,
+   * … row by row, drawing units) with a weight each (`values`), every cell between four
+   * neighbouring points filled with the colour (`colour(w)`: [r, g, b]) of their mean weight.
+   * Cells of one colour (weights rounded to 1/64) share one path.
+   */
+  showWeightMesh(points, values, width, height, colour) {
+    this.weightImage.style.display = 'none';
+    const [ox, oy] = this.origin;
+    const f = this.markFormat();
+    const byColour = new Map();
+    const at = (k) => `${f(points[2 * k] - ox)} ${f(points[2 * k + 1] - oy)}`;
+    for (let r = 0; r + 1 < height; r++) {
+      for (let c = 0; c + 1 < width; c++) {
+        const k = r * width + c;
+        const corners = [k, k + 1, k + width + 1, k + width];
+        const w = corners.reduce((s, q) => s + values[q], 0) / 4;
+        const bucket = Math.round(w * 64) / 64;
+        const d = `M${at(corners[0])}L${at(corners[1])}L${at(corners[2])}L${at(corners[3])}Z`;
+        const list = byColour.get(bucket);
+        if (list) list.push(d);
+        else byColour.set(bucket, [d]);
+      }
+    }
+    // A hairline stroke of the cell's own colour closes the anti-aliasing seams between cells.
+    const seam = 0.6 * this.unitsPerPixel();
+    this.weightMesh.replaceChildren(
+      ...[...byColour].map(([w, list]) => {
+        const rgb = `rgb(${colour(w).join(' ')})`;
+        return svgElement('path', { d: list.join(''), fill: rgb, stroke: rgb, 'stroke-width': seam });
+      }),
+    );
+    this.weightMesh.style.display = '';
+  }
+
   /** Shows the image at `url` over box [x0, y0, x1, y1] (user units), or hides it (null). */
   showWeights(url, box) {
+    this.weightMesh.style.display = 'none';
     if (!url) {
       this.weightImage.style.display = 'none';
       return;
     }
     const [x0, y0, x1, y1] = box;
     this.weightImage.setAttribute('href', url);
-    this.weightImage.setAttribute('x', x0);
-    this.weightImage.setAttribute('y', y0);
+    this.weightImage.setAttribute('x', x0 - this.origin[0]);
+    this.weightImage.setAttribute('y', y0 - this.origin[1]);
     this.weightImage.setAttribute('width', x1 - x0);
     this.weightImage.setAttribute('height', y1 - y0);
     this.weightImage.style.display = '';
