@@ -8,7 +8,9 @@ import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before } from 'node:test';
 
-import { launchBrowser, outputFolder, startEditor } from './harness.mjs';
+import { REPO, launchBrowser, outputFolder, startEditor } from './harness.mjs';
+
+const REPO_ASSETS = join(REPO, 'crates', 'splineskin', 'assets');
 
 const VIEWPORT = { width: 1100, height: 760 };
 const WAIT = 60_000;
@@ -505,4 +507,33 @@ check('far from the origin (3e7 units) a pin lands where it is clicked and is dr
   assert.ok(Math.hypot(shown[0] - at[0], shown[1] - at[1]) < 1.5, `the marker is drawn at the click: ${shown} vs ${at}`);
   assert.ok(Math.abs(shown[2] - shown[3]) < 0.5, `round: ${shown[2]} × ${shown[3]} px`);
   await page.screenshot({ path: join(out.path, 'far.png') });
+});
+
+check('show mesh draws the weights\' triangle mesh, carried by the pose; inverse-distance weights say they have none', async () => {
+  // The bundled scene with its drawing inline (an upload carries no folder to find it in).
+  const scene = JSON.parse(readFileSync(join(REPO_ASSETS, 'demo-scene.json'), 'utf8'));
+  scene.svg_text = readFileSync(join(REPO_ASSETS, scene.svg), 'utf8');
+  delete scene.svg;
+  const file = join(out.path, 'mesh-scene.json');
+  writeFileSync(file, JSON.stringify(scene));
+  await page.setInputFiles('#open-file', file);
+  await page.waitForFunction(() => window.splineskinEditor.info?.name.endsWith('mesh-scene.json'), null, { timeout: WAIT });
+  await waitRig();
+  await page.selectOption('#family', 'harmonic');
+  await waitRig();
+  await page.check('#show-mesh');
+  await page.waitForFunction(() => Number(document.body.dataset.mesh) > 100, null, { timeout: WAIT });
+  const meshData = () => page.evaluate(() => document.getElementById('canvas').shadowRoot.querySelector('.ss-mesh').getAttribute('d'));
+  const before = await meshData();
+  assert.ok(before.length > 1000, 'edges drawn');
+  await page.screenshot({ path: join(out.path, 'mesh.png') });
+  const from = await client(await posed(2));
+  await mouseDrag(from, [from[0] + 60, from[1] - 40]);
+  await page.waitForFunction((d) => document.getElementById('canvas').shadowRoot.querySelector('.ss-mesh').getAttribute('d') !== d, before, { timeout: WAIT });
+  await page.screenshot({ path: join(out.path, 'mesh-posed.png') });
+  await page.selectOption('#family', 'shepard');
+  await waitRig();
+  await page.waitForFunction(() => /have no mesh/.test(document.getElementById('message').textContent), null, { timeout: WAIT });
+  assert.equal(await meshData(), '', 'no mesh drawn');
+  await page.uncheck('#show-mesh');
 });

@@ -151,3 +151,12 @@ export async function exportLottie(document, scene) {
   const header = response.headers.get('x-splineskin-lottie');
   return { json: await response.text(), report: header ? JSON.parse(header) : null };
 }
+
+/**
+ * The triangulated domain of rig `id`'s weights: { vertices (x0, y0, …), triangles (three
+ * indices each), weights (n_handles per vertex), n_handles }. Rejects (status 400) for
+ * weights solved without a mesh.
+ */
+export async function mesh(rig) {
+  return (await call(`/api/rigs/${encodeURIComponent(rig)}/mesh`)).json();
+}

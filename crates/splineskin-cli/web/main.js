@@ -247,6 +247,7 @@ function sceneChanged() {
   }
   syncControls();
   updateWeights();
+  updateMesh();
   drawTimeline();
   updateOnion();
   autosave();
@@ -319,6 +320,7 @@ async function precompute() {
   flexibleSolve();
   updateWeights();
   updateOnion();
+  updateMesh();
 }
 
 /**
@@ -764,6 +766,71 @@ async function updateWeights() {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Mesh: the triangulated domain the weights are solved on, carried by the pose
+
+/** The rig's mesh as last fetched: { rig (id), mesh (api.mesh), edges } or null. */
+let shownMesh = null;
+let meshRequest = null;
+
+/** Draws the mesh at the current pose (fetched once per rig), or hides it. */
+async function updateMesh() {
+  const view = editor.view;
+  if (!view) return;
+  const wanted = $('show-mesh').checked && rigReady() && !isDefop(editor.scene) && !editor.rigPreview;
+  if (!wanted) {
+    view.drawMesh(null);
+    return;
+  }
+  const id = editor.rig.id;
+  if (shownMesh?.rig !== id) {
+    if (meshRequest?.rig === id) return;
+    meshRequest = { rig: id };
+    try {
+      const mesh = await api.mesh(id);
+      const edges = new Map();
+      const t = mesh.triangles;
+      for (let k = 0; k < t.length; k += 3) {
+        for (const [a, b] of [[t[k], t[k + 1]], [t[k + 1], t[k + 2]], [t[k + 2], t[k]]]) {
+          edges.set(a < b ? `${a},${b}` : `${b},${a}`, a < b ? [a, b] : [b, a]);
+        }
+      }
+      shownMesh = { rig: id, mesh, edges: [...edges.values()] };
+      say(`${shortName()}: the weights' mesh has ${mesh.vertices.length / 2} vertices and ${t.length / 3} triangles`);
+    } catch (e) {
+      shownMesh = null;
+      view.drawMesh(null);
+      // Weights without a mesh: said in the status line, the box stays as the user left it.
+      if (e.status === 400) say(`${shortName()}: ${e.message}`);
+      else showError(e);
+      return;
+    } finally {
+      meshRequest = null;
+    }
+    if (editor.rig?.id !== id) return;
+  }
+  // Each vertex where the skinning map puts it: Σᵢ wᵢ(v) Tᵢ v.
+  const { mesh, edges } = shownMesh;
+  const pose = editor.scene.pose;
+  const n = mesh.n_handles;
+  if (pose.length !== n) return;
+  const points = new Float64Array(mesh.vertices.length);
+  for (let v = 0; v < mesh.vertices.length / 2; v++) {
+    const [x, y] = [mesh.vertices[2 * v], mesh.vertices[2 * v + 1]];
+    let [sx, sy] = [0, 0];
+    for (let i = 0; i < n; i++) {
+      const w = mesh.weights[v * n + i];
+      const T = pose[i];
+      sx += w * (T[0] * x + T[2] * y + T[4]);
+      sy += w * (T[1] * x + T[3] * y + T[5]);
+    }
+    points[2 * v] = sx;
+    points[2 * v + 1] = sy;
+  }
+  view.drawMesh(points, edges);
+  document.body.dataset.mesh = String(edges.length);
+}
+
+// ---------------------------------------------------------------------------------------------
 // Pointer gestures (gestures.js): what they do to the editor
 
 const gestureActions = {
@@ -860,7 +927,10 @@ function showTime(t, { timed = true } = {}) {
   }
   drawTimeline();
   updateOnion();
-  if (!editor.playing) updateWeights();
+  if (!editor.playing) {
+    updateWeights();
+    updateMesh();
+  }
   if (timed) scheduleFrame();
   else render();
 }
@@ -1268,6 +1338,7 @@ function wire() {
   $('flexible').addEventListener('change', (event) => edit((scene) => (scene.flexible = event.target.checked)));
   $('show-junctions').addEventListener('change', drawOverlay);
   $('show-weights').addEventListener('change', updateWeights);
+  $('show-mesh').addEventListener('change', updateMesh);
   $('error').addEventListener('click', clearError);
   $('notice').addEventListener('click', () => showNotice(''));
   $('fit').addEventListener('click', () => {

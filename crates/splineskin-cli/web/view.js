@@ -102,6 +102,8 @@ export class DrawingView {
     this.overlay = svgElement('g', { class: 'ss-overlay' });
     this.weightImage = svgElement('image', { class: 'ss-weights', preserveAspectRatio: 'none' });
     this.weightImage.style.display = 'none';
+    // The weights' triangulated domain, posed (drawMesh).
+    this.mesh = svgElement('path', { class: 'ss-mesh' });
     // The weight field on the posed drawing (showWeightMesh).
     this.weightMesh = svgElement('g', { class: 'ss-weights' });
     this.weightMesh.style.display = 'none';
@@ -126,6 +128,7 @@ export class DrawingView {
     this.overlay.append(
       this.weightImage,
       this.weightMesh,
+      this.mesh,
       this.viewBoxFrame,
       this.onion.before,
       this.onion.after,
@@ -360,6 +363,23 @@ export class DrawingView {
         }),
       );
     });
+  }
+
+  /**
+   * Draws the edges `edges` ([a, b] vertex pairs) of a mesh whose vertices are at `points`
+   * (x0, y0, …, drawing units), or hides it (null).
+   */
+  drawMesh(points, edges) {
+    if (!points) {
+      this.mesh.setAttribute('d', '');
+      return;
+    }
+    const [ox, oy] = this.origin;
+    const f = this.markFormat();
+    const at = (v) => `${f(points[2 * v] - ox)} ${f(points[2 * v + 1] - oy)}`;
+    const parts = new Array(edges.length);
+    for (let k = 0; k < edges.length; k++) parts[k] = `M${at(edges[k][0])}L${at(edges[k][1])}`;
+    this.mesh.setAttribute('d', parts.join(''));
   }
 
   /** Shows the selection box [x0, y0, x1, y1] (drawing units), or hides it (null). */

@@ -11,6 +11,7 @@
 //! | `POST /api/defops/{id}/deform` | [`DeformRequest`](super::defop_routes::DeformRequest) `{"handles": [[x, y], …]}` (the configuration `Q`) | the library's deformation at `Q`, `f64` LE `x0, y0, x1, y1, …` (the page's product is checked against it) |
 //! | `GET /api/progress/{job}` | | the stage of the precomputation whose request carried `x-splineskin-job: {job}`: `{"stage": "queued" \| "weights" \| "rig" \| "domain" \| "training" \| "join", "seconds": …}` (seconds in that stage), with `"done", "total", "step", "steps"` while training (ground-truth solves done of all, bootstrapping stage of all), or `{"stage": null}` when none runs |
 //! | `GET /api/rigs/{id}/weights?handle&x0&y0&x1&y1&width&height` | | handle's weight at the centres of a `width × height` grid over the box, `f32` LE, row by row from `y0` |
+//! | `GET /api/rigs/{id}/mesh` | | [`MeshWire`](super::rig_routes::MeshWire): the triangulated domain the weights were solved on and every handle's weight at its vertices (mesh families; 400 for closed-form weights) |
 //! | `POST /api/documents/{id}/export?viewbox=keep\|fit[&rig={id}\|&defop={id}]` | deformed points, `f64` LE, then with `rig` the pose (`a…f` per handle) or with `defop` the configuration `Q` (`x, y` per handle), `f64` LE ([`ExportQuery`](super::wire::ExportQuery)) | the SVG document with them ([`write_svg_following`](splineskin::drawing::svg_out::write_svg_following)): gradients, patterns, markers, text and images carried by the best-fit affine map of the rig's skinning map or the operator's deformation (at rest without either); `fit` grows the viewBox to include the art, `keep` (default) leaves it |
 //! | `POST /api/documents/{id}/outside` | deformed points, `f64` LE | [`ViewBoxReport`](super::wire::ViewBoxReport): the paths that leave the viewBox, how far, and the viewBox `fit` writes |
 //! | `POST /api/documents/{id}/scene` | [`EditScene`] | the scene file (ours, drawing inline) |
@@ -38,7 +39,7 @@ use super::app::{ApiError, App, API_HEADER, MAX_JSON_BYTES};
 use super::defop_routes::{defop, deform};
 use super::document::MAX_UPLOAD_BYTES;
 use super::document_routes::{export, initial, lottie, open, outside, save_scene};
-use super::rig_routes::{progress, rig, solve, weights};
+use super::rig_routes::{mesh, progress, rig, solve, weights};
 
 /// The router of the editor on state `app`.
 pub fn router(app: Arc<App>) -> Router {
@@ -54,6 +55,7 @@ pub fn router(app: Arc<App>) -> Router {
         .route("/api/defop", post(defop).layer(json_limit))
         .route("/api/defops/{id}/deform", post(deform).layer(json_limit))
         .route("/api/rigs/{id}/weights", get(weights))
+        .route("/api/rigs/{id}/mesh", get(mesh))
         .route("/api/progress/{job}", get(progress))
         .route(
             "/api/documents/{id}/export",

@@ -203,3 +203,58 @@ pub async fn progress(
         None => serde_json::json!({"stage": null}),
     })
 }
+
+/// The triangulated domain of a rig's weights, and every handle's weight at its vertices
+/// (`GET /api/rigs/{id}/mesh`).
+#[derive(Debug, serde::Serialize)]
+pub struct MeshWire {
+    /// Vertex positions, `x0, y0, x1, y1, …` (root user units).
+    pub vertices: Vec<f64>,
+    /// Triangles as vertex indices, three per triangle.
+    pub triangles: Vec<u32>,
+    /// Weights, `n_handles` per vertex: `w[v · n_handles + i]` is handle `i`'s at vertex `v`.
+    pub weights: Vec<f32>,
+    /// Number of handles.
+    pub n_handles: usize,
+}
+
+/// `GET /api/rigs/{id}/mesh`: the domain the rig's weights were solved on (mesh families), or
+/// a 400 saying the family needs none.
+pub async fn mesh(
+    State(app): State<Arc<App>>,
+    Path(id): Path<String>,
+) -> Result<Json<MeshWire>, ApiError> {
+    let rig = app.store().rig(&id).ok_or_else(|| gone_rig(&id))?;
+    let wire = run_job(&app, move || {
+        let puppet = lock_puppet(&rig)?;
+        let domain = puppet.domain().ok_or_else(|| {
+            ApiError::bad(
+                "this rig's weights have no mesh (inverse-distance weights are closed-form; \
+                 the smooth, peaked and unbounded families are solved on one)",
+            )
+        })?;
+        let field = puppet
+            .weights()
+            .ok_or_else(|| ApiError::bad("the rig's weights are not computed"))?;
+        let n = field.n_handles();
+        let mesh = &domain.mesh;
+        let mut w = vec![0.0; n];
+        let mut weights = Vec::with_capacity(n * mesh.vertices.len());
+        for &v in &mesh.vertices {
+            field.eval(v, &mut w);
+            weights.extend(w.iter().map(|&x| x as f32));
+        }
+        Ok(MeshWire {
+            vertices: mesh.vertices.iter().flat_map(|p| [p.x, p.y]).collect(),
+            triangles: mesh
+                .triangles
+                .iter()
+                .flat_map(|t| t.map(|i| i as u32))
+                .collect(),
+            weights,
+            n_handles: n,
+        })
+    })
+    .await?;
+    Ok(Json(wire))
+}

@@ -1090,3 +1090,54 @@ async fn serve_lottie_plays_the_page_timeline_as_animate_does() {
     let message = refused_with(&app, post_json(&uri, &scene), StatusCode::BAD_REQUEST).await;
     assert!(message.contains("pick a weight family"), "{message}");
 }
+
+#[tokio::test]
+async fn serve_mesh_is_the_weights_domain_with_weights_at_its_vertices() {
+    let (app, _, id) = demo_app().await;
+    // Inverse-distance weights have no mesh: said so.
+    let (_, headers, _) = send(&app, post_json("/api/rig", &two_handle_scene(&id, false))).await;
+    let rig = rig_id(&headers);
+    let message = refused_with(
+        &app,
+        get(&format!("/api/rigs/{rig}/mesh")),
+        StatusCode::BAD_REQUEST,
+    )
+    .await;
+    assert!(message.contains("have no mesh"), "{message}");
+    // Harmonic weights are solved on one: a valid triangulation, weights summing to 1 and 1 at
+    // each handle's vertex (the handles are vertices of the domain).
+    let mut scene = two_handle_scene(&id, false);
+    scene["scene"]["weights"] = serde_json::json!({"family": "harmonic"});
+    let (_, headers, _) = send(&app, post_json("/api/rig", &scene)).await;
+    let rig = rig_id(&headers);
+    let (_, body) = send_ok(&app, get(&format!("/api/rigs/{rig}/mesh"))).await;
+    let mesh = json(&body);
+    let numbers = |key: &str| -> Vec<f64> {
+        mesh[key]
+            .as_array()
+            .expect(key)
+            .iter()
+            .map(|v| v.as_f64().expect("a number"))
+            .collect()
+    };
+    let (vertices, triangles, weights) = (
+        numbers("vertices"),
+        numbers("triangles"),
+        numbers("weights"),
+    );
+    let n_vertices = vertices.len() / 2;
+    assert_eq!(mesh["n_handles"], 2);
+    assert!(n_vertices > 100 && triangles.len() > 100 && triangles.len() % 3 == 0);
+    assert!(triangles.iter().all(|&i| (i as usize) < n_vertices));
+    assert_eq!(weights.len(), 2 * n_vertices);
+    for v in 0..n_vertices {
+        let sum = weights[2 * v] + weights[2 * v + 1];
+        assert!((sum - 1.0).abs() < 1e-5, "vertex {v}: weights sum to {sum}");
+    }
+    for (h, [x, y]) in [[440.0, 200.0], [110.0, 205.0]].into_iter().enumerate() {
+        let v = (0..n_vertices)
+            .find(|&v| vertices[2 * v] == x && vertices[2 * v + 1] == y)
+            .expect("the handle is a vertex");
+        assert!((weights[2 * v + h] - 1.0).abs() < 1e-6, "handle {h}");
+    }
+}
