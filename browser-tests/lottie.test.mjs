@@ -23,6 +23,8 @@ const MODULES = join(REPO, 'browser-tests', 'node_modules');
 const SCHEMA = join(MODULES, '@lottie-animation-community', 'lottie-specs', 'src', 'data', 'lottie.schema.json');
 const PLAYER = join(MODULES, 'lottie-web', 'build', 'player', 'lottie_svg.min.js');
 const FLAG = join(REPO, 'test-art', 'node_modules', 'flag-icons', 'flags', '4x3', 'gs.svg');
+// A flag whose art is clipped (a clip path cropping its stripes): Lottie masks it.
+const CLIPPED_FLAG = join(REPO, 'test-art', 'node_modules', 'flag-icons', 'flags', '4x3', 'cu.svg');
 // Google's Noto emoji, as the Iconify package carries them (an icon's body, 128 × 128 units).
 const NOTO = join(REPO, 'test-art', 'node_modules', '@iconify-json', 'noto', 'icons.json');
 
@@ -301,4 +303,13 @@ check('a real emoji with gradients (Noto\'s tropical fish) plays in lottie-web a
   writeFileSync(file, `<svg xmlns="http://www.w3.org/2000/svg" width="${4 * w}" height="${4 * h}" viewBox="0 0 ${w} ${h}">${icon.body}</svg>`);
   const emoji = withIds(file, 'emoji');
   await playAndCompare(t, 'emoji', [emoji, '--pins', '4', '--rotate', '1:20', '--move', '2:8,-6'], { minElements: 10 });
+});
+
+check('a real flag with a clip path (Cuba\'s) plays in lottie-web with the clip as a layer mask', { skip: existsSync(CLIPPED_FLAG) ? false : `${CLIPPED_FLAG} missing (npm ci in test-art)` }, async (t) => {
+  const flag = withIds(CLIPPED_FLAG, 'clipped');
+  await playAndCompare(t, 'clipped', [flag, '--pins', '4', '--rotate', '1:25', '--move', '2:40,-30'], { minElements: 4 });
+  const lottie = JSON.parse(readFileSync(join(out.path, 'clipped', 'anim.json'), 'utf8'));
+  const masked = lottie.layers.filter((l) => l.hasMask);
+  assert.equal(masked.length, 1, 'the clipped group is a masked layer');
+  assert.equal(masked[0].masksProperties.length, 1, 'masked by the clip path\'s one shape');
 });

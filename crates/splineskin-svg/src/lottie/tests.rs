@@ -521,3 +521,76 @@ fn lottie_elliptical_gradient_fill_is_drawn_in_its_own_space() {
     // by 3).
     assert!((gradient * Point::new(0.0, 10.0) - gradient * Point::ZERO).hypot() > 25.0);
 }
+
+/// A clipped group is a layer of its own, masked by the clip path's shapes (deformed and
+/// keyframed as any path), between the layers of what is drawn above and below it; a group's
+/// opacity over it becomes the layer's.
+#[test]
+fn lottie_clip_paths_become_layer_masks() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100" viewBox="0 0 100 100">
+      <clipPath id="porthole"><circle cx="50" cy="50" r="20"/></clipPath>
+      <rect id="below" x="0" y="0" width="100" height="100" fill="#88ccff"/>
+      <g opacity="0.5">
+        <g id="clipped" clip-path="url(#porthole)">
+          <rect id="inside" x="20" y="20" width="60" height="60" fill="#ff8800"/>
+        </g>
+      </g>
+      <path id="above" d="M10 90 L90 90" stroke="#000" stroke-width="4"/>
+    </svg>"##;
+    let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+    let rest = drawing.flat_points();
+    let n = 6;
+    let frames: Vec<Vec<Point>> = (0..n)
+        .map(|k| {
+            let m = Affine::rotate_about(0.6 * k as f64 / (n - 1) as f64, Point::new(50.0, 50.0));
+            rest.iter().map(|&p| m * p).collect()
+        })
+        .collect();
+    let out = write_lottie(
+        &drawing,
+        &frames,
+        &times(n, 10.0),
+        10.0,
+        None,
+        &LottieOptions::default(),
+    )
+    .unwrap();
+    // Nothing approximated: the group with opacity holds the clipped group alone.
+    assert!(out.warnings.is_empty(), "{:?}", out.warnings);
+    let doc: Value = serde_json::from_str(&out.json).unwrap();
+    let layers = doc["layers"].as_array().unwrap();
+    assert_eq!(layers.len(), 3, "above, clipped, below");
+    let names: Vec<&str> = layers.iter().map(|l| l["nm"].as_str().unwrap()).collect();
+    assert_eq!(names[1], "clipped");
+    assert!(
+        layers[0].get("masksProperties").is_none() && layers[2].get("masksProperties").is_none()
+    );
+    let clipped = &layers[1];
+    assert_eq!(clipped["hasMask"], true);
+    assert_eq!(clipped["ks"]["o"]["k"], 50.0, "the group's opacity");
+    let masks = clipped["masksProperties"].as_array().unwrap();
+    assert_eq!(masks.len(), 1);
+    assert_eq!(masks[0]["mode"], "a");
+    // The mask is the clip circle, deformed: at every frame (between keyframes too) within the
+    // tolerance of the frame's clip path.
+    let source = drawing.source.as_deref().unwrap();
+    let clip_path = (0..drawing.paths.len())
+        .find(|&p| source.path_role(p) == PathRole::ClipPath)
+        .expect("the clip circle is imported");
+    let range = drawing.path_ranges().nth(clip_path).unwrap();
+    let tolerance = 1e-3 * drawing.diagonal() + 1e-9;
+    let mask_shape = serde_json::json!({"ks": masks[0]["pt"]});
+    for (k, frame) in frames.iter().enumerate() {
+        let shown = played(&mask_shape, k as f64);
+        for (p, q) in shown.iter().zip(&frame[range.clone()]) {
+            assert!((*p - *q).hypot() <= tolerance, "frame {k}: {p:?} vs {q:?}");
+        }
+    }
+    // The clipped content is in its layer, the others in theirs.
+    let mut inside = Vec::new();
+    shapes(&clipped["shapes"], &mut inside);
+    assert_eq!(inside.len(), 1);
+    let mut above = Vec::new();
+    shapes(&layers[0]["shapes"], &mut above);
+    assert_eq!(above.len(), 1);
+}
