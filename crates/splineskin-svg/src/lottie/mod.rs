@@ -192,8 +192,10 @@ pub fn write_lottie(
         tolerance,
         warnings: Warnings::default(),
         keyframes: 0,
+        bbox_servers: std::collections::HashSet::new(),
     };
     let (tree, prepared) = source_tree(source).map_err(Box::new)?;
+    writer.bbox_servers = bbox_servers(&source.text);
     let element_of_key: std::collections::HashMap<&ElementKey, usize> = source
         .elements
         .iter()
@@ -356,6 +358,60 @@ struct Writer<'a> {
     tolerance: f64,
     warnings: Warnings,
     keyframes: usize,
+    /// Ids of the document's gradients in `objectBoundingBox` units: they follow the deformed
+    /// element's bounding box, as SVG draws them, rather than its map.
+    bbox_servers: std::collections::HashSet<String>,
+}
+
+/// The ids of the gradients of SVG `text` whose `gradientUnits` (through `href` templates) are
+/// `objectBoundingBox`, SVG's default.
+fn bbox_servers(text: &str) -> std::collections::HashSet<String> {
+    let Ok(doc) = roxmltree::Document::parse_with_options(
+        text,
+        roxmltree::ParsingOptions {
+            allow_dtd: true,
+            ..Default::default()
+        },
+    ) else {
+        return Default::default();
+    };
+    let ids: std::collections::HashMap<&str, roxmltree::Node> = doc
+        .descendants()
+        .filter_map(|n| n.attribute("id").map(|id| (id, n)))
+        .collect();
+    doc.descendants()
+        .filter(|n| matches!(n.tag_name().name(), "linearGradient" | "radialGradient"))
+        .filter(|n| {
+            crate::svg_out::resources::through_href(*n, "gradientUnits", &ids)
+                .is_none_or(|u| u.trim() != "userSpaceOnUse")
+        })
+        .filter_map(|n| n.attribute("id").map(str::to_string))
+        .collect()
+}
+
+/// The tight bounding box of the cubic chains `chains` (root user space) mapped by `to_local`;
+/// `None` when it has no area (SVG draws no `objectBoundingBox` paint then).
+fn local_bbox<'a>(
+    to_local: kurbo::Affine,
+    chains: impl Iterator<Item = &'a [Point]>,
+) -> Option<Rect> {
+    let mut path = kurbo::BezPath::new();
+    for chain in chains {
+        let Some(&first) = chain.first() else {
+            continue;
+        };
+        path.move_to(to_local * first);
+        for c in chain[1..].chunks_exact(3) {
+            path.curve_to(to_local * c[0], to_local * c[1], to_local * c[2]);
+        }
+    }
+    let b = kurbo::Shape::bounding_box(&path);
+    (b.width() > 0.0 && b.height() > 0.0).then_some(b)
+}
+
+/// `x ↦ (x0 + w x, y0 + h y)`: unit square → `rect`.
+fn unit_to(rect: Rect) -> kurbo::Affine {
+    kurbo::Affine::new([rect.width(), 0.0, 0.0, rect.height(), rect.x0, rect.y0])
 }
 
 /// The document's content split into Lottie layers, topmost first: a clipped group has a layer
@@ -638,14 +694,17 @@ impl Writer<'_> {
         let label = e.label.clone();
         let map = e.local_to_root;
         let paths = e.paths.clone();
+        let zero_area_fill = e.zero_area_fill;
+        let fill_server = e.paint.fill_server.clone();
         let mut stroke = p
             .stroke()
             .and_then(|s| paint::stroke(s, map, &label, &mut self.warnings));
-        let mut fill = if e.zero_area_fill {
+        let carried = self.paint_maps(element, fill_server.as_deref());
+        let mut fill = if zero_area_fill {
             None
         } else {
             p.fill()
-                .and_then(|f| paint::fill(f, map, &label, &mut self.warnings))
+                .and_then(|f| paint::fill(f, map, carried.as_deref(), &label, &mut self.warnings))
         };
         // A fill drawn in its gradient's space has its own group, and the stroke then another.
         let space = fill.as_ref().and_then(|f| f.space);
@@ -669,8 +728,12 @@ impl Writer<'_> {
             }
             _ => None,
         };
-        for style in [&mut stroke, &mut fill].into_iter().flatten() {
-            self.follow_gradient(style, element);
+        let paint = self.source.elements[element].paint.clone();
+        if let Some(style) = &mut stroke {
+            self.follow_gradient(style, element, paint.stroke_server.as_deref());
+        }
+        if let Some(style) = &mut fill {
+            self.follow_gradient(style, element, paint.fill_server.as_deref());
         }
         let mut items = Vec::new();
         let shapes = |writer: &mut Self| -> Vec<Value> {
@@ -750,14 +813,10 @@ impl Writer<'_> {
         let e = &self.source.elements[element];
         let paths: Vec<usize> = e.paths.clone().collect();
         let n = self.frames.len();
+        let server = self.source.elements[element].paint.fill_server.clone();
+        let carried = self.paint_maps(element, server.as_deref());
         let g: Vec<kurbo::Affine> = (0..n)
-            .map(|f| {
-                let a = self
-                    .maps
-                    .and_then(|maps| maps[f].element_map(element))
-                    .unwrap_or(kurbo::Affine::IDENTITY);
-                a * m
-            })
+            .map(|f| carried.as_ref().map_or(kurbo::Affine::IDENTITY, |a| a[f]) * m)
             .collect();
         if g.iter()
             .any(|g| !(g.determinant().abs() > 0.0 && g.determinant().is_finite()))
@@ -841,27 +900,60 @@ impl Writer<'_> {
         Some(json!({"ty": "gr", "nm": "fill in gradient space", "it": items}))
     }
 
+    /// The map carrying element `element`'s paint server `server` (a gradient's id) from rest
+    /// to each frame, root user space: for a gradient in `objectBoundingBox` units, from the
+    /// element's bounding box at rest to its deformed one (in its local coordinates, as SVG
+    /// measures it: `L · B_f · B₀⁻¹ · L⁻¹`, `B` the unit square → box map, `L` local → root);
+    /// otherwise the element's maps, or `None` without them.
+    fn paint_maps(&self, element: usize, server: Option<&str>) -> Option<Vec<kurbo::Affine>> {
+        if server.is_some_and(|id| self.bbox_servers.contains(id)) {
+            let e = &self.source.elements[element];
+            let to_local = e.local_to_root.inverse();
+            let rest = local_bbox(
+                to_local,
+                e.paths
+                    .clone()
+                    .map(|pi| self.drawing.paths[pi].points.as_slice()),
+            )?;
+            let back = unit_to(rest).inverse();
+            return Some(
+                self.frames
+                    .iter()
+                    .map(|frame| {
+                        let chains = e.paths.clone().map(|pi| {
+                            &frame[self.offsets[pi]
+                                ..self.offsets[pi] + self.drawing.paths[pi].points.len()]
+                        });
+                        match local_bbox(to_local, chains) {
+                            Some(b) => e.local_to_root * unit_to(b) * back * to_local,
+                            None => kurbo::Affine::IDENTITY,
+                        }
+                    })
+                    .collect(),
+            );
+        }
+        self.maps.map(|maps| {
+            maps.iter()
+                .map(|m| m.element_map(element).unwrap_or(kurbo::Affine::IDENTITY))
+                .collect()
+        })
+    }
+
     /// Keyframes a gradient style's end points (`s`, `e`) through the element's map at each
     /// frame, where they move (a colour style is left alone). Without maps the gradient stays
     /// at rest, with a warning.
-    fn follow_gradient(&mut self, style: &mut Style, element: usize) {
+    fn follow_gradient(&mut self, style: &mut Style, element: usize, server: Option<&str>) {
         let Some(ends) = style.ends else {
             return;
         };
-        let Some(maps) = self.maps else {
+        let Some(maps) = self.paint_maps(element, server) else {
             let label = &self.source.elements[element].label;
             self.warnings.add(format!(
                 "{label}: its gradient is written at rest (no element maps were given)"
             ));
             return;
         };
-        let per_frame: Vec<[Point; 2]> = maps
-            .iter()
-            .map(|m| {
-                let a = m.element_map(element).unwrap_or(kurbo::Affine::IDENTITY);
-                ends.map(|p| a * p)
-            })
-            .collect();
+        let per_frame: Vec<[Point; 2]> = maps.iter().map(|&a| ends.map(|p| a * p)).collect();
         let views: Vec<&[Point]> = per_frame.iter().map(|f| f.as_slice()).collect();
         let kept = keyframes(&views, &self.frame_numbers, self.tolerance);
         for (k, key) in ["s", "e"].into_iter().enumerate() {

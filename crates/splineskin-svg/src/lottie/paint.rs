@@ -31,9 +31,13 @@ pub(super) struct Style {
 const SIMILARITY_TOLERANCE: f64 = 1e-9;
 
 /// The Lottie fill of a usvg fill, or `None` (with a warning) for what Lottie cannot fill with.
+/// `carried`: the maps that carry its paint from rest to each frame (root user space), if
+/// known; a gradient Lottie cannot draw in root space at rest or at any of them is drawn in
+/// its own space ([`Style::space`]).
 pub(super) fn fill(
     fill: &usvg::Fill,
     map: Affine,
+    carried: Option<&[Affine]>,
     label: &str,
     warnings: &mut Warnings,
 ) -> Option<Style> {
@@ -50,7 +54,11 @@ pub(super) fn fill(
         (fill.paint(), style.ends)
     {
         let m = gradient_map(fill.paint(), map);
-        if !expressible(fill.paint(), m, ends) {
+        let at_every_frame = carried
+            .unwrap_or(&[])
+            .iter()
+            .all(|&a| expressible(fill.paint(), a * m, ends.map(|p| a * p)));
+        if !expressible(fill.paint(), m, ends) || !at_every_frame {
             // Drawn in the gradient's own space (the writer's group transform maps it).
             let (mut value, ends) = gradient(fill.paint(), None, true, label, "fill", warnings)?;
             value["ty"] = json!("gf");

@@ -594,3 +594,70 @@ fn lottie_clip_paths_become_layer_masks() {
     shapes(&layers[0]["shapes"], &mut above);
     assert_eq!(above.len(), 1);
 }
+
+/// A gradient in `objectBoundingBox` units (SVG's default) follows the deformed element's
+/// bounding box, as SVG draws it: stretched to twice its width, a round radial gradient on a
+/// square becomes an ellipse, drawn in its own space with the box map at each frame.
+#[test]
+fn lottie_bounding_box_gradients_follow_the_deformed_box() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100" viewBox="0 0 100 100">
+      <radialGradient id="spot"><stop offset="0" stop-color="#fff"/><stop offset="1" stop-color="#00f"/></radialGradient>
+      <path id="tile" d="M10 10 H50 V50 H10 Z" fill="url(#spot)"/>
+    </svg>"##;
+    let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+    let rest = drawing.flat_points();
+    let n = 5;
+    let stretch = |k: usize| {
+        Affine::translate((10.0, 0.0))
+            * Affine::scale_non_uniform(1.0 + k as f64 / (n - 1) as f64, 1.0)
+            * Affine::translate((-10.0, 0.0))
+    };
+    let frames: Vec<Vec<Point>> = (0..n)
+        .map(|k| rest.iter().map(|&p| stretch(k) * p).collect())
+        .collect();
+    let out = write_lottie(
+        &drawing,
+        &frames,
+        &times(n, 10.0),
+        10.0,
+        None,
+        &LottieOptions::default(),
+    )
+    .unwrap();
+    assert!(out.warnings.is_empty(), "{:?}", out.warnings);
+    let doc: Value = serde_json::from_str(&out.json).unwrap();
+    let group = doc["layers"][0]["shapes"][0]["it"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|i| i["nm"] == "fill in gradient space")
+        .expect("the stretched gradient is drawn in its own space")
+        .clone();
+    let transform = &group["it"].as_array().unwrap().last().unwrap().clone();
+    // At the last frame the box is 80 × 40 from (10, 10): the gradient's unit circle maps onto
+    // the ellipse inscribed in it (the centre (0.5, 0.5), radius 0.5 in box units).
+    let keys = transform["s"]["k"].as_array().unwrap();
+    let last = keys.last().unwrap();
+    let scale: Vec<f64> = last["s"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert!(
+        (scale[0] - 8000.0).abs() < 1e-6 && (scale[1] - 4000.0).abs() < 1e-6,
+        "{scale:?}"
+    );
+    let p: Vec<f64> = transform["p"]["k"].as_array().unwrap().last().unwrap()["s"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert!(
+        (p[0] - 10.0).abs() < 1e-9 && (p[1] - 10.0).abs() < 1e-9,
+        "{p:?}"
+    );
+    // Control: the element's own map (none here) would have left it round at rest size.
+    assert_eq!(keys[0]["s"], serde_json::json!([4000.0, 4000.0]));
+}

@@ -46,7 +46,7 @@ pub use crate::rewrite::{MAX_EXPANDED_BYTES, MAX_USE_DEPTH};
 use crate::smil::Timing;
 use resources::follow_edits;
 
-mod resources;
+pub(crate) mod resources;
 
 /// Margin around the points in the viewBox of a standalone export, relative to the larger side
 /// of their bounding box: 5 %.

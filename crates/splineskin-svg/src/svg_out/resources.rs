@@ -14,7 +14,7 @@ use crate::rewrite::{AttributeSet, CopyEdit};
 use crate::{follow, smil};
 
 /// Longest `href` chain followed to resolve a paint server's attributes: 32.
-pub(super) const MAX_HREF_CHAIN: usize = 32;
+pub(crate) const MAX_HREF_CHAIN: usize = 32;
 
 /// The smallest rotation (radians) a fixed-orientation marker is turned by: 1e-9 (below,
 /// the marker is left as it is).
@@ -22,7 +22,7 @@ pub(super) const MIN_MARKER_TURN: f64 = 1e-9;
 
 /// The value of attribute `name` on `node` or, through `href`/`xlink:href`, on the template it
 /// names (as gradients and patterns inherit).
-pub(super) fn through_href<'a, 'i>(
+pub(crate) fn through_href<'a, 'i>(
     node: roxmltree::Node<'a, 'i>,
     name: &str,
     ids: &HashMap<&'a str, roxmltree::Node<'a, 'i>>,
