@@ -148,6 +148,7 @@ check('three pins on the art, three keyframes by keying and dragging, an eased s
   assert.equal((await editorState()).time, 1, 'the ruler snaps to frames');
   await mouseDrag(await client(await posed(0)), (await client(await posed(0))).map((v, k) => v + [30, -40][k]));
   await page.mouse.click(...(await client(await posed(2))));
+  assert.ok(await page.isEnabled('#key-pins'), 'a selected pin can be keyed alone');
   await mouseDrag(await client(await posed(2)), (await client(await posed(2))).map((v, k) => v + [70, 10][k]), { modifier: 'Shift' });
   state = await editorState();
   assert.deepEqual(state.scene.animation.keyframes.map((k) => k.time), [0, 1], 'dragging keyed the pins at 1 s');

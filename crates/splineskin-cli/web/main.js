@@ -636,6 +636,7 @@ function addHandle(q) {
   editor.selection = [i];
   drawOverlay();
   syncControls();
+  drawTimeline();
   updateWeights();
 }
 
@@ -839,6 +840,7 @@ const gestureActions = {
     editor.selected = primary;
     drawOverlay();
     syncControls();
+    drawTimeline();
     updateWeights();
   },
   posed(maps) {
@@ -1390,6 +1392,7 @@ function deselect() {
   editor.selection = [];
   drawOverlay();
   syncControls();
+  drawTimeline();
   updateWeights();
 }
 
