@@ -9,7 +9,7 @@
 pub mod junction;
 pub mod source;
 
-pub use junction::{classify_joints, JointKind, JunctionOptions};
+pub use junction::{classify_joints, coincidence_distance, JointKind, JunctionOptions};
 pub use source::{ElementKind, SvgSource};
 
 /// What a path of a drawing is in its document, so that code which should only look at what
