@@ -268,7 +268,16 @@ check('unpaused, the animation plays in real time', async (t) => {
     await new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)));
     return { wall, at: svg.getCurrentTime() };
   });
-  const shown = await geometry(page);
+  // Paused, the drawing settles on the clock's time within a frame or two; on a loaded machine
+  // it may take longer: read until two reads a frame apart agree (at most 2 s).
+  let shown = await geometry(page);
+  for (let k = 0; k < 60; k++) {
+    await page.evaluate(() => new Promise((done) => setTimeout(done, 33)));
+    const again = await geometry(page);
+    const same = difference(shown, again).d.value === 0;
+    shown = again;
+    if (same) break;
+  }
   const moved = difference(start, shown).d.value;
   // What was on screen when the clock stopped is the animation at the clock's time.
   await seek(played.at);
