@@ -2,8 +2,10 @@
 // them — one matrix–vector product per frame in the page, precomputation on the server.
 //
 // State: `editor.scene` is what a scene file holds and the undo history snapshots (rest
-// handles, one map per handle, weight family, junction overrides, flexible G¹); the rig is
-// precomputed for the scene's rest part (`rigKey`) and reused while only the pose changes.
+// handles, one map per handle, weight family, junction overrides, flexible G¹, the timeline's
+// keyframes as `animation`); the rig is precomputed for the scene's rest part (`rigKey`) and
+// reused while only the pose changes. `editor.time` is the timeline's shown time; the session
+// is saved to the browser's storage after every change (Autosave, below).
 
 import * as api from './api.js';
 import * as affine from './affine.js';
