@@ -1,0 +1,123 @@
+// The library compiled to WebAssembly (crates/splineskin-wasm), run by Node: a scene deformed
+// in WebAssembly gives the path data the native `splineskin deform` writes for it, to 1e-9 of
+// the drawing's diagonal — the bundled fish (Shepard weights) and a real emoji rigged with
+// bounded biharmonic weights (domain, BBW, fit, all in WebAssembly, one thread).
+//
+// The module: SPLINESKIN_WASM, else target/wasm/wasm32-unknown-unknown/release/splineskin_wasm.wasm
+// (`.ci/run` builds it; docs/webassembly.md says how). Without it these tests skip, saying so,
+// unless CI is set.
+
+import assert from 'node:assert/strict';
+import { existsSync, readFileSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { after } from 'node:test';
+
+import { REPO, outputFolder, runSplineskin } from './harness.mjs';
+
+const WASM = process.env.SPLINESKIN_WASM || join(REPO, 'target', 'wasm', 'wasm32-unknown-unknown', 'release', 'splineskin_wasm.wasm');
+const ASSETS = join(REPO, 'crates', 'splineskin', 'assets');
+const EMOJI = join(REPO, 'test-art', 'node_modules', 'openmoji', 'color', 'svg', '1F41F.svg');
+/** WebAssembly against native, relative to the drawing's diagonal. */
+const SAME = 1e-9;
+
+const MISSING = !existsSync(WASM) && !process.env.CI && `${WASM} is missing (build it: docs/webassembly.md)`;
+if (!existsSync(WASM) && process.env.CI) throw new Error(`${WASM} is missing; CI builds it in .ci/run`);
+
+const out = outputFolder('wasm');
+const check = (...args) => out.check(...args);
+after(() => out.finish());
+
+/** The module's exports, instantiated once. */
+let instance = null;
+async function wasm() {
+  if (!instance) {
+    const { instance: i } = await WebAssembly.instantiate(readFileSync(WASM), {});
+    instance = i.exports;
+  }
+  return instance;
+}
+
+/** Calls `fn(len, pose)` of the module on scene text `json`; the SVG text or the error thrown. */
+async function deformSvg(json, pose) {
+  const m = await wasm();
+  const bytes = new TextEncoder().encode(json);
+  const at = m.splineskin_input(bytes.length);
+  new Uint8Array(m.memory.buffer, at, bytes.length).set(bytes);
+  const n = Number(m.splineskin_deform_scene_svg(bytes.length, pose));
+  const read = (address, length) => new TextDecoder().decode(new Uint8Array(m.memory.buffer, address, length));
+  if (n < 0) throw new Error(read(m.splineskin_message(), m.splineskin_message_len()));
+  return read(m.splineskin_text(), n);
+}
+
+/** The numbers of the `d` of every <path> with an id. */
+function pathNumbers(svg) {
+  const result = {};
+  for (const [tag] of svg.matchAll(/<path\b[^>]*>/g)) {
+    const id = /\sid="([^"]+)"/.exec(tag)?.[1];
+    const d = /\sd="([^"]+)"/.exec(tag)?.[1];
+    if (id && d) result[id] = (d.match(/[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?/gi) ?? []).map(Number);
+  }
+  return result;
+}
+
+/** The scene file `file` with its drawing inline (`svg` → `svg_text`), as JSON text. */
+function inlineScene(file, folder) {
+  const scene = JSON.parse(readFileSync(file, 'utf8'));
+  if (scene.svg) {
+    scene.svg_text = readFileSync(join(folder, scene.svg), 'utf8');
+    delete scene.svg;
+  }
+  return JSON.stringify(scene);
+}
+
+/** Compares WebAssembly's deformation of scene `json` at pose `pose` with the native command's. */
+async function compareWithNative(name, json, pose, { minPaths }) {
+  const started = performance.now();
+  const svg = await deformSvg(json, pose);
+  const seconds = (performance.now() - started) / 1000;
+  const scene = join(out.path, `${name}-scene.json`);
+  writeFileSync(scene, json);
+  const native = join(out.path, `${name}-native.svg`);
+  await runSplineskin(['deform', scene, '--pose', String(pose), '-o', native]);
+  writeFileSync(join(out.path, `${name}-wasm.svg`), svg);
+  const [a, b] = [pathNumbers(svg), pathNumbers(readFileSync(native, 'utf8'))];
+  const ids = Object.keys(a).filter((id) => id in b);
+  assert.ok(ids.length >= minPaths, `${name}: ${ids.length} paths compared`);
+  let [lo, hi] = [[Infinity, Infinity], [-Infinity, -Infinity]];
+  let worst = 0;
+  for (const id of ids) {
+    assert.equal(a[id].length, b[id].length, `${name} #${id}: as many numbers`);
+    a[id].forEach((v, k) => {
+      worst = Math.max(worst, Math.abs(v - b[id][k]));
+      lo[k % 2] = Math.min(lo[k % 2], v);
+      hi[k % 2] = Math.max(hi[k % 2], v);
+    });
+  }
+  const diagonal = Math.hypot(hi[0] - lo[0], hi[1] - lo[1]);
+  console.log(`wasm: ${name}: ${ids.length} paths in ${seconds.toFixed(2)} s (setup and deformation in WebAssembly); largest difference from native ${(worst / diagonal).toExponential(2)} of the diagonal`);
+  assert.ok(worst <= SAME * diagonal, `${name}: ${worst} > ${SAME} of the diagonal ${diagonal}`);
+}
+
+check('the bundled fish deformed in WebAssembly is the native deformation', { skip: MISSING }, async () => {
+  await compareWithNative('fish', inlineScene(join(ASSETS, 'demo-scene.json'), ASSETS), 1, { minPaths: 10 });
+});
+
+check('a real emoji rigged with bounded biharmonic weights, deformed in WebAssembly, is the native deformation', { skip: MISSING || (!existsSync(EMOJI) && `${EMOJI} missing (npm ci in test-art)`) }, async () => {
+  // Ids on every shape (the comparison pairs paths by id), then a rig by the command.
+  let n = 0;
+  const text = readFileSync(EMOJI, 'utf8').replace(/<(path|rect|circle|ellipse|line|polyline|polygon)\b(?![^>]*\sid=)/g, (tag) => `${tag} id="t-${n++}"`);
+  const svg = join(out.path, 'emoji.svg');
+  writeFileSync(svg, text);
+  const rigged = join(out.path, 'emoji-rig.json');
+  await runSplineskin(['rig', svg, '--pins', '4', '--rotate', '1:25', '--move', '2:6,-4', '-o', rigged]);
+  const json = inlineScene(rigged, out.path);
+  assert.match(json, /"family":\s*"bbw"/, 'bounded biharmonic weights');
+  await compareWithNative('emoji', json, 0, { minPaths: 3 });
+});
+
+check('bad input comes back as a message naming the scene, and the module goes on', { skip: MISSING }, async () => {
+  await assert.rejects(deformSvg('{"splineskin_scene": 1', 0), /scene\.json/);
+  await assert.rejects(deformSvg(inlineScene(join(ASSETS, 'demo-scene.json'), ASSETS), 9), /pose 9 does not exist/);
+  const svg = await deformSvg(inlineScene(join(ASSETS, 'demo-scene.json'), ASSETS), 0);
+  assert.match(svg, /^<svg/);
+});
