@@ -65,24 +65,14 @@ pub extern "C" fn splineskin_message_len() -> usize {
 #[allow(unsafe_code)]
 #[no_mangle]
 pub extern "C" fn splineskin_deform_scene(len: usize, pose: usize) -> i64 {
-    let text = INPUT.with_borrow(|b| String::from_utf8(b[..len.min(b.len())].to_vec()));
-    let result = text
-        .map_err(|e| format!("the scene is not UTF-8: {e}"))
-        .and_then(|text| deform_scene(&text, pose));
-    match result {
-        Ok(points) => {
-            let n = points.len();
-            OUTPUT.with_borrow_mut(|o| {
-                o.clear();
-                o.extend(points.iter().flat_map(|p| [p.x, p.y]));
-            });
-            n as i64
-        }
-        Err(message) => {
-            MESSAGE.with_borrow_mut(|m| *m = message);
-            -1
-        }
-    }
+    call_on_input(len, |text| {
+        let points = deform_scene(text, pose)?;
+        OUTPUT.with_borrow_mut(|o| {
+            o.clear();
+            o.extend(points.iter().flat_map(|p| [p.x, p.y]));
+        });
+        Ok(points.len())
+    })
 }
 
 /// As [`splineskin_deform_scene`], but writes the deformed SVG document (the scene's drawing
@@ -91,16 +81,23 @@ pub extern "C" fn splineskin_deform_scene(len: usize, pose: usize) -> i64 {
 #[allow(unsafe_code)]
 #[no_mangle]
 pub extern "C" fn splineskin_deform_scene_svg(len: usize, pose: usize) -> i64 {
+    call_on_input(len, |text| {
+        let svg = deform_scene_svg(text, pose)?;
+        let n = svg.len();
+        TEXT.with_borrow_mut(|t| *t = svg);
+        Ok(n)
+    })
+}
+
+/// Runs `f` on the input buffer's first `len` bytes as UTF-8: its count on success, or −1 with
+/// its message (or the decoding's) in the message buffer.
+fn call_on_input(len: usize, f: impl FnOnce(&str) -> Result<usize, String>) -> i64 {
     let text = INPUT.with_borrow(|b| String::from_utf8(b[..len.min(b.len())].to_vec()));
-    let result = text
+    match text
         .map_err(|e| format!("the scene is not UTF-8: {e}"))
-        .and_then(|text| deform_scene_svg(&text, pose));
-    match result {
-        Ok(svg) => {
-            let n = svg.len();
-            TEXT.with_borrow_mut(|t| *t = svg);
-            n as i64
-        }
+        .and_then(|text| f(&text))
+    {
+        Ok(n) => n as i64,
         Err(message) => {
             MESSAGE.with_borrow_mut(|m| *m = message);
             -1
