@@ -39,14 +39,18 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
-use splineskin::animation::{deform_frames, Animation};
+use splineskin::animation::deform_frames;
 use splineskin::drawing::animated_image::{AnimatedFormat, AnimatedImage};
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
-use splineskin::drawing::lottie::{write_lottie, LottieExport, LottieOptions};
+use splineskin::drawing::lottie::LottieOptions;
 use splineskin::drawing::svg_animate::{write_animated_svg_following, write_animated_svg_view_box};
 use splineskin::drawing::svg_out::{write_svg_following, write_svg_view_box, ViewBoxRule};
 use splineskin::render::MAX_RENDER_SIZE;
-use splineskin::scene::{Compat, PosedDrawing, Scene};
+use splineskin::scene::{Compat, PosedDrawing};
+
+use splineskin_editor::scene_lottie::{
+    lottie_of_scene, BYTES_PER_ANIMATED_POINT, MAX_ANIMATED_SVG_BYTES,
+};
 
 use crate::output::{has_extension, write_atomic, FramesOutside, ViewBoxArg, PNG_SIZE};
 use crate::CompatArg;
@@ -394,126 +398,6 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// A scene's animation written as Lottie ([`lottie_of_scene`]).
-pub struct SceneLottie {
-    /// The animation, keyframed within the options' tolerance.
-    pub lottie: LottieExport,
-    /// Bytes of the same animation with every frame a keyframe (for comparison).
-    pub every_frame_bytes: usize,
-    /// What setting up the rig warned about (each names the scene).
-    pub rig_warnings: Vec<String>,
-    /// Paths of the drawing.
-    pub n_paths: usize,
-    /// Frames sampled.
-    pub n_frames: usize,
-}
-
-impl SceneLottie {
-    /// `K path keyframes of N (P paths × F frames) within T of the diagonal; B bytes (E with
-    /// every frame)`.
-    pub fn summary(&self, options: &LottieOptions) -> String {
-        format!(
-            "{} path keyframes of {} ({} paths × {} frames) within {} of the diagonal; {} bytes ({} with every frame)",
-            self.lottie.keyframes,
-            self.lottie.every_frame_keyframes,
-            self.n_paths,
-            self.n_frames,
-            options.tolerance,
-            self.lottie.json.len(),
-            self.every_frame_bytes
-        )
-    }
-}
-
-/// `scene` played by `animation` (its frames at its frame rate, the rig built once, `flexible`
-/// as `deform --flexible`) as a Lottie animation: frames deformed in parallel, each frame's
-/// gradients following its element maps, keyframes within `options.tolerance`
-/// ([`write_lottie`]). Errors name `scene_name`; an animation too long to hold in memory is
-/// refused with what to do.
-pub fn lottie_of_scene(
-    scene: &Scene,
-    animation: &Animation,
-    compat: Compat,
-    flexible: bool,
-    options: &LottieOptions,
-    scene_name: &str,
-) -> Result<SceneLottie> {
-    let times = animation
-        .frame_times()
-        .with_context(|| format!("{scene_name}: animation"))?;
-    let sampler = animation
-        .sampler(&scene.handle_set().pivots())
-        .with_context(|| format!("{scene_name}: animation"))?;
-    let mut setup = scene.setup(compat)?;
-    setup.options = setup.options.with_parallel(false);
-    let mut rig_warnings = setup.warnings.clone();
-    let posed = PosedDrawing::new(scene, setup, compat, flexible)?;
-    for p in posed.rank_deficient_paths() {
-        rig_warnings.push(format!(
-            "path {p}: its system is rank deficient (a curve with no length); its result is not unique"
-        ));
-    }
-    let setup = posed.setup();
-    let drawing = &setup.drawing;
-    let n_points = drawing.n_points();
-    let bytes = times.len() as f64 * n_points as f64 * BYTES_PER_ANIMATED_POINT;
-    if bytes > MAX_ANIMATED_SVG_BYTES as f64 {
-        bail!(
-            "{scene_name}: {} frames of {n_points} points make a Lottie file of about {:.1} GB, more than the limit of {:.1} GB (expected fewer frames: lower the frame rate or the duration)",
-            times.len(),
-            bytes / 1e9,
-            MAX_ANIMATED_SVG_BYTES as f64 / 1e9
-        );
-    }
-    let frames = deform_frames(&sampler, &times, n_points, true, |pose, out| {
-        posed
-            .update(pose, out)
-            .map(|_| ())
-            .map_err(|e| anyhow::anyhow!("{e}"))
-    })
-    .map_err(|e| {
-        anyhow::anyhow!(
-            "{scene_name}: frame {} (t = {} s): {:#}",
-            e.frame,
-            e.time,
-            e.error
-        )
-    })?;
-    // Gradients follow each frame's element maps, as in the animated SVG.
-    let mut pose = vec![kurbo::Affine::IDENTITY; sampler.n_handles()];
-    let maps = times
-        .iter()
-        .enumerate()
-        .map(|(f, &t)| {
-            sampler.pose_at(t, &mut pose);
-            crate::deform::element_maps(setup, &pose, &FollowOptions::default())
-                .with_context(|| format!("{scene_name}: frame {f}"))
-        })
-        .collect::<Result<Vec<_>>>()?
-        .into_iter()
-        .collect::<Option<Vec<ElementMaps>>>();
-    let write = |options: &LottieOptions| {
-        write_lottie(
-            drawing,
-            &frames,
-            &times,
-            animation.fps(),
-            maps.as_deref(),
-            options,
-        )
-        .with_context(|| format!("{scene_name}: writing the Lottie animation"))
-    };
-    let lottie = write(options)?;
-    let every = write(&options.clone().with_tolerance(0.0))?;
-    Ok(SceneLottie {
-        lottie,
-        every_frame_bytes: every.json.len(),
-        rig_warnings,
-        n_paths: drawing.paths.len(),
-        n_frames: times.len(),
-    })
-}
-
 /// Writes `bytes` to `path` and flushes it to disk (frames are complete before their folder is
 /// renamed into place); errors name the file.
 fn write_synced(path: &Path, bytes: &[u8]) -> Result<()> {
@@ -558,13 +442,6 @@ fn is_frame_file(name: &str) -> bool {
 /// Frames deformed at a time when writing a frames folder: 64 (memory stays that of 64 frames
 /// however long the animation).
 const FRAME_CHUNK: usize = 64;
-
-/// Bytes of animated SVG text per point and frame, for the size check: about 40 (two numbers
-/// of up to 17 significant digits and separators).
-const BYTES_PER_ANIMATED_POINT: f64 = 40.0;
-
-/// Largest animated SVG written: 2 GB (every frame is held in memory and in the one file).
-const MAX_ANIMATED_SVG_BYTES: u64 = 2_000_000_000;
 
 /// Writes the frames (deformed [`FRAME_CHUNK`] at a time by `deform_chunk(first, times)`) into
 /// a temporary folder beside `args.output`, then renames it into place (module doc), each as

@@ -4,9 +4,8 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use kurbo::{Affine, Point};
-use splineskin::drawing::follow::{ElementMaps, FollowOptions};
-use splineskin::scene::{Compat, PosedDrawing, Setup};
+use kurbo::Point;
+use splineskin::scene::{Compat, PosedDrawing};
 
 use crate::output::DeformedOutputArgs;
 use crate::CompatArg;
@@ -109,29 +108,4 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// The maps that carry gradients, patterns, markers, text and images with the skinning map of
-/// `setup`'s weights under `pose` ([`splineskin::drawing::follow`]); `None` (with a note) when
-/// the pose does not have one transform per weight function.
-pub fn element_maps(
-    setup: &Setup,
-    pose: &[Affine],
-    options: &FollowOptions,
-) -> Result<Option<ElementMaps>> {
-    let field = &*setup.weights;
-    if pose.len() != field.n_handles() {
-        eprintln!(
-            "note: {} transforms for {} weight functions: gradients, patterns, markers, text \
-             and images are left at rest",
-            pose.len(),
-            field.n_handles()
-        );
-        return Ok(None);
-    }
-    let mut w = vec![0.0; pose.len()];
-    let mut map = |p: Point| splineskin::naive::skin_point(field, pose, p, &mut w);
-    Ok(Some(ElementMaps::from_map(
-        &setup.drawing,
-        &mut map,
-        options,
-    )?))
-}
+pub use splineskin_editor::scene_lottie::element_maps;

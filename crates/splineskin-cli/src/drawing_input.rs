@@ -2,7 +2,7 @@
 //! `rig` take an SVG with pins (`--pin X,Y`, `--pins N`: placed by
 //! [`splineskin::scene::place_pins`] when none are given), a weight family (`--weights`) and a
 //! pose (`--move I:DX,DY`, `--rotate I:DEG`, `--scale I:S`). The scene is then written by the
-//! editor's scene writer ([`crate::serve::scene_file`]) and read back by the library's scene
+//! editor's scene writer ([`splineskin_editor::scene_file`]) and read back by the library's scene
 //! reader, so that an SVG with flags and the scene `splineskin rig` writes for the same flags
 //! are one and the same scene.
 
@@ -17,8 +17,8 @@ use splineskin::scene::handles::transform_about;
 use splineskin::scene::{place_pins, PinCount, PinOptions, Scene, MAX_COORDINATE};
 
 use crate::output::has_extension;
-use crate::serve::scene_file::{scene_json_with, SceneExtras, SvgRef};
-use crate::serve::wire::{EditScene, WeightsWire};
+use splineskin_editor::scene_file::{scene_json_with, SceneExtras, SvgRef};
+use splineskin_editor::wire::{EditScene, WeightsWire};
 
 /// Pins and weights for an SVG input.
 #[derive(clap::Args, Clone, Debug, Default)]

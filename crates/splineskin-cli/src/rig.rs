@@ -12,7 +12,7 @@ use splineskin::scene::Scene;
 
 use crate::drawing_input::{folder_of, is_svg, PinArgs, PoseArgs, Rigged};
 use crate::output::{has_extension, write_atomic};
-use crate::serve::scene_file::SvgRef;
+use splineskin_editor::scene_file::SvgRef;
 
 #[derive(clap::Args)]
 pub struct Args {

@@ -16,27 +16,16 @@
 //!   drag: points = G_spline · ψ(Q), in the page, each frame
 //! ```
 //!
-//! Files: [`api`] (the router, its guard, errors and job slots), [`document_routes`],
-//! [`rig_routes`] and [`defop_routes`] (the routes), [`document`] (an opened drawing), [`store`] (documents and rigs
-//! by id, bounded), [`progress`] (stages of running precomputations), [`wire`] (JSON exchanged
-//! with the page), [`scene_file`] (the page's scene as a scene file of ours), [`assets`] (the
-//! embedded page).
+//! The editor's work is the library's [`splineskin_editor::Editor`], which documents the
+//! routes; this module carries them over HTTP. Files: [`http`] (the router, its guard and job
+//! slots), [`assets`] (the embedded page).
 //!
 //! The server listens on 127.0.0.1 unless `--host` names another address; it reads no file
 //! but the one given on the command line (and the SVG a scene names next to it) and what the
 //! page uploads.
 
-pub mod api;
-mod app;
 mod assets;
-mod defop_routes;
-pub mod document;
-mod document_routes;
-mod progress;
-mod rig_routes;
-pub mod scene_file;
-mod store;
-pub mod wire;
+pub mod http;
 
 use std::io::Write;
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
@@ -44,7 +33,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 
-use document::Document;
+use splineskin_editor::document::Document;
 
 /// The default port (`--port`).
 pub const DEFAULT_PORT: u16 = 7464;
@@ -95,14 +84,14 @@ pub fn run(args: Args) -> Result<()> {
                 )
             })?;
         let address = listener.local_addr().context("reading the bound address")?;
-        let app = app::App::new(document, allowed_hosts(address));
+        let app = http::App::new(document, allowed_hosts(address));
         // The URL on stdout (tests read it), flushed before serving.
         let mut out = std::io::stdout().lock();
         writeln!(out, "splineskin editor: http://{address}/ ({name})")?;
         out.flush()?;
         drop(out);
         eprintln!("press Ctrl-C to stop");
-        axum::serve(listener, api::router(app))
+        axum::serve(listener, http::router(app))
             .with_graceful_shutdown(async {
                 let _ = tokio::signal::ctrl_c().await;
             })

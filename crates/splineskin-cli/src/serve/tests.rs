@@ -10,11 +10,12 @@ use splineskin::drawing::{read_svg, ImportOptions};
 use splineskin::examples::DEMO_SVG;
 use tower::ServiceExt;
 
-use super::api::router;
-use super::app::{App, API_HEADER, MAX_JOBS, RIG_HEADER};
-use super::defop_routes::DEFOP_HEADER;
-use super::document::{Document, MAX_UPLOAD_BYTES};
-use super::progress::Count;
+use splineskin_editor::defop_routes::DEFOP_HEADER;
+use splineskin_editor::document::{Document, MAX_UPLOAD_BYTES};
+use splineskin_editor::editor::RIG_HEADER;
+use splineskin_editor::progress::Count;
+
+use super::http::{router, App, API_HEADER, MAX_JOBS};
 
 const HOST: &str = "127.0.0.1:7464";
 
@@ -460,12 +461,12 @@ async fn serve_progress_follows_a_precomputation_until_it_ends() {
     let info = open_demo_svg(&app).await;
     let id = info["id"].as_str().expect("id").to_string();
     // While followed, the board gives the stage the job told it; after, nothing.
-    let followed = state.progress.follow("job-1").expect("a valid name");
+    let followed = state.editor.progress.follow("job-1").expect("a valid name");
     assert!(
-        state.progress.follow("job-1").is_none(),
+        state.editor.progress.follow("job-1").is_none(),
         "one follower per name"
     );
-    assert!(state.progress.follow("no spaces").is_none());
+    assert!(state.editor.progress.follow("no spaces").is_none());
     let (_, _, body) = send(&app, get("/api/progress/job-1")).await;
     assert_eq!(json(&body)["stage"], "queued");
     followed.reporter()("weights");
@@ -507,7 +508,7 @@ async fn serve_progress_follows_a_precomputation_until_it_ends() {
         .insert("x-splineskin-job", "job-2".parse().expect("a header"));
     let (status, _, _) = send(&app, request).await;
     assert_eq!(status, StatusCode::OK);
-    assert!(state.progress.stage("job-2").is_none());
+    assert!(state.editor.progress.stage("job-2").is_none());
 }
 
 /// A scene of the bundled fish with two handles and a trained operator's settings.
@@ -1048,7 +1049,7 @@ async fn serve_lottie_plays_the_page_timeline_as_animate_does() {
         {"time": 1.0, "pose": [identity, turned]}
     ]});
     let (headers, body) = send_ok(&app, post_json(&uri, &scene)).await;
-    let report = json(headers[super::document_routes::LOTTIE_HEADER].as_bytes());
+    let report = json(headers[splineskin_editor::document_routes::LOTTIE_HEADER].as_bytes());
     let lottie = json(&body);
     assert_eq!(lottie["fr"], 10.0);
     assert_eq!(lottie["op"], 10.0, "1 s at 10 fps: frames 0 … 10");
@@ -1075,7 +1076,7 @@ async fn serve_lottie_plays_the_page_timeline_as_animate_does() {
     )
     .expect("it reads");
     let options = splineskin::drawing::lottie::LottieOptions::default().with_name("fish drawing");
-    let made = crate::animate::lottie_of_scene(
+    let made = splineskin_editor::scene_lottie::lottie_of_scene(
         &read,
         read.animation.as_ref().expect("animation"),
         splineskin::scene::Compat::None,

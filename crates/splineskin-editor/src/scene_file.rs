@@ -9,7 +9,7 @@ use splineskin::defop::Energy;
 use splineskin::domain::DomainOptions;
 use splineskin::scene::{energy_name, DefOpSettings, RegionSpec};
 
-use super::wire::{AnimationWire, EditScene, JunctionWire, WeightsWire};
+use crate::wire::{AnimationWire, EditScene, JunctionWire, WeightsWire};
 
 /// Training samples when the page names none: 100. Measured in the editor with a release
 /// build on two cores shared with other builds (thin-plate splines, the domain of

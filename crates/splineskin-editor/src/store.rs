@@ -8,7 +8,7 @@ use splineskin::defop::{DefOp, DefOpRig};
 use splineskin::mesh::TriMesh;
 use splineskin::scene::Puppet;
 
-use super::document::Document;
+use crate::document::Document;
 
 /// Documents kept: 8 (the one given on the command line is kept besides).
 pub const MAX_DOCUMENTS: usize = 8;

@@ -1,6 +1,6 @@
 //! The routes about deformation operators: the page's point handles joined to an operator
 //! trained on the drawing's domain (DESIGN.md top, "The join"; §4), and the server's own
-//! evaluation of it ([`super::api`] has the table of routes).
+//! evaluation of it (the crate's documentation has the table of routes).
 //!
 //! ```text
 //! POST /api/defop:  the scene's defop section (scene_file::defop_settings: the page's energy
@@ -14,25 +14,18 @@
 //! scaling a handle about itself moves nothing. Flexible G¹ does not apply (the join keeps the
 //! drawing's junction constraints as they are); a scene asking for it is refused.
 
-use std::sync::Arc;
-use std::time::Instant;
-
-use axum::extract::rejection::JsonRejection;
-use axum::extract::{Path, State};
-use axum::http::{HeaderMap, HeaderValue, StatusCode};
-use axum::response::Response;
-use axum::Json;
 use kurbo::Point;
 use serde::{Deserialize, Serialize};
 use splineskin::defop::{train, DefOpRig, Progress};
 use splineskin::scene::Compat;
 
-use super::app::{binary, f64_bytes, run_job, ApiError, App, MAX_OPERATOR_BYTES};
-use super::progress::Count;
-use super::rig_routes::page_scene;
-use super::scene_file::defop_energy;
-use super::store::OperatorRig;
-use super::wire::{EditScene, SceneRequest};
+use crate::document_routes::gone_operator;
+use crate::editor::{ApiError, Editor, Request, Response, MAX_OPERATOR_BYTES};
+use crate::progress::{Count, Followed};
+use crate::rig_routes::page_scene;
+use crate::scene_file::defop_energy;
+use crate::store::OperatorRig;
+use crate::wire::{EditScene, SceneRequest};
 
 /// Most training samples the page may ask for: 5 000 (about 2 minutes for the 9-handle
 /// octopus on two cores; the issue's budget is 1 000 samples in 2 minutes).
@@ -76,17 +69,17 @@ pub struct DefOpInfo {
 }
 
 /// `POST /api/defop`.
-pub async fn defop(
-    State(app): State<Arc<App>>,
-    headers: HeaderMap,
-    request: Result<Json<SceneRequest>, JsonRejection>,
+pub(crate) fn defop(
+    editor: &Editor,
+    request: &Request,
+    followed: Option<&Followed>,
 ) -> Result<Response, ApiError> {
-    let Json(request) = request?;
-    let document = app.document(&request.document)?;
-    let followed = app.follow_job(&headers);
-    let stage = followed.as_ref().map(|f| f.reporter());
-    let count = followed.as_ref().map(|f| f.counter());
-    let (rig, info) = run_job(&app, move || {
+    let request: SceneRequest = request.json()?;
+    let document = editor.document(&request.document)?;
+    let stage = followed.map(|f| f.reporter());
+    let count = followed.map(|f| f.counter());
+    let clock = editor.progress.clock();
+    let (rig, info) = {
         let scene = &request.scene;
         check_defop_scene(&document.name, scene)?;
         // Validated and read like any scene file (the one "Save scene" writes, whose `defop`
@@ -96,7 +89,7 @@ pub async fn defop(
         let bad = |e: &dyn std::fmt::Display| ApiError::bad(format!("{}: {e}", document.name));
         let settings = library_scene.defop.clone().ok_or_else(|| {
             ApiError::new(
-                StatusCode::INTERNAL_SERVER_ERROR,
+                500,
                 "the page's scene lost its defop section (a bug in splineskin, please report it)",
             )
         })?;
@@ -113,7 +106,7 @@ pub async fn defop(
             }
         };
         report("domain");
-        let t0 = Instant::now();
+        let t0 = clock();
         // As `splineskin defop train` does, so that the saved scene trains the same operator.
         let shape = library_scene.defop_shape(&settings).map_err(|e| bad(&e))?;
         let spatial = settings
@@ -121,7 +114,7 @@ pub async fn defop(
             .build(&shape.mesh, &shape.handles)
             .map_err(|e| bad(&e))?;
         report("training");
-        let t1 = Instant::now();
+        let t1 = clock();
         let options = settings.train_options(&shape.mesh);
         let on_progress = |p: Progress| {
             if let Some(count) = &count {
@@ -145,11 +138,11 @@ pub async fn defop(
         )
         .map_err(|e| bad(&e))?;
         report("join");
-        let t2 = Instant::now();
+        let t2 = clock();
         let rig =
             DefOpRig::precompute(&drawing, &shape.mesh, &training.op, &fit).map_err(|e| bad(&e))?;
 
-        let t3 = Instant::now();
+        let t3 = clock();
         let basis = rig.handle_basis();
         let info = DefOpInfo {
             id: String::new(),
@@ -162,11 +155,7 @@ pub async fn defop(
             n_samples: training.configurations.len(),
             n_vertices: shape.mesh.vertices.len(),
             n_triangles: shape.mesh.triangles.len(),
-            seconds: [
-                (t1 - t0).as_secs_f64(),
-                (t2 - t1).as_secs_f64(),
-                (t3 - t2).as_secs_f64(),
-            ],
+            seconds: [t1 - t0, t2 - t1, t3 - t2],
             n_nodes_outside: rig.n_nodes_outside(),
         };
         let bytes = 8 * (rig.coefficients().len() + info.n_centres * 2 * scene.handles.len());
@@ -184,20 +173,13 @@ pub async fn defop(
             mesh: shape.mesh,
             op: training.op,
         };
-        Ok((rig, info))
-    })
-    .await?;
+        (rig, info)
+    };
     let body = defop_body(&rig.rig);
     let mut info = info;
-    info.id = app.store().add_defop(rig);
-    let mut response = binary(f64_bytes(&body), None)?;
-    let json = serde_json::to_string(&info)
-        .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()))?;
-    response.headers_mut().insert(
-        DEFOP_HEADER,
-        HeaderValue::from_str(&json).map_err(|e| ApiError::bad(e.to_string()))?,
-    );
-    Ok(response)
+    info.id = editor.store().add_defop(rig);
+    let json = serde_json::to_string(&info).map_err(|e| ApiError::new(500, e.to_string()))?;
+    Ok(Response::f64s(&body).with_header(DEFOP_HEADER, crate::document_routes::ascii_json(&json)))
 }
 
 /// The numbers the page evaluates: `G_spline` row-major `(2 · n_points) × |Ψ|` (row `2k + d`:
@@ -282,19 +264,10 @@ pub struct DeformRequest {
 
 /// `POST /api/defops/{id}/deform`: the library's `DefOpRig::deform` at `Q`, the reference
 /// the page's own product is tested against.
-pub async fn deform(
-    State(app): State<Arc<App>>,
-    Path(id): Path<String>,
-    request: Result<Json<DeformRequest>, JsonRejection>,
-) -> Result<Response, ApiError> {
-    let Json(request) = request?;
-    let rig = app.store().defop(&id).ok_or_else(|| {
-        ApiError::new(
-            StatusCode::NOT_FOUND,
-            format!("operator {id} is no longer kept on the server: train it again"),
-        )
-    })?;
-    let points = run_job(&app, move || {
+pub(crate) fn deform(editor: &Editor, id: &str, request: &Request) -> Result<Response, ApiError> {
+    let request: DeformRequest = request.json()?;
+    let rig = editor.store().defop(id).ok_or_else(|| gone_operator(id))?;
+    {
         let q: Vec<Point> = request
             .handles
             .iter()
@@ -305,8 +278,6 @@ pub async fn deform(
             .deform(&q)
             .map_err(|e| ApiError::bad(e.to_string()))?;
         let flat: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y]).collect();
-        Ok(f64_bytes(&flat))
-    })
-    .await?;
-    binary(points, None)
+        Ok(Response::f64s(&flat))
+    }
 }

@@ -1,27 +1,22 @@
-//! The routes about rigs: precomputation, flexible solves and weight grids ([`super::api`] has
-//! the table of routes).
+//! The routes about rigs: precomputation, flexible solves and weight grids (the crate's
+//! documentation has the table of routes).
 
-use axum::extract::rejection::JsonRejection;
-use axum::extract::{Path, Query, State};
-use axum::http::{HeaderMap, StatusCode};
-use axum::response::Response;
-use axum::Json;
 use kurbo::{Affine, Point};
 use serde::Deserialize;
 use splineskin::scene::{Compat, Puppet, PuppetStage, Scene};
-use std::sync::Arc;
 
-use super::app::{
-    binary, f64_bytes, lock_puppet, run_job, ApiError, App, MAX_GRID_SIDE, MAX_HANDLES,
-    MAX_OPERATOR_BYTES,
+use crate::document::Document;
+use crate::editor::{
+    lock_puppet, ApiError, Editor, Request, Response, MAX_GRID_SIDE, MAX_HANDLES,
+    MAX_OPERATOR_BYTES, RIG_HEADER,
 };
-use super::document::Document;
-use super::scene_file::{defop_energy, scene_json};
-use super::wire::{EditScene, PoseRequest, SceneRequest};
+use crate::progress::Followed;
+use crate::scene_file::{defop_energy, scene_json};
+use crate::wire::{EditScene, PoseRequest, SceneRequest};
 
 /// Reads the page's scene on `document` as a scene of ours (validating it like any scene
 /// file), refusing rigs larger than [`MAX_HANDLES`] or [`MAX_OPERATOR_BYTES`].
-pub(super) fn page_scene(document: &Document, scene: &EditScene) -> Result<Scene, ApiError> {
+pub(crate) fn page_scene(document: &Document, scene: &EditScene) -> Result<Scene, ApiError> {
     let n_handles = scene.handles.len();
     if n_handles > MAX_HANDLES {
         return Err(ApiError::bad(format!(
@@ -50,52 +45,41 @@ pub(super) fn page_scene(document: &Document, scene: &EditScene) -> Result<Scene
 }
 
 /// `POST /api/rig`.
-pub async fn rig(
-    State(app): State<Arc<App>>,
-    headers: HeaderMap,
-    request: Result<Json<SceneRequest>, JsonRejection>,
+pub(crate) fn rig(
+    editor: &Editor,
+    request: &Request,
+    followed: Option<&Followed>,
 ) -> Result<Response, ApiError> {
-    let Json(request) = request?;
-    let document = app.document(&request.document)?;
-    let request_document = request.document.clone();
+    let request: SceneRequest = request.json()?;
+    let document = editor.document(&request.document)?;
     if defop_energy(&request.scene.weights.family).is_some() {
         return Err(ApiError::bad(format!(
             "{}: '{}' is a deformation operator, trained by POST /api/defop, not weights",
             document.name, request.scene.weights.family
         )));
     }
-    // Followed until this request ends, however it ends.
-    let followed = app.follow_job(&headers);
-    let report = followed.as_ref().map(|f| f.reporter());
-    let (puppet, operator) = run_job(&app, move || {
-        let scene = page_scene(&document, &request.scene)?;
-        let mut stage = |s: PuppetStage| {
-            if let Some(report) = &report {
-                report(match s {
-                    PuppetStage::Weights => "weights",
-                    _ => "rig",
-                });
-            }
-        };
-        let puppet = Puppet::from_scene_staged(&scene, Compat::None, &mut stage)
-            .map_err(|e| ApiError::bad(e.to_string()))?;
-        let operator = f64_bytes(puppet.rig().map(|r| r.operator()).unwrap_or(&[]));
-        Ok((puppet, operator))
-    })
-    .await?;
-    let id = app.store().add_rig(&request_document, puppet);
-    binary(operator, Some(&id))
+    let report = followed.map(|f| f.reporter());
+    let scene = page_scene(&document, &request.scene)?;
+    let mut stage = |s: PuppetStage| {
+        if let Some(report) = &report {
+            report(match s {
+                PuppetStage::Weights => "weights",
+                _ => "rig",
+            });
+        }
+    };
+    let puppet = Puppet::from_scene_staged(&scene, Compat::None, &mut stage)
+        .map_err(|e| ApiError::bad(e.to_string()))?;
+    let response = Response::f64s(puppet.rig().map(|r| r.operator()).unwrap_or(&[]));
+    let id = editor.store().add_rig(&request.document, puppet);
+    Ok(response.with_header(RIG_HEADER, id))
 }
 
 /// `POST /api/rigs/{id}/solve`.
-pub async fn solve(
-    State(app): State<Arc<App>>,
-    Path(id): Path<String>,
-    request: Result<Json<PoseRequest>, JsonRejection>,
-) -> Result<Response, ApiError> {
-    let Json(request) = request?;
-    let rig = app.store().rig(&id).ok_or_else(|| gone_rig(&id))?;
-    let points = run_job(&app, move || {
+pub(crate) fn solve(editor: &Editor, id: &str, request: &Request) -> Result<Response, ApiError> {
+    let request: PoseRequest = request.json()?;
+    let rig = editor.store().rig(id).ok_or_else(|| gone_rig(id))?;
+    let points = (|| {
         let pose: Vec<Affine> = request.pose.iter().map(|&c| Affine::new(c)).collect();
         if let Some(k) = pose
             .iter()
@@ -112,20 +96,19 @@ pub async fn solve(
             .update(&mut points)
             .map_err(|e| ApiError::bad(e.to_string()))?;
         let flat: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y]).collect();
-        Ok(f64_bytes(&flat))
-    })
-    .await;
+        Ok(Response::f64s(&flat))
+    })();
     if let Err(e) = &points {
-        if e.status == StatusCode::INTERNAL_SERVER_ERROR {
-            app.store().remove_rig(&id);
+        if e.status == 500 {
+            editor.store().remove_rig(id);
         }
     }
-    binary(points?, None)
+    points
 }
 
-pub(super) fn gone_rig(id: &str) -> ApiError {
+pub(crate) fn gone_rig(id: &str) -> ApiError {
     ApiError::new(
-        StatusCode::NOT_FOUND,
+        404,
         format!("rig {id} is no longer kept on the server: precompute again"),
     )
 }
@@ -146,12 +129,9 @@ pub struct GridQuery {
 }
 
 /// `GET /api/rigs/{id}/weights`.
-pub async fn weights(
-    State(app): State<Arc<App>>,
-    Path(id): Path<String>,
-    Query(q): Query<GridQuery>,
-) -> Result<Response, ApiError> {
-    let rig = app.store().rig(&id).ok_or_else(|| gone_rig(&id))?;
+pub(crate) fn weights(editor: &Editor, id: &str, request: &Request) -> Result<Response, ApiError> {
+    let q: GridQuery = request.query("weights")?;
+    let rig = editor.store().rig(id).ok_or_else(|| gone_rig(id))?;
     if !(1..=MAX_GRID_SIDE).contains(&q.width) || !(1..=MAX_GRID_SIDE).contains(&q.height) {
         return Err(ApiError::bad(format!(
             "grid {} × {}: each side must be in 1..={MAX_GRID_SIDE}",
@@ -161,47 +141,45 @@ pub async fn weights(
     if ![q.x0, q.y0, q.x1, q.y1].iter().all(|v| v.is_finite()) {
         return Err(ApiError::bad("grid box: not finite"));
     }
-    let grid = run_job(&app, move || {
-        let puppet = lock_puppet(&rig)?;
-        let field = puppet
-            .weights()
-            .ok_or_else(|| ApiError::bad("the rig's weights are not computed"))?;
-        let n = field.n_handles();
-        if q.handle >= n {
-            return Err(ApiError::bad(format!(
-                "handle {}: no such handle (the rig has {n})",
-                q.handle
-            )));
+    let puppet = lock_puppet(&rig)?;
+    let field = puppet
+        .weights()
+        .ok_or_else(|| ApiError::bad("the rig's weights are not computed"))?;
+    let n = field.n_handles();
+    if q.handle >= n {
+        return Err(ApiError::bad(format!(
+            "handle {}: no such handle (the rig has {n})",
+            q.handle
+        )));
+    }
+    let mut w = vec![0.0; n];
+    let mut out = Vec::with_capacity(4 * (q.width * q.height) as usize);
+    for r in 0..q.height {
+        let y = q.y0 + (q.y1 - q.y0) * (r as f64 + 0.5) / q.height as f64;
+        for c in 0..q.width {
+            let x = q.x0 + (q.x1 - q.x0) * (c as f64 + 0.5) / q.width as f64;
+            field.eval(Point::new(x, y), &mut w);
+            out.extend_from_slice(&(w[q.handle] as f32).to_le_bytes());
         }
-        let mut w = vec![0.0; n];
-        let mut out = Vec::with_capacity(4 * (q.width * q.height) as usize);
-        for r in 0..q.height {
-            let y = q.y0 + (q.y1 - q.y0) * (r as f64 + 0.5) / q.height as f64;
-            for c in 0..q.width {
-                let x = q.x0 + (q.x1 - q.x0) * (c as f64 + 0.5) / q.width as f64;
-                field.eval(Point::new(x, y), &mut w);
-                out.extend_from_slice(&(w[q.handle] as f32).to_le_bytes());
-            }
-        }
-        Ok(out)
-    })
-    .await?;
-    binary(grid, None)
+    }
+    Ok(Response::ok("application/octet-stream", out))
 }
 
 /// `GET /api/progress/{job}`.
-pub async fn progress(
-    State(app): State<Arc<App>>,
-    Path(job): Path<String>,
-) -> Json<serde_json::Value> {
-    Json(match app.progress.stage(&job) {
+pub(crate) fn progress(editor: &Editor, job: &str) -> Result<Response, ApiError> {
+    Response::json(&stage_json(editor.progress.stage(job)))
+}
+
+/// A job's stage as `GET /api/progress/{job}` answers it.
+pub fn stage_json(stage: Option<crate::progress::Stage>) -> serde_json::Value {
+    match stage {
         Some((stage, seconds, None)) => serde_json::json!({"stage": stage, "seconds": seconds}),
         Some((stage, seconds, Some(c))) => serde_json::json!({
             "stage": stage, "seconds": seconds,
             "done": c.done, "total": c.total, "step": c.step, "steps": c.steps,
         }),
         None => serde_json::json!({"stage": null}),
-    })
+    }
 }
 
 /// The triangulated domain of a rig's weights, and every handle's weight at its vertices
@@ -220,12 +198,9 @@ pub struct MeshWire {
 
 /// `GET /api/rigs/{id}/mesh`: the domain the rig's weights were solved on (mesh families), or
 /// a 400 saying the family needs none.
-pub async fn mesh(
-    State(app): State<Arc<App>>,
-    Path(id): Path<String>,
-) -> Result<Json<MeshWire>, ApiError> {
-    let rig = app.store().rig(&id).ok_or_else(|| gone_rig(&id))?;
-    let wire = run_job(&app, move || {
+pub(crate) fn mesh(editor: &Editor, id: &str) -> Result<Response, ApiError> {
+    let rig = editor.store().rig(id).ok_or_else(|| gone_rig(id))?;
+    let wire = {
         let puppet = lock_puppet(&rig)?;
         let domain = puppet.domain().ok_or_else(|| {
             ApiError::bad(
@@ -244,7 +219,7 @@ pub async fn mesh(
             field.eval(v, &mut w);
             weights.extend(w.iter().map(|&x| x as f32));
         }
-        Ok(MeshWire {
+        MeshWire {
             vertices: mesh.vertices.iter().flat_map(|p| [p.x, p.y]).collect(),
             triangles: mesh
                 .triangles
@@ -253,8 +228,7 @@ pub async fn mesh(
                 .collect(),
             weights,
             n_handles: n,
-        })
-    })
-    .await?;
-    Ok(Json(wire))
+        }
+    };
+    Response::json(&wire)
 }

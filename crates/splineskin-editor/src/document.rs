@@ -9,12 +9,11 @@ use splineskin::drawing::Drawing;
 use splineskin::scene::{Compat, Engine, MeshFamily, Scene, WeightSpec};
 use splineskin::spline_fit::Measure;
 
-use super::scene_file::SceneExtras;
-use super::wire::{
+use crate::scene_file::SceneExtras;
+use crate::wire::{
     AnimationWire, DocumentInfo, EditScene, ElementInfo, JunctionWire, OperatorInfo, PathInfo,
     WeightsWire,
 };
-use crate::output::has_extension;
 
 /// The attribute that marks each imported element in the shown document with its index
 /// ([`splineskin::drawing::svg_out::write_svg_marked`]).
@@ -263,4 +262,11 @@ impl Document {
         let bytes = std::fs::read(path).with_context(|| format!("{name}: cannot read"))?;
         Document::open(&name, &bytes)
     }
+}
+
+/// Whether `path`'s extension is `ext`, in any case.
+fn has_extension(path: &std::path::Path, ext: &str) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
 }

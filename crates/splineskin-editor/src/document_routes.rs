@@ -1,14 +1,8 @@
-//! The routes about documents: the initial one, uploads, export and scene files
-//! ([`super::api`] has the table of routes).
+//! The routes about documents: the initial one, uploads, export and scene files (the crate's
+//! documentation has the table of routes).
 
 use std::sync::Arc;
 
-use axum::body::Bytes;
-use axum::extract::rejection::{BytesRejection, JsonRejection};
-use axum::extract::{Path, Query, State};
-use axum::http::{header, HeaderMap, StatusCode};
-use axum::response::{IntoResponse, Response};
-use axum::Json;
 use kurbo::{Affine, Point};
 use splineskin::defop::MeshMap;
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
@@ -17,38 +11,33 @@ use splineskin::drawing::svg_out::{
 };
 use splineskin::naive::skin_point;
 
-use super::app::{lock_puppet, run_job, ApiError, App};
-use super::document::Document;
-use super::rig_routes::{gone_rig, page_scene};
-use super::scene_file::scene_json;
-use super::store::{OperatorRig, Rig};
-use super::wire::{DocumentInfo, EditScene, ExportQuery, OutsideWire, ViewBoxReport};
+use crate::document::Document;
+use crate::editor::{lock_puppet, ApiError, Editor, Request, Response};
+use crate::rig_routes::{gone_rig, page_scene};
+use crate::scene_file::scene_json;
+use crate::store::{OperatorRig, Rig};
+use crate::wire::{EditScene, ExportQuery, OutsideWire, ViewBoxReport};
 
 /// `GET /api/initial`.
-pub async fn initial(State(app): State<Arc<App>>) -> Result<Json<DocumentInfo>, ApiError> {
-    let document = app
+pub(crate) fn initial(editor: &Editor) -> Result<Response, ApiError> {
+    let document = editor
         .store()
         .initial()
-        .ok_or_else(|| ApiError::new(StatusCode::NOT_FOUND, "no initial document"))?;
-    Ok(Json(document.info.clone()))
+        .ok_or_else(|| ApiError::new(404, "no initial document"))?;
+    Response::json(&document.info)
 }
 
 /// `POST /api/open`.
-pub async fn open(
-    State(app): State<Arc<App>>,
-    headers: HeaderMap,
-    body: Result<Bytes, BytesRejection>,
-) -> Result<Json<DocumentInfo>, ApiError> {
-    let body = body?;
-    let name = headers
-        .get("x-file-name")
-        .and_then(|v| v.to_str().ok())
+pub(crate) fn open(editor: &Editor, request: &Request) -> Result<Response, ApiError> {
+    let body = request.upload()?;
+    let name = request
+        .header("x-file-name")
         .map(percent_decode)
         .filter(|n| !n.is_empty())
         .unwrap_or_else(|| "upload".to_string());
-    let document = run_job(&app, move || Ok(Document::open(&name, &body)?)).await?;
-    let document = app.store().add_document(document);
-    Ok(Json(document.info.clone()))
+    let document = Document::open(&name, body)?;
+    let document = editor.store().add_document(document);
+    Response::json(&document.info)
 }
 
 /// Decodes `%XX` escapes (the page sends file names with `encodeURIComponent`); anything
@@ -75,13 +64,8 @@ fn percent_decode(s: &str) -> String {
 }
 
 /// `POST /api/documents/{id}/export` ([`ExportQuery`]: the query and the body's layout).
-pub async fn export(
-    State(app): State<Arc<App>>,
-    Path(id): Path<String>,
-    query: Result<Query<ExportQuery>, axum::extract::rejection::QueryRejection>,
-    body: Result<Bytes, BytesRejection>,
-) -> Result<Response, ApiError> {
-    let Query(query) = query.map_err(|e| ApiError::bad(format!("export: {e}")))?;
+pub(crate) fn export(editor: &Editor, id: &str, request: &Request) -> Result<Response, ApiError> {
+    let query: ExportQuery = request.query("export")?;
     let rule = match query.viewbox.as_deref() {
         None | Some("keep") => ViewBoxRule::Keep,
         Some("fit") => ViewBoxRule::Fit,
@@ -91,26 +75,26 @@ pub async fn export(
             )))
         }
     };
-    let body = body?;
-    let document = app.document(&id)?;
+    let body = request.upload()?;
+    let document = editor.document(id)?;
     let deformation =
         match (&query.rig, &query.defop) {
             (None, None) => Deformation::Unknown,
             (Some(rig), None) => {
-                let found = app.store().rig(rig).ok_or_else(|| gone_rig(rig))?;
-                check_built_on(&found.document, &id, "rig", rig)?;
+                let found = editor.store().rig(rig).ok_or_else(|| gone_rig(rig))?;
+                check_built_on(&found.document, id, "rig", rig)?;
                 Deformation::Skinning(found)
             }
             (None, Some(op)) => {
-                let found = app.store().defop(op).ok_or_else(|| gone_operator(op))?;
-                check_built_on(&found.document, &id, "operator", op)?;
+                let found = editor.store().defop(op).ok_or_else(|| gone_operator(op))?;
+                check_built_on(&found.document, id, "operator", op)?;
                 Deformation::Operator(found)
             }
             (Some(_), Some(_)) => return Err(ApiError::bad(
                 "export: rig= and defop= both given (expected the one that deformed the drawing)",
             )),
         };
-    let svg = run_job(&app, move || {
+    let svg = {
         let n_bytes = 16 * document.drawing.n_points();
         let points = points_of(&document, &body[..n_bytes.min(body.len())])?;
         let tail = &body[n_bytes..];
@@ -119,14 +103,9 @@ pub async fn export(
             Some(maps) => write_svg_following(&document.drawing, &points, maps, rule),
             None => write_svg_view_box(&document.drawing, &points, rule),
         }
-        .map_err(|e| ApiError::bad(e.to_string()))
-    })
-    .await?;
-    Ok((
-        [(header::CONTENT_TYPE, "image/svg+xml; charset=utf-8")],
-        svg,
-    )
-        .into_response())
+        .map_err(|e| ApiError::bad(e.to_string()))?
+    };
+    Ok(Response::ok("image/svg+xml; charset=utf-8", svg))
 }
 
 /// What deformed an exported drawing ([`ExportQuery`]).
@@ -222,24 +201,20 @@ fn check_built_on(built_on: &str, document: &str, what: &str, id: &str) -> Resul
     }
 }
 
-fn gone_operator(id: &str) -> ApiError {
+pub(crate) fn gone_operator(id: &str) -> ApiError {
     ApiError::new(
-        StatusCode::NOT_FOUND,
+        404,
         format!("operator {id} is no longer kept on the server: train it again"),
     )
 }
 
 /// `POST /api/documents/{id}/outside`: which paths of the drawing through the posted points
 /// leave the document's viewBox, and the viewBox a `fit` export would write.
-pub async fn outside(
-    State(app): State<Arc<App>>,
-    Path(id): Path<String>,
-    body: Result<Bytes, BytesRejection>,
-) -> Result<Json<ViewBoxReport>, ApiError> {
-    let body = body?;
-    let document = app.document(&id)?;
-    let report = run_job(&app, move || {
-        let points = points_of(&document, &body)?;
+pub(crate) fn outside(editor: &Editor, id: &str, request: &Request) -> Result<Response, ApiError> {
+    let body = request.upload()?;
+    let document = editor.document(id)?;
+    let report = {
+        let points = points_of(&document, body)?;
         let bad = |e: splineskin::drawing::SvgError| ApiError::bad(e.to_string());
         let mut outside = art_outside_view_box(&document.drawing, &points).map_err(bad)?;
         outside.sort_by(|a, b| b.distance.total_cmp(&a.distance));
@@ -255,7 +230,7 @@ pub async fn outside(
             Some(art) if !outside.is_empty() => input.union(art),
             _ => input,
         };
-        Ok(ViewBoxReport {
+        ViewBoxReport {
             view_box,
             fitted: [fitted.x0, fitted.y0, fitted.width(), fitted.height()],
             outside: outside
@@ -266,10 +241,9 @@ pub async fn outside(
                     distance: o.distance,
                 })
                 .collect(),
-        })
-    })
-    .await?;
-    Ok(Json(report))
+        }
+    };
+    Response::json(&report)
 }
 
 /// The deformed points of a request body (`f64` LE `x0, y0, x1, y1, …`), as many as the
@@ -299,20 +273,17 @@ fn f64s(bytes: &[u8]) -> Vec<f64> {
 }
 
 /// `POST /api/documents/{id}/scene`.
-pub async fn save_scene(
-    State(app): State<Arc<App>>,
-    Path(id): Path<String>,
-    request: Result<Json<EditScene>, JsonRejection>,
+pub(crate) fn save_scene(
+    editor: &Editor,
+    id: &str,
+    request: &Request,
 ) -> Result<Response, ApiError> {
-    let Json(scene) = request?;
-    let document = app.document(&id)?;
-    let json = run_job(&app, move || {
-        // Validated as it will be read back.
-        page_scene(&document, &scene)?;
-        Ok(scene_json(&document.svg_text, &scene, &document.extras))
-    })
-    .await?;
-    Ok(([(header::CONTENT_TYPE, "application/json")], json).into_response())
+    let scene: EditScene = request.json()?;
+    let document = editor.document(id)?;
+    // Validated as it will be read back.
+    page_scene(&document, &scene)?;
+    let json = scene_json(&document.svg_text, &scene, &document.extras);
+    Ok(Response::ok("application/json", json))
 }
 
 /// What `POST /api/documents/{id}/lottie` says of the file it sends (header
@@ -338,15 +309,11 @@ pub const LOTTIE_HEADER: &str = "x-splineskin-lottie";
 
 /// `POST /api/documents/{id}/lottie`: the page's scene, its timeline played as
 /// `splineskin animate SCENE -o anim.json` plays it.
-pub async fn lottie(
-    State(app): State<Arc<App>>,
-    Path(id): Path<String>,
-    request: Result<Json<EditScene>, JsonRejection>,
-) -> Result<Response, ApiError> {
-    let Json(scene) = request?;
-    let document = app.document(&id)?;
-    let (json, report) = run_job(&app, move || {
-        if super::scene_file::defop_energy(&scene.weights.family).is_some() {
+pub(crate) fn lottie(editor: &Editor, id: &str, request: &Request) -> Result<Response, ApiError> {
+    let scene: EditScene = request.json()?;
+    let document = editor.document(id)?;
+    let (json, report) = {
+        if crate::scene_file::defop_energy(&scene.weights.family).is_some() {
             return Err(ApiError::bad(format!(
                 "{}: Lottie export plays a rig of weights; pick a weight family (the trained \
                  operators are not exported as animations yet)",
@@ -364,7 +331,7 @@ pub async fn lottie(
             .file_stem()
             .map_or("splineskin".into(), |s| s.to_string_lossy().into_owned());
         let options = splineskin::drawing::lottie::LottieOptions::default().with_name(stem);
-        let made = crate::animate::lottie_of_scene(
+        let made = crate::scene_lottie::lottie_of_scene(
             &read,
             &animation,
             splineskin::scene::Compat::None,
@@ -382,22 +349,16 @@ pub async fn lottie(
             warnings,
             summary: made.summary(&options),
         };
-        Ok((made.lottie.json, report))
-    })
-    .await?;
+        (made.lottie.json, report)
+    };
     let header =
         ascii_json(&serde_json::to_string(&report).map_err(|e| ApiError::bad(e.to_string()))?);
-    let mut response = ([(header::CONTENT_TYPE, "application/json")], json).into_response();
-    response.headers_mut().insert(
-        LOTTIE_HEADER,
-        axum::http::HeaderValue::from_str(&header).map_err(|e| ApiError::bad(e.to_string()))?,
-    );
-    Ok(response)
+    Ok(Response::ok("application/json", json).with_header(LOTTIE_HEADER, header))
 }
 
 /// JSON text with every character beyond ASCII written as `\uXXXX` escapes (UTF-16, as JSON
 /// has them), so that it fits in an HTTP header.
-fn ascii_json(json: &str) -> String {
+pub(crate) fn ascii_json(json: &str) -> String {
     let mut out = String::with_capacity(json.len());
     for c in json.chars() {
         if c.is_ascii() {

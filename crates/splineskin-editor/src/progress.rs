@@ -6,7 +6,27 @@
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
-use std::time::Instant;
+
+/// A monotonic clock: seconds from a fixed origin.
+pub type Clock = fn() -> f64;
+
+/// Seconds since the first call, by the system's monotonic clock (`std::time::Instant`, which
+/// WebAssembly in a page lacks: it passes the page's clock to
+/// [`Editor::with_clock`](crate::Editor::with_clock)).
+pub fn system_clock() -> f64 {
+    static ORIGIN: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+    ORIGIN
+        .get_or_init(std::time::Instant::now)
+        .elapsed()
+        .as_secs_f64()
+}
+
+/// What a job reports: its stage, the seconds spent in it and its count, if it reports one
+/// (the answer of `GET /api/progress/{job}`).
+pub type Stage = (&'static str, f64, Option<Count>);
+
+/// Called with a job's name and stage whenever the stage or count changes.
+pub type Listener = Box<dyn Fn(&str, Stage) + Send + Sync>;
 
 /// The header naming a precomputation for [`ProgressBoard`].
 pub const JOB_HEADER: &str = "x-splineskin-job";
@@ -31,16 +51,55 @@ pub struct Count {
     pub steps: usize,
 }
 
-/// A followed job: its stage, when the stage began, and its count if it reports one.
-type Entry = (&'static str, Instant, Option<Count>);
+/// A followed job: its stage, when the stage began (seconds of the board's clock), and its
+/// count if it reports one.
+type Entry = (&'static str, f64, Option<Count>);
 
 /// The stage of every followed job and when it started.
-#[derive(Default)]
 pub struct ProgressBoard {
     jobs: Mutex<HashMap<String, Entry>>,
+    clock: Clock,
+    listener: Mutex<Option<Listener>>,
 }
 
 impl ProgressBoard {
+    /// A board timing stages by `clock`.
+    pub fn new(clock: Clock) -> ProgressBoard {
+        ProgressBoard {
+            jobs: Mutex::default(),
+            clock,
+            listener: Mutex::new(None),
+        }
+    }
+
+    /// The board's clock.
+    pub fn clock(&self) -> Clock {
+        self.clock
+    }
+
+    /// Calls `listener` with every change of a followed job's stage or count, from the job's
+    /// thread: a page whose editor runs in WebAssembly cannot ask while a job runs, so it is
+    /// told.
+    pub fn set_listener(&self, listener: Listener) {
+        *self.listener.lock().unwrap_or_else(|e| e.into_inner()) = Some(listener);
+    }
+
+    /// Sets job `name`'s entry if it is followed, and tells the listener.
+    fn update(&self, name: &str, change: impl FnOnce(&mut Entry, f64)) {
+        let now = (self.clock)();
+        let entry = {
+            let mut jobs = self.jobs();
+            let Some(entry) = jobs.get_mut(name) else {
+                return;
+            };
+            change(entry, now);
+            *entry
+        };
+        if let Some(listener) = &*self.listener.lock().unwrap_or_else(|e| e.into_inner()) {
+            listener(name, (entry.0, now - entry.1, entry.2));
+        }
+    }
+
     fn jobs(&self) -> std::sync::MutexGuard<'_, HashMap<String, Entry>> {
         // Inserts and removals do not panic midway: a poisoned map is consistent.
         self.jobs.lock().unwrap_or_else(|e| e.into_inner())
@@ -57,7 +116,7 @@ impl ProgressBoard {
         if !valid || jobs.len() >= MAX_FOLLOWED || jobs.contains_key(name) {
             return None;
         }
-        jobs.insert(name.to_string(), ("queued", Instant::now(), None));
+        jobs.insert(name.to_string(), ("queued", (self.clock)(), None));
         Some(Followed {
             board: self.clone(),
             name: name.to_string(),
@@ -65,10 +124,11 @@ impl ProgressBoard {
     }
 
     /// The stage of job `name`, the seconds spent in it and its count, if it is followed.
-    pub fn stage(&self, name: &str) -> Option<(&'static str, f64, Option<Count>)> {
+    pub fn stage(&self, name: &str) -> Option<Stage> {
+        let now = (self.clock)();
         self.jobs()
             .get(name)
-            .map(|&(stage, since, count)| (stage, since.elapsed().as_secs_f64(), count))
+            .map(|&(stage, since, count)| (stage, now - since, count))
     }
 }
 
@@ -84,11 +144,7 @@ impl Followed {
     pub fn reporter(&self) -> impl Fn(&'static str) + Send + 'static {
         let board = self.board.clone();
         let name = self.name.clone();
-        move |stage| {
-            if let Some(entry) = board.jobs().get_mut(&name) {
-                *entry = (stage, Instant::now(), None);
-            }
-        }
+        move |stage| board.update(&name, |entry, now| *entry = (stage, now, None))
     }
 
     /// A reporter of the count within the current stage (`stage` names it: entering a new
@@ -97,14 +153,10 @@ impl Followed {
         let board = self.board.clone();
         let name = self.name.clone();
         move |stage, count| {
-            if let Some(entry) = board.jobs().get_mut(&name) {
-                let since = if entry.0 == stage {
-                    entry.1
-                } else {
-                    Instant::now()
-                };
+            board.update(&name, |entry, now| {
+                let since = if entry.0 == stage { entry.1 } else { now };
                 *entry = (stage, since, Some(count));
-            }
+            })
         }
     }
 }

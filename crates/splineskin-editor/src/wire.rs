@@ -3,14 +3,14 @@
 //!
 //! Binary bodies (the rig operator, deformed points, weight grids) are little-endian
 //! `f64`/`f32` arrays without a header; their layouts are documented on the routes
-//! ([`super::api`]).
+//! (the crate's documentation).
 
 use serde::{Deserialize, Serialize};
 use splineskin::drawing::JointKind;
 
 /// The part of a scene the page edits: point handles, their pose, the weight family, junction
 /// overrides and flexible G¹. Together with a document's SVG text it is a scene of ours
-/// ([`super::scene_file`]).
+/// ([`crate::scene_file`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EditScene {
@@ -78,7 +78,7 @@ impl AnimationWire {
 
 /// A weight family by name (`shepard`, `harmonic`, `biharmonic`, `bbw`), with Shepard's
 /// exponent; or a trained deformation operator (`defop-arap`, `defop-sarap`: not weights, the
-/// page's "family" menu offers them beside the weights, [`super::defop_routes`]) with its
+/// page's "family" menu offers them beside the weights, [`crate::defop_routes`]) with its
 /// sample count.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -89,7 +89,7 @@ pub struct WeightsWire {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub exponent: Option<f64>,
     /// Training samples of a deformation operator (default
-    /// [`super::scene_file::DEFAULT_EDITOR_SAMPLES`]).
+    /// [`crate::scene_file::DEFAULT_EDITOR_SAMPLES`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<usize>,
 }
@@ -132,7 +132,7 @@ pub struct DocumentInfo {
     /// The file it came from (or the bundled drawing's name).
     pub name: String,
     /// The document to show: the original text with every imported element written as a
-    /// `<path>` at rest and marked with [`super::document::ELEMENT_MARKER`]`="k"`.
+    /// `<path>` at rest and marked with [`crate::document::ELEMENT_MARKER`]`="k"`.
     pub svg: String,
     /// The root viewBox `[x, y, width, height]` (root user units): the frame the drawing's
     /// coordinates are in.

@@ -1,0 +1,69 @@
+//! The splineskin editor's work, whatever carries its page's requests.
+//!
+//! The page (`crates/splineskin-cli/web/`) asks for everything it does not compute itself —
+//! opening a drawing, weights and the rig's operator, flexible G¹ solves, weight grids,
+//! exports — by requests to routes under `/api/`. [`Editor::handle`] answers them: `splineskin
+//! serve` carries them over HTTP (its server adds the transport's guards and runs heavy
+//! requests on worker threads, [`Editor::is_heavy`]), and the WebAssembly build answers the
+//! same requests inside the page, in a Web Worker, with no server at all.
+//!
+//! ```text
+//! page ── Request {method, path, query, headers, body} ──► Editor::handle ──► Response
+//!          (HTTP: splineskin serve │ postMessage: a Web Worker running splineskin-wasm)
+//! ```
+//!
+//! | route | request | response |
+//! |---|---|---|
+//! | `GET /`, `GET /{*path}` | | the page and its assets ([`crate::assets`]) |
+//! | `GET /api/initial` | | the drawing given on the command line, [`DocumentInfo`](wire::DocumentInfo) |
+//! | `POST /api/open` | the file's bytes (SVG or scene), `x-file-name` header | [`DocumentInfo`](wire::DocumentInfo) |
+//! | `POST /api/rig` | [`SceneRequest`](wire::SceneRequest) | the operator `O`, `f64` LE row-major `(2 · n_points) × (6 · n_handles)`; header `x-splineskin-rig`: the rig's id |
+//! | `POST /api/rigs/{id}/solve` | [`PoseRequest`](wire::PoseRequest) | deformed points, `f64` LE `x0, y0, x1, y1, …` (flexible G¹ when the scene asks, warm-started from the previous solve) |
+//! | `POST /api/defop` | [`SceneRequest`](wire::SceneRequest) with family `defop-arap` or `defop-sarap` (`weights.samples`: training samples) | `G_spline` `f64` LE row-major `(2 · n_points) × |Ψ|`, then the thin-plate centres `f64` LE row-major `n_centres × 2 · n_handles` (scaled displacements `z_k`); header `x-splineskin-defop`: [`DefOpInfo`](crate::defop_routes::DefOpInfo) JSON (id, handle basis kind, scale, rest handles `P`, sizes, seconds). Per frame `points = G_spline · ψ(Q)`, `ψ = (1, z, φ(‖z − z_k‖)…)`, `z = (Q − P)/scale`, `φ(r) = r² log r` (`splineskin::defop::HandleBasis`) |
+//! | `POST /api/defops/{id}/deform` | [`DeformRequest`](crate::defop_routes::DeformRequest) `{"handles": [[x, y], …]}` (the configuration `Q`) | the library's deformation at `Q`, `f64` LE `x0, y0, x1, y1, …` (the page's product is checked against it) |
+//! | `GET /api/progress/{job}` | | the stage of the precomputation whose request carried `x-splineskin-job: {job}`: `{"stage": "queued" \| "weights" \| "rig" \| "domain" \| "training" \| "join", "seconds": …}` (seconds in that stage), with `"done", "total", "step", "steps"` while training (ground-truth solves done of all, bootstrapping stage of all), or `{"stage": null}` when none runs |
+//! | `GET /api/rigs/{id}/weights?handle&x0&y0&x1&y1&width&height` | | handle's weight at the centres of a `width × height` grid over the box, `f32` LE, row by row from `y0` |
+//! | `GET /api/rigs/{id}/mesh` | | [`MeshWire`](crate::rig_routes::MeshWire): the triangulated domain the weights were solved on and every handle's weight at its vertices (mesh families; 400 for closed-form weights) |
+//! | `POST /api/documents/{id}/export?viewbox=keep\|fit[&rig={id}\|&defop={id}]` | deformed points, `f64` LE, then with `rig` the pose (`a…f` per handle) or with `defop` the configuration `Q` (`x, y` per handle), `f64` LE ([`ExportQuery`](crate::wire::ExportQuery)) | the SVG document with them ([`write_svg_following`](splineskin::drawing::svg_out::write_svg_following)): gradients, patterns, markers, text and images carried by the best-fit affine map of the rig's skinning map or the operator's deformation (at rest without either); `fit` grows the viewBox to include the art, `keep` (default) leaves it |
+//! | `POST /api/documents/{id}/outside` | deformed points, `f64` LE | [`ViewBoxReport`](crate::wire::ViewBoxReport): the paths that leave the viewBox, how far, and the viewBox `fit` writes |
+//! | `POST /api/documents/{id}/scene` | [`EditScene`](wire::EditScene) | the scene file (ours, drawing inline) |
+//! | `POST /api/documents/{id}/lottie` | [`EditScene`](wire::EditScene) with an `animation` | the Lottie animation `splineskin animate SCENE -o anim.json` writes of it; header `x-splineskin-lottie`: [`LottieReport`](crate::document_routes::LottieReport) JSON (keyframes and bytes written and with every frame, warnings) |
+//!
+//! Errors are JSON [`ErrorBody`](wire::ErrorBody) `{"error": "…"}` naming the file and element concerned, with
+//! status 400 (bad input), 404 (no such document or rig: dropped, [`crate::store`]), 413 (too
+//! large) or 500 (a bug). Every `POST` must carry the header `x-splineskin: 1`, which a page of
+//! another site cannot send without a CORS preflight this server never grants; on loopback,
+//! requests whose `Host` is not the server's own are refused (DNS rebinding).
+//!
+//! Errors are JSON [`ErrorBody`](wire::ErrorBody) `{"error": "…"}` naming the file and element
+//! concerned, with status 400 (bad input), 404 (no such document or rig: dropped,
+//! [`store`]), 413 (too large), 422 (a request of the wrong shape) or 500 (a bug).
+//!
+//! Modules: [`editor`] (the editor, requests, responses, errors, limits), [`document_routes`],
+//! [`rig_routes`] and [`defop_routes`] (the routes), [`document`] (an opened drawing),
+//! [`store`] (documents and rigs by id, bounded), [`progress`] (stages of running
+//! precomputations), [`wire`] (JSON exchanged with the page), [`scene_file`] (the page's scene
+//! as a scene file of ours), [`scene_lottie`] (a scene's animation as Lottie).
+//!
+//! ```
+//! use splineskin_editor::{document::Document, Editor, Request};
+//! let editor = Editor::new(Some(Document::bundled()?));
+//! let response = editor.handle(&Request::get("/api/initial"));
+//! assert_eq!(response.status, 200);
+//! let info: serde_json::Value = serde_json::from_slice(&response.body)?;
+//! assert!(!info["rest"].as_array().expect("rest points").is_empty());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod defop_routes;
+pub mod document;
+pub mod document_routes;
+pub mod editor;
+pub mod progress;
+pub mod rig_routes;
+pub mod scene_file;
+pub mod scene_lottie;
+pub mod store;
+pub mod wire;
+
+pub use editor::{error_message, ApiError, Editor, Request, Response};
