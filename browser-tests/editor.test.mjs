@@ -11,6 +11,7 @@ import { existsSync, readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before } from 'node:test';
 
+import { clientPoint, drag, editorState, median, openThroughPicker, pathData } from './editor-page.mjs';
 import { launchBrowser, outputFolder, REPO, splineskinOutput, startEditor } from './harness.mjs';
 
 const ASSETS = join(REPO, 'crates', 'splineskin', 'assets');
@@ -57,38 +58,9 @@ after(async () => {
 // ---------------------------------------------------------------------------------------------
 // Helpers
 
-/** Opens `file` through the page's file picker and waits until it is shown. */
-async function openThroughPicker(p, file) {
-  const name = file.split('/').pop();
-  await p.setInputFiles('#open-file', file);
-  await p.waitForFunction((n) => document.title.startsWith(n), name, { timeout: WAIT });
-}
 
-/** The page's document description and scene. */
-function editorState(p) {
-  return p.evaluate(() => {
-    const e = window.splineskinEditor;
-    return { info: e.info, scene: e.scene, rig: document.body.dataset.rig };
-  });
-}
 
-/** The `d` of every marked element, by marker index. */
-function pathData(p) {
-  return p.evaluate(() => {
-    const d = [];
-    for (const e of document.getElementById('canvas').shadowRoot.querySelectorAll('[data-splineskin-element]')) {
-      d[Number(e.getAttribute('data-splineskin-element'))] = e.getAttribute('d');
-    }
-    return d;
-  });
-}
 
-/** Client (CSS pixel) coordinates of drawing point [x, y]. */
-function clientPoint(p, [x, y]) {
-  return p.evaluate(([x, y]) => {
-    return window.splineskinEditor.view.toClient([x, y]);
-  }, [x, y]);
-}
 
 /**
  * Subpaths of path data made of M, C and Z commands (what the editor and our export write),
@@ -160,25 +132,7 @@ function junctionAngle(chain, closed, joint, eps) {
   return { angle: Math.atan2(u[0] * v[1] - u[1] * v[0], u[0] * v[0] + u[1] * v[1]), lu: Math.hypot(...u), lv: Math.hypot(...v) };
 }
 
-function median(values) {
-  const s = [...values].sort((a, b) => a - b);
-  const m = s.length >> 1;
-  return s.length % 2 ? s[m] : (s[m - 1] + s[m]) / 2;
-}
 
-/** Drags with the mouse from drawing point `from` by `delta` (drawing units) in `steps` moves. */
-async function drag(p, from, delta, steps) {
-  const [x0, y0] = await clientPoint(p, from);
-  const [x1, y1] = await clientPoint(p, [from[0] + delta[0], from[1] + delta[1]]);
-  await p.mouse.move(x0, y0);
-  await p.mouse.down();
-  for (let k = 1; k <= steps; k++) {
-    await p.mouse.move(x0 + ((x1 - x0) * k) / steps, y0 + ((y1 - y0) * k) / steps);
-    // One frame per move, as a user's drag gives.
-    await p.evaluate(() => new Promise((ok) => requestAnimationFrame(() => ok())));
-  }
-  await p.mouse.up();
-}
 
 // ---------------------------------------------------------------------------------------------
 

@@ -239,3 +239,31 @@ export function splineskinOutput(args, { cwd } = {}) {
     });
   });
 }
+
+/** The numbers of the `d` of every <path> of SVG text `svg`, in document order. */
+export function pathNumbers(svg) {
+  return [...svg.matchAll(/<path\b[^>]*\sd="([^"]*)"/g)].map(([, d]) =>
+    (d.match(/[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?/gi) ?? []).map(Number));
+}
+
+/**
+ * The largest difference between the path data of SVG documents `a` and `b` (path by path, in
+ * document order), relative to the diagonal of `a`'s path points; throws if their paths do not
+ * pair up. `{ paths, relative }`.
+ */
+export function pathDifference(a, b, name = 'svg') {
+  const [pa, pb] = [pathNumbers(a), pathNumbers(b)];
+  if (pa.length !== pb.length || pa.length === 0) throw new Error(`${name}: ${pa.length} paths against ${pb.length}`);
+  const lo = [Infinity, Infinity];
+  const hi = [-Infinity, -Infinity];
+  let worst = 0;
+  pa.forEach((numbers, p) => {
+    if (numbers.length !== pb[p].length) throw new Error(`${name}: path ${p}: ${numbers.length} numbers against ${pb[p].length}`);
+    numbers.forEach((v, k) => {
+      worst = Math.max(worst, Math.abs(v - pb[p][k]));
+      lo[k % 2] = Math.min(lo[k % 2], v);
+      hi[k % 2] = Math.max(hi[k % 2], v);
+    });
+  });
+  return { paths: pa.length, relative: worst / Math.hypot(hi[0] - lo[0], hi[1] - lo[1]) };
+}

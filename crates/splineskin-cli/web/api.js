@@ -1,5 +1,8 @@
-// Calls to the editor's server (routes in crates/splineskin-cli/src/serve/api.rs). Every POST
+// Calls to the editor's routes (crates/splineskin-editor/src/lib.rs has their table): to the
+// server, or to the WebAssembly module in a worker in a static build (backend.js). Every POST
 // carries `x-splineskin: 1`; errors come back as {"error": "…"} and are thrown as Error.
+
+import { send } from './backend.js';
 
 const HEADERS = { 'x-splineskin': '1' };
 
@@ -17,7 +20,7 @@ async function failure(response) {
 }
 
 async function call(path, options = {}) {
-  const response = await fetch(path, options);
+  const response = await send(path, options);
   if (!response.ok) throw await failure(response);
   return response;
 }
@@ -92,7 +95,7 @@ export async function weightGrid(rig, handle, [x0, y0, x1, y1], width, height) {
  * The deformed SVG document for `points` (Float64Array x0, y0, …), its viewBox kept as the
  * document's (`viewbox` 'keep') or grown to include the art ('fit'). `deformation` says what
  * deformed the points, so that gradients, patterns, markers, text and images follow it
- * (ExportQuery in crates/splineskin-cli/src/serve/wire.rs): { rig, pose } (a rig's id and one
+ * (ExportQuery in crates/splineskin-editor/src/wire.rs): { rig, pose } (a rig's id and one
  * map [a, b, c, d, e, f] per handle) or { defop, q } (an operator rig's id and the handle
  * configuration x0, y0, x1, …); null leaves them at rest.
  */

@@ -1,6 +1,6 @@
 // A drawing joined to a deformation operator, in the page: control points = G_spline · ψ(Q)
 // (DESIGN.md top, "The join"; §4 "Evaluation"). The server trains the operator and sends
-// G_spline and what ψ needs (POST /api/defop, crates/splineskin-cli/src/serve/api.rs); this
+// G_spline and what ψ needs (POST /api/defop, crates/splineskin-editor/src/lib.rs); this
 // file evaluates ψ exactly as the library does (crates/splineskin-defop/src/handle_basis.rs):
 //
 //   z = (Q − P) / scale,  z[2ℓ] = (q_ℓ.x − p_ℓ.x) / scale,  z[2ℓ+1] = (q_ℓ.y − p_ℓ.y) / scale

@@ -30,7 +30,6 @@
 //! Progress is reported through a callback (the library never prints): the CLI draws a bar.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::Instant;
 
 use kurbo::Point;
 use rayon::prelude::*;
@@ -346,7 +345,7 @@ pub fn train(
     let mut stages = Vec::with_capacity(n_stages);
     let mut start = 0;
     for (stage, &end) in ends.iter().enumerate() {
-        let clock = Instant::now();
+        let clock = stopwatch();
         let predictor = match options.warm_start {
             WarmStart::Bootstrap => op.as_ref(),
             WarmStart::Rest => None,
@@ -371,7 +370,7 @@ pub fn train(
         } else {
             batch.map(solve_one).collect::<Result<_, _>>()?
         };
-        let solve_seconds = clock.elapsed().as_secs_f64();
+        let solve_seconds = clock();
         let iterations: Vec<usize> = results.iter().map(|s| s.iterations).collect();
         let arap_starts = results.iter().filter(|s| s.start == Start::Arap).count();
         let rest_starts = results.iter().filter(|s| s.start == Start::Rest).count();
@@ -387,7 +386,7 @@ pub fn train(
         } else {
             HandleBasisKind::Linear
         };
-        let clock = Instant::now();
+        let clock = stopwatch();
         let fitted = DefOp::fit(
             mesh,
             handles,
@@ -396,7 +395,7 @@ pub fn train(
             &solutions,
             &options.fit.with_handle_basis(handle_basis),
         )?;
-        let fit_seconds = clock.elapsed().as_secs_f64();
+        let fit_seconds = clock();
         let n_new = end - start;
         stages.push(StageReport {
             n_new,
@@ -551,5 +550,20 @@ fn solve_sample(
                 ),
             })
         }
+    }
+}
+
+/// A stopwatch started now: the seconds since, by `std::time::Instant`. WebAssembly in a page
+/// (`wasm32-unknown-unknown`) has no clock (`Instant::now` panics there): its stages are
+/// timed as 0 s.
+fn stopwatch() -> impl Fn() -> f64 {
+    #[cfg(not(all(target_arch = "wasm32", target_os = "unknown")))]
+    {
+        let start = std::time::Instant::now();
+        move || start.elapsed().as_secs_f64()
+    }
+    #[cfg(all(target_arch = "wasm32", target_os = "unknown"))]
+    {
+        || 0.0
     }
 }

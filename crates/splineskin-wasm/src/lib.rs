@@ -8,10 +8,15 @@
 //! failure from [`splineskin_message`] / [`splineskin_message_len`] (UTF-8). No Rust code here
 //! dereferences a raw pointer: the buffers are `Vec`s whose addresses are handed out.
 //!
+//! The editor's page runs in a Web Worker through [`editor`]'s one export, answering the same
+//! requests as `splineskin serve`.
+//!
 //! ```text
 //! JS: p = splineskin_input(n); write bytes at p; k = splineskin_deform_scene(n, pose)
 //!     k ≥ 0: read 2k f64 at splineskin_output()      k < 0: read the message
 //! ```
+
+pub mod editor;
 
 use std::cell::RefCell;
 

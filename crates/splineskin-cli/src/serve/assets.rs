@@ -45,14 +45,63 @@ fn serve(path: &str) -> Response {
     response
 }
 
+/// The content security policy of a static build (in its `index.html`, as a `<meta>`: a static
+/// host sends no header of ours): [`CONTENT_SECURITY_POLICY`]'s, with WebAssembly compiled
+/// from the page's own module and the page's own worker allowed.
+const STATIC_CONTENT_SECURITY_POLICY: &str = "default-src 'self'; \
+     script-src 'self' 'wasm-unsafe-eval'; worker-src 'self'; \
+     style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; connect-src 'self'; \
+     object-src 'none'; base-uri 'none'";
+
+/// The name of the WebAssembly module in a static build (`editor-worker.js` loads it).
+pub const STATIC_WASM_NAME: &str = "splineskin.wasm";
+
+/// The files of a static build of the editor: the page's files, its `index.html` marked to
+/// answer its requests in a worker (`data-backend="wasm"`, web/backend.js) and carrying the
+/// content security policy, the WebAssembly module `wasm` as [`STATIC_WASM_NAME`], and the
+/// bundled fish as `demo.svg` (for `example.html`, the JavaScript API's example).
+pub fn static_files(wasm: Vec<u8>) -> Vec<(String, Vec<u8>)> {
+    let mut files: Vec<(String, Vec<u8>)> = Web::iter()
+        .filter_map(|name| Some((name.to_string(), Web::get(&name)?.data.into_owned())))
+        .collect();
+    for (name, bytes) in &mut files {
+        if name == "index.html" {
+            let html = String::from_utf8_lossy(bytes)
+                .replacen(
+                    "<html lang=\"en\">",
+                    "<html lang=\"en\" data-backend=\"wasm\">",
+                    1,
+                )
+                .replacen(
+                    "<meta charset=\"utf-8\">",
+                    &format!(
+                        "<meta charset=\"utf-8\">\n  <meta http-equiv=\"Content-Security-Policy\" \
+                         content=\"{STATIC_CONTENT_SECURITY_POLICY}\">"
+                    ),
+                    1,
+                );
+            *bytes = html.into_bytes();
+        }
+    }
+    files.push((STATIC_WASM_NAME.to_string(), wasm));
+    // The bundled fish, which the JavaScript API's example (example.html) opens.
+    files.push((
+        "demo.svg".to_string(),
+        splineskin::examples::DEMO_SVG.as_bytes().to_vec(),
+    ));
+    files
+}
+
 /// The content type of an asset, by extension.
 fn content_type(path: &str) -> &'static str {
     match path.rsplit('.').next().unwrap_or("") {
         "html" => "text/html; charset=utf-8",
         "js" | "mjs" => "text/javascript; charset=utf-8",
+        "ts" => "text/plain; charset=utf-8",
         "css" => "text/css; charset=utf-8",
         "svg" => "image/svg+xml",
         "png" => "image/png",
+        "wasm" => "application/wasm",
         _ => "application/octet-stream",
     }
 }

@@ -1,5 +1,7 @@
 //! `splineskin serve [FILE] [--port N] [--host ADDR]`: the editor, a local web page that
 //! opens a drawing, places and drags handles and shows the drawing follow live.
+//! `splineskin serve --static-out DIR [--wasm FILE]` writes the same page as a static folder
+//! whose requests the WebAssembly build answers in a Web Worker (no server).
 //!
 //! ```text
 //! page (web/, embedded)                         server (this module)
@@ -51,9 +53,121 @@ pub struct Args {
     /// trust.
     #[arg(long)]
     host: Option<IpAddr>,
+    /// Instead of serving, write the editor as a static folder (its `index.html`, scripts and
+    /// the WebAssembly module) that any static file host serves: opened from it, the page
+    /// computes everything itself, in a Web Worker. The folder is created, or replaced if it
+    /// holds an earlier static build.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["file", "port", "host"])]
+    static_out: Option<PathBuf>,
+    /// The WebAssembly module a static build carries. Default: $SPLINESKIN_WASM, else the one
+    /// `tools/build-wasm` builds in this checkout's target folder
+    /// (`target/wasm/wasm32-unknown-unknown/release/splineskin_wasm.wasm`).
+    #[arg(long, value_name = "FILE", requires = "static_out")]
+    wasm: Option<PathBuf>,
+}
+
+/// Where `tools/build-wasm` puts the module, under the target folder.
+const BUILT_WASM: &str = "wasm/wasm32-unknown-unknown/release/splineskin_wasm.wasm";
+
+/// Writes the static build into `dir` ([`assets::static_files`]).
+fn write_static(dir: &std::path::Path, wasm: Option<&std::path::Path>) -> Result<()> {
+    let wasm_path = match wasm {
+        Some(path) => path.to_path_buf(),
+        None => find_wasm().with_context(|| {
+            format!(
+                "{}: the WebAssembly module is not built: build it with tools/build-wasm \
+                 (docs/webassembly.md), or name it with --wasm FILE",
+                dir.display()
+            )
+        })?,
+    };
+    let wasm = std::fs::read(&wasm_path).with_context(|| {
+        format!(
+            "{}: cannot read the WebAssembly module",
+            wasm_path.display()
+        )
+    })?;
+    if !wasm.starts_with(b"\0asm") {
+        anyhow::bail!(
+            "{}: not a WebAssembly module (expected one built by tools/build-wasm)",
+            wasm_path.display()
+        );
+    }
+    if dir.exists() {
+        let earlier_build =
+            dir.join("index.html").is_file() && dir.join(assets::STATIC_WASM_NAME).is_file();
+        let empty = std::fs::read_dir(dir)
+            .with_context(|| format!("{}: cannot read the folder", dir.display()))?
+            .next()
+            .is_none();
+        if !earlier_build && !empty {
+            anyhow::bail!(
+                "{}: the folder exists and is not a static build of the editor (expected a new \
+                 or empty folder, or an earlier build to replace)",
+                dir.display()
+            );
+        }
+    }
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("{}: cannot create the folder", dir.display()))?;
+    let files = assets::static_files(wasm);
+    let paths: Vec<PathBuf> = files.iter().map(|(name, _)| dir.join(name)).collect();
+    let writes: Vec<(&std::path::Path, &[u8])> = paths
+        .iter()
+        .zip(&files)
+        .map(|(path, (_, bytes))| (path.as_path(), bytes.as_slice()))
+        .collect();
+    crate::output::write_all_atomic(&writes)?;
+    let total: usize = files.iter().map(|(_, b)| b.len()).sum();
+    println!(
+        "{}: the editor without a server ({} files, {:.1} MB, the WebAssembly module {:.1} MB); \
+         serve the folder with any static file server and open its index.html",
+        dir.display(),
+        files.len(),
+        total as f64 / 1e6,
+        files
+            .iter()
+            .find(|(name, _)| name == assets::STATIC_WASM_NAME)
+            .map_or(0, |(_, b)| b.len()) as f64
+            / 1e6
+    );
+    Ok(())
+}
+
+/// The WebAssembly module: `$SPLINESKIN_WASM`, else [`BUILT_WASM`] under the target folder this
+/// executable was built in, else under `./target`.
+fn find_wasm() -> Result<PathBuf> {
+    if let Some(path) = std::env::var_os("SPLINESKIN_WASM") {
+        return Ok(PathBuf::from(path));
+    }
+    let mut candidates = Vec::new();
+    if let Ok(exe) = std::env::current_exe() {
+        // target/{debug,release}/splineskin → target/
+        if let Some(target) = exe.parent().and_then(|p| p.parent()) {
+            candidates.push(target.join(BUILT_WASM));
+        }
+    }
+    candidates.push(PathBuf::from("target").join(BUILT_WASM));
+    candidates
+        .iter()
+        .find(|p| p.is_file())
+        .cloned()
+        .ok_or_else(|| {
+            anyhow::anyhow!(
+                "not found at {}",
+                candidates
+                    .iter()
+                    .map(|p| p.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(" nor at ")
+            )
+        })
 }
 
 pub fn run(args: Args) -> Result<()> {
+    if let Some(dir) = &args.static_out {
+        return write_static(dir, args.wasm.as_deref());
+    }
     let document = match &args.file {
         Some(path) => Document::from_path(path)?,
         None => Document::bundled()?,

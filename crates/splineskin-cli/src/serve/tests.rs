@@ -1142,3 +1142,57 @@ async fn serve_mesh_is_the_weights_domain_with_weights_at_its_vertices() {
         assert!((weights[2 * v + h] - 1.0).abs() < 1e-6, "handle {h}");
     }
 }
+
+#[test]
+fn static_build_marks_its_page_carries_the_module_and_replaces_only_its_own_folder() {
+    let tmp = tempfile::tempdir().expect("a temporary folder");
+    let wasm = tmp.path().join("module.wasm");
+    std::fs::write(&wasm, b"\0asm\x01\0\0\0").expect("written");
+    let dir = tmp.path().join("site");
+    super::write_static(&dir, Some(&wasm)).expect("written");
+    let html = std::fs::read_to_string(dir.join("index.html")).expect("index.html");
+    assert!(
+        html.contains("<html lang=\"en\" data-backend=\"wasm\">"),
+        "{html}"
+    );
+    assert!(
+        html.contains("'wasm-unsafe-eval'"),
+        "a policy allowing the module"
+    );
+    for name in [
+        "splineskin.wasm",
+        "editor-worker.js",
+        "wasm-editor.js",
+        "backend.js",
+        "splineskin.js",
+        "splineskin.d.ts",
+        "example.html",
+        "demo.svg",
+    ] {
+        assert!(dir.join(name).is_file(), "{name} written");
+    }
+    assert_eq!(
+        std::fs::read(dir.join("splineskin.wasm")).expect("module"),
+        b"\0asm\x01\0\0\0"
+    );
+    // An earlier build is replaced; another folder is refused; so is a file that is no module.
+    super::write_static(&dir, Some(&wasm)).expect("an earlier build replaced");
+    let other = tmp.path().join("other");
+    std::fs::create_dir(&other).expect("created");
+    std::fs::write(other.join("notes.txt"), "mine").expect("written");
+    let message = super::write_static(&other, Some(&wasm))
+        .expect_err("refused")
+        .to_string();
+    assert!(message.contains("not a static build"), "{message}");
+    assert_eq!(
+        std::fs::read_to_string(other.join("notes.txt")).expect("kept"),
+        "mine"
+    );
+    let text = tmp.path().join("text.wasm");
+    std::fs::write(&text, "hello").expect("written");
+    let message = super::write_static(&tmp.path().join("new"), Some(&text))
+        .expect_err("refused")
+        .to_string();
+    assert!(message.contains("not a WebAssembly module"), "{message}");
+    assert!(!tmp.path().join("new").exists(), "nothing written");
+}

@@ -1,0 +1,199 @@
+// The editor without a server: `splineskin serve --static-out DIR` writes a static folder, a
+// plain static file server (Node's, in harness.mjs; no splineskin process) serves it, and the
+// page answers its own requests with the WebAssembly module in a Web Worker. On the bundled
+// fish and on a real emoji the page is used as a person uses it — pins clicked, smooth
+// (bounded biharmonic) weights, a drag, flexible G¹ — and its saved scene and exported SVG are
+// checked against the native command: `splineskin deform` of the saved scene gives the
+// exported path data to 1e-9 of the drawing's diagonal. Timings measured in the page (weights
+// and rig, flexible solve, per-frame update) are printed beside the native ones, never
+// asserted.
+//
+// The module: SPLINESKIN_WASM, else target/wasm/wasm32-unknown-unknown/release/splineskin_wasm.wasm
+// (tools/build-wasm). Without it these tests skip, saying so, unless CI is set.
+
+import assert from 'node:assert/strict';
+import { existsSync, readFileSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { after, before } from 'node:test';
+
+import { clientPoint, drag, editorState, median, openThroughPicker, pathData, WAIT } from './editor-page.mjs';
+import { launchBrowser, outputFolder, pathDifference, REPO, runSplineskin, serveFolder, startEditor } from './harness.mjs';
+
+const WASM = process.env.SPLINESKIN_WASM || join(REPO, 'target', 'wasm', 'wasm32-unknown-unknown', 'release', 'splineskin_wasm.wasm');
+const DEMO_SVG = join(REPO, 'crates', 'splineskin', 'assets', 'demo.svg');
+// A real emoji nobody here drew: OpenMoji's turtle (test-art's npm packages).
+const EMOJI = join(REPO, 'test-art', 'node_modules', 'openmoji', 'color', 'svg', '1F422.svg');
+const TURTLES = join(
+  REPO, '..', 'shared', 'data', 'vectorskinning', 'turtle-seven-stack', 'comparison', 'shepard ours',
+  'turtles-seven-deformation.json',
+);
+/** The static page against the native command, relative to the drawing's diagonal. */
+const SAME = 1e-9;
+const VIEWPORT = { width: 1280, height: 800 };
+
+const MISSING = !existsSync(WASM) && !process.env.CI && `${WASM} is missing (build it: tools/build-wasm)`;
+if (!existsSync(WASM) && process.env.CI) throw new Error(`${WASM} is missing; CI builds it in .ci/run`);
+
+const out = outputFolder('editor-static');
+const check = (...args) => out.check(...args);
+let browser;
+let site;
+let page;
+const pageErrors = [];
+
+before(async () => {
+  if (MISSING) return;
+  const folder = join(out.path, 'site');
+  await runSplineskin(['serve', '--static-out', folder, '--wasm', WASM]);
+  site = await serveFolder(folder);
+  browser = await launchBrowser({ viewport: VIEWPORT });
+  page = await browser.context.newPage();
+  page.on('pageerror', (e) => pageErrors.push(e.message));
+  await page.goto(site.url('index.html'));
+  await page.waitForSelector('body[data-booted]', { timeout: WAIT });
+});
+
+after(async () => {
+  await browser?.close();
+  await site?.close();
+  out.finish();
+});
+
+// ---------------------------------------------------------------------------------------------
+// Helpers
+
+/** Clicks the button `selector` and saves the file it downloads as `name`; its text. */
+async function download(p, selector, name) {
+  const [file] = await Promise.all([p.waitForEvent('download', { timeout: WAIT }), p.click(selector)]);
+  const path = join(out.path, name);
+  await file.saveAs(path);
+  return readFileSync(path, 'utf8');
+}
+
+/** The page's export against `splineskin deform` of the page's saved scene (relative difference). */
+async function compareWithNative(name, exported, sceneText) {
+  const scene = join(out.path, `${name}-scene.json`);
+  writeFileSync(scene, sceneText);
+  const native = join(out.path, `${name}-native.svg`);
+  await runSplineskin(['deform', scene, '-o', native]);
+  return pathDifference(exported, readFileSync(native, 'utf8'), name).relative;
+}
+
+/**
+ * Clicks pins at drawing points `pins`, waits for the smooth weights' rig, drags pin 0 by
+ * `by`, then turns flexible G¹ on and waits for its solve. The seconds of the weights and rig
+ * and of the flexible solve, and the per-frame times of the drag (ms).
+ */
+async function pinDragFlex(p, pins, by) {
+  assert.equal(await p.inputValue('#family'), 'bbw', 'smooth (bounded biharmonic) weights by default');
+  let started = performance.now();
+  for (const at of pins) {
+    const [x, y] = await clientPoint(p, at);
+    await p.mouse.click(x, y);
+  }
+  await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  const rigSeconds = (performance.now() - started) / 1000;
+  assert.equal((await editorState(p)).scene.handles.length, pins.length, 'a pin per click');
+  await p.evaluate(() => {
+    window.splineskinEditor.frameTimes.length = 0;
+    window.splineskinEditor.productTimes.length = 0;
+  });
+  const before = await pathData(p);
+  await drag(p, pins[0], by, 20);
+  const frames = await p.evaluate(() => ({ frame: window.splineskinEditor.frameTimes, product: window.splineskinEditor.productTimes }));
+  assert.notDeepEqual(await pathData(p), before, 'the drag moved the drawing');
+  started = performance.now();
+  await p.check('#flexible');
+  await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  await p.waitForSelector('body[data-solve="done"]', { timeout: WAIT });
+  const flexSeconds = (performance.now() - started) / 1000;
+  return { rigSeconds, flexSeconds, frames };
+}
+
+// ---------------------------------------------------------------------------------------------
+
+check('the static folder holds the page and the module; opened from a plain file server the bundled fish shows', { skip: MISSING }, async () => {
+  const html = readFileSync(join(out.path, 'site', 'index.html'), 'utf8');
+  assert.match(html, /data-backend="wasm"/);
+  assert.match(html, /Content-Security-Policy/);
+  const { info, scene } = await editorState(page);
+  assert.match(info.name, /demo-scene\.json/, 'the bundled fish, from the module');
+  assert.ok(scene.handles.length > 0, 'with its pins');
+});
+
+check('the fish: pins, smooth weights, a drag and flexible G¹ in WebAssembly; the export is the native deformation of the saved scene', { skip: MISSING }, async () => {
+  await openThroughPicker(page, DEMO_SVG);
+  const timings = await pinDragFlex(page, [[440, 215], [150, 210]], [40, -50]);
+  const scene = await download(page, '#save-scene', 'fish-scene.json');
+  assert.equal(JSON.parse(scene).flexible, true, 'the saved scene asks for flexible G¹');
+  const exported = await download(page, '#export-svg', 'fish-static.svg');
+  const difference = await compareWithNative('fish', exported, scene);
+  console.log(`static: fish: bbw weights and rig ${timings.rigSeconds.toFixed(2)} s, flexible G¹ solve ${timings.flexSeconds.toFixed(2)} s, per-frame update median ${median(timings.frames.product).toFixed(3)} ms (product) / ${median(timings.frames.frame).toFixed(3)} ms (with path data) over ${timings.frames.frame.length} frames; export vs native ${difference.toExponential(2)} of the diagonal`);
+  assert.ok(difference <= SAME, `${difference} of the diagonal`);
+  await page.screenshot({ path: join(out.path, 'static-fish.png') });
+});
+
+check('a real emoji (OpenMoji turtle) rigged and dragged in the static page: the export is the native deformation', { skip: MISSING || (!existsSync(EMOJI) && `${EMOJI} missing (npm ci in test-art)`) }, async () => {
+  await openThroughPicker(page, EMOJI);
+  const { info } = await editorState(page);
+  // Pins on the art: chain points a third of the drawing apart.
+  const n = info.rest.length / 2;
+  const at = (k) => [info.rest[2 * k], info.rest[2 * k + 1]];
+  const pins = [at(Math.floor(n / 6)), at(Math.floor(n / 2)), at(Math.floor((5 * n) / 6))];
+  const size = Math.max(info.view_box[2], info.view_box[3]);
+  const timings = await pinDragFlex(page, pins, [0.08 * size, -0.05 * size]);
+  const scene = await download(page, '#save-scene', 'emoji-scene.json');
+  const exported = await download(page, '#export-svg', 'emoji-static.svg');
+  const difference = await compareWithNative('emoji', exported, scene);
+  console.log(`static: OpenMoji turtle (${info.n_curves} curves): bbw weights and rig ${timings.rigSeconds.toFixed(2)} s, flexible G¹ solve ${timings.flexSeconds.toFixed(2)} s; export vs native ${difference.toExponential(2)} of the diagonal`);
+  assert.ok(difference <= SAME, `${difference} of the diagonal`);
+  await page.screenshot({ path: join(out.path, 'static-emoji.png') });
+  assert.deepEqual(pageErrors, [], 'no error in the page');
+});
+
+check('the authors\' turtles (1 323 curves) in the static page: smooth weights and rig, per-frame update (timed, printed)', { skip: MISSING || (!existsSync(TURTLES) && `${TURTLES} missing (the external data)`) }, async () => {
+  // The scene as one self-contained file (its drawing inline), as the editor saves it: a page
+  // without a server reads only what it is given.
+  const server = await startEditor([TURTLES]);
+  let sceneText;
+  try {
+    const initial = await (await fetch(`${server.url}api/initial`)).json();
+    const saved = await fetch(`${server.url}api/documents/${initial.id}/scene`, {
+      method: 'POST', headers: { 'x-splineskin': '1', 'content-type': 'application/json' }, body: JSON.stringify(initial.scene),
+    });
+    assert.equal(saved.status, 200);
+    sceneText = await saved.text();
+  } finally {
+    await server.close();
+  }
+  await openThroughPicker(page, { name: 'turtles-scene.json', mimeType: 'application/json', buffer: Buffer.from(sceneText) });
+  // Flexible G¹ off, the smooth weights picked: the time of the weights and the rig.
+  await page.setChecked('#flexible', false);
+  await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  const started = performance.now();
+  await page.selectOption('#family', 'bbw');
+  await page.waitForSelector('body[data-rig="ready"]', { timeout: 4 * WAIT });
+  const rigSeconds = (performance.now() - started) / 1000;
+  const { info, scene } = await editorState(page);
+  await page.evaluate(() => {
+    window.splineskinEditor.frameTimes.length = 0;
+    window.splineskinEditor.productTimes.length = 0;
+  });
+  const posed = await page.evaluate(() => {
+    const e = window.splineskinEditor;
+    const [T, h] = [e.scene.pose[0], e.scene.handles[0]];
+    return [T[0] * h[0] + T[2] * h[1] + T[4], T[1] * h[0] + T[3] * h[1] + T[5]];
+  });
+  const size = Math.max(info.view_box[2], info.view_box[3]);
+  await drag(page, posed, [0.08 * size, 0.05 * size], 40);
+  const frames = await page.evaluate(() => ({ frame: window.splineskinEditor.frameTimes, product: window.splineskinEditor.productTimes }));
+  assert.ok(frames.frame.length >= 20, `${frames.frame.length} frames drawn while dragging`);
+  const flexStarted = performance.now();
+  await page.check('#flexible');
+  await page.waitForSelector('body[data-rig="ready"]', { timeout: 4 * WAIT });
+  await page.waitForSelector('body[data-solve="done"]', { timeout: 4 * WAIT });
+  const flexSeconds = (performance.now() - flexStarted) / 1000;
+  console.log(`static: turtles (${info.n_curves} curves, ${scene.handles.length} pins): bbw weights and rig ${rigSeconds.toFixed(2)} s; flexible G¹ rig and solve ${flexSeconds.toFixed(2)} s; per-frame update median ${median(frames.product).toFixed(3)} ms (product) / ${median(frames.frame).toFixed(3)} ms (with path data) over ${frames.frame.length} frames`);
+  await page.screenshot({ path: join(out.path, 'static-turtles.png') });
+  assert.deepEqual(pageErrors, [], 'no error in the page');
+});

@@ -1,0 +1,116 @@
+// The JavaScript API (crates/splineskin-cli/web/splineskin.js, types in splineskin.d.ts) on the
+// WebAssembly module: under Node, a drawing opened, pinned with smooth weights and posed gives
+// the document the native `splineskin deform` writes for the same pins and pose, to 1e-9 of the
+// diagonal; the identity pose gives the rest drawing; bad input throws a message naming the
+// file. In chromium, the ~30-line example page (example.html, from the static build) runs and
+// its slider's pose equals the native deformation too.
+//
+// The module: SPLINESKIN_WASM, else target/wasm/wasm32-unknown-unknown/release/splineskin_wasm.wasm
+// (tools/build-wasm). Without it these tests skip, saying so, unless CI is set.
+
+import assert from 'node:assert/strict';
+import { existsSync, readFileSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { after } from 'node:test';
+
+import { launchBrowser, outputFolder, pathDifference, REPO, runSplineskin, serveFolder } from './harness.mjs';
+
+const WASM = process.env.SPLINESKIN_WASM || join(REPO, 'target', 'wasm', 'wasm32-unknown-unknown', 'release', 'splineskin_wasm.wasm');
+const WEB = join(REPO, 'crates', 'splineskin-cli', 'web');
+const DEMO_SVG = join(REPO, 'crates', 'splineskin', 'assets', 'demo.svg');
+const SAME = 1e-9;
+// The example's pins (example.js).
+const PINS = [[440, 215], [150, 210], [300, 150]];
+
+const MISSING = !existsSync(WASM) && !process.env.CI && `${WASM} is missing (build it: tools/build-wasm)`;
+if (!existsSync(WASM) && process.env.CI) throw new Error(`${WASM} is missing; CI builds it in .ci/run`);
+
+const out = outputFolder('js-api');
+const check = (...args) => out.check(...args);
+after(() => out.finish());
+
+/** `splineskin deform` of demo.svg with the example's pins, smooth weights and `pose` flags. */
+async function native(name, poseArgs) {
+  const file = join(out.path, `${name}-native.svg`);
+  await runSplineskin(['deform', DEMO_SVG, ...PINS.flatMap(([x, y]) => ['--pin', `${x},${y}`]), '--weights', 'bbw', ...poseArgs, '-o', file]);
+  return readFileSync(file, 'utf8');
+}
+
+/** The map turning by `degrees` (clockwise on screen) about `p`, then moving by `by`. */
+function turnAbout([px, py], degrees, [dx, dy] = [0, 0]) {
+  const t = (degrees * Math.PI) / 180;
+  const [c, s] = [Math.cos(t), Math.sin(t)];
+  return [c, s, -s, c, px - (c * px - s * py) + dx, py - (s * px + c * py) + dy];
+}
+
+check('under Node: open, rig with smooth weights, update into a Float64Array, export: the native deformation', { skip: MISSING }, async () => {
+  const { load, SplineskinError } = await import(join(WEB, 'splineskin.js'));
+  const started = performance.now();
+  const splineskin = await load(readFileSync(WASM));
+  const loaded = performance.now();
+  const drawing = splineskin.open(readFileSync(DEMO_SVG, 'utf8'), 'demo.svg');
+  const rig = drawing.rig({ pins: PINS, weights: 'bbw' });
+  const rigged = performance.now();
+  const points = new Float64Array(2 * drawing.nPoints);
+
+  // Identity: the rest drawing.
+  const identity = PINS.map(() => [1, 0, 0, 1, 0, 0]);
+  assert.equal(rig.update(identity, points), points, 'update writes into the caller\'s array');
+  const size = Math.hypot(drawing.viewBox[2], drawing.viewBox[3]);
+  const rest = Math.max(...points.map((v, k) => Math.abs(v - drawing.rest[k])));
+  assert.ok(rest <= 1e-12 * size, `identity pose: ${rest} from the rest drawing`);
+
+  // Pin 0 moved, pin 1 turned about itself: the native command's document.
+  const pose = [[1, 0, 0, 1, 12, -30], turnAbout(PINS[1], 20), [1, 0, 0, 1, 0, 0]];
+  const t0 = performance.now();
+  const frames = 200;
+  for (let k = 0; k < frames; k++) rig.update(pose, points);
+  const perFrame = (performance.now() - t0) / frames;
+  const exported = drawing.svg(points, { rig, pose });
+  writeFileSync(join(out.path, 'node-api.svg'), exported);
+  const { paths, relative } = pathDifference(exported, await native('node', ['--move', '0:12,-30', '--rotate', '1:20']), 'node');
+  console.log(`js-api: Node: load ${(loaded - started).toFixed(0)} ms, open + bbw rig ${(rigged - loaded).toFixed(0)} ms, update ${(perFrame * 1000).toFixed(1)} µs a frame (${drawing.nPoints} points); ${paths} paths, ${relative.toExponential(2)} of the diagonal from native`);
+  assert.ok(relative <= SAME, `${relative} of the diagonal`);
+  // The module's own solve gives the same points (no flexible junctions).
+  const solved = rig.solve(pose);
+  const gap = Math.max(...solved.map((v, k) => Math.abs(v - points[k])));
+  assert.ok(gap <= 1e-12 * size, `solve against update: ${gap}`);
+
+  // Bad input: a message naming the file, and the module goes on.
+  assert.throws(() => splineskin.open('<svg xmlns="http://www.w3.org/2000/svg"><path d="M 0 0 L"/>', 'broken.svg'), (e) => e instanceof SplineskinError && /broken\.svg/.test(e.message));
+  assert.throws(() => rig.update([[1, 0, 0, 1, 0, 0]], points), /pose of 3 maps/);
+  assert.throws(() => drawing.rig({ pins: [[Number.NaN, 0]] }), SplineskinError);
+  assert.equal(splineskin.open(readFileSync(DEMO_SVG, 'utf8'), 'again.svg').nPoints, drawing.nPoints);
+});
+
+check('in chromium: the example page (example.html of the static build) runs, and its pose is the native deformation', { skip: MISSING }, async () => {
+  const folder = join(out.path, 'site');
+  await runSplineskin(['serve', '--static-out', folder, '--wasm', WASM]);
+  const site = await serveFolder(folder);
+  const browser = await launchBrowser({ viewport: { width: 900, height: 600 } });
+  try {
+    const page = await browser.context.newPage();
+    const errors = [];
+    page.on('pageerror', (e) => errors.push(e.message));
+    await page.goto(site.url('example.html'));
+    await page.waitForSelector('body[data-shown="0"]', { timeout: 60_000 });
+    const before = await page.evaluate(() => document.querySelector('[data-splineskin-element]').getAttribute('d'));
+    await page.evaluate(() => {
+      const slider = document.getElementById('amount');
+      slider.value = '40';
+      slider.dispatchEvent(new Event('input'));
+    });
+    await page.waitForSelector('body[data-shown="40"]');
+    const after = await page.evaluate(() => document.querySelector('[data-splineskin-element]').getAttribute('d'));
+    assert.notEqual(after, before, 'the slider moved the drawing');
+    const exported = await page.evaluate(() => window.splineskinExample.exported());
+    const { relative } = pathDifference(exported, await native('chromium', ['--move', '0:0,40']), 'chromium');
+    console.log(`js-api: chromium example: ${relative.toExponential(2)} of the diagonal from native`);
+    assert.ok(relative <= SAME, `${relative} of the diagonal`);
+    await page.screenshot({ path: join(out.path, 'example.png') });
+    assert.deepEqual(errors, []);
+  } finally {
+    await browser.close();
+    await site.close();
+  }
+});

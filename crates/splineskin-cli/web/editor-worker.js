@@ -1,0 +1,32 @@
+// The editor's Web Worker for a page without a server (`splineskin serve --static-out DIR`):
+// answers the page's requests with splineskin's WebAssembly module (wasm-editor.js) off the
+// page's thread, so that the page never freezes while weights are solved. Messages:
+//   page → worker  { id, method, path, headers, body (ArrayBuffer) }
+//   worker → page  { id, status, contentType, headers, body (ArrayBuffer) }
+//                  { progress: job, stage }            while a followed job runs
+//                  { ready: true } | { failed: message } once the module is loaded or not
+
+import { loadEditor } from './wasm-editor.js';
+
+const loading = loadEditor(new URL('splineskin.wasm', import.meta.url), {
+  onProgress: (job, stage) => self.postMessage({ progress: job, stage }),
+});
+loading.then(
+  () => self.postMessage({ ready: true }),
+  (e) => self.postMessage({ failed: `splineskin.wasm: ${e.message}` }),
+);
+
+self.onmessage = async ({ data }) => {
+  const { id, method, path, headers, body } = data;
+  let answer;
+  try {
+    const editor = await loading;
+    const response = editor.request(method, path, { headers, body: new Uint8Array(body) });
+    answer = { id, ...response, body: response.body.buffer };
+  } catch (e) {
+    // A failed load, or a trap in the module (a bug): the page shows the message.
+    const message = `internal error in the WebAssembly editor (a bug in splineskin, please report it): ${e.message}`;
+    answer = { id, status: 500, contentType: 'application/json', headers: {}, body: new TextEncoder().encode(JSON.stringify({ error: message })).buffer };
+  }
+  self.postMessage(answer, [answer.body]);
+};
