@@ -126,6 +126,16 @@ pub(crate) fn outline_text(text: &str, origin: &str) -> Result<Option<String>, S
     if texts.is_empty() {
         return Ok(None);
     }
+    if !crate::fonts::HAS_FONTS {
+        return Err(SvgError::Unsupported {
+            file: origin.to_string(),
+            element: "<text>".to_string(),
+            what: "text to outlines needs fonts, and this build has none (the WebAssembly \
+                   build leaves them out: keep the text as text, or convert it with the \
+                   command-line tool)"
+                .to_string(),
+        });
+    }
 
     // Every text gets an id usvg keeps: its own when it is the first element with it, else a
     // fresh one (in the copy usvg reads only).

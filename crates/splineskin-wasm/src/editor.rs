@@ -149,10 +149,10 @@ mod host {
 
     /// Tells the host job `job`'s stage (`json`).
     #[allow(unsafe_code)]
-    pub fn progress_of(job: &str, json: &str) {
+    pub fn progress(job: &str, json: &str) {
         // SAFETY: the host reads the two UTF-8 strings at these addresses during the call.
         unsafe {
-            progress(
+            host_progress(
                 job.as_ptr() as usize,
                 job.len(),
                 json.as_ptr() as usize,
@@ -160,8 +160,6 @@ mod host {
             )
         }
     }
-
-    pub use progress_of as progress;
 }
 
 /// Natively (tests, doctests): the system's clock, and no one to tell.
