@@ -121,16 +121,21 @@ check('the static folder holds the page and the module; opened from a plain file
   assert.ok(scene.handles.length > 0, 'with its pins');
 });
 
-check('the fish: pins, smooth weights, a drag and flexible G¹ in WebAssembly; the export is the native deformation of the saved scene', { skip: MISSING }, async () => {
-  await openThroughPicker(page, DEMO_SVG);
-  const timings = await pinDragFlex(page, [[440, 215], [150, 210]], [40, -50]);
-  const scene = await download(page, '#save-scene', 'fish-scene.json');
+/** The fish flow on page `p` (`label`: static or native): timings and the export's difference from native. */
+async function fishFlow(p, label) {
+  await openThroughPicker(p, DEMO_SVG);
+  const timings = await pinDragFlex(p, [[440, 215], [150, 210]], [40, -50]);
+  const scene = await download(p, '#save-scene', `fish-${label}-scene.json`);
   assert.equal(JSON.parse(scene).flexible, true, 'the saved scene asks for flexible G¹');
-  const exported = await download(page, '#export-svg', 'fish-static.svg');
-  const difference = await compareWithNative('fish', exported, scene);
-  console.log(`static: fish: bbw weights and rig ${timings.rigSeconds.toFixed(2)} s, flexible G¹ solve ${timings.flexSeconds.toFixed(2)} s, per-frame update median ${median(timings.frames.product).toFixed(3)} ms (product) / ${median(timings.frames.frame).toFixed(3)} ms (with path data) over ${timings.frames.frame.length} frames; export vs native ${difference.toExponential(2)} of the diagonal`);
+  const exported = await download(p, '#export-svg', `fish-${label}.svg`);
+  const difference = await compareWithNative(`fish-${label}`, exported, scene);
+  console.log(`${label}: fish: bbw weights and rig ${timings.rigSeconds.toFixed(2)} s, flexible G¹ solve ${timings.flexSeconds.toFixed(2)} s, per-frame update median ${median(timings.frames.product).toFixed(3)} ms (product) / ${median(timings.frames.frame).toFixed(3)} ms (with path data) over ${timings.frames.frame.length} frames; export vs native ${difference.toExponential(2)} of the diagonal`);
   assert.ok(difference <= SAME, `${difference} of the diagonal`);
-  await page.screenshot({ path: join(out.path, 'static-fish.png') });
+  await p.screenshot({ path: join(out.path, `${label}-fish.png`) });
+}
+
+check('the fish: pins, smooth weights, a drag and flexible G¹ in WebAssembly; the export is the native deformation of the saved scene', { skip: MISSING }, async () => {
+  await fishFlow(page, 'static');
 });
 
 check('a real emoji (OpenMoji turtle) rigged and dragged in the static page: the export is the native deformation', { skip: MISSING || (!existsSync(EMOJI) && `${EMOJI} missing (npm ci in test-art)`) }, async () => {
@@ -151,49 +156,72 @@ check('a real emoji (OpenMoji turtle) rigged and dragged in the static page: the
   assert.deepEqual(pageErrors, [], 'no error in the page');
 });
 
-check('the authors\' turtles (1 323 curves) in the static page: smooth weights and rig, per-frame update (timed, printed)', { skip: MISSING || (!existsSync(TURTLES) && `${TURTLES} missing (the external data)`) }, async () => {
-  // The scene as one self-contained file (its drawing inline), as the editor saves it: a page
-  // without a server reads only what it is given.
+/** The authors' turtles as one self-contained scene file (drawing inline), as the editor saves it. */
+async function turtlesScene() {
+  // A page without a server reads only what it is given: the scene saved by the server.
   const server = await startEditor([TURTLES]);
-  let sceneText;
   try {
     const initial = await (await fetch(`${server.url}api/initial`)).json();
     const saved = await fetch(`${server.url}api/documents/${initial.id}/scene`, {
       method: 'POST', headers: { 'x-splineskin': '1', 'content-type': 'application/json' }, body: JSON.stringify(initial.scene),
     });
     assert.equal(saved.status, 200);
-    sceneText = await saved.text();
+    return await saved.text();
   } finally {
     await server.close();
   }
-  await openThroughPicker(page, { name: 'turtles-scene.json', mimeType: 'application/json', buffer: Buffer.from(sceneText) });
+}
+
+/** The turtles flow on page `p`: smooth weights, a drag, flexible G¹, timed and printed. */
+async function turtlesFlow(p, label, sceneText) {
+  await openThroughPicker(p, { name: 'turtles-scene.json', mimeType: 'application/json', buffer: Buffer.from(sceneText) });
   // Flexible G¹ off, the smooth weights picked: the time of the weights and the rig.
-  await page.setChecked('#flexible', false);
-  await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  await p.setChecked('#flexible', false);
+  await p.waitForSelector('body[data-rig="ready"]', { timeout: 4 * WAIT });
   const started = performance.now();
-  await page.selectOption('#family', 'bbw');
-  await page.waitForSelector('body[data-rig="ready"]', { timeout: 4 * WAIT });
+  await p.selectOption('#family', 'bbw');
+  await p.waitForSelector('body[data-rig="ready"]', { timeout: 4 * WAIT });
   const rigSeconds = (performance.now() - started) / 1000;
-  const { info, scene } = await editorState(page);
-  await page.evaluate(() => {
+  const { info, scene } = await editorState(p);
+  await p.evaluate(() => {
     window.splineskinEditor.frameTimes.length = 0;
     window.splineskinEditor.productTimes.length = 0;
   });
-  const posed = await page.evaluate(() => {
+  const posed = await p.evaluate(() => {
     const e = window.splineskinEditor;
     const [T, h] = [e.scene.pose[0], e.scene.handles[0]];
     return [T[0] * h[0] + T[2] * h[1] + T[4], T[1] * h[0] + T[3] * h[1] + T[5]];
   });
   const size = Math.max(info.view_box[2], info.view_box[3]);
-  await drag(page, posed, [0.08 * size, 0.05 * size], 40);
-  const frames = await page.evaluate(() => ({ frame: window.splineskinEditor.frameTimes, product: window.splineskinEditor.productTimes }));
+  await drag(p, posed, [0.08 * size, 0.05 * size], 40);
+  const frames = await p.evaluate(() => ({ frame: window.splineskinEditor.frameTimes, product: window.splineskinEditor.productTimes }));
   assert.ok(frames.frame.length >= 20, `${frames.frame.length} frames drawn while dragging`);
   const flexStarted = performance.now();
-  await page.check('#flexible');
-  await page.waitForSelector('body[data-rig="ready"]', { timeout: 4 * WAIT });
-  await page.waitForSelector('body[data-solve="done"]', { timeout: 4 * WAIT });
+  await p.check('#flexible');
+  await p.waitForSelector('body[data-rig="ready"]', { timeout: 4 * WAIT });
+  await p.waitForSelector('body[data-solve="done"]', { timeout: 4 * WAIT });
   const flexSeconds = (performance.now() - flexStarted) / 1000;
-  console.log(`static: turtles (${info.n_curves} curves, ${scene.handles.length} pins): bbw weights and rig ${rigSeconds.toFixed(2)} s; flexible G¹ rig and solve ${flexSeconds.toFixed(2)} s; per-frame update median ${median(frames.product).toFixed(3)} ms (product) / ${median(frames.frame).toFixed(3)} ms (with path data) over ${frames.frame.length} frames`);
-  await page.screenshot({ path: join(out.path, 'static-turtles.png') });
+  console.log(`${label}: turtles (${info.n_curves} curves, ${scene.handles.length} pins): bbw weights and rig ${rigSeconds.toFixed(2)} s; flexible G¹ rig and solve ${flexSeconds.toFixed(2)} s; per-frame update median ${median(frames.product).toFixed(3)} ms (product) / ${median(frames.frame).toFixed(3)} ms (with path data) over ${frames.frame.length} frames`);
+  await p.screenshot({ path: join(out.path, `${label}-turtles.png`) });
+}
+
+const NO_TURTLES = !existsSync(TURTLES) && `${TURTLES} missing (the external data)`;
+
+check('the authors\' turtles (1 327 curves) in the static page: smooth weights and rig, per-frame update (timed, printed)', { skip: MISSING || NO_TURTLES }, async () => {
+  await turtlesFlow(page, 'static', await turtlesScene());
   assert.deepEqual(pageErrors, [], 'no error in the page');
+});
+
+check('the same with splineskin serve, for the native figures beside them (printed)', { skip: MISSING }, async () => {
+  const server = await startEditor([]);
+  const p = await browser.context.newPage();
+  try {
+    await p.goto(server.url);
+    await p.waitForSelector('body[data-booted]', { timeout: WAIT });
+    await fishFlow(p, 'native');
+    if (!NO_TURTLES) await turtlesFlow(p, 'native', await turtlesScene());
+  } finally {
+    await p.close();
+    await server.close();
+  }
 });

@@ -161,3 +161,57 @@ check('the editor\'s routes answered in WebAssembly are the server\'s: the same 
     await server.close();
   }
 });
+
+/** The largest difference between the numbers of two JSON values of one shape (throws if the shapes differ). */
+function jsonDifference(a, b, at = '') {
+  if (typeof a === 'number' && typeof b === 'number') return Math.abs(a - b);
+  if (typeof a !== typeof b || Array.isArray(a) !== Array.isArray(b) || (a === null) !== (b === null)) throw new Error(`${at}: ${JSON.stringify(a)?.slice(0, 40)} against ${JSON.stringify(b)?.slice(0, 40)}`);
+  if (a === null || typeof a !== 'object') {
+    if (a !== b) throw new Error(`${at}: ${a} against ${b}`);
+    return 0;
+  }
+  const keys = new Set([...Object.keys(a), ...Object.keys(b)]);
+  let worst = 0;
+  for (const k of keys) worst = Math.max(worst, jsonDifference(a[k], b[k], `${at}.${k}`));
+  return worst;
+}
+
+check('trained operators and Lottie export run in WebAssembly too: the server\'s operator and animation', { skip: MISSING }, async () => {
+  const stages = [];
+  const editor = await loadEditor(readFileSync(WASM), { onProgress: (job, stage) => stages.push(`${job}:${stage.stage}`) });
+  const server = await startEditor([]);
+  try {
+    const headers = { 'x-splineskin': '1', 'content-type': 'application/json' };
+    const local = (path, body, extra = {}) => editor.request('POST', path, { body: JSON.stringify(body), headers: { ...headers, ...extra } });
+    const remote = async (path, body) => {
+      const r = await fetch(`${server.url}${path.slice(1)}`, { method: 'POST', headers, body: JSON.stringify(body) });
+      return { status: r.status, headers: Object.fromEntries(r.headers), body: new Uint8Array(await r.arrayBuffer()) };
+    };
+    const here = JSON.parse(new TextDecoder().decode(editor.request('GET', '/api/initial').body));
+    const there = await (await fetch(`${server.url}api/initial`)).json();
+    const scene = { ...here.scene, flexible: false, weights: { family: 'defop-arap', samples: 12 } };
+    const [a, b] = [local('/api/defop', { document: here.id, scene }, { 'x-splineskin-job': 'train-1' }), await remote('/api/defop', { document: there.id, scene })];
+    assert.equal(a.status, 200, new TextDecoder().decode(a.body));
+    assert.equal(b.status, 200);
+    const [ga, gb] = [a, b].map((r) => new Float64Array(r.body.buffer.slice(r.body.byteOffset, r.body.byteOffset + r.body.byteLength)));
+    const scale = Math.max(...gb.map(Math.abs));
+    const worst = Math.max(...ga.map((v, k) => Math.abs(v - gb[k])));
+    console.log(`wasm: editor route /api/defop (ARAP, 12 samples, fish): ${ga.length} numbers, largest difference from the server's ${(worst / scale).toExponential(2)} of its largest entry; stages reported: ${[...new Set(stages)].join(', ')}`);
+    assert.equal(ga.length, gb.length);
+    assert.ok(worst <= 1e-9 * scale, `${worst} against ${scale}`);
+    assert.ok(stages.includes('train-1:training'), 'the training stage reported to the host');
+
+    const animated = {
+      ...here.scene,
+      animation: { fps: 10, keyframes: [{ time: 0, pose: here.scene.pose }, { time: 1, pose: here.scene.pose.map(([p, q, r, s, e, f]) => [p, q, r, s, e + 20, f]) }] },
+    };
+    const [la, lb] = [local(`/api/documents/${here.id}/lottie`, animated), await remote(`/api/documents/${there.id}/lottie`, animated)];
+    assert.equal(la.status, 200, new TextDecoder().decode(la.body));
+    const [ja, jb] = [la, lb].map((r) => JSON.parse(new TextDecoder().decode(r.body)));
+    const difference = jsonDifference(ja, jb);
+    console.log(`wasm: editor route /lottie: ${la.body.length} bytes, largest difference of any number from the server's ${difference.toExponential(2)}`);
+    assert.ok(difference <= 1e-9 * Math.max(here.view_box[2], here.view_box[3]), `${difference}`);
+  } finally {
+    await server.close();
+  }
+});
