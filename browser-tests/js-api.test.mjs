@@ -114,3 +114,14 @@ check('in chromium: the example page (example.html of the static build) runs, an
     await site.close();
   }
 });
+
+check('the TypeScript declarations type-check a caller, and refuse its mistakes (tsc --strict on js-api-types.ts)', {}, async () => {
+  const { execFileSync } = await import('node:child_process');
+  const tsc = join(REPO, 'browser-tests', 'node_modules', '.bin', 'tsc');
+  const args = ['--noEmit', '--strict', '--target', 'es2022', '--module', 'es2022', '--moduleResolution', 'bundler', '--lib', 'es2022,dom', join(REPO, 'browser-tests', 'js-api-types.ts')];
+  try {
+    execFileSync(tsc, args, { encoding: 'utf8' });
+  } catch (e) {
+    assert.fail(`tsc: ${e.stdout}${e.stderr}`);
+  }
+});

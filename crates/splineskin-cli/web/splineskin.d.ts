@@ -1,4 +1,5 @@
-// Types of splineskin.js, the JavaScript API of splineskin's WebAssembly module.
+// Types of splineskin.js, the JavaScript API of splineskin's WebAssembly module (docs/javascript.md);
+// browser-tests/js-api-types.ts is type-checked against them.
 
 /** One affine map per pin, SVG order [a, b, c, d, e, f]: p ↦ (a x + c y + e, b x + d y + f). */
 export type Pose = ReadonlyArray<readonly [number, number, number, number, number, number]> | Float64Array;
