@@ -35,7 +35,7 @@ pub const MAX_EDITOR_SAMPLES: usize = 5000;
 /// functions, and every sample is a solve with `n` constraints).
 pub const MAX_DEFOP_HANDLES: usize = 64;
 
-/// The header carrying [`DefOpInfo`] in [`defop`]'s response.
+/// The header carrying [`DefOpInfo`] in the response of `POST /api/defop`.
 pub const DEFOP_HEADER: &str = "x-splineskin-defop";
 
 /// What the page needs, besides the numbers of the body, to evaluate `ψ(Q)`

@@ -14,7 +14,7 @@
 //!
 //! | route | request | response |
 //! |---|---|---|
-//! | `GET /`, `GET /{*path}` | | the page and its assets ([`crate::assets`]) |
+//! | `GET /`, `GET /{*path}` | | the page and its assets (served by `splineskin serve`, not by this crate) |
 //! | `GET /api/initial` | | the drawing given on the command line, [`DocumentInfo`](wire::DocumentInfo) |
 //! | `POST /api/open` | the file's bytes (SVG or scene), `x-file-name` header | [`DocumentInfo`](wire::DocumentInfo) |
 //! | `POST /api/rig` | [`SceneRequest`](wire::SceneRequest) | the operator `O`, `f64` LE row-major `(2 · n_points) × (6 · n_handles)`; header `x-splineskin-rig`: the rig's id |

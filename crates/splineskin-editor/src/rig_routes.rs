@@ -113,7 +113,7 @@ pub(crate) fn gone_rig(id: &str) -> ApiError {
     )
 }
 
-/// The query of [`weights`].
+/// The query of `GET /api/rigs/{id}/weights`.
 #[derive(Deserialize)]
 pub struct GridQuery {
     /// The handle whose weight is sampled.
