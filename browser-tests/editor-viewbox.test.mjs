@@ -14,6 +14,7 @@ import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before } from 'node:test';
 
+import { clientPoint, drag } from './editor-page.mjs';
 import { launchBrowser, outputFolder, startEditor } from './harness.mjs';
 
 const VIEWPORT = { width: 1100, height: 760 };
@@ -63,25 +64,7 @@ after(async () => {
 // ---------------------------------------------------------------------------------------------
 // Helpers
 
-/** Client (CSS pixel) coordinates of drawing point [x, y]. */
-function clientPoint(p, [x, y]) {
-  return p.evaluate(([x, y]) => {
-    return window.splineskinEditor.view.toClient([x, y]);
-  }, [x, y]);
-}
 
-/** Drags with the mouse from drawing point `from` by `delta` (drawing units) in `steps` moves. */
-async function drag(p, from, delta, steps) {
-  const [x0, y0] = await clientPoint(p, from);
-  const [x1, y1] = await clientPoint(p, [from[0] + delta[0], from[1] + delta[1]]);
-  await p.mouse.move(x0, y0);
-  await p.mouse.down();
-  for (let k = 1; k <= steps; k++) {
-    await p.mouse.move(x0 + ((x1 - x0) * k) / steps, y0 + ((y1 - y0) * k) / steps);
-    await p.evaluate(() => new Promise((ok) => requestAnimationFrame(() => ok())));
-  }
-  await p.mouse.up();
-}
 
 /** Cubics of path data made of M, C and Z commands (what the editor and the export write). */
 function cubics(d) {
