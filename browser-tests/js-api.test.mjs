@@ -115,6 +115,18 @@ check('in chromium: the example page (example.html of the static build) runs, an
   }
 });
 
+check('the Node example (example-node.mjs of the static build) writes the native deformation', { skip: MISSING }, async () => {
+  const folder = join(out.path, 'node-site');
+  await runSplineskin(['serve', '--static-out', folder, '--wasm', WASM]);
+  const { execFileSync } = await import('node:child_process');
+  const file = join(out.path, 'node-example.svg');
+  const printed = execFileSync(process.execPath, [join(folder, 'example-node.mjs'), DEMO_SVG, file, ...PINS.map(([x, y]) => `${x},${y}`), '--', '-20,35'], { encoding: 'utf8' });
+  assert.match(printed, /pins/);
+  const { relative } = pathDifference(readFileSync(file, 'utf8'), await native('node-example', ['--move', '0:-20,35']), 'node example');
+  console.log(`js-api: Node example: ${relative.toExponential(2)} of the diagonal from native`);
+  assert.ok(relative <= SAME, `${relative} of the diagonal`);
+});
+
 check('the TypeScript declarations type-check a caller, and refuse its mistakes (tsc --strict on js-api-types.ts)', {}, async () => {
   const { execFileSync } = await import('node:child_process');
   const tsc = join(REPO, 'browser-tests', 'node_modules', '.bin', 'tsc');

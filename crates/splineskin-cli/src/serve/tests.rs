@@ -1167,6 +1167,7 @@ fn static_build_marks_its_page_carries_the_module_and_replaces_only_its_own_fold
         "splineskin.js",
         "splineskin.d.ts",
         "example.html",
+        "example-node.mjs",
         "demo.svg",
     ] {
         assert!(dir.join(name).is_file(), "{name} written");
