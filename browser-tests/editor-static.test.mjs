@@ -17,7 +17,7 @@ import { join } from 'node:path';
 import { after, before } from 'node:test';
 
 import { clientPoint, drag, editorState, median, openThroughPicker, pathData, WAIT } from './editor-page.mjs';
-import { launchBrowser, outputFolder, pathDifference, REPO, runSplineskin, serveFolder, startEditor } from './harness.mjs';
+import { documentDifference, launchBrowser, outputFolder, pathDifference, REPO, runSplineskin, serveFolder, startEditor } from './harness.mjs';
 
 const WASM = process.env.SPLINESKIN_WASM || join(REPO, 'target', 'wasm', 'wasm32-unknown-unknown', 'release', 'splineskin_wasm.wasm');
 const DEMO_SVG = join(REPO, 'crates', 'splineskin', 'assets', 'demo.svg');
@@ -70,13 +70,22 @@ async function download(p, selector, name) {
   return readFileSync(path, 'utf8');
 }
 
-/** The page's export against `splineskin deform` of the page's saved scene (relative difference). */
+/**
+ * The page's export against `splineskin deform` of the page's saved scene: the largest
+ * difference of their path data relative to the art's diagonal; the rest of the documents
+ * (gradients, text and their transforms) must be the same text with numbers as close, relative
+ * to the viewBox's diagonal.
+ */
 async function compareWithNative(name, exported, sceneText) {
   const scene = join(out.path, `${name}-scene.json`);
   writeFileSync(scene, sceneText);
   const native = join(out.path, `${name}-native.svg`);
   await runSplineskin(['deform', scene, '-o', native]);
-  return pathDifference(exported, readFileSync(native, 'utf8'), name).relative;
+  const nativeText = readFileSync(native, 'utf8');
+  const box = /viewBox="([^"]+)"/.exec(nativeText)?.[1].split(/[\s,]+/).map(Number);
+  const whole = documentDifference(exported, nativeText, Math.hypot(box[2], box[3]), name);
+  assert.ok(whole <= SAME, `${name}: the documents' numbers differ by ${whole} of the viewBox's diagonal`);
+  return pathDifference(exported, nativeText, name).relative;
 }
 
 /**

@@ -267,3 +267,23 @@ export function pathDifference(a, b, name = 'svg') {
   });
   return { paths: pa.length, relative: worst / Math.hypot(hi[0] - lo[0], hi[1] - lo[1]) };
 }
+
+/**
+ * Documents `a` and `b` compared whole: the same text once every number is taken out, and the
+ * largest difference of their numbers, relative to `size` (a length of the drawing: every
+ * number of an SVG is a coordinate, a length or a coefficient of at most that magnitude's
+ * order). Throws naming the first place where the text differs.
+ */
+export function documentDifference(a, b, size, name = 'svg') {
+  const NUMBER = /[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?/gi;
+  const [ta, tb] = [a.replace(NUMBER, '#'), b.replace(NUMBER, '#')];
+  if (ta !== tb) {
+    let k = 0;
+    while (ta[k] === tb[k]) k++;
+    throw new Error(`${name}: the documents differ beyond their numbers at "${ta.slice(Math.max(0, k - 40), k + 40)}" against "${tb.slice(Math.max(0, k - 40), k + 40)}"`);
+  }
+  const [na, nb] = [a.match(NUMBER) ?? [], b.match(NUMBER) ?? []].map((m) => m.map(Number));
+  let worst = 0;
+  na.forEach((v, k) => (worst = Math.max(worst, Math.abs(v - nb[k]))));
+  return worst / size;
+}
