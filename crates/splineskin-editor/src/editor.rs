@@ -275,7 +275,7 @@ impl Editor {
         self.store().document(id).ok_or_else(|| {
             ApiError::new(
                 404,
-                format!("document {id} is no longer open on the server: open the drawing again"),
+                format!("document {id} is no longer open (the editor keeps the latest few): open the drawing again"),
             )
         })
     }

@@ -109,7 +109,7 @@ pub(crate) fn solve(editor: &Editor, id: &str, request: &Request) -> Result<Resp
 pub(crate) fn gone_rig(id: &str) -> ApiError {
     ApiError::new(
         404,
-        format!("rig {id} is no longer kept on the server: precompute again"),
+        format!("rig {id} is no longer kept (the editor keeps the latest few): precompute again"),
     )
 }
 
