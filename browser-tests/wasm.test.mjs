@@ -211,6 +211,10 @@ check('trained operators and Lottie export run in WebAssembly too: the server\'s
     const difference = jsonDifference(ja, jb);
     console.log(`wasm: editor route /lottie: ${la.body.length} bytes, largest difference of any number from the server's ${difference.toExponential(2)}`);
     assert.ok(difference <= 1e-9 * Math.max(here.view_box[2], here.view_box[3]), `${difference}`);
+    // The same report, warnings included (the fish's label is text, which Lottie leaves out).
+    const [ra, rb] = [la.headers['x-splineskin-lottie'], lb.headers['x-splineskin-lottie']].map((h) => JSON.parse(h));
+    assert.deepEqual(ra.warnings, rb.warnings);
+    assert.ok(ra.warnings.some((w) => /^text label: not written/.test(w)), ra.warnings.join('; '));
   } finally {
     await server.close();
   }

@@ -204,7 +204,9 @@ fn check_built_on(built_on: &str, document: &str, what: &str, id: &str) -> Resul
 pub(crate) fn gone_operator(id: &str) -> ApiError {
     ApiError::new(
         404,
-        format!("operator {id} is no longer kept (the editor keeps the latest few): train it again"),
+        format!(
+            "operator {id} is no longer kept (the editor keeps the latest few): train it again"
+        ),
     )
 }
 

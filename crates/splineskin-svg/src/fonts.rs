@@ -14,12 +14,15 @@
 //! [`usvg_options`] are usvg options that use it; [`crate::render`] and the text-to-outlines
 //! import ([`crate::svg_in::TextMode::Outlines`]) read documents with them.
 
+#[cfg(feature = "fonts")]
 use std::sync::{Arc, OnceLock};
 
+#[cfg(feature = "fonts")]
 use usvg::fontdb;
 
-/// Whether this build has the fonts (the `fonts` feature): without them the database holds no
-/// face, renders leave text out and the text-to-outlines import refuses.
+/// Whether this build has the fonts and text layout (the `fonts` feature): without them usvg
+/// lays out no text, renders leave text out and the text-to-outlines import refuses (text is
+/// still imported, kept and carried by the deformation: that reads the document's own text).
 pub const HAS_FONTS: bool = cfg!(feature = "fonts");
 
 /// The family every text is drawn in: `"DejaVu Sans"`.
@@ -42,12 +45,12 @@ pub const FAMILY: &str = "DejaVu Sans";
 /// assert_eq!(face.families[0].0, "DejaVu Sans");
 /// assert_eq!(face.weight, usvg::fontdb::Weight::BOLD);
 /// ```
+#[cfg(feature = "fonts")]
 pub fn database() -> Arc<fontdb::Database> {
     static DATABASE: OnceLock<Arc<fontdb::Database>> = OnceLock::new();
     DATABASE
         .get_or_init(|| {
             let mut db = fontdb::Database::new();
-            #[cfg(feature = "fonts")]
             for data in [
                 dejavu::sans::regular(),
                 dejavu::sans::bold(),
@@ -73,6 +76,7 @@ pub fn usvg_options(data_images: bool) -> usvg::Options<'static> {
     usvg::Options {
         resources_dir: None,
         font_family: FAMILY.to_string(),
+        #[cfg(feature = "fonts")]
         fontdb: database(),
         image_href_resolver: usvg::ImageHrefResolver {
             resolve_data: if data_images {

@@ -213,6 +213,11 @@ pub fn write_lottie(
         };
         writer.layer_runs(wrapper, &lookup, 1.0, &mut runs);
     }
+    // Texts are named from the source: usvg's tree drops them without its text layout (the
+    // WebAssembly build), and turns them into glyph groups no element matches with it.
+    for id in text_ids(&source.text) {
+        writer.warnings.add(text_not_written(&id));
+    }
     runs.finish();
     let last_frame = times[times.len() - 1] * fps;
     let (w, h, layer_transform) = root_transform(source);
@@ -365,6 +370,30 @@ struct Writer<'a> {
 
 /// The ids of the gradients of SVG `text` whose `gradientUnits` (through `href` templates) are
 /// `objectBoundingBox`, SVG's default.
+/// The warning for a text the animation leaves out.
+fn text_not_written(id: &str) -> String {
+    let name = if id.is_empty() { "(without an id)" } else { id };
+    format!("text {name}: not written (read the drawing with its text as outlines to animate it)")
+}
+
+/// The ids of the document's `<text>` elements (outermost ones; `""` for one without an id).
+fn text_ids(text: &str) -> Vec<String> {
+    let Ok(doc) = roxmltree::Document::parse_with_options(
+        text,
+        roxmltree::ParsingOptions {
+            allow_dtd: true,
+            ..Default::default()
+        },
+    ) else {
+        return Vec::new();
+    };
+    doc.descendants()
+        .filter(|n| n.tag_name().name() == "text")
+        .filter(|n| !n.ancestors().skip(1).any(|a| a.tag_name().name() == "text"))
+        .map(|n| n.attribute("id").unwrap_or("").to_string())
+        .collect()
+}
+
 fn bbox_servers(text: &str) -> std::collections::HashSet<String> {
     let Ok(doc) = roxmltree::Document::parse_with_options(
         text,
@@ -655,7 +684,8 @@ impl Writer<'_> {
                         ));
                     }
                     if !g.filters().is_empty() {
-                        self.warnings.add(format!("{label}: its filters are not written"));
+                        self.warnings
+                            .add(format!("{label}: its filters are not written"));
                     }
                     let opacity = f64::from(g.opacity().get());
                     if opacity < 1.0 {
@@ -674,10 +704,8 @@ impl Writer<'_> {
                         }
                     }
                 }
-                usvg::Node::Text(t) => self.warnings.add(format!(
-                    "text {}: not written (read the drawing with its text as outlines to animate it)",
-                    t.id()
-                )),
+                // Warned from the source (`text_ids`).
+                usvg::Node::Text(_) => {}
                 usvg::Node::Image(i) => {
                     self.warnings.add(format!("image {}: not written", i.id()));
                 }

@@ -661,3 +661,31 @@ fn lottie_bounding_box_gradients_follow_the_deformed_box() {
     // Control: the element's own map (none here) would have left it round at rest size.
     assert_eq!(keys[0]["s"], serde_json::json!([4000.0, 4000.0]));
 }
+
+#[test]
+fn lottie_names_every_text_it_leaves_out() {
+    // Text is not animated (it is not a curve of the drawing): each outermost <text> is named,
+    // with or without the fonts (usvg lays text out only with them).
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 50">
+      <path id="wave" d="M10 10 C20 0 30 20 40 10" fill="none" stroke="#000"/>
+      <text id="label" x="5" y="40">fish <tspan>tail</tspan></text>
+      <g><text x="50" y="40">no id</text></g></svg>"##;
+    let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+    let rest = drawing.flat_points();
+    let out = write_lottie(
+        &drawing,
+        &[rest.clone(), rest],
+        &times(2, 10.0),
+        10.0,
+        None,
+        &LottieOptions::default(),
+    )
+    .unwrap();
+    let texts: Vec<&String> = out
+        .warnings
+        .iter()
+        .filter(|w| w.starts_with("text "))
+        .collect();
+    assert_eq!(texts.len(), 2, "{:?}", out.warnings);
+    assert!(texts[0].starts_with("text label: not written"), "{texts:?}");
+}
