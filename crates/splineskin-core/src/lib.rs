@@ -20,6 +20,7 @@ pub mod atomic_write;
 pub mod bezier;
 pub mod domain;
 pub mod drawing;
+pub mod folds;
 pub mod linalg;
 pub mod mesh;
 pub mod parallel;
