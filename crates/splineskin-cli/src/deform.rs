@@ -75,6 +75,7 @@ pub fn run(args: Args) -> Result<()> {
         .with_context(|| format!("{}: pose {pose_index}", args.scene.display()))?;
     args.written
         .write(&args.output, &setup.drawing, &points, maps.as_ref())?;
+    crate::output::warn_folds(&args.output, &setup.drawing, &points);
     let set = scene.handle_set();
     let kinds = [
         (set.bones.len(), "bones"),

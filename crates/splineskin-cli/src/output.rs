@@ -160,6 +160,35 @@ fn user_units(v: f64) -> String {
     format!("{v:.decimals$}")
 }
 
+/// Says on stderr where the deformation folds a closed outline over itself: the crossings of
+/// the deformed drawing between curves that do not cross at rest
+/// ([`splineskin::folds::new_self_crossings`]), the first [`MAX_NAMED_OUTSIDE`] with their
+/// positions (root user units). Returns how many there are.
+pub fn warn_folds(output: &Path, drawing: &Drawing, points: &[Point]) -> usize {
+    let rest = drawing.flat_points();
+    let folds = splineskin::folds::new_self_crossings(drawing, &rest, points);
+    for f in folds.iter().take(MAX_NAMED_OUTSIDE) {
+        eprintln!(
+            "warning: {}: path {} folds over itself: its curves {} and {} cross at ({}, {}) \
+             (they do not at rest)",
+            output.display(),
+            f.path,
+            f.curves.0,
+            f.curves.1,
+            f.at.x,
+            f.at.y
+        );
+    }
+    if folds.len() > MAX_NAMED_OUTSIDE {
+        eprintln!(
+            "warning: {}: and {} more crossings the deformation made",
+            output.display(),
+            folds.len() - MAX_NAMED_OUTSIDE
+        );
+    }
+    folds.len()
+}
+
 /// Says on stderr which paths of the deformed drawing leave the input's viewBox and how far
 /// (with `keep`: they are cropped; with `fit`: the viewBox grows), for SVG and PNG outputs.
 pub fn warn_outside_view_box(path: &Path, drawing: &Drawing, points: &[Point], rule: ViewBoxArg) {

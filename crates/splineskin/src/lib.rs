@@ -37,7 +37,7 @@ pub mod naive;
 pub mod scene;
 pub mod subdiv;
 
-pub use splineskin_core::{bezier, domain, mesh, spline_fit, weights};
+pub use splineskin_core::{bezier, domain, folds, mesh, spline_fit, weights};
 pub use splineskin_defop as defop;
 pub use splineskin_svg::{fonts, render};
 

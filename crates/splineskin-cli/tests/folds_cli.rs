@@ -1,0 +1,75 @@
+//! `splineskin deform` says where a deformation folds an outline over itself: a square whose
+//! corner pin is dragged across the opposite side warns with the path, the two curves and a
+//! position on the crossing; the same square bent gently, and the bundled fish under a small
+//! move, do not.
+
+mod common;
+
+use common::cli::ok_stderr;
+use common::test_dir::TestDir;
+
+/// A square outline, its corners pinned in the tests.
+const SQUARE: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="-20 -20 60 60">
+  <path id="square" d="M0 0 L20 0 L20 20 L0 20 Z" fill="#c84"/>
+</svg>"##;
+
+/// The numbers of `(x, y)` in a fold warning line.
+fn position(line: &str) -> (f64, f64) {
+    let inner = line.split(" cross at (").nth(1).expect("a position");
+    let inner = inner.split(')').next().expect("closed");
+    let mut numbers = inner
+        .split(", ")
+        .map(|v| v.parse::<f64>().expect("a number"));
+    (numbers.next().unwrap(), numbers.next().unwrap())
+}
+
+#[test]
+fn deform_warns_where_a_dragged_corner_folds_the_outline() {
+    let dir = TestDir::new("splineskin-folds-cli-");
+    std::fs::write(dir.join("square.svg"), SQUARE).unwrap();
+    let pins = [
+        "--pin", "0,0", "--pin", "20,0", "--pin", "20,20", "--pin", "0,20",
+    ];
+    let run = |moves: &[&str]| {
+        let mut args = vec!["deform", "square.svg", "--weights", "bbw"];
+        args.extend_from_slice(&pins);
+        args.extend_from_slice(moves);
+        args.extend_from_slice(&["-o", "out.svg"]);
+        ok_stderr(&dir, &args)
+    };
+    // Corner (20, 20) dragged to (−10, 10): across the left side.
+    let folded = run(&["--move", "2:-30,-10"]);
+    let lines: Vec<&str> = folded
+        .lines()
+        .filter(|l| l.contains("folds over itself"))
+        .collect();
+    assert!(!lines.is_empty(), "{folded}");
+    for line in &lines {
+        assert!(
+            line.contains("path 0 folds over itself: its curves"),
+            "{line}"
+        );
+        // On the crossing: the dragged sides run between the pinned corners and (−10, 10), so
+        // the crossing lies within their box.
+        let (x, y) = position(line);
+        assert!(
+            (-10.0..=20.0).contains(&x) && (0.0..=20.0).contains(&y),
+            "{line}"
+        );
+    }
+    // Gently: corner (20, 20) moved by (3, −2). No fold (with inverse-distance weights the
+    // fit draws a spike at that corner, whose two sides overlap: a fold it reports).
+    let gentle = run(&["--move", "2:3,-2"]);
+    assert!(!gentle.contains("folds over itself"), "{gentle}");
+}
+
+#[test]
+fn deform_bundled_fish_small_move_reports_no_fold() {
+    let dir = TestDir::new("splineskin-folds-cli-fish-");
+    let fish = concat!(env!("CARGO_MANIFEST_DIR"), "/../splineskin/assets/demo.svg");
+    let stderr = ok_stderr(
+        &dir,
+        &["deform", fish, "--move", "0:0,-10", "-o", "out.svg"],
+    );
+    assert!(!stderr.contains("folds over itself"), "{stderr}");
+}
