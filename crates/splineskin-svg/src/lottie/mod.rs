@@ -368,8 +368,6 @@ struct Writer<'a> {
     bbox_servers: std::collections::HashSet<String>,
 }
 
-/// The ids of the gradients of SVG `text` whose `gradientUnits` (through `href` templates) are
-/// `objectBoundingBox`, SVG's default.
 /// The warning for a text the animation leaves out.
 fn text_not_written(id: &str) -> String {
     let name = if id.is_empty() { "(without an id)" } else { id };
@@ -378,13 +376,7 @@ fn text_not_written(id: &str) -> String {
 
 /// The ids of the document's `<text>` elements (outermost ones; `""` for one without an id).
 fn text_ids(text: &str) -> Vec<String> {
-    let Ok(doc) = roxmltree::Document::parse_with_options(
-        text,
-        roxmltree::ParsingOptions {
-            allow_dtd: true,
-            ..Default::default()
-        },
-    ) else {
+    let Some(doc) = parse_source(text) else {
         return Vec::new();
     };
     doc.descendants()
@@ -394,14 +386,19 @@ fn text_ids(text: &str) -> Vec<String> {
         .collect()
 }
 
+/// The source document's text parsed as XML (DTDs allowed, as the import reads it), if it is.
+fn parse_source(text: &str) -> Option<roxmltree::Document<'_>> {
+    let options = roxmltree::ParsingOptions {
+        allow_dtd: true,
+        ..Default::default()
+    };
+    roxmltree::Document::parse_with_options(text, options).ok()
+}
+
+/// The ids of the gradients of SVG `text` whose `gradientUnits` (through `href` templates) are
+/// `objectBoundingBox`, SVG's default.
 fn bbox_servers(text: &str) -> std::collections::HashSet<String> {
-    let Ok(doc) = roxmltree::Document::parse_with_options(
-        text,
-        roxmltree::ParsingOptions {
-            allow_dtd: true,
-            ..Default::default()
-        },
-    ) else {
+    let Some(doc) = parse_source(text) else {
         return Default::default();
     };
     let ids: std::collections::HashMap<&str, roxmltree::Node> = doc
