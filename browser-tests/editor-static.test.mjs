@@ -95,10 +95,22 @@ async function compareWithNative(name, exported, sceneText) {
  */
 async function pinDragFlex(p, pins, by) {
   assert.equal(await p.inputValue('#family'), 'bbw', 'smooth (bounded biharmonic) weights by default');
+  // The worker answers one request at a time: let it finish what the page asked before (the
+  // previous drawing's precomputation), so that the clicks below meet the page as a user's do.
+  await p.evaluate(async () => {
+    const { send } = await import('./backend.js');
+    await send('/api/initial');
+  });
   let started = performance.now();
-  for (const at of pins) {
+  for (const [k, at] of pins.entries()) {
     const [x, y] = await clientPoint(p, at);
     await p.mouse.click(x, y);
+    // Each click on the art adds a pin (a lost click fails here, with what the page said).
+    await p.waitForFunction((n) => window.splineskinEditor.scene.handles.length === n, k + 1, { timeout: 5000 }).catch(async () => {
+      const said = await p.evaluate(() => ({ handles: window.splineskinEditor.scene.handles, rig: document.body.dataset.rig, message: document.getElementById('message')?.textContent, title: document.title }));
+      await p.screenshot({ path: join(out.path, `lost-click-${k}.png`) });
+      assert.fail(`click ${k} at ${at} (client ${x}, ${y}) added no pin: ${JSON.stringify(said)}`);
+    });
   }
   await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
   const rigSeconds = (performance.now() - started) / 1000;
