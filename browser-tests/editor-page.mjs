@@ -10,6 +10,9 @@ export async function openThroughPicker(p, file) {
   const name = typeof file === 'string' ? file.split('/').pop() : file.name;
   await p.setInputFiles('#open-file', file);
   await p.waitForFunction((n) => document.title.startsWith(n), name, { timeout: WAIT });
+  // The page lays itself out again for the new drawing (its notices, the view's fit) in the
+  // frames that follow: positions on screen are read after two.
+  await p.evaluate(() => new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(() => ok()))));
 }
 
 /** The page's document description and scene. */
