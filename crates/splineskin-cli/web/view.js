@@ -99,6 +99,10 @@ export class DrawingView {
     // hit-tests handles itself), so the drawing under it does.
     this.origin = [x + w / 2, y + h / 2];
     this.overlayRoot = svgElement('svg', { class: 'ss-overlay-root', width: '100%', height: '100%' });
+    // Placed over the drawing here too, not only by overlay.css: the sheet loads after the view
+    // is shown, and until it has the overlay would sit below the drawing, and every click and
+    // pin position read through it (toUser, toClient) would be off by the drawing's height.
+    Object.assign(this.overlayRoot.style, { position: 'absolute', inset: '0', pointerEvents: 'none' });
     this.overlay = svgElement('g', { class: 'ss-overlay' });
     this.weightImage = svgElement('image', { class: 'ss-weights', preserveAspectRatio: 'none' });
     this.weightImage.style.display = 'none';
