@@ -10,7 +10,7 @@ import { readFileSync, readdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before } from 'node:test';
 
-import { REPO, launchBrowser, outputFolder, runSplineskin, startEditor } from './harness.mjs';
+import { REPO, launchBrowser, outputFolder, runSplineskin, startEditor, pathNumbersById } from './harness.mjs';
 
 const VIEWPORT = { width: 1280, height: 800 };
 const WAIT = 60_000;
@@ -113,16 +113,6 @@ const shownNumbers = () =>
     return result;
   });
 
-/** The numbers of the `d` of every <path> with an id in an SVG frame. */
-function frameNumbers(svg) {
-  const result = {};
-  for (const [tag] of svg.matchAll(/<path\b[^>]*>/g)) {
-    const id = /\sid="([^"]+)"/.exec(tag)?.[1];
-    const d = /\sd="([^"]+)"/.exec(tag)?.[1];
-    if (id && d) result[id] = (d.match(/[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?/gi) ?? []).map(Number);
-  }
-  return result;
-}
 
 let savedScene = null;
 
@@ -266,7 +256,7 @@ check('played and paused between keyframes, the drawing equals `splineskin anima
   const diagonal = Math.hypot(w, h);
   times.forEach((t, n) => {
     const f = Math.round(t * fps);
-    const truth = frameNumbers(readFileSync(join(frames, files[f]), 'utf8'));
+    const truth = pathNumbersById(readFileSync(join(frames, files[f]), 'utf8'));
     let compared = 0;
     let worst = 0;
     for (const [id, numbers] of Object.entries(shown[n])) {

@@ -240,6 +240,17 @@ export function splineskinOutput(args, { cwd } = {}) {
   });
 }
 
+/** The numbers of the `d` of every <path> with an id in SVG text `svg`, by id. */
+export function pathNumbersById(svg) {
+  const result = {};
+  for (const [tag] of svg.matchAll(/<path\b[^>]*>/g)) {
+    const id = /\sid="([^"]+)"/.exec(tag)?.[1];
+    const d = /\sd="([^"]+)"/.exec(tag)?.[1];
+    if (id && d) result[id] = (d.match(/[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?/gi) ?? []).map(Number);
+  }
+  return result;
+}
+
 /** The numbers of the `d` of every <path> of SVG text `svg`, in document order. */
 export function pathNumbers(svg) {
   return [...svg.matchAll(/<path\b[^>]*\sd="([^"]*)"/g)].map(([, d]) =>

@@ -12,7 +12,7 @@ import { existsSync, readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after } from 'node:test';
 
-import { REPO, outputFolder, runSplineskin, startEditor } from './harness.mjs';
+import { REPO, outputFolder, runSplineskin, startEditor, pathNumbersById } from './harness.mjs';
 import { loadEditor } from '../crates/splineskin-cli/web/wasm-editor.js';
 
 const WASM = process.env.SPLINESKIN_WASM || join(REPO, 'target', 'wasm', 'wasm32-unknown-unknown', 'release', 'splineskin_wasm.wasm');
@@ -50,16 +50,6 @@ async function deformSvg(json, pose) {
   return read(m.splineskin_text(), n);
 }
 
-/** The numbers of the `d` of every <path> with an id. */
-function pathNumbers(svg) {
-  const result = {};
-  for (const [tag] of svg.matchAll(/<path\b[^>]*>/g)) {
-    const id = /\sid="([^"]+)"/.exec(tag)?.[1];
-    const d = /\sd="([^"]+)"/.exec(tag)?.[1];
-    if (id && d) result[id] = (d.match(/[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?/gi) ?? []).map(Number);
-  }
-  return result;
-}
 
 /** The scene file `file` with its drawing inline (`svg` → `svg_text`), as JSON text. */
 function inlineScene(file, folder) {
@@ -81,7 +71,7 @@ async function compareWithNative(name, json, pose, { minPaths }) {
   const native = join(out.path, `${name}-native.svg`);
   await runSplineskin(['deform', scene, '--pose', String(pose), '-o', native]);
   writeFileSync(join(out.path, `${name}-wasm.svg`), svg);
-  const [a, b] = [pathNumbers(svg), pathNumbers(readFileSync(native, 'utf8'))];
+  const [a, b] = [pathNumbersById(svg), pathNumbersById(readFileSync(native, 'utf8'))];
   const ids = Object.keys(a).filter((id) => id in b);
   assert.ok(ids.length >= minPaths, `${name}: ${ids.length} paths compared`);
   let [lo, hi] = [[Infinity, Infinity], [-Infinity, -Infinity]];

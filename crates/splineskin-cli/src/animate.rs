@@ -39,7 +39,6 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
-use splineskin::animation::deform_frames;
 use splineskin::drawing::animated_image::{AnimatedFormat, AnimatedImage};
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::lottie::LottieOptions;
@@ -49,7 +48,7 @@ use splineskin::render::MAX_RENDER_SIZE;
 use splineskin::scene::{Compat, PosedDrawing};
 
 use splineskin_editor::scene_lottie::{
-    lottie_of_scene, BYTES_PER_ANIMATED_POINT, MAX_ANIMATED_SVG_BYTES,
+    deform_posed_frames, lottie_of_scene, BYTES_PER_ANIMATED_POINT, MAX_ANIMATED_SVG_BYTES,
 };
 
 use crate::output::{has_extension, write_atomic, FramesOutside, ViewBoxArg, PNG_SIZE};
@@ -238,20 +237,7 @@ pub fn run(args: Args) -> Result<()> {
     let n_points = drawing.n_points();
     // Frames `first..first + times.len()`, deformed in parallel.
     let deform_chunk = |first: usize, times: &[f64]| -> Result<Vec<Vec<Point>>> {
-        deform_frames(&sampler, times, n_points, true, |pose, out| {
-            posed
-                .update(pose, out)
-                .map(|_| ())
-                .map_err(|e| anyhow::anyhow!("{e}"))
-        })
-        .map_err(|e| {
-            anyhow::anyhow!(
-                "{scene_name}: frame {} (t = {} s): {:#}",
-                first + e.frame,
-                e.time,
-                e.error
-            )
-        })
+        deform_posed_frames(&posed, &sampler, times, first, &scene_name)
     };
     // Each frame's gradients, patterns, markers, text and images follow its pose.
     let maps_at = |f: usize| -> Result<Option<ElementMaps>> {

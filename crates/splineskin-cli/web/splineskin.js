@@ -13,6 +13,7 @@
 // page uses, answered synchronously by the module; failures throw SplineskinError with the
 // module's message (naming the file and element).
 
+import { matVec } from './rig.js';
 import { loadEditor } from './wasm-editor.js';
 
 /** A failure of the module: its message names the file and element concerned. */
@@ -219,15 +220,9 @@ export class Rig {
    */
   update(pose, out) {
     const t = this._coefficients(pose);
-    const O = this.operator;
     const rows = 2 * this.nPoints;
-    const cols = t.length;
     if (!out || out.length !== rows) throw new SplineskinError(`${this._drawing.name}: update: expected out of ${rows} numbers`, 400);
-    for (let r = 0, base = 0; r < rows; r++, base += cols) {
-      let s = 0;
-      for (let c = 0; c < cols; c++) s += O[base + c] * t[c];
-      out[r] = s;
-    }
+    matVec(this.operator, t, rows, out);
     return out;
   }
 

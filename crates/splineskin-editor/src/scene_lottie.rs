@@ -5,7 +5,7 @@
 
 use anyhow::{bail, Context, Result};
 use kurbo::{Affine, Point};
-use splineskin::animation::{deform_frames, Animation};
+use splineskin::animation::{deform_frames, Animation, PoseSampler};
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::lottie::{write_lottie, LottieExport, LottieOptions};
 use splineskin::scene::{Compat, PosedDrawing, Scene, Setup};
@@ -88,20 +88,7 @@ pub fn lottie_of_scene(
             MAX_ANIMATED_SVG_BYTES as f64 / 1e9
         );
     }
-    let frames = deform_frames(&sampler, &times, n_points, true, |pose, out| {
-        posed
-            .update(pose, out)
-            .map(|_| ())
-            .map_err(|e| anyhow::anyhow!("{e}"))
-    })
-    .map_err(|e| {
-        anyhow::anyhow!(
-            "{scene_name}: frame {} (t = {} s): {:#}",
-            e.frame,
-            e.time,
-            e.error
-        )
-    })?;
+    let frames = deform_posed_frames(&posed, &sampler, &times, 0, scene_name)?;
     // Gradients follow each frame's element maps, as in the animated SVG.
     let mut pose = vec![kurbo::Affine::IDENTITY; sampler.n_handles()];
     let maps = times
@@ -134,6 +121,32 @@ pub fn lottie_of_scene(
         rig_warnings,
         n_paths: drawing.paths.len(),
         n_frames: times.len(),
+    })
+}
+
+/// Frames `first..first + times.len()` of an animation: `posed` deformed by `sampler`'s pose
+/// at each of `times`, in parallel; a failure names `scene_name`, the frame and its time.
+pub fn deform_posed_frames(
+    posed: &PosedDrawing,
+    sampler: &PoseSampler,
+    times: &[f64],
+    first: usize,
+    scene_name: &str,
+) -> Result<Vec<Vec<Point>>> {
+    let n_points = posed.setup().drawing.n_points();
+    deform_frames(sampler, times, n_points, true, |pose, out| {
+        posed
+            .update(pose, out)
+            .map(|_| ())
+            .map_err(|e| anyhow::anyhow!("{e}"))
+    })
+    .map_err(|e| {
+        anyhow::anyhow!(
+            "{scene_name}: frame {} (t = {} s): {:#}",
+            first + e.frame,
+            e.time,
+            e.error
+        )
     })
 }
 

@@ -280,6 +280,16 @@ pub(crate) fn is_svg_element(node: roxmltree::Node) -> bool {
     node.is_element() && matches!(node.tag_name().namespace(), None | Some(SVG_NS))
 }
 
+/// The document's `<text>` elements that are not inside another one, in document order: what
+/// text-to-outlines replaces and what a Lottie animation leaves out.
+pub(crate) fn outermost_texts<'a, 'input>(
+    doc: &'a roxmltree::Document<'input>,
+) -> impl Iterator<Item = roxmltree::Node<'a, 'input>> {
+    doc.descendants()
+        .filter(|n| is_svg_element(*n) && n.tag_name().name() == "text")
+        .filter(|n| !n.ancestors().skip(1).any(|a| a.tag_name().name() == "text"))
+}
+
 /// A `<length>` in user units: numbers, `px`, `in`, `cm`, `mm`, `pt`, `pc` (96 dpi) and
 /// percentages of `percent_base`; `em`/`ex` are refused (they need the font size).
 pub(crate) fn user_length(value: &str, percent_base: f64) -> Result<f64, String> {

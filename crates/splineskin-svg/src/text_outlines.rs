@@ -38,8 +38,8 @@
 use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 
-use crate::document::is_svg_element;
 use crate::document::{check_size, parse_xml, SvgError, MAX_SVG_BYTES, SHOW_HIDDEN_CSS};
+use crate::document::{is_svg_element, outermost_texts};
 
 /// Attributes of `<text>` that only lay text out: not carried to its outlines.
 const LAYOUT_ATTRIBUTES: &[&str] = &[
@@ -118,11 +118,7 @@ pub(crate) fn outline_text(text: &str, origin: &str) -> Result<Option<String>, S
         return Ok(None);
     }
     let doc = parse_xml(text, origin)?;
-    let texts: Vec<roxmltree::Node> = doc
-        .descendants()
-        .filter(|n| is_svg_element(*n) && n.tag_name().name() == "text")
-        .filter(|n| !n.ancestors().skip(1).any(|a| a.tag_name().name() == "text"))
-        .collect();
+    let texts: Vec<roxmltree::Node> = outermost_texts(&doc).collect();
     if texts.is_empty() {
         return Ok(None);
     }

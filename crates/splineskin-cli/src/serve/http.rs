@@ -94,7 +94,7 @@ async fn api(
             .iter()
             .filter_map(|(k, v)| Some((k.as_str().to_string(), v.to_str().ok()?.to_string())))
             .collect(),
-        body: body.to_vec(),
+        body: body.into(),
     };
     if !Editor::is_heavy(&request) {
         return reply(app.editor.handle(&request));

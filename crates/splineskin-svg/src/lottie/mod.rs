@@ -379,9 +379,7 @@ fn text_ids(text: &str) -> Vec<String> {
     let Some(doc) = parse_source(text) else {
         return Vec::new();
     };
-    doc.descendants()
-        .filter(|n| n.tag_name().name() == "text")
-        .filter(|n| !n.ancestors().skip(1).any(|a| a.tag_name().name() == "text"))
+    crate::document::outermost_texts(&doc)
         .map(|n| n.attribute("id").unwrap_or("").to_string())
         .collect()
 }
