@@ -18,6 +18,12 @@
 //!   handles — the mantle's centre and the eight arm tips — and three poses
 //!   (`assets/octopus-scene.json`). The drawing of the deformation-operator study and the
 //!   spline join.
+//! * [`SCRIPT_SVG`] and [`SCRIPT_SCENE`]: a line of calligraphic script drawn for this project
+//!   as hand-digitised art comes out of an editor (`tools/make_script.py`): four closed
+//!   strokes of 92 short cubics each, whose 352 side junctions the scene saves as G¹ although
+//!   64 of them are 1–13.4° off and some have a handle on the anchor; four Shepard handles
+//!   stand outside the drawing. The drawing of the rest-preserving junction kinds
+//!   ([`crate::drawing::junction`]).
 
 use kurbo::{Point, Vec2};
 
@@ -163,6 +169,32 @@ pub fn octopus_scene() -> crate::scene::Scene {
     );
     crate::scene::Scene::from_json(&json, "octopus-scene.json (bundled)", None)
         .expect("the bundled octopus scene is valid (tested)")
+}
+
+/// A line of calligraphic script drawn for this project (`assets/script.svg`, module doc).
+pub const SCRIPT_SVG: &str = include_str!("../assets/script.svg");
+
+/// The script's scene (our format), naming `script.svg`: four point handles outside the
+/// drawing, Shepard weights, every side junction saved as G¹ (`junctions`), poses `lean` and
+/// `squeeze`.
+pub const SCRIPT_SCENE: &str = include_str!("../assets/script-scene.json");
+
+/// The script scene ([`SCRIPT_SCENE`]) with its drawing ([`SCRIPT_SVG`]) inline.
+///
+/// ```
+/// let scene = splineskin::examples::script_scene();
+/// assert_eq!(scene.handles.len(), 4);
+/// assert_eq!(scene.junctions.len(), 352);
+/// ```
+pub fn script_scene() -> crate::scene::Scene {
+    let svg = serde_json::to_string(SCRIPT_SVG).expect("a string always serialises");
+    let json = SCRIPT_SCENE.replacen(
+        "\"svg\": \"script.svg\"",
+        &format!("\"svg_text\": {svg}"),
+        1,
+    );
+    crate::scene::Scene::from_json(&json, "script-scene.json (bundled)", None)
+        .expect("the bundled script scene is valid (tested)")
 }
 
 /// The bundled scene ([`DEMO_SCENE`]) with its drawing ([`DEMO_SVG`]) inline, ready to use

@@ -306,11 +306,11 @@ fn join_keeps_every_junction_constraint() {
                     }
                     JointKind::G1 => {
                         let input = signed_angle(u, v);
-                        let theta = if input.abs() <= options.smooth_angle {
-                            input
-                        } else {
-                            0.0
-                        };
+                        // The input's own angle; a corner saved G¹ is C⁰ (rest-preserving).
+                        if input.abs() > options.smooth_angle {
+                            continue;
+                        }
+                        let theta = input;
                         g1_angle = g1_angle.max((signed_angle(u2, v2) - theta).abs());
                         let ratio = v.hypot() / u.hypot();
                         g1_ratio = g1_ratio.max(((v2.hypot() / u2.hypot()) / ratio - 1.0).abs());

@@ -130,11 +130,10 @@ fn next_distinct(points: &[Point], closed: bool, p: usize, back: bool, eps: f64)
         .find(|&i| (points[i] - points[p]).hypot() > eps)
 }
 
-/// Largest continuity errors of `out` (layout of `Drawing::flat_points`): G¹ angle error (the
-/// input's angle when below the smooth tolerance, else parallel), fixed-angle error (radians),
+/// Largest continuity errors of `out` (layout of `Drawing::flat_points`): G¹ angle error (from
+/// the input's angle; G¹ on a corner of the input is C⁰), fixed-angle error (radians),
 /// closure (fraction of the diagonal). Also fails on a reversed tangent.
 fn continuity(drawing: &Drawing, out: &[Point]) -> (f64, f64, f64) {
-    let smooth = splineskin::drawing::JunctionOptions::default().smooth_angle;
     let diag = drawing.diagonal();
     let (mut g1, mut angle, mut closed) = (0.0f64, 0.0f64, 0.0f64);
     let mut offset = 0;
@@ -162,10 +161,13 @@ fn continuity(drawing: &Drawing, out: &[Point]) -> (f64, f64, f64) {
                 path.points[p] - path.points[a],
                 path.points[b] - path.points[p],
             );
-            let kept = match kind {
-                JointKind::G1 if theta.abs() > smooth => 0.0,
-                _ => theta,
-            };
+            // G¹ tangents farther apart than the smooth angle are a corner in the input, kept
+            // C⁰ (no relation); every other G¹ and fixed-angle junction keeps its input angle.
+            let smooth = splineskin::drawing::JunctionOptions::default().smooth_angle;
+            if kind == JointKind::G1 && theta.abs() > smooth {
+                continue;
+            }
+            let kept = theta;
             let now = signed(o[p] - o[a], o[b] - o[p]);
             let error = (now - kept).abs();
             assert!(error < 1.0, "joint {k}: tangent reversed ({now} vs {kept})");

@@ -8,9 +8,9 @@
 //!   (fixed angles, and G¹ joints keeping a non-zero input angle) are relaxed to C⁰;
 //! * after each of the scene's poses and after random per-handle affine poses, every junction
 //!   satisfies its kind (module `junction` of the library: tangents through the next distinct
-//!   control point): closed paths stay closed, C¹ tangents are equal, G¹ tangents keep their
-//!   input angle (parallel, or the input's own angle below the smooth tolerance) and length
-//!   ratio, fixed-angle junctions keep angle and ratio, control points lying on a junction
+//!   control point): closed paths stay closed, C¹ tangents are equal (where the input is C¹;
+//!   elsewhere they keep the input's angle and ratio), G¹ tangents keep their input angle and
+//!   length ratio, fixed-angle junctions keep angle and ratio, control points lying on a junction
 //!   point stay on it (1e-9);
 //! * the deformed drawing written by `svg_out::write_svg` reads back to the same paths and points;
 //! * junction kinds overridden through a scene (`junctions: [{path, joint, kind}]`) change the
@@ -187,15 +187,17 @@ fn coincidence(points: &[Point], relative: f64) -> f64 {
 /// The relation a deformed junction must satisfy in our form, measured: for tangents `u`, `v`
 /// of the input and `u'`, `v'` of the output (next distinct points on each side), the angle
 /// error `|∠(u', v') − θ|` and the ratio error `|(|v'|/|u'|) / r − 1|`, where `θ`, `r` are what
-/// the kind keeps (C¹: 0 and 1; G¹: the input's angle if within the smooth tolerance, else 0,
-/// and the input's ratio; fixed angle: the input's angle and ratio). `None` when one side has
+/// the kind keeps (C¹ on a C¹ input: 0 and 1; otherwise the input's angle and ratio, so that
+/// the rest pose is the drawing; C¹ and G¹ on a corner of the input keep only its position). `None` when one side has
 /// no distinct point (the joint then only keeps its position).
 #[derive(Debug)]
 struct Relation {
     angle_error: f64,
     ratio_error: f64,
-    /// `|v' − u'|` (only meaningful for C¹).
+    /// `|v' − u'|` (only meaningful for strict C¹).
     difference: f64,
+    /// Whether the relation is strict C¹ (a C¹ joint whose input is C¹).
+    strict_c1: bool,
     /// Largest distance of a control point lying on the junction point in the input from the
     /// junction point in the output.
     pinned: f64,
@@ -217,13 +219,17 @@ fn relation(
     let (u, v) = (input[p] - input[a], input[b] - input[p]);
     let (u2, v2) = (output[p] - output[a], output[b] - output[p]);
     let input_angle = signed_angle(u, v);
+    // Strict C¹ only where the input is C¹; everywhere else the input's own angle and ratio,
+    // whatever kind was saved (the rest pose is the drawing).
+    let input_is_c1 = input_angle.abs() <= options.c1_ratio
+        && (u.hypot() / v.hypot() - 1.0).abs() <= options.c1_ratio;
     let (theta, ratio) = match kind {
-        JointKind::C1 => (0.0, 1.0),
-        JointKind::G1 if input_angle.abs() <= options.smooth_angle => {
+        JointKind::C1 if input_is_c1 => (0.0, 1.0),
+        // A corner saved smooth keeps only its position.
+        JointKind::C1 | JointKind::G1 if input_angle.abs() > options.smooth_angle => return None,
+        JointKind::C1 | JointKind::G1 | JointKind::FixedAngle => {
             (input_angle, v.hypot() / u.hypot())
         }
-        JointKind::G1 => (0.0, v.hypot() / u.hypot()),
-        JointKind::FixedAngle => (input_angle, v.hypot() / u.hypot()),
         JointKind::End | JointKind::C0 => return None,
     };
     // Points strictly between a and p, and p and b, in chain order (wrapping at a closed end).
@@ -237,8 +243,21 @@ fn relation(
         angle_error: angle_difference(signed_angle(u2, v2), theta),
         ratio_error: ((v2.hypot() / u2.hypot()) / ratio - 1.0).abs(),
         difference: (v2 - u2).hypot(),
+        strict_c1: kind == JointKind::C1 && input_is_c1,
         pinned,
     })
+}
+
+impl Relation {
+    /// The error of a C¹ joint: `|v' − u'|` relative to `diag` where strict, else the angle
+    /// and ratio errors of the input's relation.
+    fn c1_error(&self, diag: f64) -> f64 {
+        if self.strict_c1 {
+            self.difference / diag
+        } else {
+            self.angle_error.max(self.ratio_error)
+        }
+    }
 }
 
 /// Checks every junction of the deformed `output` (layout of `Drawing::flat_points`) in our
@@ -263,7 +282,7 @@ fn check_junctions(
             worst.pinned = worst.pinned.max(r.pinned / diag);
             match kind {
                 JointKind::C1 => {
-                    worst.c1 = worst.c1.max(r.difference / diag);
+                    worst.c1 = worst.c1.max(r.c1_error(diag));
                     worst.counts[0] += 1;
                 }
                 JointKind::G1 => {
@@ -791,8 +810,9 @@ fn overrides_json() -> String {
     format!("[{}]", items.join(", "))
 }
 
-/// Overriding a joint changes the fit: the imposed relation (C¹: equal tangents; G¹: parallel
-/// with the input ratio; angle: the input's corner angle and ratio) holds after every pose with
+/// Overriding a joint changes the fit: the imposed relation (C¹ on a C¹ input: equal tangents;
+/// C¹ and G¹ elsewhere, and angle: the input's angle and ratio, so that the rest pose is the
+/// drawing) holds after every pose with
 /// the override and fails without it; a smooth joint made C⁰ is free (its G¹ relation, which
 /// held before, no longer does). Every other junction keeps its kind.
 #[test]
@@ -817,7 +837,7 @@ fn scene_junction_overrides_change_the_fit() {
                 let (p, o) = per_path(drawing, out).nth(path).unwrap();
                 let r = relation(&p.points, o, p.closed, joint, kind, &options).unwrap();
                 match kind {
-                    JointKind::C1 => r.difference / diag,
+                    JointKind::C1 => r.c1_error(diag),
                     _ => r.angle_error.max(r.ratio_error),
                 }
             })
@@ -826,6 +846,16 @@ fn scene_junction_overrides_change_the_fit() {
     for (path, joint, imported, imposed) in OVERRIDES {
         assert_eq!(plain.paths[path].joints[joint], imported);
         assert_eq!(drawing.paths[path].joints[joint], imposed);
+        let p = &drawing.paths[path];
+        if imposed != JointKind::C0
+            && relation(&p.points, &p.points, p.closed, joint, imposed, &options).is_none()
+        {
+            // A corner of the input saved C¹ or G¹: it keeps only its position (the rest
+            // pose is the drawing, checked above with the identity pose).
+            assert!(matches!(imposed, JointKind::C1 | JointKind::G1));
+            eprintln!("path {path} joint {joint} {imported:?} → {imposed:?}: a corner, kept C0");
+            continue;
+        }
         let (checked, before, after) = if imposed == JointKind::C0 {
             // Free now: the G¹ relation held and no longer does.
             let before = error(&plain, &plain_outputs, path, joint, imported);
@@ -839,6 +869,12 @@ fn scene_junction_overrides_change_the_fit() {
             (imposed, before, after)
         };
         eprintln!("path {path} joint {joint} {imported:?} → {imposed:?}: {checked:?} relation error {before:e} before, {after:e} after");
+        if (imported, imposed) == (JointKind::G1, JointKind::C1) {
+            // The input is not C¹ there: C¹ keeps the input's angle and ratio (the rest pose
+            // is the drawing), which is what G¹ kept already.
+            assert!(before <= INVARIANT_TOLERANCE, "{path}/{joint}: {before:e}");
+            continue;
+        }
         let changed = if imposed == JointKind::C0 {
             after
         } else {

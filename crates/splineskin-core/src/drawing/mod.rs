@@ -9,7 +9,9 @@
 pub mod junction;
 pub mod source;
 
-pub use junction::{classify_joints, coincidence_distance, JointKind, JunctionOptions};
+pub use junction::{
+    classify_joints, coincidence_distance, JointKind, JointMismatch, JunctionOptions,
+};
 pub use source::{ElementKind, SvgSource};
 
 /// What a path of a drawing is in its document, so that code which should only look at what
@@ -255,6 +257,70 @@ impl Drawing {
     /// Whether path `path_index` is drawn ([`PathRole::is_drawn`] of [`Drawing::path_role`]).
     pub fn is_drawn(&self, path_index: usize) -> bool {
         self.path_role(path_index).is_drawn()
+    }
+
+    /// Every junction whose kind its input does not have, as `(path index, mismatch)`
+    /// ([`junction::joint_mismatches`]): where our fit keeps the input's own tangent relation
+    /// rather than the kind's, so that the rest pose is reproduced.
+    pub fn joint_mismatches(&self, options: &JunctionOptions) -> Vec<(usize, JointMismatch)> {
+        self.paths
+            .iter()
+            .enumerate()
+            .flat_map(|(i, path)| {
+                junction::joint_mismatches(&path.points, path.closed, &path.joints, options)
+                    .into_iter()
+                    .map(move |m| (i, m))
+            })
+            .collect()
+    }
+
+    /// A sentence for the user about [`Drawing::joint_mismatches`], `None` when there are
+    /// none: how many junctions saved as C¹ or G¹ the input does not satisfy, the largest
+    /// angle between their tangents, how many have no tangent on a side, and what the fit
+    /// does there ([`junction::rest_relation`]).
+    ///
+    /// ```
+    /// use kurbo::{Point, Vec2};
+    /// use splineskin_core::drawing::{Drawing, JointKind, JunctionOptions, Path};
+    /// let d = Vec2::from_angle(3f64.to_radians());
+    /// let q = Point::new(3.0, 0.0);
+    /// let pts = vec![Point::ZERO, Point::new(1.0, 0.0), Point::new(2.0, 0.0), q, q + d, q + 2.0 * d, q + 3.0 * d];
+    /// let o = JunctionOptions::default();
+    /// let mut path = Path::new(pts, false, &o).unwrap();
+    /// path.joints[1] = JointKind::G1; // as a scene would save it
+    /// let drawing = Drawing { paths: vec![path], ..Default::default() };
+    /// let note = drawing.joint_mismatch_note(&o).unwrap();
+    /// assert!(note.starts_with("1 of 1 junctions saved as C1 or G1 are not so in the input (tangents up to 3.0° apart)"), "{note}");
+    /// ```
+    pub fn joint_mismatch_note(&self, options: &JunctionOptions) -> Option<String> {
+        let mismatches = self.joint_mismatches(options);
+        if mismatches.is_empty() {
+            return None;
+        }
+        let smooth = self
+            .paths
+            .iter()
+            .flat_map(|p| p.joints.iter())
+            .filter(|k| matches!(k, JointKind::C1 | JointKind::G1))
+            .count();
+        let largest = mismatches
+            .iter()
+            .filter_map(|(_, m)| m.angle)
+            .fold(0.0f64, f64::max);
+        let without = mismatches.iter().filter(|(_, m)| m.angle.is_none()).count();
+        let mut note = format!(
+            "{} of {smooth} junctions saved as C1 or G1 are not so in the input (tangents up to {:.1}° apart",
+            mismatches.len(),
+            largest.to_degrees()
+        );
+        if without > 0 {
+            note += &format!("; {without} without a tangent on a side, kept C0");
+        }
+        note += &format!(
+            "): those within {:.1}° keep their input turn and length ratio, the others only their position (C0), so the rest pose is the drawing",
+            options.smooth_angle.to_degrees()
+        );
+        Some(note)
     }
 
     /// The axis-aligned bounding box of all control points (`None` for an empty drawing).

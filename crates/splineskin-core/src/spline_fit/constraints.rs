@@ -16,10 +16,14 @@
 //!
 //! | kind | `θ` | lengths |
 //! |---|---|---|
-//! | C¹ (ours: strict) | 0 | `l_u = l_v = 1` |
-//! | G¹ | the input's angle if within the smooth tolerance, else 0 | input |
+//! | C¹ (ours: strict, when the input is C¹) | 0 | `l_u = l_v = 1` |
+//! | G¹, and C¹ whose input is not C¹ (ours), tangents within the smooth angle | the input's angle | input |
 //! | fixed angle | the input's angle | input |
 //! | C¹, G¹ ([`ConstraintForm::Authors`]) | 0 | input |
+//!
+//! In our form a C¹ or G¹ junction whose input tangents are farther apart than the smooth
+//! angle has no rows (C⁰), and every row holds on the input whatever kind a scene saved, so
+//! the rest pose reproduces the drawing ([`crate::drawing::junction`] explains the choice).
 //!
 //! A fixed angle whose tangent neighbour on a side is that side's far end (a straight side
 //! drawn with its control points on its ends, as the import writes lines between corners)
@@ -39,14 +43,17 @@ use std::collections::BinaryHeap;
 
 use kurbo::Point;
 
-use crate::drawing::junction::{coincidence_distance, tangent_neighbours};
+use crate::drawing::junction::{
+    coincidence_distance, rest_relation, tangent_neighbours, turn_angle,
+};
 use crate::drawing::{JointKind, JunctionOptions};
 
 /// How constraints are written.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ConstraintForm {
     /// Ours: tangent neighbours are the next distinct points ([`JunctionRule::NextDistinct`]),
-    /// C¹ is strict, G¹ keeps the input's (tiny) angle so that the rest pose is exact.
+    /// C¹ is strict where the input is C¹, G¹ keeps the input's angle, so that the rest pose
+    /// is exact ([`crate::drawing::junction::rest_relation`]).
     #[default]
     Ours,
     /// The paper authors' rows (compatibility mode): immediate neighbours, C¹ rows identical to
@@ -313,22 +320,21 @@ pub(crate) fn tangent_junctions(
         let u = pp - points[a];
         let v = points[b] - pp;
         let (mut lu, mut lv) = (u.hypot(), v.hypot());
-        let input_angle = if lu > 0.0 && lv > 0.0 {
-            u.cross(v).atan2(u.dot(v))
-        } else {
-            0.0
-        };
-        let theta = match (form, kind) {
-            (_, JointKind::FixedAngle) => input_angle,
-            (ConstraintForm::Ours, JointKind::G1) if input_angle.abs() <= options.smooth_angle => {
-                input_angle
+        let theta = match form {
+            ConstraintForm::Ours => {
+                // A saved kind the input does not have: what it has (a corner saved smooth
+                // keeps only its position).
+                let Some(relation) = rest_relation(kind, u, v, options) else {
+                    continue;
+                };
+                if relation.equal_lengths {
+                    (lu, lv) = (1.0, 1.0);
+                }
+                relation.theta
             }
-            _ => 0.0,
+            ConstraintForm::Authors if kind == JointKind::FixedAngle => turn_angle(u, v),
+            ConstraintForm::Authors => 0.0,
         };
-        if form == ConstraintForm::Ours && kind == JointKind::C1 {
-            lu = 1.0;
-            lv = 1.0;
-        }
         let mut pins = Vec::new();
         if form == ConstraintForm::Ours {
             // Control points lying on the junction point between a and p, and p and b.
@@ -351,8 +357,8 @@ pub(crate) fn tangent_junctions(
 }
 
 /// Builds the constraint rows of a chain with joint kinds `joints` (see
-/// [`crate::drawing::Path`] for the layouts). `options.smooth_angle` is the G¹ tolerance
-/// (radians) under which the input's own angle is kept.
+/// [`crate::drawing::Path`] for the layouts). `options` holds the C¹ tolerance and the
+/// coincidence distance ([`crate::drawing::junction::rest_relation`]).
 ///
 /// Per junction: its two tangent rows with the input's lengths (`TangentJunction::rows`, zero
 /// coefficients left out), then its pins `P_q' − P_p' = 0`. Junctions whose two tangents
@@ -447,14 +453,72 @@ mod tests {
     }
 
     #[test]
-    fn constraints_c1_is_strict_in_our_form() {
-        // Smooth with ratio 2: strict C1 is violated by the input, the authors' C1 is not.
-        let pts = test_support::pts(&SMOOTH_RATIO_2);
+    fn constraints_c1_is_strict_where_the_input_is_c1() {
+        // A C1 input: ours writes equal lengths, so a configuration whose outgoing tangent is
+        // parallel but twice as long violates the rows.
+        let c1 = test_support::pts(&[
+            (0., 0.),
+            (1., 1.),
+            (2., 0.),
+            (3., 0.),
+            (4., 0.),
+            (5., 1.),
+            (6., 0.),
+        ]);
         let joints = [JointKind::End, JointKind::C1, JointKind::End];
-        let (_, ours) = rows_and_residuals(&pts, false, &joints, ConstraintForm::Ours);
-        assert!(ours[0].abs() > 0.1);
-        let (_, theirs) = rows_and_residuals(&pts, false, &joints, ConstraintForm::Authors);
-        assert!(theirs[0].abs() < 1e-15);
+        let rows = junction_rows(
+            &c1,
+            false,
+            &joints,
+            ConstraintForm::Ours,
+            &JunctionOptions::default(),
+        );
+        let mut stretched = c1.clone();
+        stretched[4] = Point::new(5.0, 0.0);
+        let x: Vec<f64> = stretched.iter().flat_map(|p| [p.x, p.y]).collect();
+        let mut r = vec![0.0; rows.n_rows];
+        for &(i, j, v) in &rows.entries {
+            r[i] += v * x[j];
+        }
+        assert!(r[0].abs() > 0.1, "{r:?}");
+        // Saved C1 on an input with ratio 2: both forms keep the input (the rest pose).
+        let pts = test_support::pts(&SMOOTH_RATIO_2);
+        for form in [ConstraintForm::Ours, ConstraintForm::Authors] {
+            let (_, residuals) = rows_and_residuals(&pts, false, &joints, form);
+            assert!(
+                residuals.iter().all(|r| r.abs() < 1e-15),
+                "{form:?}: {residuals:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn constraints_saved_g1_keeps_what_the_input_has() {
+        // Saved G1, tangents `deg` degrees apart.
+        let chain = |deg: f64| {
+            let d = kurbo::Vec2::from_angle(deg.to_radians());
+            let q = Point::new(3.0, 0.0);
+            vec![
+                Point::ZERO,
+                Point::new(1.0, 0.0),
+                Point::new(2.0, 0.0),
+                q,
+                q + d,
+                q + 2.0 * d,
+                q + 3.0 * d,
+            ]
+        };
+        let joints = [JointKind::End, JointKind::G1, JointKind::End];
+        // 0.5°: within the smooth angle, two rows keeping the input's turn (they hold at rest).
+        let (rows, ours) = rows_and_residuals(&chain(0.5), false, &joints, ConstraintForm::Ours);
+        assert_eq!(rows.n_rows, 2);
+        assert!(ours.iter().all(|r| r.abs() < 1e-15), "{ours:?}");
+        // 10°: a corner in the input, C0 in ours (no rows); the authors' form imposes parallel
+        // tangents, which the input violates.
+        let (rows, _) = rows_and_residuals(&chain(10.0), false, &joints, ConstraintForm::Ours);
+        assert_eq!(rows.n_rows, 0);
+        let (_, theirs) = rows_and_residuals(&chain(10.0), false, &joints, ConstraintForm::Authors);
+        assert!(theirs.iter().any(|r| r.abs() > 0.1), "{theirs:?}");
     }
 
     #[test]

@@ -93,7 +93,8 @@ impl Scene {
     /// The drawing [`Scene::setup`] rigs, without the weights: read with the importer of
     /// `compat`, the authors' saved junction kinds applied (if they fit the drawing) and then
     /// the scene's junction overrides ([`Scene::junctions`]). Returns it with what the user
-    /// should know (saved kinds that did not fit). Errors name a junction override that does
+    /// should know (saved kinds that did not fit; junctions saved C¹ or G¹ that the input does
+    /// not have, [`Drawing::joint_mismatch_note`]). Errors name a junction override that does
     /// not exist or is an open end.
     pub fn drawing_with_junctions(
         &self,
@@ -131,6 +132,14 @@ impl Scene {
                 )));
             }
             *slot = o.kind;
+        }
+        // Saved kinds the input does not have: our form keeps what the input has there
+        // (the authors' form imposes the saved kinds as they are).
+        if compat == Compat::None {
+            let options = self.fit_options(compat).junctions;
+            if let Some(note) = drawing.joint_mismatch_note(&options) {
+                warnings.push(format!("{}: {note}", self.origin));
+            }
         }
         Ok((drawing, warnings))
     }
