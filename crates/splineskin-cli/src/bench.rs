@@ -1,7 +1,8 @@
 //! `splineskin bench SCENE… [--json]`: medians of the scene's setup (reading the drawing and,
 //! for the mesh families, building the domain and solving the weights), weight sampling,
 //! precomputation and per-frame update, separately; for drawings with G¹ or fixed-angle
-//! junctions also the flexible solve, cold and warm-started. The update's bytes per second (its
+//! junctions also the flexible solve, cold and warm-started, and the fold check run after an
+//! update ([`splineskin::folds::FoldCheck`]). The update's bytes per second (its
 //! operator read once) are printed beside the machine's read bandwidth
 //! ([`crate::read_bandwidth`]) and their ratio.
 
@@ -67,6 +68,9 @@ struct Row {
     weights_s: f64,
     precompute_s: f64,
     update_s: f64,
+    /// Median seconds of checking an updated drawing for folds (crossings of closed outlines
+    /// the deformation made, [`splineskin::folds::FoldCheck`]), the rest's found once.
+    folds_s: f64,
     /// Median seconds of a flexible G¹ solve from the rig's result (scenes with G¹ or
     /// fixed-angle junctions only).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -114,7 +118,7 @@ pub fn run(args: Args) -> Result<()> {
             crate::read_bandwidth::PASSES
         );
         println!(
-            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10} {:>12} {:>14} {:>12} {:>12} {:>9} {:>12} {:>10}",
+            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10} {:>12} {:>14} {:>12} {:>10} {:>12} {:>9} {:>12} {:>10}",
             "scene",
             "curves",
             "handles",
@@ -124,6 +128,7 @@ pub fn run(args: Args) -> Result<()> {
             "weights (s)",
             "precompute (s)",
             "update (s)",
+            "folds (s)",
             "update GB/s",
             "of memory",
             "f32 upd (s)",
@@ -211,7 +216,7 @@ fn print_row(row: &Row, json: bool) {
         );
     } else {
         println!(
-            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10.3e} {:>12.3e} {:>14.3e} {:>12.3e} {:>12.2} {:>9.2} {:>12.3e} {:>10.1e}",
+            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10.3e} {:>12.3e} {:>14.3e} {:>12.3e} {:>10.3e} {:>12.2} {:>9.2} {:>12.3e} {:>10.1e}",
             row.scene,
             row.curves,
             row.handles,
@@ -222,6 +227,7 @@ fn print_row(row: &Row, json: bool) {
             row.weights_s,
             row.precompute_s,
             row.update_s,
+            row.folds_s,
             row.update_bytes_per_s / 1e9,
             row.bandwidth_ratio,
             row.update_f32_s,
@@ -305,11 +311,17 @@ fn measure(
     let posed = PosedDrawing::from_parts(name, setup, Deformer::Fixed(rig));
     let mut out = vec![Point::ZERO; posed.n_points()];
     let mut update_times = Vec::with_capacity(n);
+    let mut fold_times = Vec::with_capacity(n);
+    let fold_check =
+        splineskin::folds::FoldCheck::new(posed.drawing(), &posed.drawing().flat_points());
     for pose in &poses {
         let t = Instant::now();
         posed.update(pose, &mut out)?;
         update_times.push(t.elapsed().as_secs_f64());
         std::hint::black_box(&out);
+        let t = Instant::now();
+        std::hint::black_box(fold_check.new_crossings(posed.drawing(), &out));
+        fold_times.push(t.elapsed().as_secs_f64());
     }
     // The same updates reading the operator rounded to f32, and how far their points land
     // from the f64 ones (largest distance over the poses, relative to the diagonal).
@@ -350,6 +362,7 @@ fn measure(
         weights_s: median(weight_times),
         precompute_s: median(pre_times),
         update_s,
+        folds_s: median(fold_times),
         flexible_s,
         flexible_warm_s,
         update_bytes,

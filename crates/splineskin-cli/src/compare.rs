@@ -1,21 +1,23 @@
-//! `splineskin compare SCENE -o compare.png [--json] [--pose N] [--flexible]`: the spline fit
+//! `splineskin compare SCENE -o compare.png [--json] [--pose N] [--flexible] [--tolerance F]`: the spline fit
 //! beside the naive baselines, drawn by [`splineskin::compare`], with a table of the metrics
 //! on stdout (or, with `--json`, one JSON object per line and method:
 //!
 //! ```text
 //! {"scene": "…", "pose": 0, "method": "ours", "curves": 38, "energy": 1.2e2,
 //!  "max": 1.5e-3, "rms": 4.1e-4, "distance": "parametric", "diagonal": 512.3,
-//!  "refit_tolerance": null}
+//!  "refit_tolerance": null, "folds": 0}
 //! ```
 //!
 //! `max` and `rms` are fractions of the diagonal, `energy` in drawing units² · length,
 //! `distance` is `parametric` or `closest_point` (the Schneider refit), `refit_tolerance` its
-//! tolerance in drawing units, `null` for the other methods).
+//! tolerance in drawing units, `null` for the other methods), `folds` the crossings of closed
+//! outlines the deformation made (`null` for the refits; [`splineskin::folds`]).
 
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use serde::Serialize;
+use splineskin::adaptive::AdaptiveOptions;
 use splineskin::compare::{
     compare_posed, posed_markers, render_comparison, CompareOptions, Comparison, Method,
     PictureOptions, DEFAULT_COMPARE_PANEL_WIDTH, DEFAULT_REFIT_TOLERANCE_FRACTION,
@@ -47,6 +49,11 @@ pub struct Args {
     /// Tolerance of the Schneider refit, as a fraction of the drawing's diagonal.
     #[arg(long, value_name = "FRACTION", default_value_t = DEFAULT_REFIT_TOLERANCE_FRACTION)]
     refit_tolerance: f64,
+    /// Also compare adaptive control points: `ours-adaptive` (input curves split at rest until
+    /// the fit is within FRACTION of the diagonal of the target for this pose, every input
+    /// anchor kept) and `schneider-adaptive-count` (the refit given as many curves per path).
+    #[arg(long, value_name = "FRACTION")]
+    tolerance: Option<f64>,
     /// Width of each panel in pixels.
     #[arg(long, value_name = "PX", default_value_t = DEFAULT_COMPARE_PANEL_WIDTH)]
     width: u32,
@@ -70,6 +77,8 @@ struct JsonRow<'a> {
     closest_rms: f64,
     diagonal: f64,
     refit_tolerance: Option<f64>,
+    /// Crossings of closed outlines the deformation made (`null` for the refits).
+    folds: Option<usize>,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -95,9 +104,12 @@ pub fn run(args: Args) -> Result<()> {
     }
     // Every method is compared whatever the scene's engine: the fit is built for all.
     let posed = PosedDrawing::with_engine(&scene, setup, compat, Engine::Ours, args.flexible)?;
-    let options = CompareOptions::default()
+    let mut options = CompareOptions::default()
         .with_refit_tolerance(args.refit_tolerance)
         .with_metrics(MetricsOptions::default().with_fit(*posed.fit_options()));
+    if let Some(tolerance) = args.tolerance {
+        options = options.with_adaptive(AdaptiveOptions::default().with_tolerance(tolerance));
+    }
     let comparison = compare_posed(&posed, &pose.transforms, &options)
         .with_context(|| format!("{}: pose {pose_index}", args.scene.display()))?;
     let markers = posed_markers(&scene.handle_set(), &pose.transforms);
@@ -145,6 +157,7 @@ fn json_rows<'a>(args: &Args, comparison: &'a Comparison, pose_index: usize) -> 
             closest_rms: m.closest.overall.rms,
             diagonal: comparison.diagonal,
             refit_tolerance: (m.method == Method::Schneider).then_some(comparison.refit_tolerance),
+            folds: m.folds,
         })
         .collect()
 }
@@ -158,8 +171,8 @@ fn print_table(args: &Args, comparison: &Comparison, pose_index: usize, pose_nam
         comparison.diagonal
     );
     println!(
-        "{:<20} {:>12} {:>9} {:>9} {:>11} {:>11} {:>7}",
-        "method", "energy", "max %", "rms %", "closest max", "closest rms", "curves"
+        "{:<24} {:>12} {:>9} {:>9} {:>11} {:>11} {:>7} {:>5}",
+        "method", "energy", "max %", "rms %", "closest max", "closest rms", "curves", "folds"
     );
     for m in &comparison.methods {
         let o = m.metrics.overall;
@@ -172,10 +185,19 @@ fn print_table(args: &Args, comparison: &Comparison, pose_index: usize, pose_nam
                 "  (per path, the smallest tolerance within the input's curve count; closest-point distances)"
                     .to_string()
             }
+            Method::OursAdaptive => format!(
+                "  ({} anchors inserted, every input anchor kept; closest-point distances)",
+                m.result.n_curves() - comparison.path_curves.iter().sum::<usize>()
+            ),
+            Method::SchneiderAdaptiveCount => {
+                "  (per path, the smallest tolerance within ours-adaptive's curve count; closest-point distances)"
+                    .to_string()
+            }
             _ => String::new(),
         };
+        let folds = m.folds.map_or("-".to_string(), |n| n.to_string());
         println!(
-            "{:<20} {:>12.4e} {:>9.4} {:>9.4} {:>11.4} {:>11.4} {:>7}{note}",
+            "{:<24} {:>12.4e} {:>9.4} {:>9.4} {:>11.4} {:>11.4} {:>7} {folds:>5}{note}",
             m.method.name(),
             o.energy,
             100.0 * o.max,

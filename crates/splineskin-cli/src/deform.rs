@@ -5,7 +5,10 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use kurbo::Point;
+use splineskin::adaptive::{AdaptiveOptions, Refined};
 use splineskin::scene::{Compat, PosedDrawing};
+use splineskin::spline_fit::quadrature::SampledCurves;
+use splineskin::spline_fit::FlexibleSolver;
 
 use crate::output::DeformedOutputArgs;
 use crate::CompatArg;
@@ -31,6 +34,12 @@ pub struct Args {
     /// (`"flexible": true`; the authors' scenes always do).
     #[arg(long)]
     flexible: bool,
+    /// Adaptive control points: split input curves at rest where the fit is farther than
+    /// FRACTION of the diagonal from the skinned target under any of the scene's poses, and
+    /// re-rig, until it is within (or 4 times the input's curves are used). Every input anchor
+    /// is kept; the JSON output lists the inserted ones per path (`inserted`).
+    #[arg(long, value_name = "FRACTION")]
+    tolerance: Option<f64>,
     #[command(flatten)]
     pins: crate::drawing_input::PinArgs,
     #[command(flatten)]
@@ -68,14 +77,34 @@ pub fn run(args: Args) -> Result<()> {
             args.output.display()
         )
     })?;
-    let engine_note = report.note().map(|n| format!(", {n}")).unwrap_or_default();
+    let mut engine_note = report.note().map(|n| format!(", {n}")).unwrap_or_default();
     let setup = posed.setup();
     let options = args.written.follow_options();
     let maps = element_maps(setup, &pose.transforms, &options)
         .with_context(|| format!("{}: pose {pose_index}", args.scene.display()))?;
+    let refined = match args.tolerance {
+        Some(tolerance) => {
+            let refined = refine(&scene, &posed, tolerance, &pose.transforms)
+                .with_context(|| format!("{}: --tolerance {tolerance}", args.scene.display()))?;
+            engine_note += &format!(
+                ", adaptive: {} anchors inserted ({} curves, {} rounds), largest distance {:.3e} of the diagonal{}",
+                refined.0.n_inserted(),
+                refined.0.drawing.n_curves(),
+                refined.0.rounds,
+                refined.0.worst,
+                if refined.0.met { "" } else { " (the curve budget ran out before the tolerance)" }
+            );
+            Some(refined)
+        }
+        None => None,
+    };
+    let (drawing, points, inserted) = match &refined {
+        Some((r, p)) => (&r.drawing, p.as_slice(), Some(r.inserted.as_slice())),
+        None => (&setup.drawing, points.as_slice(), None),
+    };
     args.written
-        .write(&args.output, &setup.drawing, &points, maps.as_ref())?;
-    crate::output::warn_folds(&args.output, &setup.drawing, &points);
+        .write_marked(&args.output, drawing, points, maps.as_ref(), inserted)?;
+    crate::output::warn_folds(&args.output, drawing, points);
     let set = scene.handle_set();
     let kinds = [
         (set.bones.len(), "bones"),
@@ -110,3 +139,41 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 pub use splineskin_editor::scene_lottie::element_maps;
+
+/// Adaptive control points for `deform --tolerance`: the drawing refined for every pose of the
+/// scene (and `pose`, the one written), and its deformation by `pose` (the flexible solve on
+/// the refined drawing when `posed` is flexible).
+fn refine(
+    scene: &splineskin::scene::Scene,
+    posed: &PosedDrawing,
+    tolerance: f64,
+    pose: &[kurbo::Affine],
+) -> Result<(Refined, Vec<Point>)> {
+    let mut poses: Vec<Vec<kurbo::Affine>> =
+        scene.poses.iter().map(|p| p.transforms.clone()).collect();
+    poses.push(pose.to_vec());
+    let setup = posed.setup();
+    let refined = splineskin::adaptive::refine(
+        &setup.drawing,
+        setup.weights.as_ref(),
+        &setup.options,
+        &poses,
+        &AdaptiveOptions::default().with_tolerance(tolerance),
+    )?;
+    let mut points = vec![Point::ZERO; refined.drawing.n_points()];
+    match posed.flexible_solver() {
+        Some(solver) => {
+            let samples =
+                SampledCurves::sample(&refined.drawing, setup.weights.as_ref(), &setup.options);
+            let flexible = FlexibleSolver::new(
+                &refined.drawing,
+                &samples,
+                &setup.options,
+                *solver.options(),
+            )?;
+            flexible.solve(pose, None, &mut points)?;
+        }
+        None => refined.rig.update(pose, &mut points)?,
+    }
+    Ok((refined, points))
+}

@@ -53,19 +53,39 @@ impl Format {
 #[derive(Serialize)]
 struct JsonPaths {
     paths: Vec<JsonPath>,
+    /// Where the deformation folds a closed outline over itself.
+    folds: Vec<JsonFold>,
+}
+
+#[derive(Serialize)]
+struct JsonFold {
+    path: usize,
+    curves: [usize; 2],
+    at: [f64; 2],
 }
 
 #[derive(Serialize)]
 struct JsonPath {
     closed: bool,
     points: Vec<[f64; 2]>,
+    /// Joints (anchor `k` is chain point `3k`) inserted by adaptive control points.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    inserted: Option<Vec<usize>>,
 }
 
-/// `{"paths":[{"closed":bool,"points":[[x,y],…]}]}`: per subpath its `3n+1` chain points.
+/// `{"paths":[{"closed":bool,"points":[[x,y],…]}],"folds":[{"path":p,"curves":[i,j],"at":[x,y]}]}`:
+/// per subpath its `3n+1` chain points, and every crossing of a closed outline the
+/// deformation made (curves `i` and `j` of path `p` cross at `(x, y)` and did not at rest;
+/// [`splineskin::folds::new_self_crossings`]). With `inserted` (per path, per joint), each path
+/// also lists `"inserted": [k, …]`, the anchors adaptive control points added.
 ///
 /// Errors if a point is not finite (JSON has no NaN or infinity: serde_json would write `null`)
 /// or if `points` does not hold the drawing's points.
-pub fn paths_json(drawing: &Drawing, points: &[Point]) -> Result<String> {
+pub fn paths_json(
+    drawing: &Drawing,
+    points: &[Point],
+    inserted: Option<&[Vec<bool>]>,
+) -> Result<String> {
     ensure!(
         points.len() == drawing.n_points(),
         "{} deformed points for a drawing of {}",
@@ -82,12 +102,24 @@ pub fn paths_json(drawing: &Drawing, points: &[Point]) -> Result<String> {
         .paths
         .iter()
         .zip(drawing.path_ranges())
-        .map(|(p, range)| JsonPath {
+        .enumerate()
+        .map(|(i, (p, range))| JsonPath {
             closed: p.closed,
             points: points[range].iter().map(|q| [q.x, q.y]).collect(),
+            inserted: inserted
+                .and_then(|marks| marks.get(i))
+                .map(|marks| (0..marks.len()).filter(|&k| marks[k]).collect()),
         })
         .collect();
-    Ok(serde_json::to_string(&JsonPaths { paths })?)
+    let folds = splineskin::folds::new_self_crossings(drawing, &drawing.flat_points(), points)
+        .into_iter()
+        .map(|f| JsonFold {
+            path: f.path,
+            curves: [f.curves.0, f.curves.1],
+            at: [f.at.x, f.at.y],
+        })
+        .collect();
+    Ok(serde_json::to_string(&JsonPaths { paths, folds })?)
 }
 
 /// `--viewbox`: what SVG and PNG outputs do when the deformed art leaves the input's viewBox.
@@ -137,8 +169,21 @@ impl DeformedOutputArgs {
         points: &[Point],
         maps: Option<&ElementMaps>,
     ) -> Result<()> {
+        self.write_marked(path, drawing, points, maps, None)
+    }
+
+    /// [`DeformedOutputArgs::write`] of a drawing whose anchors `inserted` (per path, per
+    /// joint) were added by adaptive control points: the JSON output lists them.
+    pub fn write_marked(
+        &self,
+        path: &Path,
+        drawing: &Drawing,
+        points: &[Point],
+        maps: Option<&ElementMaps>,
+        inserted: Option<&[Vec<bool>]>,
+    ) -> Result<()> {
         warn_outside_view_box(path, drawing, points, self.viewbox);
-        write_deformed_view_box(path, drawing, points, self.viewbox.into(), maps)
+        write_deformed_marked(path, drawing, points, self.viewbox.into(), maps, inserted)
     }
 }
 
@@ -375,12 +420,25 @@ pub fn write_deformed_view_box(
     rule: ViewBoxRule,
     maps: Option<&ElementMaps>,
 ) -> Result<()> {
+    write_deformed_marked(path, drawing, points, rule, maps, None)
+}
+
+/// [`write_deformed_view_box`] with the anchors inserted by adaptive control points (per path,
+/// per joint) listed in the JSON output.
+pub fn write_deformed_marked(
+    path: &Path,
+    drawing: &Drawing,
+    points: &[Point],
+    rule: ViewBoxRule,
+    maps: Option<&ElementMaps>,
+    inserted: Option<&[Vec<bool>]>,
+) -> Result<()> {
     let svg = || match maps {
         Some(maps) => write_svg_following(drawing, points, maps, rule),
         None => write_svg_view_box(drawing, points, rule),
     };
     let bytes = match Format::of(path)? {
-        Format::Json => paths_json(drawing, points)
+        Format::Json => paths_json(drawing, points, inserted)
             .context("writing the deformed JSON")?
             .into_bytes(),
         Format::Svg => svg().context("writing the deformed SVG")?.into_bytes(),

@@ -25,6 +25,7 @@ struct Row {
     weights_s: f64,
     precompute_s: f64,
     update_s: f64,
+    folds_s: f64,
     flexible_s: Option<f64>,
     flexible_warm_s: Option<f64>,
     update_bytes: usize,
@@ -97,6 +98,7 @@ fn bench_json_reports_counts_and_medians() {
             ("weights_s", row.weights_s),
             ("precompute_s", row.precompute_s),
             ("update_s", row.update_s),
+            ("folds_s", row.folds_s),
             ("update_bytes_per_s", row.update_bytes_per_s),
             ("read_bytes_per_s", row.read_bytes_per_s),
         ] {

@@ -56,6 +56,7 @@ struct JsonRow {
     closest_rms: f64,
     diagonal: f64,
     refit_tolerance: Option<f64>,
+    folds: Option<usize>,
 }
 
 /// A fresh folder for one test.
@@ -185,6 +186,8 @@ fn compare_json_and_picture_match_the_library() {
             row.refit_tolerance,
             (m.method == Method::Schneider).then_some(c.refit_tolerance)
         );
+        assert_eq!(row.folds, m.folds, "{}", row.method);
+        assert_eq!(row.folds.is_some(), m.method.keeps_structure());
     }
     // The input has 2 + 3 curves (the blob closes on its start: Z adds none); the refit at
     // least as many, the refit at the input's count no more, path by path.

@@ -1,7 +1,7 @@
 //! `splineskin deform` says where a deformation folds an outline over itself: a square whose
 //! corner pin is dragged across the opposite side warns with the path, the two curves and a
-//! position on the crossing; the same square bent gently, and the bundled fish under a small
-//! move, do not.
+//! position on the crossing, and its JSON output lists them; the same square bent gently, and
+//! the bundled fish under a small move, do not. `compare --json` counts each method's folds.
 
 mod common;
 
@@ -57,10 +57,37 @@ fn deform_warns_where_a_dragged_corner_folds_the_outline() {
             "{line}"
         );
     }
+    // The JSON output lists the same crossings, with the curves and positions.
+    let mut args = vec!["deform", "square.svg", "--weights", "bbw"];
+    args.extend_from_slice(&pins);
+    args.extend_from_slice(&["--move", "2:-30,-10", "-o", "out.json"]);
+    ok_stderr(&dir, &args);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out.json")).unwrap()).unwrap();
+    let folds = json["folds"].as_array().expect("a folds list");
+    assert_eq!(folds.len(), lines.len(), "{json}");
+    for (fold, line) in folds.iter().zip(&lines) {
+        let (x, y) = position(line);
+        assert_eq!(fold["path"], 0);
+        let at = fold["at"].as_array().unwrap();
+        // The warning prints the same position (rounded).
+        assert!(
+            (at[0].as_f64().unwrap() - x).abs() < 1e-6
+                && (at[1].as_f64().unwrap() - y).abs() < 1e-6,
+            "{fold} vs {line}"
+        );
+    }
     // Gently: corner (20, 20) moved by (3, −2). No fold (with inverse-distance weights the
     // fit draws a spike at that corner, whose two sides overlap: a fold it reports).
     let gentle = run(&["--move", "2:3,-2"]);
     assert!(!gentle.contains("folds over itself"), "{gentle}");
+    let mut args = vec!["deform", "square.svg", "--weights", "bbw"];
+    args.extend_from_slice(&pins);
+    args.extend_from_slice(&["--move", "2:3,-2", "-o", "gentle.json"]);
+    ok_stderr(&dir, &args);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("gentle.json")).unwrap()).unwrap();
+    assert_eq!(json["folds"], serde_json::json!([]), "{json}");
 }
 
 #[test]
@@ -72,4 +99,48 @@ fn deform_bundled_fish_small_move_reports_no_fold() {
         &["deform", fish, "--move", "0:0,-10", "-o", "out.svg"],
     );
     assert!(!stderr.contains("folds over itself"), "{stderr}");
+}
+
+#[test]
+fn compare_json_counts_each_methods_folds() {
+    let dir = TestDir::new("splineskin-folds-cli-compare-");
+    // The square's corner dragged across (as above), as a scene with Shepard weights.
+    let scene = serde_json::json!({
+        "splineskin_scene": 1,
+        "svg_text": SQUARE,
+        "handles": [{"position": [0, 0]}, {"position": [20, 0]}, {"position": [20, 20]}, {"position": [0, 20]}],
+        "weights": {"family": "bbw"},
+        "poses": [
+            {"name": "across", "transforms": [{}, {}, {"translate": [-30, -10]}, {}]},
+            {"name": "gentle", "transforms": [{}, {}, {"translate": [3, -2]}, {}]}
+        ]
+    });
+    std::fs::write(dir.join("square.json"), scene.to_string()).unwrap();
+    let rows = |pose: &str| -> Vec<serde_json::Value> {
+        let out = common::cli::ok(&common::cli::run(
+            &dir,
+            &[
+                "compare",
+                "square.json",
+                "--pose",
+                pose,
+                "--json",
+                "-o",
+                "c.png",
+            ],
+        ));
+        out.lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect()
+    };
+    let across = rows("across");
+    let folds = |rows: &[serde_json::Value], method: &str| {
+        rows.iter().find(|r| r["method"] == method).unwrap()["folds"].clone()
+    };
+    assert!(folds(&across, "ours").as_u64().unwrap() > 0, "{across:?}");
+    assert_eq!(folds(&across, "schneider"), serde_json::Value::Null);
+    let gentle = rows("gentle");
+    for method in ["ours", "fourcontrols", "jacobian"] {
+        assert_eq!(folds(&gentle, method), 0, "{method}: {gentle:?}");
+    }
 }

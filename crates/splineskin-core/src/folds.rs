@@ -24,6 +24,10 @@ use crate::drawing::Drawing;
 /// control points: 1e-4.
 pub const FLATNESS: f64 = 1e-4;
 
+/// Distance from a piece's line, relative to the outline's diagonal, within which a point
+/// counts as on it (not across): 1e-9.
+pub const NEAR_LINE: f64 = 1e-9;
+
 /// Most pieces a single cubic is cut into: 64.
 pub const MAX_PIECES: usize = 64;
 
@@ -102,14 +106,47 @@ pub fn self_crossings(drawing: &Drawing, points: &[Point]) -> Vec<Crossing> {
 /// assert!((folds[0].at - Point::new(0.0, 10.0 / 3.0)).hypot() < 1e-9);
 /// ```
 pub fn new_self_crossings(drawing: &Drawing, rest: &[Point], deformed: &[Point]) -> Vec<Crossing> {
-    let at_rest: HashSet<(usize, usize, usize)> = self_crossings(drawing, rest)
-        .iter()
-        .map(|c| (c.path, c.curves.0, c.curves.1))
-        .collect();
-    self_crossings(drawing, deformed)
-        .into_iter()
-        .filter(|c| !at_rest.contains(&(c.path, c.curves.0, c.curves.1)))
-        .collect()
+    FoldCheck::new(drawing, rest).new_crossings(drawing, deformed)
+}
+
+/// [`new_self_crossings`] for many deformations of one drawing: the rest pose's crossings are
+/// found once, so each check costs one [`self_crossings`] of the deformed drawing (what an
+/// interactive tool runs after every frame).
+///
+/// ```
+/// use kurbo::Point;
+/// use splineskin_core::drawing::{Drawing, JunctionOptions, Path};
+/// use splineskin_core::folds::FoldCheck;
+/// let rest = [(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 0.0)].map(Point::from).to_vec();
+/// let path = Path::new(rest.clone(), true, &JunctionOptions::default()).unwrap();
+/// let drawing = Drawing { paths: vec![path], ..Default::default() };
+/// let check = FoldCheck::new(&drawing, &rest);
+/// assert!(check.new_crossings(&drawing, &rest).is_empty());
+/// ```
+#[derive(Clone, Debug, Default)]
+pub struct FoldCheck {
+    at_rest: HashSet<(usize, usize, usize)>,
+}
+
+impl FoldCheck {
+    /// Finds the crossings of `drawing` at `rest` (its chain points).
+    pub fn new(drawing: &Drawing, rest: &[Point]) -> FoldCheck {
+        FoldCheck {
+            at_rest: self_crossings(drawing, rest)
+                .iter()
+                .map(|c| (c.path, c.curves.0, c.curves.1))
+                .collect(),
+        }
+    }
+
+    /// The crossings of `deformed` between curves that do not cross at rest
+    /// ([`new_self_crossings`]).
+    pub fn new_crossings(&self, drawing: &Drawing, deformed: &[Point]) -> Vec<Crossing> {
+        self_crossings(drawing, deformed)
+            .into_iter()
+            .filter(|c| !self.at_rest.contains(&(c.path, c.curves.0, c.curves.1)))
+            .collect()
+    }
 }
 
 /// The triangles (indices into `triangles`) whose orientation at `deformed` is the opposite of
@@ -217,7 +254,7 @@ fn outline_crossings(path: usize, chain: &[Point], out: &mut Vec<Crossing>) {
     let mut found: Vec<Crossing> = Vec::new();
     for (i, j) in pairs {
         let (p, q) = (&pieces[i], &pieces[j]);
-        if let Some(at) = crossing(p.a, p.b, q.a, q.b) {
+        if let Some(at) = crossing(p.a, p.b, q.a, q.b, NEAR_LINE * diagonal) {
             let curves = (p.curve.min(q.curve), p.curve.max(q.curve));
             // One crossing counted once, also when it falls where two pieces meet.
             let duplicate = found
@@ -256,15 +293,18 @@ fn polyline(chain: &[Point], flatness: f64) -> Vec<Piece> {
 }
 
 /// Where segments `a0 a1` and `b0 b1` cross (each one's ends on either side of the other's
-/// line), if they do. An end exactly on the other line counts as on its negative side, so that
-/// a crossing through the point where two pieces meet is found once, by one of them, and an
-/// outline touching a line there without crossing it is mostly not reported.
-fn crossing(a0: Point, a1: Point, b0: Point, b1: Point) -> Option<Point> {
+/// line), if they do. An end within `near` (a distance) of the other line counts as on its
+/// negative side, so that a crossing through the point where two pieces meet is found once,
+/// by one of them, an outline touching a line there without crossing it is mostly not
+/// reported, and collinear pieces (a straight side drawn with its handles on its ends, whose
+/// pieces rounding puts a hair off each other's line) never cross.
+fn crossing(a0: Point, a1: Point, b0: Point, b1: Point, near: f64) -> Option<Point> {
     let (da, db) = (a1 - a0, b1 - b0);
     let side = |o: Point, d: kurbo::Vec2, p: Point| d.cross(p - o);
     let (s0, s1) = (side(a0, da, b0), side(a0, da, b1));
     let (t0, t1) = (side(b0, db, a0), side(b0, db, a1));
-    if (s0 > 0.0) != (s1 > 0.0) && (t0 > 0.0) != (t1 > 0.0) && t0 != t1 {
+    let (na, nb) = (near * da.hypot(), near * db.hypot());
+    if (s0 > na) != (s1 > na) && (t0 > nb) != (t1 > nb) && t0 != t1 {
         let t = t0 / (t0 - t1);
         Some(a0 + da * t)
     } else {
@@ -307,6 +347,21 @@ mod tests {
                 .collect(),
             ..Default::default()
         }
+    }
+
+    #[test]
+    fn folds_straight_sides_with_handles_on_their_ends_never_cross() {
+        // A square's sides drawn as lines (handles on the ends), one corner moved and a
+        // coordinate off by rounding (1e-19): collinear pieces a hair apart are not a fold.
+        let p = |x: f64, y: f64| Point::new(x, y);
+        let (a, b, c, d) = (p(0.0, 0.0), p(20.0, 0.0), p(23.0, 18.0), p(1e-19, 20.0));
+        let chain = vec![a, a, b, b, b, c, c, c, d, d, d, a, a];
+        let path = Path::new(chain.clone(), true, &JunctionOptions::default()).unwrap();
+        let drawing = Drawing {
+            paths: vec![path],
+            ..Default::default()
+        };
+        assert_eq!(self_crossings(&drawing, &chain), vec![]);
     }
 
     #[test]

@@ -25,8 +25,9 @@
 //! | `splineskin-svg` | SVG import, rewriting the same document, animated SVG, renders | [`drawing`] (`svg_in`, `svg_out`, …), [`render`], [`fonts`] |
 //! | `splineskin-subdiv` | Catmull–Clark limit surfaces and their closed-form rig | [`subdiv`] |
 //! | `splineskin-defop` | closed-form ARAP / symmetric-ARAP operators and their spline join | [`defop`] |
-//! | `splineskin` (this one) | scenes, comparisons, metrics, baselines, pictures, examples | [`scene`], [`compare`], [`metrics`], [`naive`], [`figure`], [`weight_map`], [`examples`], [`animation`] |
+//! | `splineskin` (this one) | scenes, comparisons, metrics, baselines, adaptive control points, pictures, examples | [`scene`], [`compare`], [`metrics`], [`naive`], [`adaptive`], [`figure`], [`weight_map`], [`examples`], [`animation`] |
 
+pub mod adaptive;
 pub mod animation;
 pub mod compare;
 pub mod drawing;

@@ -12,6 +12,8 @@
 //! | `jacobian` | [`naive::skin_with_jacobian`] | parametric |
 //! | `schneider` | [`naive::schneider_refit`] (more curves) | closest point |
 //! | `schneider-same-count` | [`naive::schneider_refit_same_count`] (at most the input's curves per path) | closest point |
+//! | `ours-adaptive` (when asked) | the fit of the drawing refined by [`crate::adaptive::refine`] for the pose: more curves, every input anchor kept | closest point |
+//! | `schneider-adaptive-count` (when asked) | [`naive::schneider_refit_within`] with `ours-adaptive`'s curve count per path | closest point |
 //!
 //! "Parametric" is `‖R_j(t) − s_j(t)‖` at equal `t` ([`metrics::chain_metrics`]); "closest
 //! point" is the distance from `s_j(t)` to the nearest point of the refitted path
@@ -32,6 +34,7 @@ pub use crate::figure::comparison::{
 
 use kurbo::{Affine, Point};
 
+use crate::adaptive::{AdaptiveError, AdaptiveOptions};
 use crate::drawing::Drawing;
 use crate::figure::weight_map::HandleMarker;
 use crate::metrics::{self, Metrics, MetricsError, MetricsOptions};
@@ -69,11 +72,18 @@ pub enum Method {
     /// The same refit with, per path, the smallest tolerance that needs no more curves than
     /// the input: the refit at the budget of the methods that keep the curves.
     SchneiderSameCount,
+    /// The spline fit of the drawing refined by adaptive control points
+    /// ([`crate::adaptive::refine`] for the compared pose): input curves split at rest where
+    /// the fit falls short; every input anchor kept.
+    OursAdaptive,
+    /// The Schneider refit given, per path, as many curves as `ours-adaptive` ended with.
+    SchneiderAdaptiveCount,
 }
 
 impl Method {
     /// The method's name in tables and JSON: `ours`, `ours-flexible`, `fourcontrols`,
-    /// `twoendpoints`, `jacobian`, `schneider`, `schneider-same-count`.
+    /// `twoendpoints`, `jacobian`, `schneider`, `schneider-same-count`, `ours-adaptive`,
+    /// `schneider-adaptive-count`.
     pub fn name(self) -> &'static str {
         match self {
             Method::Ours => "ours",
@@ -83,13 +93,30 @@ impl Method {
             Method::Jacobian => "jacobian",
             Method::Schneider => "schneider",
             Method::SchneiderSameCount => "schneider-same-count",
+            Method::OursAdaptive => "ours-adaptive",
+            Method::SchneiderAdaptiveCount => "schneider-adaptive-count",
         }
     }
 
     /// Whether the result keeps the input's curves (measured parametrically), rather than
     /// refitting them (measured by closest point).
     pub fn keeps_structure(self) -> bool {
-        !matches!(self, Method::Schneider | Method::SchneiderSameCount)
+        !matches!(
+            self,
+            Method::Schneider
+                | Method::SchneiderSameCount
+                | Method::OursAdaptive
+                | Method::SchneiderAdaptiveCount
+        )
+    }
+
+    /// Whether the result keeps every anchor of the input (the refits do not: they place
+    /// their own).
+    pub fn keeps_anchors(self) -> bool {
+        !matches!(
+            self,
+            Method::Schneider | Method::SchneiderSameCount | Method::SchneiderAdaptiveCount
+        )
     }
 }
 
@@ -121,6 +148,9 @@ pub struct CompareOptions {
     /// The metrics' options. Default: [`MetricsOptions::default`] (the energy on the fit's
     /// default measure: pass [`MetricsOptions::with_fit`] to match another fit).
     pub metrics: MetricsOptions,
+    /// Also compare `ours-adaptive` (refined for the compared pose with these options) and
+    /// `schneider-adaptive-count`. Default: `None`.
+    pub adaptive: Option<AdaptiveOptions>,
 }
 
 impl Default for CompareOptions {
@@ -128,6 +158,7 @@ impl Default for CompareOptions {
         CompareOptions {
             refit_tolerance: DEFAULT_REFIT_TOLERANCE_FRACTION,
             metrics: MetricsOptions::default(),
+            adaptive: None,
         }
     }
 }
@@ -141,6 +172,11 @@ impl CompareOptions {
     /// Sets [`CompareOptions::metrics`].
     pub fn with_metrics(mut self, metrics: MetricsOptions) -> Self {
         self.metrics = metrics;
+        self
+    }
+    /// Sets [`CompareOptions::adaptive`].
+    pub fn with_adaptive(mut self, adaptive: AdaptiveOptions) -> Self {
+        self.adaptive = Some(adaptive);
         self
     }
 }
@@ -162,6 +198,10 @@ pub struct MethodResult {
     /// Distance from the target to the result at the target samples
     /// ([`Comparison::target`]'s layout), drawing units.
     pub distances: Vec<f64>,
+    /// Where the result folds a closed outline over itself: the number of crossings between
+    /// curves that do not cross at rest ([`crate::folds::new_self_crossings`]). `None` for the
+    /// refits, whose curves are not the input's.
+    pub folds: Option<usize>,
 }
 
 /// Every method's result on one drawing and pose.
@@ -213,6 +253,9 @@ pub enum CompareError {
     /// The refit failed.
     #[error("schneider: {0}")]
     Refit(#[from] RefitError),
+    /// The adaptive refinement failed.
+    #[error("ours-adaptive: {0}")]
+    Adaptive(#[from] AdaptiveError),
     /// The refit tolerance is not a positive fraction of the diagonal that is finite in
     /// drawing units.
     #[error(
@@ -417,8 +460,10 @@ fn compare_fits(
     chains.push((Method::Jacobian, points));
 
     let target = metrics::target_samples(drawing, weights, pose, s);
+    let rest = drawing.flat_points();
     let mut methods = Vec::with_capacity(chains.len() + 1);
     for (method, points) in chains {
+        let folds = Some(crate::folds::new_self_crossings(drawing, &rest, &points).len());
         let result = Refit::from_chains(drawing, &points).ok_or(PoseError::Output {
             got: points.len(),
             expected: drawing.n_points(),
@@ -435,6 +480,7 @@ fn compare_fits(
             metrics,
             closest,
             distances,
+            folds,
         });
     }
     let refit_options = RefitOptions::default().with_tolerance(refit_tolerance);
@@ -455,7 +501,40 @@ fn compare_fits(
             closest: metrics.clone(),
             metrics,
             distances,
+            folds: None,
         });
+    }
+    if let Some(adaptive) = &options.adaptive {
+        let refined =
+            crate::adaptive::refine(drawing, weights, &inputs.fit, &[pose.to_vec()], adaptive)?;
+        let mut points = vec![Point::ZERO; refined.drawing.n_points()];
+        refined.rig.update(pose, &mut points)?;
+        let result = Refit::from_chains(&refined.drawing, &points).ok_or(PoseError::Output {
+            got: points.len(),
+            expected: refined.drawing.n_points(),
+        })?;
+        let budgets: Vec<usize> = refined.drawing.paths.iter().map(|p| p.n_curves()).collect();
+        let rest = refined.drawing.flat_points();
+        let folds = Some(crate::folds::new_self_crossings(&refined.drawing, &rest, &points).len());
+        let (same, _) =
+            naive::schneider_refit_within(drawing, weights, pose, &refit_options, &budgets)?;
+        for (method, result, folds) in [
+            (Method::OursAdaptive, result, folds),
+            (Method::SchneiderAdaptiveCount, same, None),
+        ] {
+            check_finite(method, &result)?;
+            let metrics = metrics::refit_metrics(drawing, weights, pose, &result, &metrics_options)
+                .map_err(CompareError::metrics_of(method))?;
+            let distances = metrics.distances.clone();
+            methods.push(MethodResult {
+                method,
+                result,
+                closest: metrics.clone(),
+                metrics,
+                distances,
+                folds,
+            });
+        }
     }
     Ok(Comparison {
         methods,

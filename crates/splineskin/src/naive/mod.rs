@@ -46,9 +46,9 @@ use crate::weights::{Shepard, WeightField};
 
 mod schneider;
 pub use schneider::{
-    fit_cubics, schneider_refit, schneider_refit_same_count, Refit, RefitError, RefitOptions,
-    RefitPath, DEFAULT_REFIT_SAMPLES, DEFAULT_REFIT_TOLERANCE, DEFAULT_REPARAMETRISATION_ROUNDS,
-    MAX_SPLIT_DEPTH, SAME_COUNT_ROUNDS,
+    fit_cubics, schneider_refit, schneider_refit_same_count, schneider_refit_within, Refit,
+    RefitError, RefitOptions, RefitPath, DEFAULT_REFIT_SAMPLES, DEFAULT_REFIT_TOLERANCE,
+    DEFAULT_REPARAMETRISATION_ROUNDS, MAX_SPLIT_DEPTH, SAME_COUNT_ROUNDS,
 };
 
 /// The blended transform `A(p) = Σ_i w_i(p) T_i`, with `w` (length `pose.len()`) as scratch

@@ -146,6 +146,14 @@ pub enum RefitError {
         /// The input path.
         path: usize,
     },
+    /// A list of curve budgets does not have one entry per path.
+    #[error("{got} curve budgets for a drawing of {expected} paths")]
+    Budgets {
+        /// Budgets given.
+        got: usize,
+        /// Paths in the drawing.
+        expected: usize,
+    },
 }
 
 /// Sample-and-refit baseline (paper §5 and Fig. 3): each path is sampled densely
@@ -245,7 +253,44 @@ pub fn schneider_refit_same_count(
     pose: &[Affine],
     options: &RefitOptions,
 ) -> Result<(Refit, Vec<f64>), RefitError> {
+    let budgets: Vec<usize> = drawing.paths.iter().map(Path::n_curves).collect();
+    schneider_refit_within(drawing, field, pose, options, &budgets)
+}
+
+/// [`schneider_refit_same_count`] with a curve budget per path (`budgets[p]` curves for path
+/// `p`, e.g. the counts another method ended with): per path, the refit with the smallest
+/// tolerance that needs at most its budget.
+///
+/// Errors as [`schneider_refit`]; a budget list of the wrong length is
+/// [`RefitError::Budgets`].
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin::drawing::{Drawing, JunctionOptions, Path};
+/// use splineskin::naive::{schneider_refit_within, RefitOptions};
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let pts = [(0., 0.), (1., 1.), (2., 1.), (3., 0.), (4., -1.), (5., -1.), (6., 0.)];
+/// let path = Path::new(pts.map(Point::from).to_vec(), false, &JunctionOptions::default()).unwrap();
+/// let drawing = Drawing { paths: vec![path], ..Default::default() };
+/// let field = Shepard::new(&[Point::new(0.0, 0.0), Point::new(6.0, 0.0)], ShepardOptions::default());
+/// let pose = [Affine::IDENTITY, Affine::rotate_about(0.8, Point::new(6.0, 0.0))];
+/// let (refit, _) = schneider_refit_within(&drawing, &field, &pose, &RefitOptions::default(), &[5]).unwrap();
+/// assert!(refit.paths[0].n_curves() <= 5);
+/// ```
+pub fn schneider_refit_within(
+    drawing: &Drawing,
+    field: &dyn WeightField,
+    pose: &[Affine],
+    options: &RefitOptions,
+    budgets: &[usize],
+) -> Result<(Refit, Vec<f64>), RefitError> {
     check_refit_inputs(field, pose, options)?;
+    if budgets.len() != drawing.paths.len() {
+        return Err(RefitError::Budgets {
+            got: budgets.len(),
+            expected: drawing.paths.len(),
+        });
+    }
     let mut w = vec![0.0; pose.len()];
     let mut paths = Vec::with_capacity(drawing.paths.len());
     let mut tolerances = Vec::with_capacity(drawing.paths.len());
@@ -262,7 +307,7 @@ pub fn schneider_refit_same_count(
             .to_vec2()
             .hypot()
             .max(f64::MIN_POSITIVE);
-        let budget = path.n_curves();
+        let budget = budgets[index];
         let fit = |tolerance: f64| refit_path(path, &samples, &options.with_tolerance(tolerance));
         let (mut lo, mut hi) = ((1e-9 * extent).ln(), (10.0 * extent).ln());
         let mut best = fit(hi.exp());
