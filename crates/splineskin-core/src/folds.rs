@@ -220,49 +220,80 @@ fn outline_crossings(path: usize, chain: &[Point], out: &mut Vec<Crossing>) {
             cy.clamp(0, side as isize - 1) as usize,
         )
     };
-    let mut cells: Vec<Vec<usize>> = vec![Vec::new(); side * side];
-    for (k, piece) in pieces.iter().enumerate() {
-        let (c0, r0) = cell(Point::new(
-            piece.a.x.min(piece.b.x),
-            piece.a.y.min(piece.b.y),
-        ));
-        let (c1, r1) = cell(Point::new(
-            piece.a.x.max(piece.b.x),
-            piece.a.y.max(piece.b.y),
-        ));
+    // The cells' members in one array (counted, then placed): no allocation per cell.
+    let ranges: Vec<(usize, usize, usize, usize)> = pieces
+        .iter()
+        .map(|piece| {
+            let (c0, r0) = cell(Point::new(
+                piece.a.x.min(piece.b.x),
+                piece.a.y.min(piece.b.y),
+            ));
+            let (c1, r1) = cell(Point::new(
+                piece.a.x.max(piece.b.x),
+                piece.a.y.max(piece.b.y),
+            ));
+            (c0, r0, c1, r1)
+        })
+        .collect();
+    let mut start = vec![0usize; side * side + 1];
+    for &(c0, r0, c1, r1) in &ranges {
         for r in r0..=r1 {
             for c in c0..=c1 {
-                cells[r * side + c].push(k);
+                start[r * side + c + 1] += 1;
             }
         }
     }
-    let mut pairs: Vec<(usize, usize)> = Vec::new();
-    for members in &cells {
-        for (x, &i) in members.iter().enumerate() {
-            for &j in &members[x + 1..] {
-                let (i, j) = (i.min(j), i.max(j));
-                // Neighbours along the closed outline share an end: not a crossing.
-                if j - i <= 1 || (i == 0 && j == n - 1) {
-                    continue;
+    for k in 1..start.len() {
+        start[k] += start[k - 1];
+    }
+    let mut fill = start.clone();
+    let mut members = vec![0usize; start[side * side]];
+    for (k, &(c0, r0, c1, r1)) in ranges.iter().enumerate() {
+        for r in r0..=r1 {
+            for c in c0..=c1 {
+                members[fill[r * side + c]] = k;
+                fill[r * side + c] += 1;
+            }
+        }
+    }
+    // Each pair of pieces is tested once, in the first cell both cover (the lowest column and
+    // row of the overlap of their cell ranges): no list of pairs to sort and deduplicate.
+    let near = NEAR_LINE * diagonal;
+    let mut candidates: Vec<(usize, usize, Point)> = Vec::new();
+    for r in 0..side {
+        for c in 0..side {
+            let cell_index = r * side + c;
+            let members = &members[start[cell_index]..start[cell_index + 1]];
+            for (x, &i) in members.iter().enumerate() {
+                for &j in &members[x + 1..] {
+                    let (i, j) = (i.min(j), i.max(j));
+                    // Neighbours along the closed outline share an end: not a crossing.
+                    if j - i <= 1 || (i == 0 && j == n - 1) {
+                        continue;
+                    }
+                    let (a, b) = (ranges[i], ranges[j]);
+                    if (a.0.max(b.0), a.1.max(b.1)) != (c, r) {
+                        continue;
+                    }
+                    let (p, q) = (&pieces[i], &pieces[j]);
+                    if let Some(at) = crossing(p.a, p.b, q.a, q.b, near) {
+                        candidates.push((i, j, at));
+                    }
                 }
-                pairs.push((i, j));
             }
         }
     }
-    pairs.sort_unstable();
-    pairs.dedup();
+    candidates.sort_unstable_by_key(|&(i, j, _)| (i, j));
     let mut found: Vec<Crossing> = Vec::new();
-    for (i, j) in pairs {
+    for (i, j, at) in candidates {
         let (p, q) = (&pieces[i], &pieces[j]);
-        if let Some(at) = crossing(p.a, p.b, q.a, q.b, NEAR_LINE * diagonal) {
-            let curves = (p.curve.min(q.curve), p.curve.max(q.curve));
-            // One crossing counted once, also when it falls where two pieces meet.
-            let duplicate = found
-                .iter()
-                .any(|c| c.curves == curves && (c.at - at).hypot() <= 2.0 * flatness);
-            if !duplicate {
-                found.push(Crossing { path, curves, at });
-            }
+        let curves = (p.curve.min(q.curve), p.curve.max(q.curve));
+        // One crossing counted once, also when it falls where two pieces meet.
+        let duplicate = found
+            .iter()
+            .any(|c| c.curves == curves && (c.at - at).hypot() <= 2.0 * flatness);
+        if !duplicate {
+            found.push(Crossing { path, curves, at });
         }
     }
     found.sort_by_key(|c| c.curves);
