@@ -82,6 +82,10 @@ pub struct Args {
     /// Flexible G¹ and fixed-angle junctions (as in `deform --flexible`).
     #[arg(long)]
     flexible: bool,
+    /// Adaptive control points (as in `deform --tolerance`): input curves split at rest until
+    /// the fit is within FRACTION of the diagonal of the skinned target in every frame.
+    #[arg(long, value_name = "FRACTION")]
+    tolerance: Option<f64>,
     #[command(flatten)]
     pins: crate::drawing_input::PinArgs,
     #[command(flatten)]
@@ -232,6 +236,11 @@ pub fn run(args: Args) -> Result<()> {
             "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
         );
     }
+    let posed = match args.tolerance {
+        Some(tolerance) => refined_for_frames(posed, &sampler, &times, tolerance)
+            .with_context(|| format!("{scene_name}: --tolerance {tolerance}"))?,
+        None => posed,
+    };
     let setup = posed.setup();
     let drawing = &setup.drawing;
     let n_points = drawing.n_points();
@@ -386,6 +395,63 @@ pub fn run(args: Args) -> Result<()> {
 
 /// Writes `bytes` to `path` and flushes it to disk (frames are complete before their folder is
 /// renamed into place); errors name the file.
+/// `posed` with its drawing refined by adaptive control points for the pose of every frame
+/// ([`splineskin::adaptive::refine`]), rigged (flexible again when `posed` is).
+fn refined_for_frames(
+    posed: PosedDrawing,
+    sampler: &splineskin::animation::PoseSampler,
+    times: &[f64],
+    tolerance: f64,
+) -> Result<PosedDrawing> {
+    use splineskin::adaptive::{refine, AdaptiveOptions};
+    use splineskin::scene::Deformer;
+    use splineskin::spline_fit::quadrature::SampledCurves;
+    use splineskin::spline_fit::FlexibleSolver;
+    let poses: Vec<Vec<kurbo::Affine>> = times
+        .iter()
+        .map(|&t| {
+            let mut pose = vec![kurbo::Affine::IDENTITY; sampler.n_handles()];
+            sampler.pose_at(t, &mut pose);
+            pose
+        })
+        .collect();
+    let flexible = posed.flexible_solver().map(|s| *s.options());
+    let origin = posed.origin().to_string();
+    let mut setup = posed.into_setup();
+    let refined = refine(
+        &setup.drawing,
+        setup.weights.as_ref(),
+        &setup.options,
+        &poses,
+        &AdaptiveOptions::default().with_tolerance(tolerance),
+    )?;
+    eprintln!(
+        "note: adaptive: {} anchors inserted ({} curves, {} rounds), largest distance {:.3e} of the diagonal over {} frames{}",
+        refined.n_inserted(),
+        refined.drawing.n_curves(),
+        refined.rounds,
+        refined.worst,
+        poses.len(),
+        if refined.met { "" } else { " (the curve budget ran out before the tolerance)" }
+    );
+    setup.drawing = refined.drawing;
+    let deformer = match flexible {
+        Some(options) => {
+            let samples =
+                SampledCurves::sample(&setup.drawing, setup.weights.as_ref(), &setup.options);
+            Deformer::Flexible(Box::new(FlexibleSolver::from_rig(
+                refined.rig,
+                &setup.drawing,
+                &samples,
+                &setup.options,
+                options,
+            )?))
+        }
+        None => Deformer::Fixed(refined.rig),
+    };
+    Ok(PosedDrawing::from_parts(origin, setup, deformer))
+}
+
 fn write_synced(path: &Path, bytes: &[u8]) -> Result<()> {
     use std::io::Write;
     let mut file = std::fs::File::create(path)

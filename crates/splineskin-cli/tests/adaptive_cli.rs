@@ -123,3 +123,37 @@ fn tolerance_must_be_a_positive_fraction() {
         assert!(!dir.join("out.json").exists(), "{bad}: nothing is written");
     }
 }
+
+#[test]
+fn animate_tolerance_refines_for_every_frame() {
+    let dir = TestDir::new("splineskin-adaptive-cli-animate-");
+    let plain = common::cli::ok_stderr(&dir, &["animate", &scene(), "-o", "plain.svg"]);
+    let refined = common::cli::ok_stderr(
+        &dir,
+        &[
+            "animate",
+            &scene(),
+            "--tolerance",
+            "0.001",
+            "-o",
+            "refined.svg",
+        ],
+    );
+    assert!(plain.contains(": 58 curves in 16 paths"), "{plain}");
+    assert!(refined.contains("anchors inserted"), "{refined}");
+    // The summary counts the refined drawing's curves.
+    let curves = |s: &str| -> usize {
+        let head = s.split(" curves in ").next().unwrap();
+        head.rsplit(' ').next().unwrap().parse().unwrap()
+    };
+    let line = refined.lines().find(|l| l.contains(" curves in ")).unwrap();
+    assert!(curves(line) > 58, "{refined}");
+    // Each path's animated `d` has as many curves as the refined drawing: more `C` than before.
+    let c_count = |name: &str| {
+        std::fs::read_to_string(dir.join(name))
+            .unwrap()
+            .matches('C')
+            .count()
+    };
+    assert!(c_count("refined.svg") > c_count("plain.svg"));
+}
