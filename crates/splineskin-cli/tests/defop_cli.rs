@@ -393,3 +393,71 @@ fn defop_cli_deform_through_the_operator() {
     );
     assert!(!dir.join("no.svg").exists());
 }
+
+#[test]
+fn defop_cli_train_covers_the_scene_poses() {
+    let dir = TestDir::new("splineskin-defop-cli-cover-");
+    let _ = trained(&dir);
+    // The scene with a pose lifting the right handle far beyond the sampling discs.
+    let text = std::fs::read_to_string(dir.join("bar-scene.json"))
+        .unwrap()
+        .replace(
+            "\"defop\"",
+            r#""poses": [{"name": "lift", "transforms": [{}, {"position": [95, 40]}, {}]}], "defop""#,
+        );
+    std::fs::write(dir.join("posed.json"), text).unwrap();
+    let out = splineskin(&[
+        "defop",
+        "train",
+        s(&dir.join("posed.json")),
+        "--cover",
+        "poses",
+        "-o",
+        s(&dir.join("cover.bin")),
+        "--held-out",
+        "0",
+    ]);
+    let stdout = ok(&out);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("along the way to 1 poses configurations"),
+        "{stdout}{stderr}"
+    );
+    let file = OperatorFile::load(&dir.join("cover.bin")).unwrap();
+    assert!(file
+        .metadata
+        .sample_region
+        .as_deref()
+        .unwrap()
+        .contains("along the way"));
+    // A scene without poses that move a handle has nothing to cover: refused, nothing written.
+    let err = failed(&splineskin(&[
+        "defop",
+        "train",
+        s(&dir.join("bar-scene.json")),
+        "--cover",
+        "poses",
+        "-o",
+        s(&dir.join("none.bin")),
+    ]));
+    assert!(
+        err.contains("--cover poses") && err.contains("bar-scene.json"),
+        "{err}"
+    );
+    assert!(!dir.join("none.bin").exists());
+    // An unknown cover is an argument error (clap's exit status 2), naming what is expected.
+    let out = splineskin(&[
+        "defop",
+        "train",
+        s(&dir.join("posed.json")),
+        "--cover",
+        "everything",
+        "-o",
+        s(&dir.join("none.bin")),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("expected none, poses or animation"),
+        "{err}"
+    );
+}

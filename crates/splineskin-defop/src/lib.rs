@@ -113,5 +113,6 @@ pub use study::{
 };
 pub use train::{
     ground_truths_from_rest, train, Energy, Progress, StageReport, TrainOptions, Training,
-    WarmStart, DEFAULT_DISC_FRACTION, DEFAULT_GROWTH, DEFAULT_TRAINING_SAMPLES,
+    WarmStart, DEFAULT_COVER_SHARE, DEFAULT_DISC_FRACTION, DEFAULT_GROWTH,
+    DEFAULT_TRAINING_SAMPLES,
 };

@@ -115,6 +115,10 @@ pub struct Sampler {
     rest: Vec<Point>,
     /// Regions with their cumulative weights, normalised to end at 1.
     regions: Vec<(SampleRegion, f64)>,
+    /// Configurations to cover besides the rest ([`Sampler::with_cover`]), and the share of
+    /// samples drawn around the way to them.
+    cover: Vec<Vec<Point>>,
+    cover_share: f64,
     state: u64,
 }
 
@@ -148,8 +152,62 @@ impl Sampler {
         Ok(Sampler {
             rest: rest.to_vec(),
             regions: normalised,
+            cover: Vec::new(),
+            cover_share: 0.0,
             state: seed,
         })
+    }
+
+    /// Also covers the configurations `targets` (one point per handle each, e.g. a scene's
+    /// poses or its animation's frames): a `share` of the configurations (in `[0, 1]`) is
+    /// drawn around a point of the straight way from the rest to a target, both uniform
+    /// (target, then fraction `t` of the way), the region's offset added there instead of at
+    /// the rest (a Voronoi cell stays the rest's). So an operator trained on them follows
+    /// the handles as far as the poses take them, and everywhere on the way. Without targets
+    /// or with a share of 0 the configurations are those of [`Sampler::new`].
+    ///
+    /// Errors on a target with another number of handles or a non-finite point, or a share
+    /// outside `[0, 1]`.
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin_defop::{SampleRegion, Sampler};
+    /// let rest = [Point::new(0., 0.), Point::new(3., 0.)];
+    /// let far = vec![Point::new(0., 0.), Point::new(3., 10.)];
+    /// let mut sampler = Sampler::new(&rest, &[(SampleRegion::Disc { radius: 0.5 }, 1.0)], 7)?
+    ///     .with_cover(vec![far], 0.5)?;
+    /// let qs = sampler.configurations(400);
+    /// // Some configurations reach the target's neighbourhood, none leaves the way's.
+    /// assert!(qs.iter().any(|q| q[1].y > 9.0));
+    /// assert!(qs.iter().all(|q| q[1].x >= 2.5 && q[1].x <= 3.5 && q[1].y <= 10.5));
+    /// # Ok::<(), splineskin_defop::DefOpError>(())
+    /// ```
+    pub fn with_cover(
+        mut self,
+        targets: Vec<Vec<Point>>,
+        share: f64,
+    ) -> Result<Sampler, DefOpError> {
+        let n = self.rest.len();
+        if let Some(bad) = targets
+            .iter()
+            .position(|t| t.len() != n || !t.iter().all(|p| p.is_finite()))
+        {
+            return Err(DefOpError::InvalidOption {
+                name: "cover",
+                value: format!("configuration {bad}: {:?}", targets[bad]),
+                expected: "one finite point per handle",
+            });
+        }
+        if !(0.0..=1.0).contains(&share) {
+            return Err(DefOpError::InvalidOption {
+                name: "cover share",
+                value: share.to_string(),
+                expected: "a fraction in [0, 1]",
+            });
+        }
+        self.cover = targets;
+        self.cover_share = share;
+        Ok(self)
     }
 
     /// The rest configuration.
@@ -167,8 +225,24 @@ impl Sampler {
             .or(self.regions.last())
             .map(|&(r, _)| r)
             .unwrap_or(SampleRegion::Disc { radius: 0.0 });
+        // Around a point of the way to a configuration to cover, or around the rest. (No draw
+        // without targets: the configurations of a sampler without them are unchanged.)
+        let mut centre = self.rest.clone();
+        if !self.cover.is_empty() && self.uniform() < self.cover_share {
+            let k = ((self.uniform() * self.cover.len() as f64) as usize).min(self.cover.len() - 1);
+            let t = self.uniform();
+            for (c, (&p, &q)) in centre.iter_mut().zip(self.rest.iter().zip(&self.cover[k])) {
+                *c = p.lerp(q, t);
+            }
+        }
         (0..self.rest.len())
-            .map(|l| self.handle_position(l, region))
+            .map(|l| {
+                let offset = self.handle_position(l, region) - self.rest[l];
+                match region {
+                    SampleRegion::VoronoiCell { .. } => self.rest[l] + offset,
+                    _ => centre[l] + offset,
+                }
+            })
             .collect()
     }
 
@@ -307,5 +381,50 @@ mod tests {
         };
         assert!(Sampler::new(&p, &[(small, 1.0)], 1).is_err()); // excludes handle 1
         assert!(Sampler::new(&[], &[(disc, 1.0)], 1).is_err());
+    }
+
+    #[test]
+    fn sampler_cover_reaches_the_targets_and_changes_nothing_without_them() {
+        let p = rest();
+        let disc = SampleRegion::Disc { radius: 0.2 };
+        let plain = Sampler::new(&p, &[(disc, 1.0)], 5)
+            .unwrap()
+            .configurations(50);
+        // No targets, or a share of 0: the same configurations.
+        let none = Sampler::new(&p, &[(disc, 1.0)], 5)
+            .unwrap()
+            .with_cover(Vec::new(), 0.5)
+            .unwrap()
+            .configurations(50);
+        assert_eq!(plain, none);
+        // One target far away: about half the samples lie on the way to it, within the disc
+        // of the way, and some near the target itself.
+        let target: Vec<Point> = p.iter().map(|q| *q + Vec2::new(10.0, 0.0)).collect();
+        let qs = Sampler::new(&p, &[(disc, 1.0)], 5)
+            .unwrap()
+            .with_cover(vec![target], 0.5)
+            .unwrap()
+            .configurations(2000);
+        let away = qs
+            .iter()
+            .filter(|q| (q[0] - p[0]).hypot() > 0.2 + 1e-12)
+            .count();
+        assert!((800..1200).contains(&away), "{away}");
+        assert!(qs.iter().any(|q| q[0].x > 9.8));
+        for q in &qs {
+            // Every handle is offset by the same fraction of the way (within the disc).
+            let t0 = q[0].x;
+            for (l, (ql, pl)) in q.iter().zip(&p).enumerate() {
+                assert!((ql.y - pl.y).abs() <= 0.2 + 1e-12, "handle {l}");
+                assert!(((ql.x - pl.x) - t0).abs() <= 0.4 + 1e-12, "handle {l}");
+            }
+        }
+        // Bad targets and shares are refused.
+        let s = || Sampler::new(&p, &[(disc, 1.0)], 5).unwrap();
+        assert!(s().with_cover(vec![vec![Point::ZERO]], 0.5).is_err());
+        assert!(s()
+            .with_cover(vec![vec![Point::new(f64::NAN, 0.0); 3]], 0.5)
+            .is_err());
+        assert!(s().with_cover(vec![p.clone()], 1.5).is_err());
     }
 }

@@ -45,6 +45,10 @@ use splineskin_core::mesh::TriMesh;
 /// Default [`TrainOptions::n_samples`]: 1 000, the paper's octopus (Fig. 1).
 pub const DEFAULT_TRAINING_SAMPLES: usize = 1000;
 
+/// Default share of the samples drawn along the way to [`TrainOptions::cover`]: one half (the
+/// other half stays around the rest, where small edits happen).
+pub const DEFAULT_COVER_SHARE: f64 = 0.5;
+
 /// Default disc radius of the samples when [`TrainOptions::regions`] is empty, as a fraction
 /// of the mesh's bounding-box diagonal: 0.05 (0.4 drawing units on the 8.3-wide octopus,
 /// where its arms are 2.2 long).
@@ -90,6 +94,13 @@ pub struct TrainOptions {
     /// Where configurations are drawn ([`Sampler`]); empty means one disc of
     /// [`DEFAULT_DISC_FRACTION`] of the bounding-box diagonal. Default: empty.
     pub regions: Vec<(SampleRegion, f64)>,
+    /// Configurations to cover besides the rest (one point per handle each: a scene's poses,
+    /// its animation's frames), sampled along the way to them ([`Sampler::with_cover`]).
+    /// Default: none.
+    pub cover: Vec<Vec<Point>>,
+    /// The share of samples drawn along the way to [`TrainOptions::cover`]. Default:
+    /// [`DEFAULT_COVER_SHARE`].
+    pub cover_share: f64,
     /// Seed of the sampler. Default: 1.
     pub seed: u64,
     /// The fit, its handle basis included. Default: [`DefOpOptions::default`] (thin-plate
@@ -116,6 +127,8 @@ impl Default for TrainOptions {
             energy: Energy::SymmetricArap,
             n_samples: DEFAULT_TRAINING_SAMPLES,
             regions: Vec::new(),
+            cover: Vec::new(),
+            cover_share: DEFAULT_COVER_SHARE,
             seed: 1,
             fit: DefOpOptions::default(),
             warm_start: WarmStart::Bootstrap,
@@ -141,6 +154,11 @@ impl TrainOptions {
     /// Sets [`TrainOptions::regions`].
     pub fn with_regions(mut self, regions: Vec<(SampleRegion, f64)>) -> Self {
         self.regions = regions;
+        self
+    }
+    /// Sets [`TrainOptions::cover`].
+    pub fn with_cover(mut self, configurations: Vec<Vec<Point>>) -> Self {
+        self.cover = configurations;
         self
     }
     /// Sets [`TrainOptions::seed`].
@@ -328,6 +346,9 @@ pub fn train(
         options.regions.clone()
     };
     let mut sampler = Sampler::new(&rest, &regions, options.seed)?;
+    if !options.cover.is_empty() {
+        sampler = sampler.with_cover(options.cover.clone(), options.cover_share)?;
+    }
     let mut configurations = vec![rest.clone()];
     configurations.extend(sampler.configurations(options.n_samples));
     let mut solutions = vec![mesh.vertices.clone()];

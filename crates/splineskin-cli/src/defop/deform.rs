@@ -131,6 +131,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     args.written
         .write(&args.output, &drawing, &points, maps.as_ref())?;
+    crate::output::warn_folds(&args.output, &drawing, &points);
     eprintln!(
         "{}: {} curves in {} paths, {} handles, operator {} ({} vertices), join {:.2} s, pose {pose_index} -> {}",
         args.scene.display(),

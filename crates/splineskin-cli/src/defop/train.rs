@@ -13,7 +13,7 @@ use splineskin::defop::{
     ground_truths_from_rest, l2_distance, train, Energy, HandleBasisKind, OperatorFile, Sampler,
     TrainingMetadata,
 };
-use splineskin::scene::{energy_name, DefOpSettings, Scene, SpatialBasisSpec};
+use splineskin::scene::{energy_name, Cover, DefOpSettings, Scene, SpatialBasisSpec};
 
 use super::{check_output_folder, progress_bar};
 
@@ -49,6 +49,11 @@ pub struct Args {
     /// Seed of the training sampler (default: the scene's, else 1).
     #[arg(long)]
     seed: Option<u64>,
+    /// Also follow the scene's poses (`poses`), or its animation and poses (`animation`): half
+    /// the samples are drawn around the way from the rest to them (default: the scene's
+    /// `defop.cover`, else `none`).
+    #[arg(long, value_parser = cover_arg)]
+    cover: Option<Cover>,
     /// A quick run: 100 samples (unless --samples) and a coarser domain.
     #[arg(long)]
     quick: bool,
@@ -101,7 +106,7 @@ pub fn run(args: Args) -> Result<()> {
         "--samples 0: expected at least 1 training sample"
     );
     let scene = Scene::load(&args.scene)?;
-    let s = settings(
+    let mut s = settings(
         &scene,
         args.quick,
         args.energy,
@@ -110,6 +115,9 @@ pub fn run(args: Args) -> Result<()> {
         args.samples,
         args.seed,
     );
+    if let Some(cover) = args.cover {
+        s.cover = cover;
+    }
     let clock = Instant::now();
     let shape = scene.defop_shape(&s)?;
     let (mesh, handles) = (&shape.mesh, &shape.handles);
@@ -120,7 +128,30 @@ pub fn run(args: Args) -> Result<()> {
         .build(mesh, handles)
         .with_context(|| format!("{}: spatial basis {}", shape.origin, s.spatial_basis.name()))?;
     let basis_seconds = clock.elapsed().as_secs_f64();
-    let options = s.train_options(mesh);
+    let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+    let cover = scene.cover_configurations(s.cover, &rest)?;
+    anyhow::ensure!(
+        s.cover == Cover::None || !cover.is_empty(),
+        "{}: --cover {}: the scene has no {} that move a handle",
+        args.scene.display(),
+        s.cover.name(),
+        if s.cover == Cover::Poses {
+            "poses"
+        } else {
+            "poses or animation"
+        }
+    );
+    let options = s.train_options(mesh).with_cover(cover.clone());
+    let region = if cover.is_empty() {
+        s.region.describe()
+    } else {
+        format!(
+            "{}, half of them along the way to {} {} configurations",
+            s.region.describe(),
+            cover.len(),
+            s.cover.name()
+        )
+    };
     eprintln!(
         "{}: {} vertices, {} triangles, {} handles; {}, {} samples ({}), spatial basis {} ({} functions), handle basis {}, {} threads",
         shape.origin,
@@ -129,7 +160,7 @@ pub fn run(args: Args) -> Result<()> {
         handles.len(),
         energy_name(s.energy),
         s.samples,
-        s.region.describe(),
+        region,
         s.spatial_basis.name(),
         spatial.n_functions(),
         s.handle_basis.name(),
@@ -148,7 +179,7 @@ pub fn run(args: Args) -> Result<()> {
         let mut m = TrainingMetadata::default();
         m.energy = Some(energy_name(s.energy).into());
         m.n_samples = Some(s.samples);
-        m.sample_region = Some(s.region.describe());
+        m.sample_region = Some(region.clone());
         m.seed = Some(s.seed);
         m.training_seconds = Some(training_seconds);
         m.source = Some(args.scene.display().to_string());
@@ -209,6 +240,11 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 /// Threads of rayon's pool (RAYON_NUM_THREADS or the cores).
+/// Reads `--cover`: `none`, `poses` or `animation`.
+fn cover_arg(name: &str) -> Result<Cover, String> {
+    Cover::parse(name).ok_or_else(|| format!("{name:?}: expected none, poses or animation"))
+}
+
 pub(super) fn rayon_threads() -> usize {
     std::thread::available_parallelism()
         .map_or(1, |n| n.get())

@@ -23,6 +23,7 @@
 //! | `samples` | training samples besides the rest configuration, ≥ 1 ([`DEFAULT_TRAINING_SAMPLES`]) |
 //! | `region` | where a handle's samples lie around its rest position, sizes as fractions of the shape's bounding-box diagonal: `{"disc": r}` (uniform in a disc), `{"circle": r}` (on a circle), `{"gaussian": σ}` (`{"disc": 0.05}`) |
 //! | `seed` | the sampler's seed (1) |
+//! | `cover` | configurations the operator must also follow: `"poses"` (the scene's poses), `"animation"` (its animation's frames, and its poses) or `"none"`; half the samples are then drawn around the way from the rest to them ([`crate::defop::Sampler::with_cover`]) (`"none"`) |
 //! | `domain` | options of the triangulated drawing domain, keys as the scene's `domain` (defaults: [`crate::defop::training_domain_options`], coarser than the weights' domain: about 2 000–4 000 triangles for the bundled drawings) |
 //! | `mesh` | a triangle mesh file (OBJ, `z = 0`, triangles only, relative to the scene's folder) to train on instead of the drawing's domain; every point handle must be one of its vertices |
 //! | `operator` | a trained operator file (relative to the scene's folder) |
@@ -166,6 +167,8 @@ pub struct DefOpSettings {
     pub region: RegionSpec,
     /// The sampler's seed.
     pub seed: u64,
+    /// Which of the scene's configurations the samples also cover.
+    pub cover: Cover,
     /// Options of the triangulated drawing domain trained on.
     pub domain: DomainOptions,
     /// A mesh file to train on instead (resolved against the scene's folder).
@@ -183,6 +186,7 @@ impl Default for DefOpSettings {
             samples: DEFAULT_TRAINING_SAMPLES,
             region: RegionSpec::Disc(DEFAULT_DISC_FRACTION),
             seed: 1,
+            cover: Cover::None,
             domain: crate::defop::training_domain_options(),
             mesh: None,
             operator: None,
@@ -216,6 +220,99 @@ impl DefOpSettings {
             .with_seed(self.seed)
             .with_handle_basis(self.handle_basis)
             .with_parallel(true)
+    }
+}
+
+/// Which configurations of a scene a trained operator must follow besides small moves about
+/// the rest ([`DefOpSettings::cover`]; [`Scene::cover_configurations`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Cover {
+    /// Only the sampling region about the rest.
+    #[default]
+    None,
+    /// The scene's poses.
+    Poses,
+    /// The scene's animation frames (at its frame rate) and its poses.
+    Animation,
+}
+
+impl Cover {
+    /// Reads `none`, `poses` or `animation`.
+    pub fn parse(name: &str) -> Option<Cover> {
+        match name {
+            "none" => Some(Cover::None),
+            "poses" => Some(Cover::Poses),
+            "animation" => Some(Cover::Animation),
+            _ => None,
+        }
+    }
+
+    /// The name [`Cover::parse`] reads.
+    pub fn name(self) -> &'static str {
+        match self {
+            Cover::None => "none",
+            Cover::Poses => "poses",
+            Cover::Animation => "animation",
+        }
+    }
+}
+
+impl Scene {
+    /// The configurations of the point handles whose rest positions are `rest` (one per point
+    /// handle, e.g. the training shape's handle vertices) that `cover` asks an operator to
+    /// follow: each pose's (and with [`Cover::Animation`] each animation frame's) map of every
+    /// point handle applied to its rest position. Poses that are the identity are left out.
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin::scene::{Cover, Scene};
+    /// let scene = Scene::from_json(r#"{"splineskin_scene": 1,
+    ///     "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C30 40 70 40 100 0'/></svg>",
+    ///     "handles": [{"position": [0, 0]}, {"position": [100, 0]}],
+    ///     "poses": [{"transforms": [{}, {"translate": [0, 30]}]}]}"#, "inline", None)?;
+    /// let rest = [Point::new(0.0, 0.0), Point::new(100.0, 0.0)];
+    /// let cover = scene.cover_configurations(Cover::Poses, &rest)?;
+    /// assert_eq!(cover, vec![vec![Point::new(0.0, 0.0), Point::new(100.0, 30.0)]]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn cover_configurations(
+        &self,
+        cover: Cover,
+        rest: &[Point],
+    ) -> Result<Vec<Vec<Point>>, SceneError> {
+        let mut poses: Vec<Vec<kurbo::Affine>> = match cover {
+            Cover::None => return Ok(Vec::new()),
+            Cover::Poses | Cover::Animation => {
+                self.poses.iter().map(|p| p.transforms.clone()).collect()
+            }
+        };
+        if cover == Cover::Animation {
+            if let Some(animation) = &self.animation {
+                let pivots = self.handle_set().pivots();
+                let invalid = |e: String| SceneError::invalid(&self.origin, "animation", e);
+                let times = animation
+                    .frame_times()
+                    .map_err(|e| invalid(e.to_string()))?;
+                let sampler = animation
+                    .sampler(&pivots)
+                    .map_err(|e| invalid(e.to_string()))?;
+                for t in times {
+                    let mut pose = vec![kurbo::Affine::IDENTITY; sampler.n_handles()];
+                    sampler.pose_at(t, &mut pose);
+                    poses.push(pose);
+                }
+            }
+        }
+        Ok(poses
+            .iter()
+            .map(|pose| {
+                rest.iter()
+                    .zip(pose)
+                    .map(|(&p, &t)| t * p)
+                    .collect::<Vec<Point>>()
+            })
+            .filter(|q| q.iter().zip(rest).any(|(a, b)| a != b))
+            .collect())
     }
 }
 
@@ -263,6 +360,8 @@ pub(crate) struct DefOpFile {
     region: Option<RegionFile>,
     #[serde(default)]
     seed: Option<u64>,
+    #[serde(default)]
+    cover: Option<String>,
     #[serde(default)]
     domain: Option<super::domain_file::DomainFile>,
     #[serde(default)]
@@ -330,6 +429,10 @@ impl DefOpFile {
         }
         if let Some(seed) = self.seed {
             s.seed = seed;
+        }
+        if let Some(c) = &self.cover {
+            let expected = "\"poses\", \"animation\" or \"none\"";
+            s.cover = Cover::parse(c).ok_or_else(|| unknown("cover", c, expected))?;
         }
         if let Some(d) = &self.domain {
             s.domain = d.options_over(s.domain.clone());
@@ -494,7 +597,7 @@ mod tests {
     fn defop_section_reads_every_key_and_names_bad_ones() {
         let s = scene(
             r#"{"energy": "arap", "spatial_basis": "eigen 20", "handle_basis": "cubic",
-                "samples": 50, "region": {"circle": 0.1}, "seed": 9,
+                "samples": 50, "region": {"circle": 0.1}, "seed": 9, "cover": "animation",
                 "domain": {"max_area_fraction": 0.01}}"#,
         )
         .unwrap();
@@ -504,6 +607,7 @@ mod tests {
         assert_eq!(d.handle_basis, HandleBasisKind::Cubic);
         assert_eq!((d.samples, d.seed), (50, 9));
         assert_eq!(d.region, RegionSpec::Circle(0.1));
+        assert_eq!(d.cover, Cover::Animation);
         assert_eq!(d.domain.max_area_fraction, 0.01);
         assert_eq!(
             d.domain.samples_per_diagonal,
@@ -520,6 +624,7 @@ mod tests {
             (r#"{"handle_basis": "quartic"}"#, "defop.handle_basis"),
             (r#"{"samples": 0}"#, "defop.samples"),
             (r#"{"region": {"disc": -1}}"#, "defop.region"),
+            (r#"{"cover": "everything"}"#, "defop.cover"),
             (r#"{"mesh": "m.obj"}"#, "defop.mesh"),
             (r#"{"colour": 3}"#, "colour"),
         ] {

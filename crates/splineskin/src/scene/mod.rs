@@ -34,7 +34,7 @@ mod session;
 mod setup;
 
 pub use defop::{
-    energy_name, parse_energy, parse_handle_basis, DefOpSettings, DefOpShape, RegionSpec,
+    energy_name, parse_energy, parse_handle_basis, Cover, DefOpSettings, DefOpShape, RegionSpec,
     SpatialBasisSpec, HANDLE_VERTEX_TOLERANCE,
 };
 pub use deformer::Deformer;
