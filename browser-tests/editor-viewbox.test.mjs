@@ -336,3 +336,53 @@ check('the exported label follows the flower it is on', {}, async () => {
   assert.ok(miss < 0.1 * FLOWER.r, `the label's map takes the flower's centre ${miss} from the exported flower's`);
   console.log(`editor-viewbox: label transform ${label.transform}; ${miss.toFixed(3)} units from the flower's centre (${atRest.toFixed(1)} at rest)`);
 });
+
+// A square whose corner pin is dragged across the opposite side folds its outline over
+// itself: the page rings the crossings in red at the positions the server reports, on the
+// crossing, and says how many; dragged back, the rings and the note go.
+const SQUARE = `<svg xmlns="http://www.w3.org/2000/svg" viewBox="-20 -20 60 60">
+  <path id="square" d="M0 0 L20 0 L20 20 L0 20 Z" fill="#c84"/>
+</svg>
+`;
+const CORNERS = [[0, 0], [20, 0], [20, 20], [0, 20]];
+
+check('a fold is ringed in red where the outline crosses itself, and cleared when undone', {}, async () => {
+  const file = join(out.path, 'square.svg');
+  writeFileSync(file, SQUARE);
+  await page.setInputFiles('#open-file', file);
+  await page.waitForFunction(() => document.title.startsWith('square.svg'), null, { timeout: WAIT });
+  await page.evaluate(() => new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(() => ok()))));
+  await page.waitForSelector('body[data-folds="0"]', { timeout: WAIT });
+  await page.keyboard.down('Alt');
+  for (const h of CORNERS) {
+    const [x, y] = await clientPoint(page, h);
+    await page.mouse.click(x, y);
+  }
+  await page.keyboard.up('Alt');
+  const pins = await page.evaluate(() => window.splineskinEditor.scene.handles.length);
+  assert.equal(pins, 4, 'a pin at every corner');
+  await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  // Corner (20, 20) to (−10, 10): across the left side.
+  await drag(page, CORNERS[2], [-30, -10], 12);
+  await page.waitForFunction(() => Number(document.body.dataset.folds) > 0, null, { timeout: WAIT });
+  const report = await page.evaluate(() => window.splineskinEditor.viewBoxReport);
+  assert.ok(report.folds.length > 0);
+  for (const f of report.folds) {
+    // On the crossing: within the box of the dragged sides.
+    assert.ok(f.at[0] >= -10 && f.at[0] <= 20 && f.at[1] >= 0 && f.at[1] <= 20, JSON.stringify(f));
+  }
+  const rings = await page.evaluate(() => document.getElementById('canvas').shadowRoot.querySelector('.ss-folds').getAttribute('d'));
+  assert.equal((rings.match(/M/g) ?? []).length, report.folds.length, `one ring per fold: ${rings}`);
+  const note = await page.textContent('#fold-note');
+  assert.ok(await page.isVisible('#fold-note'), 'the fold note is shown');
+  assert.match(note, new RegExp(`^${report.folds.length} folds?: an outline crosses itself`), note);
+  const shot = join(out.path, 'editor-fold.png');
+  await page.screenshot({ path: shot });
+  console.log(`editor-viewbox: ${note} at ${report.folds.map((f) => f.at.map((v) => v.toFixed(2)).join(',')).join('; ')}; screenshot ${shot}`);
+  // Back where it was: no fold.
+  await drag(page, [-10, 10], [30, 10], 12);
+  await page.waitForSelector('body[data-folds="0"]', { timeout: WAIT });
+  assert.ok(await page.isHidden('#fold-note'), 'no note without folds');
+  const cleared = await page.evaluate(() => document.getElementById('canvas').shadowRoot.querySelector('.ss-folds').getAttribute('d'));
+  assert.equal(cleared, '', 'the rings are cleared');
+});

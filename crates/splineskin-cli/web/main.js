@@ -426,8 +426,13 @@ function render({ timed = false } = {}) {
   view.writePaths(editor.points);
   const t2 = performance.now();
   drawOverlay();
-  // While dragging, once on mouse-up (dragged → sceneChanged → render).
+  // While dragging, once on mouse-up (dragged → sceneChanged → render). The fold rings
+  // of the last check are stale while the drawing moves: cleared until the next one.
   if (!timed) checkViewBox();
+  else if (editor.foldsShown) {
+    view.drawFolds([]);
+    editor.foldsShown = false;
+  }
   if (timed) {
     editor.productTimes.push(t1 - t0);
     editor.frameTimes.push(t2 - t0);
@@ -526,7 +531,25 @@ async function checkViewBox() {
   }
 }
 
+/**
+ * Rings the folds of the report in red and says how many in the status line;
+ * `body[data-folds]` is their count (for the tests).
+ */
+function showFolds(report) {
+  const folds = report?.folds ?? [];
+  editor.view?.drawFolds(folds.map((f) => f.at));
+  editor.foldsShown = folds.length > 0;
+  document.body.dataset.folds = String(folds.length);
+  const note = $('fold-note');
+  note.hidden = folds.length === 0;
+  note.textContent = folds.length
+    ? `${folds.length} fold${folds.length === 1 ? '' : 's'}: an outline crosses itself (red)`
+    : '';
+  note.title = folds.map((f) => `path ${f.path}: curves ${f.curves[0]} and ${f.curves[1]}`).join('\n');
+}
+
 function showViewBoxReport(report) {
+  showFolds(report);
   const note = $('viewbox-note');
   const outside = report?.outside ?? [];
   editor.view?.showViewBox(outside.length > 0);

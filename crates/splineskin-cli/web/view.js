@@ -15,6 +15,8 @@ export const HANDLE_RADIUS = 7;
 export const RING_RADIUS = 34;
 export const KNOB_SIZE = 9;
 export const JUNCTION_RADIUS = 3.5;
+/** Radius (pixels) of the red ring at a fold. */
+export const FOLD_RADIUS = 9;
 /** Margin shown around the drawing's viewBox, relative to its larger side. */
 const VIEW_MARGIN = 0.05;
 /** Closest and farthest zoom, as fractions of the opening frame's width shown. */
@@ -129,6 +131,8 @@ export class DrawingView {
       height: h,
     });
     this.viewBoxFrame.style.display = 'none';
+    // Where the deformation folds an outline over itself (drawFolds): red rings.
+    this.folds = svgElement('path', { class: 'ss-folds' });
     this.overlay.append(
       this.weightImage,
       this.weightMesh,
@@ -137,6 +141,7 @@ export class DrawingView {
       this.onion.before,
       this.onion.after,
       ...Object.values(this.junctionPaths),
+      this.folds,
       this.handleLayer,
       this.box,
     );
@@ -155,6 +160,25 @@ export class DrawingView {
       .getRootNode()
       .elementsFromPoint(clientX, clientY)
       .some((e) => e !== this.root && this.root.contains(e));
+  }
+
+  /**
+   * Rings in red the points `at` ([x, y] in drawing units) where the deformation folds an
+   * outline over itself; an empty list clears them.
+   */
+  drawFolds(at) {
+    const r = FOLD_RADIUS * this.unitsPerPixel();
+    const f = this.markFormat();
+    const [ox, oy] = this.origin;
+    this.folds.setAttribute(
+      'd',
+      at
+        .map(([px, py]) => {
+          const [x, y] = [px - ox, py - oy];
+          return `M${f(x - r)} ${f(y)}a${f(r)} ${f(r)} 0 1 0 ${f(2 * r)} 0a${f(r)} ${f(r)} 0 1 0 ${f(-2 * r)} 0z`;
+        })
+        .join(''),
+    );
   }
 
   /** Outlines the document's viewBox (dashed), or hides the outline. */

@@ -16,7 +16,7 @@ use crate::editor::{lock_puppet, ApiError, Editor, Request, Response};
 use crate::rig_routes::{gone_rig, page_scene};
 use crate::scene_file::scene_json;
 use crate::store::{OperatorRig, Rig};
-use crate::wire::{EditScene, ExportQuery, OutsideWire, ViewBoxReport};
+use crate::wire::{EditScene, ExportQuery, FoldWire, OutsideWire, ViewBoxReport};
 
 /// `GET /api/initial`.
 pub(crate) fn initial(editor: &Editor) -> Result<Response, ApiError> {
@@ -211,7 +211,8 @@ pub(crate) fn gone_operator(id: &str) -> ApiError {
 }
 
 /// `POST /api/documents/{id}/outside`: which paths of the drawing through the posted points
-/// leave the document's viewBox, and the viewBox a `fit` export would write.
+/// leave the document's viewBox, the viewBox a `fit` export would write, and where the
+/// drawing folds an outline over itself.
 pub(crate) fn outside(editor: &Editor, id: &str, request: &Request) -> Result<Response, ApiError> {
     let body = request.upload()?;
     let document = editor.document(id)?;
@@ -243,6 +244,18 @@ pub(crate) fn outside(editor: &Editor, id: &str, request: &Request) -> Result<Re
                     distance: o.distance,
                 })
                 .collect(),
+            folds: splineskin::folds::new_self_crossings(
+                &document.drawing,
+                &document.drawing.flat_points(),
+                &points,
+            )
+            .into_iter()
+            .map(|f| FoldWire {
+                path: f.path,
+                curves: [f.curves.0, f.curves.1],
+                at: [f.at.x, f.at.y],
+            })
+            .collect(),
         }
     };
     Response::json(&report)

@@ -207,6 +207,20 @@ pub struct ViewBoxReport {
     pub fitted: [f64; 4],
     /// The paths that leave the viewBox, farthest first.
     pub outside: Vec<OutsideWire>,
+    /// Where the drawing through the points folds a closed outline over itself (crossings
+    /// of curves that do not cross at rest, [`splineskin::folds::new_self_crossings`]).
+    pub folds: Vec<FoldWire>,
+}
+
+/// A crossing of a closed outline that the deformation made.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FoldWire {
+    /// The path (subpath index in the drawing).
+    pub path: usize,
+    /// The two curves of the path that cross.
+    pub curves: [usize; 2],
+    /// Where (root user units).
+    pub at: [f64; 2],
 }
 
 /// A path whose deformed curves leave the viewBox
