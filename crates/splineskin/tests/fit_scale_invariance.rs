@@ -462,14 +462,12 @@ fn fit_shared_curves_stay_watertight() {
     }
 }
 
-/// Known defect (left for the accuracy work): flexible G¹ stops when a step lowers the energy by
-/// less than 1e-5 relative, and the first step of this pose is shortened and gains 1.3e-5 at
-/// scale 1 but 4.5e-6 once the drawing is scaled by 1e-6 and moved to 6e5 (rounding of the
-/// coordinates), so one run iterates to the optimum (energy 171) and the other stops at the
-/// fixed-ratio fit (energy 333 scaled): results 5% of the diagonal apart. Ignored until the
-/// stopping test no longer depends on rounding: `cargo test -- --ignored` shows it.
+/// Flexible G¹ on a drawing whose first Newton step is cut short by the turn limit: that step
+/// gains 1.3e-5 of the energy at scale 1 and 4.5e-6 once the drawing is scaled by 1e-6 and
+/// moved to 6e5 (rounding of the coordinates). The iteration used to stop on it at one scale
+/// (the fixed-ratio fit, energy 333) and go on to the optimum (171) at the other: results 5 %
+/// of the diagonal apart. A shortened step's gain no longer stops it, so both scales agree.
 #[test]
-#[ignore = "known defect: flexible G1's stopping test is decided by rounding far from the origin"]
 fn fit_scale_invariance_flexible_stop_decided_by_rounding() {
     use splineskin::drawing::JointKind::{End, FixedAngle, G1};
     let p = |v: &[(f64, f64)]| v.iter().map(|&(x, y)| Point::new(x, y)).collect::<Vec<_>>();
