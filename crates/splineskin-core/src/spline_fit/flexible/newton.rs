@@ -22,15 +22,16 @@
 //! decreases ([`FlexPath::newton_update`]); the turn is applied as a rotation
 //! ([`Layout::newton_point`]), so the new points satisfy every junction exactly.
 //!
-//! The iteration ([`iterate_newton`]) stops when a whole step (not cut by the turn limit nor
-//! halved) lowers `E` by less than [`FlexibleOptions::tolerance`] relative, when any step lowers
-//! it by no more than the path's noise floor (`energy.rs`), or when a whole Newton step lowered
-//! it by what its quadratic model predicted, to that tolerance (the model is then accurate, so
-//! the step landed at its minimiser); the tolerances include the noise floor. A shortened
-//! step's small gain is no sign of convergence: the first step far from the optimum, cut short
-//! by the turn limit, gained 1.3e-5 relative at one scale and 4.5e-6 at another, and a stop
-//! on it left the fit at the fixed-ratio result (energy 333 against 171) depending on
-//! rounding.
+//! The iteration ([`iterate_newton`]) stops when a step lowers `E` by less than
+//! [`FlexibleOptions::tolerance`] relative and, if the step was cut by the turn limit or
+//! halved, its quadratic model promised no more over the whole step; when any step lowers it by
+//! no more than the path's noise floor (`energy.rs`); or when a whole Newton step lowered it by
+//! what its model predicted, to that tolerance (the model is then accurate, so the step landed
+//! at its minimiser). The tolerances include the noise floor. A shortened step's small gain
+//! alone is no sign of convergence: the first step far from the optimum, cut short by the turn
+//! limit, gained 1.3e-5 relative at one scale and 4.5e-6 at another while its model promised
+//! half the energy, and a stop on it left the fit at the fixed-ratio result (energy 333
+//! against 171) depending on rounding.
 
 use kurbo::{Point, Vec2};
 
@@ -79,12 +80,15 @@ pub(super) fn iterate_newton(
         // Converged when the step gained little, or when a whole Newton step did what its
         // quadratic model said (the model is then accurate, and the step lands at its
         // minimiser).
-        // A shortened or halved step's small gain says nothing about convergence (the first
-        // step far from the optimum can be cut short by the turn limit and gain little): it
-        // stops the iteration only at the noise floor.
+        // A shortened or halved step's small gain says nothing about convergence when the
+        // whole step promised much more (the first step far from the optimum, cut short by
+        // the turn limit, can gain little): it stops the iteration only when the model's
+        // decrease over the whole step is within the tolerance too, or at the noise floor.
         let tol = options.tolerance * e + sc.floor;
-        let small = if u.whole { tol } else { sc.floor };
-        let done = e - u.energy <= small || u.model_error.is_some_and(|m| m <= tol);
+        let small = u.whole || u.predicted <= tol;
+        let done = (small && e - u.energy <= tol)
+            || e - u.energy <= sc.floor
+            || u.model_error.is_some_and(|m| m <= tol);
         run.x = u.x;
         run.shortened += usize::from(u.shortened);
         e = u.energy;
@@ -106,6 +110,8 @@ pub(super) struct NewtonUpdate {
     pub(super) shortened: bool,
     /// Whether the whole step was taken (neither cut by the turn limit nor halved).
     pub(super) whole: bool,
+    /// The quadratic model's decrease of the energy over the whole step (`−gᵀΔx`).
+    pub(super) predicted: f64,
     /// For a whole Newton step, how far its energy decrease was from the quadratic model's.
     pub(super) model_error: Option<f64>,
 }
@@ -213,6 +219,7 @@ impl FlexPath {
                     energy: e_t,
                     shortened,
                     whole: t == 1.0,
+                    predicted,
                     model_error,
                 }));
             }
