@@ -405,8 +405,6 @@ fn refined_for_frames(
 ) -> Result<PosedDrawing> {
     use splineskin::adaptive::{refine, AdaptiveOptions};
     use splineskin::scene::Deformer;
-    use splineskin::spline_fit::quadrature::SampledCurves;
-    use splineskin::spline_fit::FlexibleSolver;
     let poses: Vec<Vec<kurbo::Affine>> = times
         .iter()
         .map(|&t| {
@@ -434,21 +432,15 @@ fn refined_for_frames(
         poses.len(),
         if refined.met { "" } else { " (the curve budget ran out before the tolerance)" }
     );
-    setup.drawing = refined.drawing;
     let deformer = match flexible {
-        Some(options) => {
-            let samples =
-                SampledCurves::sample(&setup.drawing, setup.weights.as_ref(), &setup.options);
-            Deformer::Flexible(Box::new(FlexibleSolver::from_rig(
-                refined.rig,
-                &setup.drawing,
-                &samples,
-                &setup.options,
-                options,
-            )?))
-        }
+        Some(options) => Deformer::Flexible(Box::new(refined.flexible_solver(
+            setup.weights.as_ref(),
+            &setup.options,
+            options,
+        )?)),
         None => Deformer::Fixed(refined.rig),
     };
+    setup.drawing = refined.drawing;
     Ok(PosedDrawing::from_parts(origin, setup, deformer))
 }
 

@@ -7,8 +7,6 @@ use anyhow::{Context, Result};
 use kurbo::Point;
 use splineskin::adaptive::{AdaptiveOptions, Refined};
 use splineskin::scene::{Compat, PosedDrawing};
-use splineskin::spline_fit::quadrature::SampledCurves;
-use splineskin::spline_fit::FlexibleSolver;
 
 use crate::output::DeformedOutputArgs;
 use crate::CompatArg;
@@ -163,15 +161,9 @@ fn refine(
     let mut points = vec![Point::ZERO; refined.drawing.n_points()];
     match posed.flexible_solver() {
         Some(solver) => {
-            let samples =
-                SampledCurves::sample(&refined.drawing, setup.weights.as_ref(), &setup.options);
-            let flexible = FlexibleSolver::new(
-                &refined.drawing,
-                &samples,
-                &setup.options,
-                *solver.options(),
-            )?;
-            flexible.solve(pose, None, &mut points)?;
+            refined
+                .flexible_solver(setup.weights.as_ref(), &setup.options, *solver.options())?
+                .solve(pose, None, &mut points)?;
         }
         None => refined.rig.update(pose, &mut points)?,
     }

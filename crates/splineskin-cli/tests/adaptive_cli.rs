@@ -157,3 +157,37 @@ fn animate_tolerance_refines_for_every_frame() {
     };
     assert!(c_count("refined.svg") > c_count("plain.svg"));
 }
+
+#[test]
+fn deform_tolerance_with_flexible_junctions() {
+    let dir = TestDir::new("splineskin-adaptive-cli-flexible-");
+    let stderr = common::cli::ok_stderr(
+        &dir,
+        &[
+            "deform",
+            &scene(),
+            "--tolerance",
+            "0.001",
+            "--flexible",
+            "-o",
+            "flexible.json",
+        ],
+    );
+    assert!(
+        stderr.contains("flexible:") && stderr.contains("anchors inserted"),
+        "{stderr}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("flexible.json")).unwrap()).unwrap();
+    let inserted: usize = json["paths"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["inserted"].as_array().unwrap().len())
+        .sum();
+    assert!(inserted > 0);
+    // Every point is finite (the flexible solve ran on the refined drawing).
+    for p in paths(&json).iter().flatten() {
+        assert!(p[0].is_finite() && p[1].is_finite());
+    }
+}

@@ -28,7 +28,10 @@ use kurbo::{Affine, CubicBez, ParamCurve, Point};
 
 use crate::drawing::{Drawing, JointKind, Path};
 use crate::metrics::{self, MetricsError, MetricsOptions};
-use crate::spline_fit::{FitError, FitOptions, PoseError, SplineRig};
+use crate::spline_fit::quadrature::SampledCurves;
+use crate::spline_fit::{
+    FitError, FitOptions, FlexibleOptions, FlexibleSolver, PoseError, SplineRig,
+};
 use crate::weights::WeightField;
 
 /// Default tolerance: 1e-3 of the drawing's diagonal (half a pixel when it is drawn 500 px
@@ -107,6 +110,18 @@ impl Refined {
     /// Number of anchors inserted.
     pub fn n_inserted(&self) -> usize {
         self.inserted.iter().flatten().filter(|&&b| b).count()
+    }
+
+    /// The flexible G¹ solver of the refined drawing, from its rig (the same `weights` and
+    /// `fit` it was refined with), for a refined drawing whose fit is flexible.
+    pub fn flexible_solver(
+        &self,
+        weights: &dyn WeightField,
+        fit: &FitOptions,
+        options: FlexibleOptions,
+    ) -> Result<FlexibleSolver, FitError> {
+        let samples = SampledCurves::sample(&self.drawing, weights, fit);
+        FlexibleSolver::from_rig(self.rig.clone(), &self.drawing, &samples, fit, options)
     }
 }
 
