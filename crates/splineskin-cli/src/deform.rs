@@ -126,7 +126,7 @@ pub fn run(args: Args) -> Result<()> {
     eprintln!(
         "{}: {} curves in {} paths, {} handles ({} points{kinds}){domain}{engine_note}, pose {} -> {}",
         args.scene.display(),
-        setup.drawing.n_curves(),
+        drawing.n_curves(),
         setup.drawing.paths.len(),
         setup.weights.n_handles(),
         set.points.len(),
