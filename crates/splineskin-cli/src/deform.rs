@@ -139,7 +139,7 @@ pub fn run(args: Args) -> Result<()> {
 pub use splineskin_editor::scene_lottie::element_maps;
 
 /// Adaptive control points for `deform --tolerance`: the drawing refined for every pose of the
-/// scene (and `pose`, the one written), and its deformation by `pose` (the flexible solve on
+/// scene (and `pose`, the one written, if it is not one of them), and its deformation by `pose` (the flexible solve on
 /// the refined drawing when `posed` is flexible).
 fn refine(
     scene: &splineskin::scene::Scene,
@@ -149,7 +149,9 @@ fn refine(
 ) -> Result<(Refined, Vec<Point>)> {
     let mut poses: Vec<Vec<kurbo::Affine>> =
         scene.poses.iter().map(|p| p.transforms.clone()).collect();
-    poses.push(pose.to_vec());
+    if !poses.iter().any(|p| p.as_slice() == pose) {
+        poses.push(pose.to_vec());
+    }
     let setup = posed.setup();
     let refined = splineskin::adaptive::refine(
         &setup.drawing,

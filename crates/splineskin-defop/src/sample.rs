@@ -227,20 +227,22 @@ impl Sampler {
             .unwrap_or(SampleRegion::Disc { radius: 0.0 });
         // Around a point of the way to a configuration to cover, or around the rest. (No draw
         // without targets: the configurations of a sampler without them are unchanged.)
-        let mut centre = self.rest.clone();
-        if !self.cover.is_empty() && self.uniform() < self.cover_share {
+        // `(target, t)`: the point at `t` of the way to cover target `target`.
+        let way = (!self.cover.is_empty() && self.uniform() < self.cover_share).then(|| {
             let k = ((self.uniform() * self.cover.len() as f64) as usize).min(self.cover.len() - 1);
-            let t = self.uniform();
-            for (c, (&p, &q)) in centre.iter_mut().zip(self.rest.iter().zip(&self.cover[k])) {
-                *c = p.lerp(q, t);
-            }
-        }
+            (k, self.uniform())
+        });
         (0..self.rest.len())
             .map(|l| {
-                let offset = self.handle_position(l, region) - self.rest[l];
-                match region {
-                    SampleRegion::VoronoiCell { .. } => self.rest[l] + offset,
-                    _ => centre[l] + offset,
+                let q = self.handle_position(l, region);
+                match (way, region) {
+                    (
+                        Some((k, t)),
+                        SampleRegion::Disc { .. }
+                        | SampleRegion::Circle { .. }
+                        | SampleRegion::Gaussian { .. },
+                    ) => q + (self.rest[l].lerp(self.cover[k][l], t) - self.rest[l]),
+                    _ => q,
                 }
             })
             .collect()

@@ -6,6 +6,7 @@ use splineskin::defop::Energy;
 use splineskin::drawing::svg_in::MAX_SVG_BYTES;
 use splineskin::drawing::svg_out::write_svg_marked;
 use splineskin::drawing::Drawing;
+use splineskin::folds::FoldCheck;
 use splineskin::scene::{Compat, Engine, MeshFamily, Scene, WeightSpec};
 use splineskin::spline_fit::Measure;
 
@@ -36,6 +37,9 @@ pub struct Document {
     pub drawing: Drawing,
     /// What the page is sent (its `id` set by the store).
     pub info: DocumentInfo,
+    /// The rest drawing's own crossings, found once: each check of a deformation for folds
+    /// ([`crate::document_routes`]'s viewBox report) looks only at the deformed drawing.
+    pub folds: FoldCheck,
 }
 
 impl Document {
@@ -232,6 +236,7 @@ impl Document {
             name: name.to_string(),
             svg_text: scene.svg_text.clone(),
             extras,
+            folds: FoldCheck::new(&drawing, &rest),
             drawing,
             info,
         })

@@ -244,18 +244,16 @@ pub(crate) fn outside(editor: &Editor, id: &str, request: &Request) -> Result<Re
                     distance: o.distance,
                 })
                 .collect(),
-            folds: splineskin::folds::new_self_crossings(
-                &document.drawing,
-                &document.drawing.flat_points(),
-                &points,
-            )
-            .into_iter()
-            .map(|f| FoldWire {
-                path: f.path,
-                curves: [f.curves.0, f.curves.1],
-                at: [f.at.x, f.at.y],
-            })
-            .collect(),
+            folds: document
+                .folds
+                .new_crossings(&document.drawing, &points)
+                .into_iter()
+                .map(|f| FoldWire {
+                    path: f.path,
+                    curves: [f.curves.0, f.curves.1],
+                    at: [f.at.x, f.at.y],
+                })
+                .collect(),
         }
     };
     Response::json(&report)

@@ -217,8 +217,15 @@ pub fn refine(
         let mut over: Vec<usize> = (0..errors.len())
             .filter(|&j| errors[j] > options.tolerance)
             .collect();
+        // Worst first, as many as the budget allows (a shared curve costs one per copy).
+        over.sort_by(|&a, &b| errors[b].total_cmp(&errors[a]));
         let room = budget.saturating_sub(current.n_curves());
-        if over.is_empty() || room == 0 || rounds == MAX_ROUNDS {
+        let split = if rounds == MAX_ROUNDS {
+            None
+        } else {
+            curves_to_split(&current, &over, room)
+        };
+        let Some(split) = split else {
             return Ok(Refined {
                 drawing: current,
                 inserted,
@@ -227,43 +234,7 @@ pub fn refine(
                 rounds,
                 met: over.is_empty(),
             });
-        }
-        // Worst first, as many as the budget allows (a shared curve costs one per copy).
-        over.sort_by(|&a, &b| errors[b].total_cmp(&errors[a]));
-        let copies = shared_copies(&current);
-        let mut split: Vec<Vec<bool>> = current
-            .paths
-            .iter()
-            .map(|p| vec![false; p.n_curves()])
-            .collect();
-        let locate = curve_locations(&current);
-        let mut added = 0;
-        for j in over {
-            let (p, c) = locate[j];
-            if split[p][c] {
-                continue;
-            }
-            let group = copies.get(&(p, c)).cloned().unwrap_or_else(|| vec![(p, c)]);
-            let fresh: Vec<(usize, usize)> =
-                group.into_iter().filter(|&(q, d)| !split[q][d]).collect();
-            if added + fresh.len() > room {
-                break;
-            }
-            added += fresh.len();
-            for (q, d) in fresh {
-                split[q][d] = true;
-            }
-        }
-        if added == 0 {
-            return Ok(Refined {
-                drawing: current,
-                inserted,
-                rig,
-                worst,
-                rounds,
-                met: false,
-            });
-        }
+        };
         for (p, path) in current.paths.iter_mut().enumerate() {
             let (refined, flags) = split_path(path, &split[p], &inserted[p]);
             *path = refined;
@@ -271,6 +242,36 @@ pub fn refine(
         }
         rounds += 1;
     }
+}
+
+/// Which curves of `drawing` to split (per path, per curve): those of `over` (curve indices
+/// over all paths, worst first), each with every copy of it in other paths, as long as the
+/// total stays within `room`. `None` when nothing is to be split or nothing fits.
+fn curves_to_split(drawing: &Drawing, over: &[usize], room: usize) -> Option<Vec<Vec<bool>>> {
+    let copies = shared_copies(drawing);
+    let locate = curve_locations(drawing);
+    let mut split: Vec<Vec<bool>> = drawing
+        .paths
+        .iter()
+        .map(|p| vec![false; p.n_curves()])
+        .collect();
+    let mut added = 0;
+    for &j in over {
+        let (p, c) = locate[j];
+        if split[p][c] {
+            continue;
+        }
+        let group = copies.get(&(p, c)).cloned().unwrap_or_else(|| vec![(p, c)]);
+        let fresh: Vec<(usize, usize)> = group.into_iter().filter(|&(q, d)| !split[q][d]).collect();
+        if added + fresh.len() > room {
+            break;
+        }
+        added += fresh.len();
+        for (q, d) in fresh {
+            split[q][d] = true;
+        }
+    }
+    (added > 0).then_some(split)
 }
 
 /// The largest parametric distance of the fit from the target of each curve of `drawing`

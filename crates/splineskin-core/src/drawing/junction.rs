@@ -379,13 +379,10 @@ pub fn classify_joints(
             let u = points[p] - points[a];
             let v = points[b] - points[p];
             let theta = angle_between(u, v);
-            if theta <= options.smooth_angle {
-                let ratio = u.hypot() / v.hypot();
-                if (ratio - 1.0).abs() <= options.c1_ratio && theta <= options.c1_ratio {
-                    JointKind::C1
-                } else {
-                    JointKind::G1
-                }
+            if input_satisfies(JointKind::C1, u, v, options) {
+                JointKind::C1
+            } else if input_satisfies(JointKind::G1, u, v, options) {
+                JointKind::G1
             } else if options.keep_right_angles
                 && (theta - std::f64::consts::FRAC_PI_2).abs() <= options.right_angle
             {
