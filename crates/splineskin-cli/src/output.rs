@@ -9,7 +9,8 @@ use kurbo::{Point, Rect};
 use serde::Serialize;
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::svg_out::{
-    art_bounds, art_outside_view_box, write_svg_following, write_svg_view_box, ViewBoxRule,
+    art_bounds, art_outside_view_box, write_svg_following, write_svg_view_box,
+    write_svg_with_inserted, ViewBoxRule,
 };
 use splineskin::drawing::Drawing;
 
@@ -424,7 +425,8 @@ pub fn write_deformed_view_box(
 }
 
 /// [`write_deformed_view_box`] with the anchors inserted by adaptive control points (per path,
-/// per joint) listed in the JSON output.
+/// per joint) marked: listed per path in the JSON output, and on each element of an SVG in
+/// `data-splineskin-inserted` (`splineskin::drawing::svg_out::INSERTED_ATTRIBUTE`).
 pub fn write_deformed_marked(
     path: &Path,
     drawing: &Drawing,
@@ -433,9 +435,10 @@ pub fn write_deformed_marked(
     maps: Option<&ElementMaps>,
     inserted: Option<&[Vec<bool>]>,
 ) -> Result<()> {
-    let svg = || match maps {
-        Some(maps) => write_svg_following(drawing, points, maps, rule),
-        None => write_svg_view_box(drawing, points, rule),
+    let svg = || match (maps, inserted) {
+        (_, Some(inserted)) => write_svg_with_inserted(drawing, points, rule, maps, inserted),
+        (Some(maps), None) => write_svg_following(drawing, points, maps, rule),
+        (None, None) => write_svg_view_box(drawing, points, rule),
     };
     let bytes = match Format::of(path)? {
         Format::Json => paths_json(drawing, points, inserted)

@@ -76,6 +76,54 @@ fn deform_tolerance_inserts_marked_anchors_and_keeps_the_others() {
         assert_eq!(kept.len(), a.len().div_ceil(3), "path {p}");
     }
     assert!(inserted_total > 0);
+
+    // In SVG output the inserted anchors are listed on their elements ("subpath:anchor"), the
+    // same ones as in the JSON (the fish's elements are one subpath each, in path order).
+    ok(&run(
+        &dir,
+        &[
+            "deform",
+            &scene,
+            "--tolerance",
+            "0.001",
+            "-o",
+            "refined.svg",
+        ],
+    ));
+    let svg = std::fs::read_to_string(dir.join("refined.svg")).unwrap();
+    let document = roxmltree::Document::parse(&svg).unwrap();
+    let marked: Vec<Vec<usize>> = document
+        .descendants()
+        .filter(|n| n.has_tag_name("path"))
+        .map(|n| {
+            n.attribute("data-splineskin-inserted")
+                .map(|list| {
+                    list.split(' ')
+                        .map(|e| {
+                            let (s, k) = e.split_once(':').unwrap();
+                            assert_eq!(s, "0", "{e}");
+                            k.parse().unwrap()
+                        })
+                        .collect()
+                })
+                .unwrap_or_default()
+        })
+        .collect();
+    let listed: Vec<Vec<usize>> = (0..a.len())
+        .map(|p| {
+            refined["paths"][p]["inserted"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|k| k.as_u64().unwrap() as usize)
+                .collect()
+        })
+        .collect();
+    assert_eq!(marked, listed);
+    // Without --tolerance there is nothing to mark.
+    ok(&run(&dir, &["deform", &scene, "-o", "plain.svg"]));
+    let plain_svg = std::fs::read_to_string(dir.join("plain.svg")).unwrap();
+    assert!(!plain_svg.contains("data-splineskin-inserted"));
 }
 
 #[test]

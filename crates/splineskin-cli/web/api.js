@@ -72,6 +72,19 @@ export async function trainOperator(document, scene, signal, job) {
   return { info: JSON.parse(header), data };
 }
 
+/**
+ * Asks operator rig `id` to follow the handles to `handles` (`settle`: the drag ended there):
+ * `{ info, data }` of a new operator (as trainOperator gives), or null when the server keeps
+ * the operator (the configuration is in its trained region, or following reached its limit).
+ */
+export async function followOperator(id, handles, settle) {
+  const response = await postJson(`/api/defops/${encodeURIComponent(id)}/follow`, { handles, settle });
+  const header = response.headers.get('x-splineskin-defop');
+  if (!header) return null;
+  const data = new Float64Array(await response.arrayBuffer());
+  return { info: JSON.parse(header), data };
+}
+
 /** The server's (the library's) deformation of operator rig `id` at handle positions `handles`. */
 export async function operatorDeform(id, handles) {
   const response = await postJson(`/api/defops/${encodeURIComponent(id)}/deform`, { handles });

@@ -74,8 +74,8 @@ export class DefOpLiveRig {
     this.handles = Float64Array.from(handles.flat());
     /** ψ(Q), |Ψ| values; ψ[1 + a] = z_a. */
     this.psi = new Float64Array(nPsi);
-    /** The last configuration Q, x0, y0, x1, … (for the tests). */
-    this.q = new Float64Array(2 * n);
+    /** The last configuration Q, x0, y0, x1, … (the rest until the first frame). */
+    this.q = Float64Array.from(this.rest);
   }
 
   /** Writes Q = (T_ℓ(p_ℓ))_ℓ for `pose` (one map [a, b, c, d, e, f] per handle) into this.q. */

@@ -14,6 +14,7 @@ import { weightColour, weightImage } from './colour.js';
 import { History } from './history.js';
 import { LiveRig, littleEndian } from './rig.js';
 import { DefOpLiveRig } from './defop.js';
+import { OperatorFollower, blendIn } from './follow.js';
 import { installGestures, selectionCentre } from './gestures.js';
 import { TimelineRuler } from './timeline.js';
 import { DrawingView, JUNCTION_KINDS, posedHandles } from './view.js';
@@ -421,6 +422,7 @@ function render({ timed = false } = {}) {
     editor.points.set(editor.rest);
   } else if (rigReady()) {
     editor.rig.deform(scene.pose, editor.points);
+    if (timed && editor.rig instanceof DefOpLiveRig) follower.moved();
   }
   const t1 = performance.now();
   view.writePaths(editor.points);
@@ -457,6 +459,41 @@ function drawOverlay() {
   // An operator moves pins only: no rotate or scale widgets.
   const centre = isDefop(editor.scene) ? null : selectionCentre(editor.scene, editor.selection);
   view.drawHandles(posedHandles(editor.scene), editor.selection, centre);
+}
+
+// An operator follows the user's drags beyond where it was trained (follow.js): the server
+// samples the ground truth there and answers a refitted operator, blended in without a jump.
+const follower = new OperatorFollower({
+  send: (rig, handles, settle) => api.followOperator(rig.id, handles, settle),
+  current: () =>
+    editor.rig instanceof DefOpLiveRig && rigReady() && document.body.dataset.rig === 'ready' ? editor.rig : null,
+  swap(old, info, data) {
+    const rig = new DefOpLiveRig(info, data, editor.view.nPoints, editor.scene.handles);
+    rig.configuration(editor.scene.pose); // where the handles are, before its first frame
+    blendIn(rig, old);
+    editor.rig = rig;
+    const [, solve, join] = info.seconds;
+    say(
+      `${shortName()}: the operator followed the handles (${plural(info.n_followed, 'sample')} added where ` +
+        `the training did not reach, ${info.n_samples} in all; solved in ${solve.toFixed(2)} s, joined in ${join.toFixed(2)} s)`,
+    );
+    blendFrames();
+  },
+  state(name) {
+    document.body.dataset.follow = name;
+  },
+  failed(e) {
+    showError(`following the handles: ${e.message}`);
+  },
+});
+editor.follower = follower;
+
+/** Draws frames until a blend from a followed operator ends. */
+function blendFrames() {
+  requestAnimationFrame(() => {
+    render({ timed: true });
+    if (editor.rig?.blendingUntil) blendFrames();
+  });
 }
 
 let frameRequested = false;
@@ -881,6 +918,7 @@ const gestureActions = {
       editor.selectedKey = anim.setKey(editor.scene, editor.time, editor.scene.pose, handles);
     }
     sceneChanged();
+    if (editor.rig instanceof DefOpLiveRig) follower.released();
   },
   boxChanged(box) {
     editor.view.showBox(box);

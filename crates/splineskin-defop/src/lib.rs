@@ -104,15 +104,16 @@ pub use sarap::{
 pub use sarap_energy::sarap_energy;
 pub use spatial_basis::{SpatialBasis, SpatialBasisKind};
 pub use spline_join::{
-    training_domain_options, DefOpRig, DefOpRigEvaluator, DrawingDefOp, OUTSIDE_TOLERANCE_FRACTION,
-    TRAINING_MAX_AREA_FRACTION, TRAINING_SAMPLES_PER_DIAGONAL,
+    training_domain_options, DefOpRig, DefOpRigEvaluator, DrawingDefOp, SplineJoin,
+    OUTSIDE_TOLERANCE_FRACTION, PIN_SNAP_FRACTION, TRAINING_MAX_AREA_FRACTION,
+    TRAINING_SAMPLES_PER_DIAGONAL,
 };
 pub use study::{
     geometric_sample_counts, study, Study, StudyOptions, StudyProgress, StudyRow, DEFAULT_HELD_OUT,
     DEFAULT_HELD_OUT_SEED, STUDY_BASES,
 };
 pub use train::{
-    ground_truths_from_rest, train, Energy, Progress, StageReport, TrainOptions, Training,
-    WarmStart, DEFAULT_COVER_SHARE, DEFAULT_DISC_FRACTION, DEFAULT_GROWTH,
-    DEFAULT_TRAINING_SAMPLES,
+    extend, ground_truths_from_rest, train, trained_distance, Energy, ExtendReport, Progress,
+    StageReport, TrainOptions, Training, WarmStart, DEFAULT_COVER_SHARE, DEFAULT_DISC_FRACTION,
+    DEFAULT_GROWTH, DEFAULT_TRAINING_SAMPLES,
 };

@@ -10,7 +10,7 @@ use faer::{Accum, Mat, MatRef, Par};
 use std::collections::HashMap;
 use std::sync::Mutex;
 
-use kurbo::Point;
+use kurbo::{CubicBez, ParamCurve, ParamCurveNearest, Point};
 
 use super::operator::coefficients_at;
 use super::{
@@ -20,7 +20,7 @@ use splineskin_core::domain::{Domain, DomainOptions, MeshWeights};
 use splineskin_core::drawing::Drawing;
 use splineskin_core::mesh::TriMesh;
 use splineskin_core::spline_fit::quadrature::SampledCurves;
-use splineskin_core::spline_fit::system::{solve_path, HandleMaps};
+use splineskin_core::spline_fit::system::{solve_path_with_points, HandleMaps, PointConstraint};
 use splineskin_core::spline_fit::{validate, FitOptions};
 use splineskin_core::weights::WeightField;
 
@@ -228,7 +228,9 @@ impl DefOpRig {
     /// Precomputes the join of `drawing` with `op`, an operator on `mesh` (the mesh it was
     /// fitted or trained on), with the fit's quadrature, measure and junction constraints from
     /// `options`: per path, the fit `F` over the vertices its curves touch (one sparse LU, `2`
-    /// right-hand sides per vertex), then `F Dᵀ G`.
+    /// right-hand sides per vertex), then `F Dᵀ G`. The operator's handles pin the art under them
+    /// ([`SplineJoin::new`]). The same as [`SplineJoin::new`] then [`SplineJoin::rig`]; keep
+    /// the [`SplineJoin`] to join other operators on the same mesh.
     ///
     /// Errors: an invalid mesh, an operator of another vertex count
     /// ([`DefOpError::BasisMismatch`]), a malformed drawing ([`DefOpError::Fit`]), a point of
@@ -241,68 +243,9 @@ impl DefOpRig {
         options: &FitOptions,
     ) -> Result<DefOpRig, DefOpError> {
         mesh.check()?;
-        let n_vertices = mesh.n_vertices();
-        if op.n_vertices() != n_vertices {
-            return Err(DefOpError::BasisMismatch {
-                basis_vertices: op.n_vertices(),
-                n_vertices,
-            });
-        }
-        validate(drawing)?;
-        // One value per vertex (unused): the field only locates points and finds kinks.
-        let locator = MeshWeights::new(mesh, vec![0.0; n_vertices], 1)?;
-        let bounds = mesh.vertices.iter().fold(
-            kurbo::Rect::from_points(mesh.vertices[0], mesh.vertices[0]),
-            |r, &p| r.union_pt(p),
-        );
-        let tolerance = OUTSIDE_TOLERANCE_FRACTION * bounds.width().hypot(bounds.height());
-
-        let n_psi = op.handle_basis.n_functions();
-        let n_points = drawing.n_points();
-        let context = JoinContext {
-            op,
-            locator: &locator,
-            tolerance,
-            options,
-        };
-        // Paths are independent: join them (in parallel if asked), then place their rows.
-        let joined: Vec<PathJoin> =
-            splineskin_core::parallel::try_map(&drawing.paths, options.parallel, |pi, path| {
-                context.join_path(pi, path)
-            })?;
-        let mut g_spline = Mat::<f64>::zeros(2 * n_points, n_psi);
-        let mut n_nodes_outside = 0;
-        let mut max_outside_distance: f64 = 0.0;
-        let mut rank_deficient_paths = Vec::new();
-        let paths = drawing.paths.iter().zip(drawing.path_ranges());
-        for (pi, ((path, range), joined)) in paths.zip(&joined).enumerate() {
-            let offset = range.start;
-            n_nodes_outside += joined.n_nodes_outside;
-            max_outside_distance = max_outside_distance.max(joined.max_outside_distance);
-            if joined.rank_deficient {
-                rank_deficient_paths.push(pi);
-            }
-            for (row, src) in path.coordinate_rows(offset) {
-                g_spline.row_mut(row).copy_from(joined.block.row(src));
-            }
-        }
-        if n_nodes_outside > 0 {
-            tracing::warn!(
-                "{n_nodes_outside} quadrature nodes of the drawing lie outside the operator's mesh (at most {max_outside_distance:e} drawing units): they take the nearest boundary point's values"
-            );
-        }
-        let mut coefficients = Vec::with_capacity(2 * n_points * n_psi);
-        for col in g_spline.col_iter() {
-            coefficients.extend(col.iter().copied());
-        }
-        Ok(DefOpRig {
-            handle_basis: op.handle_basis.clone(),
-            n_points,
-            coefficients,
-            n_nodes_outside,
-            max_outside_distance,
-            rank_deficient_paths,
-        })
+        check_vertex_count(op, mesh.n_vertices())?;
+        let pins: Vec<Point> = op.handles().iter().map(|&h| mesh.vertices[h]).collect();
+        SplineJoin::new(drawing, mesh, &pins, options)?.rig(op)
     }
 
     /// [`DefOpRig::precompute`] on the domain the operator was trained on: checks that the
@@ -380,105 +323,373 @@ impl DefOpRig {
     }
 }
 
-/// What every path's join shares.
-struct JoinContext<'a> {
-    op: &'a DefOp,
-    locator: &'a MeshWeights,
-    /// Largest distance outside the mesh accepted, drawing units.
-    tolerance: f64,
-    options: &'a FitOptions,
+/// The operator-independent half of the join: for every path of a drawing, the fit `F` over
+/// the mesh vertices its curves touch ([`DefOpRig`]'s formula). `F` depends on the drawing,
+/// the mesh and the fit options only, so an operator retrained on the same mesh (more samples,
+/// e.g. around a configuration the user dragged to) is joined by products alone:
+/// `G_spline = F · (Dᵀ G)` at the touched vertices, milliseconds where the fit took a good
+/// part of a second on the octopus.
+///
+/// ```
+/// # use kurbo::{Point, Rect, Vec2};
+/// # use splineskin_defop::{DefOp, DefOpOptions, DefOpRig, HandleBasisKind, SpatialBasis, SplineJoin};
+/// # use splineskin_core::drawing::{Drawing, JunctionOptions, Path};
+/// # use splineskin_core::mesh::TriMesh;
+/// # use splineskin_core::spline_fit::FitOptions;
+/// # let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 8, 2)?;
+/// # let handles = [9, 17];
+/// # let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+/// # let shifts = [(0.0, 0.0), (0.3, 0.1), (-0.2, 0.4), (0.1, -0.3), (0.5, 0.2)];
+/// # let configurations: Vec<Vec<Point>> =
+/// #     shifts.iter().map(|&s| rest.iter().map(|&p| p + Vec2::from(s)).collect()).collect();
+/// # let solutions: Vec<Vec<Point>> =
+/// #     shifts.iter().map(|&s| mesh.vertices.iter().map(|&p| p + Vec2::from(s)).collect()).collect();
+/// # let options = DefOpOptions::default().with_handle_basis(HandleBasisKind::Linear);
+/// # let op = DefOp::fit(&mesh, &handles, &SpatialBasis::hats(&mesh)?, &configurations, &solutions, &options)?;
+/// let line = [(0.5, 0.5), (1.5, 0.5), (2.5, 0.5), (3.5, 0.5)].map(Point::from).to_vec();
+/// let drawing = Drawing {
+///     paths: vec![Path::new(line, false, &JunctionOptions::default()).unwrap()],
+///     ..Default::default()
+/// };
+/// let pins: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+/// let join = SplineJoin::new(&drawing, &mesh, &pins, &FitOptions::default())?;
+/// let rig = join.rig(&op)?; // and again for every operator on this mesh
+/// let direct = DefOpRig::precompute(&drawing, &mesh, &op, &FitOptions::default())?;
+/// assert_eq!(rig.coefficients(), direct.coefficients());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct SplineJoin {
+    n_vertices: usize,
+    n_points: usize,
+    paths: Vec<PathFit>,
+    parallel: bool,
+    n_nodes_outside: usize,
+    max_outside_distance: f64,
+    rank_deficient_paths: Vec<usize>,
+    n_held: usize,
 }
 
-/// One path's part of `G_spline` and what its precompute found.
-struct PathJoin {
-    /// `2m × |Ψ|` (`m` unknown points): row `2k + d` coordinate `d` of unknown point `k`.
-    block: Mat<f64>,
+/// Largest distance from a pin to the drawing's curves at which the nearest curve point is
+/// held by it ([`SplineJoin::new`]), as a fraction of the mesh's bounding-box diagonal: 0.002
+/// (a pin placed on a stroke holds the curve under it; a pin inside a fill holds nothing: held
+/// there, the nearest curve, say a small decoration near an arm's tip, would be bent to the
+/// deformation's sharpest point).
+pub const PIN_SNAP_FRACTION: f64 = 0.002;
+
+/// A curve point a pin holds: curve `curve` of its path at `t`, rest point `point`.
+#[derive(Clone, Copy, Debug)]
+struct Held {
+    curve: usize,
+    t: f64,
+    point: Point,
+}
+
+/// For each path, the curve points the pins hold: each pin's nearest curve point over the
+/// drawing when within `snap`; per curve the nearest pin's; none equal to another's point
+/// (an anchor shared by two curves is held once).
+fn held_points(drawing: &Drawing, pins: &[Point], snap: f64) -> Vec<Vec<Held>> {
+    let mut held: Vec<Vec<(Held, f64)>> = vec![Vec::new(); drawing.paths.len()];
+    for &pin in pins {
+        let mut best: Option<(usize, Held, f64)> = None;
+        for (pi, path) in drawing.paths.iter().enumerate() {
+            for j in 0..path.n_curves() {
+                let [p0, p1, p2, p3] = path.curve_points(j);
+                let nearest = CubicBez::new(p0, p1, p2, p3).nearest(pin, 1e-12 * snap.max(1e-300));
+                let d = nearest.distance_sq.sqrt();
+                if d <= snap && best.as_ref().is_none_or(|b| d < b.2) {
+                    let point = CubicBez::new(p0, p1, p2, p3).eval(nearest.t);
+                    best = Some((
+                        pi,
+                        Held {
+                            curve: j,
+                            t: nearest.t,
+                            point,
+                        },
+                        d,
+                    ));
+                }
+            }
+        }
+        let Some((pi, h, d)) = best else { continue };
+        let same_point = |o: &Held| (o.point - h.point).hypot() <= 1e-9 * snap;
+        match held[pi]
+            .iter()
+            .position(|(o, _)| o.curve == h.curve || same_point(o))
+        {
+            Some(k) if held[pi][k].1 > d => held[pi][k] = (h, d),
+            Some(_) => {}
+            None => held[pi].push((h, d)),
+        }
+    }
+    held.into_iter()
+        .map(|v| v.into_iter().map(|(h, _)| h).collect())
+        .collect()
+}
+
+/// A path to fit, where it sits in the drawing, and the curve points pins hold on it.
+struct FittedPath<'a> {
+    index: usize,
+    path: &'a splineskin_core::drawing::Path,
+    /// Its first chain point in the drawing's layout.
+    offset: usize,
+    held: &'a [Held],
+}
+
+/// One path's fit over the mesh vertices it touches.
+#[derive(Clone, Debug)]
+struct PathFit {
+    /// The touched vertices, in local order.
+    vertices: Vec<u32>,
+    /// `F`: `2m × 2 n_local` (`m` unknown points), column `2a + d` the translation coordinate
+    /// `d` of local vertex `a`.
+    f: Mat<f64>,
+    /// `(row of G_spline, row of F)` for every coordinate the path writes.
+    rows: Vec<(usize, usize)>,
     n_nodes_outside: usize,
     max_outside_distance: f64,
     rank_deficient: bool,
 }
 
-impl JoinContext<'_> {
-    /// `F Dᵀ G` for path `path` (index `pi`, for messages): its quadrature points and the
-    /// vertices they touch, its fit over those vertices' hats, times their rows of `Dᵀ G`.
-    fn join_path(
-        &self,
-        pi: usize,
-        path: &splineskin_core::drawing::Path,
-    ) -> Result<PathJoin, DefOpError> {
-        let one = Drawing {
-            paths: vec![path.clone()],
-            ..Default::default()
-        };
-        // First pass: the points where the path's quadrature evaluates its weights (nodes cut
-        // at mesh edges; the authors' rule's samples), and the vertices they touch.
-        let touched = Touched {
-            locator: self.locator,
-            points: Mutex::new(Vec::new()),
-        };
-        SampledCurves::sample(&one, &touched, self.options);
-        let points = touched.points.into_inner().unwrap_or_default();
-        let mut local: HashMap<u32, u32> = HashMap::new();
-        let mut vertices: Vec<u32> = Vec::new();
-        let mut n_nodes_outside = 0;
-        let mut max_outside_distance: f64 = 0.0;
-        for p in points {
-            let at = self.locator.interpolation(p).ok_or(DefOpError::Domain(
-                splineskin_core::domain::DomainError::EmptyDomain {
-                    reason: "the mesh has no boundary (a bug: valid meshes have one)",
-                },
-            ))?;
-            if at.outside_distance > 0.0 {
-                if at.outside_distance > self.tolerance {
-                    return Err(DefOpError::DrawingOutsideMesh {
-                        path: pi,
-                        x: p.x,
-                        y: p.y,
-                        distance: at.outside_distance,
-                        tolerance: self.tolerance,
-                    });
-                }
-                n_nodes_outside += 1;
-                max_outside_distance = max_outside_distance.max(at.outside_distance);
-            }
-            for &v in &at.vertices {
-                local.entry(v).or_insert_with(|| {
-                    vertices.push(v);
-                    (vertices.len() - 1) as u32
-                });
-            }
-        }
-        let field = LocalHats {
-            locator: self.locator,
-            local: &local,
-            n_local: vertices.len(),
-        };
-        let samples = SampledCurves::sample(&one, &field, self.options);
-        // F: 2m × 2 n_local, column 2a + d = translation coordinate d of local vertex a.
-        let solved = solve_path(pi, path, &samples, 0, self.options, HandleMaps::Translation)?;
-        let f = solved.operator;
-        // The local vertices' positions as rows over Ψ (row 2a + d: coordinate d of local
-        // vertex a), i.e. the rows of Dᵀ G at those vertices.
-        let n_phi = self.op.spatial.n_functions();
-        let n_psi = self.op.handle_basis.n_functions();
-        let g = MatRef::from_column_major_slice(&self.op.coefficients, 2 * n_phi, n_psi);
-        let positions = local_positions(self.op, g, &vertices);
-        let mut block = Mat::<f64>::zeros(f.nrows(), n_psi);
-        matmul(
-            block.as_mut(),
-            Accum::Replace,
-            f.as_ref(),
-            positions.as_ref(),
-            1.0,
-            Par::Seq,
+impl SplineJoin {
+    /// Fits every path of `drawing` over the hats of `mesh` (module documentation; the work
+    /// of [`DefOpRig::precompute`] that does not involve the operator), holding the art
+    /// under each of `pins` (the operator's handles at rest).
+    ///
+    /// **Pins hold the art** (Puppet Warp's promise, and the join's side of the paper's
+    /// Proposition 1: the operator interpolates its handles at every configuration). A
+    /// least-squares fit alone lets the curve under a pin slide off it where the deformation
+    /// is sharpest, which is at a dragged point handle (ARAP-type energies concentrate
+    /// stretch in the handle's one-ring). So the curve point nearest each pin on the art
+    /// (within [`PIN_SNAP_FRACTION`] of the mesh's diagonal) is constrained to the deformed
+    /// mesh at that point ([`PointConstraint`]); for a pin exactly on a curve that is the pin
+    /// itself, so the curve passes through it at every configuration. One pin per curve (the nearest), none
+    /// on an anchor another pin holds. At the rest configuration the constraint holds for the
+    /// input, so the drawing still comes back unchanged. Errors as [`DefOpRig::precompute`]'s,
+    /// but for the operator's.
+    pub fn new(
+        drawing: &Drawing,
+        mesh: &TriMesh,
+        pins: &[Point],
+        options: &FitOptions,
+    ) -> Result<SplineJoin, DefOpError> {
+        mesh.check()?;
+        validate(drawing)?;
+        let n_vertices = mesh.n_vertices();
+        // One value per vertex (unused): the field only locates points and finds kinks.
+        let locator = MeshWeights::new(mesh, vec![0.0; n_vertices], 1)?;
+        let bounds = mesh.vertices.iter().fold(
+            kurbo::Rect::from_points(mesh.vertices[0], mesh.vertices[0]),
+            |r, &p| r.union_pt(p),
         );
-        Ok(PathJoin {
-            block,
+        let tolerance = OUTSIDE_TOLERANCE_FRACTION * bounds.width().hypot(bounds.height());
+        let ranges: Vec<_> = drawing.path_ranges().collect();
+        let held = held_points(
+            drawing,
+            pins,
+            PIN_SNAP_FRACTION * mesh.bounding_box_diagonal(),
+        );
+        // Paths are independent: fit them in parallel if asked.
+        let paths: Vec<PathFit> =
+            splineskin_core::parallel::try_map(&drawing.paths, options.parallel, |pi, path| {
+                let fitted = FittedPath {
+                    index: pi,
+                    path,
+                    offset: ranges[pi].start,
+                    held: &held[pi],
+                };
+                fit_path(&locator, tolerance, options, fitted)
+            })?;
+        let n_held = held.iter().map(Vec::len).sum();
+        let n_nodes_outside = paths.iter().map(|p| p.n_nodes_outside).sum();
+        let max_outside_distance = paths
+            .iter()
+            .map(|p| p.max_outside_distance)
+            .fold(0.0, f64::max);
+        if n_nodes_outside > 0 {
+            tracing::warn!(
+                "{n_nodes_outside} quadrature nodes of the drawing lie outside the operator's mesh (at most {max_outside_distance:e} drawing units): they take the nearest boundary point's values"
+            );
+        }
+        Ok(SplineJoin {
+            n_vertices,
+            n_points: drawing.n_points(),
+            rank_deficient_paths: (0..paths.len())
+                .filter(|&pi| paths[pi].rank_deficient)
+                .collect(),
+            paths,
+            parallel: options.parallel,
             n_nodes_outside,
             max_outside_distance,
-            rank_deficient: solved.rank_deficient,
+            n_held,
         })
     }
+
+    /// Curve points held by pins ([`SplineJoin::new`]).
+    pub fn n_held(&self) -> usize {
+        self.n_held
+    }
+
+    /// The rig of `op` (an operator on this join's mesh): `G_spline = F Dᵀ G`, path by path.
+    /// Errors on an operator of another vertex count ([`DefOpError::BasisMismatch`]).
+    pub fn rig(&self, op: &DefOp) -> Result<DefOpRig, DefOpError> {
+        check_vertex_count(op, self.n_vertices)?;
+        let n_phi = op.spatial.n_functions();
+        let n_psi = op.handle_basis.n_functions();
+        let g = MatRef::from_column_major_slice(&op.coefficients, 2 * n_phi, n_psi);
+        let blocks: Vec<Mat<f64>> =
+            splineskin_core::parallel::try_map(&self.paths, self.parallel, |_, path| {
+                // The local vertices' positions as rows over Ψ (row 2a + d: coordinate d of
+                // local vertex a), i.e. the rows of Dᵀ G at those vertices.
+                let positions = local_positions(op, g, &path.vertices);
+                let mut block = Mat::<f64>::zeros(path.f.nrows(), n_psi);
+                matmul(
+                    block.as_mut(),
+                    Accum::Replace,
+                    path.f.as_ref(),
+                    positions.as_ref(),
+                    1.0,
+                    Par::Seq,
+                );
+                Ok::<_, DefOpError>(block)
+            })?;
+        let rows = 2 * self.n_points;
+        let mut coefficients = vec![0.0; rows * n_psi];
+        for (path, block) in self.paths.iter().zip(&blocks) {
+            for &(row, src) in &path.rows {
+                for c in 0..n_psi {
+                    coefficients[c * rows + row] = block[(src, c)];
+                }
+            }
+        }
+        Ok(DefOpRig {
+            handle_basis: op.handle_basis.clone(),
+            n_points: self.n_points,
+            coefficients,
+            n_nodes_outside: self.n_nodes_outside,
+            max_outside_distance: self.max_outside_distance,
+            rank_deficient_paths: self.rank_deficient_paths.clone(),
+        })
+    }
+
+    /// Number of chain points a rig of this join writes.
+    pub fn n_points(&self) -> usize {
+        self.n_points
+    }
+}
+
+/// Refuses an operator whose vertex count is not the mesh's.
+fn check_vertex_count(op: &DefOp, n_vertices: usize) -> Result<(), DefOpError> {
+    if op.n_vertices() != n_vertices {
+        return Err(DefOpError::BasisMismatch {
+            basis_vertices: op.n_vertices(),
+            n_vertices,
+        });
+    }
+    Ok(())
+}
+
+/// `F` for a path: its quadrature points and the vertices they touch, then its fit over
+/// those vertices' hats, the held points constrained to the hats' interpolation there.
+fn fit_path(
+    locator: &MeshWeights,
+    tolerance: f64,
+    options: &FitOptions,
+    fitted: FittedPath<'_>,
+) -> Result<PathFit, DefOpError> {
+    let FittedPath {
+        index: pi,
+        path,
+        offset,
+        held,
+    } = fitted;
+    let one = Drawing {
+        paths: vec![path.clone()],
+        ..Default::default()
+    };
+    // First pass: the points where the path's quadrature evaluates its weights (nodes cut at
+    // mesh edges; the authors' rule's samples), and the vertices they touch.
+    let touched = Touched {
+        locator,
+        points: Mutex::new(Vec::new()),
+    };
+    SampledCurves::sample(&one, &touched, options);
+    let mut points = touched.points.into_inner().unwrap_or_default();
+    // The held points' triangles count as touched (their hats enter the constraint rows).
+    points.extend(held.iter().map(|h| h.point));
+    let mut local: HashMap<u32, u32> = HashMap::new();
+    let mut vertices: Vec<u32> = Vec::new();
+    let mut n_nodes_outside = 0;
+    let mut max_outside_distance: f64 = 0.0;
+    for p in points {
+        let at = locator.interpolation(p).ok_or(DefOpError::Domain(
+            splineskin_core::domain::DomainError::EmptyDomain {
+                reason: "the mesh has no boundary (a bug: valid meshes have one)",
+            },
+        ))?;
+        if at.outside_distance > 0.0 {
+            if at.outside_distance > tolerance {
+                return Err(DefOpError::DrawingOutsideMesh {
+                    path: pi,
+                    x: p.x,
+                    y: p.y,
+                    distance: at.outside_distance,
+                    tolerance,
+                });
+            }
+            n_nodes_outside += 1;
+            max_outside_distance = max_outside_distance.max(at.outside_distance);
+        }
+        for &v in &at.vertices {
+            local.entry(v).or_insert_with(|| {
+                vertices.push(v);
+                (vertices.len() - 1) as u32
+            });
+        }
+    }
+    let field = LocalHats {
+        locator,
+        local: &local,
+        n_local: vertices.len(),
+    };
+    let samples = SampledCurves::sample(&one, &field, options);
+    let constraints: Vec<PointConstraint> = held
+        .iter()
+        .filter_map(|h| {
+            let at = locator.interpolation(h.point)?;
+            let weights = at
+                .vertices
+                .iter()
+                .zip(&at.coefficients)
+                .filter(|(_, &c)| c != 0.0)
+                .filter_map(|(v, &c)| local.get(v).map(|&a| (a as usize, c)))
+                .collect();
+            Some(PointConstraint {
+                curve: h.curve,
+                t: h.t,
+                point: h.point,
+                weights,
+            })
+        })
+        .collect();
+    // F: 2m × 2 n_local, column 2a + d = translation coordinate d of local vertex a.
+    let solved = solve_path_with_points(
+        pi,
+        path,
+        &samples,
+        0,
+        options,
+        HandleMaps::Translation,
+        &constraints,
+    )?;
+    Ok(PathFit {
+        vertices,
+        f: solved.operator,
+        rows: path.coordinate_rows(offset).collect(),
+        n_nodes_outside,
+        max_outside_distance,
+        rank_deficient: solved.rank_deficient,
+    })
 }
 
 /// Rows of `Dᵀ G` at `vertices`: `2 · vertices.len() × |Ψ|`, row `2a + d` coordinate `d` of

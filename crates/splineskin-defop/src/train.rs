@@ -95,8 +95,9 @@ pub struct TrainOptions {
     /// [`DEFAULT_DISC_FRACTION`] of the bounding-box diagonal. Default: empty.
     pub regions: Vec<(SampleRegion, f64)>,
     /// Configurations to cover besides the rest (one point per handle each: a scene's poses,
-    /// its animation's frames), sampled along the way to them ([`Sampler::with_cover`]).
-    /// Default: none.
+    /// its animation's frames), sampled along the way to them ([`Sampler::with_cover`]); the
+    /// distinct targets are samples themselves (at most the cover's share of the samples,
+    /// spread evenly over the list). Default: none.
     pub cover: Vec<Vec<Point>>,
     /// The share of samples drawn along the way to [`TrainOptions::cover`]. Default:
     /// [`DEFAULT_COVER_SHARE`].
@@ -141,6 +142,35 @@ impl Default for TrainOptions {
 }
 
 impl TrainOptions {
+    /// How far from its centre the sampling moves a handle, drawing units: the largest
+    /// radius of the disc and circle regions, two standard deviations of a Gaussian one, and
+    /// [`DEFAULT_DISC_FRACTION`] of `mesh`'s bounding-box diagonal for a Voronoi cell (whose
+    /// size varies per handle) or when there are no regions (the default disc's). The
+    /// radius of "the region an operator was trained on" ([`trained_distance`]).
+    ///
+    /// ```
+    /// use kurbo::Rect;
+    /// use splineskin_defop::{SampleRegion, TrainOptions};
+    /// use splineskin_core::mesh::TriMesh;
+    /// let mesh = TriMesh::grid(Rect::new(0., 0., 4., 3.), 4, 3)?;
+    /// assert!((TrainOptions::default().reach(&mesh) - 0.25).abs() < 1e-12); // 5 % of 5
+    /// let disc = TrainOptions::default().with_regions(vec![(SampleRegion::Disc { radius: 0.7 }, 1.0)]);
+    /// assert_eq!(disc.reach(&mesh), 0.7);
+    /// # Ok::<(), splineskin_core::mesh::MeshError>(())
+    /// ```
+    pub fn reach(&self, mesh: &TriMesh) -> f64 {
+        let default = DEFAULT_DISC_FRACTION * bounding_box_diagonal(mesh);
+        self.regions
+            .iter()
+            .map(|(region, _)| match *region {
+                SampleRegion::Disc { radius } | SampleRegion::Circle { radius } => radius,
+                SampleRegion::Gaussian { sigma } => 2.0 * sigma,
+                SampleRegion::VoronoiCell { .. } => default,
+            })
+            .reduce(f64::max)
+            .unwrap_or(default)
+    }
+
     /// Sets [`TrainOptions::energy`].
     pub fn with_energy(mut self, energy: Energy) -> Self {
         self.energy = energy;
@@ -349,8 +379,17 @@ pub fn train(
     if !options.cover.is_empty() {
         sampler = sampler.with_cover(options.cover.clone(), options.cover_share)?;
     }
+    // The targets to cover are samples themselves (last, so that their solves start from
+    // the most trained prediction): a thin-plate operator then reproduces their ground truth.
+    let targets = cover_targets(
+        &options.cover,
+        &rest,
+        options.cover_share,
+        options.n_samples,
+    );
     let mut configurations = vec![rest.clone()];
-    configurations.extend(sampler.configurations(options.n_samples));
+    configurations.extend(sampler.configurations(options.n_samples - targets.len()));
+    configurations.extend(targets);
     let mut solutions = vec![mesh.vertices.clone()];
     // Stage ends, in samples besides the rest configuration.
     let mut ends = vec![(2 * handles.len() + 1).min(options.n_samples)];
@@ -572,6 +611,189 @@ fn solve_sample(
             })
         }
     }
+}
+
+/// The configurations of `cover` trained on as they are: the distinct ones other than the rest
+/// (to 1e-12 of the rest's extent plus one unit of its size, so rounding does not count as a
+/// new pose), at most `share · n_samples` of them, taken evenly along the list when there are
+/// more.
+fn cover_targets(
+    cover: &[Vec<Point>],
+    rest: &[Point],
+    share: f64,
+    n_samples: usize,
+) -> Vec<Vec<Point>> {
+    let size = rest
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()))
+        .max(1e-300);
+    let same = |a: &[Point], b: &[Point]| {
+        a.iter()
+            .zip(b)
+            .all(|(p, q)| (*p - *q).hypot() <= 1e-12 * size)
+    };
+    let mut distinct: Vec<&Vec<Point>> = Vec::new();
+    for q in cover {
+        if !same(q, rest) && !distinct.iter().any(|d| same(d, q)) {
+            distinct.push(q);
+        }
+    }
+    let budget = ((share * n_samples as f64).floor() as usize).min(distinct.len());
+    (0..budget)
+        .map(|k| distinct[k * distinct.len() / budget].clone())
+        .collect()
+}
+
+/// What [`extend`] did.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct ExtendReport {
+    /// Configurations solved and added.
+    pub n_new: usize,
+    /// Samples the operator is fitted to now, the rest included.
+    pub n_fitted: usize,
+    /// Symmetric ARAP: samples whose solve fell back to the ARAP solution or the rest pose.
+    pub fallbacks: usize,
+    /// Samples whose solver stopped before converging (ARAP; kept, as [`train`] keeps them).
+    pub not_converged: usize,
+    /// The most iterations a solve took (of the start that succeeded).
+    pub max_iterations: usize,
+    /// Wall time of the solves, seconds (0 in WebAssembly in a page).
+    pub solve_seconds: f64,
+    /// Wall time of the refit, seconds.
+    pub fit_seconds: f64,
+}
+
+/// Adds the ground truths at `configurations` to `training` and refits its operator: the
+/// paper's bootstrapping (§3.3) continued where the user goes. Each solve starts from the
+/// current operator's prediction (symmetric ARAP falls back as in [`train`]); the refit is
+/// [`DefOp::fit`] over every sample with the options' fit, as the training's last stage.
+/// `options` must be the training's own (energy, solvers, fit); its sample counts, regions
+/// and seed are ignored. `progress(done)` is called after every solve.
+///
+/// A thin-plate operator reproduces each added sample exactly, so a configuration added here
+/// is deformed as its ground truth, and the handles stay interpolated at every configuration
+/// ([`DefOp::fit`]'s constraint (8c′)).
+///
+/// ```
+/// use kurbo::{Point, Rect, Vec2};
+/// use splineskin_defop::{extend, train, Energy, SpatialBasis, TrainOptions};
+/// use splineskin_core::mesh::TriMesh;
+/// let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 16, 4)?;
+/// let handles = [34, 50, 76];
+/// let spatial = SpatialBasis::hats(&mesh)?;
+/// let options = TrainOptions::default().with_energy(Energy::Arap).with_n_samples(20);
+/// let mut training = train(&mesh, &handles, &spatial, &options, &|_| {})?;
+/// // The last handle lifted far beyond the training discs (5 % of the diagonal).
+/// let mut far: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+/// far[2] += Vec2::new(0.0, 1.5);
+/// let report = extend(&mesh, &options, &mut training, &[far.clone()], &|_| {})?;
+/// assert_eq!((report.n_new, report.n_fitted), (1, 22));
+/// // The operator now gives that sample's ground truth.
+/// let truth = training.solutions.last().unwrap();
+/// let at = training.op.eval(&far)?;
+/// assert!(at.iter().zip(truth).all(|(a, t)| (*a - *t).hypot() < 1e-8));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn extend(
+    mesh: &TriMesh,
+    options: &TrainOptions,
+    training: &mut Training,
+    configurations: &[Vec<Point>],
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<ExtendReport, DefOpError> {
+    let handles = training.op.handles().to_vec();
+    let solver = Solver {
+        arap: Arap::new(mesh, &handles, options.arap)?,
+        sarap: match options.energy {
+            Energy::Arap => None,
+            Energy::SymmetricArap => Some(SymmetricArap::new(mesh, &handles, options.sarap)?),
+        },
+    };
+    let clock = stopwatch();
+    let solved = AtomicUsize::new(0);
+    let n_before = training.configurations.len();
+    let op = &training.op;
+    let solve_one = |k: usize| -> Result<Solved, DefOpError> {
+        let result = solve_sample(
+            mesh,
+            &handles,
+            &solver,
+            Some(op),
+            n_before + k,
+            &configurations[k],
+        );
+        progress(solved.fetch_add(1, Ordering::Relaxed) + 1);
+        result
+    };
+    let results: Vec<Solved> = if options.parallel {
+        (0..configurations.len())
+            .into_par_iter()
+            .map(solve_one)
+            .collect::<Result<_, _>>()?
+    } else {
+        (0..configurations.len())
+            .map(solve_one)
+            .collect::<Result<_, _>>()?
+    };
+    let solve_seconds = clock();
+    let fallbacks = results.iter().filter(|s| s.start != Start::First).count();
+    let not_converged = results.iter().filter(|s| !s.converged).count();
+    let max_iterations = results.iter().map(|s| s.iterations).max().unwrap_or(0);
+    let clock = stopwatch();
+    let mut all = training.configurations.clone();
+    all.extend_from_slice(configurations);
+    let mut solutions = training.solutions.clone();
+    solutions.extend(results.into_iter().map(|s| s.solution));
+    let fitted = DefOp::fit(
+        mesh,
+        &handles,
+        training.op.spatial_basis(),
+        &all,
+        &solutions,
+        &options.fit,
+    )?;
+    let fit_seconds = clock();
+    training.op = fitted;
+    training.configurations = all;
+    training.solutions = solutions;
+    Ok(ExtendReport {
+        n_new: configurations.len(),
+        n_fitted: training.configurations.len(),
+        fallbacks,
+        not_converged,
+        max_iterations,
+        solve_seconds,
+        fit_seconds,
+    })
+}
+
+/// How far the configuration `q` is from those trained on: the smallest, over the training
+/// configurations `s`, of the largest handle distance `max_ℓ ‖q_ℓ − s_ℓ‖`. A configuration is
+/// inside the region an operator was trained on when this is at most the sampling radius:
+/// some sample has every handle within a disc's reach of `q`'s. (Every configuration drawn
+/// in discs about the rest is inside, through the rest sample; the measure is the ∞-norm over
+/// handles because one handle dragged far is what leaves the region, however still the
+/// others are.)
+///
+/// ```
+/// use kurbo::Point;
+/// use splineskin_defop::trained_distance;
+/// let trained = vec![vec![Point::new(0., 0.), Point::new(3., 0.)]];
+/// let q = [Point::new(0.5, 0.), Point::new(3., 2.)];
+/// assert_eq!(trained_distance(&trained, &q), 2.0);
+/// ```
+pub fn trained_distance(configurations: &[Vec<Point>], q: &[Point]) -> f64 {
+    configurations
+        .iter()
+        .map(|s| {
+            s.iter()
+                .zip(q)
+                .map(|(a, b)| (*a - *b).hypot2())
+                .fold(0.0, f64::max)
+        })
+        .fold(f64::INFINITY, f64::min)
+        .sqrt()
 }
 
 /// A stopwatch started now: the seconds since, by `std::time::Instant`. WebAssembly in a page

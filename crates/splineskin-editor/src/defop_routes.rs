@@ -16,7 +16,9 @@
 
 use kurbo::Point;
 use serde::{Deserialize, Serialize};
-use splineskin::defop::{train, DefOpRig, Progress};
+use std::sync::Arc;
+
+use splineskin::defop::{extend, train, trained_distance, Progress, SplineJoin};
 use splineskin::scene::Compat;
 
 use crate::document_routes::gone_operator;
@@ -24,7 +26,7 @@ use crate::editor::{ApiError, Editor, Request, Response, MAX_OPERATOR_BYTES};
 use crate::progress::{Count, Followed};
 use crate::rig_routes::page_scene;
 use crate::scene_file::defop_energy;
-use crate::store::OperatorRig;
+use crate::store::{OperatorBase, OperatorRig};
 use crate::wire::{EditScene, SceneRequest};
 
 /// Most training samples the page may ask for: 5 000 (about 2 minutes for the 9-handle
@@ -58,6 +60,12 @@ pub struct DefOpInfo {
     pub n_points: usize,
     /// Samples trained on, the rest configuration included.
     pub n_samples: usize,
+    /// Of those, the samples added following the user's drags (`POST /api/defops/{id}/follow`).
+    pub n_followed: usize,
+    /// The sampling radius, root user units: a configuration is in the trained region when
+    /// some sample has every handle within [`FOLLOW_FRACTION`] of it of the configuration's
+    /// ([`splineskin::defop::trained_distance`]).
+    pub reach: f64,
     /// Vertices of the mesh trained on (the drawing's triangulated domain).
     pub n_vertices: usize,
     /// Triangles of the domain.
@@ -139,54 +147,89 @@ pub(crate) fn defop(
         .map_err(|e| bad(&e))?;
         report("join");
         let t2 = clock();
-        let rig =
-            DefOpRig::precompute(&drawing, &shape.mesh, &training.op, &fit).map_err(|e| bad(&e))?;
-
+        // The handles pin the art under them (SplineJoin::new), as DefOpRig::precompute does.
+        let pins: Vec<Point> = shape
+            .handles
+            .iter()
+            .map(|&h| shape.mesh.vertices[h])
+            .collect();
+        let join = SplineJoin::new(&drawing, &shape.mesh, &pins, &fit).map_err(|e| bad(&e))?;
+        let rig = join.rig(&training.op).map_err(|e| bad(&e))?;
         let t3 = clock();
-        let basis = rig.handle_basis();
-        let info = DefOpInfo {
-            id: String::new(),
-            kind: basis.kind().name(),
-            scale: basis.scale(),
-            rest: basis.rest().iter().map(|p| [p.x, p.y]).collect(),
-            n_functions: basis.n_functions(),
-            n_centres: basis.n_centres(),
-            n_points: rig.n_points(),
-            n_samples: training.configurations.len(),
-            n_vertices: shape.mesh.vertices.len(),
-            n_triangles: shape.mesh.triangles.len(),
-            seconds: [t1 - t0, t2 - t1, t3 - t2],
-            n_nodes_outside: rig.n_nodes_outside(),
-        };
-        let bytes = 8 * (rig.coefficients().len() + info.n_centres * 2 * scene.handles.len());
-        if bytes > MAX_OPERATOR_BYTES {
-            return Err(ApiError::bad(format!(
-                "{}: the operator takes {} MiB (at most {} MiB): use fewer samples or handles",
-                document.name,
-                bytes >> 20,
-                MAX_OPERATOR_BYTES >> 20
-            )));
-        }
+        let base = Arc::new(OperatorBase {
+            reach: options.reach(&shape.mesh),
+            mesh: shape.mesh,
+            options,
+            join,
+            n_trained: training.configurations.len(),
+        });
         let rig = OperatorRig {
             document: request.document.clone(),
             rig,
-            mesh: shape.mesh,
-            op: training.op,
+            training,
+            base,
         };
+        let info = operator_info(&rig, [t1 - t0, t2 - t1, t3 - t2]);
+        check_operator_size(&document.name, &rig)?;
         (rig, info)
     };
+    operator_response(editor, rig, info)
+}
+
+/// The response of a new operator rig: kept in the store, its numbers ([`defop_body`]) in the
+/// body, its [`DefOpInfo`] in the header.
+fn operator_response(
+    editor: &Editor,
+    rig: OperatorRig,
+    mut info: DefOpInfo,
+) -> Result<Response, ApiError> {
     let body = defop_body(&rig.rig);
-    let mut info = info;
     info.id = editor.store().add_defop(rig);
     let json = serde_json::to_string(&info).map_err(|e| ApiError::new(500, e.to_string()))?;
     Ok(Response::f64s(&body).with_header(DEFOP_HEADER, crate::document_routes::ascii_json(&json)))
+}
+
+/// The page's description of `rig` (its id is set when the store keeps it).
+fn operator_info(rig: &OperatorRig, seconds: [f64; 3]) -> DefOpInfo {
+    let basis = rig.rig.handle_basis();
+    let mesh = &rig.base.mesh;
+    DefOpInfo {
+        id: String::new(),
+        kind: basis.kind().name(),
+        scale: basis.scale(),
+        rest: basis.rest().iter().map(|p| [p.x, p.y]).collect(),
+        n_functions: basis.n_functions(),
+        n_centres: basis.n_centres(),
+        n_points: rig.rig.n_points(),
+        n_samples: rig.training.configurations.len(),
+        n_followed: rig.training.configurations.len() - rig.base.n_trained,
+        reach: rig.base.reach,
+        n_vertices: mesh.vertices.len(),
+        n_triangles: mesh.triangles.len(),
+        seconds,
+        n_nodes_outside: rig.rig.n_nodes_outside(),
+    }
+}
+
+/// Refuses an operator the page would hold more than [`MAX_OPERATOR_BYTES`] of.
+fn check_operator_size(name: &str, rig: &OperatorRig) -> Result<(), ApiError> {
+    let basis = rig.rig.handle_basis();
+    let bytes = 8 * (rig.rig.coefficients().len() + basis.n_centres() * 2 * basis.n_handles());
+    if bytes > MAX_OPERATOR_BYTES {
+        return Err(ApiError::bad(format!(
+            "{name}: the operator takes {} MiB (at most {} MiB): use fewer samples or handles",
+            bytes >> 20,
+            MAX_OPERATOR_BYTES >> 20
+        )));
+    }
+    Ok(())
 }
 
 /// The numbers the page evaluates: `G_spline` row-major `(2 · n_points) × |Ψ|` (row `2k + d`:
 /// coordinate `d` of chain point `k`), then the thin-plate centres row-major
 /// `n_centres × 2 n_handles` (centre `k`'s scaled displacement `z_k`, x and y of each handle
 /// in turn).
-fn defop_body(rig: &DefOpRig) -> Vec<f64> {
+fn defop_body(rig: &splineskin::defop::DefOpRig) -> Vec<f64> {
     let basis = rig.handle_basis();
     let rows = 2 * rig.n_points();
     let cols = basis.n_functions();
@@ -280,4 +323,122 @@ pub(crate) fn deform(editor: &Editor, id: &str, request: &Request) -> Result<Res
         let flat: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y]).collect();
         Ok(Response::f64s(&flat))
     }
+}
+
+/// Most samples following the user adds to one training (about 4 s of symmetric-ARAP solves
+/// on the octopus in release, and `|Ψ|` grows by one per sample for thin-plate splines):
+/// past it the operator stays as it is, and the answer says so.
+pub const MAX_FOLLOWED_SAMPLES: usize = 400;
+
+/// The trained region, as a fraction of the sampling radius: a configuration is in it when
+/// some sample has every handle within this fraction of the radius of the configuration's
+/// (`trained_distance ≤ FOLLOW_FRACTION · reach`): 0.25. Following starts there, before the
+/// operator's prediction degrades, so that each ground-truth solve starts close to its
+/// answer (tens of milliseconds on the octopus when the step is short) and each refit moves
+/// the drawing little.
+pub const FOLLOW_FRACTION: f64 = 0.25;
+
+/// On release ([`FollowRequest::settle`]) the configuration is added alone when it lies
+/// outside the scene's trained region and farther than this fraction of the sampling radius
+/// from every sample: 0.01 (an operator reproduces its samples; nearer, the difference is
+/// below what the page shows).
+pub const SETTLE_FRACTION: f64 = 0.01;
+
+/// The body of `POST /api/defops/{id}/follow`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FollowRequest {
+    /// The handle configuration `Q` the user dragged to, one `[x, y]` per handle.
+    pub handles: Vec<[f64; 2]>,
+    /// The drag ended here: add `Q` itself when it lies outside the scene's region and is no
+    /// sample yet ([`SETTLE_FRACTION`]), even within the reach of a followed one.
+    #[serde(default)]
+    pub settle: bool,
+}
+
+/// The answer of `POST /api/defops/{id}/follow` when the operator stays as it is (a new
+/// operator is answered as `POST /api/defop` answers).
+#[derive(Clone, Debug, Serialize)]
+pub struct FollowAnswer {
+    /// Always `false`: no new operator.
+    pub followed: bool,
+    /// Why: `inside` (the configuration is in the trained region) or `limit` (following
+    /// added [`MAX_FOLLOWED_SAMPLES`] already).
+    pub reason: &'static str,
+    /// [`splineskin::defop::trained_distance`] of the configuration, root user units.
+    pub distance: f64,
+    /// The sampling radius it is compared with.
+    pub reach: f64,
+}
+
+/// `POST /api/defops/{id}/follow`: the operator following the user. When the handles are
+/// outside the region the operator was trained on (no sample has every handle within
+/// [`FOLLOW_FRACTION`] of the sampling radius of theirs), the ground truth is solved at `Q`,
+/// started from the operator's prediction (the paper's bootstrapping), the operator is
+/// refitted over every sample (`splineskin::defop::extend`) and joined again by products
+/// alone (`SplineJoin::rig`). A thin-plate operator reproduces its samples, so at `Q` the
+/// drawing is the ground truth's fit; the handles stay interpolated at every configuration
+/// (the fit's constraint) and hold the art under them (the join's). The page blends from the
+/// old operator to the new over a few frames, so nothing jumps.
+pub(crate) fn follow(editor: &Editor, id: &str, request: &Request) -> Result<Response, ApiError> {
+    let request: FollowRequest = request.json()?;
+    let rig = editor.store().defop(id).ok_or_else(|| gone_operator(id))?;
+    let name = editor.document(&rig.document)?.name.clone();
+    let n_handles = rig.rig.n_handles();
+    if request.handles.len() != n_handles {
+        return Err(ApiError::bad(format!(
+            "{name}: follow: {} handle positions for an operator of {n_handles} handles",
+            request.handles.len()
+        )));
+    }
+    let q: Vec<Point> = request
+        .handles
+        .iter()
+        .map(|&[x, y]| Point::new(x, y))
+        .collect();
+    if let Some(k) = q.iter().position(|p| !p.is_finite()) {
+        return Err(ApiError::bad(format!(
+            "{name}: follow: handle {k} is at ({}, {}), not a finite position",
+            q[k].x, q[k].y
+        )));
+    }
+    let base = &rig.base;
+    let samples = &rig.training.configurations;
+    let distance = trained_distance(samples, &q);
+    let outside_scene =
+        trained_distance(&samples[..base.n_trained], &q) > FOLLOW_FRACTION * base.reach;
+    let wanted = distance > FOLLOW_FRACTION * base.reach
+        || (request.settle && outside_scene && distance > SETTLE_FRACTION * base.reach);
+    let n_followed = samples.len() - base.n_trained;
+    let stay = |reason| {
+        Response::json(&FollowAnswer {
+            followed: false,
+            reason,
+            distance,
+            reach: base.reach,
+        })
+    };
+    if !wanted {
+        return stay("inside");
+    }
+    if n_followed >= MAX_FOLLOWED_SAMPLES {
+        return stay("limit");
+    }
+    let bad = |e: &dyn std::fmt::Display| ApiError::bad(format!("{name}: follow: {e}"));
+    let clock = editor.progress.clock();
+    let t0 = clock();
+    let mut training = rig.training.clone();
+    extend(&base.mesh, &base.options, &mut training, &[q], &|_| {}).map_err(|e| bad(&e))?;
+    let t1 = clock();
+    let joined = base.join.rig(&training.op).map_err(|e| bad(&e))?;
+    let t2 = clock();
+    let followed = OperatorRig {
+        document: rig.document.clone(),
+        rig: joined,
+        training,
+        base: base.clone(),
+    };
+    check_operator_size(&name, &followed)?;
+    let info = operator_info(&followed, [0.0, t1 - t0, t2 - t1]);
+    operator_response(editor, followed, info)
 }

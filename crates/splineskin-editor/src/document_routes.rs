@@ -181,7 +181,8 @@ impl Deformation {
                 if let Some(k) = q.iter().position(|p| !p.is_finite()) {
                     return Err(ApiError::bad(format!("{name}: export: Q[{k}]: not finite")));
                 }
-                let map = MeshMap::from_operator(&rig.mesh, &rig.op, &q).map_err(|e| bad(&e))?;
+                let map = MeshMap::from_operator(&rig.base.mesh, &rig.training.op, &q)
+                    .map_err(|e| bad(&e))?;
                 ElementMaps::from_map(&document.drawing, &mut |p| map.apply(p), &options)
                     .map_err(|e| bad(&e))?
             }

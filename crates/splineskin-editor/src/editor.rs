@@ -254,6 +254,7 @@ impl Editor {
             (["progress", job], true, _) => rig_routes::progress(self, job),
             (["defop"], _, true) => defop_routes::defop(self, request, followed),
             (["defops", id, "deform"], _, true) => defop_routes::deform(self, id, request),
+            (["defops", id, "follow"], _, true) => defop_routes::follow(self, id, request),
             (["documents", id, "export"], _, true) => document_routes::export(self, id, request),
             (["documents", id, "outside"], _, true) => document_routes::outside(self, id, request),
             (["documents", id, "scene"], _, true) => document_routes::save_scene(self, id, request),

@@ -4,7 +4,7 @@
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
 
-use splineskin::defop::{DefOp, DefOpRig};
+use splineskin::defop::{DefOpRig, SplineJoin, TrainOptions, Training};
 use splineskin::mesh::TriMesh;
 use splineskin::scene::Puppet;
 
@@ -26,17 +26,33 @@ pub struct Rig {
     pub puppet: Mutex<Puppet>,
 }
 
-/// A drawing joined to a deformation operator, with the operator and its mesh (whose
-/// deformation, [`splineskin::defop::MeshMap`], carries what is not a curve on export).
+/// A drawing joined to a deformation operator, with the training behind it (whose operator's
+/// mesh deformation, [`splineskin::defop::MeshMap`], carries what is not a curve on export,
+/// and which following the user extends: `POST /api/defops/{id}/follow`).
 pub struct OperatorRig {
     /// The id of the document it was trained on.
     pub document: String,
     /// The join: the drawing's control points as `G_spline ψ(Q)`.
     pub rig: DefOpRig,
+    /// The operator with its samples and their ground truths.
+    pub training: Training,
+    /// What every operator followed from the same training shares.
+    pub base: Arc<OperatorBase>,
+}
+
+/// What an operator and those that follow the user from it share: the mesh, the training's
+/// options, the operator-free half of the join, and the trained region.
+pub struct OperatorBase {
     /// The mesh the operator was trained on.
     pub mesh: TriMesh,
-    /// The operator.
-    pub op: DefOp,
+    /// The training's options (energy, solvers, fit).
+    pub options: TrainOptions,
+    /// The drawing's fit over the mesh: an operator's join is then products only.
+    pub join: SplineJoin,
+    /// Samples of the first training, the rest included: the region the scene asked for.
+    pub n_trained: usize,
+    /// The sampling radius ([`TrainOptions::reach`]), root user units.
+    pub reach: f64,
 }
 
 /// Items kept under ids, newest last, the oldest dropped past `limit`.

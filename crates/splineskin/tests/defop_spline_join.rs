@@ -19,11 +19,12 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use counting_alloc::{count, CountingAlloc, Counts};
-use kurbo::{Affine, Point, Vec2};
+use kurbo::{Affine, CubicBez, ParamCurve, ParamCurveNearest, Point, Vec2};
 use splineskin::defop::{
     flipped_triangles, train, training_domain_options, Arap, ArapOptions, DefOp, DefOpError,
-    DefOpOptions, DefOpRig, EigenOperator, Energy, HandleBasisKind, SampleRegion, Sampler,
-    SarapOptions, SpatialBasis, SymmetricArap, TrainOptions, Training, DEFAULT_DISC_FRACTION,
+    DefOpOptions, DefOpRig, EigenOperator, Energy, HandleBasisKind, MeshMap, SampleRegion, Sampler,
+    SarapOptions, SpatialBasis, SplineJoin, SymmetricArap, TrainOptions, Training,
+    DEFAULT_DISC_FRACTION, PIN_SNAP_FRACTION,
 };
 use splineskin::domain::{Domain, DomainOptions, MeshWeights};
 use splineskin::drawing::{read_svg, Drawing, ImportOptions, JointKind, JunctionOptions};
@@ -212,7 +213,11 @@ fn join_equals_the_fit_of_the_deformed_mesh() {
     ];
     for (name, domain, op, options) in cases {
         let clock = Instant::now();
-        let rig = DefOpRig::from_domain(&f.drawing, domain, op, &options).unwrap();
+        // Without pins (they constrain the fit where they hold the art: tested below).
+        let rig = SplineJoin::new(&f.drawing, &domain.mesh, &[], &options)
+            .unwrap()
+            .rig(op)
+            .unwrap();
         eprintln!(
             "{name}: precompute {:.3} s (dev profile)",
             clock.elapsed().as_secs_f64()
@@ -231,10 +236,115 @@ fn join_equals_the_fit_of_the_deformed_mesh() {
         );
         assert!(worst < 1e-10, "{name}: {worst:e}");
         // Paths joined on rayon's pool give the same operator, bit for bit.
-        let parallel =
-            DefOpRig::from_domain(&f.drawing, domain, op, &options.with_parallel(true)).unwrap();
+        let parallel = SplineJoin::new(&f.drawing, &domain.mesh, &[], &options.with_parallel(true))
+            .unwrap()
+            .rig(op)
+            .unwrap();
         assert_eq!(parallel.coefficients(), rig.coefficients(), "{name}");
     }
+}
+
+/// The curve point nearest `p`: (path, curve, t, point, distance).
+fn nearest_curve_point(drawing: &Drawing, p: Point) -> (usize, usize, f64, Point, f64) {
+    let mut best = (0, 0, 0.0, p, f64::INFINITY);
+    for (pi, path) in drawing.paths.iter().enumerate() {
+        for j in 0..path.n_curves() {
+            let [a, b, c, d] = path.curve_points(j);
+            let curve = CubicBez::new(a, b, c, d);
+            let n = curve.nearest(p, 1e-13);
+            if n.distance_sq.sqrt() < best.4 {
+                best = (pi, j, n.t, curve.eval(n.t), n.distance_sq.sqrt());
+            }
+        }
+    }
+    best
+}
+
+/// A pin holds the art under it (the join's side of Proposition 1): with the fish's pins moved
+/// onto their nearest curve point, the curve passes through each pin at every configuration
+/// (the deformed mesh there), where the unconstrained least-squares fit lets it slide; pins
+/// off the art hold nothing; the rest configuration still gives the drawing back.
+#[test]
+fn pins_hold_the_art_under_them() {
+    let f = fish();
+    let diag = f.drawing.diagonal();
+    let options = FitOptions::default();
+    let under: Vec<_> = f
+        .handles
+        .iter()
+        .map(|&h| nearest_curve_point(&f.drawing, h))
+        .collect();
+    let on_art: Vec<Point> = under.iter().map(|u| u.3).collect();
+    let domain = Domain::build(&f.drawing, &on_art, &[], &training_domain_options()).unwrap();
+    let mesh = &domain.mesh;
+    // The scene's own pins are inside the fish's fills (1.8 to 18 units from a curve).
+    let snap = PIN_SNAP_FRACTION * mesh.bounding_box_diagonal();
+    assert!(
+        under.iter().all(|u| u.4 > snap),
+        "{:?}",
+        under.iter().map(|u| u.4).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        SplineJoin::new(&f.drawing, mesh, &f.handles, &options)
+            .unwrap()
+            .n_held(),
+        0
+    );
+    let train_options = TrainOptions::default()
+        .with_energy(Energy::Arap)
+        .with_n_samples(20)
+        .with_regions(vec![(SampleRegion::Disc { radius: radius() }, 1.0)]);
+    let spatial = SpatialBasis::hats(mesh).unwrap();
+    let training = train(
+        mesh,
+        &domain.handle_vertices,
+        &spatial,
+        &train_options,
+        &|_| {},
+    )
+    .unwrap();
+    let join = SplineJoin::new(&f.drawing, mesh, &on_art, &options).unwrap();
+    assert_eq!(join.n_held(), on_art.len());
+    let pinned = join.rig(&training.op).unwrap();
+    // DefOpRig::precompute pins the operator's handles.
+    let direct = DefOpRig::from_domain(&f.drawing, &domain, &training.op, &options).unwrap();
+    assert_eq!(direct.coefficients(), pinned.coefficients());
+    let free = SplineJoin::new(&f.drawing, mesh, &[], &options)
+        .unwrap()
+        .rig(&training.op)
+        .unwrap();
+    let art = |points: &[Point], (pi, j, t): (usize, usize, f64)| {
+        let first = f.drawing.path_ranges().nth(pi).unwrap().start + 3 * j;
+        CubicBez::new(
+            points[first],
+            points[first + 1],
+            points[first + 2],
+            points[first + 3],
+        )
+        .eval(t)
+    };
+    let back = max_distance(&pinned.deform(&on_art).unwrap(), &f.drawing.flat_points()) / diag;
+    assert!(back < 1e-12, "rest: {back:e}");
+    let (mut worst_pinned, mut worst_free, mut worst_map): (f64, f64, f64) = (0.0, 0.0, 0.0);
+    for q in configurations_in_discs(&on_art, 3.0 * radius(), 5, N_RANDOM) {
+        let map = MeshMap::from_operator(mesh, &training.op, &q).unwrap();
+        let (with, without) = (pinned.deform(&q).unwrap(), free.deform(&q).unwrap());
+        for (u, &target) in under.iter().zip(&q) {
+            let at = (u.0, u.1, u.2);
+            worst_pinned = worst_pinned.max((art(&with, at) - target).hypot() / diag);
+            worst_free = worst_free.max((art(&without, at) - target).hypot() / diag);
+            worst_map = worst_map.max((map.apply(u.3) - target).hypot() / diag);
+        }
+    }
+    eprintln!(
+        "fish, pins on the curves: the art under a pin vs the pin, largest / diagonal: pinned {worst_pinned:.1e}, unpinned {worst_free:.1e} (the operator's mesh there {worst_map:.1e})"
+    );
+    assert!(
+        worst_map < 1e-9,
+        "the operator interpolates its handles: {worst_map:e}"
+    );
+    assert!(worst_pinned < 1e-9, "pinned: {worst_pinned:e}");
+    assert!(worst_free > 1e-5, "unpinned: {worst_free:e}");
 }
 
 /// Signed angle from `u` to `v`.

@@ -229,4 +229,53 @@ fn training_with_cover_follows_a_far_configuration() {
     for (k, &h) in HANDLES.iter().enumerate() {
         assert!((v[h] - far[k]).hypot() < 1e-9, "handle {k}");
     }
+    // The target is a sample itself, the last: the operator reproduces its ground truth there.
+    let last = covered.configurations.len() - 1;
+    assert_eq!(covered.configurations[last], far);
+    let own = max_distance(&v, &covered.solutions[last]);
+    assert!(own < 1e-8, "the covered target's own ground truth: {own:e}");
+}
+
+/// Following the user (`extend`): a configuration added to a training is reproduced by the
+/// refitted operator, the handles stay interpolated at others, and the samples trained before
+/// are still reproduced.
+#[test]
+fn extend_adds_a_configuration_the_operator_then_reproduces() {
+    let mesh = bar();
+    let spatial = SpatialBasis::hats(&mesh).unwrap();
+    let rest: Vec<_> = HANDLES.iter().map(|&h| mesh.vertices[h]).collect();
+    let base = options(Energy::SymmetricArap);
+    let mut training = train(&mesh, &HANDLES, &spatial, &base, &|_| {}).unwrap();
+    let n_before = training.configurations.len();
+    let reach = base.reach(&mesh);
+    let mut far = rest.clone();
+    far[2] += kurbo::Vec2::new(0.3, 1.5);
+    // Far outside the trained region; after the extension, on a sample.
+    let before = splineskin::defop::trained_distance(&training.configurations, &far);
+    assert!(before > reach, "{before} vs the reach {reach}");
+    let solved = std::sync::atomic::AtomicUsize::new(0);
+    let report = splineskin::defop::extend(&mesh, &base, &mut training, &[far.clone()], &|_| {
+        solved.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    })
+    .unwrap();
+    assert_eq!(solved.into_inner(), 1);
+    assert_eq!((report.n_new, report.n_fitted), (1, n_before + 1));
+    assert_eq!(
+        splineskin::defop::trained_distance(&training.configurations, &far),
+        0.0
+    );
+    let at = training.op.eval(&far).unwrap();
+    let own = max_distance(&at, &training.solutions[n_before]);
+    assert!(own < 1e-8, "{own:e}");
+    for k in [0, n_before / 2, n_before - 1] {
+        let v = training.op.eval(&training.configurations[k]).unwrap();
+        let e = max_distance(&v, &training.solutions[k]);
+        assert!(e < 1e-8, "sample {k}: {e:e}");
+    }
+    let mut elsewhere = far.clone();
+    elsewhere[0] += kurbo::Vec2::new(-0.2, 0.4);
+    let v = training.op.eval(&elsewhere).unwrap();
+    for (k, &h) in HANDLES.iter().enumerate() {
+        assert!((v[h] - elsewhere[k]).hypot() < 1e-9, "handle {k}");
+    }
 }

@@ -211,7 +211,7 @@ impl SplineRig {
                                 .collect(),
                         })
                         .collect();
-                    solve_group(&members, n, samples, options, HandleMaps::Affine)
+                    solve_group(&members, n, samples, options, HandleMaps::Affine, &[])
                 }
             }
         };

@@ -86,6 +86,28 @@ pub struct PathOperator {
     pub rank_deficient: bool,
 }
 
+/// A point of a path's curve held where the deformation takes the art under it: curve `curve`
+/// (of the path) at parameter `t` must equal `Σ_i w_i T_i a`, with `a` the curve's rest point
+/// there and `w_i` the weights at `a`. For translations (the deformation-operator join) that is
+/// the deformed mesh interpolated at `a`, so a pin on a curve holds the art under it: the
+/// curve passes through the pin at every configuration. Two rows per point (x and y) join the
+/// junction rows of the KKT system ([`solve_path_with_points`]):
+///
+/// ```text
+/// Σ_k b_k(t) x_{(3j+k), d} = Σ_i w_i (T_i ā)_d           ā = (a_x, a_y, 1) about the centre
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointConstraint {
+    /// The curve, numbered within the path.
+    pub curve: usize,
+    /// The parameter on it, in `[0, 1]`.
+    pub t: f64,
+    /// The rest point `a` (the curve's point at `t`).
+    pub point: Point,
+    /// The non-zero weights at `a`: `(handle, w_i)`.
+    pub weights: Vec<(usize, f64)>,
+}
+
 /// Assembles and solves the system of `path` (index `path_index`, for messages), whose first
 /// curve is curve `first_curve` of `samples`, for the right-hand sides of `maps`.
 pub fn solve_path(
@@ -95,6 +117,21 @@ pub fn solve_path(
     first_curve: usize,
     options: &FitOptions,
     maps: HandleMaps,
+) -> Result<PathOperator, FitError> {
+    solve_path_with_points(path_index, path, samples, first_curve, options, maps, &[])
+}
+
+/// [`solve_path`] with the path's curve points in `points` held by [`PointConstraint`]s
+/// (independent of each other and of the junction rows: at most one per curve, none on an
+/// anchor that another holds). A point-like path ignores them (it moves as one point).
+pub fn solve_path_with_points(
+    path_index: usize,
+    path: &Path,
+    samples: &SampledCurves,
+    first_curve: usize,
+    options: &FitOptions,
+    maps: HandleMaps,
+    points: &[PointConstraint],
 ) -> Result<PathOperator, FitError> {
     if is_point(&path.points) {
         let h = samples.n_handles();
@@ -115,7 +152,7 @@ pub fn solve_path(
         copies: Vec::new(),
     };
     let n = path.n_unknown_points();
-    let mut solved = solve_group(&[member], n, samples, options, maps)?;
+    let mut solved = solve_group(&[member], n, samples, options, maps, points)?;
     Ok(solved.pop().expect("one path, one operator"))
 }
 
@@ -145,6 +182,7 @@ pub(crate) fn solve_group(
     samples: &SampledCurves,
     options: &FitOptions,
     maps: HandleMaps,
+    points: &[PointConstraint],
 ) -> Result<Vec<PathOperator>, FitError> {
     let h = samples.n_handles();
     let n_x = 2 * n_unknowns;
@@ -162,7 +200,9 @@ pub(crate) fn solve_group(
     } else {
         group_rows(members, options)
     };
-    let n = n_x + rows.n_rows;
+    // Held points ([`PointConstraint`]; lone paths only) after the junction rows, two each.
+    let points = if members.len() == 1 { points } else { &[] };
+    let n = n_x + rows.n_rows + 2 * points.len();
 
     let n_curves: usize = members.iter().map(|m| m.path.n_curves()).sum();
     let mut triplets: Vec<Triplet<usize, usize, f64>> =
@@ -231,6 +271,34 @@ pub(crate) fn solve_group(
     for &(r, col, v) in &rows.entries {
         triplets.push(Triplet::new(n_x + r, col, v));
         triplets.push(Triplet::new(col, n_x + r, v));
+    }
+    if let [member] = members {
+        let first = n_x + rows.n_rows;
+        for (pi, held) in points.iter().enumerate() {
+            let t = held.t;
+            let s = 1.0 - t;
+            let b = [s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t];
+            let a = held.point - o;
+            for d in 0..2 {
+                let row = first + 2 * pi + d;
+                for (k, bk) in b.iter().enumerate() {
+                    let col =
+                        2 * member.unknowns[member.path.unknown_index(3 * held.curve + k)] + d;
+                    triplets.push(Triplet::new(row, col, *bk));
+                    triplets.push(Triplet::new(col, row, *bk));
+                }
+                for &(i, w) in &held.weights {
+                    match maps {
+                        HandleMaps::Translation => rhs[(row, 2 * i + d)] += w,
+                        HandleMaps::Affine => {
+                            rhs[(row, 6 * i + d)] += w * a.x;
+                            rhs[(row, 6 * i + 2 + d)] += w * a.y;
+                            rhs[(row, 6 * i + 4 + d)] += w;
+                        }
+                    }
+                }
+            }
+        }
     }
     let rank_deficient = options.check_rank && is_rank_deficient(n, &triplets);
     lu_solve_in_place(n, &triplets, rhs.as_mut()).map_err(|e| FitError::Solver {

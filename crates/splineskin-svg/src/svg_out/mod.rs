@@ -125,6 +125,19 @@ fn write_svg_view(
     view_box: ViewBoxRule,
     follow: Option<&ElementMaps>,
 ) -> Result<String, SvgError> {
+    write_svg_view_marked(drawing, points, marker, view_box, follow, None)
+}
+
+/// [`write_svg_view`], the anchors `inserted` (per path, per joint) listed on each element in
+/// [`INSERTED_ATTRIBUTE`].
+fn write_svg_view_marked(
+    drawing: &Drawing,
+    points: &[Point],
+    marker: Option<&'static str>,
+    view_box: ViewBoxRule,
+    follow: Option<&ElementMaps>,
+    inserted: Option<&[Vec<bool>]>,
+) -> Result<String, SvgError> {
     let offsets = chain_offsets(drawing, points)?;
     match &drawing.source {
         Some(source) => {
@@ -135,10 +148,78 @@ fn write_svg_view(
                 frames: std::slice::from_ref(maps),
                 timing: None,
             });
-            export_geometry_follow(source, data, Vec::new(), marker, root, follow)
+            let attributes = inserted
+                .map(|inserted| inserted_attributes(source, inserted))
+                .unwrap_or_default();
+            export_geometry_follow(source, data, Vec::new(), marker, root, follow, attributes)
         }
         None => Ok(write_standalone(drawing, points, &offsets, &[])),
     }
+}
+
+/// The attribute on an exported element that lists the anchors adaptive control points
+/// inserted in it (so that an editor can tell them from the artist's):
+/// `data-splineskin-inserted="s:k …"`, anchor `k` (0-based, the end of the `k`-th cubic) of
+/// subpath `s` (0-based, in the order of the element's `d`). Elements with none get none.
+pub const INSERTED_ATTRIBUTE: &str = "data-splineskin-inserted";
+
+/// Per element of `source`, the [`INSERTED_ATTRIBUTE`] of the anchors `inserted` marks (per
+/// drawing path, per joint), or nothing.
+fn inserted_attributes(
+    source: &SvgSource,
+    inserted: &[Vec<bool>],
+) -> Vec<Vec<(&'static str, String)>> {
+    source
+        .elements
+        .iter()
+        .map(|element| {
+            let mut list = String::new();
+            for (s, i) in element.paths.clone().enumerate() {
+                for (k, _) in inserted
+                    .get(i)
+                    .into_iter()
+                    .flatten()
+                    .enumerate()
+                    .filter(|(_, &marked)| marked)
+                {
+                    if !list.is_empty() {
+                        list.push(' ');
+                    }
+                    let _ = write!(list, "{s}:{k}");
+                }
+            }
+            if list.is_empty() {
+                Vec::new()
+            } else {
+                vec![(INSERTED_ATTRIBUTE, list)]
+            }
+        })
+        .collect()
+}
+
+/// [`write_svg_following`] (or [`write_svg_view_box`] without `maps`), each element listing the
+/// anchors adaptive control points inserted in it, `inserted` per path and joint (as
+/// `splineskin::adaptive::Refined::inserted`), in [`INSERTED_ATTRIBUTE`]. A drawing without a
+/// source document is written as by [`write_svg`], without marks.
+///
+/// ```
+/// use splineskin_svg::svg_in::{read_svg, ImportOptions};
+/// use splineskin_svg::svg_out::{write_svg_with_inserted, ViewBoxRule};
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10"><path id="p" d="M0 0 C1 1 2 1 3 0 C4 -1 5 -1 6 0"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default())?;
+/// // Joint 1 (between the two cubics) inserted, say by splitting one curve in two.
+/// let out = write_svg_with_inserted(&drawing, &drawing.flat_points(), ViewBoxRule::Keep, None, &[vec![false, true, false]])?;
+/// assert!(out.contains(r#"data-splineskin-inserted="0:1""#));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn write_svg_with_inserted(
+    drawing: &Drawing,
+    points: &[Point],
+    view_box: ViewBoxRule,
+    maps: Option<&ElementMaps>,
+    inserted: &[Vec<bool>],
+) -> Result<String, SvgError> {
+    write_svg_view_marked(drawing, points, None, view_box, maps, Some(inserted))
 }
 
 /// What export does with the root `viewBox` when the deformed art leaves it.
@@ -523,6 +604,8 @@ struct ExportPolicy<'e> {
     root: Vec<(&'static str, String)>,
     /// What follows the deformation besides the curves ([`crate::follow`]).
     follow: FollowEdits,
+    /// Per imported element, attributes to set (empty: none; e.g. [`INSERTED_ATTRIBUTE`]).
+    attributes: Vec<Vec<(&'static str, String)>>,
 }
 
 /// The edits that carry what is not a curve ([`crate::follow`]); in an animated document
@@ -581,6 +664,9 @@ impl RewritePolicy for ExportPolicy<'_> {
             .map(|name| (name, i.to_string()))
             .into_iter()
             .collect();
+        if let Some(attributes) = self.attributes.get_mut(i) {
+            set.append(attributes);
+        }
         let mut decls: Vec<(String, String)> =
             self.follow.styles.get(i).cloned().unwrap_or_default();
         if self.source.elements[i].zero_area_fill {
@@ -712,7 +798,7 @@ pub(crate) fn export_geometry_root(
     marker: Option<&'static str>,
     root: Vec<(&'static str, String)>,
 ) -> Result<String, SvgError> {
-    export_geometry_follow(source, data, children, marker, root, None)
+    export_geometry_follow(source, data, children, marker, root, None, Vec::new())
 }
 
 /// [`export_geometry_root`] for an animated document: what is not a curve follows each frame's
@@ -724,7 +810,7 @@ pub(crate) fn export_geometry_animated(
     root: Vec<(&'static str, String)>,
     follow: Follow,
 ) -> Result<String, SvgError> {
-    export_geometry_follow(source, data, children, None, root, Some(follow))
+    export_geometry_follow(source, data, children, None, root, Some(follow), Vec::new())
 }
 
 /// [`export_geometry_root`], with what is not a curve carried by the maps of `follow`
@@ -736,6 +822,7 @@ fn export_geometry_follow(
     marker: Option<&'static str>,
     root: Vec<(&'static str, String)>,
     follow: Option<Follow>,
+    attributes: Vec<Vec<(&'static str, String)>>,
 ) -> Result<String, SvgError> {
     let origin = source.origin.as_str();
     let doc = crate::document::parse_xml(&source.text, origin)?;
@@ -761,6 +848,7 @@ fn export_geometry_follow(
         marker,
         root,
         follow,
+        attributes,
     };
     let viewport = source.view_box.size();
     rewrite_document(&source.text, &doc, &mut policy, origin, None, viewport)
