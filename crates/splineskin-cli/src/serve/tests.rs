@@ -612,6 +612,104 @@ async fn serve_operator_layout_reproduces_the_library_and_the_rest_drawing() {
     }
 }
 
+/// `POST /api/defops/{id}/follow`: inside the trained region the operator stays; dragged far,
+/// a new operator holds the configuration as a sample (asked again, it stays, at distance 0)
+/// and is evaluated like any other; bad requests are refused with messages.
+#[tokio::test]
+async fn serve_operator_follows_a_far_configuration() {
+    let (app, _, id) = demo_app().await;
+    let (headers, _) = send_ok(
+        &app,
+        post_json("/api/defop", &operator_scene(&id, "defop-arap", 12)),
+    )
+    .await;
+    let op: serde_json::Value =
+        serde_json::from_str(headers[DEFOP_HEADER].to_str().expect("ASCII")).expect("JSON");
+    let rig = op["id"].as_str().expect("id").to_string();
+    let reach = op["reach"].as_f64().expect("reach");
+    assert_eq!(op["n_followed"], 0);
+    let follow = |rig: String, handles: serde_json::Value, settle: bool| {
+        let app = app.clone();
+        async move {
+            send(
+                &app,
+                post_json(
+                    &format!("/api/defops/{rig}/follow"),
+                    &serde_json::json!({ "handles": handles, "settle": settle }),
+                ),
+            )
+            .await
+        }
+    };
+    // At rest: inside, nothing trained.
+    let rest = serde_json::json!([[440.0, 200.0], [110.0, 205.0]]);
+    let (status, headers, body) = follow(rig.clone(), rest.clone(), true).await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(headers.get(DEFOP_HEADER).is_none());
+    let answer: serde_json::Value = serde_json::from_slice(&body).expect("JSON");
+    assert_eq!(answer["followed"], false);
+    assert_eq!(answer["reason"], "inside");
+    assert_eq!(answer["distance"], 0.0);
+    // One handle 3 sampling radii away: a new operator with that sample.
+    let far = serde_json::json!([[440.0, 200.0 - 3.0 * reach], [110.0, 205.0]]);
+    let (status, headers, body) = follow(rig.clone(), far.clone(), false).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let followed: serde_json::Value =
+        serde_json::from_str(headers[DEFOP_HEADER].to_str().expect("ASCII")).expect("JSON");
+    assert_eq!(followed["n_followed"], 1);
+    assert_eq!(followed["n_samples"], 14);
+    assert_eq!(followed["n_functions"], 1 + 4 + 14);
+    let new_rig = followed["id"].as_str().expect("id").to_string();
+    assert_ne!(new_rig, rig);
+    let data = f64s(&body);
+    let q: [[f64; 2]; 2] = serde_json::from_value(far.clone()).expect("q");
+    let (_, library) = send_ok(
+        &app,
+        post_json(
+            &format!("/api/defops/{new_rig}/deform"),
+            &serde_json::json!({ "handles": q }),
+        ),
+    )
+    .await;
+    let page = operator_points(&followed, &data, &q);
+    let worst = page
+        .iter()
+        .zip(&f64s(&library))
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-9 * reach, "page vs library {worst:e}");
+    let (status, headers, body) = follow(new_rig.clone(), far.clone(), true).await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(headers.get(DEFOP_HEADER).is_none());
+    let answer: serde_json::Value = serde_json::from_slice(&body).expect("JSON");
+    assert_eq!(
+        (answer["reason"].as_str(), answer["distance"].as_f64()),
+        (Some("inside"), Some(0.0))
+    );
+
+    // Refusals: a handle count the operator does not have, a missing field, an unknown rig.
+    let (status, _, body) = follow(rig.clone(), serde_json::json!([[1.0, 2.0]]), false).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(
+        String::from_utf8_lossy(&body).contains("1 handle positions for an operator of 2 handles")
+    );
+    let (status, _, body) = follow(
+        rig.clone(),
+        serde_json::json!([[1.0, null], [0.0, 0.0]]),
+        false,
+    )
+    .await;
+    assert_eq!(
+        status,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        "{}",
+        String::from_utf8_lossy(&body)
+    );
+    let (status, _, body) = follow("o999".into(), rest, false).await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    assert!(String::from_utf8_lossy(&body).contains("no longer kept"));
+}
+
 #[tokio::test]
 async fn serve_operator_refuses_what_it_cannot_train_with_a_message() {
     let (app, _, id) = demo_app().await;
