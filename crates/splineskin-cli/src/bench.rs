@@ -180,7 +180,7 @@ pub fn run(args: Args) -> Result<()> {
         let (drawing, handles) =
             splineskin::examples::tile(&setup.drawing, &scene.handles, min_curves);
         setup.drawing = drawing;
-        setup.weights = Box::new(splineskin::weights::Shepard::new(
+        setup.weights = std::sync::Arc::new(splineskin::weights::Shepard::new(
             &handles,
             splineskin::weights::ShepardOptions::default(),
         ));

@@ -4,13 +4,13 @@
 use anyhow::{bail, Context, Result};
 use splineskin::defop::Energy;
 use splineskin::drawing::svg_in::MAX_SVG_BYTES;
-use splineskin::drawing::svg_out::write_svg_marked;
+use splineskin::drawing::svg_out::{write_svg_marked, write_svg_with_inserted, ViewBoxRule};
 use splineskin::drawing::Drawing;
 use splineskin::folds::FoldCheck;
 use splineskin::scene::{Compat, Engine, MeshFamily, Scene, WeightSpec};
 use splineskin::spline_fit::Measure;
 
-use crate::scene_file::SceneExtras;
+use crate::scene_file::{scene_json, SceneExtras};
 use crate::wire::{
     AnimationWire, DocumentInfo, EditScene, ElementInfo, JunctionWire, OperatorInfo, PathInfo,
     WeightsWire,
@@ -40,6 +40,10 @@ pub struct Document {
     /// The rest drawing's own crossings, found once: each check of a deformation for folds
     /// ([`crate::document_routes`]'s viewBox report) looks only at the deformed drawing.
     pub folds: FoldCheck,
+    /// Per path, per joint: whether adaptive control points inserted the anchor
+    /// ([`Document::refined`]); empty for a drawing as opened. Exports mark them
+    /// ([`splineskin::drawing::svg_out::INSERTED_ATTRIBUTE`]).
+    pub inserted: Vec<Vec<bool>>,
 }
 
 impl Document {
@@ -214,6 +218,7 @@ impl Document {
                 n_points: p.points.len(),
                 joints: p.joints.clone(),
                 close_with_z: p.closed && !source.is_closed_without_z(i),
+                inserted: vec![false; p.joints.len()],
             })
             .collect();
         let info = DocumentInfo {
@@ -239,7 +244,99 @@ impl Document {
             folds: FoldCheck::new(&drawing, &rest),
             drawing,
             info,
+            inserted: Vec::new(),
         })
+    }
+
+    /// The document of this one's drawing with adaptive control points: `drawing` is the
+    /// refined rig's ([`splineskin::scene::Puppet::refined`]), `inserted` its new anchors (per
+    /// path and joint, relative to this document's drawing), `scene` the page's scene on this
+    /// document. The new document's SVG is this one's with the split curves written at rest and
+    /// every inserted anchor so far listed in
+    /// [`splineskin::drawing::svg_out::INSERTED_ATTRIBUTE`]; the scene's junction kinds move
+    /// to the joints' new indices and the new anchors are G¹, as the rig has them.
+    pub fn refined(
+        &self,
+        drawing: &Drawing,
+        inserted: &[Vec<bool>],
+        scene: &EditScene,
+    ) -> Result<Document> {
+        let name = &self.name;
+        if inserted.len() != self.drawing.paths.len() {
+            bail!(
+                "{name}: the refined drawing has {} paths, expected {}",
+                inserted.len(),
+                self.drawing.paths.len()
+            );
+        }
+        // Joint k of this document is the k-th joint of the refined path not inserted now.
+        let moved: Vec<Vec<usize>> = inserted
+            .iter()
+            .map(|flags| (0..flags.len()).filter(|&j| !flags[j]).collect())
+            .collect();
+        let mut junctions = Vec::new();
+        for j in &scene.junctions {
+            let joint = moved
+                .get(j.path)
+                .and_then(|m| m.get(j.joint))
+                .with_context(|| {
+                    format!("{name}: junction {}:{}: no such joint", j.path, j.joint)
+                })?;
+            junctions.push(JunctionWire {
+                joint: *joint,
+                ..*j
+            });
+        }
+        for (p, flags) in inserted.iter().enumerate() {
+            for (joint, _) in flags.iter().enumerate().filter(|(_, &new)| new) {
+                junctions.push(JunctionWire {
+                    path: p,
+                    joint,
+                    kind: drawing.paths[p].joints[joint],
+                });
+            }
+        }
+        // Every inserted anchor so far: the earlier ones carried to their new indices.
+        let so_far: Vec<Vec<bool>> = inserted
+            .iter()
+            .enumerate()
+            .map(|(p, flags)| {
+                let before = self.inserted.get(p);
+                let mut all = flags.clone();
+                for (k, &j) in moved[p].iter().enumerate() {
+                    all[j] = before.and_then(|b| b.get(k)).copied().unwrap_or(false);
+                }
+                all
+            })
+            .collect();
+        let svg_text = write_svg_with_inserted(
+            drawing,
+            &drawing.flat_points(),
+            ViewBoxRule::Keep,
+            None,
+            &so_far,
+        )
+        .with_context(|| format!("{name}: writing the refined drawing"))?;
+        let scene = EditScene {
+            junctions,
+            ..scene.clone()
+        };
+        let json = scene_json(&svg_text, &scene, &self.extras);
+        let mut scene = Scene::from_json(&json, name, None)?;
+        scene.svg_origin = name.clone();
+        let mut document = Document::from_scene(scene, name)?;
+        if document.drawing.n_curves() != drawing.n_curves() {
+            bail!(
+                "{name}: the refined drawing read back with {} curves, expected {}",
+                document.drawing.n_curves(),
+                drawing.n_curves()
+            );
+        }
+        for (path, flags) in document.info.paths.iter_mut().zip(&so_far) {
+            path.inserted = flags.clone();
+        }
+        document.inserted = so_far;
+        Ok(document)
     }
 
     /// The bundled drawing with its handles (the fish of `splineskin demo`).

@@ -7,7 +7,8 @@ use kurbo::{Affine, Point};
 use splineskin::defop::MeshMap;
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::svg_out::{
-    art_bounds, art_outside_view_box, write_svg_following, write_svg_view_box, ViewBoxRule,
+    art_bounds, art_outside_view_box, write_svg_following, write_svg_view_box,
+    write_svg_with_inserted, ViewBoxRule,
 };
 use splineskin::naive::skin_point;
 
@@ -99,9 +100,16 @@ pub(crate) fn export(editor: &Editor, id: &str, request: &Request) -> Result<Res
         let points = points_of(&document, &body[..n_bytes.min(body.len())])?;
         let tail = &body[n_bytes..];
         let maps = deformation.element_maps(&document, tail)?;
-        match &maps {
-            Some(maps) => write_svg_following(&document.drawing, &points, maps, rule),
-            None => write_svg_view_box(&document.drawing, &points, rule),
+        match (&maps, document.inserted.is_empty()) {
+            (_, false) => write_svg_with_inserted(
+                &document.drawing,
+                &points,
+                rule,
+                maps.as_ref(),
+                &document.inserted,
+            ),
+            (Some(maps), true) => write_svg_following(&document.drawing, &points, maps, rule),
+            (None, true) => write_svg_view_box(&document.drawing, &points, rule),
         }
         .map_err(|e| ApiError::bad(e.to_string()))?
     };

@@ -21,6 +21,10 @@ pub const MAX_JSON_BYTES: usize = 16 << 20;
 /// Most point handles a rig takes: 512.
 pub const MAX_HANDLES: usize = 512;
 
+/// Most poses one refinement request measures: 64 (the page sends the latest poses seen
+/// while dragging and the keyframes').
+pub const MAX_REFINE_POSES: usize = 64;
+
 /// Largest operator sent to the page: 512 MiB (`8 · 2 · n_points · 6 · n_handles` bytes), what
 /// a browser tab holds comfortably.
 pub const MAX_OPERATOR_BYTES: usize = 512 << 20;
@@ -251,6 +255,8 @@ impl Editor {
             (["rigs", id, "solve"], _, true) => rig_routes::solve(self, id, request),
             (["rigs", id, "weights"], true, _) => rig_routes::weights(self, id, request),
             (["rigs", id, "mesh"], true, _) => rig_routes::mesh(self, id),
+            (["rigs", id, "operator"], true, _) => rig_routes::operator(self, id),
+            (["rigs", id, "refine"], _, true) => rig_routes::refine(self, id, request),
             (["progress", job], true, _) => rig_routes::progress(self, job),
             (["defop"], _, true) => defop_routes::defop(self, request, followed),
             (["defops", id, "deform"], _, true) => defop_routes::deform(self, id, request),

@@ -21,23 +21,23 @@
 //! | `POST /api/rigs/{id}/solve` | [`PoseRequest`](wire::PoseRequest) | deformed points, `f64` LE `x0, y0, x1, y1, …` (flexible G¹ when the scene asks, warm-started from the previous solve) |
 //! | `POST /api/defop` | [`SceneRequest`](wire::SceneRequest) with family `defop-arap` or `defop-sarap` (`weights.samples`: training samples) | `G_spline` `f64` LE row-major `(2 · n_points) × |Ψ|`, then the thin-plate centres `f64` LE row-major `n_centres × 2 · n_handles` (scaled displacements `z_k`); header `x-splineskin-defop`: [`DefOpInfo`](crate::defop_routes::DefOpInfo) JSON (id, handle basis kind, scale, rest handles `P`, sizes, seconds). Per frame `points = G_spline · ψ(Q)`, `ψ = (1, z, φ(‖z − z_k‖)…)`, `z = (Q − P)/scale`, `φ(r) = r² log r` (`splineskin::defop::HandleBasis`) |
 //! | `POST /api/defops/{id}/deform` | [`DeformRequest`](crate::defop_routes::DeformRequest) `{"handles": [[x, y], …]}` (the configuration `Q`) | the library's deformation at `Q`, `f64` LE `x0, y0, x1, y1, …` (the page's product is checked against it) |
+//! | `POST /api/defops/{id}/follow` | `{"handles": [[x, y], …], "settle": bool}` (the configuration the user dragged to; `settle` on release) | outside the trained region, a new operator trained with samples there, laid out as `POST /api/defop` answers (its header too); inside, JSON `{"followed": false, "reason", "distance", "reach"}` (`crate::defop_routes::follow`) |
 //! | `GET /api/progress/{job}` | | the stage of the precomputation whose request carried `x-splineskin-job: {job}`: `{"stage": "queued" \| "weights" \| "rig" \| "domain" \| "training" \| "join", "seconds": …}` (seconds in that stage), with `"done", "total", "step", "steps"` while training (ground-truth solves done of all, bootstrapping stage of all), or `{"stage": null}` when none runs |
 //! | `GET /api/rigs/{id}/weights?handle&x0&y0&x1&y1&width&height` | | handle's weight at the centres of a `width × height` grid over the box, `f32` LE, row by row from `y0` |
+//! | `GET /api/rigs/{id}/operator` | | the rig's operator `O`, as `POST /api/rig` answers it |
+//! | `POST /api/rigs/{id}/refine` | [`RefineRequest`](wire::RefineRequest) `{"scene", "poses": [[[a…f], …], …], "tolerance"}` | [`RefineAnswer`](wire::RefineAnswer): with anchors inserted (adaptive control points, `splineskin::adaptive`), the refined drawing as a new document and its rig (the same weights); else how far the fit is |
 //! | `GET /api/rigs/{id}/mesh` | | [`MeshWire`](crate::rig_routes::MeshWire): the triangulated domain the weights were solved on and every handle's weight at its vertices (mesh families; 400 for closed-form weights) |
 //! | `POST /api/documents/{id}/export?viewbox=keep\|fit[&rig={id}\|&defop={id}]` | deformed points, `f64` LE, then with `rig` the pose (`a…f` per handle) or with `defop` the configuration `Q` (`x, y` per handle), `f64` LE ([`ExportQuery`](crate::wire::ExportQuery)) | the SVG document with them ([`write_svg_following`](splineskin::drawing::svg_out::write_svg_following)): gradients, patterns, markers, text and images carried by the best-fit affine map of the rig's skinning map or the operator's deformation (at rest without either); `fit` grows the viewBox to include the art, `keep` (default) leaves it |
 //! | `POST /api/documents/{id}/outside` | deformed points, `f64` LE | [`ViewBoxReport`](crate::wire::ViewBoxReport): the paths that leave the viewBox, how far, and the viewBox `fit` writes |
 //! | `POST /api/documents/{id}/scene` | [`EditScene`](wire::EditScene) | the scene file (ours, drawing inline) |
 //! | `POST /api/documents/{id}/lottie` | [`EditScene`](wire::EditScene) with an `animation` | the Lottie animation `splineskin animate SCENE -o anim.json` writes of it; header `x-splineskin-lottie`: [`LottieReport`](crate::document_routes::LottieReport) JSON (keyframes and bytes written and with every frame, warnings) |
 //!
-//! Errors are JSON [`ErrorBody`](wire::ErrorBody) `{"error": "…"}` naming the file and element concerned, with
-//! status 400 (bad input), 404 (no such document or rig: dropped, [`crate::store`]), 413 (too
-//! large) or 500 (a bug). Every `POST` must carry the header `x-splineskin: 1`, which a page of
-//! another site cannot send without a CORS preflight this server never grants; on loopback,
-//! requests whose `Host` is not the server's own are refused (DNS rebinding).
-//!
 //! Errors are JSON [`ErrorBody`](wire::ErrorBody) `{"error": "…"}` naming the file and element
 //! concerned, with status 400 (bad input), 404 (no such document or rig: dropped,
-//! [`store`]), 413 (too large), 422 (a request of the wrong shape) or 500 (a bug).
+//! [`store`]), 413 (too large), 422 (a request of the wrong shape) or 500 (a bug). Over HTTP,
+//! every `POST` must carry the header `x-splineskin: 1`, which a page of another site cannot
+//! send without a CORS preflight the server never grants; on loopback, requests whose `Host`
+//! is not the server's own are refused (DNS rebinding).
 //!
 //! Modules: [`editor`] (the editor, requests, responses, errors, limits), [`document_routes`],
 //! [`rig_routes`] and [`defop_routes`] (the routes), [`document`] (an opened drawing),

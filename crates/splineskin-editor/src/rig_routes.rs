@@ -3,16 +3,17 @@
 
 use kurbo::{Affine, Point};
 use serde::Deserialize;
+use splineskin::adaptive::AdaptiveOptions;
 use splineskin::scene::{Compat, Puppet, PuppetStage, Scene};
 
 use crate::document::Document;
 use crate::editor::{
     lock_puppet, ApiError, Editor, Request, Response, MAX_GRID_SIDE, MAX_HANDLES,
-    MAX_OPERATOR_BYTES, RIG_HEADER,
+    MAX_OPERATOR_BYTES, MAX_REFINE_POSES, RIG_HEADER,
 };
 use crate::progress::Followed;
 use crate::scene_file::{defop_energy, scene_json};
-use crate::wire::{EditScene, PoseRequest, SceneRequest};
+use crate::wire::{EditScene, PoseRequest, RefineAnswer, RefineRequest, SceneRequest};
 
 /// Reads the page's scene on `document` as a scene of ours (validating it like any scene
 /// file), refusing rigs larger than [`MAX_HANDLES`] or [`MAX_OPERATOR_BYTES`].
@@ -104,6 +105,74 @@ pub(crate) fn solve(editor: &Editor, id: &str, request: &Request) -> Result<Resp
         }
     }
     points
+}
+
+/// `GET /api/rigs/{id}/operator`: the rig's operator `O`, as `POST /api/rig` answers it.
+pub(crate) fn operator(editor: &Editor, id: &str) -> Result<Response, ApiError> {
+    let rig = editor.store().rig(id).ok_or_else(|| gone_rig(id))?;
+    let puppet = lock_puppet(&rig)?;
+    Ok(Response::f64s(
+        puppet.rig().map(|r| r.operator()).unwrap_or(&[]),
+    ))
+}
+
+/// `POST /api/rigs/{id}/refine` ([`RefineRequest`]): adaptive control points for the poses
+/// the page has seen ([`splineskin::scene::Puppet::refined`]). When anchors are inserted, the
+/// refined drawing is kept as a new document ([`Document::refined`]) with its rig, which
+/// shares the refined rig's weights.
+pub(crate) fn refine(editor: &Editor, id: &str, request: &Request) -> Result<Response, ApiError> {
+    let request: RefineRequest = request.json()?;
+    let rig = editor.store().rig(id).ok_or_else(|| gone_rig(id))?;
+    let document = editor.document(&rig.document)?;
+    if request.poses.is_empty() || request.poses.len() > MAX_REFINE_POSES {
+        return Err(ApiError::bad(format!(
+            "{}: {} poses to refine for (expected 1 to {MAX_REFINE_POSES})",
+            document.name,
+            request.poses.len()
+        )));
+    }
+    let mut poses = Vec::with_capacity(request.poses.len());
+    for (k, pose) in request.poses.iter().enumerate() {
+        if let Some(i) = pose.iter().position(|c| !c.iter().all(|v| v.is_finite())) {
+            return Err(ApiError::bad(format!("poses[{k}][{i}]: not finite")));
+        }
+        poses.push(pose.iter().map(|&c| Affine::new(c)).collect::<Vec<_>>());
+    }
+    let options = AdaptiveOptions::default().with_tolerance(request.tolerance);
+    let refined = lock_puppet(&rig)?
+        .refined(&poses, &options)
+        .map_err(|e| ApiError::bad(e.to_string()))?;
+    let n_inserted: usize = refined.inserted.iter().flatten().filter(|&&b| b).count();
+    let n_curves = refined.puppet.drawing().n_curves();
+    if n_inserted == 0 {
+        return Response::json(&RefineAnswer {
+            refined: false,
+            document: None,
+            rig: None,
+            n_inserted,
+            n_curves,
+            worst: refined.worst,
+            met: refined.met,
+        });
+    }
+    let new_document = document
+        .refined(refined.puppet.drawing(), &refined.inserted, &request.scene)
+        .map_err(|e| ApiError::bad(format!("{e:#}")))?;
+    let (info, rig) = {
+        let mut store = editor.store();
+        let kept = store.add_document(new_document);
+        let rig = store.add_rig(&kept.info.id, refined.puppet);
+        (kept.info.clone(), rig)
+    };
+    Response::json(&RefineAnswer {
+        refined: true,
+        document: Some(info),
+        rig: Some(rig),
+        n_inserted,
+        n_curves,
+        worst: refined.worst,
+        met: refined.met,
+    })
 }
 
 pub(crate) fn gone_rig(id: &str) -> ApiError {

@@ -124,6 +124,41 @@ pub struct PoseRequest {
     pub pose: Vec<[f64; 6]>,
 }
 
+/// `POST /api/rigs/{id}/refine`: adaptive control points for the poses the user has seen.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RefineRequest {
+    /// The page's scene on the rig's document (its junction kinds move with the joints).
+    pub scene: EditScene,
+    /// The poses that matter (those seen while dragging, the keyframes'): one map per handle
+    /// each, SVG order `[a, b, c, d, e, f]`; at most [`crate::editor::MAX_REFINE_POSES`].
+    pub poses: Vec<Vec<[f64; 6]>>,
+    /// Largest distance of the fit from the skinned target, a fraction of the drawing's
+    /// diagonal.
+    pub tolerance: f64,
+}
+
+/// The answer of `POST /api/rigs/{id}/refine`.
+#[derive(Clone, Debug, Serialize)]
+pub struct RefineAnswer {
+    /// Whether anchors were inserted: then `document` and `rig` are the refined drawing's
+    /// (the rig's operator: `GET /api/rigs/{rig}/operator`).
+    pub refined: bool,
+    /// The refined drawing, its scene the page's with junction kinds moved to the new joint
+    /// indices, or `null`.
+    pub document: Option<DocumentInfo>,
+    /// The refined drawing's rig (sharing the weights of the rig refined), or `null`.
+    pub rig: Option<String>,
+    /// Anchors inserted by this request.
+    pub n_inserted: usize,
+    /// Curves of the drawing now.
+    pub n_curves: usize,
+    /// The fit's largest distance from the target over the poses, fraction of the diagonal.
+    pub worst: f64,
+    /// Whether every curve is within the tolerance (else the curve budget ran out).
+    pub met: bool,
+}
+
 /// What the page needs to show and deform an opened drawing.
 #[derive(Clone, Debug, Serialize)]
 pub struct DocumentInfo {
@@ -174,6 +209,9 @@ pub struct PathInfo {
     pub joints: Vec<JointKind>,
     /// Whether its path data ends with `Z` (closed paths whose source had a `Z`).
     pub close_with_z: bool,
+    /// Per joint: whether adaptive control points inserted the anchor (`false`: the artist's;
+    /// all `false` in a drawing as opened).
+    pub inserted: Vec<bool>,
 }
 
 /// One imported element: the paths it produced and the map from root user space to its local

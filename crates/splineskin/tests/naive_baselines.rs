@@ -207,7 +207,7 @@ fn authors_naive_engines_agree_in_compatibility_mode() {
 }
 
 /// The bundled scene's drawing and weights (our default mode).
-fn demo() -> (Scene, Drawing, Box<dyn WeightField>) {
+fn demo() -> (Scene, Drawing, std::sync::Arc<dyn WeightField>) {
     let scene = splineskin::examples::demo_scene();
     let setup = scene.setup(Compat::None).expect("demo setup");
     (scene, setup.drawing, setup.weights)

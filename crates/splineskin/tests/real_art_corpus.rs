@@ -534,7 +534,7 @@ fn run_checks(
 fn harmonic_rig(
     file: &Path,
     handles: &[Point],
-) -> Result<(Drawing, Box<dyn WeightField>, SplineRig), String> {
+) -> Result<(Drawing, std::sync::Arc<dyn WeightField>, SplineRig), String> {
     let text = std::fs::read_to_string(file).map_err(|e| e.to_string())?;
     let handles: Vec<serde_json::Value> = handles
         .iter()

@@ -268,6 +268,170 @@ async fn serve_flexible_solve_translates_exactly_under_one_translation() {
     assert!(message.contains("precompute again"), "{message}");
 }
 
+/// `POST /api/rigs/{id}/refine`: a bend one cubic per curve cannot follow gets anchors
+/// inserted; the refined document keeps every anchor of the artist's in order, its rig (same
+/// weights) reproduces its rest, its export marks the inserted anchors, and the same pose asks
+/// for nothing more.
+#[tokio::test]
+async fn serve_refine_inserts_anchors_where_the_fit_falls_short() {
+    let (app, info, id) = demo_app().await;
+    let mut scene = two_handle_scene(&id, false);
+    let (headers, _) = send_ok(&app, post_json("/api/rig", &scene)).await;
+    let rig = rig_id(&headers);
+    // The head turned 50° about its handle, the tail held.
+    let turn = kurbo::Affine::translate((440.0, 200.0))
+        * kurbo::Affine::rotate(50f64.to_radians())
+        * kurbo::Affine::translate((-440.0, -200.0));
+    let pose = serde_json::json!([turn.as_coeffs(), [1.0, 0.0, 0.0, 1.0, 0.0, 0.0]]);
+    scene["scene"]["pose"] = pose.clone();
+    let tolerance = 1e-3;
+    let request =
+        |rig: &str, scene: &serde_json::Value, poses: serde_json::Value, tolerance: f64| {
+            post_json(
+                &format!("/api/rigs/{rig}/refine"),
+                &serde_json::json!({"scene": scene, "poses": poses, "tolerance": tolerance}),
+            )
+        };
+    let (_, body) = send_ok(
+        &app,
+        request(&rig, &scene["scene"], serde_json::json!([pose]), tolerance),
+    )
+    .await;
+    let answer = json(&body);
+    assert_eq!(answer["refined"], true, "{answer}");
+    let n_inserted = answer["n_inserted"].as_u64().expect("count") as usize;
+    let n_before = info["n_curves"].as_u64().expect("count") as usize;
+    assert!(n_inserted > 0);
+    assert_eq!(
+        answer["n_curves"].as_u64(),
+        Some((n_before + n_inserted) as u64)
+    );
+    assert_eq!(answer["met"], true);
+    assert!(answer["worst"].as_f64().expect("worst") <= tolerance);
+    let refined = &answer["document"];
+    assert_eq!(refined["n_curves"], answer["n_curves"]);
+    // Every anchor of the artist's, in order, at its place; the inserted ones marked.
+    let numbers = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array()
+            .expect("array")
+            .iter()
+            .map(|x| x.as_f64().expect("number"))
+            .collect()
+    };
+    let (old_rest, new_rest) = (numbers(&info["rest"]), numbers(&refined["rest"]));
+    let (mut old_at, mut new_at, mut marked) = (0, 0, 0);
+    let scale = 500.0;
+    for (old, new) in info["paths"]
+        .as_array()
+        .expect("paths")
+        .iter()
+        .zip(refined["paths"].as_array().expect("paths"))
+    {
+        let flags: Vec<bool> = new["inserted"]
+            .as_array()
+            .expect("flags")
+            .iter()
+            .map(|b| b.as_bool().expect("bool"))
+            .collect();
+        marked += flags.iter().filter(|&&b| b).count();
+        let kept: Vec<usize> = (0..flags.len()).filter(|&j| !flags[j]).collect();
+        assert_eq!(kept.len(), old["joints"].as_array().expect("joints").len());
+        for (k, &j) in kept.iter().enumerate() {
+            for c in 0..2 {
+                let (a, b) = (old_rest[old_at + 6 * k + c], new_rest[new_at + 6 * j + c]);
+                assert!(
+                    (a - b).abs() <= 1e-12 * scale,
+                    "anchor {k} moved: {a} → {b}"
+                );
+            }
+        }
+        old_at += 2 * old["n_points"].as_u64().expect("n") as usize;
+        new_at += 2 * new["n_points"].as_u64().expect("n") as usize;
+    }
+    assert_eq!(marked, n_inserted);
+    // The refined rig's operator reproduces the refined rest at the identity.
+    let new_rig = answer["rig"].as_str().expect("rig id");
+    let (_, body) = send_ok(&app, get(&format!("/api/rigs/{new_rig}/operator"))).await;
+    let operator = f64s(&body);
+    assert_eq!(operator.len(), new_rest.len() * 12);
+    for (r, &x) in new_rest.iter().enumerate() {
+        let y =
+            operator[r * 12] + operator[r * 12 + 3] + operator[r * 12 + 6] + operator[r * 12 + 9];
+        assert!((x - y).abs() <= 1e-9 * scale, "row {r}: {y} for {x}");
+    }
+    // Its export marks the inserted anchors and reads back with every curve.
+    let new_id = refined["id"].as_str().expect("id");
+    let bytes: Vec<u8> = new_rest.iter().flat_map(|v| v.to_le_bytes()).collect();
+    let (_, body) = send_ok(
+        &app,
+        post(&format!("/api/documents/{new_id}/export"))
+            .body(Body::from(bytes))
+            .expect("a request"),
+    )
+    .await;
+    let svg = String::from_utf8(body).expect("text");
+    assert!(svg.contains("data-splineskin-inserted=\""), "no marks");
+    let back = read_svg(&svg, &ImportOptions::default()).expect("the export reads back");
+    assert_eq!(back.n_curves(), n_before + n_inserted);
+    // The same pose on the refined rig: nothing more to insert.
+    let mut refined_scene = refined["scene"].clone();
+    refined_scene["pose"] = pose.clone();
+    let (_, body) = send_ok(
+        &app,
+        request(
+            new_rig,
+            &refined_scene,
+            serde_json::json!([pose]),
+            tolerance,
+        ),
+    )
+    .await;
+    let again = json(&body);
+    assert_eq!(
+        (again["refined"].as_bool(), again["met"].as_bool()),
+        (Some(false), Some(true)),
+        "{again}"
+    );
+    // Refusals name what is wrong.
+    let message = refused_with(
+        &app,
+        request(&rig, &scene["scene"], serde_json::json!([pose]), 0.0),
+        StatusCode::BAD_REQUEST,
+    )
+    .await;
+    assert!(message.contains("tolerance"), "{message}");
+    let message = refused_with(
+        &app,
+        request(&rig, &scene["scene"], serde_json::json!([]), tolerance),
+        StatusCode::BAD_REQUEST,
+    )
+    .await;
+    assert!(message.contains("0 poses"), "{message}");
+    let message = refused_with(
+        &app,
+        request(
+            &rig,
+            &scene["scene"],
+            serde_json::json!([[[1.0, 0.0, 0.0, 1.0, 0.0, 0.0]]]),
+            tolerance,
+        ),
+        StatusCode::BAD_REQUEST,
+    )
+    .await;
+    assert!(message.contains("pose 0"), "{message}");
+    refused_with(
+        &app,
+        request(
+            "r999",
+            &scene["scene"],
+            serde_json::json!([pose]),
+            tolerance,
+        ),
+        StatusCode::NOT_FOUND,
+    )
+    .await;
+}
+
 #[tokio::test]
 async fn serve_weight_grid_is_one_at_its_handle() {
     let (app, _, id) = demo_app().await;

@@ -41,7 +41,7 @@ pub use deformer::Deformer;
 pub use handles::{Bone, BonePoseError, BoneTransform, HandleKind, HandleSet};
 pub use pins::{place_pins, PinCount, PinError, PinOptions};
 pub use posed::{PoseReport, PosedDrawing, UpdateError};
-pub use session::{Puppet, PuppetStage, PuppetStats};
+pub use session::{Puppet, PuppetStage, PuppetStats, RefinedPuppet};
 pub use setup::{handle_weights, mesh_weights, Compat, Setup, AUTHORS_SHEPARD_SNAP};
 
 use std::path::{Path as FsPath, PathBuf};

@@ -30,6 +30,23 @@ pub struct PuppetStats {
     pub updates: u64,
 }
 
+/// A puppet with adaptive control points ([`Puppet::refined`]) and what the refinement did.
+#[non_exhaustive]
+pub struct RefinedPuppet {
+    /// The puppet of the refined drawing.
+    pub puppet: Puppet,
+    /// Per path, per joint of the refined drawing: whether the anchor was inserted (as
+    /// [`crate::adaptive::Refined::inserted`]).
+    pub inserted: Vec<Vec<bool>>,
+    /// The largest distance of the fit from the target over the poses, fraction of the
+    /// drawing's diagonal.
+    pub worst: f64,
+    /// Rounds of splitting done.
+    pub rounds: usize,
+    /// Whether every curve is within the tolerance (else the curve budget ran out).
+    pub met: bool,
+}
+
 /// The part of [`Puppet::from_scene_staged`]'s work that starts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
@@ -517,6 +534,103 @@ impl Puppet {
     /// Whether the next [`Puppet::update`] recomputes something.
     pub fn is_stale(&self) -> bool {
         self.posed().is_none()
+    }
+
+    /// A puppet of this one's drawing with adaptive control points
+    /// ([`crate::adaptive::refine`]): input curves split at rest where the fit falls further
+    /// than `options.tolerance` from the skinned target under any of `poses`. The new puppet
+    /// shares this one's weights (the drawing is the same shape, so they are not recomputed),
+    /// handles, pose, family and flexible setting; its drawing has the split curves, the new
+    /// anchors G¹. Computes what is stale first ([`Puppet::rebuild`]).
+    ///
+    /// Errors: those of [`Puppet::rebuild`], and the refinement's (a tolerance that is not
+    /// positive, no poses, a pose of the wrong length) as [`SceneError::Rig`].
+    ///
+    /// ```
+    /// use kurbo::{Affine, Point};
+    /// use splineskin::adaptive::AdaptiveOptions;
+    /// use splineskin::scene::{Compat, Puppet, Scene};
+    /// // One long curve whose ends are lifted while its middle stays: one cubic cannot follow.
+    /// let json = r#"{"splineskin_scene": 1,
+    ///   "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C30 0 70 0 100 0'/></svg>",
+    ///   "handles": [{"position": [0, 0]}, {"position": [50, 0]}, {"position": [100, 0]}]}"#;
+    /// let mut puppet = Puppet::from_scene(&Scene::from_json(json, "example", None)?, Compat::None)?;
+    /// let lift = Affine::translate((0.0, 20.0));
+    /// let pose = vec![lift, Affine::IDENTITY, lift];
+    /// let refined = puppet.refined(&[pose.clone()], &AdaptiveOptions::default())?;
+    /// assert!(refined.met && refined.puppet.drawing().n_curves() > 1);
+    /// assert_eq!(refined.puppet.stats().weight_builds, 0); // the weights were shared
+    /// // The artist's anchors are kept; the new ones are marked.
+    /// assert!(!refined.inserted[0][0] && refined.inserted[0].iter().any(|&b| b));
+    /// # Ok::<(), splineskin::scene::SceneError>(())
+    /// ```
+    pub fn refined(
+        &mut self,
+        poses: &[Vec<Affine>],
+        options: &crate::adaptive::AdaptiveOptions,
+    ) -> Result<RefinedPuppet, SceneError> {
+        self.rebuild()?;
+        let Cache::Posed(posed) = &self.cache else {
+            unreachable!("rebuild leaves the puppet posed or errs")
+        };
+        let setup = posed.setup();
+        let rig_error = |e: Box<dyn std::error::Error + Send + Sync>| SceneError::Rig {
+            origin: self.origin.clone(),
+            source: e,
+        };
+        let refined = crate::adaptive::refine(
+            &setup.drawing,
+            setup.weights.as_ref(),
+            &setup.options,
+            poses,
+            options,
+        )
+        .map_err(|e| rig_error(Box::new(e)))?;
+        let deformer = match self.flexible {
+            Some(flexible) => Deformer::Flexible(Box::new(
+                refined
+                    .flexible_solver(setup.weights.as_ref(), &setup.options, flexible)
+                    .map_err(|e| rig_error(Box::new(e)))?,
+            )),
+            None => Deformer::Fixed(refined.rig),
+        };
+        let setup = Setup {
+            drawing: refined.drawing,
+            weights: setup.weights.clone(),
+            options: setup.options,
+            warnings: setup.warnings.clone(),
+            domain: setup.domain.clone(),
+        };
+        let puppet = Puppet {
+            origin: self.origin.clone(),
+            format: self.format,
+            compat: self.compat,
+            points: self.points.clone(),
+            bones: self.bones.clone(),
+            cage: self.cage.clone(),
+            family: self.family.clone(),
+            domain_options: self.domain_options.clone(),
+            fit_options: self.fit_options,
+            pose: self.pose.clone(),
+            cache: Cache::Posed(PosedDrawing::from_parts(
+                self.origin.clone(),
+                setup,
+                deformer,
+            )),
+            flexible: self.flexible,
+            last: Vec::new(),
+            stats: PuppetStats {
+                rig_builds: 1,
+                ..PuppetStats::default()
+            },
+        };
+        Ok(RefinedPuppet {
+            puppet,
+            inserted: refined.inserted,
+            worst: refined.worst,
+            rounds: refined.rounds,
+            met: refined.met,
+        })
     }
 
     /// Counts of weight and rig computations and updates so far.

@@ -2,6 +2,8 @@
 //! kinds), the weight functions and the fit options, in our default mode or in the paper
 //! authors' compatibility mode.
 
+use std::sync::Arc;
+
 use crate::domain::polygon::{check_cage, signed_area};
 use crate::domain::{Domain, DomainError, DomainOptions, MeshWeights};
 use crate::drawing::authors_svg::read_authors_drawing_named;
@@ -62,7 +64,7 @@ pub struct Setup {
     /// The drawing, with the scene's junction kinds applied.
     pub drawing: Drawing,
     /// One weight function per handle.
-    pub weights: Box<dyn WeightField>,
+    pub weights: Arc<dyn WeightField>,
     /// The fit options.
     pub options: FitOptions,
     /// Things the user should know (e.g. saved junction kinds that did not fit the drawing).
@@ -231,7 +233,7 @@ pub struct WeightInputs<'a> {
 pub fn handle_weights(
     drawing: &Drawing,
     inputs: &WeightInputs<'_>,
-) -> Result<(Box<dyn WeightField>, Option<Domain>), SceneError> {
+) -> Result<(Arc<dyn WeightField>, Option<Domain>), SceneError> {
     let handles = &inputs.handles;
     inputs
         .family
@@ -246,10 +248,10 @@ pub fn handle_weights(
     match inputs.family {
         WeightSpec::Shepard { exponent } => {
             let options = shepard_options(*exponent, inputs.compat);
-            let field: Box<dyn WeightField> = if handles.bones.is_empty() {
-                Box::new(Shepard::new(handles.points, options))
+            let field: Arc<dyn WeightField> = if handles.bones.is_empty() {
+                Arc::new(Shepard::new(handles.points, options))
             } else {
-                Box::new(SegmentShepard::new(
+                Arc::new(SegmentShepard::new(
                     handles.points,
                     &handles.bone_segments(),
                     options,
@@ -259,7 +261,7 @@ pub fn handle_weights(
         }
         WeightSpec::Mesh(family) => {
             let (weights, domain) = mesh_weights(drawing, inputs, *family)?;
-            Ok((Box::new(weights), Some(domain)))
+            Ok((Arc::new(weights), Some(domain)))
         }
         WeightSpec::MeanValue => {
             // `check_handles` made sure there is a cage and nothing else.
@@ -272,7 +274,7 @@ pub fn handle_weights(
                     source: Box::new(e),
                 },
             })?;
-            Ok((Box::new(weights), None))
+            Ok((Arc::new(weights), None))
         }
         WeightSpec::NotImplemented(name) => Err(SceneError::NotImplemented {
             origin: inputs.origin.to_string(),
