@@ -60,6 +60,22 @@ export async function precompute(document, scene, signal, job) {
 }
 
 /**
+ * Adds control points to rig `rig`'s drawing where its fit falls further than `tolerance`
+ * (fraction of the diagonal) from the skinned target under one of `poses`: the answer
+ * `{ refined, document, rig, moved, n_inserted, n_curves, worst, met }` (wire.rs
+ * RefineAnswer), with the refined drawing as a new document when anchors were inserted.
+ */
+export async function refine(rig, scene, poses, tolerance) {
+  return (await postJson(`/api/rigs/${rig}/refine`, { scene, poses, tolerance })).json();
+}
+
+/** The operator O of rig `rig`, as `precompute` gives it. */
+export async function rigOperator(rig) {
+  const response = await call(`/api/rigs/${rig}/operator`);
+  return new Float64Array(await response.arrayBuffer());
+}
+
+/**
  * Trains a deformation operator for `scene` (family defop-arap or defop-sarap) on document
  * `id` and joins it with the drawing: { info, data: Float64Array } (layout in api.rs). `job`
  * names the request for `progressOf`.

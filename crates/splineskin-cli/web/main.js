@@ -87,6 +87,13 @@ const editor = {
   viewBoxSeq: 0,
   abort: null,
   weightsShown: null,
+  /**
+   * Adaptive control points: whether they are on, the tolerance (fraction of the diagonal),
+   * and while the shown drawing is a refined one, the drawing as opened (`original`: its info,
+   * source, rig and rig key) with `toOriginal`, per path and joint of the shown drawing, the
+   * opened drawing's joint (-1: inserted).
+   */
+  adaptive: { on: false, tolerance: 1e-3, original: null, toOriginal: null, busy: false, pending: false, answers: [] },
   /** Whether handles only move (an operator's family: no rotate or scale). */
   translateOnly: () => editor.scene !== null && isDefop(editor.scene),
 };
@@ -180,6 +187,8 @@ function show(info, source = null) {
   editor.animating = false;
   editor.onionPoints = [null, null];
   editor.weightsShown = null;
+  editor.adaptive.original = null;
+  editor.adaptive.toOriginal = null;
   editor.history.clear();
   editor.frameTimes = [];
   editor.productTimes = [];
@@ -324,6 +333,7 @@ async function precompute() {
   updateWeights();
   updateOnion();
   updateMesh();
+  refineForPoses();
 }
 
 /**
@@ -542,6 +552,156 @@ async function flexibleSolve() {
 // The viewBox: whether the deformed art leaves it (the server's report, after each change)
 
 /** A distance in drawing units, to about four significant digits. */
+// ---------------------------------------------------------------------------------------------
+// Adaptive control points: where the fit cannot follow the pose the user dragged to, the server
+// splits those curves at rest (splineskin::adaptive) and the page shows the refined drawing,
+// its rig sharing the weights. The artist's anchors stay; turning it off brings the drawing as
+// opened back.
+
+/** Largest number of poses one request measures (editor.rs MAX_REFINE_POSES). */
+const MAX_REFINE_POSES = 64;
+
+/** The poses that matter: the one shown and the keyframes'. */
+function posesThatMatter() {
+  const poses = [editor.scene.pose, ...keyframes().map((k) => k.pose)];
+  return structuredClone(poses.slice(0, MAX_REFINE_POSES));
+}
+
+/** Turns adaptive control points on (refining for the poses that matter) or off. */
+function setAdaptive(on) {
+  editor.adaptive.on = on;
+  syncControls();
+  if (on) refineForPoses();
+  else backToOriginal();
+  autosave();
+}
+
+/** Asks the server to add control points for the poses that matter (one request at a time). */
+async function refineForPoses() {
+  const a = editor.adaptive;
+  const { scene } = editor;
+  if (!a.on || isDefop(scene) || !(editor.rig instanceof LiveRig) || !rigReady() || editor.rigPreview) return;
+  const poses = posesThatMatter();
+  if (poses.every((pose) => pose.every((T) => affine.isIdentity(T)))) return; // the rest needs none
+  if (a.busy) {
+    a.pending = true;
+    return;
+  }
+  a.busy = true;
+  document.body.dataset.refine = 'running';
+  const rig = editor.rig;
+  const sent = structuredClone(scene);
+  try {
+    const answer = await api.refine(rig.id, sent, poses, a.tolerance);
+    a.answers.push(answer);
+    const still = () => a.on && editor.rig === rig && editor.rigKey === rigKeyOf(sent);
+    const percent = `${(100 * answer.worst).toPrecision(2)} % of the diagonal`;
+    if (answer.refined) {
+      const operator = await api.rigOperator(answer.rig);
+      if (still()) {
+        showRefined(answer, operator);
+        say(
+          `${shortName()}: ${plural(answer.n_inserted, 'control point')} added where the curves could not follow ` +
+            `(${answer.n_curves} curves; the fit is within ${percent}${answer.met ? '' : ', the curve budget ran out first'}); ` +
+            'show junctions to see them ringed',
+        );
+      }
+    } else if (still()) {
+      say(`${shortName()}: the curves follow the pose within ${percent}: no control point needed`);
+    }
+  } catch (e) {
+    showError(`adding control points: ${e.message ?? e}`);
+  } finally {
+    a.busy = false;
+    document.body.dataset.refine = 'idle';
+    if (a.pending) {
+      a.pending = false;
+      refineForPoses();
+    }
+  }
+}
+
+/** Moves the junction kinds of every undo step by `map` (per path, joint → joint or -1). */
+function moveJunctions(map) {
+  const move = (junctions) =>
+    junctions.flatMap((j) => {
+      const to = map[j.path]?.[j.joint] ?? -1;
+      return to < 0 ? [] : [{ ...j, joint: to }];
+    });
+  for (const s of [...editor.history.undoStack, ...editor.history.redoStack]) s.junctions = move(s.junctions);
+  return move;
+}
+
+/** Shows document `info` in place of the shown one, keeping the scene and the zoom. */
+function showInPlace(info) {
+  const frame = [...editor.view.frame];
+  editor.view = new DrawingView($('canvas'), info);
+  editor.view.setFrame(frame);
+  editor.info = info;
+  editor.rest = Float64Array.from(info.rest);
+  editor.points = Float64Array.from(info.rest);
+  editor.onionPoints = [null, null];
+  editor.weightsShown = null;
+}
+
+/** Shows the refined drawing of `answer` (api.refine) with its rig, whose operator is `operator`. */
+function showRefined(answer, operator) {
+  const a = editor.adaptive;
+  if (!a.original) a.original = { info: editor.info, source: editor.source, rig: editor.rig, rigKey: editor.rigKey };
+  const before = a.toOriginal ?? editor.info.paths.map((p) => p.joints.map((_, k) => k));
+  a.toOriginal = answer.document.paths.map((p, i) => {
+    const m = new Array(p.joints.length).fill(-1);
+    answer.moved[i].forEach((to, k) => (m[to] = before[i][k]));
+    return m;
+  });
+  moveJunctions(answer.moved);
+  showInPlace(answer.document);
+  // The server moved the scene's junction kinds to the new joints (the inserted ones G¹).
+  editor.scene.junctions = structuredClone(answer.document.scene.junctions);
+  editor.rig = new LiveRig(answer.rig, operator, editor.view.nPoints, editor.scene.handles.length);
+  editor.rigKey = rigKeyOf(editor.scene);
+  render();
+  flexibleSolve();
+  updateWeights();
+  updateMesh();
+  updateOnion();
+  drawTimeline();
+  autosave();
+}
+
+/** Shows the drawing as opened again (adaptive control points turned off). */
+function backToOriginal() {
+  const a = editor.adaptive;
+  const original = a.original;
+  if (!original) return;
+  const move = moveJunctions(a.toOriginal);
+  editor.scene.junctions = move(editor.scene.junctions);
+  a.original = null;
+  a.toOriginal = null;
+  showInPlace(original.info);
+  editor.source = original.source;
+  if (original.rig && original.rigKey === rigKeyOf(editor.scene)) {
+    editor.rig = original.rig;
+    editor.rigKey = original.rigKey;
+  } else {
+    editor.rig = null;
+    editor.rigKey = null;
+  }
+  say(`${shortName()}: the drawing's own ${editor.info.n_curves} curves again`);
+  sceneChanged();
+}
+
+/** The scene as the drawing as opened has it (junction kinds on its own joints). */
+function sceneOfOriginal() {
+  const map = editor.adaptive.toOriginal;
+  if (!map) return editor.scene;
+  const junctions = editor.scene.junctions.flatMap((j) => {
+    const to = map[j.path]?.[j.joint] ?? -1;
+    return to < 0 ? [] : [{ ...j, joint: to }];
+  });
+  return { ...editor.scene, junctions };
+}
+
 function units(v) {
   return Number(v.toPrecision(4)).toString();
 }
@@ -761,6 +921,12 @@ function syncControls() {
   $('flexible').parentElement.title = defop
     ? 'Flexible G¹ does not apply to a trained operator: its join keeps the junction constraints as they are'
     : 'G¹ junctions keep parallel tangents but not their length ratio (solved on mouse-up)';
+  $('adaptive').checked = editor.adaptive.on;
+  $('adaptive').disabled = defop;
+  $('adaptive-label').title = defop
+    ? 'Control points are added to the spline fit of weights; a trained operator joins the drawing as it is'
+    : "Where a curve cannot follow the pose you drag to, split it at rest and add a control point there (the artist's anchors stay; added ones are ringed among the junctions)";
+  $('adaptive-tolerance-label').hidden = !editor.adaptive.on || defop;
   $('defop-samples-label').hidden = !defop;
   if (defop) $('defop-samples').value = scene.weights.samples ?? DEFAULT_DEFOP_SAMPLES;
   $('show-weights').disabled = defop;
@@ -919,6 +1085,7 @@ const gestureActions = {
     }
     sceneChanged();
     if (editor.rig instanceof DefOpLiveRig) follower.released();
+    else if (editor.adaptive.on) refineForPoses();
   },
   boxChanged(box) {
     editor.view.showBox(box);
@@ -1165,13 +1332,17 @@ function autosave() {
 
 function saveSessionNow() {
   if (!editor.info) return;
+  // A refined drawing is saved as the drawing as opened with adaptive control points on: the
+  // next drag adds them again.
+  const opened = editor.adaptive.original?.info ?? editor.info;
   const session = {
     version: 1,
-    name: editor.info.name,
+    name: opened.name,
     // The file opened in this page (the server's own drawing needs none).
     source: editor.source && editor.source.length <= AUTOSAVE_MAX_SOURCE ? editor.source : null,
-    svgLength: editor.info.svg.length,
-    scene: editor.scene,
+    svgLength: opened.svg.length,
+    scene: sceneOfOriginal(),
+    adaptive: editor.adaptive.on ? { tolerance: editor.adaptive.tolerance } : null,
     time: editor.time,
     savedAt: new Date().toISOString(),
   };
@@ -1211,6 +1382,12 @@ async function recoverSession(session) {
   editor.scene = { ...structuredClone(editor.scene), ...scene };
   editor.time = Number.isFinite(session.time) ? session.time : 0;
   editor.animating = Boolean(scene.animation);
+  const tolerance = session.adaptive?.tolerance;
+  if (Number.isFinite(tolerance) && tolerance > 0) {
+    editor.adaptive.on = true;
+    editor.adaptive.tolerance = tolerance;
+    $('adaptive-tolerance').value = String(tolerance * 100);
+  }
   syncControls();
   sceneChanged();
   const when = new Date(session.savedAt).toLocaleString();
@@ -1401,6 +1578,17 @@ function wire() {
     if (isDefop(editor.scene)) edit((scene) => (scene.weights = { ...scene.weights, samples }));
   });
   $('flexible').addEventListener('change', (event) => edit((scene) => (scene.flexible = event.target.checked)));
+  $('adaptive').addEventListener('change', (event) => setAdaptive(event.target.checked));
+  $('adaptive-tolerance').addEventListener('change', (event) => {
+    const percent = Number(event.target.value);
+    if (!(percent > 0 && percent <= 10)) {
+      showError(`add control points within ${event.target.value} %: expected a number above 0, at most 10`);
+      event.target.value = String(editor.adaptive.tolerance * 100);
+      return;
+    }
+    editor.adaptive.tolerance = percent / 100;
+    refineForPoses();
+  });
   $('show-junctions').addEventListener('change', drawOverlay);
   $('show-weights').addEventListener('change', updateWeights);
   $('show-mesh').addEventListener('change', updateMesh);

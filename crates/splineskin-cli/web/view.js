@@ -114,7 +114,7 @@ export class DrawingView {
     this.weightMesh = svgElement('g', { class: 'ss-weights' });
     this.weightMesh.style.display = 'none';
     this.junctionPaths = Object.fromEntries(
-      JUNCTION_KINDS.map((k) => [k, svgElement('path', { class: `ss-junctions ${k}` })]),
+      [...JUNCTION_KINDS, 'inserted'].map((k) => [k, svgElement('path', { class: `ss-junctions ${k}` })]),
     );
     this.handleLayer = svgElement('g', { class: 'ss-handles' });
     // Onion skin: the drawing at the keyframes before and after the shown time, outlined.
@@ -317,7 +317,7 @@ export class DrawingView {
   /** Draws the junction markers at `points` with kinds from `kindOf(junction)`, or hides them. */
   drawJunctions(points, kindOf, visible) {
     const r = JUNCTION_RADIUS * this.unitsPerPixel();
-    const data = Object.fromEntries(JUNCTION_KINDS.map((k) => [k, []]));
+    const data = Object.fromEntries([...JUNCTION_KINDS, 'inserted'].map((k) => [k, []]));
     if (visible) {
       const f = this.markFormat();
       const [ox, oy] = this.origin;
@@ -325,6 +325,11 @@ export class DrawingView {
         const x = points[2 * j.point] - ox;
         const y = points[2 * j.point + 1] - oy;
         const kind = kindOf(j);
+        // Anchors that adaptive control points inserted (not the artist's): ringed.
+        if (this.info.paths[j.path].inserted?.[j.joint]) {
+          const R = 1.8 * r;
+          data.inserted.push(`M${f(x - R)} ${f(y)}a${f(R)} ${f(R)} 0 1 0 ${f(2 * R)} 0a${f(R)} ${f(R)} 0 1 0 ${f(-2 * R)} 0z`);
+        }
         const list = data[kind];
         if (!list) continue;
         if (kind === 'C0') {
@@ -337,7 +342,7 @@ export class DrawingView {
         }
       }
     }
-    for (const k of JUNCTION_KINDS) this.junctionPaths[k].setAttribute('d', data[k].join(''));
+    for (const [k, path] of Object.entries(this.junctionPaths)) path.setAttribute('d', data[k].join(''));
   }
 
   /** The junction within `radius` pixels of user point p at `points`, or null. */

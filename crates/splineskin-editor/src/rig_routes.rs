@@ -149,6 +149,7 @@ pub(crate) fn refine(editor: &Editor, id: &str, request: &Request) -> Result<Res
             refined: false,
             document: None,
             rig: None,
+            moved: Vec::new(),
             n_inserted,
             n_curves,
             worst: refined.worst,
@@ -168,6 +169,11 @@ pub(crate) fn refine(editor: &Editor, id: &str, request: &Request) -> Result<Res
         refined: true,
         document: Some(info),
         rig: Some(rig),
+        moved: refined
+            .inserted
+            .iter()
+            .map(|flags| (0..flags.len()).filter(|&j| !flags[j]).collect())
+            .collect(),
         n_inserted,
         n_curves,
         worst: refined.worst,

@@ -149,6 +149,10 @@ pub struct RefineAnswer {
     pub document: Option<DocumentInfo>,
     /// The refined drawing's rig (sharing the weights of the rig refined), or `null`.
     pub rig: Option<String>,
+    /// Per path, for each joint of the rig's document, its index in the refined drawing (the
+    /// page moves junction kinds of its undo history with it); empty when nothing was
+    /// inserted.
+    pub moved: Vec<Vec<usize>>,
     /// Anchors inserted by this request.
     pub n_inserted: usize,
     /// Curves of the drawing now.

@@ -320,6 +320,7 @@ async fn serve_refine_inserts_anchors_where_the_fit_falls_short() {
     };
     let (old_rest, new_rest) = (numbers(&info["rest"]), numbers(&refined["rest"]));
     let (mut old_at, mut new_at, mut marked) = (0, 0, 0);
+    let mut moved = Vec::new();
     let scale = 500.0;
     for (old, new) in info["paths"]
         .as_array()
@@ -335,6 +336,7 @@ async fn serve_refine_inserts_anchors_where_the_fit_falls_short() {
             .collect();
         marked += flags.iter().filter(|&&b| b).count();
         let kept: Vec<usize> = (0..flags.len()).filter(|&j| !flags[j]).collect();
+        moved.push(serde_json::json!(kept));
         assert_eq!(kept.len(), old["joints"].as_array().expect("joints").len());
         for (k, &j) in kept.iter().enumerate() {
             for c in 0..2 {
@@ -348,6 +350,7 @@ async fn serve_refine_inserts_anchors_where_the_fit_falls_short() {
         old_at += 2 * old["n_points"].as_u64().expect("n") as usize;
         new_at += 2 * new["n_points"].as_u64().expect("n") as usize;
     }
+    assert_eq!(answer["moved"], serde_json::json!(moved));
     assert_eq!(marked, n_inserted);
     // The refined rig's operator reproduces the refined rest at the identity.
     let new_rig = answer["rig"].as_str().expect("rig id");
