@@ -621,15 +621,17 @@ async function refineForPoses() {
   }
 }
 
-/** Moves the junction kinds of every undo step by `map` (per path, joint → joint or -1). */
+/** `junctions` moved by `map` (per path, joint → joint, or -1: dropped). */
+function movedJunctions(junctions, map) {
+  return junctions.flatMap((j) => {
+    const to = map[j.path]?.[j.joint] ?? -1;
+    return to < 0 ? [] : [{ ...j, joint: to }];
+  });
+}
+
+/** Moves the junction kinds of every undo step by `map` (as movedJunctions). */
 function moveJunctions(map) {
-  const move = (junctions) =>
-    junctions.flatMap((j) => {
-      const to = map[j.path]?.[j.joint] ?? -1;
-      return to < 0 ? [] : [{ ...j, joint: to }];
-    });
-  for (const s of [...editor.history.undoStack, ...editor.history.redoStack]) s.junctions = move(s.junctions);
-  return move;
+  for (const s of [...editor.history.undoStack, ...editor.history.redoStack]) s.junctions = movedJunctions(s.junctions, map);
 }
 
 /** Shows document `info` in place of the shown one, keeping the scene and the zoom. */
@@ -674,8 +676,8 @@ function backToOriginal() {
   const a = editor.adaptive;
   const original = a.original;
   if (!original) return;
-  const move = moveJunctions(a.toOriginal);
-  editor.scene.junctions = move(editor.scene.junctions);
+  moveJunctions(a.toOriginal);
+  editor.scene.junctions = movedJunctions(editor.scene.junctions, a.toOriginal);
   a.original = null;
   a.toOriginal = null;
   showInPlace(original.info);
@@ -694,12 +696,7 @@ function backToOriginal() {
 /** The scene as the drawing as opened has it (junction kinds on its own joints). */
 function sceneOfOriginal() {
   const map = editor.adaptive.toOriginal;
-  if (!map) return editor.scene;
-  const junctions = editor.scene.junctions.flatMap((j) => {
-    const to = map[j.path]?.[j.joint] ?? -1;
-    return to < 0 ? [] : [{ ...j, joint: to }];
-  });
-  return { ...editor.scene, junctions };
+  return map ? { ...editor.scene, junctions: movedJunctions(editor.scene.junctions, map) } : editor.scene;
 }
 
 function units(v) {
