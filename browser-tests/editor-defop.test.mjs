@@ -64,6 +64,13 @@ async function chooseOperator(page, family) {
 /** The page's points, the server's for the same configuration Q, and the drawing's diagonal. */
 function pageAndLibrary(page) {
   return page.evaluate(async () => {
+    // An operator following a drag may still be sampling or blending in: compare the drawing
+    // once it has settled (for 30 s at most), as drawn by the operator in use.
+    const until = performance.now() + 30_000;
+    const busy = () =>
+      document.body.dataset.follow === 'sampling' || Boolean(window.splineskinEditor.rig?.blendingUntil);
+    while (busy() && performance.now() < until) await new Promise((ok) => setTimeout(ok, 25));
+    await new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(ok)));
     const { rig, points, rest, scene } = window.splineskinEditor;
     const q = scene.handles.map(([x, y], i) => {
       const T = scene.pose[i];
