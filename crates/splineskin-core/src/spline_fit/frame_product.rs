@@ -56,7 +56,13 @@ impl Entries {
     }
 
     /// Points `first, first + 1, …` of the product into `out`.
-    fn points(&self, n_cols: usize, pose: &[Affine], first: usize, out: &mut [Point]) {
+    fn points<S: PointSink + ?Sized>(
+        &self,
+        n_cols: usize,
+        pose: &[Affine],
+        first: usize,
+        out: &mut S,
+    ) {
         match self {
             Entries::F64(e) => points_of(e, n_cols, pose, first, out),
             Entries::F32(e) => points_of(e, n_cols, pose, first, out),
@@ -151,9 +157,10 @@ impl FrameProduct {
         self.helper.is_some()
     }
 
-    /// Writes `O · vec(pose)` into `out` as points. `pose.len() == n_handles` and
-    /// `out.len() == n_points` (checked by the caller). Allocates nothing.
-    pub fn apply(&self, pose: &[Affine], out: &mut [Point]) {
+    /// Writes `O · vec(pose)` into `out`: points, or their coordinates `x0, y0, x1, …`
+    /// ([`PointSink`]). `pose.len() == n_handles` and `out` holds `n_points` points (checked
+    /// by the caller). Allocates nothing.
+    pub fn apply<S: PointSink + ?Sized>(&self, pose: &[Affine], out: &mut S) {
         let n_cols = 6 * self.n_handles;
         match &self.helper {
             None => self.entries.points(n_cols, pose, 0, out),
@@ -167,7 +174,7 @@ impl FrameProduct {
                     slot.state = State::Work;
                 }
                 helper.shared.wake.notify_one();
-                let (mine, theirs) = out.split_at_mut(helper.first);
+                let (mine, theirs) = out.split_at_points(helper.first);
                 self.entries.points(n_cols, pose, 0, mine);
                 let mut slot = lock(&helper.shared.slot);
                 while slot.state != State::Done {
@@ -177,7 +184,7 @@ impl FrameProduct {
                         .wait(slot)
                         .unwrap_or_else(|e| e.into_inner());
                 }
-                theirs.copy_from_slice(&slot.points);
+                theirs.copy_points(&slot.points);
                 slot.state = State::Idle;
             }
         }
@@ -214,17 +221,68 @@ impl std::fmt::Debug for FrameProduct {
     }
 }
 
+/// Where the product's points are written: a slice of [`Point`]s, or of their coordinates
+/// `x0, y0, x1, y1, …` (two `f64` per point, the layout numpy arrays and WebAssembly memory
+/// hold).
+pub(crate) trait PointSink {
+    /// Number of points held.
+    fn n_points(&self) -> usize;
+    /// Sets point `k` to `(x, y)`.
+    fn put(&mut self, k: usize, x: f64, y: f64);
+    /// The points before `k` and from `k` on.
+    fn split_at_points(&mut self, k: usize) -> (&mut Self, &mut Self);
+    /// Copies `points` (as many as held) in.
+    fn copy_points(&mut self, points: &[Point]);
+}
+
+impl PointSink for [Point] {
+    fn n_points(&self) -> usize {
+        self.len()
+    }
+    #[inline]
+    fn put(&mut self, k: usize, x: f64, y: f64) {
+        self[k] = Point::new(x, y);
+    }
+    fn split_at_points(&mut self, k: usize) -> (&mut Self, &mut Self) {
+        self.split_at_mut(k)
+    }
+    fn copy_points(&mut self, points: &[Point]) {
+        self.copy_from_slice(points);
+    }
+}
+
+impl PointSink for [f64] {
+    fn n_points(&self) -> usize {
+        self.len() / 2
+    }
+    #[inline]
+    fn put(&mut self, k: usize, x: f64, y: f64) {
+        self[2 * k] = x;
+        self[2 * k + 1] = y;
+    }
+    fn split_at_points(&mut self, k: usize) -> (&mut Self, &mut Self) {
+        self.split_at_mut(2 * k)
+    }
+    fn copy_points(&mut self, points: &[Point]) {
+        for (xy, p) in self.chunks_exact_mut(2).zip(points) {
+            xy[0] = p.x;
+            xy[1] = p.y;
+        }
+    }
+}
+
 /// Points `first, first + 1, …` of `O · vec(pose)` into `out`: for point `k`, rows `2k` and
 /// `2k + 1` of `O` against the six coefficients `(a, b, c, d, e, f)` of each handle's map.
-fn points_of<T: Copy + Into<f64>>(
+fn points_of<T: Copy + Into<f64>, S: PointSink + ?Sized>(
     operator: &[T],
     n_cols: usize,
     pose: &[Affine],
     first: usize,
-    out: &mut [Point],
+    out: &mut S,
 ) {
-    let rows = &operator[2 * first * n_cols..][..2 * out.len() * n_cols];
-    for (p, rows) in out.iter_mut().zip(rows.chunks_exact(2 * n_cols)) {
+    let n = out.n_points();
+    let rows = &operator[2 * first * n_cols..][..2 * n * n_cols];
+    for (k, rows) in rows.chunks_exact(2 * n_cols).enumerate() {
         let (rx, ry) = rows.split_at(n_cols);
         let (mut x, mut y) = (0.0, 0.0);
         for ((t, ox), oy) in pose.iter().zip(rx.chunks_exact(6)).zip(ry.chunks_exact(6)) {
@@ -232,7 +290,7 @@ fn points_of<T: Copy + Into<f64>>(
             x += dot6(ox, &c);
             y += dot6(oy, &c);
         }
-        *p = Point::new(x, y);
+        out.put(k, x, y);
     }
 }
 
@@ -312,7 +370,7 @@ impl Helper {
                         State::Exit => return,
                         State::Work => {
                             let Slot { pose, points, .. } = &mut *slot;
-                            entries.points(n_cols, pose, first, points);
+                            entries.points(n_cols, pose, first, points.as_mut_slice());
                             slot.state = State::Done;
                             theirs.done.notify_one();
                         }
@@ -381,11 +439,18 @@ mod tests {
         );
         for k in 0..5 {
             let t = pose(h, k);
-            serial.apply(&t, &mut a);
-            split.apply(&t, &mut b);
-            copy.apply(&t, &mut c);
+            serial.apply(&t, a.as_mut_slice());
+            split.apply(&t, b.as_mut_slice());
+            copy.apply(&t, c.as_mut_slice());
             assert_eq!(a, b, "frame {k}");
             assert_eq!(a, c, "frame {k}");
+            // Written as coordinates (the helper's half copied in as x, y): the same numbers.
+            let mut xy = vec![f64::NAN; 2 * n];
+            split.apply(&t, xy.as_mut_slice());
+            assert!(a
+                .iter()
+                .zip(xy.chunks_exact(2))
+                .all(|(p, q)| p.x == q[0] && p.y == q[1]));
         }
         // Point 0 restated: rows 0 and 1 against the coefficients.
         let t = pose(h, 4);
@@ -409,8 +474,8 @@ mod tests {
         let reference = FrameProduct::new(rounded, n, h, false);
         let (mut a, mut b) = (vec![Point::ZERO; n], vec![Point::ZERO; n]);
         let t = pose(h, 2);
-        single.apply(&t, &mut a);
-        reference.apply(&t, &mut b);
+        single.apply(&t, a.as_mut_slice());
+        reference.apply(&t, b.as_mut_slice());
         assert_eq!(a, b);
         let back = single.with_single_precision(false);
         assert!(!back.is_single_precision());
@@ -422,7 +487,7 @@ mod tests {
         let product = FrameProduct::new(operator(10, 3), 10, 3, true);
         assert!(!product.is_split());
         let mut out = vec![Point::ZERO; 10];
-        product.apply(&pose(3, 0), &mut out);
+        product.apply(&pose(3, 0), out.as_mut_slice());
         assert!(out.iter().all(|p| p.x.is_finite() && p.y.is_finite()));
     }
 }

@@ -79,6 +79,14 @@ pub enum PoseError {
         /// Chain points of the drawing.
         expected: usize,
     },
+    /// The output buffer of coordinates has the wrong length.
+    #[error("output buffer holds {got} coordinates, the drawing's {points} points need {}", 2 * points)]
+    Coordinates {
+        /// Buffer length.
+        got: usize,
+        /// Chain points of the drawing.
+        points: usize,
+    },
 }
 
 /// The paths one system is solved for ([`SplineRig::precompute`]): a lone path, or the
@@ -266,6 +274,47 @@ impl SplineRig {
             return Err(PoseError::Output {
                 got: out.len(),
                 expected: self.product.n_points(),
+            });
+        }
+        self.product.apply(pose, out);
+        Ok(())
+    }
+
+    /// [`SplineRig::update`] writing coordinates: `out` holds `x0, y0, x1, y1, …`
+    /// (`2 · n_points` values, the layout of an `n × 2` array in C order, of WebAssembly
+    /// memory, of a numpy array), the same numbers to the bit. Allocates nothing.
+    ///
+    /// ```
+    /// use kurbo::{Affine, Point};
+    /// use splineskin_core::drawing::{Drawing, JunctionOptions, Path};
+    /// use splineskin_core::spline_fit::{FitOptions, SplineRig};
+    /// use splineskin_core::weights::{Shepard, ShepardOptions};
+    /// let pts = [(0.0, 0.0), (1.0, 1.0), (2.0, 1.0), (3.0, 0.0)].map(Point::from).to_vec();
+    /// let drawing = Drawing {
+    ///     paths: vec![Path::new(pts, false, &JunctionOptions::default()).unwrap()],
+    ///     ..Default::default()
+    /// };
+    /// let weights = Shepard::new(&[Point::ZERO, Point::new(3.0, 0.0)], ShepardOptions::default());
+    /// let rig = SplineRig::precompute(&drawing, &weights, &FitOptions::default()).unwrap();
+    /// let pose = [Affine::rotate(0.3), Affine::translate((1.0, 2.0))];
+    /// let mut points = vec![Point::ZERO; rig.n_points()];
+    /// let mut coords = vec![0.0; 2 * rig.n_points()];
+    /// rig.update(&pose, &mut points).unwrap();
+    /// rig.update_coords(&pose, &mut coords).unwrap();
+    /// assert!(points.iter().zip(coords.chunks(2)).all(|(p, xy)| p.x == xy[0] && p.y == xy[1]));
+    /// assert!(rig.update_coords(&pose, &mut coords[1..]).is_err());
+    /// ```
+    pub fn update_coords(&self, pose: &[Affine], out: &mut [f64]) -> Result<(), PoseError> {
+        if pose.len() != self.product.n_handles() {
+            return Err(PoseError::Transforms {
+                got: pose.len(),
+                expected: self.product.n_handles(),
+            });
+        }
+        if out.len() != 2 * self.product.n_points() {
+            return Err(PoseError::Coordinates {
+                got: out.len(),
+                points: self.product.n_points(),
             });
         }
         self.product.apply(pose, out);

@@ -1,0 +1,124 @@
+"""Type stubs of the extension module (python/src/*.rs); the docstrings at run time are the
+Rust doc comments."""
+
+from __future__ import annotations
+
+import os
+from typing import Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class SplineSkinError(Exception):
+    """An error of the library: bad input, with its message naming the file and element."""
+
+class Drawing:
+    """A drawing of cubic Bézier paths read from an SVG document."""
+
+    @staticmethod
+    def from_svg(source: Union[str, os.PathLike[str]], /) -> Drawing:
+        """Reads an SVG document: its text (a string starting with ``<``) or a path to it."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def n_paths(self) -> int: ...
+    @property
+    def n_curves(self) -> int: ...
+    @property
+    def n_points(self) -> int: ...
+    @property
+    def points(self) -> npt.NDArray[np.float64]:
+        """Rest control points of every path, concatenated: ``n_points × 2``."""
+    @property
+    def offsets(self) -> list[int]:
+        """Where each path's rows start in ``points`` (``n_paths + 1`` numbers)."""
+    @property
+    def closed(self) -> list[bool]: ...
+    @property
+    def joints(self) -> list[list[str]]:
+        """Junction kinds per path: ``end``, ``C0``, ``C1``, ``G1`` or ``angle``."""
+    @property
+    def diagonal(self) -> float: ...
+    def to_svg(self, points: npt.NDArray[np.float64], *, viewbox: str = "keep") -> str:
+        """The SVG document with ``points`` in place of the drawing's control points."""
+
+class Scene:
+    """A scene file (ours or the paper authors'): drawing, handles, weights, poses."""
+
+    @staticmethod
+    def load(path: Union[str, os.PathLike[str]], /) -> Scene: ...
+    @staticmethod
+    def from_json(text: str, /, name: str = "<scene>") -> Scene: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def handles(self) -> npt.NDArray[np.float64]:
+        """Point handles' rest positions, ``n × 2``."""
+    @property
+    def n_handles(self) -> int: ...
+    @property
+    def weights(self) -> str: ...
+    @property
+    def flexible(self) -> bool: ...
+    @property
+    def n_poses(self) -> int: ...
+    @property
+    def pose_names(self) -> list[Optional[str]]: ...
+    def pose(self, index: Union[int, str] = 0) -> npt.NDArray[np.float64]:
+        """Pose ``index`` (or named so): ``n_handles × 2 × 3`` affine maps."""
+    def drawing(self, *, compat: Optional[str] = None) -> Drawing: ...
+
+class SplineRig:
+    """The spline fit of a skinning deformation, precomputed."""
+
+    def __init__(
+        self,
+        drawing: Drawing,
+        handles: npt.NDArray[np.float64],
+        *,
+        weights: str = "bbw",
+        exponent: float = 2.0,
+        junctions: Optional[Sequence[tuple[int, int, str]]] = None,
+    ) -> None: ...
+    @staticmethod
+    def from_scene(
+        scene: Union[Scene, str, os.PathLike[str]], *, compat: Optional[str] = None
+    ) -> SplineRig: ...
+    def update(
+        self,
+        transforms: npt.NDArray[np.float64],
+        out: Optional[npt.NDArray[np.float64]] = None,
+    ) -> npt.NDArray[np.float64]:
+        """Control points (``n_points × 2``) for one affine map per handle
+        (``n_handles × 2 × 3``), written into ``out`` when given."""
+    def weights_at(self, points: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]: ...
+    @property
+    def drawing(self) -> Drawing: ...
+    @property
+    def n_handles(self) -> int: ...
+    @property
+    def n_points(self) -> int: ...
+    @property
+    def operator(self) -> npt.NDArray[np.float64]:
+        """``O``: ``(2 · n_points) × (6 · n_handles)``, a copy."""
+
+def harmonic(
+    V: npt.ArrayLike,
+    F: npt.ArrayLike,
+    b: npt.ArrayLike,
+    bc: Optional[npt.ArrayLike] = None,
+    k: int = 1,
+) -> npt.NDArray[np.float64]:
+    """Order-``k`` polyharmonic weights on the mesh ``(V, F)`` with ``w = bc`` at ``b``."""
+
+def bbw(
+    V: npt.ArrayLike,
+    F: npt.ArrayLike,
+    b: npt.ArrayLike,
+    bc: Optional[npt.ArrayLike] = None,
+    *,
+    partition_unity: bool = False,
+) -> npt.NDArray[np.float64]:
+    """Bounded biharmonic weights on the mesh ``(V, F)`` with ``w = bc`` at ``b``."""
