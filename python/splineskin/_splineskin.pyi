@@ -43,6 +43,16 @@ class Drawing:
     def diagonal(self) -> float: ...
     def to_svg(self, points: npt.NDArray[np.float64], *, viewbox: str = "keep") -> str:
         """The SVG document with ``points`` in place of the drawing's control points."""
+    def domain(
+        self,
+        handles: npt.NDArray[np.float64],
+        *,
+        max_area_fraction: Optional[float] = None,
+        max_vertices: Optional[int] = None,
+        min_angle: Optional[float] = None,
+        holes: bool = False,
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+        """The triangulated domain with a vertex at each handle: ``(V, F, b)``."""
 
 class Scene:
     """A scene file (ours or the paper authors'): drawing, handles, weights, poses."""

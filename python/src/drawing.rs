@@ -5,9 +5,10 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use numpy::{PyArray2, PyReadonlyArray2};
+use numpy::{PyArray1, PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
 use pyo3::prelude::*;
+use splineskin::domain::{Domain, DomainOptions};
 use splineskin::drawing::svg_out::{write_svg_view_box, ViewBoxRule};
 use splineskin::drawing::{read_svg_named, Drawing, ImportOptions};
 
@@ -202,6 +203,57 @@ impl PyDrawing {
         let drawing = self.drawing.clone();
         py.detach(move || write_svg_view_box(&drawing, &points, rule))
             .map_err(library_error)
+    }
+
+    /// The triangulated domain the mesh weight families are solved on (the drawing's outline
+    /// with its curves' samples, refined to `min_angle` degrees and triangles of at most
+    /// `max_area_fraction` of its area, up to `max_vertices`), with a vertex at each of
+    /// `handles` (`n × 2`): `(V, F, b)` in libigl's conventions, `V` `float64` `n × 2`, `F`
+    /// `int64` `m × 3` (counter-clockwise), `b` `int64` the handles' vertices.
+    #[pyo3(signature = (handles, *, max_area_fraction = None, max_vertices = None, min_angle = None, holes = false))]
+    #[allow(clippy::type_complexity)]
+    fn domain<'py>(
+        &self,
+        py: Python<'py>,
+        handles: PyReadonlyArray2<'py, f64>,
+        max_area_fraction: Option<f64>,
+        max_vertices: Option<usize>,
+        min_angle: Option<f64>,
+        holes: bool,
+    ) -> PyResult<(
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<i64>>,
+        Bound<'py, PyArray1<i64>>,
+    )> {
+        let handles = crate::arrays::points(&handles, "handles")?;
+        let mut options = DomainOptions::default().with_holes(holes);
+        if let Some(f) = max_area_fraction {
+            options = options.with_max_area_fraction(f);
+        }
+        if let Some(n) = max_vertices {
+            options = options.with_max_vertices(n);
+        }
+        if let Some(a) = min_angle {
+            options = options.with_min_angle(a);
+        }
+        let drawing = &self.drawing;
+        let domain = py
+            .detach(|| Domain::build(drawing, &handles, &[], &options))
+            .map_err(|e| library_error(format!("{}: domain: {e}", self.name)))?;
+        let mesh = &domain.mesh;
+        let v = points_array(py, &mesh.vertices);
+        let f: Vec<i64> = mesh
+            .triangles
+            .iter()
+            .flat_map(|t| t.map(|i| i as i64))
+            .collect();
+        let f = PyArray2::from_owned_array(
+            py,
+            numpy::ndarray::Array2::from_shape_vec((mesh.triangles.len(), 3), f)
+                .map_err(|e| PyValueError::new_err(e.to_string()))?,
+        );
+        let b: Vec<i64> = domain.handle_vertices.iter().map(|&i| i as i64).collect();
+        Ok((v, f, PyArray1::from_vec(py, b)))
     }
 
     fn __repr__(&self) -> String {
