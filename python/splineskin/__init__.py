@@ -17,7 +17,9 @@ Rust library behind the ``splineskin`` command line. Arrays are numpy ``float64`
 
 Classes: :class:`Drawing` (a drawing read from SVG, written back with ``to_svg``),
 :class:`Scene` (a scene file, ours or the paper authors'), :class:`SplineRig` (the
-precomputed fit; ``update`` per frame, into the caller's array if given). Functions:
+precomputed fit; ``update`` per frame, into the caller's array if given), :class:`Operator`
+(a deformation operator approximating ARAP or symmetric ARAP, trained or read) and
+:class:`OperatorRig` (a drawing joined to one). Functions:
 :func:`harmonic` and :func:`bbw` (weights on a triangle mesh, libigl's conventions),
 :func:`paths_of`, :func:`identity_pose`, :func:`translations`. Errors of the library raise
 :class:`SplineSkinError` with its message.
@@ -29,6 +31,8 @@ import numpy as np
 
 from ._splineskin import (
     Drawing,
+    Operator,
+    OperatorRig,
     Scene,
     SplineRig,
     SplineSkinError,
@@ -39,6 +43,8 @@ from ._splineskin import (
 
 __all__ = [
     "Drawing",
+    "Operator",
+    "OperatorRig",
     "Scene",
     "SplineRig",
     "SplineSkinError",
@@ -47,6 +53,7 @@ __all__ = [
     "harmonic",
     "identity_pose",
     "paths_of",
+    "posed_handles",
     "translations",
 ]
 
@@ -76,3 +83,11 @@ def translations(offsets) -> np.ndarray:
     pose = identity_pose(offsets.shape[0])
     pose[:, :, 2] = offsets
     return pose
+
+
+def posed_handles(handles, pose) -> np.ndarray:
+    """Where ``pose`` (``n × 2 × 3`` affine maps) takes the point handles ``handles``
+    (``n × 2``): the configuration ``Q`` an :class:`Operator` follows."""
+    handles = np.asarray(handles, dtype=np.float64)
+    pose = np.asarray(pose, dtype=np.float64)
+    return np.einsum("nij,nj->ni", pose[:, :2, :2], handles) + pose[:, :2, 2]

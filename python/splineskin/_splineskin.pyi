@@ -4,7 +4,7 @@ Rust doc comments."""
 from __future__ import annotations
 
 import os
-from typing import Optional, Sequence, Union
+from typing import Callable, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -113,6 +113,62 @@ class SplineRig:
     @property
     def operator(self) -> npt.NDArray[np.float64]:
         """``O``: ``(2 · n_points) × (6 · n_handles)``, a copy."""
+
+class Operator:
+    """A deformation operator on a triangle mesh, driven by point handles."""
+
+    @staticmethod
+    def train(
+        V: npt.ArrayLike,
+        F: npt.ArrayLike,
+        b: npt.ArrayLike,
+        *,
+        energy: str = "sarap",
+        samples: int = 100,
+        seed: int = 1,
+        progress: Optional[Callable[[int, int, int, int], object]] = None,
+    ) -> Operator: ...
+    @staticmethod
+    def from_scene(
+        scene: Union[Scene, str, os.PathLike[str]],
+        *,
+        energy: Optional[str] = None,
+        samples: Optional[int] = None,
+        seed: Optional[int] = None,
+        cover: Optional[str] = None,
+        progress: Optional[Callable[[int, int, int, int], object]] = None,
+    ) -> Operator: ...
+    @staticmethod
+    def load(path: Union[str, os.PathLike[str]], /) -> Operator: ...
+    def save(self, path: Union[str, os.PathLike[str]], /) -> None: ...
+    def evaluate(self, Q: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """The mesh's vertices for handle positions ``Q`` (``n_handles × 2``)."""
+    def join(self, drawing: Union[Drawing, Scene]) -> OperatorRig: ...
+    @property
+    def V(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def F(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def b(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def rest_handles(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def n_handles(self) -> int: ...
+    @property
+    def metadata(self) -> str: ...
+
+class OperatorRig:
+    """A drawing joined to an operator."""
+
+    def update(
+        self, Q: npt.NDArray[np.float64], out: Optional[npt.NDArray[np.float64]] = None
+    ) -> npt.NDArray[np.float64]: ...
+    @property
+    def operator(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def n_handles(self) -> int: ...
+    @property
+    def n_points(self) -> int: ...
 
 def harmonic(
     V: npt.ArrayLike,

@@ -15,11 +15,13 @@
 //! | `Scene` | [`scene::PyScene`]: a scene file (ours or the paper authors'), its handles and poses |
 //! | `SplineRig` | [`rig::PySplineRig`]: the spline fit of a skinning deformation, `update` |
 //! | `harmonic`, `bbw` | [`weights`]: weights on a triangle mesh in libigl's conventions |
+//! | `Operator`, `OperatorRig` | [`operator`]: deformation operators, trained or read, and their join with a drawing |
 
 use pyo3::prelude::*;
 
 pub mod arrays;
 pub mod drawing;
+pub mod operator;
 pub mod rig;
 pub mod scene;
 pub mod weights;
@@ -46,6 +48,8 @@ fn _splineskin(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<drawing::PyDrawing>()?;
     m.add_class::<scene::PyScene>()?;
     m.add_class::<rig::PySplineRig>()?;
+    m.add_class::<operator::PyOperator>()?;
+    m.add_class::<operator::PyOperatorRig>()?;
     m.add_function(wrap_pyfunction!(weights::harmonic, m)?)?;
     m.add_function(wrap_pyfunction!(weights::bbw, m)?)?;
     Ok(())

@@ -330,3 +330,13 @@ impl<'a, 'py> FromPyObject<'a, 'py> for SceneArg<'py> {
             })
     }
 }
+
+impl SceneArg<'_> {
+    /// The scene: the one given, or the file read.
+    pub fn load(self, py: Python<'_>) -> PyResult<Scene> {
+        match self {
+            SceneArg::Scene(scene) => Ok(scene.scene.clone()),
+            SceneArg::Path(path) => Ok(PyScene::load_path(py, &path)?.scene),
+        }
+    }
+}

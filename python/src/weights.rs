@@ -18,7 +18,7 @@ use crate::library_error;
 /// The mesh of `v` and `f`, 2-D: `v` may be `n × 3` if its `z` are all equal (a planar mesh
 /// as libigl holds it); triangles all clockwise are turned counter-clockwise (the weights do
 /// not depend on it); a mix of both is refused by the mesh check.
-fn mesh(
+pub fn mesh_of(
     v: &PyArrayLike2<'_, f64, AllowTypeChange>,
     f: &PyArrayLike2<'_, i64, AllowTypeChange>,
 ) -> PyResult<TriMesh> {
@@ -124,7 +124,7 @@ pub fn harmonic<'py>(
     bc: Option<PyArrayLike2<'py, f64, AllowTypeChange>>,
     k: usize,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let mesh = mesh(&V, &F)?;
+    let mesh = mesh_of(&V, &F)?;
     let data = dirichlet(&b, bc.as_ref())?;
     let weights = py
         .detach(|| polyharmonic(&mesh, &data, k))
@@ -151,7 +151,7 @@ pub fn bbw<'py>(
     bc: Option<PyArrayLike2<'py, f64, AllowTypeChange>>,
     partition_unity: bool,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let mesh = mesh(&V, &F)?;
+    let mesh = mesh_of(&V, &F)?;
     let data = dirichlet(&b, bc.as_ref())?;
     let weights = py
         .detach(|| -> Result<_, String> {
