@@ -19,7 +19,8 @@ Classes: :class:`Drawing` (a drawing read from SVG, written back with ``to_svg``
 :class:`Scene` (a scene file, ours or the paper authors'), :class:`SplineRig` (the
 precomputed fit; ``update`` per frame, into the caller's array if given), :class:`Operator`
 (a deformation operator approximating ARAP or symmetric ARAP, trained or read) and
-:class:`OperatorRig` (a drawing joined to one). Functions:
+:class:`OperatorRig` (a drawing joined to one), :class:`Cage` and :class:`SubdivRig`
+(Catmull–Clark cages, their limit surface, the subdivision rig). Functions:
 :func:`harmonic` and :func:`bbw` (weights on a triangle mesh, libigl's conventions),
 :func:`paths_of`, :func:`identity_pose`, :func:`translations`. Errors of the library raise
 :class:`SplineSkinError` with its message.
@@ -30,24 +31,28 @@ from __future__ import annotations
 import numpy as np
 
 from ._splineskin import (
+    Cage,
     Drawing,
     Operator,
     OperatorRig,
     Scene,
     SplineRig,
     SplineSkinError,
+    SubdivRig,
     __version__,
     bbw,
     harmonic,
 )
 
 __all__ = [
+    "Cage",
     "Drawing",
     "Operator",
     "OperatorRig",
     "Scene",
     "SplineRig",
     "SplineSkinError",
+    "SubdivRig",
     "__version__",
     "bbw",
     "harmonic",

@@ -114,6 +114,50 @@ class SplineRig:
     def operator(self) -> npt.NDArray[np.float64]:
         """``O``: ``(2 · n_points) × (6 · n_handles)``, a copy."""
 
+class Cage:
+    """A Catmull–Clark control cage."""
+
+    @staticmethod
+    def from_obj(source: Union[str, os.PathLike[str]], /) -> Cage:
+        """Reads a cage: a path, or OBJ text (a string with a line break)."""
+    @property
+    def positions(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def faces(self) -> list[list[int]]: ...
+    @property
+    def n_vertices(self) -> int: ...
+    @property
+    def n_faces(self) -> int: ...
+    def to_obj(self, positions: Optional[npt.NDArray[np.float64]] = None) -> str: ...
+    def limit(
+        self,
+        ptex: Sequence[int],
+        uv: npt.NDArray[np.float64],
+        positions: Optional[npt.NDArray[np.float64]] = None,
+    ) -> npt.NDArray[np.float64]:
+        """Limit-surface points at ptex faces ``ptex`` and parameters ``uv`` (``m × 2``)."""
+
+class SubdivRig:
+    """The rig of a subdivision scene."""
+
+    @staticmethod
+    def from_scene(path: Union[str, os.PathLike[str]], /) -> SubdivRig: ...
+    def update(
+        self,
+        transforms: npt.NDArray[np.float64],
+        out: Optional[npt.NDArray[np.float64]] = None,
+    ) -> npt.NDArray[np.float64]:
+        """Cage positions (``n_vertices × 3``) for one 3 × 4 map per handle."""
+    def pose(self, index: int = 0) -> npt.NDArray[np.float64]: ...
+    @property
+    def n_poses(self) -> int: ...
+    @property
+    def cage(self) -> Cage: ...
+    @property
+    def n_handles(self) -> int: ...
+    @property
+    def n_vertices(self) -> int: ...
+
 class Operator:
     """A deformation operator on a triangle mesh, driven by point handles."""
 

@@ -15,6 +15,7 @@
 //! | `Scene` | [`scene::PyScene`]: a scene file (ours or the paper authors'), its handles and poses |
 //! | `SplineRig` | [`rig::PySplineRig`]: the spline fit of a skinning deformation, `update` |
 //! | `harmonic`, `bbw` | [`weights`]: weights on a triangle mesh in libigl's conventions |
+//! | `Cage`, `SubdivRig` | [`subdiv`]: Catmull–Clark cages, their limit surface, the subdivision rig |
 //! | `Operator`, `OperatorRig` | [`operator`]: deformation operators, trained or read, and their join with a drawing |
 
 use pyo3::prelude::*;
@@ -24,6 +25,7 @@ pub mod drawing;
 pub mod operator;
 pub mod rig;
 pub mod scene;
+pub mod subdiv;
 pub mod weights;
 
 pyo3::create_exception!(
@@ -49,6 +51,8 @@ fn _splineskin(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::PyScene>()?;
     m.add_class::<rig::PySplineRig>()?;
     m.add_class::<operator::PyOperator>()?;
+    m.add_class::<subdiv::PyCage>()?;
+    m.add_class::<subdiv::PySubdivRig>()?;
     m.add_class::<operator::PyOperatorRig>()?;
     m.add_function(wrap_pyfunction!(weights::harmonic, m)?)?;
     m.add_function(wrap_pyfunction!(weights::bbw, m)?)?;
