@@ -22,6 +22,7 @@ precomputed fit; ``update`` per frame, into the caller's array if given), :class
 :class:`OperatorRig` (a drawing joined to one), :class:`Cage` and :class:`SubdivRig`
 (Catmull–Clark cages, their limit surface, the subdivision rig). Functions:
 :func:`harmonic` and :func:`bbw` (weights on a triangle mesh, libigl's conventions),
+:func:`mvc` (mean value coordinates of a polygon),
 :func:`paths_of`, :func:`identity_pose`, :func:`translations`. Errors of the library raise
 :class:`SplineSkinError` with its message.
 """
@@ -42,6 +43,7 @@ from ._splineskin import (
     __version__,
     bbw,
     harmonic,
+    mvc,
 )
 
 __all__ = [
@@ -57,6 +59,7 @@ __all__ = [
     "bbw",
     "harmonic",
     "identity_pose",
+    "mvc",
     "paths_of",
     "posed_handles",
     "translations",

@@ -4,7 +4,7 @@ Rust doc comments."""
 from __future__ import annotations
 
 import os
-from typing import Callable, Optional, Sequence, Union
+from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -91,10 +91,15 @@ class SplineRig:
         weights: str = "bbw",
         exponent: float = 2.0,
         junctions: Optional[Sequence[tuple[int, int, str]]] = None,
+        flexible: bool = False,
+        engine: str = "ours",
     ) -> None: ...
     @staticmethod
     def from_scene(
-        scene: Union[Scene, str, os.PathLike[str]], *, compat: Optional[str] = None
+        scene: Union[Scene, str, os.PathLike[str]],
+        *,
+        compat: Optional[str] = None,
+        flexible: bool = False,
     ) -> SplineRig: ...
     def update(
         self,
@@ -103,7 +108,17 @@ class SplineRig:
     ) -> npt.NDArray[np.float64]:
         """Control points (``n_points × 2``) for one affine map per handle
         (``n_handles × 2 × 3``), written into ``out`` when given."""
+    def metrics(
+        self,
+        transforms: npt.NDArray[np.float64],
+        points: Optional[npt.NDArray[np.float64]] = None,
+    ) -> dict[str, Any]:
+        """Energy, max and RMS distance (/ diagonal) of ``points`` from the skinned target."""
     def weights_at(self, points: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]: ...
+    @property
+    def flexible(self) -> bool: ...
+    @property
+    def engine(self) -> str: ...
     @property
     def drawing(self) -> Drawing: ...
     @property
@@ -232,3 +247,6 @@ def bbw(
     partition_unity: bool = False,
 ) -> npt.NDArray[np.float64]:
     """Bounded biharmonic weights on the mesh ``(V, F)`` with ``w = bc`` at ``b``."""
+
+def mvc(cage: npt.NDArray[np.float64], points: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """Mean value coordinates of ``points`` (``m × 2``) for the polygon ``cage`` (``n × 2``)."""

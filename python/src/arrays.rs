@@ -1,19 +1,22 @@
 //! numpy arrays in and out: shapes, order and finiteness checked with messages that name the
 //! argument, in the layouts the library uses (points `n × 2`, affine maps `k × 2 × 3`).
 
+use std::borrow::Cow;
+
 use kurbo::{Affine, Point};
 use numpy::{PyArray2, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-/// The `float64` C-order data of `array` (`name` for messages), checked to be `rows × cols`
-/// (`rows` `None`: any number of rows).
+/// The `float64` data of `array` (`name` for messages) in row-major order, checked to be
+/// `rows × cols` (`rows` `None`: any number of rows): the array's own memory when it is in C
+/// order, else a row-major copy (a Fortran-order or strided view is read as numpy shows it).
 pub fn matrix<'a>(
     array: &'a PyReadonlyArray2<'_, f64>,
     name: &str,
     rows: Option<usize>,
     cols: usize,
-) -> PyResult<&'a [f64]> {
+) -> PyResult<Cow<'a, [f64]>> {
     let shape = array.shape();
     if shape[1] != cols || rows.is_some_and(|r| r != shape[0]) {
         let expected = match rows {
@@ -25,13 +28,12 @@ pub fn matrix<'a>(
             shape[0], shape[1]
         )));
     }
-    if !array.is_c_contiguous() {
-        return Err(PyValueError::new_err(format!(
-            "{name}: a C-order (row-major) array expected; pass numpy.ascontiguousarray({name})"
-        )));
-    }
-    let data = array.as_slice()?;
-    check_finite(data, name, cols)?;
+    let data = if array.is_c_contiguous() {
+        Cow::Borrowed(array.as_slice()?)
+    } else {
+        Cow::Owned(array.as_array().iter().copied().collect())
+    };
+    check_finite(&data, name, cols)?;
     Ok(data)
 }
 
@@ -74,14 +76,13 @@ pub fn affines_into(
             shape[0], shape[1], shape[2]
         )));
     }
-    if !array.is_c_contiguous() {
-        return Err(PyValueError::new_err(format!(
-            "{name}: a C-order (row-major) array expected; pass numpy.ascontiguousarray({name})"
-        )));
-    }
-    let data = array.as_slice()?;
+    let data: Cow<'_, [f64]> = if array.is_c_contiguous() {
+        Cow::Borrowed(array.as_slice()?)
+    } else {
+        Cow::Owned(array.as_array().iter().copied().collect())
+    };
     let rows = shape[1];
-    check_finite(data, name, rows * 3)?;
+    check_finite(&data, name, rows * 3)?;
     out.clear();
     for (k, m) in data.chunks_exact(rows * 3).enumerate() {
         if rows == 3 && (m[6] != 0.0 || m[7] != 0.0 || m[8] != 1.0) {

@@ -14,7 +14,7 @@
 //! | `Drawing` | [`drawing::PyDrawing`]: a drawing read from SVG, its control points, `to_svg` |
 //! | `Scene` | [`scene::PyScene`]: a scene file (ours or the paper authors'), its handles and poses |
 //! | `SplineRig` | [`rig::PySplineRig`]: the spline fit of a skinning deformation, `update` |
-//! | `harmonic`, `bbw` | [`weights`]: weights on a triangle mesh in libigl's conventions |
+//! | `harmonic`, `bbw`, `mvc` | [`weights`]: weights on a triangle mesh in libigl's conventions; mean value coordinates of a polygon |
 //! | `Cage`, `SubdivRig` | [`subdiv`]: Catmull–Clark cages, their limit surface, the subdivision rig |
 //! | `Operator`, `OperatorRig` | [`operator`]: deformation operators, trained or read, and their join with a drawing |
 
@@ -56,5 +56,6 @@ fn _splineskin(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<operator::PyOperatorRig>()?;
     m.add_function(wrap_pyfunction!(weights::harmonic, m)?)?;
     m.add_function(wrap_pyfunction!(weights::bbw, m)?)?;
+    m.add_function(wrap_pyfunction!(weights::mvc, m)?)?;
     Ok(())
 }

@@ -12,8 +12,9 @@ use numpy::{
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use splineskin::drawing::JointKind;
+use splineskin::metrics::{chain_metrics, MetricsOptions};
 use splineskin::scene::{
-    Compat, Deformer, JunctionOverride, MeshFamily, PosedDrawing, Scene, WeightSpec,
+    Compat, Deformer, Engine, JunctionOverride, MeshFamily, PosedDrawing, Scene, WeightSpec,
 };
 
 use crate::arrays::{affines_into, matrix, matrix_array, points};
@@ -113,9 +114,13 @@ impl PySplineRig {
     /// `"biharmonic"`; `junctions` a list of `(path, joint, kind)` replacing the classified
     /// kinds (`"C0"`, `"C1"`, `"G1"`, `"angle"`); `flexible`: G¹ and fixed-angle junctions
     /// keep their tangents' directions but not their length ratio (an iterative solve per
-    /// pose, started from the fixed-ratio fit).
+    /// pose, started from the fixed-ratio fit); `engine` `"ours"` (the fit) or one of the
+    /// paper's naive baselines, `"fourcontrols"` (skin every control point),
+    /// `"twoendpoints"` (skin the anchors, handles follow) or `"jacobian"` (handles by the
+    /// skinning map's Jacobian; inverse-distance weights only).
     #[new]
-    #[pyo3(signature = (drawing, handles, *, weights = "bbw", exponent = 2.0, junctions = None, flexible = false))]
+    #[pyo3(signature = (drawing, handles, *, weights = "bbw", exponent = 2.0, junctions = None, flexible = false, engine = "ours"))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         drawing: PyRef<'_, PyDrawing>,
@@ -124,6 +129,7 @@ impl PySplineRig {
         exponent: f64,
         junctions: Option<Vec<(usize, usize, String)>>,
         flexible: bool,
+        engine: &str,
     ) -> PyResult<PySplineRig> {
         let handles: Vec<Point> = points(&handles, "handles")?;
         let spec = weight_spec(weights, exponent)?;
@@ -137,6 +143,17 @@ impl PySplineRig {
         scene.handles = handles;
         scene.weights = spec;
         scene.junctions = junction_overrides(junctions.unwrap_or_default())?;
+        scene.engine = match engine {
+            "ours" => Engine::Ours,
+            "fourcontrols" => Engine::FourControls,
+            "twoendpoints" => Engine::TwoEndpoints,
+            "jacobian" => Engine::Jacobian,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "engine={other:?}: expected \"ours\" or a naive baseline: \"fourcontrols\", \"twoendpoints\", \"jacobian\""
+                )))
+            }
+        };
         PySplineRig::build(py, &scene, Compat::None, flexible)
     }
 
@@ -224,6 +241,61 @@ impl PySplineRig {
             .map_err(library_error)?;
         }
         Ok(out)
+    }
+
+    /// How far `points` (`n_points × 2`; default: this rig's `update(transforms)`) are from
+    /// the skinned target under `transforms` (the paper's figures, `splineskin compare`'s):
+    /// `{"energy": ∫‖R − s‖², "max": largest distance / diagonal, "rms": …, "per_curve":
+    /// n_curves × 3 array of the three per input curve, "diagonal": …}`, distances sampled at
+    /// the same parameter on both.
+    #[pyo3(signature = (transforms, points = None))]
+    fn metrics<'py>(
+        &mut self,
+        py: Python<'py>,
+        transforms: PyReadonlyArray3<'py, f64>,
+        points: Option<PyReadonlyArray2<'py, f64>>,
+    ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        let result: Vec<Point> = match &points {
+            Some(p) => {
+                affines_into(
+                    &transforms,
+                    "transforms",
+                    self.posed.n_handles(),
+                    &mut self.pose,
+                )?;
+                matrix(p, "points", Some(self.posed.n_points()), 2)?;
+                crate::arrays::points(p, "points")?
+            }
+            None => {
+                let out = self.update(py, transforms, None)?;
+                let data = out.readonly();
+                crate::arrays::points(&data, "points")?
+            }
+        };
+        let (posed, pose) = (&self.posed, &self.pose);
+        let m = py
+            .detach(|| {
+                chain_metrics(
+                    posed.drawing(),
+                    posed.weights(),
+                    pose,
+                    &result,
+                    &MetricsOptions::default(),
+                )
+            })
+            .map_err(library_error)?;
+        let dict = pyo3::types::PyDict::new(py);
+        dict.set_item("energy", m.overall.energy)?;
+        dict.set_item("max", m.overall.max)?;
+        dict.set_item("rms", m.overall.rms)?;
+        dict.set_item("diagonal", m.diagonal)?;
+        let per: Vec<f64> = m
+            .per_curve
+            .iter()
+            .flat_map(|f| [f.energy, f.max, f.rms])
+            .collect();
+        dict.set_item("per_curve", matrix_array(py, per, 3))?;
+        Ok(dict)
     }
 
     /// The weights of every handle at `points` (`m × 2`): `m × n_handles`.

@@ -215,14 +215,13 @@ impl PySubdivRig {
                 shape[0], shape[1], shape[2]
             )));
         }
-        if !transforms.is_c_contiguous() {
-            return Err(PyValueError::new_err(
-                "transforms: a C-order (row-major) array expected",
-            ));
-        }
+        let data: std::borrow::Cow<'_, [f64]> = if transforms.is_c_contiguous() {
+            std::borrow::Cow::Borrowed(transforms.as_slice()?)
+        } else {
+            std::borrow::Cow::Owned(transforms.as_array().iter().copied().collect())
+        };
         let rows = shape[1];
-        let data = transforms.as_slice()?;
-        check_finite(data, "transforms", rows * 4)?;
+        check_finite(&data, "transforms", rows * 4)?;
         self.pose.clear();
         for (k, m) in data.chunks_exact(rows * 4).enumerate() {
             if rows == 4 && (m[12] != 0.0 || m[13] != 0.0 || m[14] != 0.0 || m[15] != 1.0) {

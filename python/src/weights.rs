@@ -169,3 +169,27 @@ pub fn bbw<'py>(
         weights.n_handles(),
     ))
 }
+
+/// Mean value coordinates (Floater 2003; Hormann & Floater 2006) of `points` (`m × 2`) with
+/// respect to the polygon `cage` (`n × 2`, counter-clockwise, simple): `m × n`, each row
+/// reproducing its point (`Σ w_i c_i = p`) and summing to 1, defined in the whole plane.
+#[pyfunction]
+pub fn mvc<'py>(
+    py: Python<'py>,
+    cage: numpy::PyReadonlyArray2<'py, f64>,
+    points: numpy::PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let cage = crate::arrays::points(&cage, "cage")?;
+    let points = crate::arrays::points(&points, "points")?;
+    let n = cage.len();
+    let field = splineskin::weights::MeanValue::new(&cage).map_err(library_error)?;
+    let values = py.detach(|| {
+        use splineskin::weights::WeightField;
+        let mut values = vec![0.0; points.len() * n];
+        for (p, row) in points.iter().zip(values.chunks_exact_mut(n.max(1))) {
+            field.eval(*p, row);
+        }
+        values
+    });
+    Ok(matrix_array(py, values, n))
+}

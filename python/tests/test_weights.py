@@ -85,3 +85,14 @@ def test_the_reference_meshes_give_libigls_weights(shape):
     assert np.abs(splineskin.harmonic(V, F, b, k=2) - np.array(weights["harmonic_k2"]["W"])).max() <= 1e-8
     assert np.abs(splineskin.bbw(V, F, b) - np.array(weights["bbw_raw"]["W"])).max() <= 1e-4
     assert np.abs(splineskin.bbw(V, F, b, partition_unity=True) - np.array(weights["bbw_normalized"]["W"])).max() <= 1e-4
+
+
+def test_mean_value_coordinates_reproduce_points_and_sum_to_one():
+    cage = np.array([[0.0, 0.0], [4.0, 0.0], [5.0, 3.0], [2.0, 5.0], [-1.0, 2.0]])
+    points = np.array([[2.0, 2.0], [0.5, 0.3], [6.0, -2.0], [3.0, 4.5]])  # two inside, two outside
+    W = splineskin.mvc(cage, points)
+    assert W.shape == (4, 5)
+    assert np.allclose(W.sum(axis=1), 1.0)
+    assert np.allclose(W @ cage, points)
+    with pytest.raises(splineskin.SplineSkinError):
+        splineskin.mvc(cage[::-1], points)  # clockwise
