@@ -236,7 +236,8 @@ def harmonic(
     bc: Optional[npt.ArrayLike] = None,
     k: int = 1,
 ) -> npt.NDArray[np.float64]:
-    """Order-``k`` polyharmonic weights on the mesh ``(V, F)`` with ``w = bc`` at ``b``."""
+    """Order-``k`` polyharmonic weights on the mesh ``(V, F)`` with ``w = bc`` at ``b``
+    (vertex indices, or handle positions ``k × 2`` matched to the vertices there)."""
 
 def bbw(
     V: npt.ArrayLike,

@@ -17,7 +17,7 @@ use crate::arrays::{matrix, matrix_array, points, points_array};
 use crate::drawing::{check_exists, PyDrawing};
 use crate::library_error;
 use crate::rig::SceneArg;
-use crate::weights::mesh_of;
+use crate::weights::{handle_vertices, mesh_of};
 
 /// A trained deformation operator on a triangle mesh (`Operator.train`, `Operator.from_scene`,
 /// `Operator.load`): `evaluate(Q)` deforms the mesh for handle positions `Q`.
@@ -127,26 +127,14 @@ impl PyOperator {
         py: Python<'_>,
         V: numpy::PyArrayLike2<'_, f64, numpy::AllowTypeChange>,
         F: numpy::PyArrayLike2<'_, i64, numpy::AllowTypeChange>,
-        b: numpy::PyArrayLike1<'_, i64, numpy::AllowTypeChange>,
+        b: Bound<'_, PyAny>,
         energy: &str,
         samples: usize,
         seed: u64,
         progress: Option<Py<PyAny>>,
     ) -> PyResult<PyOperator> {
         let mesh = mesh_of(&V, &F)?;
-        let handles: Vec<usize> = b
-            .as_array()
-            .iter()
-            .enumerate()
-            .map(|(k, &i)| {
-                usize::try_from(i)
-                    .ok()
-                    .filter(|&i| i < mesh.n_vertices())
-                    .ok_or_else(|| {
-                        PyValueError::new_err(format!("b[{k}] = {i}: not a vertex index"))
-                    })
-            })
-            .collect::<PyResult<_>>()?;
+        let handles = handle_vertices(&b, &mesh)?;
         let settings = settings_with(
             DefOpSettings::default(),
             Some(energy),

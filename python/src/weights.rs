@@ -1,5 +1,6 @@
 //! Weights on a given triangle mesh in libigl's conventions: `V` (`n × 2`, or `n × 3` with
-//! every `z` equal), `F` (`m × 3` vertex indices), `b` (the constrained vertices) and `bc`
+//! every `z` equal), `F` (`m × 3` vertex indices), `b` (the constrained vertices, or the
+//! handles' positions, each matched to the vertex there) and `bc`
 //! (their values, `len(b) × k`; default the identity, one column per handle: `w_i = 1` at
 //! `b[i]`, 0 at the others). The same solvers the library uses on a drawing's domain.
 
@@ -78,20 +79,67 @@ pub fn mesh_of(
     TriMesh::new(vertices, triangles).map_err(library_error)
 }
 
-/// The boundary data of `b` and `bc` (identity without `bc`).
-fn dirichlet(
-    b: &PyArrayLike1<'_, i64, AllowTypeChange>,
-    bc: Option<&PyArrayLike2<'_, f64, AllowTypeChange>>,
-) -> PyResult<DirichletData> {
-    let b: Vec<usize> = b
+/// Where a vertex must be to stand for a handle given by position: within this fraction of
+/// the mesh's bounding-box diagonal (the positions a mesh file or a triangulator wrote back).
+pub const HANDLE_POSITION_TOLERANCE: f64 = 1e-9;
+
+/// The handle vertices `b` names: vertex indices (a 1-D array of integers), or positions
+/// (`k × 2`), each matched to the mesh's vertex there (within [`HANDLE_POSITION_TOLERANCE`]
+/// of the diagonal).
+pub fn handle_vertices(b: &Bound<'_, PyAny>, mesh: &TriMesh) -> PyResult<Vec<usize>> {
+    let n = mesh.n_vertices();
+    if let Ok(positions) = b.extract::<PyArrayLike2<'_, f64, AllowTypeChange>>() {
+        let shape = positions.shape();
+        if shape[1] != 2 {
+            return Err(PyValueError::new_err(format!(
+                "b: vertex indices (k,) or handle positions (k, 2) expected, got ({}, {})",
+                shape[0], shape[1]
+            )));
+        }
+        let tolerance = HANDLE_POSITION_TOLERANCE * mesh.bounding_box_diagonal();
+        let a = positions.as_array();
+        return (0..shape[0])
+            .map(|k| {
+                let p = Point::new(a[(k, 0)], a[(k, 1)]);
+                let (best, distance) = mesh
+                    .vertices
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| (i, (*v - p).hypot()))
+                    .fold((0, f64::INFINITY), |m, c| if c.1 < m.1 { c } else { m });
+                if distance <= tolerance {
+                    Ok(best)
+                } else {
+                    Err(PyValueError::new_err(format!(
+                        "b[{k}] = ({}, {}): no vertex there (the nearest, {best}, is {distance:e} away)",
+                        p.x, p.y
+                    )))
+                }
+            })
+            .collect();
+    }
+    let indices = b
+        .extract::<PyArrayLike1<'_, i64, AllowTypeChange>>()
+        .map_err(|_| {
+            PyValueError::new_err("b: vertex indices (k,) or handle positions (k, 2) expected")
+        })?;
+    indices
         .as_array()
         .iter()
         .enumerate()
         .map(|(k, &i)| {
-            usize::try_from(i)
-                .map_err(|_| PyValueError::new_err(format!("b[{k}] = {i}: not a vertex index")))
+            usize::try_from(i).ok().filter(|&i| i < n).ok_or_else(|| {
+                PyValueError::new_err(format!("b[{k}] = {i}: not a vertex index (V has {n} rows)"))
+            })
         })
-        .collect::<PyResult<_>>()?;
+        .collect()
+}
+
+/// The boundary data of the handle vertices `b` and `bc` (identity without `bc`).
+fn dirichlet(
+    b: Vec<usize>,
+    bc: Option<&PyArrayLike2<'_, f64, AllowTypeChange>>,
+) -> PyResult<DirichletData> {
     match bc {
         None => DirichletData::handles(&b).map_err(library_error),
         Some(bc) => {
@@ -120,12 +168,12 @@ pub fn harmonic<'py>(
     py: Python<'py>,
     V: PyArrayLike2<'py, f64, AllowTypeChange>,
     F: PyArrayLike2<'py, i64, AllowTypeChange>,
-    b: PyArrayLike1<'py, i64, AllowTypeChange>,
+    b: Bound<'py, PyAny>,
     bc: Option<PyArrayLike2<'py, f64, AllowTypeChange>>,
     k: usize,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let mesh = mesh_of(&V, &F)?;
-    let data = dirichlet(&b, bc.as_ref())?;
+    let data = dirichlet(handle_vertices(&b, &mesh)?, bc.as_ref())?;
     let weights = py
         .detach(|| polyharmonic(&mesh, &data, k))
         .map_err(library_error)?;
@@ -147,12 +195,12 @@ pub fn bbw<'py>(
     py: Python<'py>,
     V: PyArrayLike2<'py, f64, AllowTypeChange>,
     F: PyArrayLike2<'py, i64, AllowTypeChange>,
-    b: PyArrayLike1<'py, i64, AllowTypeChange>,
+    b: Bound<'py, PyAny>,
     bc: Option<PyArrayLike2<'py, f64, AllowTypeChange>>,
     partition_unity: bool,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let mesh = mesh_of(&V, &F)?;
-    let data = dirichlet(&b, bc.as_ref())?;
+    let data = dirichlet(handle_vertices(&b, &mesh)?, bc.as_ref())?;
     let weights = py
         .detach(|| -> Result<_, String> {
             let mut w = bounded_biharmonic(&mesh, &data, &BbwOptions::default())

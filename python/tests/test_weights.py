@@ -96,3 +96,12 @@ def test_mean_value_coordinates_reproduce_points_and_sum_to_one():
     assert np.allclose(W @ cage, points)
     with pytest.raises(splineskin.SplineSkinError):
         splineskin.mvc(cage[::-1], points)  # clockwise
+
+
+def test_handles_by_position_are_the_vertices_there():
+    V, F = square_grid(5)
+    by_index = splineskin.bbw(V, F, [0, 12, 24])
+    assert np.array_equal(splineskin.bbw(V, F, V[[0, 12, 24]]), by_index)
+    assert np.array_equal(splineskin.harmonic(V, F, [[0.0, 0.0], [1.0, 1.0]]), splineskin.harmonic(V, F, [0, 24]))
+    with pytest.raises(ValueError, match=r"b\[1\] = \(0.3, 0.3\): no vertex there"):
+        splineskin.harmonic(V, F, [[0.0, 0.0], [0.3, 0.3]])
