@@ -109,3 +109,32 @@ pub fn matrix_array(py: Python<'_>, data: Vec<f64>, cols: usize) -> Bound<'_, Py
         .expect("rows × cols values by construction");
     PyArray2::from_owned_array(py, array)
 }
+
+/// The array an update writes into: `out` if given, checked to be a C-order `float64` array
+/// of shape `rows × cols`, else a new one of that shape.
+pub fn output<'py>(
+    py: Python<'py>,
+    out: Option<Bound<'py, PyArray2<f64>>>,
+    rows: usize,
+    cols: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let Some(out) = out else {
+        return Ok(PyArray2::zeros(py, [rows, cols], false));
+    };
+    let shape = out.shape().to_vec();
+    if shape != [rows, cols] || !out.is_c_contiguous() {
+        return Err(PyValueError::new_err(format!(
+            "out: a C-order float64 array of shape ({rows}, {cols}) expected, got shape {shape:?}{}",
+            if out.is_c_contiguous() { "" } else { " not in C order" }
+        )));
+    }
+    Ok(out)
+}
+
+/// A new `n_vertices × n_handles` array of `weights`.
+pub fn weights_array<'py>(
+    py: Python<'py>,
+    weights: &splineskin::weights::VertexWeights,
+) -> Bound<'py, PyArray2<f64>> {
+    matrix_array(py, weights.as_slice().to_vec(), weights.n_handles())
+}

@@ -6,14 +6,14 @@
 use std::sync::Mutex;
 
 use kurbo::Point;
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use splineskin::defop::{train, DefOpRig, Energy, OperatorFile, Progress, TrainingMetadata};
 use splineskin::scene::{Compat, DefOpSettings};
 use splineskin::spline_fit::FitOptions;
 
-use crate::arrays::{matrix, matrix_array, points, points_array};
+use crate::arrays::{matrix, matrix_array, output, points, points_array};
 use crate::drawing::{check_exists, PyDrawing};
 use crate::library_error;
 use crate::rig::SceneArg;
@@ -349,16 +349,7 @@ impl PyOperatorRig {
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let q = configuration(&Q, self.rig.n_handles())?;
         let n = self.rig.n_points();
-        let out = match out {
-            Some(out) => out,
-            None => PyArray2::zeros(py, [n, 2], false),
-        };
-        let shape = out.shape().to_vec();
-        if shape != [n, 2] || !out.is_c_contiguous() {
-            return Err(PyValueError::new_err(format!(
-                "out: a C-order float64 array of shape ({n}, 2) expected, got shape {shape:?}"
-            )));
-        }
+        let out = output(py, out, n, 2)?;
         let rig = &self.rig;
         let points = py.detach(|| rig.deform(&q)).map_err(library_error)?;
         let mut writable = out.try_readwrite()?;

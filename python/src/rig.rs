@@ -5,10 +5,7 @@
 use std::sync::Arc;
 
 use kurbo::{Affine, Point};
-use numpy::{
-    PyArray2, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3, PyReadwriteArray2,
-    PyUntypedArrayMethods,
-};
+use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3, PyReadwriteArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use splineskin::drawing::JointKind;
@@ -17,7 +14,7 @@ use splineskin::scene::{
     Compat, Deformer, Engine, JunctionOverride, MeshFamily, PosedDrawing, Scene, WeightSpec,
 };
 
-use crate::arrays::{affines_into, matrix, matrix_array, points};
+use crate::arrays::{affines_into, matrix, matrix_array, output, points};
 use crate::drawing::PyDrawing;
 use crate::library_error;
 use crate::scene::{compat_of, PyScene};
@@ -199,18 +196,8 @@ impl PySplineRig {
             &mut self.pose,
         )?;
         let n = self.posed.n_points();
-        let out = match out {
-            Some(out) => out,
-            None => PyArray2::zeros(py, [n, 2], false),
-        };
+        let out = output(py, out, n, 2)?;
         {
-            let shape = out.shape().to_vec();
-            if shape != [n, 2] || !out.is_c_contiguous() {
-                return Err(PyValueError::new_err(format!(
-                    "out: a C-order float64 array of shape ({n}, 2) expected, got shape {shape:?}{}",
-                    if out.is_c_contiguous() { "" } else { " not in C order" }
-                )));
-            }
             let mut writable: PyReadwriteArray2<'py, f64> = out.try_readwrite()?;
             let slice = writable.as_slice_mut()?;
             let (posed, pose, scratch) = (&self.posed, &self.pose, &mut self.scratch);

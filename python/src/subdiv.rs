@@ -12,7 +12,7 @@ use splineskin::subdiv::{
     SubdivSetup,
 };
 
-use crate::arrays::{check_finite, matrix, matrix_array};
+use crate::arrays::{check_finite, matrix, matrix_array, output};
 use crate::drawing::{check_exists, read_text};
 use crate::library_error;
 
@@ -236,16 +236,7 @@ impl PySubdivRig {
             ]);
         }
         let n = self.setup.rig.n_vertices();
-        let out = match out {
-            Some(out) => out,
-            None => PyArray2::zeros(py, [n, 3], false),
-        };
-        let shape = out.shape().to_vec();
-        if shape != [n, 3] || !out.is_c_contiguous() {
-            return Err(PyValueError::new_err(format!(
-                "out: a C-order float64 array of shape ({n}, 3) expected, got shape {shape:?}"
-            )));
-        }
+        let out = output(py, out, n, 3)?;
         {
             let mut writable = out.try_readwrite()?;
             let (points, _) = writable.as_slice_mut()?.as_chunks_mut::<3>();

@@ -13,7 +13,7 @@ use splineskin::weights::bbw::{bounded_biharmonic, BbwOptions};
 use splineskin::weights::harmonic::harmonic as polyharmonic;
 use splineskin::weights::DirichletData;
 
-use crate::arrays::{check_finite, matrix_array};
+use crate::arrays::{check_finite, matrix_array, weights_array};
 use crate::library_error;
 
 /// The mesh of `v` and `f`, 2-D: `v` may be `n × 3` if its `z` are all equal (a planar mesh
@@ -177,11 +177,7 @@ pub fn harmonic<'py>(
     let weights = py
         .detach(|| polyharmonic(&mesh, &data, k))
         .map_err(library_error)?;
-    Ok(matrix_array(
-        py,
-        weights.as_slice().to_vec(),
-        weights.n_handles(),
-    ))
+    Ok(weights_array(py, &weights))
 }
 
 /// Bounded biharmonic weights on the mesh `(V, F)` (Jacobson et al. 2011; libigl's `bbw`):
@@ -211,11 +207,7 @@ pub fn bbw<'py>(
             Ok(w)
         })
         .map_err(library_error)?;
-    Ok(matrix_array(
-        py,
-        weights.as_slice().to_vec(),
-        weights.n_handles(),
-    ))
+    Ok(weights_array(py, &weights))
 }
 
 /// Mean value coordinates (Floater 2003; Hormann & Floater 2006) of `points` (`m × 2`) with
