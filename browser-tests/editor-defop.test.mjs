@@ -538,7 +538,7 @@ check('defop: the operator follows a long drag on the octopus and settles on its
     }, { id: firstId, handles });
     const moved = maxDifference(r.page, atRelease);
     console.log(
-      `octopus follow: settled ${settled.toFixed(2)} s after release (page clock, dev build); ${swaps} operators swapped in, ` +
+      `octopus follow: settled ${settled.toFixed(2)} s after release (page clock, ${process.env.SPLINESKIN_BIN ?? "dev build"}); ${swaps} operators swapped in, ` +
         `${info.n_followed} samples added (${info.n_samples} in all); the drawing moved ${moved.toFixed(2)} units after release` +
         (first ? `; the first operator's drawing there is ${maxDifference(first, r.page).toFixed(2)} units from the settled one` : '') +
         `; largest pin slip at any time ${worstSlips.map((v) => v.toExponential(1)).join(', ')}`,
