@@ -690,3 +690,37 @@ fn scene_handles_puppet_refuses_naive_engines() {
         "{text}"
     );
 }
+
+/// Harmonic and biharmonic weights sum to 1 at every vertex of the domain to the last bits
+/// (their rows are divided by their sums after the solve, whose own rounding leaves a few
+/// hundred ulps on large domains): what makes the identity come back exactly for a path far
+/// smaller than its distance to the origin.
+#[test]
+fn scene_handles_mesh_weights_partition_unity_to_rounding() {
+    for family in ["harmonic", "biharmonic"] {
+        let s = scene(&format!(
+            r#""handles": [{{"position": [10, 50]}}, {{"position": [90, 50]}}, {{"position": [50, 75]}}],
+               "bones": [{{"ends": [[35, 45], [65, 40]]}}],
+               "weights": {{"family": "{family}"}}"#
+        ))
+        .unwrap();
+        let setup = s.setup(Compat::None).unwrap();
+        let domain = setup
+            .domain
+            .as_ref()
+            .expect("a mesh family keeps its domain");
+        let h = setup.weights.n_handles();
+        let mut w = vec![0.0; h];
+        let mut worst: f64 = 0.0;
+        for &v in &domain.mesh.vertices {
+            setup.weights.eval(v, &mut w);
+            worst = worst.max((w.iter().sum::<f64>() - 1.0).abs());
+        }
+        assert!(
+            worst <= h as f64 * f64::EPSILON,
+            "{family}: rows sum to 1 within {worst:e} ({} ulps) on {} vertices",
+            worst / f64::EPSILON,
+            domain.mesh.n_vertices()
+        );
+    }
+}

@@ -165,7 +165,9 @@ pub fn cage_boundary_data(domain: &Domain) -> Result<DirichletData, WeightsError
 /// Harmonic coordinates of `domain`'s cage: `n_vertices × n_corners` weights, column `i` the
 /// harmonic function with the piecewise linear boundary data of corner `i`
 /// ([`cage_boundary_data`]; module documentation). Wrap them in
-/// [`crate::domain::MeshWeights`] to evaluate them anywhere.
+/// [`crate::domain::MeshWeights`] to evaluate them anywhere. The boundary rows sum to 1, so
+/// the coordinates do everywhere (constants are harmonic); each row is divided by its sum after
+/// the solve, so that they do to the last bits rather than to the solve's rounding.
 ///
 /// Errors: those of [`cage_boundary_data`] and of [`harmonic`] (an invalid mesh).
 ///
@@ -193,7 +195,9 @@ pub fn cage_boundary_data(domain: &Domain) -> Result<DirichletData, WeightsError
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn harmonic_coordinates(domain: &Domain) -> Result<VertexWeights, WeightsError> {
-    harmonic(&domain.mesh, &cage_boundary_data(domain)?, 1)
+    let mut w = harmonic(&domain.mesh, &cage_boundary_data(domain)?, 1)?;
+    w.normalize_rows()?;
+    Ok(w)
 }
 
 #[cfg(test)]
