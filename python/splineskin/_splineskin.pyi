@@ -214,7 +214,7 @@ class Operator:
     @property
     def n_handles(self) -> int: ...
     @property
-    def metadata(self) -> str: ...
+    def metadata(self) -> dict[str, Any]: ...
 
 class OperatorRig:
     """A drawing joined to an operator."""
@@ -246,8 +246,10 @@ def bbw(
     bc: Optional[npt.ArrayLike] = None,
     *,
     partition_unity: bool = False,
+    parallel: bool = True,
 ) -> npt.NDArray[np.float64]:
-    """Bounded biharmonic weights on the mesh ``(V, F)`` with ``w = bc`` at ``b``."""
+    """Bounded biharmonic weights on the mesh ``(V, F)`` with ``w = bc`` at ``b``; the columns
+    solved on all cores unless ``parallel=False`` (the same result either way)."""
 
 def mvc(cage: npt.NDArray[np.float64], points: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
     """Mean value coordinates of ``points`` (``m × 2``) for the polygon ``cage`` (``n × 2``)."""

@@ -50,13 +50,29 @@ pub fn check_finite(data: &[f64], name: &str, cols: usize) -> PyResult<()> {
     }
 }
 
-/// Points from an `n × 2` array.
-pub fn points(array: &PyReadonlyArray2<'_, f64>, name: &str) -> PyResult<Vec<Point>> {
-    let data = matrix(array, name, None, 2)?;
-    Ok(data
-        .chunks_exact(2)
-        .map(|p| Point::new(p[0], p[1]))
-        .collect())
+/// Points from an `n × 2` array, checked to have `rows` rows when given.
+pub fn points(
+    array: &PyReadonlyArray2<'_, f64>,
+    name: &str,
+    rows: Option<usize>,
+) -> PyResult<Vec<Point>> {
+    let mut out = Vec::new();
+    points_into(array, name, rows, &mut out)?;
+    Ok(out)
+}
+
+/// [`points`] into `out` (cleared first; allocates nothing once `out` has the capacity), for
+/// the arrays a frame reads.
+pub fn points_into(
+    array: &PyReadonlyArray2<'_, f64>,
+    name: &str,
+    rows: Option<usize>,
+    out: &mut Vec<Point>,
+) -> PyResult<()> {
+    let data = matrix(array, name, rows, 2)?;
+    out.clear();
+    out.extend(data.chunks_exact(2).map(|p| Point::new(p[0], p[1])));
+    Ok(())
 }
 
 /// Writes affine maps from a `k × 2 × 3` array (`[[a, c, e], [b, d, f]]` each, the matrix

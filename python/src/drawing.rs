@@ -225,7 +225,7 @@ impl PyDrawing {
         Bound<'py, PyArray2<i64>>,
         Bound<'py, PyArray1<i64>>,
     )> {
-        let handles = crate::arrays::points(&handles, "handles")?;
+        let handles = crate::arrays::points(&handles, "handles", None)?;
         let mut options = DomainOptions::default().with_holes(holes);
         if let Some(f) = max_area_fraction {
             options = options.with_max_area_fraction(f);

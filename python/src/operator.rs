@@ -13,7 +13,7 @@ use splineskin::defop::{train, DefOpRig, Energy, OperatorFile, Progress, Trainin
 use splineskin::scene::{Compat, DefOpSettings};
 use splineskin::spline_fit::FitOptions;
 
-use crate::arrays::{matrix, matrix_array, output, points, points_array};
+use crate::arrays::{matrix_array, output, points, points_array, points_into};
 use crate::drawing::{check_exists, PyDrawing};
 use crate::library_error;
 use crate::rig::SceneArg;
@@ -231,7 +231,7 @@ impl PyOperator {
         py: Python<'py>,
         Q: PyReadonlyArray2<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let q = configuration(&Q, self.file.op.n_handles())?;
+        let q = points(&Q, "Q", Some(self.file.op.n_handles()))?;
         let op = &self.file.op;
         let positions = py.detach(|| op.eval(&q)).map_err(library_error)?;
         Ok(points_array(py, &positions))
@@ -260,7 +260,11 @@ impl PyOperator {
         let rig = py
             .detach(|| DefOpRig::precompute(&drawing, &file.mesh, &file.op, &options))
             .map_err(library_error)?;
-        Ok(PyOperatorRig { rig })
+        Ok(PyOperatorRig {
+            psi: vec![0.0; rig.handle_basis().n_functions()],
+            q: Vec::with_capacity(rig.n_handles()),
+            rig,
+        })
     }
 
     /// The mesh's vertices at rest, `n_vertices × 2`.
@@ -306,10 +310,14 @@ impl PyOperator {
         self.file.op.n_handles()
     }
 
-    /// How it was trained: energy, samples, region, seed, seconds, source, spatial basis.
+    /// How it was trained, as a dict (the operator file's metadata): `energy`, `n_samples`,
+    /// `sample_region`, `seed`, `training_seconds`, `source`, `spatial_basis`; `None` where
+    /// the file does not say.
     #[getter]
-    fn metadata(&self) -> String {
-        serde_json::to_string(&self.file.metadata).unwrap_or_default()
+    fn metadata<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let text = serde_json::to_string(&self.file.metadata)
+            .map_err(|e| PyValueError::new_err(format!("metadata: {e}")))?;
+        py.import("json")?.call_method1("loads", (text,))
     }
 
     fn __repr__(&self) -> String {
@@ -321,17 +329,15 @@ impl PyOperator {
     }
 }
 
-/// Handle positions from `q` (`n × 2`), checked to be `expected` of them.
-fn configuration(q: &PyReadonlyArray2<'_, f64>, expected: usize) -> PyResult<Vec<Point>> {
-    matrix(q, "Q", Some(expected), 2)?;
-    points(q, "Q")
-}
-
 /// A drawing joined to an operator (`Operator.join`): `update(Q)` gives its control points for
 /// handle positions `Q`.
-#[pyclass(module = "splineskin._splineskin", name = "OperatorRig", frozen)]
+#[pyclass(module = "splineskin._splineskin", name = "OperatorRig")]
 pub struct PyOperatorRig {
     rig: DefOpRig,
+    /// `ψ(Q)` of the last update, reused (a frame allocates nothing on the Rust side).
+    psi: Vec<f64>,
+    /// The handle positions of the last update, reused.
+    q: Vec<Point>,
 }
 
 #[pymethods]
@@ -342,22 +348,20 @@ impl PyOperatorRig {
     #[pyo3(signature = (Q, out = None))]
     #[allow(non_snake_case)]
     fn update<'py>(
-        &self,
+        &mut self,
         py: Python<'py>,
         Q: PyReadonlyArray2<'py, f64>,
         out: Option<Bound<'py, PyArray2<f64>>>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let q = configuration(&Q, self.rig.n_handles())?;
-        let n = self.rig.n_points();
-        let out = output(py, out, n, 2)?;
-        let rig = &self.rig;
-        let points = py.detach(|| rig.deform(&q)).map_err(library_error)?;
-        let mut writable = out.try_readwrite()?;
-        for (xy, p) in writable.as_slice_mut()?.chunks_exact_mut(2).zip(&points) {
-            xy[0] = p.x;
-            xy[1] = p.y;
+        points_into(&Q, "Q", Some(self.rig.n_handles()), &mut self.q)?;
+        let out = output(py, out, self.rig.n_points(), 2)?;
+        {
+            let mut writable = out.try_readwrite()?;
+            let slice = writable.as_slice_mut()?;
+            let (rig, q, psi) = (&self.rig, &self.q, &mut self.psi);
+            py.detach(|| rig.write_coords(q, psi, slice))
+                .map_err(library_error)?;
         }
-        drop(writable);
         Ok(out)
     }
 

@@ -128,7 +128,7 @@ impl PySplineRig {
         flexible: bool,
         engine: &str,
     ) -> PyResult<PySplineRig> {
-        let handles: Vec<Point> = points(&handles, "handles")?;
+        let handles: Vec<Point> = points(&handles, "handles", None)?;
         let spec = weight_spec(weights, exponent)?;
         let minimal = serde_json::json!({
             "splineskin_scene": splineskin::scene::ours::SCENE_VERSION,
@@ -250,13 +250,12 @@ impl PySplineRig {
                     self.posed.n_handles(),
                     &mut self.pose,
                 )?;
-                matrix(p, "points", Some(self.posed.n_points()), 2)?;
-                crate::arrays::points(p, "points")?
+                crate::arrays::points(p, "points", Some(self.posed.n_points()))?
             }
             None => {
                 let out = self.update(py, transforms, None)?;
                 let data = out.readonly();
-                crate::arrays::points(&data, "points")?
+                crate::arrays::points(&data, "points", None)?
             }
         };
         let (posed, pose) = (&self.posed, &self.pose);

@@ -183,9 +183,11 @@ pub fn harmonic<'py>(
 /// Bounded biharmonic weights on the mesh `(V, F)` (Jacobson et al. 2011; libigl's `bbw`):
 /// the biharmonic energy minimised with `0 ≤ w ≤ 1` and `w = bc` at the vertices `b`, by the
 /// library's active-set solver. Not normalised, as libigl's (`partition_unity=True` divides
-/// each row by its sum). Returns `n × columns of bc`.
+/// each row by its sum). Returns `n × columns of bc`. Each column is its own program: with
+/// `parallel` (the default, as `splineskin weights` does) they are solved on all cores, with
+/// the same result to the last bit as one after the other.
 #[pyfunction]
-#[pyo3(signature = (V, F, b, bc = None, *, partition_unity = false))]
+#[pyo3(signature = (V, F, b, bc = None, *, partition_unity = false, parallel = true))]
 #[allow(non_snake_case)]
 pub fn bbw<'py>(
     py: Python<'py>,
@@ -194,13 +196,14 @@ pub fn bbw<'py>(
     b: Bound<'py, PyAny>,
     bc: Option<PyArrayLike2<'py, f64, AllowTypeChange>>,
     partition_unity: bool,
+    parallel: bool,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let mesh = mesh_of(&V, &F)?;
     let data = dirichlet(handle_vertices(&b, &mesh)?, bc.as_ref())?;
+    let options = BbwOptions::default().with_parallel(parallel);
     let weights = py
         .detach(|| -> Result<_, String> {
-            let mut w = bounded_biharmonic(&mesh, &data, &BbwOptions::default())
-                .map_err(|e| e.to_string())?;
+            let mut w = bounded_biharmonic(&mesh, &data, &options).map_err(|e| e.to_string())?;
             if partition_unity {
                 w.normalize_rows().map_err(|e| e.to_string())?;
             }
@@ -219,8 +222,8 @@ pub fn mvc<'py>(
     cage: numpy::PyReadonlyArray2<'py, f64>,
     points: numpy::PyReadonlyArray2<'py, f64>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let cage = crate::arrays::points(&cage, "cage")?;
-    let points = crate::arrays::points(&points, "points")?;
+    let cage = crate::arrays::points(&cage, "cage", None)?;
+    let points = crate::arrays::points(&points, "points", None)?;
     let n = cage.len();
     let field = splineskin::weights::MeanValue::new(&cage).map_err(library_error)?;
     let values = py.detach(|| {

@@ -56,6 +56,8 @@ def test_bbw_is_bounded_and_partitions_unity_when_asked():
     assert np.allclose(W[b], np.eye(4))
     Wn = splineskin.bbw(V, F, b, partition_unity=True)
     assert np.allclose(Wn.sum(axis=1), 1.0)
+    # Each column is its own program: on one thread, the same to the last bit.
+    assert np.array_equal(splineskin.bbw(V, F, b, parallel=False), W)
 
 
 def test_bad_meshes_are_clear_errors():

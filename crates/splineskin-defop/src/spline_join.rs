@@ -282,6 +282,70 @@ impl DefOpRig {
         Ok(points)
     }
 
+    /// Writes the drawing's coordinates at the configuration `q` into `out` as
+    /// `x0, y0, x1, y1, …` (`2 ·` [`DefOpRig::n_points`] values, [`Drawing::flat_points`]
+    /// order): `out = G_spline ψ(q)`, with `ψ(q)` computed in `psi` (length
+    /// `handle_basis().n_functions()`). For callers that own the output memory (numpy arrays,
+    /// WebAssembly) and keep their own scratch; allocates nothing. Errors (before any work) on a
+    /// wrong count, a non-finite `q` or a wrong buffer length.
+    ///
+    /// ```
+    /// # use kurbo::{Point, Rect};
+    /// # use splineskin_defop::{DefOp, DefOpOptions, DefOpRig, HandleBasisKind, SpatialBasis};
+    /// # use splineskin_core::drawing::{Drawing, JunctionOptions, Path};
+    /// # use splineskin_core::mesh::TriMesh;
+    /// # use splineskin_core::spline_fit::FitOptions;
+    /// # let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 8, 2)?;
+    /// # let handles = [9, 17];
+    /// # let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+    /// # let options = DefOpOptions::default().with_handle_basis(HandleBasisKind::Linear);
+    /// # let op = DefOp::fit(&mesh, &handles, &SpatialBasis::hats(&mesh)?, &[rest.clone()],
+    /// #     &[mesh.vertices.clone()], &options)?;
+    /// let line = [(0.5, 0.5), (1.5, 0.5), (2.5, 0.5), (3.5, 0.5)].map(Point::from).to_vec();
+    /// let drawing = Drawing {
+    ///     paths: vec![Path::new(line.clone(), false, &JunctionOptions::default()).unwrap()],
+    ///     ..Default::default()
+    /// };
+    /// let rig = DefOpRig::precompute(&drawing, &mesh, &op, &FitOptions::default())?;
+    /// let mut psi = vec![0.0; rig.handle_basis().n_functions()];
+    /// let mut coords = vec![0.0; 2 * rig.n_points()];
+    /// rig.write_coords(&rest, &mut psi, &mut coords)?;
+    /// // The same numbers as the points `deform` gives.
+    /// let points = rig.deform(&rest)?;
+    /// assert!(points.iter().zip(coords.chunks_exact(2)).all(|(p, xy)| p.x == xy[0] && p.y == xy[1]));
+    /// // The rest configuration gives the drawing back.
+    /// assert!(points.iter().zip(&line).all(|(p, l)| (*p - *l).hypot() < 1e-12));
+    /// // Buffers of the wrong length are refused.
+    /// assert!(rig.write_coords(&rest, &mut psi, &mut coords[1..]).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn write_coords(
+        &self,
+        q: &[Point],
+        psi: &mut [f64],
+        out: &mut [f64],
+    ) -> Result<(), DefOpError> {
+        if out.len() != 2 * self.n_points {
+            return Err(DefOpError::BufferLength {
+                given: out.len(),
+                expected: 2 * self.n_points,
+            });
+        }
+        if psi.len() != self.handle_basis.n_functions() {
+            return Err(DefOpError::BufferLength {
+                given: psi.len(),
+                expected: self.handle_basis.n_functions(),
+            });
+        }
+        if q.len() != self.n_handles() {
+            return Err(DefOpError::TargetCount {
+                given: q.len(),
+                n_handles: self.n_handles(),
+            });
+        }
+        coefficients_at(&self.handle_basis, &self.coefficients, q, psi, out)
+    }
+
     /// Number of handles a configuration has.
     pub fn n_handles(&self) -> usize {
         self.handle_basis.n_handles()
@@ -794,13 +858,7 @@ impl DefOpRigEvaluator<'_> {
                 n_handles: self.rig.n_handles(),
             });
         }
-        coefficients_at(
-            &self.rig.handle_basis,
-            &self.rig.coefficients,
-            q,
-            &mut self.psi,
-            &mut self.xy,
-        )?;
+        self.rig.write_coords(q, &mut self.psi, &mut self.xy)?;
         for (p, xy) in out.iter_mut().zip(self.xy.chunks_exact(2)) {
             *p = Point::new(xy[0], xy[1]);
         }
