@@ -186,7 +186,9 @@ class Operator:
         samples: int = 100,
         seed: int = 1,
         progress: Optional[Callable[[int, int, int, int], object]] = None,
-    ) -> Operator: ...
+    ) -> Operator:
+        """Trains on ``(V, F)`` with handles at ``b``; ``progress(solved, to_solve, stage,
+        n_stages)`` after each solve. An exception from ``progress``, or Ctrl-C, stops it."""
     @staticmethod
     def from_scene(
         scene: Union[Scene, str, os.PathLike[str]],

@@ -9,7 +9,9 @@ use kurbo::Point;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use splineskin::defop::{train, DefOpRig, Energy, OperatorFile, Progress, TrainingMetadata};
+use splineskin::defop::{
+    train, DefOpRig, Energy, OperatorFile, Progress, StopSignal, TrainingMetadata,
+};
 use splineskin::scene::{Compat, DefOpSettings};
 use splineskin::spline_fit::FitOptions;
 
@@ -39,7 +41,10 @@ fn energy_of(name: &str) -> PyResult<Energy> {
 
 /// Trains on `mesh` with handles at vertices `handles` as `settings` ask, reporting each
 /// ground-truth solve to `progress` (a Python callable `(solved, to_solve, stage, n_stages)`,
-/// called with the GIL taken back; its first exception is raised when training ends).
+/// called with the GIL taken back). The training runs on a thread of its own while this one
+/// waits with the GIL released, looking at Python's signals every [`SIGNAL_POLL`]: an
+/// exception from the callback, or a `KeyboardInterrupt` (Ctrl-C, a notebook's interrupt),
+/// stops the training at its next solve ([`StopSignal`]) and is raised.
 fn train_file(
     py: Python<'_>,
     mesh: splineskin::mesh::TriMesh,
@@ -50,25 +55,35 @@ fn train_file(
     source: String,
 ) -> PyResult<OperatorFile> {
     let failed: Mutex<Option<PyErr>> = Mutex::new(None);
-    let result = py.detach(|| -> Result<OperatorFile, String> {
+    let stop = StopSignal::new();
+    // Keeps the first exception and stops the training.
+    let fail = |e: PyErr| {
+        if let Ok(mut slot) = failed.lock() {
+            slot.get_or_insert(e);
+        }
+        stop.raise();
+    };
+    let work = || -> Result<OperatorFile, String> {
         let spatial = settings
             .spatial_basis
             .build(&mesh, &handles)
             .map_err(|e| format!("{source}: spatial basis: {e}"))?;
-        let options = settings.train_options(&mesh).with_cover(cover);
+        let options = settings
+            .train_options(&mesh)
+            .with_cover(cover)
+            .with_stop(stop.clone());
         let report = |p: Progress| {
             let Some(callback) = &progress else { return };
-            if failed.lock().map(|f| f.is_some()).unwrap_or(true) {
-                return;
-            }
-            let outcome = Python::attach(|py| {
-                callback
-                    .call1(py, (p.solved, p.to_solve, p.stage, p.n_stages))
-                    .map(|_| ())
+            // Checked and raised with the GIL held, so once the callback has raised, no
+            // other thread calls it again.
+            Python::attach(|py| {
+                if stop.is_raised() {
+                    return;
+                }
+                if let Err(e) = callback.call1(py, (p.solved, p.to_solve, p.stage, p.n_stages)) {
+                    fail(e);
+                }
             });
-            if let (Err(e), Ok(mut slot)) = (outcome, failed.lock()) {
-                slot.get_or_insert(e);
-            }
         };
         let started = std::time::Instant::now();
         let training = train(&mesh, &handles, &spatial, &options, &report)
@@ -82,12 +97,51 @@ fn train_file(
         metadata.source = Some(source.clone());
         metadata.spatial_basis = Some(settings.spatial_basis.name());
         OperatorFile::new(mesh, training.op, metadata).map_err(|e| e.to_string())
+    };
+    // Set by the training thread when it ends (or panics: the guard sets it as it drops).
+    let ended = (Mutex::new(false), std::sync::Condvar::new());
+    let result = std::thread::scope(|scope| {
+        let worker = scope.spawn(|| {
+            struct Ended<'a>(&'a (Mutex<bool>, std::sync::Condvar));
+            impl Drop for Ended<'_> {
+                fn drop(&mut self) {
+                    if let Ok(mut flag) = self.0 .0.lock() {
+                        *flag = true;
+                    }
+                    self.0 .1.notify_all();
+                }
+            }
+            let _ended = Ended(&ended);
+            work()
+        });
+        let wait = || {
+            let flag = ended.0.lock().map_err(|_| ())?;
+            let (flag, _) = ended
+                .1
+                .wait_timeout_while(flag, SIGNAL_POLL, |ended| !*ended)
+                .map_err(|_| ())?;
+            Ok::<bool, ()>(*flag)
+        };
+        while py.detach(wait) == Ok(false) {
+            if let Err(e) = py.check_signals() {
+                fail(e);
+            }
+        }
+        py.detach(|| worker.join())
     });
     if let Some(e) = failed.into_inner().ok().flatten() {
         return Err(e);
     }
-    result.map_err(library_error)
+    match result {
+        Ok(result) => result.map_err(library_error),
+        Err(_) => Err(library_error(format!(
+            "{source}: the training thread panicked"
+        ))),
+    }
 }
+
+/// How often a training waiting in [`train_file`] looks at Python's signals: 0.1 s.
+const SIGNAL_POLL: std::time::Duration = std::time::Duration::from_millis(100);
 
 /// The settings of a training: `base` with what the caller gave.
 fn settings_with(
@@ -119,7 +173,8 @@ impl PyOperator {
     /// vertices `b`: `samples` ground-truth deformations (`energy` `"sarap"` or `"arap"`) of
     /// handle configurations drawn in discs about the rest (seeded by `seed`), fitted in
     /// bootstrapping stages. `progress(solved, to_solve, stage, n_stages)` is called after each
-    /// solve. Runs on all cores with the GIL released.
+    /// solve. Runs on all cores with the GIL released. An exception raised by `progress`, or
+    /// Ctrl-C (`KeyboardInterrupt`), stops the training at its next solve and is raised.
     #[staticmethod]
     #[pyo3(signature = (V, F, b, *, energy = "sarap", samples = 100, seed = 1, progress = None))]
     #[allow(non_snake_case, clippy::too_many_arguments)]

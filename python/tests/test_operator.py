@@ -93,3 +93,36 @@ def test_bad_input_is_a_clear_error(bar, tmp_path):
     grid_V, grid_F = square_grid(4)
     with pytest.raises(KeyboardInterrupt):
         splineskin.Operator.train(grid_V, grid_F, [0, 15], samples=4, energy="arap", progress=stop)
+
+
+def test_an_exception_in_the_progress_callback_stops_the_training(bar):
+    V, F, b, _, _ = bar
+    calls = []
+
+    def stop_after_three(solved, to_solve, stage, n_stages):
+        calls.append(solved)
+        if solved >= 3:
+            raise RuntimeError("enough")
+
+    with pytest.raises(RuntimeError, match="enough"):
+        splineskin.Operator.train(V, F, b, energy="arap", samples=400, progress=stop_after_three)
+    # Once it raised, it is not called again (solves run on several threads, so the counts may
+    # come out of order): the call that raised is the last, and no solve starts after it.
+    assert calls[-1] >= 3 and all(c < 3 for c in calls[:-1]) and len(calls) <= 3
+
+
+def test_ctrl_c_interrupts_a_training():
+    import _thread
+    import threading
+
+    # Large enough that training the whole would take minutes: 20 000 symmetric ARAP solves.
+    V, F = square_grid(12)
+    calls = []
+    timer = threading.Timer(0.5, _thread.interrupt_main)  # as Ctrl-C or a notebook's interrupt
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            splineskin.Operator.train(V, F, [0, 11, 143], samples=20_000, progress=lambda s, *_: calls.append(s))
+    finally:
+        timer.cancel()
+    assert 0 < len(calls) < 20_000, "interrupted midway, and it had started"

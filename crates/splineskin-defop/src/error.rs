@@ -70,6 +70,9 @@ pub enum DefOpError {
         /// Number of vertices of the mesh.
         n_vertices: usize,
     },
+    /// The training was stopped by its [`crate::StopSignal`] before it ended.
+    #[error("stopped before the training ended")]
+    Stopped,
     /// An output or scratch buffer does not have the length the call needs.
     #[error("buffer of length {given} (expected {expected})")]
     BufferLength {

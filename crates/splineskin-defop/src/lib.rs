@@ -114,6 +114,6 @@ pub use study::{
 };
 pub use train::{
     extend, ground_truths_from_rest, train, trained_distance, Energy, ExtendReport, Progress,
-    StageReport, TrainOptions, Training, WarmStart, DEFAULT_COVER_SHARE, DEFAULT_DISC_FRACTION,
-    DEFAULT_GROWTH, DEFAULT_TRAINING_SAMPLES,
+    StageReport, StopSignal, TrainOptions, Training, WarmStart, DEFAULT_COVER_SHARE,
+    DEFAULT_DISC_FRACTION, DEFAULT_GROWTH, DEFAULT_TRAINING_SAMPLES,
 };
