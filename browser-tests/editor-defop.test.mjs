@@ -283,6 +283,38 @@ check('defop: the fish bent by a symmetric ARAP operator, as the library compute
   }
 });
 
+check('defop: Stop ends a long training at once, and the next change trains again', async () => {
+  const { server, page } = await openEditor([]);
+  try {
+    assert.equal(await waitRig(page), 'ready');
+    await chooseOperator(page, 'defop-arap');
+    assert.equal(await page.isVisible('#progress-stop'), false, 'no Stop button without a training');
+    // 5 000 samples: minutes of training.
+    await page.evaluate(() => (window.splineskinEditor.countsSeen = []));
+    await page.fill('#defop-samples', '5000');
+    await page.dispatchEvent('#defop-samples', 'change');
+    await page.waitForFunction(() => window.splineskinEditor.countsSeen.length > 0, null, { timeout: WAIT });
+    assert.equal(await page.isVisible('#progress-stop'), true);
+    await page.click('#progress-stop');
+    await page.waitForFunction(() => document.body.dataset.rig === 'stopped', null, { timeout: WAIT });
+    const counts = await page.evaluate(() => structuredClone(window.splineskinEditor.countsSeen));
+    const last = counts[counts.length - 1];
+    console.log(`stopped after ${last.done} of ${last.total} solves; ${await page.textContent('#message')}`);
+    assert.ok(last.done < last.total, JSON.stringify(last));
+    assert.match(await page.textContent('#message'), /training stopped as asked/);
+    assert.equal(await page.isVisible('#progress'), false);
+    assert.equal(await page.isVisible('#error'), false, 'a stop is not an error');
+    // The next change trains again, at once: the stopped training no longer holds the cores.
+    await page.fill('#defop-samples', '40');
+    await page.dispatchEvent('#defop-samples', 'change');
+    assert.equal(await waitRig(page), 'ready', await page.textContent('#error'));
+    assert.equal((await page.evaluate(() => window.splineskinEditor.rig.info)).n_samples, 41);
+  } finally {
+    await page.close();
+    await server.close();
+  }
+});
+
 check('defop: bad input is refused with a message', async () => {
   const { server, page } = await openEditor([]);
   try {

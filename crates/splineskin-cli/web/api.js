@@ -174,6 +174,16 @@ export async function progressOf(job) {
 }
 
 /**
+ * Asks precomputation `job` to stop: a training ends at its next ground-truth solve, and its
+ * request fails with status 409. Resolves to whether the job was running (a static build's
+ * worker cannot be interrupted: false).
+ */
+export async function stopJob(job) {
+  const response = await send(`/api/progress/${encodeURIComponent(job)}/stop`, { method: 'POST', headers: HEADERS });
+  return response.ok && (await response.json()).stopping === true;
+}
+
+/**
  * The Lottie animation of `scene`'s timeline on document `id`, as `splineskin animate` writes
  * it: { json (text), report: { keyframes, every_frame_keyframes, bytes, every_frame_bytes,
  * warnings, summary } }.

@@ -40,6 +40,10 @@ export async function send(path, options = {}) {
   if (!STATIC) return fetch(path, options);
   const job = /^\/api\/progress\/([^/?]+)$/.exec(path);
   if (job) return progressOf(decodeURIComponent(job[1]));
+  if (/^\/api\/progress\/[^/?]+\/stop$/.test(path)) {
+    // The worker runs one job at a time and cannot be interrupted: nothing to ask.
+    return new Response(JSON.stringify({ stopping: false }), { headers: { 'content-type': 'application/json' } });
+  }
   if (!worker) startWorker();
   const body = options.body === undefined ? new ArrayBuffer(0) : await new Response(options.body).arrayBuffer();
   const headers = Object.fromEntries(new Headers(options.headers ?? {}).entries());

@@ -8,6 +8,7 @@
 // is saved to the browser's storage after every change (Autosave, below).
 
 import * as api from './api.js';
+import { isStatic } from './backend.js';
 import * as affine from './affine.js';
 import * as anim from './animation.js';
 import { weightColour, weightImage } from './colour.js';
@@ -86,6 +87,8 @@ const editor = {
   viewBoxReport: null,
   viewBoxSeq: 0,
   abort: null,
+  /** The job name of the precomputation under way (`POST /api/progress/{job}/stop` stops it), or null. */
+  job: null,
   weightsShown: null,
   /**
    * Adaptive control points: whether they are on, the tolerance (fraction of the diagonal),
@@ -140,6 +143,7 @@ function progress(label, fraction = null, restart = true) {
   bar.querySelector('.fill').style.width = fraction === null ? '0' : `${(100 * fraction).toFixed(1)}%`;
   if (!label) {
     box.hidden = true;
+    $('progress-stop').hidden = true;
     return;
   }
   if (restart || box.hidden) progressStart = performance.now();
@@ -268,15 +272,20 @@ function sceneChanged() {
 async function precompute() {
   const seq = ++editor.precomputeSeq;
   editor.abort?.abort();
+  // A training the new request supersedes would go on to its end on the server, taking the
+  // cores this one needs: it is asked to stop.
+  if (editor.job) api.stopJob(editor.job).catch(() => {});
   const abort = new AbortController();
   editor.abort = abort;
   const scene = structuredClone(editor.scene);
   const key = rigKeyOf(scene);
   document.body.dataset.rig = 'computing';
   const defop = isDefop(scene);
-  progress(defop ? 'training the operator' : 'precomputing');
-  render();
   const job = `rig-${seq}-${Math.random().toString(36).slice(2, 10)}`;
+  editor.job = job;
+  progress(defop ? 'training the operator' : 'precomputing');
+  $('progress-stop').hidden = !defop || isStatic;
+  render();
   const follow = followProgress(job, seq);
   try {
     const started = performance.now();
@@ -321,10 +330,17 @@ async function precompute() {
     editor.rig = null;
     editor.rigKey = null;
     editor.rigPreview = false;
-    document.body.dataset.rig = 'error';
-    showError(e);
+    if (e.status === 409) {
+      // Stopped by the user (the Stop button): no operator, and no error either.
+      document.body.dataset.rig = 'stopped';
+      say(`${shortName()}: training stopped as asked; the next change of the handles or settings trains again`);
+    } else {
+      document.body.dataset.rig = 'error';
+      showError(e);
+    }
   } finally {
     follow.stop();
+    if (editor.job === job) editor.job = null;
     if (seq === editor.precomputeSeq) progress(null);
   }
   if (seq !== editor.precomputeSeq) return;
@@ -1540,6 +1556,12 @@ function wire() {
   $('export-svg').addEventListener('click', exportSvg);
   $('save-scene').addEventListener('click', saveScene);
   $('export-lottie').addEventListener('click', exportLottie);
+  $('progress-stop').addEventListener('click', () => {
+    if (!editor.job) return;
+    $('progress-stop').hidden = true;
+    progress('stopping the training', null, false);
+    api.stopJob(editor.job).catch(showError);
+  });
   $('undo').addEventListener('click', undo);
   $('redo').addEventListener('click', redo);
   $('delete-handle').addEventListener('click', deleteHandles);

@@ -18,7 +18,7 @@ use kurbo::Point;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-use splineskin::defop::{extend, train, trained_distance, Progress, SplineJoin};
+use splineskin::defop::{extend, train, trained_distance, DefOpError, Progress, SplineJoin};
 use splineskin::scene::Compat;
 
 use crate::document_routes::gone_operator;
@@ -123,7 +123,10 @@ pub(crate) fn defop(
             .map_err(|e| bad(&e))?;
         report("training");
         let t1 = clock();
-        let options = settings.train_options(&shape.mesh);
+        let mut options = settings.train_options(&shape.mesh);
+        if let Some(followed) = followed {
+            options = options.with_stop(followed.stop_signal());
+        }
         let on_progress = |p: Progress| {
             if let Some(count) = &count {
                 count(
@@ -144,7 +147,12 @@ pub(crate) fn defop(
             &options,
             &on_progress,
         )
-        .map_err(|e| bad(&e))?;
+        .map_err(|e| match e {
+            DefOpError::Stopped => {
+                ApiError::new(409, format!("{}: training stopped as asked", document.name))
+            }
+            e => bad(&e),
+        })?;
         report("join");
         let t2 = clock();
         // The handles pin the art under them (SplineJoin::new), as DefOpRig::precompute does.

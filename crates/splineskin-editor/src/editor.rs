@@ -241,7 +241,7 @@ impl Editor {
     pub fn is_heavy(request: &Request) -> bool {
         !matches!(
             segments(&request.path).as_slice(),
-            ["initial"] | ["progress", _]
+            ["initial"] | ["progress", _] | ["progress", _, "stop"]
         )
     }
 
@@ -258,6 +258,7 @@ impl Editor {
             (["rigs", id, "operator"], true, _) => rig_routes::operator(self, id),
             (["rigs", id, "refine"], _, true) => rig_routes::refine(self, id, request),
             (["progress", job], true, _) => rig_routes::progress(self, job),
+            (["progress", job, "stop"], _, true) => rig_routes::stop(self, job),
             (["defop"], _, true) => defop_routes::defop(self, request, followed),
             (["defops", id, "deform"], _, true) => defop_routes::deform(self, id, request),
             (["defops", id, "follow"], _, true) => defop_routes::follow(self, id, request),
@@ -299,8 +300,8 @@ fn segments(path: &str) -> Vec<&str> {
 /// An error response: a status and a message for the page.
 #[derive(Debug)]
 pub struct ApiError {
-    /// The HTTP status: 400 (bad input), 404 (no such document or rig), 413 (too large),
-    /// 422 (a request of the wrong shape) or 500 (a bug).
+    /// The HTTP status: 400 (bad input), 404 (no such document or rig), 409 (stopped as
+    /// asked), 413 (too large), 422 (a request of the wrong shape) or 500 (a bug).
     pub status: u16,
     message: String,
 }

@@ -2,10 +2,14 @@
 //! (header [`JOB_HEADER`]) and asks `GET /api/progress/{job}` while it waits; the answer is the
 //! stage the job is in (`queued`, `weights`, `rig`; operators: `domain`, `training`, `join`)
 //! and for how long, with a count of the work done in that stage when the job reports one
-//! ([`Count`]), or none once it is over.
+//! ([`Count`]), or none once it is over. `POST /api/progress/{job}/stop` asks the job to stop
+//! ([`ProgressBoard::stop`]): a training ends at its next ground-truth solve; other stages do
+//! not look and run to their end.
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
+
+use splineskin::defop::StopSignal;
 
 /// A monotonic clock: seconds from a fixed origin.
 pub type Clock = fn() -> f64;
@@ -55,9 +59,12 @@ pub struct Count {
 /// count if it reports one.
 type Entry = (&'static str, f64, Option<Count>);
 
+/// What the board keeps of a followed job: its [`Entry`] and the signal that stops it.
+type Job = (Entry, StopSignal);
+
 /// The stage of every followed job and when it started.
 pub struct ProgressBoard {
-    jobs: Mutex<HashMap<String, Entry>>,
+    jobs: Mutex<HashMap<String, Job>>,
     clock: Clock,
     listener: Mutex<Option<Listener>>,
 }
@@ -89,7 +96,7 @@ impl ProgressBoard {
         let now = (self.clock)();
         let entry = {
             let mut jobs = self.jobs();
-            let Some(entry) = jobs.get_mut(name) else {
+            let Some((entry, _)) = jobs.get_mut(name) else {
                 return;
             };
             change(entry, now);
@@ -100,7 +107,7 @@ impl ProgressBoard {
         }
     }
 
-    fn jobs(&self) -> std::sync::MutexGuard<'_, HashMap<String, Entry>> {
+    fn jobs(&self) -> std::sync::MutexGuard<'_, HashMap<String, Job>> {
         // Inserts and removals do not panic midway: a poisoned map is consistent.
         self.jobs.lock().unwrap_or_else(|e| e.into_inner())
     }
@@ -116,7 +123,10 @@ impl ProgressBoard {
         if !valid || jobs.len() >= MAX_FOLLOWED || jobs.contains_key(name) {
             return None;
         }
-        jobs.insert(name.to_string(), ("queued", (self.clock)(), None));
+        jobs.insert(
+            name.to_string(),
+            (("queued", (self.clock)(), None), StopSignal::new()),
+        );
         Some(Followed {
             board: self.clone(),
             name: name.to_string(),
@@ -128,7 +138,32 @@ impl ProgressBoard {
         let now = (self.clock)();
         self.jobs()
             .get(name)
-            .map(|&(stage, since, count)| (stage, now - since, count))
+            .map(|&((stage, since, count), _)| (stage, now - since, count))
+    }
+
+    /// Asks job `name` to stop ([`Followed::stop_signal`]); `false` when no such job is
+    /// followed (it ended, or never began).
+    ///
+    /// ```
+    /// use std::sync::Arc;
+    /// use splineskin_editor::progress::{system_clock, ProgressBoard};
+    /// let board = Arc::new(ProgressBoard::new(system_clock));
+    /// let job = board.follow("train-1").unwrap();
+    /// let signal = job.stop_signal();
+    /// assert!(!signal.is_raised());
+    /// assert!(board.stop("train-1"));
+    /// assert!(signal.is_raised());
+    /// drop(job);
+    /// assert!(!board.stop("train-1"));
+    /// ```
+    pub fn stop(&self, name: &str) -> bool {
+        match self.jobs().get(name) {
+            Some((_, signal)) => {
+                signal.raise();
+                true
+            }
+            None => false,
+        }
     }
 }
 
@@ -139,6 +174,16 @@ pub struct Followed {
 }
 
 impl Followed {
+    /// The signal [`ProgressBoard::stop`] raises for this job, for its training to hold
+    /// ([`splineskin::defop::TrainOptions::stop`]).
+    pub fn stop_signal(&self) -> StopSignal {
+        self.board
+            .jobs()
+            .get(&self.name)
+            .map(|(_, signal)| signal.clone())
+            .unwrap_or_default()
+    }
+
     /// A reporter of the job's stages, for the job's thread: it changes the stage while the
     /// job is still followed and does nothing after.
     pub fn reporter(&self) -> impl Fn(&'static str) + Send + 'static {

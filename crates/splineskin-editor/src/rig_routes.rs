@@ -245,6 +245,20 @@ pub(crate) fn progress(editor: &Editor, job: &str) -> Result<Response, ApiError>
     Response::json(&stage_json(editor.progress.stage(job)))
 }
 
+/// `POST /api/progress/{job}/stop`: asks the job to stop (a training ends at its next
+/// ground-truth solve and its request answers 409). `{"stopping": true}`, or 404 when no such
+/// job runs.
+pub(crate) fn stop(editor: &Editor, job: &str) -> Result<Response, ApiError> {
+    if editor.progress.stop(job) {
+        Response::json(&serde_json::json!({"stopping": true}))
+    } else {
+        Err(ApiError::new(
+            404,
+            format!("no job {job} is running (it ended, or its request did not name it)"),
+        ))
+    }
+}
+
 /// A job's stage as `GET /api/progress/{job}` answers it.
 pub fn stage_json(stage: Option<crate::progress::Stage>) -> serde_json::Value {
     match stage {

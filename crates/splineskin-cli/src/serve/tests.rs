@@ -678,6 +678,79 @@ async fn serve_progress_follows_a_precomputation_until_it_ends() {
     assert!(state.editor.progress.stage("job-2").is_none());
 }
 
+#[tokio::test]
+async fn serve_stop_ends_a_training_at_its_next_solve() {
+    let (app, _, id) = demo_app().await;
+    // 5 000 samples: minutes of training unless stopped.
+    let mut request = post_json("/api/defop", &operator_scene(&id, "defop-arap", 5000));
+    request
+        .headers_mut()
+        .insert("x-splineskin-job", "train-1".parse().expect("a header"));
+    let training = tokio::spawn({
+        let app = app.clone();
+        async move { send(&app, request).await }
+    });
+    // Waits until solves are being counted.
+    let mut seen = serde_json::Value::Null;
+    for _ in 0..6000 {
+        let (_, _, body) = send(&app, get("/api/progress/train-1")).await;
+        seen = json(&body);
+        if seen["stage"] == "training" && seen["done"].as_u64().unwrap_or(0) > 0 {
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(10)).await;
+    }
+    assert_eq!(seen["stage"], "training", "{seen}");
+    let (status, _, body) = send(
+        &app,
+        post("/api/progress/train-1/stop")
+            .body(Body::empty())
+            .unwrap(),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(json(&body)["stopping"], true);
+    let (status, _, body) = training.await.expect("the training request ends");
+    assert_eq!(
+        status,
+        StatusCode::CONFLICT,
+        "{}",
+        String::from_utf8_lossy(&body)
+    );
+    assert!(
+        json(&body)["error"]
+            .as_str()
+            .unwrap_or("")
+            .contains("stopped"),
+        "{}",
+        String::from_utf8_lossy(&body)
+    );
+    let done = seen["done"].as_u64().expect("a count");
+    assert!(done < 5000, "stopped midway, after {done} solves");
+    // The job is over: nothing to report, nothing to stop; a job never named is not there.
+    let (_, _, body) = send(&app, get("/api/progress/train-1")).await;
+    assert!(json(&body)["stage"].is_null());
+    let (status, _, body) = send(
+        &app,
+        post("/api/progress/train-1/stop")
+            .body(Body::empty())
+            .unwrap(),
+    )
+    .await;
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    assert!(json(&body)["error"]
+        .as_str()
+        .unwrap_or("")
+        .contains("train-1"));
+    // The server trains as before afterwards.
+    let (status, _, _) = send(
+        &app,
+        post_json("/api/defop", &operator_scene(&id, "defop-arap", 12)),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK);
+}
+
 /// A scene of the bundled fish with two handles and a trained operator's settings.
 fn operator_scene(document: &str, family: &str, samples: usize) -> serde_json::Value {
     let mut scene = two_handle_scene(document, false);
