@@ -66,15 +66,45 @@ pub struct Crossing {
 /// ```
 pub fn self_crossings(drawing: &Drawing, points: &[Point]) -> Vec<Crossing> {
     let mut out = Vec::new();
+    self_crossings_into(drawing, points, &mut FoldScratch::default(), &mut out);
+    out
+}
+
+/// [`self_crossings`] written into `out` (cleared first), with the working buffers in
+/// `scratch`: once both have grown to the drawing's size, a call allocates nothing.
+pub fn self_crossings_into(
+    drawing: &Drawing,
+    points: &[Point],
+    scratch: &mut FoldScratch,
+    out: &mut Vec<Crossing>,
+) {
+    out.clear();
     if points.len() != drawing.n_points() {
-        return out;
+        return;
     }
     for (path_index, (path, range)) in drawing.paths.iter().zip(drawing.path_ranges()).enumerate() {
         if path.closed {
-            outline_crossings(path_index, &points[range], &mut out);
+            outline_crossings(path_index, &points[range], scratch, out);
         }
     }
-    out
+}
+
+/// The working buffers of a fold check ([`self_crossings_into`],
+/// [`FoldCheck::new_crossings_into`]): the outline's pieces, its grid and the candidate
+/// crossings, kept between calls so that an interactive tool's check after every frame
+/// allocates nothing.
+#[derive(Clone, Debug, Default)]
+pub struct FoldScratch {
+    pieces: Vec<Piece>,
+    /// Each piece's range of grid cells: first column, first row, last column, last row.
+    ranges: Vec<(usize, usize, usize, usize)>,
+    /// Where each cell's members start in `members` (one more entry than cells).
+    start: Vec<usize>,
+    fill: Vec<usize>,
+    members: Vec<usize>,
+    candidates: Vec<(usize, usize, Point)>,
+    /// Crossings found in one outline, with the pieces that found them (the sort key).
+    found: Vec<(usize, usize, Crossing)>,
 }
 
 /// The crossings of `deformed` ([`self_crossings`]) between curves that do not cross at
@@ -142,10 +172,49 @@ impl FoldCheck {
     /// The crossings of `deformed` between curves that do not cross at rest
     /// ([`new_self_crossings`]).
     pub fn new_crossings(&self, drawing: &Drawing, deformed: &[Point]) -> Vec<Crossing> {
-        self_crossings(drawing, deformed)
-            .into_iter()
-            .filter(|c| !self.at_rest.contains(&(c.path, c.curves.0, c.curves.1)))
-            .collect()
+        let mut out = Vec::new();
+        self.new_crossings_into(drawing, deformed, &mut FoldScratch::default(), &mut out);
+        out
+    }
+
+    /// [`FoldCheck::new_crossings`] written into `out` (cleared first), with the working
+    /// buffers in `scratch`: once both have grown to the drawing's size, a check allocates
+    /// nothing.
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin_core::drawing::{Drawing, JunctionOptions, Path};
+    /// use splineskin_core::folds::{FoldCheck, FoldScratch};
+    /// let square = [(0., 0.), (10., 0.), (10., 10.), (0., 10.), (0., 0.)];
+    /// let chain = |c: &[(f64, f64)]| {
+    ///     let mut p = vec![Point::from(c[0])];
+    ///     for w in c.windows(2) {
+    ///         let (a, b) = (Point::from(w[0]), Point::from(w[1]));
+    ///         p.extend([a.lerp(b, 1. / 3.), a.lerp(b, 2. / 3.), b]);
+    ///     }
+    ///     p
+    /// };
+    /// let rest = chain(&square);
+    /// let drawing = Drawing { paths: vec![Path::new(rest.clone(), true, &JunctionOptions::default()).unwrap()], ..Default::default() };
+    /// let check = FoldCheck::new(&drawing, &rest);
+    /// let (mut scratch, mut out) = (FoldScratch::default(), Vec::new());
+    /// // A corner dragged across the opposite side, then back: the same scratch each time.
+    /// let folded = chain(&[(0., 0.), (10., 0.), (-5., 5.), (0., 10.), (0., 0.)]);
+    /// check.new_crossings_into(&drawing, &folded, &mut scratch, &mut out);
+    /// assert_eq!(out, check.new_crossings(&drawing, &folded));
+    /// assert_eq!(out.len(), 1);
+    /// check.new_crossings_into(&drawing, &rest, &mut scratch, &mut out);
+    /// assert!(out.is_empty());
+    /// ```
+    pub fn new_crossings_into(
+        &self,
+        drawing: &Drawing,
+        deformed: &[Point],
+        scratch: &mut FoldScratch,
+        out: &mut Vec<Crossing>,
+    ) {
+        self_crossings_into(drawing, deformed, scratch, out);
+        out.retain(|c| !self.at_rest.contains(&(c.path, c.curves.0, c.curves.1)));
     }
 }
 
@@ -182,6 +251,7 @@ pub fn inverted_triangles(
 }
 
 /// One piece of an outline's polyline: its ends and the curve it belongs to.
+#[derive(Clone, Copy, Debug)]
 struct Piece {
     a: Point,
     b: Point,
@@ -189,8 +259,22 @@ struct Piece {
 }
 
 /// The crossings of the closed outline with chain points `chain` (path `path`), appended to
-/// `out`.
-fn outline_crossings(path: usize, chain: &[Point], out: &mut Vec<Crossing>) {
+/// `out`, with the working buffers in `scratch`.
+fn outline_crossings(
+    path: usize,
+    chain: &[Point],
+    scratch: &mut FoldScratch,
+    out: &mut Vec<Crossing>,
+) {
+    let FoldScratch {
+        pieces,
+        ranges,
+        start,
+        fill,
+        members,
+        candidates,
+        found,
+    } = scratch;
     if chain.len() < 4 || !chain.iter().all(|p| p.is_finite()) {
         return;
     }
@@ -204,7 +288,7 @@ fn outline_crossings(path: usize, chain: &[Point], out: &mut Vec<Crossing>) {
         return;
     }
     let flatness = FLATNESS * diagonal;
-    let pieces = polyline(chain, flatness);
+    polyline(chain, flatness, pieces);
     let n = pieces.len();
     // A uniform grid of about one piece per cell.
     let side = ((n as f64).sqrt().ceil() as usize).clamp(1, 1024);
@@ -221,22 +305,21 @@ fn outline_crossings(path: usize, chain: &[Point], out: &mut Vec<Crossing>) {
         )
     };
     // The cells' members in one array (counted, then placed): no allocation per cell.
-    let ranges: Vec<(usize, usize, usize, usize)> = pieces
-        .iter()
-        .map(|piece| {
-            let (c0, r0) = cell(Point::new(
-                piece.a.x.min(piece.b.x),
-                piece.a.y.min(piece.b.y),
-            ));
-            let (c1, r1) = cell(Point::new(
-                piece.a.x.max(piece.b.x),
-                piece.a.y.max(piece.b.y),
-            ));
-            (c0, r0, c1, r1)
-        })
-        .collect();
-    let mut start = vec![0usize; side * side + 1];
-    for &(c0, r0, c1, r1) in &ranges {
+    ranges.clear();
+    ranges.extend(pieces.iter().map(|piece| {
+        let (c0, r0) = cell(Point::new(
+            piece.a.x.min(piece.b.x),
+            piece.a.y.min(piece.b.y),
+        ));
+        let (c1, r1) = cell(Point::new(
+            piece.a.x.max(piece.b.x),
+            piece.a.y.max(piece.b.y),
+        ));
+        (c0, r0, c1, r1)
+    }));
+    start.clear();
+    start.resize(side * side + 1, 0);
+    for &(c0, r0, c1, r1) in ranges.iter() {
         for r in r0..=r1 {
             for c in c0..=c1 {
                 start[r * side + c + 1] += 1;
@@ -246,8 +329,10 @@ fn outline_crossings(path: usize, chain: &[Point], out: &mut Vec<Crossing>) {
     for k in 1..start.len() {
         start[k] += start[k - 1];
     }
-    let mut fill = start.clone();
-    let mut members = vec![0usize; start[side * side]];
+    fill.clear();
+    fill.extend_from_slice(start);
+    members.clear();
+    members.resize(start[side * side], 0);
     for (k, &(c0, r0, c1, r1)) in ranges.iter().enumerate() {
         for r in r0..=r1 {
             for c in c0..=c1 {
@@ -259,7 +344,7 @@ fn outline_crossings(path: usize, chain: &[Point], out: &mut Vec<Crossing>) {
     // Each pair of pieces is tested once, in the first cell both cover (the lowest column and
     // row of the overlap of their cell ranges): no list of pairs to sort and deduplicate.
     let near = NEAR_LINE * diagonal;
-    let mut candidates: Vec<(usize, usize, Point)> = Vec::new();
+    candidates.clear();
     for r in 0..side {
         for c in 0..side {
             let cell_index = r * side + c;
@@ -284,25 +369,28 @@ fn outline_crossings(path: usize, chain: &[Point], out: &mut Vec<Crossing>) {
         }
     }
     candidates.sort_unstable_by_key(|&(i, j, _)| (i, j));
-    let mut found: Vec<Crossing> = Vec::new();
-    for (i, j, at) in candidates {
+    found.clear();
+    for &(i, j, at) in candidates.iter() {
         let (p, q) = (&pieces[i], &pieces[j]);
         let curves = (p.curve.min(q.curve), p.curve.max(q.curve));
         // One crossing counted once, also when it falls where two pieces meet.
         let duplicate = found
             .iter()
-            .any(|c| c.curves == curves && (c.at - at).hypot() <= 2.0 * flatness);
+            .any(|(_, _, c)| c.curves == curves && (c.at - at).hypot() <= 2.0 * flatness);
         if !duplicate {
-            found.push(Crossing { path, curves, at });
+            found.push((i, j, Crossing { path, curves, at }));
         }
     }
-    found.sort_by_key(|c| c.curves);
-    out.extend(found);
+    // By curves, then in the order found (the pieces' order): an unstable sort on that key
+    // needs no buffer.
+    found.sort_unstable_by_key(|&(i, j, c)| (c.curves, i, j));
+    out.extend(found.iter().map(|&(_, _, c)| c));
 }
 
-/// The polyline of the chain's cubics, each cut into pieces within `flatness` of it.
-fn polyline(chain: &[Point], flatness: f64) -> Vec<Piece> {
-    let mut pieces = Vec::new();
+/// The polyline of the chain's cubics, each cut into pieces within `flatness` of it, written
+/// into `pieces` (cleared first).
+fn polyline(chain: &[Point], flatness: f64, pieces: &mut Vec<Piece>) {
+    pieces.clear();
     for (curve, c) in chain.windows(4).step_by(3).enumerate() {
         let m = ((c[0] - c[1]) - (c[1] - c[2]))
             .hypot()
@@ -320,7 +408,6 @@ fn polyline(chain: &[Point], flatness: f64) -> Vec<Piece> {
             a = b;
         }
     }
-    pieces
 }
 
 /// Where segments `a0 a1` and `b0 b1` cross (each one's ends on either side of the other's
