@@ -98,36 +98,22 @@ fn train_file(
         metadata.spatial_basis = Some(settings.spatial_basis.name());
         OperatorFile::new(mesh, training.op, metadata).map_err(|e| e.to_string())
     };
-    // Set by the training thread when it ends (or panics: the guard sets it as it drops).
-    let ended = (Mutex::new(false), std::sync::Condvar::new());
+    let caller = std::thread::current();
     let result = std::thread::scope(|scope| {
         let worker = scope.spawn(|| {
-            struct Ended<'a>(&'a (Mutex<bool>, std::sync::Condvar));
-            impl Drop for Ended<'_> {
-                fn drop(&mut self) {
-                    if let Ok(mut flag) = self.0 .0.lock() {
-                        *flag = true;
-                    }
-                    self.0 .1.notify_all();
-                }
-            }
-            let _ended = Ended(&ended);
-            work()
+            let result = work();
+            caller.unpark();
+            result
         });
-        let wait = || {
-            let flag = ended.0.lock().map_err(|_| ())?;
-            let (flag, _) = ended
-                .1
-                .wait_timeout_while(flag, SIGNAL_POLL, |ended| !*ended)
-                .map_err(|_| ())?;
-            Ok::<bool, ()>(*flag)
-        };
-        while py.detach(wait) == Ok(false) {
+        // Wakes when the training ends (or at the latest after SIGNAL_POLL, which also covers
+        // a worker that panicked before unparking).
+        while !worker.is_finished() {
+            py.detach(|| std::thread::park_timeout(SIGNAL_POLL));
             if let Err(e) = py.check_signals() {
                 fail(e);
             }
         }
-        py.detach(|| worker.join())
+        worker.join()
     });
     if let Some(e) = failed.into_inner().ok().flatten() {
         return Err(e);

@@ -852,12 +852,7 @@ impl DefOpRigEvaluator<'_> {
                 expected: self.rig.n_points,
             });
         }
-        if q.len() != self.rig.n_handles() {
-            return Err(DefOpError::TargetCount {
-                given: q.len(),
-                n_handles: self.rig.n_handles(),
-            });
-        }
+        // The handle count and finiteness are checked by `write_coords`.
         self.rig.write_coords(q, &mut self.psi, &mut self.xy)?;
         for (p, xy) in out.iter_mut().zip(self.xy.chunks_exact(2)) {
             *p = Point::new(xy[0], xy[1]);

@@ -123,13 +123,15 @@ impl ProgressBoard {
         if !valid || jobs.len() >= MAX_FOLLOWED || jobs.contains_key(name) {
             return None;
         }
+        let stop = StopSignal::new();
         jobs.insert(
             name.to_string(),
-            (("queued", (self.clock)(), None), StopSignal::new()),
+            (("queued", (self.clock)(), None), stop.clone()),
         );
         Some(Followed {
             board: self.clone(),
             name: name.to_string(),
+            stop,
         })
     }
 
@@ -171,17 +173,15 @@ impl ProgressBoard {
 pub struct Followed {
     board: Arc<ProgressBoard>,
     name: String,
+    /// The signal the board raises for this job (a clone of its entry's).
+    stop: StopSignal,
 }
 
 impl Followed {
     /// The signal [`ProgressBoard::stop`] raises for this job, for its training to hold
     /// ([`splineskin::defop::TrainOptions::stop`]).
     pub fn stop_signal(&self) -> StopSignal {
-        self.board
-            .jobs()
-            .get(&self.name)
-            .map(|(_, signal)| signal.clone())
-            .unwrap_or_default()
+        self.stop.clone()
     }
 
     /// A reporter of the job's stages, for the job's thread: it changes the stage while the

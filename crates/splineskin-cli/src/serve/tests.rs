@@ -678,6 +678,14 @@ async fn serve_progress_follows_a_precomputation_until_it_ends() {
     assert!(state.editor.progress.stage("job-2").is_none());
 }
 
+/// `POST /api/progress/{job}/stop`.
+async fn stop_job(app: &Router, job: &str) -> (StatusCode, axum::http::HeaderMap, Vec<u8>) {
+    let request = post(&format!("/api/progress/{job}/stop"))
+        .body(Body::empty())
+        .expect("a request");
+    send(app, request).await
+}
+
 #[tokio::test]
 async fn serve_stop_ends_a_training_at_its_next_solve() {
     let (app, _, id) = demo_app().await;
@@ -701,13 +709,7 @@ async fn serve_stop_ends_a_training_at_its_next_solve() {
         tokio::time::sleep(std::time::Duration::from_millis(10)).await;
     }
     assert_eq!(seen["stage"], "training", "{seen}");
-    let (status, _, body) = send(
-        &app,
-        post("/api/progress/train-1/stop")
-            .body(Body::empty())
-            .unwrap(),
-    )
-    .await;
+    let (status, _, body) = stop_job(&app, "train-1").await;
     assert_eq!(status, StatusCode::OK);
     assert_eq!(json(&body)["stopping"], true);
     let (status, _, body) = training.await.expect("the training request ends");
@@ -727,16 +729,10 @@ async fn serve_stop_ends_a_training_at_its_next_solve() {
     );
     let done = seen["done"].as_u64().expect("a count");
     assert!(done < 5000, "stopped midway, after {done} solves");
-    // The job is over: nothing to report, nothing to stop; a job never named is not there.
+    // The job is over: nothing to report, nothing to stop.
     let (_, _, body) = send(&app, get("/api/progress/train-1")).await;
     assert!(json(&body)["stage"].is_null());
-    let (status, _, body) = send(
-        &app,
-        post("/api/progress/train-1/stop")
-            .body(Body::empty())
-            .unwrap(),
-    )
-    .await;
+    let (status, _, body) = stop_job(&app, "train-1").await;
     assert_eq!(status, StatusCode::NOT_FOUND);
     assert!(json(&body)["error"]
         .as_str()
