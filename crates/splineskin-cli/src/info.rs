@@ -104,13 +104,22 @@ fn describe_domain(domain: &Domain) -> String {
         Boundary::Cage => "the cage".to_string(),
         Boundary::ClosedCurve { path } => format!("closed path {path}"),
         Boundary::Padded => "the padded bounding box".to_string(),
+        Boundary::Art { parts, unpinned } => {
+            let plural =
+                |n: usize, word: &str| format!("{n} {word}{}", if n == 1 { "" } else { "s" });
+            let left_out = match unpinned {
+                0 => String::new(),
+                n => format!(", {} without a pin left out", plural(n, "part")),
+            };
+            format!("the art ({}{left_out})", plural(parts, "part"))
+        }
     };
     format!(
         "domain: {} vertices, {} triangles, boundary {boundary}, {} holes, {} curve samples, \
          min angle {:.1}°{}",
         domain.mesh.n_vertices(),
         domain.mesh.n_triangles(),
-        domain.boundary_loops.len().saturating_sub(1),
+        domain.n_holes(),
         domain.n_curve_samples,
         Domain::min_angle_of(&domain.mesh),
         if domain.refinement_complete {

@@ -128,6 +128,8 @@ struct DomainFile {
     max_samples_per_curve: usize,
     max_curve_samples: usize,
     padding: f64,
+    shape: &'static str,
+    margin: f64,
 }
 
 fn domain_file(d: &DomainOptions) -> DomainFile {
@@ -140,6 +142,8 @@ fn domain_file(d: &DomainOptions) -> DomainFile {
         max_samples_per_curve: d.max_samples_per_curve,
         max_curve_samples: d.max_curve_samples,
         padding: d.padding,
+        shape: d.shape.name(),
+        margin: d.margin,
     }
 }
 

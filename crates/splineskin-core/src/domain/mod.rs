@@ -50,7 +50,9 @@
 //! angle) and an area below `max_area_fraction · area(domain)`, within `max_vertices`
 //! vertices in total.
 
+mod art_region;
 pub mod crossings;
+pub mod distance;
 mod grid;
 pub mod locate;
 pub mod polygon;
@@ -82,6 +84,12 @@ pub const DEFAULT_MAX_SAMPLES_PER_CURVE: usize = 100;
 pub const DEFAULT_MAX_CURVE_SAMPLES: usize = 100_000;
 /// Default padding of the bounding-box domain, as a fraction of the drawing's diagonal: 0.05.
 pub const DEFAULT_PADDING: f64 = 0.05;
+/// Default margin of the art-shaped domain ([`DomainShape::Art`]), as a fraction of the
+/// drawing's diagonal: 0.01 (Puppet Warp's "expansion"). Parts of the art closer than about
+/// twice the margin are joined.
+pub const DEFAULT_MARGIN: f64 = 0.01;
+/// Largest accepted margin of the art-shaped domain, as a fraction of the diagonal: 1.
+pub const MAX_MARGIN: f64 = 1.0;
 /// Largest accepted minimum angle: 34° (beyond it refinement does not terminate and only the
 /// vertex cap stops it).
 pub const MAX_MIN_ANGLE: f64 = 34.0;
@@ -139,6 +147,52 @@ pub struct DomainOptions {
     /// Padding of the bounding-box domain as a fraction of the diagonal (positive).
     /// Default: [`DEFAULT_PADDING`].
     pub padding: f64,
+    /// Which region the domain covers when there is no cage. Default:
+    /// [`DomainShape::Enclosing`] (the paper's rule, which the authors' scenes keep).
+    pub shape: DomainShape,
+    /// Margin of the art-shaped domain ([`DomainShape::Art`]) as a fraction of the drawing's
+    /// diagonal, in `[0, MAX_MARGIN]`. Default: [`DEFAULT_MARGIN`].
+    pub margin: f64,
+}
+
+/// Which region a domain without a cage covers ([`DomainOptions::shape`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum DomainShape {
+    /// The largest closed path of the drawing when it contains everything, else the padded
+    /// bounding box (rules 2 and 3 of the module documentation; the paper's domain).
+    #[default]
+    Enclosing,
+    /// The art itself: the region the drawing paints (fills, strokes at their width), grown by
+    /// [`DomainOptions::margin`], with its holes, one connected part per group of shapes that
+    /// touch, overlap or lie within twice the margin of each other; parts without a handle are
+    /// left out, and their curves take the weights of the nearest pinned art
+    /// ([`Boundary::Art`]). A pin's influence thus never crosses background: a leg drawn apart
+    /// from its neighbour is joined to it only through the body they share.
+    Art,
+}
+
+impl DomainShape {
+    /// The shape's name in scene files and on the command line: `enclosing` or `art`.
+    pub fn name(self) -> &'static str {
+        match self {
+            DomainShape::Enclosing => "enclosing",
+            DomainShape::Art => "art",
+        }
+    }
+
+    /// The shape named `name` ([`DomainShape::name`]).
+    ///
+    /// ```
+    /// use splineskin_core::domain::DomainShape;
+    /// assert_eq!(DomainShape::from_name("art"), Some(DomainShape::Art));
+    /// assert_eq!(DomainShape::from_name("box"), None);
+    /// ```
+    pub fn from_name(name: &str) -> Option<DomainShape> {
+        [DomainShape::Enclosing, DomainShape::Art]
+            .into_iter()
+            .find(|s| s.name() == name)
+    }
 }
 
 impl Default for DomainOptions {
@@ -153,6 +207,8 @@ impl Default for DomainOptions {
             max_samples_per_curve: DEFAULT_MAX_SAMPLES_PER_CURVE,
             max_curve_samples: DEFAULT_MAX_CURVE_SAMPLES,
             padding: DEFAULT_PADDING,
+            shape: DomainShape::Enclosing,
+            margin: DEFAULT_MARGIN,
         }
     }
 }
@@ -203,6 +259,16 @@ impl DomainOptions {
         self.padding = fraction;
         self
     }
+    /// Sets [`DomainOptions::shape`].
+    pub fn with_shape(mut self, shape: DomainShape) -> Self {
+        self.shape = shape;
+        self
+    }
+    /// Sets [`DomainOptions::margin`] (fraction of the diagonal).
+    pub fn with_margin(mut self, fraction: f64) -> Self {
+        self.margin = fraction;
+        self
+    }
 }
 
 /// What the domain's outer boundary is.
@@ -217,6 +283,15 @@ pub enum Boundary {
     },
     /// The padded bounding box.
     Padded,
+    /// The art's own shape grown by the margin ([`DomainShape::Art`]): `parts` connected
+    /// parts, each holding a handle; `unpinned` parts of the art without a handle were left
+    /// out.
+    Art {
+        /// Connected parts of the domain.
+        parts: usize,
+        /// Parts of the art left out for holding no handle.
+        unpinned: usize,
+    },
 }
 
 /// A triangulated domain: the mesh and where the handles are in it.
@@ -246,8 +321,9 @@ pub struct Domain {
     pub bone_vertices: Vec<Vec<usize>>,
     /// The vertex of each cage corner, in the cage's order (empty without a cage).
     pub cage_vertices: Vec<usize>,
-    /// The boundary of the mesh as closed vertex loops (the last vertex joins the first), the
-    /// outer one first and counter-clockwise, then the holes, clockwise. Includes the Steiner
+    /// The boundary of the mesh as closed vertex loops (the last vertex joins the first), by
+    /// decreasing signed area: the outer ones first (one per part of an art-shaped domain,
+    /// [`Boundary::Art`]) and counter-clockwise, then the holes, clockwise. Includes the Steiner
     /// points refinement placed on boundary edges.
     pub boundary_loops: Vec<Vec<usize>>,
     /// What the outer boundary is.
@@ -280,6 +356,28 @@ impl Domain {
         options: &DomainOptions,
     ) -> Result<Domain, DomainError> {
         triangulate::build(drawing, points, bones, options)
+    }
+
+    /// Number of holes: boundary loops turning clockwise ([`Domain::boundary_loops`]).
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin_core::domain::{Domain, DomainOptions};
+    /// use splineskin_core::drawing::Drawing;
+    /// let cage = [(0., 0.), (10., 0.), (10., 10.), (0., 10.)].map(Point::from).to_vec();
+    /// let options = DomainOptions::default().with_cage(cage).with_max_area_fraction(0.05);
+    /// let domain = Domain::build(&Drawing::default(), &[Point::new(5.0, 5.0)], &[], &options)?;
+    /// assert_eq!(domain.n_holes(), 0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn n_holes(&self) -> usize {
+        self.boundary_loops
+            .iter()
+            .filter(|l| {
+                let p: Vec<Point> = l.iter().map(|&i| self.mesh.vertices[i]).collect();
+                polygon::signed_area(&p) < 0.0
+            })
+            .count()
     }
 
     /// Smallest angle over all triangles, in degrees.

@@ -14,7 +14,10 @@ use super::grid::BucketGrid;
 use super::polygon::{
     self, segment_distance, segments_intersect, self_intersection, signed_area, PolygonIndex,
 };
-use super::{Boundary, Domain, DomainError, DomainOptions, COINCIDENT_RELATIVE, MAX_MIN_ANGLE};
+use super::{
+    art_region, Boundary, Domain, DomainError, DomainOptions, DomainShape, COINCIDENT_RELATIVE,
+    MAX_MARGIN, MAX_MIN_ANGLE,
+};
 use crate::drawing::Drawing;
 use crate::mesh::TriMesh;
 
@@ -106,89 +109,29 @@ pub(super) fn build(
         })
         .collect();
 
-    // The outer boundary.
-    let (outer, boundary) = match &cage {
-        Some(c) => {
-            polygon::check_cage(c, coincident)?;
-            (c.clone(), Boundary::Cage)
-        }
-        None => match closed_curve_boundary(drawing, &samples, points, bones, spacing) {
-            Some((path, poly)) => (poly, Boundary::ClosedCurve { path }),
-            None => {
-                let r = all_bounds.inflate(
-                    options.padding * drawing_diag,
-                    options.padding * drawing_diag,
-                );
-                let poly = vec![
-                    Point::new(r.x0, r.y0),
-                    Point::new(r.x1, r.y0),
-                    Point::new(r.x1, r.y1),
-                    Point::new(r.x0, r.y1),
-                ];
-                (poly, Boundary::Padded)
-            }
-        },
-    };
-    // Handles and bone ends on the boundary (within `coincident`) become boundary vertices, so
-    // that rounding cannot leave them just outside. `corners[k]` is the position in `outer` of
-    // its k-th original vertex.
-    let (outer, corners) = insert_on_boundary(
-        outer,
-        points.iter().chain(bones.iter().flatten()).copied(),
-        coincident,
-    );
-    let outer_area = signed_area(&outer);
-    if !outer_area.is_finite() {
-        return Err(DomainError::Triangulation {
-            reason: "the domain's area overflows f64 (coordinates too large)".into(),
-        });
-    }
-    if outer_area.is_nan() || outer_area <= 0.0 {
-        return Err(DomainError::EmptyDomain {
-            reason: "the domain's boundary has zero area",
-        });
-    }
-    let outer_index = PolygonIndex::new(&[&outer]);
-    for (handle, &p) in points.iter().enumerate() {
-        if !outer_index.contains(p) && !on_polygon(&outer, p, coincident) {
-            return Err(DomainError::HandleOutsideDomain {
-                handle,
-                x: p.x,
-                y: p.y,
-            });
-        }
-    }
-    for (bone, b) in bones.iter().enumerate() {
-        let inside = b
-            .iter()
-            .all(|&p| outer_index.contains(p) || on_polygon(&outer, p, coincident));
-        let crosses = crosses_polygon(&outer, b[0], b[1], coincident);
-        if !inside || crosses {
-            return Err(DomainError::BoneOutsideDomain { bone });
-        }
-    }
-
-    // Holes.
-    let boundary_path = match boundary {
-        Boundary::ClosedCurve { path } => Some(path),
-        _ => None,
-    };
-    let holes: Vec<(usize, Vec<Point>)> = if options.holes {
-        find_holes(
+    // The boundary: the art's outlines, or one outer polygon and its holes.
+    let outline = if cage.is_none() && options.shape == DomainShape::Art {
+        art_outline(drawing, points, bones, options, spacing, drawing_diag)?
+    } else {
+        enclosing_outline(
             drawing,
             &samples,
-            boundary_path,
-            &outer_index,
             points,
             bones,
-        )
-    } else {
-        Vec::new()
+            options,
+            cage.as_deref(),
+            (spacing, coincident, drawing_diag, all_bounds),
+        )?
     };
-    let hole_area: f64 = holes.iter().map(|(_, h)| -signed_area(h)).sum();
-    let area = outer_area - hole_area;
-    let mut loops: Vec<&[Point]> = vec![&outer];
-    loops.extend(holes.iter().map(|(_, h)| h.as_slice()));
+    let Outline {
+        loops,
+        boundary,
+        corners,
+        area,
+        boundary_path,
+        hole_paths,
+    } = outline;
+    let loops: Vec<&[Point]> = loops.iter().map(Vec::as_slice).collect();
     let domain_index = PolygonIndex::new(&loops);
 
     // Vertices and constraint edges.
@@ -206,10 +149,7 @@ pub(super) fn build(
         }
         idx
     };
-    let outer_vertices = add_loop(&mut verts, &outer);
-    for (_, h) in &holes {
-        add_loop(&mut verts, h);
-    }
+    let loop_vertices: Vec<Vec<usize>> = loops.iter().map(|l| add_loop(&mut verts, l)).collect();
     let bone_chains: Vec<Vec<usize>> = bones
         .iter()
         .map(|b| {
@@ -241,7 +181,6 @@ pub(super) fn build(
         });
         near
     };
-    let hole_paths: HashSet<usize> = holes.iter().map(|(p, _)| *p).collect();
     let mut n_curve_samples = 0;
     for (path, s) in samples.iter().enumerate() {
         if Some(path) == boundary_path || hole_paths.contains(&path) {
@@ -347,7 +286,7 @@ pub(super) fn build(
     let cage_vertices = if cage.is_some() {
         corners
             .iter()
-            .map(|&k| mapped(outer_vertices[k]))
+            .map(|&k| mapped(loop_vertices[0][k]))
             .collect::<Result<Vec<_>, _>>()?
     } else {
         Vec::new()
@@ -380,6 +319,179 @@ pub(super) fn build(
     })
 }
 
+/// A domain's boundary before triangulation ([`build`]).
+struct Outline {
+    /// Closed polygons: outer ones counter-clockwise, holes clockwise.
+    loops: Vec<Vec<Point>>,
+    boundary: Boundary,
+    /// With a cage, the position in `loops[0]` of each cage corner.
+    corners: Vec<usize>,
+    /// Area inside (outer polygons minus holes).
+    area: f64,
+    /// The drawing's path that is the outer boundary (its samples are on it).
+    boundary_path: Option<usize>,
+    /// The drawing's paths that are holes.
+    hole_paths: HashSet<usize>,
+}
+
+/// The art-shaped boundary ([`DomainShape::Art`], [`super::art_region`]).
+fn art_outline(
+    drawing: &Drawing,
+    points: &[Point],
+    bones: &[[Point; 2]],
+    options: &DomainOptions,
+    spacing: f64,
+    drawing_diag: f64,
+) -> Result<Outline, DomainError> {
+    let region = art_region::trace(
+        drawing,
+        points,
+        bones,
+        options.margin * drawing_diag,
+        spacing,
+    );
+    let area: f64 = region.loops.iter().map(|l| signed_area(l)).sum();
+    if !area.is_finite() {
+        return Err(DomainError::Triangulation {
+            reason: "the domain's area overflows f64 (coordinates too large)".into(),
+        });
+    }
+    if region.loops.is_empty() || area <= 0.0 {
+        return Err(DomainError::EmptyDomain {
+            reason: "the art paints no area that holds a handle",
+        });
+    }
+    let index = PolygonIndex::new(&region.loops.iter().map(Vec::as_slice).collect::<Vec<_>>());
+    for (handle, &p) in points.iter().enumerate() {
+        if !index.contains(p) {
+            return Err(DomainError::HandleOutsideDomain {
+                handle,
+                x: p.x,
+                y: p.y,
+            });
+        }
+    }
+    for (bone, b) in bones.iter().enumerate() {
+        let crosses = index
+            .edges()
+            .iter()
+            .any(|&(c, d)| segments_intersect(b[0], b[1], c, d));
+        if crosses || !index.contains(b[0]) {
+            return Err(DomainError::BoneOutsideDomain { bone });
+        }
+    }
+    Ok(Outline {
+        loops: region.loops,
+        boundary: Boundary::Art {
+            parts: region.n_parts,
+            unpinned: region.n_unpinned,
+        },
+        corners: Vec::new(),
+        area,
+        boundary_path: None,
+        hole_paths: HashSet::new(),
+    })
+}
+
+/// The cage, or the largest closed curve containing everything, or the padded box; with its
+/// holes when asked (rules 1–3 of the module documentation). `scale` is the sample spacing,
+/// the coincidence distance, the drawing's diagonal and the bounds of everything.
+fn enclosing_outline(
+    drawing: &Drawing,
+    samples: &[Vec<Point>],
+    points: &[Point],
+    bones: &[[Point; 2]],
+    options: &DomainOptions,
+    cage: Option<&[Point]>,
+    scale: (f64, f64, f64, Rect),
+) -> Result<Outline, DomainError> {
+    let (spacing, coincident, drawing_diag, all_bounds) = scale;
+    let (outer, boundary) = match cage {
+        Some(c) => {
+            polygon::check_cage(c, coincident)?;
+            (c.to_vec(), Boundary::Cage)
+        }
+        None => match closed_curve_boundary(drawing, samples, points, bones, spacing) {
+            Some((path, poly)) => (poly, Boundary::ClosedCurve { path }),
+            None => {
+                let r = all_bounds.inflate(
+                    options.padding * drawing_diag,
+                    options.padding * drawing_diag,
+                );
+                let poly = vec![
+                    Point::new(r.x0, r.y0),
+                    Point::new(r.x1, r.y0),
+                    Point::new(r.x1, r.y1),
+                    Point::new(r.x0, r.y1),
+                ];
+                (poly, Boundary::Padded)
+            }
+        },
+    };
+    // Handles and bone ends on the boundary (within `coincident`) become boundary vertices, so
+    // that rounding cannot leave them just outside. `corners[k]` is the position in `outer` of
+    // its k-th original vertex.
+    let (outer, corners) = insert_on_boundary(
+        outer,
+        points.iter().chain(bones.iter().flatten()).copied(),
+        coincident,
+    );
+    let outer_area = signed_area(&outer);
+    if !outer_area.is_finite() {
+        return Err(DomainError::Triangulation {
+            reason: "the domain's area overflows f64 (coordinates too large)".into(),
+        });
+    }
+    if outer_area.is_nan() || outer_area <= 0.0 {
+        return Err(DomainError::EmptyDomain {
+            reason: "the domain's boundary has zero area",
+        });
+    }
+    let outer_index = PolygonIndex::new(&[&outer]);
+    for (handle, &p) in points.iter().enumerate() {
+        if !outer_index.contains(p) && !on_polygon(&outer, p, coincident) {
+            return Err(DomainError::HandleOutsideDomain {
+                handle,
+                x: p.x,
+                y: p.y,
+            });
+        }
+    }
+    for (bone, b) in bones.iter().enumerate() {
+        let inside = b
+            .iter()
+            .all(|&p| outer_index.contains(p) || on_polygon(&outer, p, coincident));
+        let crosses = crosses_polygon(&outer, b[0], b[1], coincident);
+        if !inside || crosses {
+            return Err(DomainError::BoneOutsideDomain { bone });
+        }
+    }
+
+    // Holes.
+    let boundary_path = match boundary {
+        Boundary::ClosedCurve { path } => Some(path),
+        _ => None,
+    };
+    let holes: Vec<(usize, Vec<Point>)> = if options.holes {
+        find_holes(drawing, samples, boundary_path, &outer_index, points, bones)
+    } else {
+        Vec::new()
+    };
+    let hole_area: f64 = holes.iter().map(|(_, h)| -signed_area(h)).sum();
+    let area = outer_area - hole_area;
+    let hole_paths = holes.iter().map(|(p, _)| *p).collect();
+    let mut loops = vec![outer];
+    loops.extend(holes.into_iter().map(|(_, h)| h));
+    Ok(Outline {
+        loops,
+        boundary,
+        corners,
+        area,
+        boundary_path,
+        hole_paths,
+    })
+}
+
 fn check_options(o: &DomainOptions) -> Result<(), DomainError> {
     let bad = |name, value: f64, expected| {
         Err(DomainError::InvalidOption {
@@ -403,6 +515,9 @@ fn check_options(o: &DomainOptions) -> Result<(), DomainError> {
     }
     if o.max_samples_per_curve == 0 {
         return bad("max_samples_per_curve", 0.0, "at least 1");
+    }
+    if !(0.0..=MAX_MARGIN).contains(&o.margin) {
+        return bad("margin", o.margin, "0 to 1 (a fraction of the diagonal)");
     }
     if !(o.padding > 0.0 && o.padding.is_finite()) {
         return bad("padding", o.padding, "positive and finite");

@@ -111,6 +111,8 @@ pub struct ImportedElement {
 pub struct ElementPaint {
     /// Whether it is filled.
     pub filled: bool,
+    /// Whether its fill rule is `evenodd` (`nonzero` otherwise, SVG's default).
+    pub even_odd: bool,
     /// Its stroke width in its local units, when stroked.
     pub stroke_width: Option<f64>,
     /// The id of the gradient or pattern of its fill, if any.

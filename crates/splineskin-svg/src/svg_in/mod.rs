@@ -232,6 +232,9 @@ fn element_paint(path: &usvg::Path) -> ElementPaint {
     };
     ElementPaint {
         filled: path.fill().is_some(),
+        even_odd: path
+            .fill()
+            .is_some_and(|f| f.rule() == usvg::FillRule::EvenOdd),
         stroke_width: path.stroke().map(|s| f64::from(s.width().get())),
         fill_server: path.fill().and_then(|f| server(f.paint())),
         stroke_server: path.stroke().and_then(|s| server(s.paint())),

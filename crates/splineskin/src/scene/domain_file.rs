@@ -3,7 +3,7 @@
 
 use serde::Deserialize;
 
-use crate::domain::DomainOptions;
+use crate::domain::{DomainOptions, DomainShape};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -26,11 +26,45 @@ pub(crate) struct DomainFile {
     max_curve_samples: Option<usize>,
     #[serde(default)]
     padding: Option<f64>,
+    #[serde(default)]
+    shape: Option<ShapeFile>,
+    #[serde(default)]
+    margin: Option<f64>,
+}
+
+/// `domain.shape`: the names of [`DomainShape`].
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "lowercase")]
+enum ShapeFile {
+    Enclosing,
+    Art,
+}
+
+impl From<ShapeFile> for DomainShape {
+    fn from(s: ShapeFile) -> DomainShape {
+        match s {
+            ShapeFile::Enclosing => DomainShape::Enclosing,
+            ShapeFile::Art => DomainShape::Art,
+        }
+    }
+}
+
+/// The domain options of our scene format where the file says nothing: the defaults, with the
+/// art-shaped domain ([`DomainShape::Art`]) so that a pin's influence stays in the part of the
+/// art it is on. The paper authors' scenes keep [`DomainOptions::default`] (their enclosing
+/// curve or the padded box).
+///
+/// ```
+/// use splineskin::domain::DomainShape;
+/// assert_eq!(splineskin::scene::scene_domain_options().shape, DomainShape::Art);
+/// ```
+pub fn scene_domain_options() -> DomainOptions {
+    DomainOptions::default().with_shape(DomainShape::Art)
 }
 
 impl DomainFile {
     pub(crate) fn options(&self) -> DomainOptions {
-        self.options_over(DomainOptions::default())
+        self.options_over(scene_domain_options())
     }
 
     /// `base` with the options this section sets.
@@ -69,6 +103,12 @@ impl DomainFile {
             self.max_curve_samples,
             DomainOptions::with_max_curve_samples,
         );
-        set(o, self.padding, DomainOptions::with_padding)
+        let o = set(o, self.padding, DomainOptions::with_padding);
+        let o = set(
+            o,
+            self.shape.map(DomainShape::from),
+            DomainOptions::with_shape,
+        );
+        set(o, self.margin, DomainOptions::with_margin)
     }
 }

@@ -38,6 +38,7 @@ pub use defop::{
     SpatialBasisSpec, HANDLE_VERTEX_TOLERANCE,
 };
 pub use deformer::Deformer;
+pub use domain_file::scene_domain_options;
 pub use handles::{Bone, BonePoseError, BoneTransform, HandleKind, HandleSet};
 pub use pins::{place_pins, PinCount, PinError, PinOptions};
 pub use posed::{PoseReport, PosedDrawing, UpdateError};

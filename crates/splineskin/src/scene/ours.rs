@@ -41,7 +41,7 @@
 //! | `bones` | segment handles: `ends` = `[[x0, y0], [x1, y1]]` rest end points (distinct); `transform` = `"rigid"` (default) or `"affine"`, how a posed bone is read ([`super::BoneTransform`]). Default: none |
 //! | `cage` | `[[x, y], …]`: a simple polygon of at least 3 vertices, **counter-clockwise** (positive shoelace area `½ Σ p_k × p_{k+1}`; clockwise is refused, not reversed), closed implicitly (do not repeat the first vertex). Each vertex is a handle whose pose is a translation. Default: none |
 //! | `weights` | `family`: `shepard` (`exponent`, default 2), `harmonic`, `biharmonic`, `bbw` (computed on a triangulation of the drawing's domain, [`crate::domain`]) or `mvc` (mean value coordinates of the cage, closed form). Which family takes which handles: [`super::WeightSpec::check_handles`] |
-//! | `domain` | options of the triangulated domain (mesh families only): `min_angle` (degrees), `max_area_fraction`, `holes` (bool), `max_vertices`, `samples_per_diagonal`, `max_samples_per_curve`, `max_curve_samples`, `padding`; each optional, defaults and ranges in [`crate::domain::DomainOptions`] |
+//! | `domain` | options of the triangulated domain (mesh families only): `min_angle` (degrees), `max_area_fraction`, `holes` (bool), `max_vertices`, `samples_per_diagonal`, `max_samples_per_curve`, `max_curve_samples`, `padding`, `shape` (`art`, the default: the drawing's painted region grown by `margin`, a fraction of the diagonal, default 0.01, one part per group of touching shapes; or `enclosing`: the largest closed path containing everything, else the bounding box grown by `padding`), `margin`; each optional, defaults and ranges in [`crate::domain::DomainOptions`] |
 //! | `arc_length` | integrate with respect to arc length rather than length-weighted `t` (default false) |
 //! | `flexible` | `true`: G¹ and fixed-angle junctions keep parallel tangents (fixed angle: their angle) but not their tangent-length ratio, fitted by iteration ([`crate::spline_fit::flexible`]). Default false: the ratio is the input's, a linear fit |
 //! | `junctions` | overrides: path index (subpaths in document order), joint index (joint `k` starts curve `k`), `kind` ∈ `C0`, `C1`, `G1`, `angle`. A `C1` or `G1` the drawing does not have there is fitted as what it has, so that the rest pose stays the drawing ([`crate::drawing::junction`]; the setup's warnings count them) |
@@ -85,7 +85,6 @@ use super::{
     HandleSet, JunctionOverride, Pose, Scene, SceneError, SceneFormat, WeightSpec, MAX_SCENE_BYTES,
 };
 use crate::animation::{Animation, AnimationError, Easing, Keyframe, DEFAULT_FPS};
-use crate::domain::DomainOptions;
 use crate::drawing::JointKind;
 use crate::spline_fit::Measure;
 
@@ -487,7 +486,7 @@ pub(crate) fn parse(
             ))
         }
         Some(d) => d.options(),
-        None => DomainOptions::default(),
+        None => super::domain_file::scene_domain_options(),
     };
     let engine = Engine::parse(file.engine.as_deref().unwrap_or("ours"), origin)?;
     let junctions = file
