@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use anyhow::Result;
-use splineskin::domain::{Boundary, Domain};
+use splineskin::domain::Domain;
 use splineskin::drawing::{read_svg_file, Drawing, ImportOptions, JointKind};
 use splineskin::scene::{Compat, Scene};
 
@@ -100,20 +100,7 @@ fn describe_scene(scene: &Scene) -> String {
 
 /// The domain's summary line.
 fn describe_domain(domain: &Domain) -> String {
-    let boundary = match domain.boundary {
-        Boundary::Cage => "the cage".to_string(),
-        Boundary::ClosedCurve { path } => format!("closed path {path}"),
-        Boundary::Padded => "the padded bounding box".to_string(),
-        Boundary::Art { parts, unpinned } => {
-            let plural =
-                |n: usize, word: &str| format!("{n} {word}{}", if n == 1 { "" } else { "s" });
-            let left_out = match unpinned {
-                0 => String::new(),
-                n => format!(", {} without a pin left out", plural(n, "part")),
-            };
-            format!("the art ({}{left_out})", plural(parts, "part"))
-        }
-    };
+    let boundary = domain.boundary;
     format!(
         "domain: {} vertices, {} triangles, boundary {boundary}, {} holes, {} curve samples, \
          min angle {:.1}°{}",

@@ -1037,7 +1037,7 @@ async function updateMesh() {
         }
       }
       shownMesh = { rig: id, mesh, edges: [...edges.values()] };
-      say(`${shortName()}: the weights' mesh has ${mesh.vertices.length / 2} vertices and ${t.length / 3} triangles`);
+      say(`${shortName()}: the weights' mesh has ${mesh.vertices.length / 2} vertices and ${t.length / 3} triangles over ${mesh.boundary}`);
     } catch (e) {
       shownMesh = null;
       view.drawMesh(null);

@@ -184,7 +184,8 @@ impl Document {
         };
         let extras = SceneExtras {
             arc_length: scene.measure == Measure::ArcLength,
-            domain: (scene.domain != Default::default()).then(|| scene.domain.clone()),
+            domain: (scene.domain != splineskin::scene::scene_domain_options())
+                .then(|| scene.domain.clone()),
             defop,
             weights: Some(weights),
         };

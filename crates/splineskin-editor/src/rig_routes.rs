@@ -283,6 +283,8 @@ pub struct MeshWire {
     pub weights: Vec<f32>,
     /// Number of handles.
     pub n_handles: usize,
+    /// What the domain covers, in words (e.g. `the art (2 parts)`: [`splineskin::domain::Boundary`]).
+    pub boundary: String,
 }
 
 /// `GET /api/rigs/{id}/mesh`: the domain the rig's weights were solved on (mesh families), or
@@ -317,6 +319,7 @@ pub(crate) fn mesh(editor: &Editor, id: &str) -> Result<Response, ApiError> {
                 .collect(),
             weights,
             n_handles: n,
+            boundary: domain.boundary.to_string(),
         }
     };
     Response::json(&wire)

@@ -18,7 +18,10 @@ const SVG: &str = "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 100 100'
 <path d='M10 50 C30 20 70 20 90 50'/><path d='M20 80 L50 60 L80 80 Z'/></svg>";
 
 /// Coarse domain options: a few hundred vertices.
-const COARSE: &str = r#""domain": {"max_area_fraction": 0.002, "samples_per_diagonal": 100}"#;
+/// (The enclosing domain: these tests are about handle kinds on one connected domain; the
+/// art-shaped one has its own tests, `art_domain.rs`.)
+const COARSE: &str =
+    r#""domain": {"max_area_fraction": 0.002, "samples_per_diagonal": 100, "shape": "enclosing"}"#;
 
 /// Invariants hold to this fraction of the drawing's bounding-box diagonal: 1e-9. The fit is
 /// exact for them (partition of unity; linear precision for the cage's weights), so what is

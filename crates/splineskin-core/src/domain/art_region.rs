@@ -29,9 +29,10 @@
 //! **Parts.** The connected sets of inside centres are the art's *parts*: shapes that touch or
 //! overlap, or come within about `2(m + 1.5 c)` of each other, are one part; parts separated by
 //! background are not connected. Only parts holding a handle (a point handle or a bone) are
-//! kept; an unpinned part is left out of the domain, so that its curves take the weights of the
-//! nearest boundary point of the pinned art ([`super::MeshWeights`]): it moves with the part it
-//! lies next to.
+//! kept. An unpinned part is left out of the domain and *attached* to it
+//! ([`super::Attachment`]): every point of the part takes the weights of the one boundary vertex
+//! of the pinned art nearest to the part, so that the part moves as one piece with the art it
+//! lies next to (constant weights: the fit reproduces its skinned target exactly).
 
 use kurbo::{BezPath, PathEl, Point, Rect, Shape};
 
@@ -59,6 +60,8 @@ pub(super) struct ArtRegion {
     pub n_parts: usize,
     /// Parts left out (no handle).
     pub n_unpinned: usize,
+    /// The outlines of each part left out (its outer outline and holes).
+    pub unpinned: Vec<Vec<Vec<Point>>>,
 }
 
 /// The painted region of `drawing`, grown by `margin` (drawing units), on a grid of cell side
@@ -86,17 +89,21 @@ pub(super) fn trace(
     grid.clear_border(&mut inside);
     let parts = Parts::label(&inside, grid.n_cols, grid.n_rows);
     let pinned = parts.pinned(&grid, points, bones);
-    let loops = grid
-        .outlines(&field, &inside, &parts)
-        .into_iter()
-        .filter(|(part, _)| pinned[*part])
-        .map(|(_, l)| l)
-        .collect();
+    let mut loops = Vec::new();
+    let mut unpinned_of: Vec<Vec<Vec<Point>>> = vec![Vec::new(); parts.n];
+    for (part, outline) in grid.outlines(&field, &inside, &parts) {
+        if pinned[part] {
+            loops.push(outline);
+        } else {
+            unpinned_of[part].push(outline);
+        }
+    }
     let n_parts = pinned.iter().filter(|&&p| p).count();
     ArtRegion {
         loops,
         n_parts,
         n_unpinned: pinned.len() - n_parts,
+        unpinned: unpinned_of.into_iter().filter(|l| !l.is_empty()).collect(),
     }
 }
 

@@ -25,14 +25,16 @@
 //! the kinks is off by 1.2e-3). Outside
 //! the mesh the nearest-boundary weights are smooth between changes of the nearest feature,
 //! which are not reported: curves outside the domain are integrated to the accuracy of the
-//! rule on a merely continuous function.
+//! rule on a merely continuous function. Parts of the art attached to a vertex
+//! ([`MeshWeights::with_attachments`]) take that vertex's weights everywhere in them: constant,
+//! so integrated exactly.
 
 use kurbo::{CubicBez, ParamCurve, Point, Rect};
 
 use super::crossings::cubic_segment_crossings;
 use super::grid::BucketGrid;
-use super::polygon::segment_distance;
-use super::DomainError;
+use super::polygon::{segment_distance, PolygonIndex};
+use super::{Attachment, DomainError};
 use crate::mesh::TriMesh;
 
 /// Barycentric slack of point location: `1e-12`. A point whose smallest barycentric
@@ -89,6 +91,16 @@ pub struct MeshWeights {
     /// Boundary edges (one triangle only), as vertex pairs.
     boundary: Vec<[u32; 2]>,
     boundary_grid: BucketGrid,
+    /// Parts outside the mesh that take one vertex's weights ([`MeshWeights::with_attachments`]).
+    attached: Vec<AttachedPart>,
+}
+
+/// An [`Attachment`] indexed for containment tests.
+#[derive(Clone, Debug)]
+struct AttachedPart {
+    bounds: Rect,
+    region: PolygonIndex,
+    vertex: u32,
 }
 
 impl MeshWeights {
@@ -200,7 +212,59 @@ impl MeshWeights {
             edge_grid,
             boundary,
             boundary_grid,
+            attached: Vec::new(),
         })
+    }
+
+    /// These weights where every point of an attached part (outside the mesh, inside the
+    /// part's loops) takes the weights of the part's vertex: the parts of an art-shaped domain
+    /// left out for holding no handle ([`super::Domain::attachments`]) move as one piece with
+    /// the art beside them. Attachments naming a vertex out of range, or without a loop, are
+    /// ignored.
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin_core::domain::{Attachment, MeshWeights};
+    /// use splineskin_core::mesh::TriMesh;
+    /// use splineskin_core::weights::WeightField;
+    ///
+    /// let v = [(0., 0.), (1., 0.), (1., 1.), (0., 1.)].map(Point::from).to_vec();
+    /// let mesh = TriMesh::new(v, vec![[0, 1, 2], [0, 2, 3]])?;
+    /// let square = [(3., 0.), (4., 0.), (4., 1.), (3., 1.)].map(Point::from).to_vec();
+    /// let w = MeshWeights::new(&mesh, vec![0.0, 1.0, 3.0, 2.0], 1)?
+    ///     .with_attachments(&[Attachment { loops: vec![square], vertex: 2 }]);
+    /// let mut out = [0.0];
+    /// // In the attached square: vertex 2's weight, wherever.
+    /// w.eval(Point::new(3.2, 0.1), &mut out);
+    /// assert_eq!(out[0], 3.0);
+    /// // Elsewhere outside: the nearest boundary point's, as before.
+    /// w.eval(Point::new(2.0, 0.5), &mut out);
+    /// assert!((out[0] - 2.0).abs() < 1e-15);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_attachments(mut self, attachments: &[Attachment]) -> MeshWeights {
+        self.attached = attachments
+            .iter()
+            .filter(|a| a.vertex < self.vertices.len() && a.loops.iter().any(|l| l.len() >= 3))
+            .map(|a| {
+                let loops: Vec<&[Point]> = a.loops.iter().map(Vec::as_slice).collect();
+                let region = PolygonIndex::new(&loops);
+                AttachedPart {
+                    bounds: region.bounds(),
+                    region,
+                    vertex: a.vertex as u32,
+                }
+            })
+            .collect();
+        self
+    }
+
+    /// The vertex of the attached part holding `p`, if any.
+    fn attached_vertex(&self, p: Point) -> Option<u32> {
+        self.attached
+            .iter()
+            .find(|a| a.bounds.contains(p) && a.region.contains(p))
+            .map(|a| a.vertex)
     }
 
     /// Number of mesh vertices.
@@ -343,6 +407,13 @@ impl MeshWeights {
                 vertices: self.triangles[t],
                 coefficients: l,
                 outside_distance: 0.0,
+            });
+        }
+        if let Some(v) = self.attached_vertex(p) {
+            return Some(Interpolation {
+                vertices: [v, v, v],
+                coefficients: [1.0, 0.0, 0.0],
+                outside_distance: (p - self.vertices[v as usize]).hypot(),
             });
         }
         let (e, s) = self.nearest_boundary(p)?;

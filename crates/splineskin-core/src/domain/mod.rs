@@ -294,6 +294,32 @@ pub enum Boundary {
     },
 }
 
+impl std::fmt::Display for Boundary {
+    /// What the boundary is, in words for summaries (`splineskin info`, the editor's mesh view).
+    ///
+    /// ```
+    /// use splineskin_core::domain::Boundary;
+    /// let art = Boundary::Art { parts: 3, unpinned: 1 };
+    /// assert_eq!(art.to_string(), "the art (3 parts, 1 part without a pin left out)");
+    /// assert_eq!(Boundary::ClosedCurve { path: 2 }.to_string(), "closed path 2");
+    /// ```
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let plural = |n: usize, word: &str| format!("{n} {word}{}", if n == 1 { "" } else { "s" });
+        match *self {
+            Boundary::Cage => write!(f, "the cage"),
+            Boundary::ClosedCurve { path } => write!(f, "closed path {path}"),
+            Boundary::Padded => write!(f, "the padded bounding box"),
+            Boundary::Art { parts, unpinned } => {
+                write!(f, "the art ({}", plural(parts, "part"))?;
+                if unpinned > 0 {
+                    write!(f, ", {} without a pin left out", plural(unpinned, "part"))?;
+                }
+                write!(f, ")")
+            }
+        }
+    }
+}
+
 /// A triangulated domain: the mesh and where the handles are in it.
 ///
 /// ```
@@ -338,6 +364,21 @@ pub struct Domain {
     pub n_curve_samples: usize,
     /// Whether refinement met the angle and area goals before the vertex cap.
     pub refinement_complete: bool,
+    /// The parts of the art left out of an art-shaped domain for holding no handle, each
+    /// attached to a vertex of the mesh whose weights it takes ([`Boundary::Art`]; empty for
+    /// the other boundaries).
+    pub attachments: Vec<Attachment>,
+}
+
+/// A part of the art outside the mesh that takes the weights of one mesh vertex everywhere
+/// ([`Domain::attachments`], [`MeshWeights::with_attachments`]): it moves as one piece, by the
+/// blend of the handles' maps at that vertex.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Attachment {
+    /// The part's region: closed polygons (its outline counter-clockwise, holes clockwise).
+    pub loops: Vec<Vec<Point>>,
+    /// The mesh vertex nearest to the part (a boundary vertex).
+    pub vertex: usize,
 }
 
 impl Domain {

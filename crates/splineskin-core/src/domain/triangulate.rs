@@ -15,8 +15,8 @@ use super::polygon::{
     self, segment_distance, segments_intersect, self_intersection, signed_area, PolygonIndex,
 };
 use super::{
-    art_region, Boundary, Domain, DomainError, DomainOptions, DomainShape, COINCIDENT_RELATIVE,
-    MAX_MARGIN, MAX_MIN_ANGLE,
+    art_region, Attachment, Boundary, Domain, DomainError, DomainOptions, DomainShape,
+    COINCIDENT_RELATIVE, MAX_MARGIN, MAX_MIN_ANGLE,
 };
 use crate::drawing::Drawing;
 use crate::mesh::TriMesh;
@@ -130,6 +130,7 @@ pub(super) fn build(
         area,
         boundary_path,
         hole_paths,
+        unpinned,
     } = outline;
     let loops: Vec<&[Point]> = loops.iter().map(Vec::as_slice).collect();
     let domain_index = PolygonIndex::new(&loops);
@@ -296,6 +297,7 @@ pub(super) fn build(
         .map(|b| vertices_on_segment(&mesh, b[0], b[1], coincident))
         .collect();
     let boundary_loops = boundary_loops(&mesh)?;
+    let attachments = attach(&mesh, &boundary_loops, unpinned);
     tracing::debug!(
         n_vertices = mesh.n_vertices(),
         n_triangles = mesh.n_triangles(),
@@ -316,6 +318,7 @@ pub(super) fn build(
         sample_spacing: spacing,
         n_curve_samples,
         refinement_complete: result.refinement_complete,
+        attachments,
     })
 }
 
@@ -332,6 +335,44 @@ struct Outline {
     boundary_path: Option<usize>,
     /// The drawing's paths that are holes.
     hole_paths: HashSet<usize>,
+    /// The outlines of the art's parts left out (art-shaped domains).
+    unpinned: Vec<Vec<Vec<Point>>>,
+}
+
+/// Largest number of point pairs compared to find a part's nearest boundary vertex: 4 Mi (both
+/// sides are thinned evenly beyond it).
+const MAX_ATTACH_PAIRS: usize = 1 << 22;
+
+/// Each part left out, attached to the boundary vertex of `mesh` nearest to its outline.
+fn attach(
+    mesh: &TriMesh,
+    boundary_loops: &[Vec<usize>],
+    unpinned: Vec<Vec<Vec<Point>>>,
+) -> Vec<Attachment> {
+    let boundary: Vec<usize> = boundary_loops.iter().flatten().copied().collect();
+    unpinned
+        .into_iter()
+        .filter_map(|loops| {
+            let outline: Vec<Point> = loops.iter().flatten().copied().collect();
+            let pairs = outline.len().saturating_mul(boundary.len()).max(1);
+            let thin = ((pairs as f64 / MAX_ATTACH_PAIRS as f64).sqrt().ceil() as usize).max(1);
+            let vertex = boundary
+                .iter()
+                .step_by(thin)
+                .map(|&v| {
+                    let p = mesh.vertices[v];
+                    let d = outline
+                        .iter()
+                        .step_by(thin)
+                        .map(|q| (*q - p).hypot2())
+                        .fold(f64::INFINITY, f64::min);
+                    (d, v)
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0))?
+                .1;
+            Some(Attachment { loops, vertex })
+        })
+        .collect()
 }
 
 /// The art-shaped boundary ([`DomainShape::Art`], [`super::art_region`]).
@@ -390,6 +431,7 @@ fn art_outline(
         area,
         boundary_path: None,
         hole_paths: HashSet::new(),
+        unpinned: region.unpinned,
     })
 }
 
@@ -489,6 +531,7 @@ fn enclosing_outline(
         area,
         boundary_path,
         hole_paths,
+        unpinned: Vec::new(),
     })
 }
 

@@ -384,7 +384,8 @@ pub fn mesh_weights(
     }
     .map_err(|e| wrap(Box::new(e)))?;
     let weights = MeshWeights::new(mesh, weights.into_values(), handles.n_handles())
-        .map_err(|e| wrap(Box::new(e)))?;
+        .map_err(|e| wrap(Box::new(e)))?
+        .with_attachments(&domain.attachments);
     Ok((weights, domain))
 }
 
