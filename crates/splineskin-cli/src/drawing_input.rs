@@ -37,6 +37,12 @@ pub struct PinArgs {
     /// distance, instant), harmonic, biharmonic.
     #[arg(long, value_enum, value_name = "FAMILY")]
     pub weights: Option<Family>,
+    /// How far the weights' domain reaches beyond the art (Puppet Warp's "expansion"), as a
+    /// fraction of the drawing's diagonal, 0 to 1 (default 0.01). Parts of the art closer than
+    /// about twice this are joined; farther apart, a pin on one does not move the other. Mesh
+    /// families only (bbw, harmonic, biharmonic).
+    #[arg(long, value_name = "FRACTION", value_parser = parse_margin)]
+    pub margin: Option<f64>,
 }
 
 /// What becomes of the drawing's text (scene or SVG input).
@@ -90,6 +96,9 @@ impl PinArgs {
         }
         if self.weights.is_some() {
             flags.push("--weights");
+        }
+        if self.margin.is_some() {
+            flags.push("--margin");
         }
         flags
     }
@@ -271,6 +280,8 @@ pub struct Rigged {
     pub family: Family,
     /// One map per pin.
     pub pose: Vec<Affine>,
+    /// The domain's margin (`--margin`), when given.
+    pub margin: Option<f64>,
 }
 
 impl Rigged {
@@ -308,6 +319,13 @@ impl Rigged {
             };
             anyhow::anyhow!("{}: placing pins{flag}: {e}", svg.display())
         })?;
+        let family = args.weights.unwrap_or(Family::DEFAULT);
+        if args.margin.is_some() && family == Family::Shepard {
+            bail!(
+                "--margin: the shepard weights have no domain (expected --weights bbw, harmonic \
+                 or biharmonic with --margin)"
+            );
+        }
         let pose = match pose {
             Some(p) => p.transforms(&pins)?,
             None => vec![Affine::IDENTITY; pins.len()],
@@ -316,8 +334,9 @@ impl Rigged {
             drawing,
             n_given: args.pins.len(),
             pins,
-            family: args.weights.unwrap_or(Family::DEFAULT),
+            family,
             pose,
+            margin: args.margin,
         })
     }
 
@@ -335,7 +354,13 @@ impl Rigged {
             flexible: false,
             animation: None,
         };
-        scene_json_with(svg, &scene, &SceneExtras::default())
+        let extras = SceneExtras {
+            domain: self
+                .margin
+                .map(|m| splineskin::scene::scene_domain_options().with_margin(m)),
+            ..SceneExtras::default()
+        };
+        scene_json_with(svg, &scene, &extras)
     }
 
     /// The pins as `0 (x, y), 1 (x, y), …`, the `--pin` ones marked `given`.
@@ -361,6 +386,17 @@ pub fn folder_of(path: &Path) -> PathBuf {
 }
 
 /// `X,Y` as a finite point within the scene format's coordinate limit.
+fn parse_margin(text: &str) -> Result<f64, String> {
+    let m = parse_number(text, "a fraction of the diagonal, 0 to 1")?;
+    if (0.0..=splineskin::domain::MAX_MARGIN).contains(&m) {
+        Ok(m)
+    } else {
+        Err(format!(
+            "{text}: expected a fraction of the diagonal, 0 to 1"
+        ))
+    }
+}
+
 fn parse_pin(text: &str) -> Result<Point, String> {
     let [x, y] = parse_pair(text, "X,Y, two numbers in user units, e.g. 10,20")?;
     Ok(Point::new(x, y))

@@ -329,6 +329,46 @@ fn weights_of_an_svg_draw_its_pins() {
     assert!(dir.join("w.png").is_file());
 }
 
+/// `--margin`: the body and the square of the blocks (30 units apart, a diagonal of about 200)
+/// are separate parts with the default margin (a pin on the body leaves the square where its
+/// own pin holds it), one part with a margin of a tenth of the diagonal (the square follows a
+/// little); `rig` writes the margin into the scene.
+#[test]
+fn margin_joins_parts_closer_than_twice_it() {
+    let dir = blocks_dir("margin");
+    let square_moves = |extra: &[&str]| {
+        let pins = ["--pin", "60,50", "--pin", "165,50"];
+        let mut rest_args = vec!["deform", "blocks.svg", "-o", "rest.json"];
+        rest_args.extend(pins);
+        rest_args.extend(extra);
+        ok_stderr(&dir, &rest_args);
+        let mut args = vec!["deform", "blocks.svg", "-o", "out.json", "--move", "0:10,0"];
+        args.extend(pins);
+        args.extend(extra);
+        ok_stderr(&dir, &args);
+        let rest = read_points(&dir.join("rest.json"));
+        let moved = read_points(&dir.join("out.json"));
+        // The square's corner (140, 25).
+        let d = |i: usize| (rest[i] - Point::new(140.0, 25.0)).hypot();
+        let k = (0..rest.len())
+            .min_by(|&a, &b| d(a).total_cmp(&d(b)))
+            .unwrap();
+        (moved[k] - rest[k]).hypot()
+    };
+    let apart = square_moves(&[]);
+    let joined = square_moves(&["--margin", "0.1"]);
+    assert!(apart < 1e-9, "{apart}");
+    assert!(joined > 0.05, "{joined}");
+    ok_stderr(
+        &dir,
+        &words("rig blocks.svg -o rigged.json --pin 60,50 --pin 165,50 --margin 0.1"),
+    );
+    let scene: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("rigged.json")).unwrap()).unwrap();
+    assert_eq!(scene["domain"]["margin"], 0.1);
+    assert_eq!(scene["domain"]["shape"], "art");
+}
+
 /// A failing run: stderr must hold every `expect` substring, and `output` must not exist.
 struct Failure<'a> {
     name: &'a str,
@@ -444,6 +484,16 @@ fn rig_and_svg_inputs_refuse_bad_input_clearly() {
             "pins on a mesh",
             "weights --mesh mesh.json -o out.json --pin 1,1",
             &["mesh.json", "--pin applies to an SVG drawing"],
+        ),
+        failure(
+            "margin out of range",
+            "deform blocks.svg -o out.svg --pins 2 --margin 2",
+            &["--margin", "0 to 1"],
+        ),
+        failure(
+            "margin without a mesh",
+            "rig blocks.svg -o out.json --pins 2 --weights shepard --margin 0.1",
+            &["--margin", "shepard", "no domain"],
         ),
     ];
     let mut problems = Vec::new();
