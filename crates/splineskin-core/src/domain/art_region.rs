@@ -22,7 +22,8 @@
 //! margin, plus a cell and a half so that the art's own edges lie inside whatever the margin.
 //! Its outline is the level set `d = m + 1.5 c`, traced by marching squares over the cell centres, each
 //! crossing placed on its grid edge by linear interpolation of `d` (clamped to the middle 60 %
-//! of the edge, so that two vertices are never closer than 0.28 `c`). Inside centres that share
+//! of the edge, so that two vertices are never closer than 0.28 `c`), then simplified to within
+//! half a cell (Douglas–Peucker; as traced if that made two outlines cross). Inside centres that share
 //! a grid edge are connected; across a diagonal only (a saddle) they are not, and the outline
 //! separates them.
 //!
@@ -37,7 +38,7 @@
 use kurbo::{BezPath, PathEl, Point, Rect, Shape};
 
 use super::distance::distance_to_marked;
-use super::polygon::segment_distance;
+use super::polygon::{loops_cross, segment_distance, self_intersection, simplify_closed};
 use crate::drawing::Drawing;
 
 /// Largest number of grid cells: 4 Mi. A finer grid is coarsened until it fits.
@@ -46,6 +47,10 @@ const MAX_CELLS: usize = 1 << 22;
 /// Growth beyond the margin, in cells: 1.5, so that every cell painted (its whole square, where
 /// the art or a handle lies) and its eight neighbours are inside, whatever the margin.
 const GROWTH_CELLS: f64 = 1.5;
+
+/// Tolerance of the outlines' simplification, in cells: 0.5 (the traced outline has a vertex
+/// on every grid edge it crosses; straight and gently curved runs keep far fewer).
+const SIMPLIFY_CELLS: f64 = 0.5;
 
 /// Crossings are placed within `[EDGE_CLAMP, 1 − EDGE_CLAMP]` of their grid edge.
 const EDGE_CLAMP: f64 = 0.2;
@@ -91,7 +96,7 @@ pub(super) fn trace(
     let pinned = parts.pinned(&grid, points, bones);
     let mut loops = Vec::new();
     let mut unpinned_of: Vec<Vec<Vec<Point>>> = vec![Vec::new(); parts.n];
-    for (part, outline) in grid.outlines(&field, &inside, &parts) {
+    for (part, outline) in simplified(grid.outlines(&field, &inside, &parts), grid.cell) {
         if pinned[part] {
             loops.push(outline);
         } else {
@@ -104,6 +109,22 @@ pub(super) fn trace(
         n_parts,
         n_unpinned: pinned.len() - n_parts,
         unpinned: unpinned_of.into_iter().filter(|l| !l.is_empty()).collect(),
+    }
+}
+
+/// The outlines simplified to within [`SIMPLIFY_CELLS`] cells (Douglas–Peucker), or as traced
+/// when simplifying makes two of them cross.
+fn simplified(outlines: Vec<(usize, Vec<Point>)>, cell: f64) -> Vec<(usize, Vec<Point>)> {
+    let simple: Vec<(usize, Vec<Point>)> = outlines
+        .iter()
+        .map(|(part, l)| (*part, simplify_closed(l, SIMPLIFY_CELLS * cell)))
+        .collect();
+    let loops: Vec<Vec<Point>> = simple.iter().map(|(_, l)| l.clone()).collect();
+    let degenerate = loops.iter().any(|l| self_intersection(l).is_some());
+    if degenerate || loops_cross(&loops) {
+        outlines
+    } else {
+        simple
     }
 }
 

@@ -396,7 +396,37 @@ impl Domain {
         bones: &[[Point; 2]],
         options: &DomainOptions,
     ) -> Result<Domain, DomainError> {
-        triangulate::build(drawing, points, bones, options)
+        triangulate::build(drawing, points, bones, options, None)
+    }
+
+    /// [`Domain::build`] within the closed polygons `loops` (outer ones counter-clockwise,
+    /// holes clockwise) instead of the boundary the options choose, reported as `boundary`:
+    /// the coarse levels of an art-shaped domain share its outline, simplified
+    /// ([`Domain::simplified_outline`]), so that a coarse solve is a good start for the fine
+    /// one. Errors as [`Domain::build`], and crossing polygons
+    /// ([`DomainError::Bug`]).
+    pub(crate) fn build_within(
+        drawing: &Drawing,
+        points: &[Point],
+        bones: &[[Point; 2]],
+        options: &DomainOptions,
+        loops: &[Vec<Point>],
+        boundary: Boundary,
+    ) -> Result<Domain, DomainError> {
+        let given = triangulate::Given { loops, boundary };
+        triangulate::build(drawing, points, bones, options, Some(given))
+    }
+
+    /// The boundary loops as polygons, each simplified to within `tolerance`
+    /// (Douglas–Peucker; a loop that would keep fewer than 3 vertices is kept whole).
+    pub(crate) fn simplified_outline(&self, tolerance: f64) -> Vec<Vec<Point>> {
+        self.boundary_loops
+            .iter()
+            .map(|l| {
+                let poly: Vec<Point> = l.iter().map(|&v| self.mesh.vertices[v]).collect();
+                polygon::simplify_closed(&poly, tolerance)
+            })
+            .collect()
     }
 
     /// Number of holes: boundary loops turning clockwise ([`Domain::boundary_loops`]).

@@ -30,6 +30,76 @@ pub fn signed_area(poly: &[Point]) -> f64 {
     0.5 * twice
 }
 
+/// The closed polygon `poly` simplified by Douglas–Peucker to within `tolerance`: vertices
+/// dropped where the kept ones pass within `tolerance` of them. The loop is cut at its first
+/// vertex and the vertex farthest from it, each half simplified alone. A result with fewer
+/// than 3 vertices is not a polygon: `poly` is returned whole instead.
+pub(crate) fn simplify_closed(poly: &[Point], tolerance: f64) -> Vec<Point> {
+    let n = poly.len();
+    if n < 4 {
+        return poly.to_vec();
+    }
+    let far = (1..n)
+        .max_by(|&a, &b| {
+            (poly[a] - poly[0])
+                .hypot2()
+                .total_cmp(&(poly[b] - poly[0]).hypot2())
+        })
+        .unwrap_or(n / 2);
+    let mut keep = vec![false; n];
+    keep[0] = true;
+    keep[far] = true;
+    let mut stack = vec![(0, far), (far, n)];
+    while let Some((a, b)) = stack.pop() {
+        let (pa, pb) = (poly[a], poly[b % n]);
+        let worst = (a + 1..b)
+            .map(|k| (segment_distance(poly[k], pa, pb).0, k))
+            .max_by(|x, y| x.0.total_cmp(&y.0));
+        if let Some((d, k)) = worst {
+            if d > tolerance {
+                keep[k] = true;
+                stack.push((a, k));
+                stack.push((k, b));
+            }
+        }
+    }
+    let out: Vec<Point> = (0..n).filter(|&k| keep[k]).map(|k| poly[k]).collect();
+    if out.len() < 3 {
+        poly.to_vec()
+    } else {
+        out
+    }
+}
+
+/// Whether any two edges of the closed polygons `loops` share a point, other than consecutive
+/// edges of one loop at their common vertex (a sweep over x, as [`self_intersection`]).
+pub(crate) fn loops_cross(loops: &[Vec<Point>]) -> bool {
+    let mut edges: Vec<(Point, Point, usize, usize)> = Vec::new();
+    for (l, poly) in loops.iter().enumerate() {
+        let n = poly.len();
+        edges.extend((0..n).map(|k| (poly[k], poly[(k + 1) % n], l, k)));
+    }
+    let len = |l: usize| loops[l].len();
+    let adjacent = |e: &(Point, Point, usize, usize), f: &(Point, Point, usize, usize)| {
+        e.2 == f.2 && ((e.3 + 1) % len(e.2) == f.3 || (f.3 + 1) % len(f.2) == e.3)
+    };
+    edges.sort_by(|e, f| e.0.x.min(e.1.x).total_cmp(&f.0.x.min(f.1.x)));
+    let mut active: Vec<usize> = Vec::new();
+    for k in 0..edges.len() {
+        let e = edges[k];
+        let x0 = e.0.x.min(e.1.x);
+        active.retain(|&l| edges[l].0.x.max(edges[l].1.x) >= x0);
+        for &l in &active {
+            let f = edges[l];
+            if !adjacent(&e, &f) && segments_intersect(e.0, e.1, f.0, f.1) {
+                return true;
+            }
+        }
+        active.push(k);
+    }
+    false
+}
+
 /// `(b − a) × (c − a)`: positive when `a, b, c` turn counter-clockwise.
 #[inline]
 pub(crate) fn orient(a: Point, b: Point, c: Point) -> f64 {

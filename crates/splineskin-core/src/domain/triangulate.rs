@@ -25,9 +25,29 @@ use crate::mesh::TriMesh;
 /// counts are rounded up anyway).
 const ARCLEN_ACCURACY: f64 = 1e-2;
 
-/// Relative tolerance of the check that the kept triangles tile the domain: 1e-9 of its area.
-/// The polygon and the triangles share their vertices, so only rounding separates the sums.
+/// Relative tolerance of the check that the kept triangles tile the domain: 1e-9 of its area,
+/// plus the rounding of the coordinates along the boundary ([`area_tolerance`]). The polygon
+/// and the triangles share their vertices, so only rounding separates the sums.
 const AREA_CHECK: f64 = 1e-9;
+
+/// How far the triangles' areas may sum from the polygons' `area`: [`AREA_CHECK`] of it, plus
+/// 64 ulps of the largest coordinate times the boundary's length (a drawing far from the
+/// origin for its size has vertices rounded by ulps of their distance to it).
+fn area_tolerance(loops: &[&[Point]], mesh: &TriMesh, area: f64) -> f64 {
+    let largest = mesh
+        .vertices
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+    let perimeter: f64 = loops
+        .iter()
+        .map(|l| {
+            (0..l.len())
+                .map(|k| (l[(k + 1) % l.len()] - l[k]).hypot())
+                .sum::<f64>()
+        })
+        .sum();
+    AREA_CHECK * area + 64.0 * f64::EPSILON * largest * perimeter
+}
 
 type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
 
@@ -36,6 +56,7 @@ pub(super) fn build(
     points: &[Point],
     bones: &[[Point; 2]],
     options: &DomainOptions,
+    given: Option<Given<'_>>,
 ) -> Result<Domain, DomainError> {
     check_options(options)?;
     for (handle, p) in points.iter().enumerate() {
@@ -110,7 +131,9 @@ pub(super) fn build(
         .collect();
 
     // The boundary: the art's outlines, or one outer polygon and its holes.
-    let outline = if cage.is_none() && options.shape == DomainShape::Art {
+    let outline = if let Some(given) = given {
+        given_outline(given, points, bones)?
+    } else if cage.is_none() && options.shape == DomainShape::Art {
         art_outline(drawing, points, bones, options, spacing, drawing_diag)?
     } else {
         enclosing_outline(
@@ -269,7 +292,7 @@ pub(super) fn build(
     }
     let mesh = TriMesh::new(vertices, triangles)?;
     let mesh_area: f64 = (0..mesh.n_triangles()).map(|t| mesh.signed_area(t)).sum();
-    if (mesh_area - area).abs() > AREA_CHECK * area {
+    if (mesh_area - area).abs() > area_tolerance(&loops, &mesh, area) {
         return Err(DomainError::Bug(
             "the kept triangles do not tile the domain",
         ));
@@ -375,34 +398,51 @@ fn attach(
         .collect()
 }
 
-/// The art-shaped boundary ([`DomainShape::Art`], [`super::art_region`]).
-fn art_outline(
-    drawing: &Drawing,
+/// A boundary given by the caller: polygons and what they are ([`super::Domain::build_within`]).
+#[derive(Clone, Copy)]
+pub(super) struct Given<'a> {
+    pub loops: &'a [Vec<Point>],
+    pub boundary: Boundary,
+}
+
+/// The given boundary, checked like the art-shaped one.
+fn given_outline(
+    given: Given<'_>,
     points: &[Point],
     bones: &[[Point; 2]],
-    options: &DomainOptions,
-    spacing: f64,
-    drawing_diag: f64,
 ) -> Result<Outline, DomainError> {
-    let region = art_region::trace(
-        drawing,
-        points,
-        bones,
-        options.margin * drawing_diag,
-        spacing,
-    );
-    let area: f64 = region.loops.iter().map(|l| signed_area(l)).sum();
+    let loops = given.loops.to_vec();
+    let area = checked_area(&loops, points, bones)?;
+    Ok(Outline {
+        loops,
+        boundary: given.boundary,
+        corners: Vec::new(),
+        area,
+        boundary_path: None,
+        hole_paths: HashSet::new(),
+        unpinned: Vec::new(),
+    })
+}
+
+/// The area inside `loops` (outer polygons counter-clockwise, holes clockwise), after checking
+/// that it is positive and finite and holds every handle and bone.
+fn checked_area(
+    loops: &[Vec<Point>],
+    points: &[Point],
+    bones: &[[Point; 2]],
+) -> Result<f64, DomainError> {
+    let area: f64 = loops.iter().map(|l| signed_area(l)).sum();
     if !area.is_finite() {
         return Err(DomainError::Triangulation {
             reason: "the domain's area overflows f64 (coordinates too large)".into(),
         });
     }
-    if region.loops.is_empty() || area <= 0.0 {
+    if loops.is_empty() || area <= 0.0 {
         return Err(DomainError::EmptyDomain {
             reason: "the art paints no area that holds a handle",
         });
     }
-    let index = PolygonIndex::new(&region.loops.iter().map(Vec::as_slice).collect::<Vec<_>>());
+    let index = PolygonIndex::new(&loops.iter().map(Vec::as_slice).collect::<Vec<_>>());
     for (handle, &p) in points.iter().enumerate() {
         if !index.contains(p) {
             return Err(DomainError::HandleOutsideDomain {
@@ -421,6 +461,26 @@ fn art_outline(
             return Err(DomainError::BoneOutsideDomain { bone });
         }
     }
+    Ok(area)
+}
+
+/// The art-shaped boundary ([`DomainShape::Art`], [`super::art_region`]).
+fn art_outline(
+    drawing: &Drawing,
+    points: &[Point],
+    bones: &[[Point; 2]],
+    options: &DomainOptions,
+    spacing: f64,
+    drawing_diag: f64,
+) -> Result<Outline, DomainError> {
+    let region = art_region::trace(
+        drawing,
+        points,
+        bones,
+        options.margin * drawing_diag,
+        spacing,
+    );
+    let area = checked_area(&region.loops, points, bones)?;
     Ok(Outline {
         loops: region.loops,
         boundary: Boundary::Art {

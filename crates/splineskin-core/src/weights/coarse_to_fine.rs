@@ -20,7 +20,7 @@ use kurbo::Point;
 
 use super::bbw::{bounded_biharmonic, bounded_biharmonic_from, BbwOptions};
 use super::{DirichletData, VertexWeights, WeightField, WeightsError};
-use crate::domain::{Domain, DomainOptions, MeshWeights};
+use crate::domain::{Boundary, Domain, DomainOptions, MeshWeights};
 use crate::drawing::Drawing;
 
 /// Coarsening factor between levels, in sample spacing: 4 (so about 16 times fewer vertices
@@ -115,7 +115,27 @@ impl Levels<'_> {
             return None;
         }
         let coarse_options = coarser(options);
-        let coarse = Domain::build(self.drawing, self.points, self.bones, &coarse_options).ok()?;
+        let coarse = match fine.boundary {
+            // The art's outline is traced on a grid of the sample spacing; a coarse level
+            // traces its own (rounder, larger) one, a poor start for the fine solve (about 4×
+            // the re-solves on the bundled octopus). It keeps the fine outline instead,
+            // simplified to a quarter of its own spacing.
+            Boundary::Art { .. } => {
+                let tolerance = 0.25 * LEVEL_FACTOR * fine.sample_spacing;
+                let outline = fine.simplified_outline(tolerance);
+                let build = Domain::build_within;
+                build(
+                    self.drawing,
+                    self.points,
+                    self.bones,
+                    &coarse_options,
+                    &outline,
+                    fine.boundary,
+                )
+            }
+            _ => Domain::build(self.drawing, self.points, self.bones, &coarse_options),
+        }
+        .ok()?;
         // A coarser level that is not smaller (everything pinned by handles or the vertex
         // cap) would not pay for itself.
         if coarse.mesh.n_vertices() * 2 > fine.mesh.n_vertices() {
