@@ -50,6 +50,7 @@
 
 use kurbo::{BezPath, ParamCurve, PathEl, Point};
 
+use crate::domain::distance::distance_to_marked;
 use crate::drawing::Drawing;
 
 /// Default number of grid cells along the longer side of the drawing's box: 256 (pins within
@@ -614,79 +615,24 @@ fn edge_crossings(grid: &Grid, a: Point, b: Point, crossings: &mut [Vec<f64>]) {
 }
 
 /// Per cell, the Euclidean distance (in cells) from its centre to the nearest centre of a
-/// cell outside the art, the grid's surroundings counting as outside; 0 outside. Exact squared
-/// distance transform by rows then columns (Felzenszwalb & Huttenlocher 2012).
+/// cell outside the art, the grid's surroundings counting as outside; 0 outside
+/// ([`distance_to_marked`] of the outside cells, on the grid padded by a ring of outside cells).
 fn depth(inside: &[bool], n_cols: usize, n_rows: usize) -> Vec<f64> {
-    // Pad by one cell on every side: the border is outside.
     let (w, h) = (n_cols + 2, n_rows + 2);
-    let far = ((w * w + h * h) as f64) * 4.0;
-    let mut f = vec![0.0; w * h];
+    let mut outside = vec![true; w * h];
     for row in 0..n_rows {
         for col in 0..n_cols {
-            if inside[row * n_cols + col] {
-                f[(row + 1) * w + col + 1] = far;
-            }
+            outside[(row + 1) * w + col + 1] = !inside[row * n_cols + col];
         }
     }
-    let mut line = Vec::new();
-    let mut out = Vec::new();
-    for row in 0..h {
-        line.clear();
-        line.extend_from_slice(&f[row * w..(row + 1) * w]);
-        distance_1d(&line, &mut out);
-        f[row * w..(row + 1) * w].copy_from_slice(&out);
-    }
-    for col in 0..w {
-        line.clear();
-        line.extend((0..h).map(|row| f[row * w + col]));
-        distance_1d(&line, &mut out);
-        for row in 0..h {
-            f[row * w + col] = out[row];
-        }
-    }
+    let padded = distance_to_marked(&outside, w, h);
     let mut depth = vec![0.0; n_cols * n_rows];
     for row in 0..n_rows {
         for col in 0..n_cols {
-            depth[row * n_cols + col] = f[(row + 1) * w + col + 1].sqrt();
+            depth[row * n_cols + col] = padded[(row + 1) * w + col + 1];
         }
     }
     depth
-}
-
-/// `out[q] = min_p (q − p)² + f[p]`: the lower envelope of parabolas.
-fn distance_1d(f: &[f64], out: &mut Vec<f64>) {
-    let n = f.len();
-    out.clear();
-    out.resize(n, 0.0);
-    let mut v = vec![0usize; n];
-    let mut z = vec![0.0f64; n + 1];
-    let mut k = 0;
-    z[0] = f64::NEG_INFINITY;
-    z[1] = f64::INFINITY;
-    let sq = |q: usize| (q * q) as f64;
-    for q in 1..n {
-        loop {
-            let p = v[k];
-            let s = ((f[q] + sq(q)) - (f[p] + sq(p))) / (2.0 * (q as f64 - p as f64));
-            if s <= z[k] && k > 0 {
-                k -= 1;
-            } else {
-                k += 1;
-                v[k] = q;
-                z[k] = s;
-                z[k + 1] = f64::INFINITY;
-                break;
-            }
-        }
-    }
-    let mut k = 0;
-    for (q, o) in out.iter_mut().enumerate() {
-        while z[k + 1] < q as f64 {
-            k += 1;
-        }
-        let p = v[k];
-        *o = (q as f64 - p as f64).powi(2) + f[p];
-    }
 }
 
 fn update_nearest(points: &[Point], nearest: &mut [f64], pin: Point) {
