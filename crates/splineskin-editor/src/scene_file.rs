@@ -132,6 +132,18 @@ struct DomainFile {
     margin: f64,
 }
 
+/// Whether `family` (a scene's weight family name) is solved on a triangulated domain.
+fn is_mesh_family(family: &str) -> bool {
+    use splineskin::scene::MeshFamily;
+    [
+        MeshFamily::Harmonic,
+        MeshFamily::Biharmonic,
+        MeshFamily::Bbw,
+    ]
+    .iter()
+    .any(|f| f.name() == family)
+}
+
 fn domain_file(d: &DomainOptions) -> DomainFile {
     DomainFile {
         min_angle: d.min_angle,
@@ -205,7 +217,13 @@ pub fn scene_json_with(svg: SvgRef<'_>, scene: &EditScene, extras: &SceneExtras)
             .map(|&position| HandleFile { position })
             .collect(),
         weights,
-        domain: extras.domain.as_ref().map(domain_file),
+        // Domain options apply to the mesh families only (the reader refuses them otherwise):
+        // an authors' scene keeps its enclosing domain while its weights are on a mesh.
+        domain: extras
+            .domain
+            .as_ref()
+            .filter(|_| is_mesh_family(&weights.family))
+            .map(domain_file),
         arc_length: extras.arc_length,
         flexible: scene.flexible,
         junctions: &scene.junctions,

@@ -374,3 +374,37 @@ fn art_domain_is_the_same_at_any_scale_and_far_from_the_origin() {
         );
     }
 }
+
+#[test]
+fn art_domain_ties_a_pin_beside_the_art_to_it() {
+    // A stem (a stroke) and a pin 13 units to its left, another on the stem: one part, and
+    // dragging the pin beside the stem bends the stem near it.
+    let case = Case {
+        name: "pin beside a stem",
+        svg: r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 200">
+          <path d="M50 190 C40 140 60 80 50 30" fill="none" stroke="#000" stroke-width="4"/>
+        </svg>"##
+            .to_string(),
+        pins: vec![Point::new(50.0, 150.0), Point::new(35.0, 60.0)],
+        drag: Vec2::new(20.0, 0.0),
+        unpinned_foot: Point::new(50.0, 190.0),
+        dragged_foot: Point::new(50.0, 30.0),
+    };
+    let (drawing, _, _) = rig(&case, DomainShape::Art);
+    let domain = Domain::build(
+        &drawing,
+        &case.pins,
+        &[],
+        &DomainOptions::default().with_shape(DomainShape::Art),
+    )
+    .expect("domain");
+    assert_eq!(
+        domain.boundary,
+        Boundary::Art {
+            parts: 1,
+            unpinned: 0
+        }
+    );
+    let (_, top) = ratios(&case, DomainShape::Art);
+    assert!(top > 0.5, "the stem's top moves {top}x the drag");
+}

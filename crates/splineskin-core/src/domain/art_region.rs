@@ -11,7 +11,9 @@
 //! * within `max(w/2, c/√2)` of a drawn path (`w` the stroke width in root units, 0 when it is
 //!   not stroked): strokes at their width, and every drawn curve at least through the cells it
 //!   crosses, so that an unfilled hairline is part of the art too;
-//! * the cell of a point handle, or within `c/√2` of a bone.
+//! * the cell of a point handle, or within `c/√2` of a bone; a point handle off the art is
+//!   tied to it by the cells within `c/√2` of the segment to the nearest painted cell centre
+//!   (a pin placed beside the art moves the art nearest to it, rather than nothing).
 //!
 //! A drawn path is one whose [`crate::drawing::PathRole`] is visible (hidden layers, clip paths,
 //! masks and unpainted paths paint nothing); without a source document every path is drawn and
@@ -83,10 +85,7 @@ pub(super) fn trace(
     let mut painted = vec![false; grid.n_cols * grid.n_rows];
     grid.paint_fills(drawing, &paint, &mut painted);
     grid.paint_lines(drawing, &paint, bones, &mut painted);
-    for &p in points {
-        let (col, row) = grid.cell_of(p);
-        painted[row * grid.n_cols + col] = true;
-    }
+    grid.bridge_handles(points, &mut painted);
     let distance = distance_to_marked(&painted, grid.n_cols, grid.n_rows);
     let level = margin / grid.cell + GROWTH_CELLS;
     let field: Vec<f64> = distance.iter().map(|d| d - level).collect();
@@ -375,6 +374,29 @@ impl Grid {
                     painted[row * self.n_cols + col] = true;
                 }
             }
+        }
+    }
+
+    /// Marks every point handle's cell, and ties a handle off the art to it: the cells within
+    /// `c/√2` of the segment from the handle to the nearest painted cell centre (so that a
+    /// pin placed beside the art moves the art nearest to it).
+    fn bridge_handles(&self, points: &[Point], painted: &mut [bool]) {
+        let least = self.cell * std::f64::consts::FRAC_1_SQRT_2;
+        let art: Vec<usize> = (0..painted.len()).filter(|&k| painted[k]).collect();
+        for &p in points {
+            let (col, row) = self.cell_of(p);
+            if painted[row * self.n_cols + col] {
+                continue;
+            }
+            let centre = |k: usize| self.centre(k % self.n_cols, k / self.n_cols);
+            let nearest = art
+                .iter()
+                .map(|&k| ((centre(k) - p).hypot2(), k))
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            if let Some((_, k)) = nearest {
+                self.paint_segment(p, centre(k), least, painted);
+            }
+            painted[row * self.n_cols + col] = true;
         }
     }
 
