@@ -252,38 +252,50 @@ impl Grid {
 
     /// Marks the cells whose centre a filled element covers, element by element.
     fn paint_fills(&self, drawing: &Drawing, paint: &Paint, painted: &mut [bool]) {
+        // The filled paths by element, in document order.
+        let mut filled: Vec<usize> = (0..drawing.paths.len())
+            .filter(|&i| paint.drawn[i] && paint.filled[i] && drawing.paths[i].n_curves() > 0)
+            .collect();
+        filled.sort_by_key(|&i| (paint.group[i], i));
         let mut crossings: Vec<Vec<(f64, i32)>> = vec![Vec::new(); self.n_rows];
-        let mut done = vec![false; drawing.paths.len()];
-        for first in 0..drawing.paths.len() {
-            if done[first] || !(paint.drawn[first] && paint.filled[first]) {
+        let mut rows: Vec<usize> = Vec::new();
+        for element in filled.chunk_by(|&i, &j| paint.group[i] == paint.group[j]) {
+            for &i in element {
+                self.flattened(&drawing.paths[i], true, |a, b| {
+                    self.row_crossings(a, b, &mut crossings, &mut rows)
+                });
+            }
+            let even_odd = paint.even_odd[element[0]];
+            for &row in &rows {
+                let xs = &mut crossings[row];
+                self.fill_row(row, xs, even_odd, painted);
+                xs.clear();
+            }
+            rows.clear();
+        }
+    }
+
+    /// Marks the cells of `row` whose centre the crossings `xs` (x, ±1) put inside, under the
+    /// `evenodd` rule or `nonzero`.
+    fn fill_row(&self, row: usize, xs: &mut [(f64, i32)], even_odd: bool, painted: &mut [bool]) {
+        xs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut winding = 0;
+        for pair in xs.windows(2) {
+            winding += pair[0].1;
+            let inside = if even_odd {
+                winding % 2 != 0
+            } else {
+                winding != 0
+            };
+            if !inside {
                 continue;
             }
-            crossings.iter_mut().for_each(Vec::clear);
-            for i in first..drawing.paths.len() {
-                if paint.group[i] == paint.group[first] {
-                    done[i] = true;
-                    let path = &drawing.paths[i];
-                    self.flattened(path, true, |a, b| self.row_crossings(a, b, &mut crossings));
-                }
-            }
-            let even_odd = paint.even_odd[first];
-            for (row, xs) in crossings.iter_mut().enumerate() {
-                xs.sort_by(|a, b| a.0.total_cmp(&b.0));
-                let mut k = 0;
-                let mut winding = 0;
-                for col in 0..self.n_cols {
-                    let x = self.centre(col, row).x;
-                    while k < xs.len() && xs[k].0 < x {
-                        winding += xs[k].1;
-                        k += 1;
-                    }
-                    let inside = if even_odd {
-                        winding % 2 != 0
-                    } else {
-                        winding != 0
-                    };
-                    painted[row * self.n_cols + col] |= inside;
-                }
+            // Columns whose centre x lies in [pair[0].0, pair[1].0).
+            let col_of = |x: f64| ((x - self.origin.x) / self.cell - 0.5).ceil().max(0.0);
+            let first = col_of(pair[0].0) as usize;
+            let end = (col_of(pair[1].0) as usize).min(self.n_cols);
+            for cell in &mut painted[row * self.n_cols + first.min(end)..row * self.n_cols + end] {
+                *cell = true;
             }
         }
     }
@@ -323,7 +335,13 @@ impl Grid {
 
     /// Adds to each row the signed crossing (x, ±1) of the segment `a b` with its centre line
     /// (half-open in y, so that a vertex on the line counts once).
-    fn row_crossings(&self, a: Point, b: Point, crossings: &mut [Vec<(f64, i32)>]) {
+    fn row_crossings(
+        &self,
+        a: Point,
+        b: Point,
+        crossings: &mut [Vec<(f64, i32)>],
+        rows: &mut Vec<usize>,
+    ) {
         if a.y == b.y || !(a.y.is_finite() && b.y.is_finite()) {
             return;
         }
@@ -335,6 +353,9 @@ impl Grid {
         for (row, xs) in crossings.iter_mut().enumerate().take(end).skip(first) {
             let y = self.centre(0, row).y;
             if y >= lo.y && y < hi.y {
+                if xs.is_empty() {
+                    rows.push(row);
+                }
                 let t = (y - lo.y) / (hi.y - lo.y);
                 xs.push((lo.x + t * (hi.x - lo.x), dir));
             }
