@@ -349,6 +349,7 @@ impl Rigged {
                 family: self.family.name().into(),
                 exponent: None,
                 samples: None,
+                coarse: false,
             },
             junctions: Vec::new(),
             flexible: false,

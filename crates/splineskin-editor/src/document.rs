@@ -117,11 +117,13 @@ impl Document {
                 family: "shepard".into(),
                 exponent: Some(*exponent),
                 samples: None,
+                coarse: false,
             },
             WeightSpec::Mesh(family) => WeightsWire {
                 family: family.name().into(),
                 exponent: None,
                 samples: None,
+                coarse: false,
             },
             other => bail!(
                 "{name}: weight family '{}' needs a cage, which the editor does not edit yet",

@@ -14,6 +14,8 @@ use crate::editor::{
 use crate::progress::Followed;
 use crate::scene_file::{defop_energy, scene_json};
 use crate::wire::{EditScene, PoseRequest, RefineAnswer, RefineRequest, SceneRequest};
+use splineskin::scene::WeightSpec;
+use splineskin::weights::coarse_to_fine::preview_options;
 
 /// Reads the page's scene on `document` as a scene of ours (validating it like any scene
 /// file), refusing rigs larger than [`MAX_HANDLES`] or [`MAX_OPERATOR_BYTES`].
@@ -36,13 +38,32 @@ pub(crate) fn page_scene(document: &Document, scene: &EditScene) -> Result<Scene
             MAX_OPERATOR_BYTES >> 20
         )));
     }
+    let coarse = scene.weights.coarse;
+    let written;
+    let scene = if coarse {
+        let mut exact = scene.clone();
+        exact.weights.coarse = false;
+        written = exact;
+        &written
+    } else {
+        scene
+    };
     let json = scene_json(&document.svg_text, scene, &document.extras);
-    Scene::from_json(&json, &document.name, None)
-        .map(|mut s| {
-            s.svg_origin = document.name.clone();
-            s
-        })
-        .map_err(|e| ApiError::bad(e.to_string()))
+    let mut scene =
+        Scene::from_json(&json, &document.name, None).map_err(|e| ApiError::bad(e.to_string()))?;
+    scene.svg_origin = document.name.clone();
+    if coarse {
+        if !matches!(scene.weights, WeightSpec::Mesh(_)) {
+            return Err(ApiError::bad(format!(
+                "{}: weights.coarse: the '{}' weights have no mesh to coarsen (expected \
+                 harmonic, biharmonic or bbw)",
+                document.name,
+                scene.weights.name()
+            )));
+        }
+        scene.domain = preview_options(&scene.domain);
+    }
+    Ok(scene)
 }
 
 /// `POST /api/rig`.

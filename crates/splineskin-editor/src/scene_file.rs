@@ -182,6 +182,7 @@ pub fn scene_json_with(svg: SvgRef<'_>, scene: &EditScene, extras: &SceneExtras)
         family: "shepard".into(),
         exponent: Some(2.0),
         samples: None,
+        coarse: false,
     };
     let weights = if defop_energy(&scene.weights.family).is_some() {
         extras.weights.as_ref().unwrap_or(&shepard)

@@ -92,6 +92,12 @@ pub struct WeightsWire {
     /// [`crate::scene_file::DEFAULT_EDITOR_SAMPLES`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<usize>,
+    /// A quick preview of a mesh family: the same family solved on a coarse triangulation of
+    /// the same domain ([`splineskin::weights::coarse_to_fine::preview_options`]), shape-aware
+    /// like the exact weights (the same parts of the art), in a fraction of their time. Never
+    /// written into scene files.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub coarse: bool,
 }
 
 /// One junction override: joint `joint` of path `path` takes `kind`.

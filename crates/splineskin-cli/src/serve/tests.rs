@@ -1477,6 +1477,54 @@ async fn serve_mesh_is_the_weights_domain_with_weights_at_its_vertices() {
     }
 }
 
+/// The page's quick preview of a mesh family (`weights.coarse`): the same family on a coarse
+/// triangulation of the same art-shaped domain, eight times fewer vertices or more; refused for
+/// weights without a mesh.
+#[tokio::test]
+async fn serve_coarse_preview_is_the_family_on_a_coarser_mesh_of_the_same_domain() {
+    let (app, _, id) = demo_app().await;
+    let mesh_of = |scene: serde_json::Value| {
+        let app = app.clone();
+        async move {
+            let (_, headers, _) = send(&app, post_json("/api/rig", &scene)).await;
+            let rig = rig_id(&headers);
+            let (_, body) = send_ok(&app, get(&format!("/api/rigs/{rig}/mesh"))).await;
+            json(&body)
+        }
+    };
+    let mut exact = two_handle_scene(&id, false);
+    exact["scene"]["weights"] = serde_json::json!({"family": "bbw"});
+    let mut coarse = exact.clone();
+    coarse["scene"]["weights"]["coarse"] = serde_json::json!(true);
+    let (fine, quick) = (mesh_of(exact).await, mesh_of(coarse).await);
+    let n = |m: &serde_json::Value| m["vertices"].as_array().expect("vertices").len() / 2;
+    assert!(
+        n(&quick) * 8 < n(&fine),
+        "coarse {} vs exact {} vertices",
+        n(&quick),
+        n(&fine)
+    );
+    assert_eq!(quick["boundary"], fine["boundary"]);
+    assert!(
+        quick["boundary"]
+            .as_str()
+            .expect("text")
+            .starts_with("the art"),
+        "{}",
+        quick["boundary"]
+    );
+    // Inverse-distance weights have no mesh to coarsen.
+    let mut shepard = two_handle_scene(&id, false);
+    shepard["scene"]["weights"]["coarse"] = serde_json::json!(true);
+    let message = refused_with(
+        &app,
+        post_json("/api/rig", &shepard),
+        StatusCode::BAD_REQUEST,
+    )
+    .await;
+    assert!(message.contains("weights.coarse"), "{message}");
+}
+
 #[test]
 fn static_build_marks_its_page_carries_the_module_and_replaces_only_its_own_folder() {
     let tmp = tempfile::tempdir().expect("a temporary folder");

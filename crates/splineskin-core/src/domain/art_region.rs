@@ -72,13 +72,14 @@ pub(super) struct ArtRegion {
 }
 
 /// The painted region of `drawing`, grown by `margin` (drawing units), on a grid of cell side
-/// about `cell`, with the parts that hold one of `points` or `bones` (module documentation).
+/// about `cell`, with the parts that hold one of `points` or `bones` (module documentation);
+/// the outlines simplified to within `max(cell / 2, tolerance)`.
 pub(super) fn trace(
     drawing: &Drawing,
     points: &[Point],
     bones: &[[Point; 2]],
     margin: f64,
-    cell: f64,
+    (cell, tolerance): (f64, f64),
 ) -> ArtRegion {
     let paint = Paint::of(drawing);
     let grid = Grid::over(drawing, &paint, points, bones, margin, cell);
@@ -95,7 +96,8 @@ pub(super) fn trace(
     let pinned = parts.pinned(&grid, points, bones);
     let mut loops = Vec::new();
     let mut unpinned_of: Vec<Vec<Vec<Point>>> = vec![Vec::new(); parts.n];
-    for (part, outline) in simplified(grid.outlines(&field, &inside, &parts), grid.cell) {
+    let tolerance = tolerance.max(SIMPLIFY_CELLS * grid.cell);
+    for (part, outline) in simplified(grid.outlines(&field, &inside, &parts), tolerance) {
         if pinned[part] {
             loops.push(outline);
         } else {
@@ -111,12 +113,12 @@ pub(super) fn trace(
     }
 }
 
-/// The outlines simplified to within [`SIMPLIFY_CELLS`] cells (Douglas–Peucker), or as traced
-/// when simplifying makes two of them cross.
-fn simplified(outlines: Vec<(usize, Vec<Point>)>, cell: f64) -> Vec<(usize, Vec<Point>)> {
+/// The outlines simplified to within `tolerance` (Douglas–Peucker), or as traced when
+/// simplifying makes two of them cross.
+fn simplified(outlines: Vec<(usize, Vec<Point>)>, tolerance: f64) -> Vec<(usize, Vec<Point>)> {
     let simple: Vec<(usize, Vec<Point>)> = outlines
         .iter()
-        .map(|(part, l)| (*part, simplify_closed(l, SIMPLIFY_CELLS * cell)))
+        .map(|(part, l)| (*part, simplify_closed(l, tolerance)))
         .collect();
     let loops: Vec<Vec<Point>> = simple.iter().map(|(_, l)| l.clone()).collect();
     let degenerate = loops.iter().any(|l| self_intersection(l).is_some());

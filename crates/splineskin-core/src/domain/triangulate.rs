@@ -16,7 +16,7 @@ use super::polygon::{
 };
 use super::{
     art_region, Attachment, Boundary, Domain, DomainError, DomainOptions, DomainShape,
-    COINCIDENT_RELATIVE, MAX_MARGIN, MAX_MIN_ANGLE,
+    COINCIDENT_RELATIVE, DEFAULT_SAMPLES_PER_DIAGONAL, MAX_MARGIN, MAX_MIN_ANGLE,
 };
 use crate::drawing::Drawing;
 use crate::mesh::TriMesh;
@@ -473,12 +473,15 @@ fn art_outline(
     spacing: f64,
     drawing_diag: f64,
 ) -> Result<Outline, DomainError> {
+    // Traced at the default sample spacing at most, whatever the level's spacing (a coarse
+    // preview keeps the parts of the exact domain), simplified to a quarter of the spacing.
+    let cell = spacing.min(drawing_diag / DEFAULT_SAMPLES_PER_DIAGONAL);
     let region = art_region::trace(
         drawing,
         points,
         bones,
         options.margin * drawing_diag,
-        spacing,
+        (cell, 0.25 * spacing),
     );
     let area = checked_area(&region.loops, points, bones)?;
     Ok(Outline {

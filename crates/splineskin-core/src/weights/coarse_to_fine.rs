@@ -154,6 +154,24 @@ impl Levels<'_> {
     }
 }
 
+/// The domain options of a quick preview of `options`' weights: two levels coarser (samples
+/// `LEVEL_FACTOR²` = 16 times sparser, triangles up to 256 times larger; a few hundred
+/// vertices on the bundled drawings), the same boundary rule. Solved there, a mesh family is
+/// shape-aware like the exact weights and near them, in a few milliseconds (the editor shows it
+/// while the exact weights compute).
+///
+/// ```
+/// use splineskin_core::domain::DomainOptions;
+/// use splineskin_core::weights::coarse_to_fine::preview_options;
+/// let fine = DomainOptions::default();
+/// let quick = preview_options(&fine);
+/// assert_eq!(quick.samples_per_diagonal, fine.samples_per_diagonal / 16.0);
+/// assert_eq!(quick.shape, fine.shape);
+/// ```
+pub fn preview_options(options: &DomainOptions) -> DomainOptions {
+    coarser(&coarser(options))
+}
+
 /// `options` one level coarser: samples [`LEVEL_FACTOR`] times sparser, triangles up to
 /// `LEVEL_FACTOR²` times larger (the area fraction capped at 1).
 fn coarser(options: &DomainOptions) -> DomainOptions {
