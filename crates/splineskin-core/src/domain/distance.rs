@@ -1,6 +1,6 @@
 //! Exact Euclidean distance transform on a grid of cells: for every cell, the distance from its
 //! centre to the nearest centre of a marked cell. Used to grow the art's painted region by the
-//! domain's margin ([`super::art_region`]) and, by the automatic pins, to measure how deep a
+//! domain's margin ([`super::DomainShape::Art`]) and, by the automatic pins, to measure how deep a
 //! cell lies inside a shape.
 //!
 //! The squared distance `D(q) = min_p ‖q − p‖²` over marked cells `p` separates into rows and
