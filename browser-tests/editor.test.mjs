@@ -400,7 +400,7 @@ check('turtles: frame time while dragging (the authors\' 1 300-curve drawing, 3 
       };
     });
     console.log(
-      `turtles, a 4th handle with bbw: inverse-distance stand-in after ${swap.preview?.toFixed(3)} s, ` +
+      `turtles, a 4th handle with bbw: coarse bbw stand-in after ${swap.preview?.toFixed(3)} s, ` +
         `bbw ready after ${swap.ready.toFixed(3)} s; states ${swap.states.join(' → ')}`,
     );
     assert.equal(swap.handles, 4);

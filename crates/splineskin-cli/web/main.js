@@ -38,8 +38,6 @@ const MAX_DEFOP_SAMPLES = 5000;
 const DEFOP_ENERGIES = { 'defop-arap': 'ARAP', 'defop-sarap': 'symmetric ARAP' };
 /** The weight families solved on a triangulated domain: seconds on big drawings. */
 const MESH_FAMILIES = new Set(['bbw', 'harmonic', 'biharmonic']);
-/** The weights of the rig that stands in while a mesh family computes (closed form, instant). */
-const PREVIEW_WEIGHTS = Object.freeze({ family: 'shepard', exponent: 2 });
 
 const editor = {
   info: null,
@@ -47,7 +45,7 @@ const editor = {
   scene: null,
   rig: null,
   rigKey: null,
-  /** Whether `rig` is the Shepard stand-in of a mesh family still computing. */
+  /** Whether `rig` is the coarse stand-in of a mesh family still computing. */
   rigPreview: false,
   /** Seconds from the request to the stand-in's arrival, and to the real rig's (for the tests). */
   previewSeconds: null,
@@ -354,12 +352,14 @@ async function precompute() {
 
 /**
  * While a mesh family's weights compute (a second or more on big drawings), a rig of the same
- * handles with Shepard weights stands in, so that the drawing follows the handles at once;
- * `precompute` swaps the real rig in when it arrives. The pose is the scene's and stays as it
- * is: only the weights under it change.
+ * handles with the same family solved on a coarse triangulation of the same domain stands in
+ * (`weights.coarse`: shape-aware like the real weights, the same parts of the art, in a tenth
+ * of their time or less), so that the drawing follows the handles at once; `precompute` swaps
+ * the real rig in when it arrives. The pose is the scene's and stays as it is: only the weights
+ * under it change.
  */
 async function preview(scene, key, seq, signal, started) {
-  const quick = { ...scene, weights: PREVIEW_WEIGHTS };
+  const quick = { ...scene, weights: { ...scene.weights, coarse: true } };
   try {
     const { id, operator } = await api.precompute(editor.info.id, quick, signal, `preview-${seq}`);
     if (seq !== editor.precomputeSeq || document.body.dataset.rig !== 'computing') return;
@@ -369,8 +369,8 @@ async function preview(scene, key, seq, signal, started) {
     editor.previewSeconds = (performance.now() - started) / 1000;
     document.body.dataset.rig = 'preview';
     say(
-      `${shortName()}: ${plural(scene.handles.length, 'handle')}; inverse-distance preview while the ` +
-        `${scene.weights.family} weights compute`,
+      `${shortName()}: ${plural(scene.handles.length, 'handle')}; preview: ${scene.weights.family} ` +
+        `weights on a coarser mesh of the same domain, while the exact ones compute`,
     );
     render();
     flexibleSolve();

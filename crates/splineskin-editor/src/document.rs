@@ -71,7 +71,7 @@ impl Document {
     }
 
     /// Opens an SVG document: no handles, bounded biharmonic weights (Puppet Warp's shape-aware
-    /// behaviour; the page shows an inverse-distance stand-in while they compute).
+    /// behaviour; the page shows the same family on a coarser mesh while they compute).
     pub fn from_svg(name: &str, text: &str) -> Result<Document> {
         #[derive(serde::Serialize)]
         struct Minimal<'a> {
