@@ -51,8 +51,11 @@ class Drawing:
         max_vertices: Optional[int] = None,
         min_angle: Optional[float] = None,
         holes: bool = False,
+        shape: str = "enclosing",
+        margin: Optional[float] = None,
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.int64]]:
-        """The triangulated domain with a vertex at each handle: ``(V, F, b)``."""
+        """The triangulated domain with a vertex at each handle: ``(V, F, b)``;
+        ``shape="art"`` for the art's own shape grown by ``margin``."""
 
 class Scene:
     """A scene file (ours or the paper authors'): drawing, handles, weights, poses."""

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use numpy::{PyArray1, PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::{PyFileNotFoundError, PyValueError};
 use pyo3::prelude::*;
-use splineskin::domain::{Domain, DomainOptions};
+use splineskin::domain::{Domain, DomainOptions, DomainShape};
 use splineskin::drawing::svg_out::{write_svg_view_box, ViewBoxRule};
 use splineskin::drawing::{read_svg_named, Drawing, ImportOptions};
 
@@ -205,13 +205,18 @@ impl PyDrawing {
             .map_err(library_error)
     }
 
-    /// The triangulated domain the mesh weight families are solved on (the drawing's outline
-    /// with its curves' samples, refined to `min_angle` degrees and triangles of at most
-    /// `max_area_fraction` of its area, up to `max_vertices`), with a vertex at each of
-    /// `handles` (`n × 2`): `(V, F, b)` in libigl's conventions, `V` `float64` `n × 2`, `F`
-    /// `int64` `m × 3` (counter-clockwise), `b` `int64` the handles' vertices.
-    #[pyo3(signature = (handles, *, max_area_fraction = None, max_vertices = None, min_angle = None, holes = false))]
-    #[allow(clippy::type_complexity)]
+    /// The triangulated domain the mesh weight families are solved on (with its curves'
+    /// samples, refined to `min_angle` degrees and triangles of at most `max_area_fraction` of
+    /// its area, up to `max_vertices`), with a vertex at each of `handles` (`n × 2`):
+    /// `(V, F, b)` in libigl's conventions, `V` `float64` `n × 2`, `F` `int64` `m × 3`
+    /// (counter-clockwise), `b` `int64` the handles' vertices. `shape="enclosing"` (the
+    /// default, the paper's): the drawing's largest closed curve around everything, else its
+    /// padded bounding box; `shape="art"` (what scenes and `SplineRig` use): the region the
+    /// drawing paints grown by `margin` (a fraction of the diagonal, default 0.01), one piece
+    /// per group of touching shapes, pieces without a handle left out.
+    #[pyo3(signature = (handles, *, max_area_fraction = None, max_vertices = None, min_angle = None, holes = false, shape = "enclosing", margin = None))]
+    // One argument per Python keyword (PyO3 maps them one to one).
+    #[allow(clippy::type_complexity, clippy::too_many_arguments)]
     fn domain<'py>(
         &self,
         py: Python<'py>,
@@ -220,13 +225,23 @@ impl PyDrawing {
         max_vertices: Option<usize>,
         min_angle: Option<f64>,
         holes: bool,
+        shape: &str,
+        margin: Option<f64>,
     ) -> PyResult<(
         Bound<'py, PyArray2<f64>>,
         Bound<'py, PyArray2<i64>>,
         Bound<'py, PyArray1<i64>>,
     )> {
         let handles = crate::arrays::points(&handles, "handles", None)?;
-        let mut options = DomainOptions::default().with_holes(holes);
+        let shape = DomainShape::from_name(shape).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "shape={shape:?}: expected \"enclosing\" or \"art\""
+            ))
+        })?;
+        let mut options = DomainOptions::default().with_holes(holes).with_shape(shape);
+        if let Some(m) = margin {
+            options = options.with_margin(m);
+        }
         if let Some(f) = max_area_fraction {
             options = options.with_max_area_fraction(f);
         }

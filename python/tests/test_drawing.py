@@ -69,3 +69,34 @@ def test_bad_input_is_a_clear_error():
     assert d.to_svg(np.asfortranarray(moved)) == d.to_svg(moved) == d.to_svg(moved[::-1][::-1])
     with pytest.raises(ValueError, match="keep"):
         d.to_svg(d.points, viewbox="grow")
+
+
+TWO_DISCS = (
+    '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 40">'
+    '<circle cx="10" cy="20" r="8"/><circle cx="50" cy="20" r="8"/><circle cx="90" cy="20" r="8"/></svg>'
+)
+
+
+def test_domain_of_the_art_covers_the_pinned_shapes_only():
+    d = splineskin.Drawing.from_svg(TWO_DISCS)
+    handles = np.array([[10.0, 20.0], [50.0, 20.0]])
+    V, F, b = d.domain(handles, shape="art")
+    assert np.array_equal(V[b], handles)
+    # Nothing between the discs, nothing of the third (unpinned) one.
+    assert np.all((V[:, 0] < 25) | ((V[:, 0] > 35) & (V[:, 0] < 65)))
+    # Triangle areas: two discs grown by the margin and a cell and a half (to a few percent).
+    e1, e2 = V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]
+    area = 0.5 * np.sum(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    diagonal = np.hypot(96.0, 16.0)
+    grown = 8 + 0.01 * diagonal + 1.5 * diagonal / 500
+    assert abs(area / (2 * np.pi * grown**2) - 1) < 0.02
+    # A larger margin joins the discs 24 units apart (margin 0.2 of the diagonal: about 19).
+    V2, _, _ = d.domain(handles, shape="art", margin=0.2)
+    assert np.any((V2[:, 0] > 25) & (V2[:, 0] < 35))
+    # The paper's domain (the default) is the padded box: it covers the gap too.
+    V3, _, _ = d.domain(handles)
+    assert np.any((V3[:, 0] > 25) & (V3[:, 0] < 35))
+    with pytest.raises(ValueError, match="enclosing"):
+        d.domain(handles, shape="box")
+    with pytest.raises(splineskin.SplineSkinError, match="margin"):
+        d.domain(handles, shape="art", margin=2.0)
