@@ -132,9 +132,15 @@ pub(super) fn build(
 
     // The boundary: the art's outlines, or one outer polygon and its holes.
     let outline = if let Some(given) = given {
-        given_outline(given, points, bones)?
+        given_outline(given, points, bones, coincident)?
     } else if cage.is_none() && options.shape == DomainShape::Art {
-        art_outline(drawing, points, bones, options, spacing, drawing_diag)?
+        art_outline(
+            drawing,
+            points,
+            bones,
+            options,
+            (spacing, coincident, drawing_diag),
+        )?
     } else {
         enclosing_outline(
             drawing,
@@ -410,9 +416,10 @@ fn given_outline(
     given: Given<'_>,
     points: &[Point],
     bones: &[[Point; 2]],
+    coincident: f64,
 ) -> Result<Outline, DomainError> {
     let loops = given.loops.to_vec();
-    let area = checked_area(&loops, points, bones)?;
+    let area = checked_area(&loops, points, bones, coincident)?;
     Ok(Outline {
         loops,
         boundary: given.boundary,
@@ -430,6 +437,7 @@ fn checked_area(
     loops: &[Vec<Point>],
     points: &[Point],
     bones: &[[Point; 2]],
+    coincident: f64,
 ) -> Result<f64, DomainError> {
     let area: f64 = loops.iter().map(|l| signed_area(l)).sum();
     if !area.is_finite() {
@@ -442,26 +450,39 @@ fn checked_area(
             reason: "the art paints no area that holds a handle",
         });
     }
-    let index = PolygonIndex::new(&loops.iter().map(Vec::as_slice).collect::<Vec<_>>());
-    for (handle, &p) in points.iter().enumerate() {
-        if !index.contains(p) {
-            return Err(DomainError::HandleOutsideDomain {
-                handle,
-                x: p.x,
-                y: p.y,
-            });
-        }
+    let polygons: Vec<&[Point]> = loops.iter().map(Vec::as_slice).collect();
+    check_inside(&polygons, points, bones, coincident)?;
+    Ok(area)
+}
+
+/// Checks that every handle and both ends of every bone lie inside the closed `polygons` (or
+/// within `tolerance` of their boundary), and that no bone crosses a boundary other than at an
+/// end lying on it.
+fn check_inside(
+    polygons: &[&[Point]],
+    points: &[Point],
+    bones: &[[Point; 2]],
+    tolerance: f64,
+) -> Result<(), DomainError> {
+    let index = PolygonIndex::new(polygons);
+    let inside =
+        |p: Point| index.contains(p) || polygons.iter().any(|poly| on_polygon(poly, p, tolerance));
+    if let Some((handle, p)) = points.iter().enumerate().find(|(_, &p)| !inside(p)) {
+        return Err(DomainError::HandleOutsideDomain {
+            handle,
+            x: p.x,
+            y: p.y,
+        });
     }
     for (bone, b) in bones.iter().enumerate() {
-        let crosses = index
-            .edges()
+        let crosses = polygons
             .iter()
-            .any(|&(c, d)| segments_intersect(b[0], b[1], c, d));
-        if crosses || !index.contains(b[0]) {
+            .any(|poly| crosses_polygon(poly, b[0], b[1], tolerance));
+        if crosses || !b.iter().all(|&p| inside(p)) {
             return Err(DomainError::BoneOutsideDomain { bone });
         }
     }
-    Ok(area)
+    Ok(())
 }
 
 /// The art-shaped boundary ([`DomainShape::Art`], [`super::art_region`]).
@@ -470,8 +491,7 @@ fn art_outline(
     points: &[Point],
     bones: &[[Point; 2]],
     options: &DomainOptions,
-    spacing: f64,
-    drawing_diag: f64,
+    (spacing, coincident, drawing_diag): (f64, f64, f64),
 ) -> Result<Outline, DomainError> {
     // Traced at the default sample spacing at most, whatever the level's spacing (a coarse
     // preview keeps the parts of the exact domain), simplified to a quarter of the spacing.
@@ -483,7 +503,7 @@ fn art_outline(
         options.margin * drawing_diag,
         (cell, 0.25 * spacing),
     );
-    let area = checked_area(&region.loops, points, bones)?;
+    let area = checked_area(&region.loops, points, bones, coincident)?;
     Ok(Outline {
         loops: region.loops,
         boundary: Boundary::Art {
@@ -552,25 +572,8 @@ fn enclosing_outline(
             reason: "the domain's boundary has zero area",
         });
     }
+    check_inside(&[&outer], points, bones, coincident)?;
     let outer_index = PolygonIndex::new(&[&outer]);
-    for (handle, &p) in points.iter().enumerate() {
-        if !outer_index.contains(p) && !on_polygon(&outer, p, coincident) {
-            return Err(DomainError::HandleOutsideDomain {
-                handle,
-                x: p.x,
-                y: p.y,
-            });
-        }
-    }
-    for (bone, b) in bones.iter().enumerate() {
-        let inside = b
-            .iter()
-            .all(|&p| outer_index.contains(p) || on_polygon(&outer, p, coincident));
-        let crosses = crosses_polygon(&outer, b[0], b[1], coincident);
-        if !inside || crosses {
-            return Err(DomainError::BoneOutsideDomain { bone });
-        }
-    }
 
     // Holes.
     let boundary_path = match boundary {
