@@ -405,20 +405,28 @@ impl Grid {
     /// pin placed beside the art moves the art nearest to it).
     fn bridge_handles(&self, points: &[Point], painted: &mut [bool]) {
         let least = self.cell * std::f64::consts::FRAC_1_SQRT_2;
-        let art: Vec<usize> = (0..painted.len()).filter(|&k| painted[k]).collect();
-        for &p in points {
-            let (col, row) = self.cell_of(p);
-            if painted[row * self.n_cols + col] {
-                continue;
-            }
-            let centre = |k: usize| self.centre(k % self.n_cols, k / self.n_cols);
-            let nearest = art
-                .iter()
-                .map(|&k| ((centre(k) - p).hypot2(), k))
-                .min_by(|a, b| a.0.total_cmp(&b.0));
-            if let Some((_, k)) = nearest {
+        let centre = |k: usize| self.centre(k % self.n_cols, k / self.n_cols);
+        // Every bridge goes to the art as painted, before any bridge or handle cell.
+        let bridges: Vec<(Point, Option<usize>)> = points
+            .iter()
+            .filter(|&&p| {
+                let (col, row) = self.cell_of(p);
+                !painted[row * self.n_cols + col]
+            })
+            .map(|&p| {
+                let nearest = (0..painted.len()).filter(|&k| painted[k]).min_by(|&a, &b| {
+                    (centre(a) - p)
+                        .hypot2()
+                        .total_cmp(&(centre(b) - p).hypot2())
+                });
+                (p, nearest)
+            })
+            .collect();
+        for (p, nearest) in bridges {
+            if let Some(k) = nearest {
                 self.paint_segment(p, centre(k), least, painted);
             }
+            let (col, row) = self.cell_of(p);
             painted[row * self.n_cols + col] = true;
         }
     }
