@@ -118,7 +118,7 @@ pub fn run(args: Args) -> Result<()> {
             crate::read_bandwidth::PASSES
         );
         println!(
-            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10} {:>12} {:>14} {:>12} {:>10} {:>12} {:>9} {:>12} {:>10}",
+            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10} {:>12} {:>14} {:>12} {:>10} {:>7} {:>12} {:>9} {:>12} {:>10}",
             "scene",
             "curves",
             "handles",
@@ -129,6 +129,7 @@ pub fn run(args: Args) -> Result<()> {
             "precompute (s)",
             "update (s)",
             "folds (s)",
+            "threads",
             "update GB/s",
             "of memory",
             "f32 upd (s)",
@@ -216,7 +217,7 @@ fn print_row(row: &Row, json: bool) {
         );
     } else {
         println!(
-            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10.3e} {:>12.3e} {:>14.3e} {:>12.3e} {:>10.3e} {:>12.2} {:>9.2} {:>12.3e} {:>10.1e}",
+            "{:<60} {:>7} {:>7} {:>11} {:>9} {:>10.3e} {:>12.3e} {:>14.3e} {:>12.3e} {:>10.3e} {:>7} {:>12.2} {:>9.2} {:>12.3e} {:>10.1e}",
             row.scene,
             row.curves,
             row.handles,
@@ -228,6 +229,7 @@ fn print_row(row: &Row, json: bool) {
             row.precompute_s,
             row.update_s,
             row.folds_s,
+            row.update_threads,
             row.update_bytes_per_s / 1e9,
             row.bandwidth_ratio,
             row.update_f32_s,

@@ -96,7 +96,7 @@ fn update_alloc_none_on_the_bundled_drawing() {
 }
 
 #[test]
-fn update_alloc_none_on_two_threads_and_in_single_precision() {
+fn update_alloc_none_on_several_threads_and_in_single_precision() {
     let drawing = read_svg(DEMO_SVG, &ImportOptions::default()).unwrap();
     let (tiled, handles) = tile(&drawing, &demo_scene().handles, TILED_CURVES);
     let weights = Shepard::new(&handles, ShepardOptions::default());
@@ -106,7 +106,11 @@ fn update_alloc_none_on_two_threads_and_in_single_precision() {
     assert!(serial.update_bytes() >= 8 << 20, "large enough to split");
     assert_eq!(serial.update_threads(), 1);
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    assert_eq!(split.update_threads(), if cores >= 2 { 2 } else { 1 });
+    assert_eq!(
+        split.update_threads(),
+        splineskin::spline_fit::update_threads(split.update_bytes(), cores)
+    );
+    assert!(split.update_threads() >= 2 || cores == 1);
     let single = split.with_single_precision(true);
     let poses = test_poses(&handles);
     let mut expected = vec![Point::ZERO; serial.n_points()];

@@ -1,17 +1,21 @@
 //! The per-frame product of a rig, `x = O · vec(T)` ([`super::SplineRig::update`]), on one
-//! thread or split between the calling thread and one helper thread.
+//! thread or split between the calling thread and helper threads.
 //!
 //! The product reads every entry of `O` once per frame (`2 · n_points × 6h` values), so on a
-//! large drawing it is bound by memory bandwidth, which one core does not exhaust. A helper
-//! thread started with the rig computes the second half of the points while the caller
-//! computes the first; the two meet on a mutex and condition variable. Nothing is allocated
-//! per frame: the helper keeps its own copy of the pose and its own output buffer (both sized
-//! once), and the caller copies the helper's points into place (16 bytes per point against
-//! the `96 h` bytes of operator each point reads). Every point is computed by the same
-//! function in the same order on either thread, so the result does not depend on the split.
+//! large drawing it is bound by memory bandwidth, which one core does not exhaust. Helper
+//! threads started with the rig each compute a contiguous range of the points while the caller
+//! computes the first range; each helper meets the caller on its own mutex and condition
+//! variables. Nothing is allocated per frame: a helper keeps its own copy of the pose and its
+//! own output buffer (both sized once), and the caller copies the helpers' points into place
+//! (16 bytes per point against the `96 h` bytes of operator each point reads). Every point is
+//! computed by the same function in the same order on any thread, so the result does not
+//! depend on the split.
 //!
-//! Small operators (below [`PARALLEL_MIN_BYTES`]) stay on the calling thread: waking a
-//! thread costs microseconds, more than such a product takes.
+//! **How many threads.** One per [`BYTES_PER_THREAD`] of operator, at most one per core
+//! ([`update_threads`]): a thread pays for its wake-up (microseconds) only when its share of
+//! the stream takes far longer, and the stream stops speeding up once the cores together read
+//! as fast as memory delivers. Small operators (below [`PARALLEL_MIN_BYTES`]) stay on the
+//! calling thread.
 
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
@@ -21,7 +25,25 @@ use kurbo::{Affine, Point};
 /// Smallest operator split between two threads: 8 MiB of `f64` (about 17 000 chain points
 /// with five handles). Below it the product takes well under a millisecond and fits in the
 /// caches of this machine's class.
-pub const PARALLEL_MIN_BYTES: usize = 8 << 20;
+pub const PARALLEL_MIN_BYTES: usize = 2 * BYTES_PER_THREAD;
+
+/// Operator bytes each thread of a split product streams at least: 4 MiB, about 0.3 ms at the
+/// 10–15 GB/s one core reads, against the few microseconds a wake-up costs.
+pub const BYTES_PER_THREAD: usize = 4 << 20;
+
+/// Threads a product reading `bytes` per frame runs on, given `cores`: one per
+/// [`BYTES_PER_THREAD`], at most `cores`, at least 1.
+///
+/// ```
+/// # use splineskin_core::spline_fit::update_threads;
+/// assert_eq!(update_threads(1 << 20, 16), 1);
+/// assert_eq!(update_threads(8 << 20, 16), 2);
+/// assert_eq!(update_threads(200 << 20, 16), 16);
+/// assert_eq!(update_threads(200 << 20, 2), 2);
+/// ```
+pub fn update_threads(bytes: usize, cores: usize) -> usize {
+    (bytes / BYTES_PER_THREAD).clamp(1, cores.max(1))
+}
 
 /// `O`, row-major `(2 · n_points) × (6 · n_handles)`, and how its product is computed.
 pub(crate) struct FrameProduct {
@@ -30,9 +52,9 @@ pub(crate) struct FrameProduct {
     operator: Arc<Vec<f64>>,
     /// What the product reads: `operator` itself, or its entries rounded to `f32`.
     entries: Entries,
-    /// Whether a helper thread may take half of the product.
+    /// Whether helper threads may take part of the product.
     parallel: bool,
-    helper: Option<Box<Helper>>,
+    helpers: Option<Box<Helpers>>,
 }
 
 /// The entries the per-frame product reads. Kept in a `Vec` (behind the `Arc`) rather than an
@@ -73,7 +95,7 @@ impl Entries {
 impl FrameProduct {
     /// Wraps `operator` (row-major `(2 · n_points) × (6 · n_handles)`); with `parallel` and an
     /// operator of at least [`PARALLEL_MIN_BYTES`] on a machine with two or more cores, starts
-    /// the helper thread.
+    /// the helper threads ([`update_threads`] in all, the caller included).
     pub fn new(operator: Vec<f64>, n_points: usize, n_handles: usize, parallel: bool) -> Self {
         debug_assert_eq!(operator.len(), 2 * n_points * 6 * n_handles);
         let operator = Arc::new(operator);
@@ -93,10 +115,8 @@ impl FrameProduct {
         n_handles: usize,
         parallel: bool,
     ) -> Self {
-        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let large = entries.bytes() >= PARALLEL_MIN_BYTES;
-        let helper = if parallel && large && cores >= 2 {
-            Helper::start(entries.clone(), n_points, n_handles)
+        let helpers = if parallel {
+            Helpers::start(&entries, n_points, n_handles)
         } else {
             None
         };
@@ -106,7 +126,7 @@ impl FrameProduct {
             operator,
             entries,
             parallel,
-            helper,
+            helpers,
         }
     }
 
@@ -152,9 +172,9 @@ impl FrameProduct {
         &self.operator
     }
 
-    /// Whether a helper thread computes half of each product.
-    pub fn is_split(&self) -> bool {
-        self.helper.is_some()
+    /// Threads each product runs on: 1, or the caller and its helpers.
+    pub fn threads(&self) -> usize {
+        self.helpers.as_ref().map_or(1, |h| 1 + h.helpers.len())
     }
 
     /// Writes `O · vec(pose)` into `out`: points, or their coordinates `x0, y0, x1, …`
@@ -162,30 +182,21 @@ impl FrameProduct {
     /// by the caller). Allocates nothing.
     pub fn apply<S: PointSink + ?Sized>(&self, pose: &[Affine], out: &mut S) {
         let n_cols = 6 * self.n_handles;
-        match &self.helper {
+        match &self.helpers {
             None => self.entries.points(n_cols, pose, 0, out),
-            Some(helper) => {
-                // One product at a time per rig: the helper has one slot.
-                let _turn = lock(&helper.turn);
-                {
-                    let mut slot = lock(&helper.shared.slot);
-                    slot.pose.clear();
-                    slot.pose.extend_from_slice(pose);
-                    slot.state = State::Work;
+            Some(helpers) => {
+                // One product at a time per rig: each helper has one slot.
+                let _turn = lock(&helpers.turn);
+                for helper in &helpers.helpers {
+                    helper.post(pose);
                 }
-                helper.shared.wake.notify_one();
-                let (mine, theirs) = out.split_at_points(helper.first);
+                let (mine, mut rest) = out.split_at_points(helpers.helpers[0].first);
                 self.entries.points(n_cols, pose, 0, mine);
-                let mut slot = lock(&helper.shared.slot);
-                while slot.state != State::Done {
-                    slot = helper
-                        .shared
-                        .done
-                        .wait(slot)
-                        .unwrap_or_else(|e| e.into_inner());
+                for helper in &helpers.helpers {
+                    let (theirs, next) = rest.split_at_points(helper.count);
+                    helper.collect(theirs);
+                    rest = next;
                 }
-                theirs.copy_points(&slot.points);
-                slot.state = State::Idle;
             }
         }
     }
@@ -201,10 +212,10 @@ impl Clone for FrameProduct {
             operator: self.operator.clone(),
             entries: self.entries.clone(),
             parallel: self.parallel,
-            helper: self
-                .helper
+            helpers: self
+                .helpers
                 .as_ref()
-                .and_then(|_| Helper::start(self.entries.clone(), self.n_points, self.n_handles)),
+                .and_then(|_| Helpers::start(&self.entries, self.n_points, self.n_handles)),
         }
     }
 }
@@ -215,7 +226,7 @@ impl std::fmt::Debug for FrameProduct {
             .field("n_points", &self.n_points)
             .field("n_handles", &self.n_handles)
             .field("operator_len", &self.operator.len())
-            .field("split", &self.is_split())
+            .field("threads", &self.threads())
             .field("single_precision", &self.is_single_precision())
             .finish()
     }
@@ -336,25 +347,77 @@ struct Shared {
     done: Condvar,
 }
 
-/// The helper thread, computing points `first..n_points` of each product.
-struct Helper {
-    first: usize,
-    shared: Arc<Shared>,
+/// The helper threads of a split product and the lock that gives one caller at a time the
+/// whole set.
+struct Helpers {
+    helpers: Vec<Helper>,
     /// Held by a caller for a whole product.
     turn: Mutex<()>,
+}
+
+impl Helpers {
+    /// Starts [`update_threads`]` − 1` helpers, each for a contiguous range of points after the
+    /// caller's; `None` when the product stays on one thread (small operator, one core, or
+    /// the system refuses a thread).
+    fn start(entries: &Entries, n_points: usize, n_handles: usize) -> Option<Box<Helpers>> {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        if entries.bytes() < PARALLEL_MIN_BYTES {
+            return None;
+        }
+        Helpers::start_with(
+            entries,
+            n_points,
+            n_handles,
+            update_threads(entries.bytes(), cores),
+        )
+    }
+
+    /// [`Helpers::start`] with `threads` in all (caller included), whatever the operator's size.
+    fn start_with(
+        entries: &Entries,
+        n_points: usize,
+        n_handles: usize,
+        threads: usize,
+    ) -> Option<Box<Helpers>> {
+        let threads = threads.min(n_points);
+        if threads < 2 {
+            return None;
+        }
+        // Thread t computes points [t·n/threads, (t+1)·n/threads).
+        let start = |t: usize| t * n_points / threads;
+        let helpers = (1..threads)
+            .map(|t| {
+                Helper::start(
+                    entries.clone(),
+                    start(t),
+                    start(t + 1) - start(t),
+                    n_handles,
+                )
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(Box::new(Helpers {
+            helpers,
+            turn: Mutex::new(()),
+        }))
+    }
+}
+
+/// A helper thread, computing points `first..first + count` of each product.
+struct Helper {
+    first: usize,
+    count: usize,
+    shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
 }
 
 impl Helper {
-    /// Starts the thread; `None` if the system refuses one (the product then stays on the
-    /// calling thread).
-    fn start(entries: Entries, n_points: usize, n_handles: usize) -> Option<Box<Helper>> {
-        let first = n_points / 2;
+    /// Starts the thread; `None` if the system refuses one.
+    fn start(entries: Entries, first: usize, count: usize, n_handles: usize) -> Option<Helper> {
         let shared = Arc::new(Shared {
             slot: Mutex::new(Slot {
                 state: State::Idle,
                 pose: Vec::with_capacity(n_handles),
-                points: vec![Point::ZERO; n_points - first],
+                points: vec![Point::ZERO; count],
             }),
             wake: Condvar::new(),
             done: Condvar::new(),
@@ -380,12 +443,37 @@ impl Helper {
                 }
             })
             .ok()?;
-        Some(Box::new(Helper {
+        Some(Helper {
             first,
+            count,
             shared,
-            turn: Mutex::new(()),
             thread: Some(thread),
-        }))
+        })
+    }
+
+    /// Hands the helper `pose` and wakes it.
+    fn post(&self, pose: &[Affine]) {
+        {
+            let mut slot = lock(&self.shared.slot);
+            slot.pose.clear();
+            slot.pose.extend_from_slice(pose);
+            slot.state = State::Work;
+        }
+        self.shared.wake.notify_one();
+    }
+
+    /// Waits for the helper's points and copies them into `out` (`count` points).
+    fn collect<S: PointSink + ?Sized>(&self, out: &mut S) {
+        let mut slot = lock(&self.shared.slot);
+        while slot.state != State::Done {
+            slot = self
+                .shared
+                .done
+                .wait(slot)
+                .unwrap_or_else(|e| e.into_inner());
+        }
+        out.copy_points(&slot.points);
+        slot.state = State::Idle;
     }
 }
 
@@ -424,14 +512,16 @@ mod tests {
         // 9 MiB of operator: above the threshold.
         let (n, h) = (50_000, 2);
         let op = operator(n, h);
-        assert!(op.len() * 8 >= PARALLEL_MIN_BYTES);
+        let op_bytes = op.len() * 8;
+        assert!(op_bytes >= PARALLEL_MIN_BYTES);
         let serial = FrameProduct::new(op.clone(), n, h, false);
         let split = FrameProduct::new(op, n, h, true);
-        assert!(!serial.is_split());
+        assert_eq!(serial.threads(), 1);
         let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
-        assert_eq!(split.is_split(), cores >= 2);
+        assert_eq!(split.threads(), update_threads(op_bytes, cores));
+        assert_eq!(split.threads() >= 2, cores >= 2);
         let copy = split.clone();
-        assert_eq!(copy.is_split(), split.is_split());
+        assert_eq!(copy.threads(), split.threads());
         let (mut a, mut b, mut c) = (
             vec![Point::ZERO; n],
             vec![Point::ZERO; n],
@@ -483,9 +573,38 @@ mod tests {
     }
 
     #[test]
+    fn a_product_split_in_five_equals_the_serial_one_bit_for_bit() {
+        let (n, h) = (1003, 3);
+        let op = operator(n, h);
+        let serial = FrameProduct::new(op.clone(), n, h, false);
+        let mut split = FrameProduct::new(op, n, h, false);
+        split.helpers = Helpers::start_with(&split.entries, n, h, 5);
+        assert_eq!(split.threads(), 5);
+        let ranges: Vec<(usize, usize)> = split
+            .helpers
+            .as_ref()
+            .unwrap()
+            .helpers
+            .iter()
+            .map(|x| (x.first, x.count))
+            .collect();
+        assert_eq!(ranges, [(200, 201), (401, 200), (601, 201), (802, 201)]);
+        for k in 0..3 {
+            let t = pose(h, k);
+            let (mut a, mut b) = (
+                vec![Point::ZERO; n],
+                vec![Point::new(f64::NAN, f64::NAN); n],
+            );
+            serial.apply(&t, a.as_mut_slice());
+            split.apply(&t, b.as_mut_slice());
+            assert_eq!(a, b, "frame {k}");
+        }
+    }
+
+    #[test]
     fn small_operators_stay_on_the_calling_thread() {
         let product = FrameProduct::new(operator(10, 3), 10, 3, true);
-        assert!(!product.is_split());
+        assert_eq!(product.threads(), 1);
         let mut out = vec![Point::ZERO; 10];
         product.apply(&pose(3, 0), out.as_mut_slice());
         assert!(out.iter().all(|p| p.x.is_finite() && p.y.is_finite()));

@@ -21,6 +21,7 @@ pub mod weighted_integrals;
 
 pub use constraints::ConstraintForm;
 pub use flexible::{FlexibleError, FlexibleOptions, FlexibleReport, FlexibleRule, FlexibleSolver};
+pub use frame_product::{update_threads, BYTES_PER_THREAD, PARALLEL_MIN_BYTES};
 pub use quadrature::{Measure, Quadrature};
 pub use rig::validate;
 pub use rig::{PoseError, SplineRig};

@@ -361,15 +361,11 @@ impl SplineRig {
         }
     }
 
-    /// Threads [`SplineRig::update`] runs on: 2 when the rig was built with
-    /// [`FitOptions::parallel`], its operator holds 8 MiB or more and the machine has two
-    /// cores; else 1.
+    /// Threads [`SplineRig::update`] runs on: with [`FitOptions::parallel`] and an operator
+    /// of at least [`super::PARALLEL_MIN_BYTES`], one per [`super::BYTES_PER_THREAD`] of
+    /// operator up to the machine's cores ([`super::update_threads`]); else 1.
     pub fn update_threads(&self) -> usize {
-        if self.product.is_split() {
-            2
-        } else {
-            1
-        }
+        self.product.threads()
     }
 
     /// Whether [`SplineRig::update`] reads `f32` entries ([`SplineRig::with_single_precision`]).
