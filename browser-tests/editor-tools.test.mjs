@@ -537,3 +537,61 @@ check('show mesh draws the weights\' triangle mesh, carried by the pose; inverse
   assert.equal(await meshData(), '', 'no mesh drawn');
   await page.uncheck('#show-mesh');
 });
+
+check('the margin field grows the smooth weights\' domain around the art: two discs apart are two parts, a wider margin joins them', async () => {
+  // Two discs of radius 20 whose edges are 10 units apart (a diagonal of about 107 units):
+  // with the default 1 % margin each is its own part, with 10 % (about 11 units each way) the
+  // grown discs overlap and are one part.
+  const svg =
+    '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 40">' +
+    '<circle cx="20" cy="20" r="20" fill="#4a8"/><circle cx="70" cy="20" r="20" fill="#a48"/></svg>';
+  const scene = {
+    splineskin_scene: 1,
+    svg_text: svg,
+    handles: [{ position: [20, 20] }, { position: [70, 20] }],
+    weights: { family: 'bbw' },
+  };
+  const file = join(out.path, 'two-discs-scene.json');
+  writeFileSync(file, JSON.stringify(scene));
+  await page.setInputFiles('#open-file', file);
+  await page.waitForFunction(() => window.splineskinEditor.info?.name.endsWith('two-discs-scene.json'), null, { timeout: WAIT });
+  await waitRig();
+  assert.equal(await page.isHidden('#margin-label'), false, 'shown for the smooth weights');
+  assert.equal(await page.inputValue('#margin'), '1', 'the default margin, in %');
+  const meshSays = async (pattern) => {
+    await page.check('#show-mesh');
+    await page.waitForFunction((p) => new RegExp(p).test(document.getElementById('message').textContent), pattern, { timeout: WAIT });
+    await page.uncheck('#show-mesh');
+  };
+  await meshSays('over the art \\(2 parts\\)');
+  // Out of range: refused with a message, the scene unchanged.
+  await page.fill('#margin', '150');
+  await page.dispatchEvent('#margin', 'change');
+  await page.waitForFunction(() => /margin 150 %: expected a number from 0 to 100/.test(document.getElementById('error').textContent), null, { timeout: WAIT });
+  assert.equal((await page.evaluate(() => window.splineskinEditor.scene.margin)) ?? null, null);
+  assert.equal(await page.inputValue('#margin'), '1', 'the field shows the margin in force again');
+  await page.fill('#margin', '10');
+  await page.dispatchEvent('#margin', 'change');
+  await waitRig();
+  assert.equal(await page.evaluate(() => window.splineskinEditor.scene.margin), 0.1);
+  await meshSays('over the art \\(1 part\\)');
+  // The scene file carries it, and undo brings the default back.
+  const saved = await page.evaluate(async () => {
+    const { info, scene } = window.splineskinEditor;
+    const answer = await fetch(`/api/documents/${encodeURIComponent(info.id)}/scene`, {
+      method: 'POST',
+      headers: { 'content-type': 'application/json', 'x-splineskin': '1' },
+      body: JSON.stringify(scene),
+    });
+    return answer.text();
+  });
+  assert.equal(JSON.parse(saved).domain?.margin, 0.1, saved.slice(0, 300));
+  await page.click('#undo');
+  await waitRig();
+  assert.equal(await page.inputValue('#margin'), '1');
+  await meshSays('over the art \\(2 parts\\)');
+  // Families without a mesh hide the field.
+  await page.selectOption('#family', 'shepard');
+  await waitRig();
+  assert.equal(await page.isHidden('#margin-label'), true);
+});

@@ -354,6 +354,7 @@ impl Rigged {
             junctions: Vec::new(),
             flexible: false,
             animation: None,
+            margin: None,
         };
         let extras = SceneExtras {
             domain: self

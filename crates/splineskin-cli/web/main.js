@@ -38,6 +38,10 @@ const MAX_DEFOP_SAMPLES = 5000;
 const DEFOP_ENERGIES = { 'defop-arap': 'ARAP', 'defop-sarap': 'symmetric ARAP' };
 /** The weight families solved on a triangulated domain: seconds on big drawings. */
 const MESH_FAMILIES = new Set(['bbw', 'harmonic', 'biharmonic']);
+/** The art-shaped domain's margin, a fraction of the diagonal: its default and largest value
+ * (splineskin::domain::DEFAULT_MARGIN, MAX_MARGIN). */
+const DEFAULT_MARGIN = 0.01;
+const MAX_MARGIN = 1;
 
 const editor = {
   info: null,
@@ -238,7 +242,7 @@ function isDefop(scene) {
 
 /** What the rig depends on (everything but the pose). */
 function rigKeyOf(scene) {
-  return JSON.stringify([scene.handles, scene.weights, scene.junctions, scene.flexible]);
+  return JSON.stringify([scene.handles, scene.weights, scene.junctions, scene.flexible, scene.margin ?? null]);
 }
 
 /** After any change of the scene: precompute if its rest part changed, else redraw. */
@@ -941,6 +945,8 @@ function syncControls() {
     : "Where a curve cannot follow the pose you drag to, split it at rest and add a control point there (the artist's anchors stay; added ones are ringed among the junctions)";
   $('adaptive-tolerance-label').hidden = !editor.adaptive.on || defop;
   $('defop-samples-label').hidden = !defop;
+  $('margin-label').hidden = !MESH_FAMILIES.has(scene.weights.family);
+  $('margin').value = String(Number(((scene.margin ?? DEFAULT_MARGIN) * 100).toPrecision(6)));
   if (defop) $('defop-samples').value = scene.weights.samples ?? DEFAULT_DEFOP_SAMPLES;
   $('show-weights').disabled = defop;
   $('undo').disabled = !editor.history.canUndo;
@@ -1595,6 +1601,16 @@ function wire() {
       return;
     }
     if (isDefop(editor.scene)) edit((scene) => (scene.weights = { ...scene.weights, samples }));
+  });
+  $('margin').addEventListener('change', (event) => {
+    const percent = Number(event.target.value);
+    if (event.target.value.trim() === '' || !(percent >= 0 && percent <= 100 * MAX_MARGIN)) {
+      showError(`margin ${event.target.value} %: expected a number from 0 to ${100 * MAX_MARGIN}`);
+      syncControls();
+      return;
+    }
+    if (percent / 100 === (editor.scene.margin ?? DEFAULT_MARGIN)) return; // nothing to undo
+    edit((scene) => (scene.margin = percent / 100));
   });
   $('flexible').addEventListener('change', (event) => edit((scene) => (scene.flexible = event.target.checked)));
   $('adaptive').addEventListener('change', (event) => setAdaptive(event.target.checked));

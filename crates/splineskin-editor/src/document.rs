@@ -183,6 +183,8 @@ impl Document {
             junctions,
             flexible: scene.flexible,
             animation: scene.animation.as_ref().map(AnimationWire::of),
+            margin: (scene.domain.margin != splineskin::domain::DEFAULT_MARGIN)
+                .then_some(scene.domain.margin),
         };
         let extras = SceneExtras {
             arc_length: scene.measure == Measure::ArcLength,

@@ -159,6 +159,22 @@ fn domain_file(d: &DomainOptions) -> DomainFile {
     }
 }
 
+/// The domain options a written scene carries: the opened scene's (`None`: the defaults) with
+/// the page's margin ([`EditScene::margin`]) when it set one.
+fn page_domain(scene: &EditScene, extras: &SceneExtras) -> Option<DomainOptions> {
+    match scene.margin {
+        None => extras.domain.clone(),
+        Some(margin) => {
+            let mut domain = extras
+                .domain
+                .clone()
+                .unwrap_or_else(splineskin::scene::scene_domain_options);
+            domain.margin = margin;
+            Some(domain)
+        }
+    }
+}
+
 /// Where a written scene's drawing is.
 #[derive(Clone, Copy, Debug)]
 pub enum SvgRef<'a> {
@@ -220,8 +236,7 @@ pub fn scene_json_with(svg: SvgRef<'_>, scene: &EditScene, extras: &SceneExtras)
         weights,
         // Domain options apply to the mesh families only (the reader refuses them otherwise):
         // an authors' scene keeps its enclosing domain while its weights are on a mesh.
-        domain: extras
-            .domain
+        domain: page_domain(scene, extras)
             .as_ref()
             .filter(|_| is_mesh_family(&weights.family))
             .map(domain_file),

@@ -27,6 +27,12 @@ pub struct EditScene {
     /// The timeline's keyframes, if any (a scene's `animation`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub animation: Option<AnimationWire>,
+    /// How far the mesh families' art-shaped domain reaches around the art (Puppet Warp's
+    /// expansion), a fraction of the drawing's diagonal in `0..=`[`splineskin::domain::MAX_MARGIN`]
+    /// (a scene's `domain.margin`): shapes closer than twice this are one part. `None`: the
+    /// opened scene's, by default [`splineskin::domain::DEFAULT_MARGIN`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margin: Option<f64>,
 }
 
 /// Keyframed poses as the page edits them and scene files hold them (`animation`): every
