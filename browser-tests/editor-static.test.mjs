@@ -298,6 +298,34 @@ check('pins added to an OpenMoji giraffe in the static page: the first and final
   assert.deepEqual(pageErrors, [], 'no error in the page');
 });
 
+check('add points in the static page: the refined drawing and its rig come from the worker that made the rig; Export SVG and the next rigs use them', { skip: MISSING }, async () => {
+  // A stem bent into an S by its top pin (editor-adaptive.test.mjs does this with the server).
+  const stem = [[50, 190], [40, 140], [60, 80], [50, 30]];
+  const svg = `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 200"><path d="M${stem[0].join(' ')} C${stem.slice(1).flat().join(' ')}" fill="none" stroke="#2a7d46" stroke-width="4"/></svg>`;
+  await openThroughPicker(page, { name: 'stem.svg', mimeType: 'image/svg+xml', buffer: Buffer.from(svg) });
+  await page.keyboard.down('Alt');
+  for (const h of [[50, 40], [52, 110], [50, 180]]) {
+    const [x, y] = await clientPoint(page, h);
+    await page.mouse.click(x, y);
+  }
+  await page.keyboard.up('Alt');
+  await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  await drag(page, [50, 40], [45, 0], 10);
+  await page.check('#adaptive');
+  await page.waitForFunction(() => window.splineskinEditor.info.n_curves > 1, null, { timeout: WAIT });
+  await page.waitForSelector('body[data-refine="idle"]', { timeout: WAIT });
+  const { info } = await editorState(page);
+  assert.match(info.id, /^s\d+-/, `the refined drawing is the solver worker's: ${info.id}`);
+  const exported = await download(page, '#export-svg', 'stem-refined.svg');
+  assert.ok(/<path/.test(exported), 'the export holds the stem');
+  // Another weight family on the refined drawing: a new rig from the same worker.
+  await page.selectOption('#family', 'shepard');
+  await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  await page.setChecked('#adaptive', false);
+  assert.equal(await page.evaluate(() => document.getElementById('error').textContent), '');
+  assert.deepEqual(pageErrors, [], 'no error in the page');
+});
+
 check('the same with splineskin serve, for the native figures beside them (printed)', { skip: MISSING }, async () => {
   const server = await startEditor([]);
   const p = await browser.context.newPage();

@@ -4,26 +4,36 @@
 // (editor-worker.js), which answer the same routes; the answers come back as fetch Responses,
 // so api.js reads them alike.
 //
-// A worker runs one request at a time and cannot be interrupted, so the static build keeps two:
-// the main one answers everything, except the coarse stand-in rigs of the mesh families
-// (`weights.coarse`), which the preview worker answers, so that a stand-in never waits behind
-// the exact weights of an earlier click. The preview worker opens each document the page opened
-// (the same POST /api/open or GET /api/initial, replayed on first use); its rigs reach the page with ids prefixed
-// PREVIEW_RIG, and every request naming one is sent to it, ids translated.
+// A worker runs one request at a time and cannot be interrupted, so the static build keeps
+// three kinds:
+//   - the main worker opens the drawings and answers everything not below;
+//   - the preview worker makes the coarse stand-in rigs of the mesh families (`weights.coarse`),
+//     so that a stand-in never waits behind exact weights;
+//   - the solver worker makes the exact rigs (POST /api/rig). When the page gives up the
+//     request it is working on (a newer click superseded it) and asks for another, the solver
+//     is stopped (`Worker.terminate`) and a new one takes over: a superseded solve does not
+//     delay the next.
+// The preview and solver workers open each drawing the page opened (the same POST /api/open or
+// GET /api/initial, replayed on first use). The ids of the documents and rigs they make reach
+// the page tagged with the worker (`p-r3`, `s2-r5`); a request naming a tagged id goes to that
+// worker, ids translated. The ids of a stopped solver answer 404 ("no longer kept"), which the
+// page meets by precomputing again.
 
 const STATIC = document.documentElement.dataset.backend === 'wasm';
-
-/** Prefix of the ids of rigs made by the preview worker. */
-const PREVIEW_RIG = 'p-';
 
 /** The latest stage each followed job reported: { stage, since (ms) }. */
 const stages = new Map();
 
 /** A Web Worker running the module, answering requests in the order sent. */
 class ModuleWorker {
-  constructor() {
+  /** `tag`: '' for the main worker, else what its ids are prefixed with (before a '-'). */
+  constructor(tag) {
+    this.tag = tag;
+    /** Requests sent and not answered, oldest first: id → { resolve, signal }. */
     this.pending = new Map();
     this.nextId = 0;
+    /** The main worker's document ids → Promise of this worker's id (null: not opened). */
+    this.documents = new Map();
     this.worker = new Worker(new URL('editor-worker.js', import.meta.url), { type: 'module' });
     this.worker.onmessage = ({ data }) => {
       if (data.progress !== undefined) {
@@ -31,24 +41,35 @@ class ModuleWorker {
         return;
       }
       if (data.ready || data.failed) return;
-      const resolve = this.pending.get(data.id);
+      const entry = this.pending.get(data.id);
       this.pending.delete(data.id);
-      if (resolve) resolve(data);
+      if (entry) entry.resolve(data);
     };
-    this.worker.onerror = (e) => {
-      for (const resolve of this.pending.values()) {
-        resolve(failure(500, `the WebAssembly editor stopped: ${e.message}`));
-      }
-      this.pending.clear();
-    };
+    this.worker.onerror = (e) => this.stop(500, `the WebAssembly editor stopped: ${e.message}`);
   }
 
-  /** The worker's answer { status, contentType, headers, body } to a request (`body` is transferred). */
-  request(method, path, headers, body) {
+  /**
+   * The worker's answer { status, contentType, headers, body } to a request (`body` is
+   * transferred); `signal`: the page's AbortSignal, if any.
+   */
+  request(method, path, headers, body, signal) {
     const id = this.nextId++;
-    const answer = new Promise((resolve) => this.pending.set(id, resolve));
+    const answer = new Promise((resolve) => this.pending.set(id, { resolve, signal }));
     this.worker.postMessage({ id, method, path, headers, body }, [body]);
     return answer;
+  }
+
+  /** Whether the request the worker is working on (its oldest) was given up by the page. */
+  workingOnAbandoned() {
+    const oldest = this.pending.values().next().value;
+    return oldest?.signal?.aborted === true;
+  }
+
+  /** Stops the worker; what it had not answered gets `status` and `message`. */
+  stop(status, message) {
+    this.worker.terminate();
+    for (const { resolve } of this.pending.values()) resolve(failure(status, message));
+    this.pending.clear();
   }
 }
 
@@ -57,12 +78,17 @@ function failure(status, message) {
   return { status, contentType: 'application/json', headers: {}, body: new TextEncoder().encode(JSON.stringify({ error: message })).buffer };
 }
 
+const decode = (buffer) => JSON.parse(new TextDecoder().decode(buffer));
+const encode = (value) => new TextEncoder().encode(JSON.stringify(value)).buffer;
+
 let main = null;
 let preview = null;
-/** Documents the page opened on the main worker: id → the request that opened it (POST /api/open or GET /api/initial). */
+let solver = null;
+let solverGeneration = 0;
+/** Every worker that tags ids, by tag (stopped solvers stay out). */
+const tagged = new Map();
+/** Documents the page opened on the main worker: id → the request that opened it. */
 const opened = new Map();
-/** The preview worker's id of each document opened there: main id → Promise of its id (null: failed). */
-const previewDocuments = new Map();
 
 /** Whether the page runs without a server. */
 export const isStatic = STATIC;
@@ -73,18 +99,19 @@ export async function send(path, options = {}) {
   const job = /^\/api\/progress\/([^/?]+)$/.exec(path);
   if (job) return progressOf(decodeURIComponent(job[1]));
   if (/^\/api\/progress\/[^/?]+\/stop$/.test(path)) {
-    // The workers run one job at a time and cannot be interrupted: nothing to ask.
+    // A worker cannot be interrupted mid-request: nothing to ask (a superseded exact rig is
+    // stopped when the next one is asked for, see route).
     return new Response(JSON.stringify({ stopping: false }), { headers: { 'content-type': 'application/json' } });
   }
-  main ??= new ModuleWorker();
+  main ??= new ModuleWorker('');
   const method = options.method ?? 'GET';
   const body = options.body === undefined ? new ArrayBuffer(0) : await new Response(options.body).arrayBuffer();
   const headers = Object.fromEntries(new Headers(options.headers ?? {}).entries());
   const followed = headers['x-splineskin-job'];
   if (followed) stages.set(followed, { stage: 'queued', seconds: 0, at: performance.now() });
-  const answer = route(method, path, headers, body);
+  const answer = route(method, path, headers, body, options.signal);
   const abort = options.signal && new Promise((_, reject) => {
-    // The worker finishes the job (it cannot be interrupted); the page stops waiting for it.
+    // The page stops waiting; the worker is stopped if the next request needs it (route).
     const stop = () => reject(new DOMException('The request was aborted', 'AbortError'));
     if (options.signal.aborted) stop();
     options.signal.addEventListener('abort', stop, { once: true });
@@ -97,52 +124,106 @@ export async function send(path, options = {}) {
   }
 }
 
+/** The routes whose path names a document, a rig or an operator: [prefix, id, rest]. */
+const NAMED = /^(\/api\/(?:documents|rigs|defops)\/)([^/?]+)(.*)$/;
+
 /** Sends a request to the worker that answers it (module documentation). */
-async function route(method, path, headers, body) {
+async function route(method, path, headers, body, signal) {
   if ((method === 'POST' && path === '/api/open') || (method === 'GET' && path === '/api/initial')) {
     const request = { method, path, headers, body: body.slice(0) };
-    const data = await main.request(method, path, headers, body);
-    if (data.status === 200) opened.set(JSON.parse(new TextDecoder().decode(data.body)).id, request);
+    const data = await main.request(method, path, headers, body, signal);
+    if (data.status === 200) opened.set(decode(data.body).id, request);
     return data;
   }
-  if (method === 'POST' && path === '/api/rig') {
-    const request = JSON.parse(new TextDecoder().decode(body));
-    const document = request.scene?.weights?.coarse ? await previewDocument(request.document) : null;
-    if (document === null) return main.request(method, path, headers, body);
-    request.document = document;
-    const data = await preview.request(method, path, headers, new TextEncoder().encode(JSON.stringify(request)).buffer);
-    if (data.headers['x-splineskin-rig']) data.headers['x-splineskin-rig'] = PREVIEW_RIG + data.headers['x-splineskin-rig'];
-    return data;
+  // The ids the request names: in its path, its query (rig, defop) and a scene request's body.
+  let [, prefix, named, rest] = NAMED.exec(path) ?? [null, null, null, null];
+  const query = rest === null ? null : new URLSearchParams(rest.split('?')[1] ?? '');
+  const scene = method === 'POST' && (path === '/api/rig' || path === '/api/defop') ? decode(body) : null;
+  const ids = [named && decodeURIComponent(named), query?.get('rig'), query?.get('defop'), scene?.document].filter(Boolean);
+  const tags = new Set(ids.map(tagOf).filter((t) => t !== ''));
+  let worker;
+  if (tags.size > 1) return failure(400, `ids of different workers in one request: ${ids.join(', ')}`);
+  if (tags.size === 1) {
+    const [tag] = tags;
+    worker = tagged.get(tag);
+    if (!worker) return failure(404, `${ids.join(', ')}: no longer kept (a newer precomputation replaced it): precompute again`);
+  } else if (path === '/api/rig' && method === 'POST') {
+    worker = scene.scene?.weights?.coarse ? (preview ??= tag(new ModuleWorker('p'))) : exactSolver();
+  } else {
+    return main.request(method, path, headers, body, signal);
   }
-  const rig = new RegExp(`^/api/rigs/${PREVIEW_RIG}([^/?]+)(.*)$`).exec(path);
-  if (rig) return preview.request(method, `/api/rigs/${rig[1]}${rig[2]}`, headers, body);
-  // An export with a preview rig's pose: the preview worker's document and rig.
-  const exported = new RegExp(`^/api/documents/([^/?]+)(/export\\?.*)rig=${PREVIEW_RIG}(.*)$`).exec(path);
-  if (exported) {
-    const document = await previewDocument(decodeURIComponent(exported[1]));
-    if (document === null) return failure(404, 'the stand-in rig is gone: wait for the exact weights');
-    return preview.request(method, `/api/documents/${encodeURIComponent(document)}${exported[2]}rig=${exported[3]}`, headers, body);
+  // The ids in the chosen worker's terms: its own untagged, the main worker's documents opened there.
+  const local = async (id) => {
+    if (tagOf(id) === worker.tag) return id.slice(worker.tag.length + 1);
+    return documentIn(worker, id);
+  };
+  const translated = new Map();
+  for (const id of ids) translated.set(id, await local(id));
+  if ([...translated.values()].includes(null)) {
+    // A document the page did not open itself (a refined drawing): the main worker has it.
+    if (tags.size === 0) return main.request(method, path, headers, body, signal);
+    return failure(404, `${ids.join(', ')}: not available in the same worker: precompute again`);
   }
-  return main.request(method, path, headers, body);
+  if (named) path = prefix + encodeURIComponent(translated.get(decodeURIComponent(named))) + rest.split('?')[0];
+  if (query) {
+    for (const key of ['rig', 'defop']) if (query.get(key)) query.set(key, translated.get(query.get(key)));
+    if ([...query.keys()].length) path += `?${query}`;
+  }
+  if (scene) {
+    scene.document = translated.get(scene.document);
+    body = encode(scene);
+  }
+  return tagAnswer(worker, await worker.request(method, path, headers, body, signal), path);
+}
+
+/** The solver worker, a new one if the current one works on a request the page gave up. */
+function exactSolver() {
+  if (solver?.workingOnAbandoned()) {
+    tagged.delete(solver.tag);
+    solver.stop(404, 'superseded: the editor asked for another rig');
+    solver = null;
+  }
+  if (!solver) solver = tag(new ModuleWorker(`s${++solverGeneration}`));
+  return solver;
+}
+
+/** Registers `worker` by its tag; returns it. */
+function tag(worker) {
+  tagged.set(worker.tag, worker);
+  return worker;
+}
+
+/** The tag of id `id` ('' for the main worker's). */
+function tagOf(id) {
+  const dash = String(id).indexOf('-');
+  return dash < 0 ? '' : String(id).slice(0, dash);
+}
+
+/** The answer of `worker` with the ids it made tagged: a new rig's header, a refined drawing's. */
+function tagAnswer(worker, data, path) {
+  const mark = (id) => `${worker.tag}-${id}`;
+  if (data.headers['x-splineskin-rig']) data.headers['x-splineskin-rig'] = mark(data.headers['x-splineskin-rig']);
+  if (data.status === 200 && /^\/api\/rigs\/[^/]+\/refine$/.test(path)) {
+    const answer = decode(data.body);
+    if (answer.document) answer.document.id = mark(answer.document.id);
+    if (answer.rig) answer.rig = mark(answer.rig);
+    data.body = encode(answer);
+  }
+  return data;
 }
 
 /**
- * The preview worker's id of the main worker's document `id`, opening it there first; null
- * when the page did not open it itself (a refined drawing: its stand-ins are answered by the
- * main worker) or it fails to open.
+ * `worker`'s id of the main worker's document `id`, opening it there first; null when the
+ * page did not open it itself (a refined drawing) or it fails to open.
  */
-function previewDocument(id) {
+function documentIn(worker, id) {
   const request = opened.get(id);
   if (!request) return Promise.resolve(null);
-  if (!previewDocuments.has(id)) {
-    preview ??= new ModuleWorker();
-    const answer = preview.request(request.method, request.path, request.headers, request.body.slice(0));
-    previewDocuments.set(
-      id,
-      answer.then((data) => (data.status === 200 ? JSON.parse(new TextDecoder().decode(data.body)).id : null)),
-    );
+  if (!worker.documents.has(id)) {
+    const answer = worker.request(request.method, request.path, request.headers, request.body.slice(0));
+    worker.documents.set(id, answer.then((data) => (data.status === 200 ? decode(data.body).id : null)));
   }
-  return previewDocuments.get(id);
+  return worker.documents.get(id);
 }
 
 /** What `GET /api/progress/{job}` answers, from the stages the workers reported. */
