@@ -595,3 +595,35 @@ check('the margin field grows the smooth weights\' domain around the art: two di
   await waitRig();
   assert.equal(await page.isHidden('#margin-label'), true);
 });
+
+check('the exact weights replace their coarse stand-in without a jump: blended in from the stand-in\'s deformation under the pose shown', async () => {
+  // The bundled fish opens posed; with smooth weights the stand-in comes first, then the exact rig.
+  const scene = JSON.parse(readFileSync(join(REPO_ASSETS, 'demo-scene.json'), 'utf8'));
+  scene.svg_text = readFileSync(join(REPO_ASSETS, scene.svg), 'utf8');
+  delete scene.svg;
+  scene.weights = { family: 'bbw' };
+  const file = join(out.path, 'blend-scene.json');
+  writeFileSync(file, JSON.stringify(scene));
+  // The points shown as data-rig changes, read in the observer (before the next frame).
+  await page.evaluate(() => {
+    window.shownAt = {};
+    new MutationObserver(() => {
+      const state = document.body.dataset.rig;
+      if (state === 'preview' || state === 'ready') window.shownAt[state] ??= Float64Array.from(window.splineskinEditor.points);
+    }).observe(document.body, { attributes: true, attributeFilter: ['data-rig'] });
+  });
+  await page.setInputFiles('#open-file', file);
+  await page.waitForFunction(() => window.splineskinEditor.info?.name.endsWith('blend-scene.json'), null, { timeout: WAIT });
+  await waitRig();
+  await page.waitForFunction(() => !window.splineskinEditor.rig.blendingUntil, null, { timeout: WAIT });
+  const { preview, ready, final } = await page.evaluate(() => ({
+    preview: [...(window.shownAt.preview ?? [])],
+    ready: [...window.shownAt.ready],
+    final: [...window.splineskinEditor.points],
+  }));
+  assert.ok(preview.length > 0, 'the stand-in was shown');
+  const distance = (a, b) => Math.max(...a.map((x, k) => Math.abs(x - b[k])));
+  const jump = distance(final, preview);
+  assert.ok(jump > 1e-3, `the exact deformation differs from the stand-in's (${jump})`);
+  assert.ok(distance(ready, preview) < 0.25 * jump, `when the exact rig arrived the drawing was still near the stand-in's: ${distance(ready, preview)} of ${jump}`);
+});

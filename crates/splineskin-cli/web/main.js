@@ -302,7 +302,15 @@ async function precompute() {
       if (MESH_FAMILIES.has(scene.weights.family)) preview(scene, key, seq, abort.signal, started);
       const { id, operator } = await api.precompute(editor.info.id, scene, abort.signal, job);
       if (seq !== editor.precomputeSeq) return;
+      // The exact weights replace the coarse stand-in under the pose shown: blended in over
+      // BLEND_MS (follow.js) rather than with a jump of the stand-in's error.
+      const standIn = editor.rigPreview && editor.rigKey === key ? editor.rig : null;
       editor.rig = new LiveRig(id, operator, editor.view.nPoints, scene.handles.length);
+      // (With flexible G¹ on, the server's solve replaces the points after the swap anyway.)
+      if (standIn && !scene.flexible && !editor.scene.pose.every((T) => affine.isIdentity(T))) {
+        blendIn(editor.rig, standIn);
+        blendFrames();
+      }
       bytes = operator.byteLength;
     }
     editor.rigKey = key;
@@ -518,12 +526,26 @@ const follower = new OperatorFollower({
 });
 editor.follower = follower;
 
-/** Draws frames until a blend from a followed operator ends. */
+/**
+ * Draws frames until a blend (a followed operator, or exact weights after their stand-in)
+ * ends, then once more as after any change (the viewBox and fold checks of the final points).
+ */
 function blendFrames() {
   requestAnimationFrame(() => {
     render({ timed: true });
     if (editor.rig?.blendingUntil) blendFrames();
+    else {
+      render();
+      flexibleSolve();
+    }
   });
+}
+
+/** Ends a blend in progress: the points become the new rig's alone (what exports send). */
+function settleBlend() {
+  if (!editor.rig?.blendingUntil) return;
+  editor.rig.blendingUntil = 1; // in the past: the rig's next deform is its own
+  render();
 }
 
 let frameRequested = false;
@@ -1456,6 +1478,7 @@ function shownDeformation() {
 async function exportSvg() {
   try {
     const viewbox = $('export-viewbox').value;
+    settleBlend();
     const svg = await api.exportSvg(editor.info.id, editor.points, viewbox, shownDeformation());
     download(svg, `${baseName()}-deformed.svg`, 'image/svg+xml');
     const outside = editor.viewBoxReport?.outside.length ?? 0;
