@@ -174,8 +174,16 @@ fn draw_scene(scene_path: &Path, args: &Args) -> Result<()> {
     )
     .with_context(|| format!("{}: drawing the weights", scene_path.display()))?;
     write_atomic(&args.output, &map.png)?;
-    let on_mesh = mesh
-        .map(|m| format!(" (domain of {} vertices)", m.n_vertices()))
+    let on_mesh = setup
+        .domain
+        .as_ref()
+        .map(|d| {
+            format!(
+                " (domain of {} vertices over {})",
+                d.mesh.n_vertices(),
+                d.boundary
+            )
+        })
         .unwrap_or_default();
     eprintln!(
         "{}: {family} weights{on_mesh}, {} of {n_handles} handles in {:.2} s -> {} ({}×{} px)",

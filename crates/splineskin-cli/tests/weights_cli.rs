@@ -459,6 +459,10 @@ fn weights_cli_scene_harmonic_mesh_lines() {
     std::fs::write(dir.join("scene.json"), arc_scene("harmonic")).unwrap();
     let (plain, stderr) = draw(&dir, "plain.png", &[]);
     assert!(stderr.contains("harmonic weights (domain of"), "{stderr}");
+    assert!(
+        stderr.contains(" vertices over the art (1 part"),
+        "{stderr}"
+    );
     let (meshed, _) = draw(&dir, "mesh.png", &["--mesh-lines"]);
     let (iso, _) = draw(&dir, "iso.png", &["--iso-lines"]);
 
