@@ -25,6 +25,7 @@ pub mod linalg;
 pub mod mesh;
 pub mod parallel;
 pub mod spline_fit;
+pub mod stop;
 #[cfg(test)]
 mod test_support;
 mod union_find;

@@ -32,8 +32,9 @@
 //! callback itself): the solves not yet started are skipped and the call returns
 //! [`DefOpError::Stopped`].
 
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+pub use splineskin_core::stop::StopSignal;
 
 use kurbo::Point;
 use rayon::prelude::*;
@@ -129,64 +130,12 @@ pub struct TrainOptions {
     pub stop: StopSignal,
 }
 
-/// Asks a running [`train`], [`extend`] or [`ground_truths_from_rest`] to stop: clones share
-/// one flag, so a user interface (or the progress callback) keeps a clone and calls
-/// [`StopSignal::raise`]. Each solve not started by then is skipped, and the call returns
-/// [`DefOpError::Stopped`]; a solve under way finishes first (its cost is one ground truth).
-///
-/// ```
-/// use kurbo::Rect;
-/// use splineskin_defop::{train, DefOpError, Energy, SpatialBasis, StopSignal, TrainOptions};
-/// use splineskin_core::mesh::TriMesh;
-/// let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 8, 2)?;
-/// let stop = StopSignal::new();
-/// let options = TrainOptions::default().with_energy(Energy::Arap).with_n_samples(40).with_stop(stop.clone());
-/// let solved = std::sync::atomic::AtomicUsize::new(0);
-/// // The callback stops the training after its fifth solve.
-/// let result = train(&mesh, &[9, 17], &SpatialBasis::hats(&mesh)?, &options, &|p| {
-///     solved.store(p.solved, std::sync::atomic::Ordering::Relaxed);
-///     if p.solved == 5 {
-///         stop.raise();
-///     }
-/// });
-/// assert!(matches!(result, Err(DefOpError::Stopped)));
-/// assert!(stop.is_raised());
-/// assert_eq!(solved.into_inner(), 5);
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-#[derive(Clone, Debug, Default)]
-pub struct StopSignal(Arc<AtomicBool>);
-
-impl StopSignal {
-    /// A signal not raised, held by nobody else yet.
-    pub fn new() -> StopSignal {
-        StopSignal::default()
-    }
-
-    /// Raises the signal: every holder's training stops at its next solve.
-    pub fn raise(&self) {
-        self.0.store(true, Ordering::Relaxed);
-    }
-
-    /// Whether it was raised.
-    pub fn is_raised(&self) -> bool {
-        self.0.load(Ordering::Relaxed)
-    }
-
-    /// [`DefOpError::Stopped`] once raised.
-    fn check(&self) -> Result<(), DefOpError> {
-        if self.is_raised() {
-            Err(DefOpError::Stopped)
-        } else {
-            Ok(())
-        }
-    }
-}
-
-/// Two options are equal when they hold the same signal (not merely two unraised ones).
-impl PartialEq for StopSignal {
-    fn eq(&self, other: &StopSignal) -> bool {
-        Arc::ptr_eq(&self.0, &other.0)
+/// [`DefOpError::Stopped`] once `stop` is raised.
+fn check_stop(stop: &StopSignal) -> Result<(), DefOpError> {
+    if stop.is_raised() {
+        Err(DefOpError::Stopped)
+    } else {
+        Ok(())
     }
 }
 
@@ -300,7 +249,30 @@ impl TrainOptions {
         self.parallel = parallel;
         self
     }
-    /// Sets [`TrainOptions::stop`].
+    /// Sets [`TrainOptions::stop`]: a running [`train`], [`extend`] or
+    /// [`ground_truths_from_rest`] skips each solve not started once it is raised and returns
+    /// [`DefOpError::Stopped`]; a solve under way finishes first (its cost is one ground truth).
+    ///
+    /// ```
+    /// use kurbo::Rect;
+    /// use splineskin_defop::{train, DefOpError, Energy, SpatialBasis, StopSignal, TrainOptions};
+    /// use splineskin_core::mesh::TriMesh;
+    /// let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 8, 2)?;
+    /// let stop = StopSignal::new();
+    /// let options = TrainOptions::default().with_energy(Energy::Arap).with_n_samples(40).with_stop(stop.clone());
+    /// let solved = std::sync::atomic::AtomicUsize::new(0);
+    /// // The callback stops the training after its fifth solve.
+    /// let result = train(&mesh, &[9, 17], &SpatialBasis::hats(&mesh)?, &options, &|p| {
+    ///     solved.store(p.solved, std::sync::atomic::Ordering::Relaxed);
+    ///     if p.solved == 5 {
+    ///         stop.raise();
+    ///     }
+    /// });
+    /// assert!(matches!(result, Err(DefOpError::Stopped)));
+    /// assert!(stop.is_raised());
+    /// assert_eq!(solved.into_inner(), 5);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn with_stop(mut self, stop: StopSignal) -> Self {
         self.stop = stop;
         self
@@ -485,7 +457,7 @@ pub fn train(
             WarmStart::Rest => None,
         };
         let solve_one = |k: usize| -> Result<Solved, DefOpError> {
-            options.stop.check()?;
+            check_stop(&options.stop)?;
             let result = solve_sample(mesh, handles, &solver, predictor, k, &configurations[k]);
             let done = solved.fetch_add(1, Ordering::Relaxed) + 1;
             progress(Progress {
@@ -602,7 +574,7 @@ pub fn ground_truths_from_rest(
     };
     let solved = AtomicUsize::new(0);
     let solve_one = |k: usize| -> Result<Vec<Point>, DefOpError> {
-        options.stop.check()?;
+        check_stop(&options.stop)?;
         let result = solve_sample(mesh, handles, &solver, None, k, &configurations[k]);
         progress(solved.fetch_add(1, Ordering::Relaxed) + 1);
         result.map(|s| s.solution)
@@ -791,7 +763,7 @@ pub fn extend(
     let n_before = training.configurations.len();
     let op = &training.op;
     let solve_one = |k: usize| -> Result<Solved, DefOpError> {
-        options.stop.check()?;
+        check_stop(&options.stop)?;
         let result = solve_sample(
             mesh,
             &handles,

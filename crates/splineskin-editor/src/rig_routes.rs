@@ -4,7 +4,8 @@
 use kurbo::{Affine, Point};
 use serde::Deserialize;
 use splineskin::adaptive::AdaptiveOptions;
-use splineskin::scene::{Compat, Puppet, PuppetStage, Scene};
+use splineskin::scene::{Compat, Puppet, PuppetStage, Scene, SceneError};
+use splineskin::weights::WeightsError;
 
 use crate::document::Document;
 use crate::editor::{
@@ -81,6 +82,9 @@ pub(crate) fn rig(
         )));
     }
     let report = followed.map(|f| f.reporter());
+    // A newer request (the page's next click) asks this one to stop: its weights end at the
+    // next active-set iteration, and the cores go to the newer one.
+    let stop = followed.map(|f| f.stop_signal());
     let scene = page_scene(&document, &request.scene)?;
     let mut stage = |s: PuppetStage| {
         if let Some(report) = &report {
@@ -90,8 +94,15 @@ pub(crate) fn rig(
             });
         }
     };
-    let puppet = Puppet::from_scene_staged(&scene, Compat::None, &mut stage)
-        .map_err(|e| ApiError::bad(e.to_string()))?;
+    let puppet = Puppet::from_scene_stoppable(&scene, Compat::None, &mut stage, stop.as_ref())
+        .map_err(|e| match &e {
+            SceneError::Weights { source, .. }
+                if source.downcast_ref::<WeightsError>() == Some(&WeightsError::Stopped) =>
+            {
+                ApiError::new(409, format!("{}: weights stopped as asked", document.name))
+            }
+            _ => ApiError::bad(e.to_string()),
+        })?;
     let response = Response::f64s(puppet.rig().map(|r| r.operator()).unwrap_or(&[]));
     let id = editor.store().add_rig(&request.document, puppet);
     Ok(response.with_header(RIG_HEADER, id))
@@ -267,7 +278,8 @@ pub(crate) fn progress(editor: &Editor, job: &str) -> Result<Response, ApiError>
 }
 
 /// `POST /api/progress/{job}/stop`: asks the job to stop (a training ends at its next
-/// ground-truth solve and its request answers 409). `{"stopping": true}`, or 404 when no such
+/// ground-truth solve, bounded biharmonic weights at their next active-set iteration, and its
+/// request answers 409). `{"stopping": true}`, or 404 when no such
 /// job runs.
 pub(crate) fn stop(editor: &Editor, job: &str) -> Result<Response, ApiError> {
     if editor.progress.stop(job) {

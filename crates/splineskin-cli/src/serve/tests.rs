@@ -687,6 +687,58 @@ async fn stop_job(app: &Router, job: &str) -> (StatusCode, axum::http::HeaderMap
 }
 
 #[tokio::test]
+async fn serve_stop_ends_bounded_biharmonic_weights_at_their_next_iteration() {
+    let (app, _, id) = demo_app().await;
+    let handles = [
+        [440.0, 200.0],
+        [110.0, 205.0],
+        [300.0, 150.0],
+        [250.0, 260.0],
+        [380.0, 250.0],
+        [180.0, 180.0],
+    ];
+    let scene = serde_json::json!({
+        "document": id,
+        "scene": {
+            "handles": handles,
+            "pose": vec![[1.0, 0.0, 0.0, 1.0, 0.0, 0.0]; handles.len()],
+            "weights": {"family": "bbw"},
+            "junctions": [],
+            "flexible": false
+        }
+    });
+    let mut request = post_json("/api/rig", &scene);
+    request
+        .headers_mut()
+        .insert("x-splineskin-job", "bbw-1".parse().expect("a header"));
+    let rig = tokio::spawn({
+        let app = app.clone();
+        async move { send(&app, request).await }
+    });
+    // Waits until the weights are being computed, then asks them to stop.
+    let mut seen = serde_json::Value::Null;
+    for _ in 0..6000 {
+        let (_, _, body) = send(&app, get("/api/progress/bbw-1")).await;
+        seen = json(&body);
+        if seen["stage"] == "weights" {
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(2)).await;
+    }
+    assert_eq!(seen["stage"], "weights", "{seen}");
+    let (status, _, _) = stop_job(&app, "bbw-1").await;
+    assert_eq!(status, StatusCode::OK);
+    let (status, _, body) = rig.await.expect("the rig request ends");
+    let said = String::from_utf8_lossy(&body);
+    assert_eq!(status, StatusCode::CONFLICT, "{said}");
+    assert!(said.contains("weights stopped as asked"), "{said}");
+    // Not stopped, the same request rigs.
+    let (status, headers, _) = send(&app, post_json("/api/rig", &scene)).await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(headers.contains_key(RIG_HEADER));
+}
+
+#[tokio::test]
 async fn serve_stop_ends_a_training_at_its_next_solve() {
     let (app, _, id) = demo_app().await;
     // 5 000 samples: minutes of training unless stopped.

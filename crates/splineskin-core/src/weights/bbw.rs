@@ -56,6 +56,7 @@ use super::harmonic::{prepare, solve_unbounded};
 use super::reduced_cholesky::{EnergySystem, ReducedCholesky};
 use super::{DirichletData, VertexWeights, WeightsError};
 use crate::mesh::TriMesh;
+use crate::stop::StopSignal;
 
 /// Lower bound of bounded biharmonic weights.
 pub const LOWER: f64 = 0.0;
@@ -85,7 +86,7 @@ pub const DEFAULT_OPTIMALITY_TOLERANCE: f64 = 1e-12;
 /// let options = BbwOptions::default().with_parallel(true).with_max_iterations(50);
 /// assert_eq!(options.max_iterations, 50);
 /// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct BbwOptions {
     /// Active-set iterations (re-solves) allowed per handle before giving up with
@@ -99,6 +100,10 @@ pub struct BbwOptions {
     pub optimality_tolerance: f64,
     /// Solve the handles' programs in parallel (rayon's global pool). Default: `false`.
     pub parallel: bool,
+    /// Stops the solve between active-set iterations when raised, with
+    /// [`WeightsError::Stopped`] (an editor whose user asked for other weights meanwhile).
+    /// Default: `None`.
+    pub stop: Option<StopSignal>,
 }
 
 impl Default for BbwOptions {
@@ -108,6 +113,7 @@ impl Default for BbwOptions {
             feasibility_tolerance: DEFAULT_FEASIBILITY_TOLERANCE,
             optimality_tolerance: DEFAULT_OPTIMALITY_TOLERANCE,
             parallel: false,
+            stop: None,
         }
     }
 }
@@ -131,6 +137,24 @@ impl BbwOptions {
     /// Sets [`BbwOptions::parallel`].
     pub fn with_parallel(mut self, parallel: bool) -> Self {
         self.parallel = parallel;
+        self
+    }
+    /// Sets [`BbwOptions::stop`].
+    ///
+    /// ```
+    /// use kurbo::Rect;
+    /// use splineskin_core::mesh::TriMesh;
+    /// use splineskin_core::stop::StopSignal;
+    /// use splineskin_core::weights::{bbw::{bbw_weights, BbwOptions}, WeightsError};
+    /// let mesh = TriMesh::grid(Rect::new(0.0, 0.0, 2.0, 1.0), 16, 8)?;
+    /// let stop = StopSignal::new();
+    /// stop.raise();
+    /// let options = BbwOptions::default().with_stop(Some(stop));
+    /// assert_eq!(bbw_weights(&mesh, &[20, 60, 100], &options), Err(WeightsError::Stopped));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_stop(mut self, stop: Option<StopSignal>) -> Self {
+        self.stop = stop;
         self
     }
 
@@ -379,6 +403,9 @@ fn solve_column(
     }
     // Iteration 0 checks the starting solution; each later one follows a re-solve.
     for iteration in 0..=options.max_iterations {
+        if options.stop.as_ref().is_some_and(StopSignal::is_raised) {
+            return Err(WeightsError::Stopped);
+        }
         system.apply(w, &mut g);
         n_changes = 0;
         for v in 0..n {

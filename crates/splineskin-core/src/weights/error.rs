@@ -135,6 +135,12 @@ pub enum WeightsError {
         /// The sum.
         sum: f64,
     },
+    /// The bounded solve was stopped by its [`crate::stop::StopSignal`]
+    /// ([`super::bbw::BbwOptions::stop`]) before it settled.
+    #[error(
+        "stopped before the bounded biharmonic weights settled (their result was no longer wanted)"
+    )]
+    Stopped,
     /// The bounded solve did not find its active set within the iteration limit.
     #[error("bounded biharmonic weight of column {column}: the active set did not settle within {iterations} iterations ({n_changes} constraints still changing)")]
     NotConverged {

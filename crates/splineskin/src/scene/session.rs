@@ -15,6 +15,7 @@ use super::{Bone, HandleKind, Scene, SceneError, SceneFormat, WeightSpec};
 use crate::domain::{Domain, DomainOptions};
 use crate::drawing::Drawing;
 use crate::spline_fit::{FitOptions, FlexibleOptions, SplineRig};
+use crate::stop::StopSignal;
 use crate::weights::WeightField;
 
 /// How often a [`Puppet`] has computed its weights and its rig, and run its update.
@@ -183,6 +184,34 @@ impl Puppet {
         compat: Compat,
         stage: &mut dyn FnMut(PuppetStage),
     ) -> Result<Puppet, SceneError> {
+        Puppet::from_scene_stoppable(scene, compat, stage, None)
+    }
+
+    /// [`Puppet::from_scene_staged`] whose bounded biharmonic weights stop when `stop` is
+    /// raised ([`Scene::setup_stoppable`]): an editor's superseded request frees its cores.
+    ///
+    /// ```
+    /// use splineskin::scene::{Compat, Puppet, Scene, SceneError};
+    /// use splineskin::stop::StopSignal;
+    /// use splineskin::weights::WeightsError;
+    /// let json = r#"{"splineskin_scene": 1,
+    ///   "svg_text": "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C1 1 2 1 3 0' stroke='black'/></svg>",
+    ///   "handles": [{"position": [0, 0]}, {"position": [3, 0]}], "weights": {"family": "bbw"}}"#;
+    /// let scene = Scene::from_json(json, "example", None)?;
+    /// let stop = StopSignal::new();
+    /// stop.raise();
+    /// let stopped = Puppet::from_scene_stoppable(&scene, Compat::None, &mut |_| {}, Some(&stop));
+    /// let Err(SceneError::Weights { source, .. }) = stopped else { panic!("not stopped") };
+    /// assert_eq!(source.downcast_ref::<WeightsError>(), Some(&WeightsError::Stopped));
+    /// assert!(Puppet::from_scene_stoppable(&scene, Compat::None, &mut |_| {}, None).is_ok());
+    /// # Ok::<(), splineskin::scene::SceneError>(())
+    /// ```
+    pub fn from_scene_stoppable(
+        scene: &Scene,
+        compat: Compat,
+        stage: &mut dyn FnMut(PuppetStage),
+        stop: Option<&StopSignal>,
+    ) -> Result<Puppet, SceneError> {
         if scene.engine != super::Engine::Ours {
             return Err(SceneError::Invalid {
                 origin: scene.origin.clone(),
@@ -195,7 +224,7 @@ impl Puppet {
             });
         }
         stage(PuppetStage::Weights);
-        let setup = scene.setup(compat)?;
+        let setup = scene.setup_stoppable(compat, stop)?;
         let mut puppet = Puppet {
             origin: scene.origin.clone(),
             format: scene.format,
@@ -720,6 +749,7 @@ impl Puppet {
             compat: self.compat,
             origin: &self.origin,
             format: self.format,
+            stop: None,
         }
     }
 

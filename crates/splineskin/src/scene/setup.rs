@@ -9,6 +9,7 @@ use crate::domain::{Domain, DomainError, DomainOptions, MeshWeights};
 use crate::drawing::authors_svg::read_authors_drawing_named;
 use crate::drawing::{read_svg_named, Drawing, ImportOptions, JointKind};
 use crate::spline_fit::{FitOptions, FlexibleOptions};
+use crate::stop::StopSignal;
 use crate::weights::bbw::BbwOptions;
 use crate::weights::coarse_to_fine::bbw_coarse_to_fine;
 use crate::weights::harmonic::harmonic;
@@ -79,10 +80,25 @@ impl Scene {
     /// options for `compat`. Errors if the scene needs something not implemented
     /// ([`Scene::check_supported`]) or its drawing cannot be read.
     pub fn setup(&self, compat: Compat) -> Result<Setup, SceneError> {
+        self.setup_stoppable(compat, None)
+    }
+
+    /// [`Scene::setup`] whose bounded biharmonic weights stop when `stop` is raised
+    /// ([`crate::weights::bbw::BbwOptions::stop`]): then a [`SceneError::Weights`] whose source
+    /// is [`crate::weights::WeightsError::Stopped`].
+    pub fn setup_stoppable(
+        &self,
+        compat: Compat,
+        stop: Option<&StopSignal>,
+    ) -> Result<Setup, SceneError> {
         self.check_supported()?;
         let (drawing, warnings) = self.drawing_with_junctions(compat)?;
         let options = self.fit_options(compat);
-        let (weights, domain) = handle_weights(&drawing, &self.weight_inputs(compat))?;
+        let inputs = WeightInputs {
+            stop,
+            ..self.weight_inputs(compat)
+        };
+        let (weights, domain) = handle_weights(&drawing, &inputs)?;
         Ok(Setup {
             drawing,
             weights,
@@ -180,6 +196,7 @@ impl Scene {
             compat,
             origin: &self.origin,
             format: self.format,
+            stop: None,
         }
     }
 
@@ -218,6 +235,8 @@ pub struct WeightInputs<'a> {
     pub origin: &'a str,
     /// The scene's format, for naming handles in messages ([`Scene::element`]).
     pub format: SceneFormat,
+    /// Stops the bounded biharmonic solve when raised ([`Scene::setup_stoppable`]).
+    pub stop: Option<&'a StopSignal>,
 }
 
 /// The weights of `inputs.handles` on `drawing`, one column per handle in rig order, and the
@@ -377,7 +396,9 @@ pub fn mesh_weights(
                 &domain,
                 &data,
                 coarse_data,
-                &BbwOptions::default().with_parallel(true),
+                &BbwOptions::default()
+                    .with_parallel(true)
+                    .with_stop(inputs.stop.cloned()),
             );
             raw.and_then(|mut w| w.normalize_rows().map(|()| w))
         }
