@@ -263,21 +263,26 @@ async function timedPin(p, at) {
   };
 }
 
+/** Opens `file` on page `p`, Alt-clicks a pin at each drawing point of `pins`, waits for the rig. */
+async function openPinned(p, file, pins) {
+  await openThroughPicker(p, file);
+  await p.keyboard.down('Alt');
+  for (const at of pins) {
+    const [x, y] = await clientPoint(p, at);
+    await p.mouse.click(x, y);
+  }
+  await p.keyboard.up('Alt');
+  await p.waitForFunction((k) => window.splineskinEditor.scene.handles.length === k, pins.length, { timeout: 5000 });
+  await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+}
+
 /**
  * The giraffe with three pins and smooth weights; a 4th pin (the middle foot) timed from its
  * click to the first and final results; then a 5th and a 6th clicked 0.3 s apart, the 6th
  * timed: its stand-in must not wait behind the 5th's weights. Printed, never asserted.
  */
 async function addPinFlow(p, label) {
-  await openThroughPicker(p, GIRAFFE);
-  await p.keyboard.down('Alt');
-  for (const at of GIRAFFE_PINS) {
-    const [x, y] = await clientPoint(p, at);
-    await p.mouse.click(x, y);
-  }
-  await p.keyboard.up('Alt');
-  await p.waitForFunction((k) => window.splineskinEditor.scene.handles.length === k, GIRAFFE_PINS.length, { timeout: 5000 });
-  await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  await openPinned(p, GIRAFFE, GIRAFFE_PINS);
   const fourth = await (await timedPin(p, [44.9, 61]))();
   await timedPin(p, [30, 45]);
   await p.waitForTimeout(300);
@@ -303,15 +308,7 @@ const DOG_CLICKS = [[40, 30], [45, 45], [30, 55], [20, 25], [50, 20]];
  * the last click. Printed, never asserted.
  */
 async function quickClicksFlow(p, label) {
-  await openThroughPicker(p, DOG);
-  await p.keyboard.down('Alt');
-  for (const at of DOG_PINS) {
-    const [x, y] = await clientPoint(p, at);
-    await p.mouse.click(x, y);
-  }
-  await p.keyboard.up('Alt');
-  await p.waitForFunction((k) => window.splineskinEditor.scene.handles.length === k, DOG_PINS.length, { timeout: 5000 });
-  await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  await openPinned(p, DOG, DOG_PINS);
   let last;
   for (const [k, at] of DOG_CLICKS.entries()) {
     if (k > 0) await p.waitForTimeout(300);

@@ -686,6 +686,38 @@ async fn stop_job(app: &Router, job: &str) -> (StatusCode, axum::http::HeaderMap
     send(app, request).await
 }
 
+/// Sends `request` as job `job` (header `x-splineskin-job`) on a task of its own.
+fn spawn_followed(
+    app: &Router,
+    mut request: axum::http::Request<Body>,
+    job: &str,
+) -> tokio::task::JoinHandle<(StatusCode, axum::http::HeaderMap, Vec<u8>)> {
+    request
+        .headers_mut()
+        .insert("x-splineskin-job", job.parse().expect("a header"));
+    let app = app.clone();
+    tokio::spawn(async move { send(&app, request).await })
+}
+
+/// Polls `GET /api/progress/{job}` (up to a minute) until `done` holds of its report; the last
+/// report.
+async fn progress_until(
+    app: &Router,
+    job: &str,
+    done: impl Fn(&serde_json::Value) -> bool,
+) -> serde_json::Value {
+    let mut seen = serde_json::Value::Null;
+    for _ in 0..6000 {
+        let (_, _, body) = send(app, get(&format!("/api/progress/{job}"))).await;
+        seen = json(&body);
+        if done(&seen) {
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(10)).await;
+    }
+    seen
+}
+
 #[tokio::test]
 async fn serve_stop_ends_bounded_biharmonic_weights_at_their_next_iteration() {
     let (app, _, id) = demo_app().await;
@@ -707,24 +739,9 @@ async fn serve_stop_ends_bounded_biharmonic_weights_at_their_next_iteration() {
             "flexible": false
         }
     });
-    let mut request = post_json("/api/rig", &scene);
-    request
-        .headers_mut()
-        .insert("x-splineskin-job", "bbw-1".parse().expect("a header"));
-    let rig = tokio::spawn({
-        let app = app.clone();
-        async move { send(&app, request).await }
-    });
+    let rig = spawn_followed(&app, post_json("/api/rig", &scene), "bbw-1");
     // Waits until the weights are being computed, then asks them to stop.
-    let mut seen = serde_json::Value::Null;
-    for _ in 0..6000 {
-        let (_, _, body) = send(&app, get("/api/progress/bbw-1")).await;
-        seen = json(&body);
-        if seen["stage"] == "weights" {
-            break;
-        }
-        tokio::time::sleep(std::time::Duration::from_millis(2)).await;
-    }
+    let seen = progress_until(&app, "bbw-1", |seen| seen["stage"] == "weights").await;
     assert_eq!(seen["stage"], "weights", "{seen}");
     let (status, _, _) = stop_job(&app, "bbw-1").await;
     assert_eq!(status, StatusCode::OK);
@@ -742,24 +759,13 @@ async fn serve_stop_ends_bounded_biharmonic_weights_at_their_next_iteration() {
 async fn serve_stop_ends_a_training_at_its_next_solve() {
     let (app, _, id) = demo_app().await;
     // 5 000 samples: minutes of training unless stopped.
-    let mut request = post_json("/api/defop", &operator_scene(&id, "defop-arap", 5000));
-    request
-        .headers_mut()
-        .insert("x-splineskin-job", "train-1".parse().expect("a header"));
-    let training = tokio::spawn({
-        let app = app.clone();
-        async move { send(&app, request).await }
-    });
+    let request = post_json("/api/defop", &operator_scene(&id, "defop-arap", 5000));
+    let training = spawn_followed(&app, request, "train-1");
     // Waits until solves are being counted.
-    let mut seen = serde_json::Value::Null;
-    for _ in 0..6000 {
-        let (_, _, body) = send(&app, get("/api/progress/train-1")).await;
-        seen = json(&body);
-        if seen["stage"] == "training" && seen["done"].as_u64().unwrap_or(0) > 0 {
-            break;
-        }
-        tokio::time::sleep(std::time::Duration::from_millis(10)).await;
-    }
+    let seen = progress_until(&app, "train-1", |seen| {
+        seen["stage"] == "training" && seen["done"].as_u64().unwrap_or(0) > 0
+    })
+    .await;
     assert_eq!(seen["stage"], "training", "{seen}");
     let (status, _, body) = stop_job(&app, "train-1").await;
     assert_eq!(status, StatusCode::OK);
