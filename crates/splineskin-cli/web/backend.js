@@ -17,7 +17,7 @@
 // GET /api/initial, replayed on first use). The ids of the documents and rigs they make reach
 // the page tagged with the worker (`p-r3`, `s2-r5`); a request naming a tagged id goes to that
 // worker, ids translated. The ids of a stopped solver answer 404 ("no longer kept"), which the
-// page meets by precomputing again.
+// page meets by precomputing again; a solver holding refined drawings is never stopped.
 
 const STATIC = document.documentElement.dataset.backend === 'wasm';
 
@@ -34,6 +34,8 @@ class ModuleWorker {
     this.nextId = 0;
     /** The main worker's document ids → Promise of this worker's id (null: not opened). */
     this.documents = new Map();
+    /** Whether it made a drawing of its own (refined by "add points"). */
+    this.holdsDocuments = false;
     this.worker = new Worker(new URL('editor-worker.js', import.meta.url), { type: 'module' });
     this.worker.onmessage = ({ data }) => {
       if (data.progress !== undefined) {
@@ -176,11 +178,17 @@ async function route(method, path, headers, body, signal) {
   return tagAnswer(worker, await worker.request(method, path, headers, body, signal), path);
 }
 
-/** The solver worker, a new one if the current one works on a request the page gave up. */
+/**
+ * The solver worker, a new one if the current one works on a request the page gave up. The old
+ * one is stopped, unless it holds drawings refined by "add points" (the page may come back to
+ * them): then it is left to finish and keeps answering for them.
+ */
 function exactSolver() {
   if (solver?.workingOnAbandoned()) {
-    tagged.delete(solver.tag);
-    solver.stop(404, 'superseded: the editor asked for another rig');
+    if (!solver.holdsDocuments) {
+      tagged.delete(solver.tag);
+      solver.stop(404, 'superseded: the editor asked for another rig');
+    }
     solver = null;
   }
   if (!solver) solver = tag(new ModuleWorker(`s${++solverGeneration}`));
@@ -205,7 +213,10 @@ function tagAnswer(worker, data, path) {
   if (data.headers['x-splineskin-rig']) data.headers['x-splineskin-rig'] = mark(data.headers['x-splineskin-rig']);
   if (data.status === 200 && /^\/api\/rigs\/[^/]+\/refine$/.test(path)) {
     const answer = decode(data.body);
-    if (answer.document) answer.document.id = mark(answer.document.id);
+    if (answer.document) {
+      answer.document.id = mark(answer.document.id);
+      worker.holdsDocuments = true;
+    }
     if (answer.rig) answer.rig = mark(answer.rig);
     data.body = encode(answer);
   }
