@@ -359,6 +359,8 @@ check('the same with splineskin serve, for the native figures beside them (print
   try {
     await p.goto(server.url);
     await p.waitForSelector('body[data-booted]', { timeout: WAIT });
+    // The figures depend on the build: CI's is the debug one (optimised dependencies).
+    console.log(`native: the server is ${process.env.SPLINESKIN_BIN ?? 'target/debug/splineskin (set SPLINESKIN_BIN=target/release/splineskin for release figures)'}`);
     await fishFlow(p, 'native');
     if (!NO_TURTLES) await turtlesFlow(p, 'native', await turtlesScene());
     if (!NO_GIRAFFE) await addPinFlow(p, 'native');
