@@ -24,12 +24,16 @@ export function blendIn(rig, from, now = performance.now()) {
   const own = rig.deform.bind(rig);
   const scratch = new Float64Array(2 * rig.nPoints);
   rig.blendingUntil = now + BLEND_MS;
+  // Done (in time, or settled early by endBlend): the new rig alone from now on.
+  rig.endBlend = () => {
+    rig.deform = own;
+    rig.blendingUntil = 0;
+  };
   rig.deform = (pose, out) => {
     own(pose, out);
     const left = rig.blendingUntil - performance.now();
     if (left <= 0) {
-      rig.deform = own; // done: the new rig alone from now on
-      rig.blendingUntil = 0;
+      rig.endBlend();
       return;
     }
     const t = 1 - left / BLEND_MS;
@@ -37,6 +41,11 @@ export function blendIn(rig, from, now = performance.now()) {
     from.deform(pose, scratch);
     for (let k = 0; k < out.length; k++) out[k] = s * out[k] + (1 - s) * scratch[k];
   };
+}
+
+/** Ends `rig`'s blend now, if one is in progress: its next deform is its own. */
+export function endBlend(rig) {
+  if (rig?.blendingUntil) rig.endBlend();
 }
 
 /**

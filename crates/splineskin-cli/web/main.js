@@ -15,7 +15,7 @@ import { weightColour, weightImage } from './colour.js';
 import { History } from './history.js';
 import { LiveRig, littleEndian } from './rig.js';
 import { DefOpLiveRig } from './defop.js';
-import { OperatorFollower, blendIn } from './follow.js';
+import { OperatorFollower, blendIn, endBlend } from './follow.js';
 import { installGestures, selectionCentre } from './gestures.js';
 import { TimelineRuler } from './timeline.js';
 import { DrawingView, JUNCTION_KINDS, posedHandles } from './view.js';
@@ -544,7 +544,7 @@ function blendFrames() {
 /** Ends a blend in progress: the points become the new rig's alone (what exports send). */
 function settleBlend() {
   if (!editor.rig?.blendingUntil) return;
-  editor.rig.blendingUntil = 1; // in the past: the rig's next deform is its own
+  endBlend(editor.rig);
   render();
 }
 

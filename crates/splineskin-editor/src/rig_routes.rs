@@ -39,16 +39,8 @@ pub(crate) fn page_scene(document: &Document, scene: &EditScene) -> Result<Scene
             MAX_OPERATOR_BYTES >> 20
         )));
     }
+    // The scene file leaves `weights.coarse` out: it is applied to the scene read back.
     let coarse = scene.weights.coarse;
-    let written;
-    let scene = if coarse {
-        let mut exact = scene.clone();
-        exact.weights.coarse = false;
-        written = exact;
-        &written
-    } else {
-        scene
-    };
     let json = scene_json(&document.svg_text, scene, &document.extras);
     let mut scene =
         Scene::from_json(&json, &document.name, None).map_err(|e| ApiError::bad(e.to_string()))?;

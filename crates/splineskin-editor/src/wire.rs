@@ -100,9 +100,9 @@ pub struct WeightsWire {
     pub samples: Option<usize>,
     /// A quick preview of a mesh family: the same family solved on a coarse triangulation of
     /// the same domain ([`splineskin::weights::coarse_to_fine::preview_options`]), shape-aware
-    /// like the exact weights (the same parts of the art), in a fraction of their time. Never
-    /// written into scene files.
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    /// like the exact weights (the same parts of the art), in a fraction of their time. A
+    /// request's only: never written (scene files and the page's scene leave it out).
+    #[serde(default, skip_serializing)]
     pub coarse: bool,
 }
 

@@ -37,10 +37,10 @@
 //! two rings of `Q`'s pattern around them, and is redone only when a vertex outside that is
 //! freed (the factor's workspace is kept between iterations): on the bundled octopus and
 //! OpenMoji animals with 4 pins this took 3–7 % off the setup (0.53 → 0.52 s octopus, 0.63 →
-//! 0.59 s dog 1F415, 0.34 → 0.31 s giraffe 1F992; release, 2 cores). The free values that end within the feasibility
-//! tolerance outside the box are then clamped onto it, so the output respects `0 ≤ w ≤ 1`
-//! exactly. The program being strictly convex, its minimiser is unique and the result does not
-//! depend on the path (nor on [`BbwOptions::parallel`]): libigl's weights are matched to its
+//! 0.59 s dog 1F415, 0.34 → 0.31 s giraffe 1F992; release, 2 cores). The free values that end
+//! within the feasibility tolerance outside the box are then clamped onto it, so the output
+//! respects `0 ≤ w ≤ 1` exactly. The program being strictly convex, its minimiser is unique
+//! and the result does not depend on the path (nor on [`BbwOptions::parallel`]): libigl's weights are matched to its
 //! own stopping tolerance.
 //!
 //! **Cost.** One sparse factorisation per iteration and handle. The number of iterations grows

@@ -102,8 +102,8 @@ impl EnergySystem {
     }
 }
 
-/// Marks a vertex that is not free in [`ReducedCholesky`]'s position map.
-const NOT_FREE: usize = usize::MAX;
+/// Marks a vertex that is not covered in [`ReducedCholesky`]'s position map.
+const NOT_COVERED: usize = usize::MAX;
 
 impl From<LinalgError> for WeightsError {
     fn from(e: LinalgError) -> Self {
@@ -125,7 +125,7 @@ impl From<LinalgError> for WeightsError {
 pub(crate) struct ReducedCholesky {
     /// `vertices[r]`: the covered vertex of reduced index `r` (in elimination order).
     vertices: Vec<usize>,
-    /// Reduced index of each vertex, [`NOT_FREE`] for those not covered.
+    /// Reduced index of each vertex, [`NOT_COVERED`] for those not covered.
     position: Vec<usize>,
     /// Which covered vertices are free in the current factor.
     free: Vec<bool>,
@@ -149,8 +149,8 @@ impl ReducedCholesky {
     pub fn analyse(system: &EnergySystem, covered: &[bool]) -> Result<Self, WeightsError> {
         let n = system.n();
         // Reduced index of each elimination position, and of each vertex.
-        let mut reduced = vec![NOT_FREE; n];
-        let mut position = vec![NOT_FREE; n];
+        let mut reduced = vec![NOT_COVERED; n];
+        let mut position = vec![NOT_COVERED; n];
         let mut vertices = Vec::new();
         for (k, &v) in system.order.iter().enumerate() {
             if covered[v] {
@@ -167,13 +167,13 @@ impl ReducedCholesky {
         let mut entries = Vec::new();
         col_ptr.push(0);
         for k in 0..n {
-            if reduced[k] == NOT_FREE {
+            if reduced[k] == NOT_COVERED {
                 continue;
             }
             let start = system.permuted.col_ptr[k];
             let (rows, _) = system.permuted.column(k);
             for (offset, &r) in rows.iter().enumerate() {
-                if reduced[r] != NOT_FREE {
+                if reduced[r] != NOT_COVERED {
                     row_idx.push(reduced[r]);
                     entries.push((start + offset, reduced[r], reduced[k]));
                 }
@@ -200,17 +200,14 @@ impl ReducedCholesky {
     pub fn covers(&self, free: &[bool]) -> bool {
         free.iter()
             .zip(&self.position)
-            .all(|(&f, &p)| !f || p != NOT_FREE)
+            .all(|(&f, &p)| !f || p != NOT_COVERED)
     }
 
-    /// Factors `Q_ff` for the vertices with `free[v]`, all covered (a [`WeightsError::Bug`]
-    /// otherwise), reusing the analysis.
+    /// Factors `Q_ff` for the vertices with `free[v]`, reusing the analysis. Every free vertex
+    /// must be covered ([`ReducedCholesky::covers`], which the callers check or hold by
+    /// construction).
     pub fn refactor(&mut self, system: &EnergySystem, free: &[bool]) -> Result<(), WeightsError> {
-        if !self.covers(free) {
-            return Err(WeightsError::Factorization {
-                detail: "a free vertex outside the analysed set (a bug)".into(),
-            });
-        }
+        debug_assert!(self.covers(free), "a free vertex outside the analysed set");
         for (f, &v) in self.free.iter_mut().zip(&self.vertices) {
             *f = free[v];
         }
@@ -240,7 +237,7 @@ impl ReducedCholesky {
             let k = block.len() / n;
             self.rhs.clear();
             self.rhs.resize(m * k, 0.0);
-            let is_free = |u: usize| self.position[u] != NOT_FREE && self.free[self.position[u]];
+            let is_free = |u: usize| self.position[u] != NOT_COVERED && self.free[self.position[u]];
             for (j, w) in block.chunks(n).enumerate() {
                 let b = &mut self.rhs[j * m..(j + 1) * m];
                 for (r, &v) in self.vertices.iter().enumerate() {
