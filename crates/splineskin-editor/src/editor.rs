@@ -252,6 +252,7 @@ impl Editor {
             (["initial"], true, _) => document_routes::initial(self),
             (["open"], _, true) => document_routes::open(self, request),
             (["rig"], _, true) => rig_routes::rig(self, request, followed),
+            (["weights", "columns"], _, true) => rig_routes::columns(self, request, followed),
             (["rigs", id, "solve"], _, true) => rig_routes::solve(self, id, request),
             (["rigs", id, "weights"], true, _) => rig_routes::weights(self, id, request),
             (["rigs", id, "mesh"], true, _) => rig_routes::mesh(self, id),

@@ -4,7 +4,7 @@
 use kurbo::{Affine, Point};
 use serde::Deserialize;
 use splineskin::adaptive::AdaptiveOptions;
-use splineskin::scene::{Compat, Puppet, PuppetStage, Scene, SceneError};
+use splineskin::scene::{Compat, Puppet, PuppetStage, Scene, SceneError, SetupControl};
 use splineskin::weights::WeightsError;
 
 use crate::document::Document;
@@ -14,7 +14,9 @@ use crate::editor::{
 };
 use crate::progress::Followed;
 use crate::scene_file::{defop_energy, scene_json};
-use crate::wire::{EditScene, PoseRequest, RefineAnswer, RefineRequest, SceneRequest};
+use crate::wire::{
+    ColumnsRequest, EditScene, PoseRequest, RefineAnswer, RefineRequest, RigRequest,
+};
 use splineskin::scene::WeightSpec;
 use splineskin::weights::coarse_to_fine::preview_options;
 
@@ -59,13 +61,13 @@ pub(crate) fn page_scene(document: &Document, scene: &EditScene) -> Result<Scene
     Ok(scene)
 }
 
-/// `POST /api/rig`.
+/// `POST /api/rig` ([`RigRequest`]).
 pub(crate) fn rig(
     editor: &Editor,
     request: &Request,
     followed: Option<&Followed>,
 ) -> Result<Response, ApiError> {
-    let request: SceneRequest = request.json()?;
+    let request: RigRequest = request.json()?;
     let document = editor.document(&request.document)?;
     if defop_energy(&request.scene.weights.family).is_some() {
         return Err(ApiError::bad(format!(
@@ -86,18 +88,55 @@ pub(crate) fn rig(
             });
         }
     };
-    let puppet = Puppet::from_scene_stoppable(&scene, Compat::None, &mut stage, stop.as_ref())
-        .map_err(|e| match &e {
-            SceneError::Weights { source, .. }
-                if source.downcast_ref::<WeightsError>() == Some(&WeightsError::Stopped) =>
-            {
-                ApiError::new(409, format!("{}: weights stopped as asked", document.name))
-            }
-            _ => ApiError::bad(e.to_string()),
-        })?;
+    let control = SetupControl {
+        stop: stop.as_ref(),
+        solved: request.solved.as_ref(),
+    };
+    let puppet = Puppet::from_scene_with(&scene, Compat::None, &mut stage, control)
+        .map_err(|e| weights_error(&document.name, e))?;
     let response = Response::f64s(puppet.rig().map(|r| r.operator()).unwrap_or(&[]));
     let id = editor.store().add_rig(&request.document, puppet);
     Ok(response.with_header(RIG_HEADER, id))
+}
+
+/// `POST /api/weights/columns` ([`ColumnsRequest`]): some of a rig's bounded biharmonic
+/// columns, for `POST /api/rig` to take as given ([`Scene::bbw_columns`]).
+pub(crate) fn columns(
+    editor: &Editor,
+    request: &Request,
+    followed: Option<&Followed>,
+) -> Result<Response, ApiError> {
+    let request: ColumnsRequest = request.json()?;
+    let document = editor.document(&request.document)?;
+    if request.columns.is_empty() || request.columns.len() > MAX_HANDLES {
+        return Err(ApiError::bad(format!(
+            "{}: {} columns asked for (expected 1 to {MAX_HANDLES})",
+            document.name,
+            request.columns.len()
+        )));
+    }
+    if let Some(report) = followed.map(|f| f.reporter()) {
+        report("weights");
+    }
+    let stop = followed.map(|f| f.stop_signal());
+    let scene = page_scene(&document, &request.scene)?;
+    let solved = scene
+        .bbw_columns(Compat::None, &request.columns, stop.as_ref())
+        .map_err(|e| weights_error(&document.name, e))?;
+    Response::json(&solved)
+}
+
+/// The answer to weights that could not be made: 409 when they were stopped as asked, else a
+/// bad request naming what was wrong.
+fn weights_error(name: &str, e: SceneError) -> ApiError {
+    match &e {
+        SceneError::Weights { source, .. }
+            if source.downcast_ref::<WeightsError>() == Some(&WeightsError::Stopped) =>
+        {
+            ApiError::new(409, format!("{name}: weights stopped as asked"))
+        }
+        _ => ApiError::bad(e.to_string()),
+    }
 }
 
 /// `POST /api/rigs/{id}/solve`.

@@ -7,6 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 use splineskin::drawing::JointKind;
+use splineskin::scene::SolvedColumns;
 
 /// The part of a scene the page edits: point handles, their pose, the weight family, junction
 /// overrides and flexible G¹. Together with a document's SVG text it is a scene of ours
@@ -126,6 +127,34 @@ pub struct SceneRequest {
     pub document: String,
     /// The page's scene.
     pub scene: EditScene,
+}
+
+/// `POST /api/rig`: a document, the page's scene, and optionally bounded biharmonic columns
+/// already solved by `POST /api/weights/columns` (the static editor spreads a rig's columns
+/// over its workers), taken as they are.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigRequest {
+    /// The document's id ([`DocumentInfo::id`]).
+    pub document: String,
+    /// The page's scene.
+    pub scene: EditScene,
+    /// Columns solved apart, on the domain this scene builds (`bbw` only).
+    #[serde(default)]
+    pub solved: Option<SolvedColumns>,
+}
+
+/// `POST /api/weights/columns`: the raw bounded biharmonic columns `columns` (handles in rig
+/// order) of the page's scene on a document, answered as [`SolvedColumns`] JSON.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColumnsRequest {
+    /// The document's id ([`DocumentInfo::id`]).
+    pub document: String,
+    /// The page's scene (weights `bbw`).
+    pub scene: EditScene,
+    /// The columns to solve.
+    pub columns: Vec<usize>,
 }
 
 /// A pose for a flexible solve.

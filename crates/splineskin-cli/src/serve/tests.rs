@@ -755,6 +755,73 @@ async fn serve_stop_ends_bounded_biharmonic_weights_at_their_next_iteration() {
     assert!(headers.contains_key(RIG_HEADER));
 }
 
+/// `POST /api/weights/columns` then `POST /api/rig` with them `solved`: the static editor's
+/// split of a rig over its workers gives the operator of one solve, bit for bit; columns that
+/// do not fit the scene are refused with their element named.
+#[tokio::test]
+async fn serve_columns_solved_apart_make_the_same_rig() {
+    let (app, _, id) = demo_app().await;
+    let mut request = two_handle_scene(&id, false);
+    request["scene"]["handles"] =
+        serde_json::json!([[440.0, 200.0], [110.0, 205.0], [300.0, 150.0]]);
+    request["scene"]["pose"] = serde_json::json!(vec![[1.0, 0.0, 0.0, 1.0, 0.0, 0.0]; 3]);
+    request["scene"]["weights"] = serde_json::json!({"family": "bbw"});
+    let (_, whole) = send_ok(&app, post_json("/api/rig", &request)).await;
+    let columns_of = |columns: serde_json::Value| {
+        let mut asked = request.clone();
+        asked["columns"] = columns;
+        post_json("/api/weights/columns", &asked)
+    };
+    let (_, first) = send_ok(&app, columns_of(serde_json::json!([2, 0]))).await;
+    let (_, second) = send_ok(&app, columns_of(serde_json::json!([1]))).await;
+    let (first, second) = (json(&first), json(&second));
+    assert_eq!(first["columns"], serde_json::json!([2, 0]));
+    let mut solved = first.clone();
+    solved["columns"] = serde_json::json!([2, 0, 1]);
+    let mut values = first["values"].as_array().expect("values").clone();
+    values.extend(second["values"].as_array().expect("values").iter().cloned());
+    solved["values"] = serde_json::Value::Array(values);
+    let mut given = request.clone();
+    given["solved"] = solved.clone();
+    let (_, apart) = send_ok(&app, post_json("/api/rig", &given)).await;
+    assert_eq!(f64s(&apart), f64s(&whole));
+    // Control: the same columns under swapped handles change the operator.
+    let mut changed = given.clone();
+    changed["solved"]["columns"] = serde_json::json!([0, 2, 1]);
+    let (_, other) = send_ok(&app, post_json("/api/rig", &changed)).await;
+    assert_ne!(f64s(&other), f64s(&whole));
+    let mut wrong = given.clone();
+    wrong["solved"]["n_vertices"] = serde_json::json!(3);
+    let message = refused_with(&app, post_json("/api/rig", &wrong), StatusCode::BAD_REQUEST).await;
+    assert!(
+        message.contains("weights.solved") && message.contains("3 vertices"),
+        "{message}"
+    );
+    let message = refused_with(
+        &app,
+        columns_of(serde_json::json!([5])),
+        StatusCode::BAD_REQUEST,
+    )
+    .await;
+    assert!(message.contains("column 5 does not exist"), "{message}");
+    let message = refused_with(
+        &app,
+        columns_of(serde_json::json!([])),
+        StatusCode::BAD_REQUEST,
+    )
+    .await;
+    assert!(message.contains("0 columns asked for"), "{message}");
+    let mut shepard = two_handle_scene(&id, false);
+    shepard["columns"] = serde_json::json!([0]);
+    let message = refused_with(
+        &app,
+        post_json("/api/weights/columns", &shepard),
+        StatusCode::BAD_REQUEST,
+    )
+    .await;
+    assert!(message.contains("'bbw' weights only"), "{message}");
+}
+
 #[tokio::test]
 async fn serve_stop_ends_a_training_at_its_next_solve() {
     let (app, _, id) = demo_app().await;

@@ -100,6 +100,33 @@ impl DirichletData {
         &self.values[row * self.n_columns..(row + 1) * self.n_columns]
     }
 
+    /// The same fixed vertices with only the columns `columns` (in that order): the data of a
+    /// subset of the weight functions, for solving columns apart (the bounded biharmonic
+    /// columns are independent programs). Errors if `columns` is empty or names a column that
+    /// does not exist.
+    ///
+    /// ```
+    /// use splineskin_core::weights::DirichletData;
+    /// let data = DirichletData::handles(&[4, 9, 11])?;
+    /// let part = data.select_columns(&[2, 0])?;
+    /// assert_eq!(part.vertices(), &[4, 9, 11]);
+    /// assert_eq!(part.values_at(2), &[1.0, 0.0]); // vertex 11: column 2, then column 0
+    /// assert!(data.select_columns(&[3]).is_err());
+    /// # Ok::<(), splineskin_core::weights::WeightsError>(())
+    /// ```
+    pub fn select_columns(&self, columns: &[usize]) -> Result<DirichletData, WeightsError> {
+        if let Some(&column) = columns.iter().find(|&&c| c >= self.n_columns) {
+            return Err(WeightsError::ColumnOutOfRange {
+                column,
+                n_columns: self.n_columns,
+            });
+        }
+        let values = (0..self.vertices.len())
+            .flat_map(|row| columns.iter().map(move |&c| self.values_at(row)[c]))
+            .collect();
+        DirichletData::new(self.vertices.clone(), values, columns.len())
+    }
+
     /// Checks the vertices against a mesh of `n_vertices` vertices.
     pub(crate) fn check_range(&self, n_vertices: usize) -> Result<(), WeightsError> {
         match self.vertices.iter().position(|&v| v >= n_vertices) {

@@ -46,6 +46,15 @@ pub enum WeightsError {
         /// Number of columns (weight functions).
         n_columns: usize,
     },
+    /// A column was asked for that the data does not have
+    /// ([`super::DirichletData::select_columns`]).
+    #[error("column {column} does not exist (the data has {n_columns} columns)")]
+    ColumnOutOfRange {
+        /// The column asked for.
+        column: usize,
+        /// Number of columns of the data.
+        n_columns: usize,
+    },
     /// Weights do not have the shape `n_vertices × n_handles`.
     #[error("{len} weights for {n_vertices} vertices × {n_handles} handles")]
     WeightsShape {

@@ -23,6 +23,7 @@
 //! [`place_pins`] places point handles on a drawing's filled shapes automatically ([`pins`]).
 
 pub mod authors;
+mod bbw_columns;
 pub mod defop;
 mod deformer;
 mod domain_file;
@@ -33,6 +34,7 @@ mod posed;
 mod session;
 mod setup;
 
+pub use bbw_columns::{bbw_columns, SolvedColumns};
 pub use defop::{
     energy_name, parse_energy, parse_handle_basis, Cover, DefOpSettings, DefOpShape, RegionSpec,
     SpatialBasisSpec, HANDLE_VERTEX_TOLERANCE,
@@ -43,7 +45,7 @@ pub use handles::{Bone, BonePoseError, BoneTransform, HandleKind, HandleSet};
 pub use pins::{place_pins, PinCount, PinError, PinOptions};
 pub use posed::{PoseReport, PosedDrawing, UpdateError};
 pub use session::{Puppet, PuppetStage, PuppetStats, RefinedPuppet};
-pub use setup::{handle_weights, mesh_weights, Compat, Setup, AUTHORS_SHEPARD_SNAP};
+pub use setup::{handle_weights, mesh_weights, Compat, Setup, SetupControl, AUTHORS_SHEPARD_SNAP};
 
 use std::path::{Path as FsPath, PathBuf};
 

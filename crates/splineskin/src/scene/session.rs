@@ -10,12 +10,11 @@ use kurbo::{Affine, Point};
 use super::deformer::Deformer;
 use super::handles::HandleSet;
 use super::posed::PosedDrawing;
-use super::setup::{check_rest_handles, handle_weights, Compat, Setup, WeightInputs};
+use super::setup::{check_rest_handles, handle_weights, Compat, Setup, SetupControl, WeightInputs};
 use super::{Bone, HandleKind, Scene, SceneError, SceneFormat, WeightSpec};
 use crate::domain::{Domain, DomainOptions};
 use crate::drawing::Drawing;
 use crate::spline_fit::{FitOptions, FlexibleOptions, SplineRig};
-use crate::stop::StopSignal;
 use crate::weights::WeightField;
 
 /// How often a [`Puppet`] has computed its weights and its rig, and run its update.
@@ -184,14 +183,15 @@ impl Puppet {
         compat: Compat,
         stage: &mut dyn FnMut(PuppetStage),
     ) -> Result<Puppet, SceneError> {
-        Puppet::from_scene_stoppable(scene, compat, stage, None)
+        Puppet::from_scene_with(scene, compat, stage, SetupControl::default())
     }
 
-    /// [`Puppet::from_scene_staged`] whose bounded biharmonic weights stop when `stop` is
-    /// raised ([`Scene::setup_stoppable`]): an editor's superseded request frees its cores.
+    /// [`Puppet::from_scene_staged`] under `control` ([`Scene::setup_with`]): bounded
+    /// biharmonic weights that stop when asked (an editor's superseded request frees its
+    /// cores) and columns solved elsewhere taken as given.
     ///
     /// ```
-    /// use splineskin::scene::{Compat, Puppet, Scene, SceneError};
+    /// use splineskin::scene::{Compat, Puppet, Scene, SceneError, SetupControl};
     /// use splineskin::stop::StopSignal;
     /// use splineskin::weights::WeightsError;
     /// let json = r#"{"splineskin_scene": 1,
@@ -200,17 +200,19 @@ impl Puppet {
     /// let scene = Scene::from_json(json, "example", None)?;
     /// let stop = StopSignal::new();
     /// stop.raise();
-    /// let stopped = Puppet::from_scene_stoppable(&scene, Compat::None, &mut |_| {}, Some(&stop));
+    /// let control = SetupControl { stop: Some(&stop), ..Default::default() };
+    /// let stopped = Puppet::from_scene_with(&scene, Compat::None, &mut |_| {}, control);
     /// let Err(SceneError::Weights { source, .. }) = stopped else { panic!("not stopped") };
     /// assert_eq!(source.downcast_ref::<WeightsError>(), Some(&WeightsError::Stopped));
-    /// assert!(Puppet::from_scene_stoppable(&scene, Compat::None, &mut |_| {}, None).is_ok());
+    /// let control = SetupControl::default();
+    /// assert!(Puppet::from_scene_with(&scene, Compat::None, &mut |_| {}, control).is_ok());
     /// # Ok::<(), splineskin::scene::SceneError>(())
     /// ```
-    pub fn from_scene_stoppable(
+    pub fn from_scene_with(
         scene: &Scene,
         compat: Compat,
         stage: &mut dyn FnMut(PuppetStage),
-        stop: Option<&StopSignal>,
+        control: SetupControl<'_>,
     ) -> Result<Puppet, SceneError> {
         if scene.engine != super::Engine::Ours {
             return Err(SceneError::Invalid {
@@ -224,7 +226,7 @@ impl Puppet {
             });
         }
         stage(PuppetStage::Weights);
-        let setup = scene.setup_stoppable(compat, stop)?;
+        let setup = scene.setup_with(compat, control)?;
         let mut puppet = Puppet {
             origin: scene.origin.clone(),
             format: scene.format,
@@ -750,6 +752,7 @@ impl Puppet {
             origin: &self.origin,
             format: self.format,
             stop: None,
+            solved: None,
         }
     }
 

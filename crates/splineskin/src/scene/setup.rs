@@ -10,14 +10,13 @@ use crate::drawing::authors_svg::read_authors_drawing_named;
 use crate::drawing::{read_svg_named, Drawing, ImportOptions, JointKind};
 use crate::spline_fit::{FitOptions, FlexibleOptions};
 use crate::stop::StopSignal;
-use crate::weights::bbw::BbwOptions;
-use crate::weights::coarse_to_fine::bbw_coarse_to_fine;
 use crate::weights::harmonic::harmonic;
 use crate::weights::{
     cage_boundary_data, DirichletData, MeanValue, SegmentShepard, Shepard, ShepardOptions,
     WeightField, WeightsError,
 };
 
+use super::bbw_columns::{all_columns, SolvedColumns};
 use super::{
     handle_element, HandleKind, HandleSet, MeshFamily, Scene, SceneError, SceneFormat, WeightSpec,
 };
@@ -60,6 +59,18 @@ impl Compat {
     }
 }
 
+/// How a scene's weights are solved beyond the scene itself ([`Scene::setup_with`]): a
+/// signal that stops them (an editor whose user asked for other weights meanwhile), and
+/// bounded biharmonic columns solved elsewhere. The default stops nothing and solves
+/// everything.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SetupControl<'a> {
+    /// Stops the bounded biharmonic solve when raised.
+    pub stop: Option<&'a StopSignal>,
+    /// Bounded biharmonic columns already solved ([`Scene::bbw_columns`]), taken as given.
+    pub solved: Option<&'a SolvedColumns>,
+}
+
 /// Everything a rig is built from.
 pub struct Setup {
     /// The drawing, with the scene's junction kinds applied.
@@ -80,22 +91,24 @@ impl Scene {
     /// options for `compat`. Errors if the scene needs something not implemented
     /// ([`Scene::check_supported`]) or its drawing cannot be read.
     pub fn setup(&self, compat: Compat) -> Result<Setup, SceneError> {
-        self.setup_stoppable(compat, None)
+        self.setup_with(compat, SetupControl::default())
     }
 
-    /// [`Scene::setup`] whose bounded biharmonic weights stop when `stop` is raised
-    /// ([`crate::weights::bbw::BbwOptions::stop`]): then a [`SceneError::Weights`] whose source
-    /// is [`crate::weights::WeightsError::Stopped`].
-    pub fn setup_stoppable(
+    /// [`Scene::setup`] under `control`: bounded biharmonic weights that stop when
+    /// `control.stop` is raised ([`crate::weights::bbw::BbwOptions::stop`]; then a
+    /// [`SceneError::Weights`] whose source is [`crate::weights::WeightsError::Stopped`]), and
+    /// that take the columns `control.solved` as given ([`Scene::bbw_columns`]).
+    pub fn setup_with(
         &self,
         compat: Compat,
-        stop: Option<&StopSignal>,
+        control: SetupControl<'_>,
     ) -> Result<Setup, SceneError> {
         self.check_supported()?;
         let (drawing, warnings) = self.drawing_with_junctions(compat)?;
         let options = self.fit_options(compat);
         let inputs = WeightInputs {
-            stop,
+            stop: control.stop,
+            solved: control.solved,
             ..self.weight_inputs(compat)
         };
         let (weights, domain) = handle_weights(&drawing, &inputs)?;
@@ -197,6 +210,7 @@ impl Scene {
             origin: &self.origin,
             format: self.format,
             stop: None,
+            solved: None,
         }
     }
 
@@ -235,8 +249,21 @@ pub struct WeightInputs<'a> {
     pub origin: &'a str,
     /// The scene's format, for naming handles in messages ([`Scene::element`]).
     pub format: SceneFormat,
-    /// Stops the bounded biharmonic solve when raised ([`Scene::setup_stoppable`]).
+    /// Stops the bounded biharmonic solve when raised ([`SetupControl::stop`]).
     pub stop: Option<&'a StopSignal>,
+    /// Bounded biharmonic columns already solved elsewhere (another worker,
+    /// [`Scene::bbw_columns`]): taken as they are instead of solved again (`bbw` only).
+    pub solved: Option<&'a SolvedColumns>,
+}
+
+impl WeightInputs<'_> {
+    /// The domain options with the handles' cage, if any.
+    pub fn domain_options(&self) -> DomainOptions {
+        match self.handles.cage {
+            Some(cage) => self.domain.clone().with_cage(cage.to_vec()),
+            None => self.domain.clone(),
+        }
+    }
 }
 
 /// The weights of `inputs.handles` on `drawing`, one column per handle in rig order, and the
@@ -371,10 +398,7 @@ pub fn mesh_weights(
         source,
     };
     let handles = &inputs.handles;
-    let options = match handles.cage {
-        Some(cage) => inputs.domain.clone().with_cage(cage.to_vec()),
-        None => inputs.domain.clone(),
-    };
+    let options = inputs.domain_options();
     let domain = Domain::build(drawing, handles.points, &handles.bone_segments(), &options)
         .map_err(|e| domain_error(e, inputs, family.name()))?;
     let data = handle_dirichlet_data(&domain, inputs, family.name())?;
@@ -385,22 +409,10 @@ pub fn mesh_weights(
             harmonic(mesh, &data, k).and_then(|mut w| w.normalize_rows().map(|()| w))
         }
         MeshFamily::Bbw => {
-            // Solved coarse to fine (same minimiser, a fraction of the active-set re-solves),
-            // handles in parallel, then normalised like libigl's users do.
-            let coarse_data = |d: &Domain| handle_dirichlet_data(d, inputs, family.name()).ok();
-            let raw = bbw_coarse_to_fine(
-                drawing,
-                handles.points,
-                &handles.bone_segments(),
-                &options,
-                &domain,
-                &data,
-                coarse_data,
-                &BbwOptions::default()
-                    .with_parallel(true)
-                    .with_stop(inputs.stop.cloned()),
-            );
-            raw.and_then(|mut w| w.normalize_rows().map(|()| w))
+            // Solved coarse to fine, handles in parallel (those not given), then normalised
+            // like libigl's users do.
+            let mut raw = all_columns(drawing, inputs, &options, &domain, &data)?;
+            raw.normalize_rows().map(|()| raw)
         }
     }
     .map_err(|e| wrap(Box::new(e)))?;
@@ -545,7 +557,11 @@ impl DirichletRows {
 }
 
 /// A domain error as a scene error naming the element concerned, where there is one.
-fn domain_error(e: DomainError, inputs: &WeightInputs<'_>, family: &'static str) -> SceneError {
+pub(super) fn domain_error(
+    e: DomainError,
+    inputs: &WeightInputs<'_>,
+    family: &'static str,
+) -> SceneError {
     match domain_element(&e, inputs.format) {
         Some(element) => {
             SceneError::invalid(inputs.origin, element, format!("{family} weights: {e}"))
