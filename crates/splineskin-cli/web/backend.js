@@ -13,6 +13,12 @@
 //     request it is working on (a newer click superseded it) and asks for another, the solver
 //     is stopped (`Worker.terminate`) and a new one takes over: a superseded solve does not
 //     delay the next.
+//   - the solver's helpers: a module runs on one thread, so the bounded biharmonic columns of
+//     an exact rig (one program per pin) are spread over the solver and up to
+//     `navigator.hardwareConcurrency - 1` helper workers (POST /api/weights/columns, pins
+//     dealt round-robin), and the solver then builds the rig with all of them given (POST
+//     /api/rig with `solved`): the same weights, bit for bit, on every core. Helpers are
+//     stopped with the solver they help when superseded.
 // The preview and solver workers open each drawing the page opened (the same POST /api/open or
 // GET /api/initial, replayed on first use). The ids of the documents and rigs they make reach
 // the page tagged with the worker (`p-r3`, `s2-r5`); a request naming a tagged id goes to that
@@ -23,6 +29,26 @@ const STATIC = document.documentElement.dataset.backend === 'wasm';
 
 /** The latest stage each followed job reported: { stage, since (ms) }. */
 const stages = new Map();
+
+/** The module, compiled once by the page and sent to every worker (null until asked for). */
+let compiled = null;
+
+/**
+ * The module compiled (a WebAssembly.Module), or null where the page cannot compile it (the
+ * workers then fetch and compile it themselves). Workers given the same Module share its code,
+ * so a new worker (a solver replacing a superseded one, a helper) neither compiles it again nor
+ * starts from unoptimised code.
+ */
+function compiledModule() {
+  compiled ??= (async () => {
+    const response = await fetch(new URL('splineskin.wasm', import.meta.url));
+    if (!response.ok) return null;
+    // Streaming needs the server to say application/wasm; any other type is compiled whole.
+    if (/wasm/.test(response.headers.get('content-type') ?? '')) return WebAssembly.compileStreaming(response);
+    return WebAssembly.compile(await response.arrayBuffer());
+  })().catch(() => null);
+  return compiled;
+}
 
 /** A Web Worker running the module, answering requests in the order sent. */
 class ModuleWorker {
@@ -36,7 +62,11 @@ class ModuleWorker {
     this.documents = new Map();
     /** Whether it made a drawing of its own (refined by "add points"). */
     this.holdsDocuments = false;
+    /** A solver's helper workers (splitRig). */
+    this.helpers = [];
     this.worker = new Worker(new URL('editor-worker.js', import.meta.url), { type: 'module' });
+    /** Resolves once the worker has been sent the module: requests are posted after it. */
+    this.started = compiledModule().then((module) => this.worker.postMessage({ module }));
     this.worker.onmessage = ({ data }) => {
       if (data.progress !== undefined) {
         stages.set(data.progress, { ...data.stage, at: performance.now() });
@@ -56,9 +86,16 @@ class ModuleWorker {
    */
   request(method, path, headers, body, signal) {
     const id = this.nextId++;
-    const answer = new Promise((resolve) => this.pending.set(id, { resolve, signal }));
-    this.worker.postMessage({ id, method, path, headers, body }, [body]);
+    let resolve;
+    const answer = new Promise((r) => { resolve = r; });
+    this.pending.set(id, { resolve, signal, answer });
+    this.started.then(() => this.worker.postMessage({ id, method, path, headers, body }, [body]));
     return answer;
+  }
+
+  /** Resolves once every request sent so far is answered. */
+  idle() {
+    return Promise.all([...this.pending.values()].map((entry) => entry.answer));
   }
 
   /** Whether the request the worker is working on (its oldest) was given up by the page. */
@@ -150,7 +187,16 @@ async function route(method, path, headers, body, signal) {
     worker = tagged.get(tag);
     if (!worker) return failure(404, `${ids.join(', ')}: no longer kept (a newer precomputation replaced it): precompute again`);
   } else if (path === '/api/rig' && method === 'POST') {
-    worker = scene.scene?.weights?.coarse ? (preview ??= tag(new ModuleWorker('p'))) : exactSolver();
+    if (!scene.scene?.weights?.coarse) {
+      const solver = exactSolver();
+      if (scene.scene?.weights?.family === 'bbw' && columnWorkers(scene) > 1 && opened.has(scene.document)) {
+        return splitRig(solver, headers, scene, signal);
+      }
+      worker = solver;
+    } else {
+      dropAbandonedSolver();
+      worker = (preview ??= tag(new ModuleWorker('p')));
+    }
   } else {
     return main.request(method, path, headers, body, signal);
   }
@@ -178,21 +224,71 @@ async function route(method, path, headers, body, signal) {
   return tagAnswer(worker, await worker.request(method, path, headers, body, signal), path);
 }
 
-/**
- * The solver worker, a new one if the current one works on a request the page gave up. The old
- * one is stopped, unless it holds drawings refined by "add points" (the page may come back to
- * them): then it is left to finish and keeps answering for them.
- */
+/** The solver worker, a new one if the current one was dropped ([`dropAbandonedSolver`]). */
 function exactSolver() {
-  if (solver?.workingOnAbandoned()) {
-    if (!solver.holdsDocuments) {
-      tagged.delete(solver.tag);
-      solver.stop(404, 'superseded: the editor asked for another rig');
-    }
-    solver = null;
-  }
+  dropAbandonedSolver();
   if (!solver) solver = tag(new ModuleWorker(`s${++solverGeneration}`));
   return solver;
+}
+
+/**
+ * Stops the solver and its helpers if one of them works on a request the page gave up (a newer
+ * click superseded it), before the next rig or stand-in is asked for, so that they do not take
+ * its cores. A solver that holds drawings refined by "add points" (the page may come back to
+ * them) is left to finish and keeps answering for them; its helpers are stopped all the same.
+ */
+function dropAbandonedSolver() {
+  if (!solver || ![solver, ...solver.helpers].some((w) => w.workingOnAbandoned())) return;
+  for (const helper of solver.helpers) helper.stop(404, 'superseded: the editor asked for another rig');
+  solver.helpers = [];
+  if (!solver.holdsDocuments) {
+    tagged.delete(solver.tag);
+    solver.stop(404, 'superseded: the editor asked for another rig');
+  }
+  solver = null;
+}
+
+/** Workers at most over which one rig's columns are spread (the solver and its helpers). */
+const MAX_COLUMN_WORKERS = 8;
+
+/** How many workers the columns of `request`'s exact rig are spread over: one per core, per pin. */
+function columnWorkers(request) {
+  const cores = Math.max(1, Math.min(navigator.hardwareConcurrency || 1, MAX_COLUMN_WORKERS));
+  return Math.min(cores, request.scene?.handles?.length ?? 0);
+}
+
+/**
+ * An exact bounded biharmonic rig of a document the page opened (`request`: POST /api/rig's
+ * body, document in the main worker's terms), its columns solved by `solver` and its helpers
+ * at once, then built by `solver` with all of them given.
+ */
+async function splitRig(solver, headers, request, signal) {
+  const n = columnWorkers(request);
+  while (solver.helpers.length < n - 1) solver.helpers.push(new ModuleWorker(`${solver.tag}h${solver.helpers.length + 1}`));
+  const workers = [solver, ...solver.helpers.slice(0, n - 1)];
+  const h = request.scene.handles.length;
+  const parts = await Promise.all(workers.map(async (worker, k) => {
+    // A helper waits for the stand-in being made, if any: it is what the user sees first, and
+    // on few cores a helper would take its core.
+    if (k > 0) await preview?.idle();
+    const document = await documentIn(worker, request.document);
+    if (document === null) return failure(404, `${request.document}: not available in the solver: precompute again`);
+    const columns = [...Array(h).keys()].filter((j) => j % n === k);
+    const body = encode({ document, scene: request.scene, columns });
+    return worker.request('POST', '/api/weights/columns', headers, body, signal);
+  }));
+  const failed = parts.find((p) => p.status !== 200);
+  if (failed) return failed;
+  if (signal?.aborted) return failure(409, 'superseded: the editor asked for another rig');
+  const solved = parts.map((p) => decode(p.body));
+  const merged = {
+    n_vertices: solved[0].n_vertices,
+    columns: solved.flatMap((s) => s.columns),
+    values: solved.flatMap((s) => s.values),
+  };
+  const document = await documentIn(solver, request.document);
+  const body = encode({ document, scene: request.scene, solved: merged });
+  return tagAnswer(solver, await solver.request('POST', '/api/rig', headers, body, signal), '/api/rig');
 }
 
 /** Registers `worker` by its tag; returns it. */

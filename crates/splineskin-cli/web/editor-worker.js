@@ -1,22 +1,35 @@
 // The editor's Web Worker for a page without a server (`splineskin serve --static-out DIR`):
 // answers the page's requests with splineskin's WebAssembly module (wasm-editor.js) off the
 // page's thread, so that the page never freezes while weights are solved. Messages:
-//   page → worker  { id, method, path, headers, body (ArrayBuffer) }
+//   page → worker  { module } first: the module compiled by the page (a WebAssembly.Module,
+//                  shared by every worker: compiled once, and its optimised code too)
+//                  { id, method, path, headers, body (ArrayBuffer) }
 //   worker → page  { id, status, contentType, headers, body (ArrayBuffer) }
 //                  { progress: job, stage }            while a followed job runs
 //                  { ready: true } | { failed: message } once the module is loaded or not
 
 import { loadEditor } from './wasm-editor.js';
 
-const loading = loadEditor(new URL('splineskin.wasm', import.meta.url), {
-  onProgress: (job, stage) => self.postMessage({ progress: job, stage }),
-});
-loading.then(
-  () => self.postMessage({ ready: true }),
-  (e) => self.postMessage({ failed: `splineskin.wasm: ${e.message}` }),
-);
+/** The editor, once the page has sent the module. */
+let loading = null;
+
+/** Instantiates the module the page compiled (or, given none, fetches and compiles it). */
+function load(module) {
+  loading = loadEditor(module ?? new URL('splineskin.wasm', import.meta.url), {
+    onProgress: (job, stage) => self.postMessage({ progress: job, stage }),
+  });
+  loading.then(
+    () => self.postMessage({ ready: true }),
+    (e) => self.postMessage({ failed: `splineskin.wasm: ${e.message}` }),
+  );
+}
 
 self.onmessage = async ({ data }) => {
+  if ('module' in data) {
+    load(data.module);
+    return;
+  }
+  if (!loading) load(null);
   const { id, method, path, headers, body } = data;
   let answer;
   try {

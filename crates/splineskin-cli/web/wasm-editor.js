@@ -64,6 +64,9 @@ export async function loadEditor(source, { onProgress } = {}) {
 }
 
 async function instantiate(source, imports) {
+  if (source instanceof WebAssembly.Module) {
+    return { instance: await WebAssembly.instantiate(source, imports) };
+  }
   if (source instanceof ArrayBuffer || ArrayBuffer.isView(source)) {
     return WebAssembly.instantiate(source, imports);
   }
