@@ -248,6 +248,14 @@ function dropAbandonedSolver() {
   solver = null;
 }
 
+/** Exact rigs made so far with their columns spread over workers (for tests: splitRigs). */
+let nSplitRigs = 0;
+
+/** How many exact rigs had their columns spread over several workers (static build). */
+export function splitRigs() {
+  return nSplitRigs;
+}
+
 /** Workers at most over which one rig's columns are spread (the solver and its helpers). */
 const MAX_COLUMN_WORKERS = 8;
 
@@ -288,6 +296,7 @@ async function splitRig(solver, headers, request, signal) {
   };
   const document = await documentIn(solver, request.document);
   const body = encode({ document, scene: request.scene, solved: merged });
+  nSplitRigs += 1;
   return tagAnswer(solver, await solver.request('POST', '/api/rig', headers, body, signal), '/api/rig');
 }
 
