@@ -52,6 +52,7 @@
 
 use rayon::prelude::*;
 
+use super::admm_start;
 use super::harmonic::{prepare, solve_unbounded};
 use super::reduced_cholesky::{EnergySystem, ReducedCholesky};
 use super::{DirichletData, VertexWeights, WeightsError};
@@ -251,8 +252,9 @@ pub fn bounded_biharmonic(
 }
 
 /// [`bounded_biharmonic`] started from a guess of the solution (`n_vertices × data.n_columns()`,
-/// for example coarser weights interpolated onto this mesh): the vertices where the guess is at
-/// or beyond a bound start at that bound, the others free. The result is the same minimiser
+/// for example coarser weights interpolated onto this mesh), improved by two ADMM steps
+/// (`admm_start`): the vertices where it is then at a bound start at that bound, the others
+/// free. The result is the same minimiser
 /// (the program is strictly convex); only the number of active-set iterations changes, from
 /// about one per ring the active set's edge has to travel to about one per ring the guess has it
 /// wrong.
@@ -302,6 +304,8 @@ pub fn bounded_biharmonic_from(
             column[v] = data.values_at(row)[j];
         }
     }
+    let bounds = (LOWER, UPPER);
+    admm_start::improve_guess(&system, data, &mut columns, bounds, options.stop.as_ref())?;
     solve_columns(columns, n, h, options, |j, column| {
         let status = initial_status(n, data, Some(&*column));
         solve_column(&system, j, column, status, true, options)

@@ -19,6 +19,7 @@
 //! The mesh families compute [`VertexWeights`] on a [`crate::mesh::TriMesh`] from
 //! [`DirichletData`]; [`crate::domain::MeshWeights`] evaluates them anywhere in the plane.
 
+mod admm_start;
 pub mod bbw;
 pub mod biharmonic_coordinates;
 pub mod cage;

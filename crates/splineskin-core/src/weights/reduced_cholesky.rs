@@ -65,6 +65,27 @@ impl EnergySystem {
         Ok(EnergySystem { q, order, permuted })
     }
 
+    /// `Q + diag(shift)`, in the same elimination order (its pattern is `Q`'s: no new
+    /// ordering pass).
+    pub fn shifted(&self, shift: &[f64]) -> EnergySystem {
+        let mut shifted = self.clone();
+        for (v, &s) in shift.iter().enumerate() {
+            let start = shifted.q.col_ptr[v];
+            let (rows, _) = shifted.q.column(v);
+            if let Ok(k) = rows.binary_search(&v) {
+                shifted.q.values[start + k] += s;
+            }
+        }
+        // Column k of the permuted upper triangle ends with its diagonal (rows sorted, r ≤ k).
+        for (k, &v) in self.order.iter().enumerate() {
+            let end = shifted.permuted.col_ptr[k + 1];
+            if end > shifted.permuted.col_ptr[k] && shifted.permuted.row_idx[end - 1] == k {
+                shifted.permuted.values[end - 1] += shift[v];
+            }
+        }
+        shifted
+    }
+
     /// Number of vertices.
     pub fn n(&self) -> usize {
         self.q.n
@@ -228,13 +249,26 @@ impl ReducedCholesky {
     /// overwrites the free entries with the minimiser of `wᵀQw` given the fixed ones:
     /// `w_f = −Q_ff⁻¹ Q_fc w_c`.
     pub fn solve_free(&mut self, system: &EnergySystem, columns: &mut [f64]) {
+        self.solve_free_with(system, columns, None);
+    }
+
+    /// [`ReducedCholesky::solve_free`] with `extra` (laid out as `columns`) added to the
+    /// right-hand sides: `w_f = Q_ff⁻¹ (extra_f − Q_fc w_c)`, the minimiser of
+    /// `½ wᵀQw − extraᵀw` given the fixed entries.
+    pub fn solve_free_with(
+        &mut self,
+        system: &EnergySystem,
+        columns: &mut [f64],
+        extra: Option<&[f64]>,
+    ) {
         let n = system.n();
         let m = self.vertices.len();
         if m == 0 || n == 0 {
             return;
         }
-        for block in columns.chunks_mut(n * SOLVE_BLOCK) {
+        for (b, block) in columns.chunks_mut(n * SOLVE_BLOCK).enumerate() {
             let k = block.len() / n;
+            let extra = extra.map(|e| &e[b * n * SOLVE_BLOCK..b * n * SOLVE_BLOCK + k * n]);
             self.rhs.clear();
             self.rhs.resize(m * k, 0.0);
             let is_free = |u: usize| self.position[u] != NOT_COVERED && self.free[self.position[u]];
@@ -245,12 +279,14 @@ impl ReducedCholesky {
                         continue;
                     }
                     let (rows, vals) = system.q.column(v);
-                    b[r] = -rows
-                        .iter()
-                        .zip(vals)
-                        .filter(|(&u, _)| !is_free(u))
-                        .map(|(&u, &q)| q * w[u])
-                        .sum::<f64>();
+                    let given = extra.map_or(0.0, |e| e[j * n + v]);
+                    b[r] = given
+                        - rows
+                            .iter()
+                            .zip(vals)
+                            .filter(|(&u, _)| !is_free(u))
+                            .map(|(&u, &q)| q * w[u])
+                            .sum::<f64>();
                 }
             }
             self.analysis
