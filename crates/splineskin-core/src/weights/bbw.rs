@@ -48,7 +48,18 @@
 //! rings), so the active set's edge moves a ring or two per iteration, and the problem is
 //! massively degenerate (most bound vertices have zero multipliers). Measured (re-solves per
 //! handle): 7–46 on libigl's 575- and 1 091-vertex test shapes, about 40 on a regular
-//! 5 000-vertex grid, 75–115 on the 20 437-vertex turtles domain.
+//! 5 000-vertex grid, 75–115 on the 20 437-vertex turtles domain. Started from a guess
+//! ([`bounded_biharmonic_from`]: coarser weights, `super::coarse_to_fine`), far fewer; the
+//! guess is first improved by two ADMM steps (`admm_start`), which cut the slowest column of
+//! OpenMoji's dog from 50 re-solves to under 10.
+//!
+//! **Tried and not kept** (setup, release, 2 cores; octopus, OpenMoji dog 1F415, giraffe
+//! 1F992, horse 1F40E): looser stopping tolerances (1e-6 halves the octopus, 0.47 → 0.25 s, but
+//! not the dog, and 1e-5 errs by 3.9e-3 on the dog, more than the 1e-3 allowed); faer's parallel
+//! numeric factorisation inside a column (no gain on 2 cores: the columns already fill them);
+//! freeing the degenerate neighbours of a freed bound vertex at once (no gain, 0.47 → 0.56 s on
+//! the octopus); a warm start from the previous pins' weights (3–6 times slower); ten ADMM
+//! steps instead of two (the octopus 0.51 → 0.77 s).
 
 use rayon::prelude::*;
 
