@@ -15,9 +15,9 @@ use crate::domain::{Domain, DomainOptions};
 use crate::drawing::Drawing;
 use crate::weights::bbw::BbwOptions;
 use crate::weights::coarse_to_fine::bbw_coarse_to_fine;
-use crate::weights::{DirichletData, VertexWeights};
+use crate::weights::{DirichletData, VertexWeights, WeightsError};
 
-use super::setup::{domain_error, handle_dirichlet_data, WeightInputs};
+use super::setup::{bbw_only, handle_dirichlet_data, mesh_domain, WeightInputs};
 use super::{MeshFamily, Scene, SceneError};
 
 /// Raw (not normalised) bounded biharmonic columns of a rig, solved on the domain its scene
@@ -106,16 +106,7 @@ impl Scene {
         columns: &[usize],
         stop: Option<&crate::stop::StopSignal>,
     ) -> Result<SolvedColumns, SceneError> {
-        if self.weights != super::WeightSpec::Mesh(MeshFamily::Bbw) {
-            return Err(SceneError::invalid(
-                &self.origin,
-                "weights",
-                format!(
-                    "columns are solved apart for 'bbw' weights only; these are '{}'",
-                    self.weights.name()
-                ),
-            ));
-        }
+        bbw_only(&self.weights, &self.origin, "weights")?;
         self.check_supported()?;
         let (drawing, _) = self.drawing_with_junctions(compat)?;
         let inputs = WeightInputs {
@@ -133,25 +124,12 @@ pub fn bbw_columns(
     inputs: &WeightInputs<'_>,
     columns: &[usize],
 ) -> Result<SolvedColumns, SceneError> {
-    let name = MeshFamily::Bbw.name();
-    let options = inputs.domain_options();
-    let handles = &inputs.handles;
-    let domain = Domain::build(drawing, handles.points, &handles.bone_segments(), &options)
-        .map_err(|e| domain_error(e, inputs, name))?;
-    let data = handle_dirichlet_data(&domain, inputs, name)?;
-    let h = data.n_columns();
-    if let Some(&c) = columns.iter().find(|&&c| c >= h) {
-        return Err(SceneError::invalid(
-            inputs.origin,
-            "columns",
-            format!("column {c} does not exist (the rig has {h} handles)"),
-        ));
-    }
+    let (options, domain, data) = mesh_domain(drawing, inputs, MeshFamily::Bbw.name())?;
     let raw = solve_columns(drawing, inputs, &options, &domain, &data, columns)?;
     Ok(SolvedColumns {
-        n_vertices: domain.mesh.n_vertices(),
+        n_vertices: raw.n_vertices(),
         columns: columns.to_vec(),
-        values: raw,
+        values: (0..columns.len()).flat_map(|k| raw.column(k)).collect(),
     })
 }
 
@@ -164,40 +142,37 @@ pub(super) fn all_columns(
     domain: &Domain,
     data: &DirichletData,
 ) -> Result<VertexWeights, SceneError> {
-    let n = domain.mesh.n_vertices();
     let h = data.n_columns();
+    let Some(solved) = inputs.solved else {
+        let all: Vec<usize> = (0..h).collect();
+        return solve_columns(drawing, inputs, options, domain, data, &all);
+    };
+    let n = domain.mesh.n_vertices();
+    solved.check(n, h, inputs.origin)?;
     // Row-major, as VertexWeights holds them: vertex v's weights at v * h ..
     let mut values = vec![0.0; n * h];
-    let mut put = |c: usize, column: &[f64]| {
-        for (v, &w) in column.iter().enumerate() {
+    let mut given = vec![false; h];
+    for (k, &c) in solved.columns.iter().enumerate() {
+        for (v, &w) in solved.values[k * n..(k + 1) * n].iter().enumerate() {
             values[v * h + c] = w;
         }
-    };
-    let mut given = vec![false; h];
-    if let Some(solved) = inputs.solved {
-        solved.check(n, h, inputs.origin)?;
-        for (k, &c) in solved.columns.iter().enumerate() {
-            put(c, &solved.values[k * n..(k + 1) * n]);
-            given[c] = true;
-        }
+        given[c] = true;
     }
     let missing: Vec<usize> = (0..h).filter(|&c| !given[c]).collect();
     if !missing.is_empty() {
         let raw = solve_columns(drawing, inputs, options, domain, data, &missing)?;
-        for (k, &c) in missing.iter().enumerate() {
-            put(c, &raw[k * n..(k + 1) * n]);
+        for (v, row) in values.chunks_mut(h).enumerate() {
+            for (&c, &w) in missing.iter().zip(raw.row(v)) {
+                row[c] = w;
+            }
         }
     }
-    VertexWeights::from_row_major(n, h, values).map_err(|e| SceneError::Weights {
-        origin: inputs.origin.to_string(),
-        family: MeshFamily::Bbw.name(),
-        source: Box::new(e),
-    })
+    VertexWeights::from_row_major(n, h, values).map_err(|e| weights_error(inputs, e))
 }
 
-/// The raw columns `columns` of `data` on `domain`, solved coarse to fine (same minimiser, a
-/// fraction of the active-set re-solves), columns in parallel: `columns.len() × n_vertices`,
-/// column after column.
+/// The raw columns `columns` of `data` on `domain` (`n_vertices × columns.len()`), solved
+/// coarse to fine (same minimiser, a fraction of the active-set re-solves), columns in
+/// parallel. Errors name a column that does not exist.
 fn solve_columns(
     drawing: &Drawing,
     inputs: &WeightInputs<'_>,
@@ -205,17 +180,11 @@ fn solve_columns(
     domain: &Domain,
     data: &DirichletData,
     columns: &[usize],
-) -> Result<Vec<f64>, SceneError> {
+) -> Result<VertexWeights, SceneError> {
     let name = MeshFamily::Bbw.name();
-    let wrap = |e: crate::weights::WeightsError| SceneError::Weights {
-        origin: inputs.origin.to_string(),
-        family: name,
-        source: Box::new(e),
-    };
-    if columns.is_empty() {
-        return Ok(Vec::new());
-    }
-    let selected = data.select_columns(columns).map_err(wrap)?;
+    let selected = data
+        .select_columns(columns)
+        .map_err(|e| weights_error(inputs, e))?;
     let coarse_data = |d: &Domain| {
         handle_dirichlet_data(d, inputs, name)
             .ok()?
@@ -223,7 +192,7 @@ fn solve_columns(
             .ok()
     };
     let handles = &inputs.handles;
-    let raw = bbw_coarse_to_fine(
+    bbw_coarse_to_fine(
         drawing,
         handles.points,
         &handles.bone_segments(),
@@ -235,8 +204,16 @@ fn solve_columns(
             .with_parallel(true)
             .with_stop(inputs.stop.cloned()),
     )
-    .map_err(wrap)?;
-    Ok((0..columns.len()).flat_map(|k| raw.column(k)).collect())
+    .map_err(|e| weights_error(inputs, e))
+}
+
+/// A weights error of the `bbw` family of `inputs`' scene.
+fn weights_error(inputs: &WeightInputs<'_>, e: WeightsError) -> SceneError {
+    SceneError::Weights {
+        origin: inputs.origin.to_string(),
+        family: MeshFamily::Bbw.name(),
+        source: Box::new(e),
+    }
 }
 
 #[cfg(test)]
@@ -352,6 +329,22 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(message.contains("'bbw' weights only"), "{message}");
+        // Columns given to another family are refused, not ignored.
+        let bbw = Scene::from_json(&scene_json(), "bbw", None).unwrap();
+        let solved = bbw.bbw_columns(Compat::None, &[0, 1], None).unwrap();
+        let control = SetupControl {
+            solved: Some(&solved),
+            ..Default::default()
+        };
+        let message = harmonic
+            .setup_with(Compat::None, control)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            message.contains("weights.solved") && message.contains("'bbw' weights only"),
+            "{message}"
+        );
     }
 
     fn scene_json() -> String {

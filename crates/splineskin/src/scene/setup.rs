@@ -291,6 +291,9 @@ pub fn handle_weights(
             "no handles: place at least one (a point handle, a bone or a cage)",
         ));
     }
+    if inputs.solved.is_some() {
+        bbw_only(inputs.family, inputs.origin, "weights.solved")?;
+    }
     match inputs.family {
         WeightSpec::Shepard { exponent } => {
             let options = shepard_options(*exponent, inputs.compat);
@@ -397,11 +400,7 @@ pub fn mesh_weights(
         family: family.name(),
         source,
     };
-    let handles = &inputs.handles;
-    let options = inputs.domain_options();
-    let domain = Domain::build(drawing, handles.points, &handles.bone_segments(), &options)
-        .map_err(|e| domain_error(e, inputs, family.name()))?;
-    let data = handle_dirichlet_data(&domain, inputs, family.name())?;
+    let (options, domain, data) = mesh_domain(drawing, inputs, family.name())?;
     let mesh = &domain.mesh;
     let weights = match family {
         MeshFamily::Harmonic | MeshFamily::Biharmonic => {
@@ -416,10 +415,43 @@ pub fn mesh_weights(
         }
     }
     .map_err(|e| wrap(Box::new(e)))?;
-    let weights = MeshWeights::new(mesh, weights.into_values(), handles.n_handles())
+    let weights = MeshWeights::new(mesh, weights.into_values(), inputs.handles.n_handles())
         .map_err(|e| wrap(Box::new(e)))?
         .with_attachments(&domain.attachments);
     Ok((weights, domain))
+}
+
+/// Refuses `family` unless it is `bbw`, naming `element` of `origin`: columns are solved apart
+/// and given ([`Scene::bbw_columns`], [`WeightInputs::solved`]) for bounded biharmonic weights
+/// only.
+pub(super) fn bbw_only(family: &WeightSpec, origin: &str, element: &str) -> Result<(), SceneError> {
+    if *family == WeightSpec::Mesh(MeshFamily::Bbw) {
+        return Ok(());
+    }
+    Err(SceneError::invalid(
+        origin,
+        element,
+        format!(
+            "columns are solved apart for 'bbw' weights only; these are '{}'",
+            family.name()
+        ),
+    ))
+}
+
+/// What a mesh family of `inputs`' handles is solved on: the domain options (with the cage),
+/// the triangulated domain of `drawing` and the handles' Dirichlet data on it
+/// ([`handle_dirichlet_data`]). Errors as [`mesh_weights`]'s, for `family`.
+pub(super) fn mesh_domain(
+    drawing: &Drawing,
+    inputs: &WeightInputs<'_>,
+    family: &'static str,
+) -> Result<(DomainOptions, Domain, DirichletData), SceneError> {
+    let handles = &inputs.handles;
+    let options = inputs.domain_options();
+    let domain = Domain::build(drawing, handles.points, &handles.bone_segments(), &options)
+        .map_err(|e| domain_error(e, inputs, family))?;
+    let data = handle_dirichlet_data(&domain, inputs, family)?;
+    Ok((options, domain, data))
 }
 
 /// The Dirichlet data of the handles of `inputs` on `domain`, one column per handle in rig
@@ -557,11 +589,7 @@ impl DirichletRows {
 }
 
 /// A domain error as a scene error naming the element concerned, where there is one.
-pub(super) fn domain_error(
-    e: DomainError,
-    inputs: &WeightInputs<'_>,
-    family: &'static str,
-) -> SceneError {
+fn domain_error(e: DomainError, inputs: &WeightInputs<'_>, family: &'static str) -> SceneError {
     match domain_element(&e, inputs.format) {
         Some(element) => {
             SceneError::invalid(inputs.origin, element, format!("{family} weights: {e}"))
