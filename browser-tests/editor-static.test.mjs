@@ -20,6 +20,8 @@ import { clientPoint, drag, editorState, median, openThroughPicker, pathData, WA
 import { documentDifference, launchBrowser, outputFolder, pathDifference, REPO, runSplineskin, serveFolder, startEditor } from './harness.mjs';
 
 const WASM = process.env.SPLINESKIN_WASM || join(REPO, 'target', 'wasm', 'wasm32-unknown-unknown', 'release', 'splineskin_wasm.wasm');
+// The threaded module (shared memory), for the cross-origin-isolated page.
+const WASM_THREADS = process.env.SPLINESKIN_WASM_THREADS || join(REPO, 'target', 'wasm-threads', 'wasm32-unknown-unknown', 'release', 'splineskin_wasm.wasm');
 const DEMO_SVG = join(REPO, 'crates', 'splineskin', 'assets', 'demo.svg');
 // A real emoji nobody here drew: OpenMoji's turtle (test-art's npm packages).
 const EMOJI = join(REPO, 'test-art', 'node_modules', 'openmoji', 'color', 'svg', '1F422.svg');
@@ -33,6 +35,8 @@ const VIEWPORT = { width: 1280, height: 800 };
 
 const MISSING = !existsSync(WASM) && !process.env.CI && `${WASM} is missing (build it: tools/build-wasm)`;
 if (!existsSync(WASM) && process.env.CI) throw new Error(`${WASM} is missing; CI builds it in .ci/run`);
+const NO_THREADS = !existsSync(WASM_THREADS) && !process.env.CI && `${WASM_THREADS} is missing (build it: tools/build-wasm)`;
+if (!existsSync(WASM_THREADS) && process.env.CI) throw new Error(`${WASM_THREADS} is missing; CI builds it in .ci/run`);
 
 const out = outputFolder('editor-static');
 const check = (...args) => out.check(...args);
@@ -44,7 +48,7 @@ const pageErrors = [];
 before(async () => {
   if (MISSING) return;
   const folder = join(out.path, 'site');
-  await runSplineskin(['serve', '--static-out', folder, '--wasm', WASM]);
+  await runSplineskin(['serve', '--static-out', folder, '--wasm', WASM, ...(NO_THREADS ? [] : ['--wasm-threads', WASM_THREADS])]);
   site = await serveFolder(folder);
   browser = await launchBrowser({ viewport: VIEWPORT });
   page = await browser.context.newPage();
@@ -358,6 +362,35 @@ check('add points in the static page: the refined drawing and its rig come from 
   await page.setChecked('#adaptive', false);
   assert.equal(await page.evaluate(() => document.getElementById('error').textContent), '');
   assert.deepEqual(pageErrors, [], 'no error in the page');
+});
+
+check('served cross-origin isolated (the static build\'s _headers), exact rigs run on the threaded module: the fish\'s export is the native deformation; giraffe and dog timed (printed)', { skip: MISSING || NO_THREADS }, async () => {
+  assert.match(readFileSync(join(out.path, 'site', '_headers'), 'utf8'), /Cross-Origin-Embedder-Policy: require-corp/i);
+  const isolated = await serveFolder(join(out.path, 'site'), { isolated: true });
+  const p = await browser.context.newPage();
+  const errors = [];
+  p.on('pageerror', (e) => errors.push(e.message));
+  try {
+    await p.goto(isolated.url('index.html'));
+    await p.waitForSelector('body[data-booted]', { timeout: WAIT });
+    assert.equal(await p.evaluate(() => self.crossOriginIsolated), true, 'the page is cross-origin isolated');
+    await fishFlow(p, 'static, threads');
+    const { cores, threaded, split } = await p.evaluate(async () => {
+      const backend = await import('./backend.js');
+      return { cores: navigator.hardwareConcurrency, threaded: backend.threadedRigs(), split: backend.splitRigs() };
+    });
+    // Checked failing with the threaded module left out of the build (no rig went to it).
+    assert.ok(threaded.rigs > 0, 'exact rigs went to the threaded module');
+    assert.equal(split, 0, 'no rig was spread over helper workers');
+    if (cores > 1) assert.ok(threaded.threads > 1, `${cores} cores, the solver runs on ${threaded.threads} thread(s)`);
+    console.log(`static, threads: the solver computes on ${threaded.threads} threads (${cores} cores)`);
+    if (!NO_GIRAFFE) await addPinFlow(p, 'static, threads');
+    if (existsSync(DOG)) await quickClicksFlow(p, 'static, threads');
+    assert.deepEqual(errors, [], 'no error in the page');
+  } finally {
+    await p.close();
+    await isolated.close();
+  }
 });
 
 check('the same with splineskin serve, for the native figures beside them (printed)', { skip: MISSING }, async () => {

@@ -88,8 +88,10 @@ const MIME = {
 /**
  * Serves the files under `root` on 127.0.0.1 (a free port). Returns `url(path)` for a path
  * relative to `root` and `close()`. Only GET of existing files under `root`; no listings.
+ * `isolated`: with the headers that make a page cross-origin isolated (COOP/COEP), as a static
+ * build's `_headers` file asks of its host.
  */
-export async function serveFolder(root) {
+export async function serveFolder(root, { isolated = false } = {}) {
   const base = resolve(root);
   const server = createServer(async (req, res) => {
     const path = decodeURIComponent(new URL(req.url, 'http://localhost').pathname);
@@ -103,6 +105,8 @@ export async function serveFolder(root) {
       res.writeHead(200, {
         'content-type': MIME[extname(file).toLowerCase()] ?? 'application/octet-stream',
         'cache-control': 'no-store',
+        // What the static build's _headers file asks of a host: a cross-origin-isolated page.
+        ...(isolated ? { 'cross-origin-opener-policy': 'same-origin', 'cross-origin-embedder-policy': 'require-corp' } : {}),
       });
       res.end(body);
     } catch {

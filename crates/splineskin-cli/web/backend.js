@@ -19,6 +19,10 @@
 //     dealt round-robin), and the solver then builds the rig with all of them given (POST
 //     /api/rig with `solved`): the same weights, bit for bit, on every core. Helpers are
 //     stopped with the solver they help when superseded.
+//   - on a cross-origin-isolated page (its server sends COOP/COEP, docs/webassembly.md) with
+//     the threaded module beside the page (splineskin-threads.wasm), the solver instead runs
+//     that module on one thread per core (up to 8; wasm-thread.js): its exact rigs are
+//     parallel inside, as natively (columns, the fit), and need no helpers.
 // The preview and solver workers open each drawing the page opened (the same POST /api/open or
 // GET /api/initial, replayed on first use). The ids of the documents and rigs they make reach
 // the page tagged with the worker (`p-r3`, `s2-r5`); a request naming a tagged id goes to that
@@ -50,11 +54,40 @@ function compiledModule() {
   return compiled;
 }
 
+/** The threaded module, compiled once (null until asked for). */
+let compiledThreaded = null;
+
+/**
+ * The threaded module compiled (a WebAssembly.Module built with shared memory), or null where
+ * it cannot run (the page is not cross-origin isolated, so it has no shared memory) or is not
+ * beside the page (a static build made without it).
+ */
+function threadedModule() {
+  if (!self.crossOriginIsolated) return Promise.resolve(null);
+  compiledThreaded ??= (async () => {
+    const response = await fetch(new URL('splineskin-threads.wasm', import.meta.url));
+    if (!response.ok) return null;
+    if (/wasm/.test(response.headers.get('content-type') ?? '')) return WebAssembly.compileStreaming(response);
+    return WebAssembly.compile(await response.arrayBuffer());
+  })().catch(() => null);
+  return compiledThreaded;
+}
+
+/** The cores a computation may spread over: the browser's count, at most 8. */
+function cores() {
+  return Math.max(1, Math.min(navigator.hardwareConcurrency || 1, MAX_COLUMN_WORKERS));
+}
+
 /** A Web Worker running the module, answering requests in the order sent. */
 class ModuleWorker {
-  /** `tag`: '' for the main worker, else what its ids are prefixed with (before a '-'). */
-  constructor(tag) {
+  /**
+   * `tag`: '' for the main worker, else what its ids are prefixed with (before a '-');
+   * `threads`: more than 1 to run the threaded module on that many threads where it can run.
+   */
+  constructor(tag, { threads = 1 } = {}) {
     this.tag = tag;
+    /** The threads it computes on, once loaded (1 with the one-thread module). */
+    this.threads = 1;
     /** Requests sent and not answered, oldest first: id → { resolve, signal }. */
     this.pending = new Map();
     this.nextId = 0;
@@ -66,12 +99,16 @@ class ModuleWorker {
     this.helpers = [];
     this.worker = new Worker(new URL('editor-worker.js', import.meta.url), { type: 'module' });
     /** Resolves once the worker has been sent the module: requests are posted after it. */
-    this.started = compiledModule().then((module) => this.worker.postMessage({ module }));
+    this.started = (threads > 1 ? threadedModule() : Promise.resolve(null)).then(async (threaded) => {
+      if (threaded) this.worker.postMessage({ module: threaded, threads });
+      else this.worker.postMessage({ module: await compiledModule() });
+    });
     this.worker.onmessage = ({ data }) => {
       if (data.progress !== undefined) {
         stages.set(data.progress, { ...data.stage, at: performance.now() });
         return;
       }
+      if (data.ready) this.threads = data.threads ?? 1;
       if (data.ready || data.failed) return;
       const entry = this.pending.get(data.id);
       this.pending.delete(data.id);
@@ -189,7 +226,9 @@ async function route(method, path, headers, body, signal) {
   } else if (path === '/api/rig' && method === 'POST') {
     if (!scene.scene?.weights?.coarse) {
       const solver = exactSolver();
-      if (scene.scene?.weights?.family === 'bbw' && columnWorkers(scene) > 1 && opened.has(scene.document)) {
+      const threaded = (await threadedModule()) !== null;
+      if (threaded) nThreadedRigs += 1;
+      if (!threaded && scene.scene?.weights?.family === 'bbw' && columnWorkers(scene) > 1 && opened.has(scene.document)) {
         return splitRig(solver, headers, scene, signal);
       }
       worker = solver;
@@ -227,7 +266,7 @@ async function route(method, path, headers, body, signal) {
 /** The solver worker, a new one if the current one was dropped ([`dropAbandonedSolver`]). */
 function exactSolver() {
   dropAbandonedSolver();
-  if (!solver) solver = tag(new ModuleWorker(`s${++solverGeneration}`));
+  if (!solver) solver = tag(new ModuleWorker(`s${++solverGeneration}`, { threads: cores() }));
   return solver;
 }
 
@@ -256,13 +295,23 @@ export function splitRigs() {
   return nSplitRigs;
 }
 
-/** Workers at most over which one rig's columns are spread (the solver and its helpers). */
+/** Exact rigs asked of a solver running the threaded module (for tests: threadedRigs). */
+let nThreadedRigs = 0;
+
+/**
+ * How many exact rigs went to a solver running the threaded module (a cross-origin-isolated
+ * page with splineskin-threads.wasm), and the threads the current solver computes on.
+ */
+export function threadedRigs() {
+  return { rigs: nThreadedRigs, threads: solver?.threads ?? 0 };
+}
+
+/** Workers at most over which one computation is spread (the solver and its helpers, or threads). */
 const MAX_COLUMN_WORKERS = 8;
 
 /** How many workers the columns of `request`'s exact rig are spread over: one per core, per pin. */
 function columnWorkers(request) {
-  const cores = Math.max(1, Math.min(navigator.hardwareConcurrency || 1, MAX_COLUMN_WORKERS));
-  return Math.min(cores, request.scene?.handles?.length ?? 0);
+  return Math.min(cores(), request.scene?.handles?.length ?? 0);
 }
 
 /**

@@ -1,35 +1,64 @@
 // The editor's Web Worker for a page without a server (`splineskin serve --static-out DIR`):
 // answers the page's requests with splineskin's WebAssembly module (wasm-editor.js) off the
 // page's thread, so that the page never freezes while weights are solved. Messages:
-//   page → worker  { module } first: the module compiled by the page (a WebAssembly.Module,
-//                  shared by every worker: compiled once, and its optimised code too)
+//   page → worker  { module, threads } first: the module compiled by the page (a
+//                  WebAssembly.Module, shared by every worker: compiled once, and its optimised
+//                  code too); with the threaded module, how many threads to compute on
 //                  { id, method, path, headers, body (ArrayBuffer) }
 //   worker → page  { id, status, contentType, headers, body (ArrayBuffer) }
 //                  { progress: job, stage }            while a followed job runs
-//                  { ready: true } | { failed: message } once the module is loaded or not
+//                  { ready: true, threads } | { failed: message } once the module is loaded or not
 
 import { loadEditor } from './wasm-editor.js';
 
 /** The editor, once the page has sent the module. */
 let loading = null;
 
+/** How long a pool thread may take to start before the editor goes on without it. */
+const THREAD_START_MS = 10000;
+
+/**
+ * Starts one of a threaded module's pool threads in a Web Worker of its own (wasm-thread.js);
+ * resolves once it runs, or fails to start, or after THREAD_START_MS: a thread that did not
+ * start leaves its share to the others (the pool's loops are work-stealing).
+ */
+function startThread(message) {
+  return new Promise((resolve) => {
+    const thread = new Worker(new URL('wasm-thread.js', import.meta.url), { type: 'module' });
+    const timer = setTimeout(resolve, THREAD_START_MS);
+    thread.onmessage = ({ data }) => {
+      clearTimeout(timer);
+      if (data.failed) console.warn(`splineskin: a WebAssembly thread did not start: ${data.failed}`);
+      resolve();
+    };
+    thread.onerror = (e) => {
+      clearTimeout(timer);
+      console.warn(`splineskin: a WebAssembly thread did not start: ${e.message}`);
+      resolve();
+    };
+    thread.postMessage(message);
+  });
+}
+
 /** Instantiates the module the page compiled (or, given none, fetches and compiles it). */
-function load(module) {
+function load(module, threads) {
   loading = loadEditor(module ?? new URL('splineskin.wasm', import.meta.url), {
     onProgress: (job, stage) => self.postMessage({ progress: job, stage }),
+    threads,
+    startThread,
   });
   loading.then(
-    () => self.postMessage({ ready: true }),
+    (editor) => self.postMessage({ ready: true, threads: editor.threads }),
     (e) => self.postMessage({ failed: `splineskin.wasm: ${e.message}` }),
   );
 }
 
 self.onmessage = async ({ data }) => {
   if ('module' in data) {
-    load(data.module);
+    load(data.module, data.threads ?? 1);
     return;
   }
-  if (!loading) load(null);
+  if (!loading) load(null, 1);
   const { id, method, path, headers, body } = data;
   let answer;
   try {

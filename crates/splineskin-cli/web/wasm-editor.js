@@ -3,34 +3,51 @@
 // runs (a Web Worker of the page, Node, any page). No DOM; works wherever WebAssembly does.
 //
 //   const editor = await loadEditor(bytesOrUrl, { onProgress });
+//   // the threaded module (splineskin-threads.wasm), in a worker of a cross-origin-isolated
+//   // page or under Node: `startThread(message)` starts a worker that calls runThread(message)
+//   const editor = await loadEditor(threadedModule, { threads: 4, startThread });
 //   const { status, contentType, headers, body } = editor.request('POST', '/api/rig', { body, headers });
 
 const encoder = new TextEncoder();
 const decoder = new TextDecoder();
 
 /**
- * Instantiates the module from `source` (a URL or a Response to fetch it from, or its bytes as
- * an ArrayBuffer or typed array). `onProgress(job, stage)` hears the stages of the requests
- * that name a job (`x-splineskin-job`), as `GET /api/progress/{job}` would tell them.
+ * Instantiates the module from `source` (a URL or a Response to fetch it from, its bytes as an
+ * ArrayBuffer or typed array, or a WebAssembly.Module). `onProgress(job, stage)` hears the
+ * stages of the requests that name a job (`x-splineskin-job`), as `GET /api/progress/{job}`
+ * would tell them. With the threaded module, `threads` (more than 1) and `startThread` start
+ * its pool (startThreads); the single-threaded module ignores them.
  */
-export async function loadEditor(source, { onProgress } = {}) {
-  let memory = null;
-  const text = (address, length) => decoder.decode(new Uint8Array(memory.buffer, address, length));
+export async function loadEditor(source, { onProgress, threads = 1, startThread } = {}) {
+  const module = await compile(source);
+  const shared = sharedMemoryOf(module);
+  let memory = shared;
+  /** A threaded module's threads asked for by its pool, not yet started (`spawn_thread`). */
+  const builders = [];
+  // A shared memory's views cannot be decoded in place: copy first.
+  const text = (address, length) => decoder.decode(new Uint8Array(memory.buffer, address, length).slice());
   const imports = {
     splineskin: {
       now: () => performance.now(),
       progress: (job, jobLength, json, jsonLength) => {
         if (onProgress) onProgress(text(job, jobLength), JSON.parse(text(json, jsonLength)));
       },
+      spawn_thread: (builder) => builders.push(builder),
     },
   };
-  const { instance } = await instantiate(source, imports);
+  if (shared) imports.env = { memory: shared };
+  const instance = await WebAssembly.instantiate(module, imports);
   const m = instance.exports;
-  memory = m.memory;
+  memory ??= m.memory;
+  const nThreads = shared && threads > 1 && startThread
+    ? await startThreads(module, shared, m, builders, threads, startThread)
+    : 1;
   return {
     /** The module's exports (the lower-level calls of crates/splineskin-wasm). */
     exports: m,
     imports,
+    /** The threads the module computes on (1 unless a threaded module was given threads). */
+    threads: nThreads,
     /**
      * Answers `method path` (a path under /api/, with `?query` if any) with `body` (bytes or
      * text) and `headers` (an object): `{ status, contentType, headers, body }`, the body a
@@ -52,7 +69,7 @@ export async function loadEditor(source, { onProgress } = {}) {
       input.set(bytes, head.length);
       const headLength = m.splineskin_editor_request(head.length, head.length + bytes.length);
       const response = new Uint8Array(memory.buffer, m.splineskin_response(), m.splineskin_response_len());
-      const answer = JSON.parse(decoder.decode(response.subarray(0, headLength)));
+      const answer = JSON.parse(decoder.decode(response.slice(0, headLength)));
       return {
         status: answer.status,
         contentType: answer.content_type,
@@ -63,17 +80,65 @@ export async function loadEditor(source, { onProgress } = {}) {
   };
 }
 
-async function instantiate(source, imports) {
-  if (source instanceof WebAssembly.Module) {
-    return { instance: await WebAssembly.instantiate(source, imports) };
-  }
-  if (source instanceof ArrayBuffer || ArrayBuffer.isView(source)) {
-    return WebAssembly.instantiate(source, imports);
-  }
+/** `source` compiled: a WebAssembly.Module as given, or fetched, or from its bytes. */
+async function compile(source) {
+  if (source instanceof WebAssembly.Module) return source;
+  if (source instanceof ArrayBuffer || ArrayBuffer.isView(source)) return WebAssembly.compile(source);
   const response = source instanceof Response ? source : await fetch(source);
   if (!response.ok) throw new Error(`${response.url}: ${response.status} ${response.statusText}`);
-  if (WebAssembly.instantiateStreaming && /wasm/.test(response.headers.get('content-type') ?? '')) {
-    return WebAssembly.instantiateStreaming(response, imports);
+  if (WebAssembly.compileStreaming && /wasm/.test(response.headers.get('content-type') ?? '')) {
+    return WebAssembly.compileStreaming(response);
   }
-  return WebAssembly.instantiate(await response.arrayBuffer(), imports);
+  return WebAssembly.compile(await response.arrayBuffer());
+}
+
+/** Bytes of stack each of a threaded module's threads gets. */
+const THREAD_STACK = 2 << 20;
+
+/**
+ * A new shared memory for `module` if it is the threaded build (it imports `env.memory`: built
+ * with `+atomics`, every thread's instance runs on the same memory), else null. It starts at
+ * 16 MiB, more than the module's data and main stack (about 1.3 MiB), and may grow to the 4 GiB
+ * the module declares (tools/build-wasm links it with --max-memory=4294967296).
+ */
+function sharedMemoryOf(module) {
+  if (!WebAssembly.Module.imports(module).some((i) => i.module === 'env' && i.name === 'memory')) return null;
+  return new WebAssembly.Memory({ initial: 256, maximum: 65536, shared: true });
+}
+
+/**
+ * Starts a threaded module's pool: `threads` threads, the caller's instance `m` and
+ * `threads - 1` more, each started by `startThread(message)` (in a Web Worker of its own, which
+ * calls runThread with the message) and resolving once it runs. Returns the pool's size.
+ */
+async function startThreads(module, memory, m, builders, threads, startThread) {
+  const size = m.splineskin_threads_start(threads);
+  if (size === 0) return 1;
+  const tlsSize = m.__tls_size.value;
+  const tlsAlign = m.__tls_align.value;
+  await Promise.all(builders.splice(0).map((builder) => {
+    const stackTop = m.splineskin_thread_memory(THREAD_STACK, tlsSize, tlsAlign);
+    const tls = new Float64Array(memory.buffer, m.splineskin_output(), 1)[0];
+    return startThread({ module, memory, builder, stackTop, tls });
+  }));
+  return size;
+}
+
+/**
+ * Runs one of a threaded module's pool threads where it is called (a Web Worker started for
+ * it): instantiates `module` on the shared `memory` with the stack and thread-local block the
+ * pool allocated, calls `started()`, then works for the pool; never returns.
+ */
+export async function runThread({ module, memory, builder, stackTop, tls }, started) {
+  const refuse = () => { throw new Error('a pool thread cannot start threads'); };
+  const imports = {
+    env: { memory },
+    splineskin: { now: () => performance.now(), progress: () => {}, spawn_thread: refuse },
+  };
+  const instance = await WebAssembly.instantiate(module, imports);
+  const m = instance.exports;
+  m.__stack_pointer.value = stackTop;
+  m.__wasm_init_tls(tls);
+  started();
+  m.splineskin_thread_run(builder);
 }

@@ -17,6 +17,8 @@
 //! ```
 
 pub mod editor;
+#[cfg(all(target_arch = "wasm32", target_feature = "atomics"))]
+pub mod threads;
 
 use std::cell::RefCell;
 

@@ -42,6 +42,9 @@ fn serve(path: &str) -> Response {
         header::CONTENT_SECURITY_POLICY,
         HeaderValue::from_static(CONTENT_SECURITY_POLICY),
     );
+    for (name, value) in ISOLATION_HEADERS {
+        headers.insert(name, HeaderValue::from_static(value));
+    }
     response
 }
 
@@ -56,11 +59,26 @@ const STATIC_CONTENT_SECURITY_POLICY: &str = "default-src 'self'; \
 /// The name of the WebAssembly module in a static build (`editor-worker.js` loads it).
 pub const STATIC_WASM_NAME: &str = "splineskin.wasm";
 
+/// The name of the threaded module in a static build (`backend.js` loads it on a
+/// cross-origin-isolated page).
+pub const STATIC_WASM_THREADS_NAME: &str = "splineskin-threads.wasm";
+
+/// The headers that make a page cross-origin isolated, so that it has shared memory and the
+/// threaded module can run: sent by `splineskin serve`, and asked of a static host by a static
+/// build's `_headers` file (the format of Netlify and Cloudflare Pages; docs/webassembly.md says
+/// how for other hosts).
+pub const ISOLATION_HEADERS: [(&str, &str); 2] = [
+    ("cross-origin-opener-policy", "same-origin"),
+    ("cross-origin-embedder-policy", "require-corp"),
+];
+
 /// The files of a static build of the editor: the page's files, its `index.html` marked to
 /// answer its requests in a worker (`data-backend="wasm"`, web/backend.js) and carrying the
 /// content security policy, the WebAssembly module `wasm` as [`STATIC_WASM_NAME`], and the
-/// bundled fish as `demo.svg` (for `example.html`, the JavaScript API's example).
-pub fn static_files(wasm: Vec<u8>) -> Vec<(String, Vec<u8>)> {
+/// bundled fish as `demo.svg` (for `example.html`, the JavaScript API's example); with
+/// `threaded`, the threaded module as [`STATIC_WASM_THREADS_NAME`]; and a `_headers` file asking
+/// the host for [`ISOLATION_HEADERS`].
+pub fn static_files(wasm: Vec<u8>, threaded: Option<Vec<u8>>) -> Vec<(String, Vec<u8>)> {
     let mut files: Vec<(String, Vec<u8>)> = Web::iter()
         .filter_map(|name| Some((name.to_string(), Web::get(&name)?.data.into_owned())))
         .collect();
@@ -84,6 +102,14 @@ pub fn static_files(wasm: Vec<u8>) -> Vec<(String, Vec<u8>)> {
         }
     }
     files.push((STATIC_WASM_NAME.to_string(), wasm));
+    if let Some(threaded) = threaded {
+        files.push((STATIC_WASM_THREADS_NAME.to_string(), threaded));
+    }
+    let mut headers = String::from("/*\n");
+    for (name, value) in ISOLATION_HEADERS {
+        headers.push_str(&format!("  {name}: {value}\n"));
+    }
+    files.push(("_headers".to_string(), headers.into_bytes()));
     // The bundled fish, which the JavaScript API's example (example.html) opens.
     files.push((
         "demo.svg".to_string(),

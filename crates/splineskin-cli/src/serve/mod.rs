@@ -64,16 +64,31 @@ pub struct Args {
     /// (`target/wasm/wasm32-unknown-unknown/release/splineskin_wasm.wasm`).
     #[arg(long, value_name = "FILE", requires = "static_out")]
     wasm: Option<PathBuf>,
+    /// The threaded WebAssembly module (shared memory, one thread per core) a static build
+    /// carries for pages served cross-origin isolated (docs/webassembly.md, "Threads").
+    /// Default: $SPLINESKIN_WASM_THREADS, else the one `tools/build-wasm` builds
+    /// (`target/wasm-threads/wasm32-unknown-unknown/release/splineskin_wasm.wasm`); without
+    /// one, the page computes on one thread per worker.
+    #[arg(long, value_name = "FILE", requires = "static_out")]
+    wasm_threads: Option<PathBuf>,
 }
 
 /// Where `tools/build-wasm` puts the module, under the target folder.
 const BUILT_WASM: &str = "wasm/wasm32-unknown-unknown/release/splineskin_wasm.wasm";
 
-/// Writes the static build into `dir` ([`assets::static_files`]).
-fn write_static(dir: &std::path::Path, wasm: Option<&std::path::Path>) -> Result<()> {
+/// Where `tools/build-wasm` puts the threaded module, under the target folder.
+const BUILT_WASM_THREADS: &str = "wasm-threads/wasm32-unknown-unknown/release/splineskin_wasm.wasm";
+
+/// Writes the static build into `dir` ([`assets::static_files`]) with the module `wasm` (or the
+/// one found where `tools/build-wasm` puts it) and the threaded module `threads`, if any.
+fn write_static(
+    dir: &std::path::Path,
+    wasm: Option<&std::path::Path>,
+    threads: Option<&std::path::Path>,
+) -> Result<()> {
     let wasm_path = match wasm {
         Some(path) => path.to_path_buf(),
-        None => find_wasm().with_context(|| {
+        None => find_wasm("SPLINESKIN_WASM", BUILT_WASM).with_context(|| {
             format!(
                 "{}: the WebAssembly module is not built: build it with tools/build-wasm \
                  (docs/webassembly.md), or name it with --wasm FILE",
@@ -81,18 +96,8 @@ fn write_static(dir: &std::path::Path, wasm: Option<&std::path::Path>) -> Result
             )
         })?,
     };
-    let wasm = std::fs::read(&wasm_path).with_context(|| {
-        format!(
-            "{}: cannot read the WebAssembly module",
-            wasm_path.display()
-        )
-    })?;
-    if !wasm.starts_with(b"\0asm") {
-        anyhow::bail!(
-            "{}: not a WebAssembly module (expected one built by tools/build-wasm)",
-            wasm_path.display()
-        );
-    }
+    let wasm = read_module(&wasm_path)?;
+    let threaded = threads.map(read_module).transpose()?;
     if dir.exists() {
         let earlier_build =
             dir.join("index.html").is_file() && dir.join(assets::STATIC_WASM_NAME).is_file();
@@ -110,7 +115,7 @@ fn write_static(dir: &std::path::Path, wasm: Option<&std::path::Path>) -> Result
     }
     std::fs::create_dir_all(dir)
         .with_context(|| format!("{}: cannot create the folder", dir.display()))?;
-    let files = assets::static_files(wasm);
+    let files = assets::static_files(wasm, threaded);
     let paths: Vec<PathBuf> = files.iter().map(|(name, _)| dir.join(name)).collect();
     let writes: Vec<(&std::path::Path, &[u8])> = paths
         .iter()
@@ -118,6 +123,12 @@ fn write_static(dir: &std::path::Path, wasm: Option<&std::path::Path>) -> Result
         .map(|(path, (_, bytes))| (path.as_path(), bytes.as_slice()))
         .collect();
     crate::output::write_all_atomic(&writes)?;
+    // An earlier build's threaded module, not replaced by this build, would be run by the page.
+    let stale = dir.join(assets::STATIC_WASM_THREADS_NAME);
+    if !paths.contains(&stale) && stale.is_file() {
+        std::fs::remove_file(&stale)
+            .with_context(|| format!("{}: cannot remove the earlier build's", stale.display()))?;
+    }
     let total: usize = files.iter().map(|(_, b)| b.len()).sum();
     println!(
         "{}: the editor without a server ({} files, {:.1} MB, the WebAssembly module {:.1} MB); \
@@ -134,20 +145,33 @@ fn write_static(dir: &std::path::Path, wasm: Option<&std::path::Path>) -> Result
     Ok(())
 }
 
-/// The WebAssembly module: `$SPLINESKIN_WASM`, else [`BUILT_WASM`] under the target folder this
-/// executable was built in, else under `./target`.
-fn find_wasm() -> Result<PathBuf> {
-    if let Some(path) = std::env::var_os("SPLINESKIN_WASM") {
+/// The bytes of the WebAssembly module at `path`, checked to be one.
+fn read_module(path: &std::path::Path) -> Result<Vec<u8>> {
+    let bytes = std::fs::read(path)
+        .with_context(|| format!("{}: cannot read the WebAssembly module", path.display()))?;
+    if !bytes.starts_with(b"\0asm") {
+        anyhow::bail!(
+            "{}: not a WebAssembly module (expected one built by tools/build-wasm)",
+            path.display()
+        );
+    }
+    Ok(bytes)
+}
+
+/// A WebAssembly module: `$variable`, else `built` under the target folder this executable was
+/// built in, else under `./target`.
+fn find_wasm(variable: &str, built: &str) -> Result<PathBuf> {
+    if let Some(path) = std::env::var_os(variable) {
         return Ok(PathBuf::from(path));
     }
     let mut candidates = Vec::new();
     if let Ok(exe) = std::env::current_exe() {
         // target/{debug,release}/splineskin → target/
         if let Some(target) = exe.parent().and_then(|p| p.parent()) {
-            candidates.push(target.join(BUILT_WASM));
+            candidates.push(target.join(built));
         }
     }
-    candidates.push(PathBuf::from("target").join(BUILT_WASM));
+    candidates.push(PathBuf::from("target").join(built));
     candidates
         .iter()
         .find(|p| p.is_file())
@@ -166,7 +190,18 @@ fn find_wasm() -> Result<PathBuf> {
 
 pub fn run(args: Args) -> Result<()> {
     if let Some(dir) = &args.static_out {
-        return write_static(dir, args.wasm.as_deref());
+        let threads = args.wasm_threads.clone().or_else(|| {
+            find_wasm("SPLINESKIN_WASM_THREADS", BUILT_WASM_THREADS)
+                .map_err(|e| {
+                    eprintln!(
+                        "note: {}: no threaded WebAssembly module ({e}; tools/build-wasm builds \
+                         it): the page will compute on one thread per worker",
+                        dir.display()
+                    )
+                })
+                .ok()
+        });
+        return write_static(dir, args.wasm.as_deref(), threads.as_deref());
     }
     let document = match &args.file {
         Some(path) => Document::from_path(path)?,

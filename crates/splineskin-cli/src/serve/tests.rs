@@ -174,6 +174,9 @@ async fn serve_page_and_assets_are_embedded_with_a_content_security_policy() {
         .to_str()
         .expect("ascii")
         .contains("script-src 'self'"));
+    // Cross-origin isolated, so that the page has shared memory (docs/webassembly.md).
+    assert_eq!(headers["cross-origin-opener-policy"], "same-origin");
+    assert_eq!(headers["cross-origin-embedder-policy"], "require-corp");
     let (status, headers, _) = send(&app, get("/main.js")).await;
     assert_eq!(status, StatusCode::OK);
     assert_eq!(
@@ -1655,8 +1658,10 @@ fn static_build_marks_its_page_carries_the_module_and_replaces_only_its_own_fold
     let tmp = tempfile::tempdir().expect("a temporary folder");
     let wasm = tmp.path().join("module.wasm");
     std::fs::write(&wasm, b"\0asm\x01\0\0\0").expect("written");
+    let threads = tmp.path().join("threads.wasm");
+    std::fs::write(&threads, b"\0asm\x01\0\0\x01").expect("written");
     let dir = tmp.path().join("site");
-    super::write_static(&dir, Some(&wasm)).expect("written");
+    super::write_static(&dir, Some(&wasm), Some(&threads)).expect("written");
     let html = std::fs::read_to_string(dir.join("index.html")).expect("index.html");
     assert!(
         html.contains("<html lang=\"en\" data-backend=\"wasm\">"),
@@ -1683,12 +1688,28 @@ fn static_build_marks_its_page_carries_the_module_and_replaces_only_its_own_fold
         std::fs::read(dir.join("splineskin.wasm")).expect("module"),
         b"\0asm\x01\0\0\0"
     );
-    // An earlier build is replaced; another folder is refused; so is a file that is no module.
-    super::write_static(&dir, Some(&wasm)).expect("an earlier build replaced");
+    assert_eq!(
+        std::fs::read(dir.join("splineskin-threads.wasm")).expect("threaded module"),
+        b"\0asm\x01\0\0\x01"
+    );
+    let headers = std::fs::read_to_string(dir.join("_headers")).expect("_headers");
+    assert!(
+        headers.starts_with("/*\n")
+            && headers.contains("  cross-origin-opener-policy: same-origin\n")
+            && headers.contains("  cross-origin-embedder-policy: require-corp\n"),
+        "{headers}"
+    );
+    // An earlier build is replaced (its threaded module too, by a build without one); another
+    // folder is refused; so is a file that is no module.
+    super::write_static(&dir, Some(&wasm), None).expect("an earlier build replaced");
+    assert!(
+        !dir.join("splineskin-threads.wasm").exists(),
+        "the earlier threaded module removed"
+    );
     let other = tmp.path().join("other");
     std::fs::create_dir(&other).expect("created");
     std::fs::write(other.join("notes.txt"), "mine").expect("written");
-    let message = super::write_static(&other, Some(&wasm))
+    let message = super::write_static(&other, Some(&wasm), None)
         .expect_err("refused")
         .to_string();
     assert!(message.contains("not a static build"), "{message}");
@@ -1698,7 +1719,7 @@ fn static_build_marks_its_page_carries_the_module_and_replaces_only_its_own_fold
     );
     let text = tmp.path().join("text.wasm");
     std::fs::write(&text, "hello").expect("written");
-    let message = super::write_static(&tmp.path().join("new"), Some(&text))
+    let message = super::write_static(&tmp.path().join("new"), Some(&text), None)
         .expect_err("refused")
         .to_string();
     assert!(message.contains("not a WebAssembly module"), "{message}");
