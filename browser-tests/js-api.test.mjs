@@ -16,6 +16,7 @@ import { after } from 'node:test';
 import { launchBrowser, outputFolder, pathDifference, REPO, runSplineskin, serveFolder } from './harness.mjs';
 
 const WASM = process.env.SPLINESKIN_WASM || join(REPO, 'target', 'wasm', 'wasm32-unknown-unknown', 'release', 'splineskin_wasm.wasm');
+const WASM_THREADS = process.env.SPLINESKIN_WASM_THREADS || join(REPO, 'target', 'wasm-threads', 'wasm32-unknown-unknown', 'release', 'splineskin_wasm.wasm');
 const WEB = join(REPO, 'crates', 'splineskin-cli', 'web');
 const DEMO_SVG = join(REPO, 'crates', 'splineskin', 'assets', 'demo.svg');
 const SAME = 1e-9;
@@ -24,6 +25,9 @@ const PINS = [[440, 215], [150, 210], [300, 150]];
 
 const MISSING = !existsSync(WASM) && !process.env.CI && `${WASM} is missing (build it: tools/build-wasm)`;
 if (!existsSync(WASM) && process.env.CI) throw new Error(`${WASM} is missing; CI builds it in .ci/run`);
+
+const NO_THREADS = !existsSync(WASM_THREADS) && !process.env.CI && `${WASM_THREADS} is missing (build it: tools/build-wasm)`;
+if (!existsSync(WASM_THREADS) && process.env.CI) throw new Error(`${WASM_THREADS} is missing; CI builds it in .ci/run`);
 
 const out = outputFolder('js-api');
 const check = (...args) => out.check(...args);
@@ -81,6 +85,29 @@ check('under Node: open, rig with smooth weights, update into a Float64Array, ex
   assert.throws(() => rig.update([[1, 0, 0, 1, 0, 0]], points), /pose of 3 maps/);
   assert.throws(() => drawing.rig({ pins: [[Number.NaN, 0]] }), SplineskinError);
   assert.equal(splineskin.open(readFileSync(DEMO_SVG, 'utf8'), 'again.svg').nPoints, drawing.nPoints);
+});
+
+check('under Node with the threaded module on two threads: the operator of one thread, bit for bit (timed, printed)', { skip: MISSING || NO_THREADS }, async () => {
+  const { load } = await import(join(WEB, 'splineskin.js'));
+  const pins = [[100, 100], [300, 200], [500, 300], [200, 350], [400, 120]];
+  const operators = [];
+  for (const threads of [1, 2]) {
+    const splineskin = await load(readFileSync(WASM_THREADS), { threads });
+    assert.equal(splineskin.threads, threads, 'the pool started');
+    const drawing = splineskin.open(readFileSync(DEMO_SVG, 'utf8'), 'demo.svg');
+    const seconds = [];
+    let rig;
+    for (let k = 0; k < 3; k++) {
+      const t0 = performance.now();
+      rig = drawing.rig({ pins, weights: 'bbw' });
+      seconds.push((performance.now() - t0) / 1000);
+    }
+    operators.push(rig.operator);
+    console.log(`js-api: Node, threaded module on ${threads} thread(s): the fish's bbw rig with 5 pins ${seconds.map((s) => s.toFixed(2)).join(', ')} s`);
+  }
+  assert.equal(operators[0].length, operators[1].length);
+  // Checked failing with the second operator's first entry changed.
+  assert.ok(operators[0].every((v, k) => Object.is(v, operators[1][k])), 'the same operator on two threads');
 });
 
 check('in chromium: the example page (example.html of the static build) runs, and its pose is the native deformation', { skip: MISSING }, async () => {

@@ -14,38 +14,11 @@ import { loadEditor } from './wasm-editor.js';
 /** The editor, once the page has sent the module. */
 let loading = null;
 
-/** How long a pool thread may take to start before the editor goes on without it. */
-const THREAD_START_MS = 10000;
-
-/**
- * Starts one of a threaded module's pool threads in a Web Worker of its own (wasm-thread.js);
- * resolves once it runs, or fails to start, or after THREAD_START_MS: a thread that did not
- * start leaves its share to the others (the pool's loops are work-stealing).
- */
-function startThread(message) {
-  return new Promise((resolve) => {
-    const thread = new Worker(new URL('wasm-thread.js', import.meta.url), { type: 'module' });
-    const timer = setTimeout(resolve, THREAD_START_MS);
-    thread.onmessage = ({ data }) => {
-      clearTimeout(timer);
-      if (data.failed) console.warn(`splineskin: a WebAssembly thread did not start: ${data.failed}`);
-      resolve();
-    };
-    thread.onerror = (e) => {
-      clearTimeout(timer);
-      console.warn(`splineskin: a WebAssembly thread did not start: ${e.message}`);
-      resolve();
-    };
-    thread.postMessage(message);
-  });
-}
-
 /** Instantiates the module the page compiled (or, given none, fetches and compiles it). */
 function load(module, threads) {
   loading = loadEditor(module ?? new URL('splineskin.wasm', import.meta.url), {
     onProgress: (job, stage) => self.postMessage({ progress: job, stage }),
     threads,
-    startThread,
   });
   loading.then(
     (editor) => self.postMessage({ ready: true, threads: editor.threads }),

@@ -10,10 +10,20 @@ export class SplineskinError extends Error {
   status: number;
 }
 
-/** Loads the module: its URL, a fetch Response or its bytes; default splineskin.wasm beside splineskin.js. */
-export function load(source?: string | URL | Response | ArrayBuffer | ArrayBufferView): Promise<Splineskin>;
+/**
+ * Loads the module: its URL, a fetch Response, its bytes or a compiled module; default
+ * splineskin.wasm beside splineskin.js. `threads`: with the threaded module
+ * (splineskin-threads.wasm), how many threads to compute on (Node, or a worker of a
+ * cross-origin-isolated page); the one-thread module ignores it.
+ */
+export function load(
+  source?: string | URL | Response | ArrayBuffer | ArrayBufferView | WebAssembly.Module,
+  options?: { threads?: number },
+): Promise<Splineskin>;
 
 export class Splineskin {
+  /** The threads the module computes on (1 unless the threaded module was given threads). */
+  readonly threads: number;
   /** Opens an SVG document or a scene (JSON, drawing inline); `name` names it in messages. */
   open(text: string, name?: string): Drawing;
 }

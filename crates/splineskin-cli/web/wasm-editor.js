@@ -4,8 +4,8 @@
 //
 //   const editor = await loadEditor(bytesOrUrl, { onProgress });
 //   // the threaded module (splineskin-threads.wasm), in a worker of a cross-origin-isolated
-//   // page or under Node: `startThread(message)` starts a worker that calls runThread(message)
-//   const editor = await loadEditor(threadedModule, { threads: 4, startThread });
+//   // page or under Node, its pool's threads started in workers (threadStarter)
+//   const editor = await loadEditor(threadedModule, { threads: 4 });
 //   const { status, contentType, headers, body } = editor.request('POST', '/api/rig', { body, headers });
 
 const encoder = new TextEncoder();
@@ -15,8 +15,9 @@ const decoder = new TextDecoder();
  * Instantiates the module from `source` (a URL or a Response to fetch it from, its bytes as an
  * ArrayBuffer or typed array, or a WebAssembly.Module). `onProgress(job, stage)` hears the
  * stages of the requests that name a job (`x-splineskin-job`), as `GET /api/progress/{job}`
- * would tell them. With the threaded module, `threads` (more than 1) and `startThread` start
- * its pool (startThreads); the single-threaded module ignores them.
+ * would tell them. With the threaded module and `threads` more than 1, its pool is started
+ * (startThreads), each thread by `startThread(message)` (default: threadStarter's); the
+ * single-threaded module ignores both.
  */
 export async function loadEditor(source, { onProgress, threads = 1, startThread } = {}) {
   const module = await compile(source);
@@ -39,8 +40,11 @@ export async function loadEditor(source, { onProgress, threads = 1, startThread 
   const instance = await WebAssembly.instantiate(module, imports);
   const m = instance.exports;
   memory ??= m.memory;
-  const nThreads = shared && threads > 1 && startThread
-    ? await startThreads(module, shared, m, builders, threads, startThread)
+  // A page's main thread may not wait on shared memory, which a pool's caller does.
+  const mayWait = typeof document === 'undefined';
+  if (shared && threads > 1 && !mayWait) console.warn('splineskin: threads run only off a page\'s main thread (in a worker): computing on one');
+  const nThreads = shared && threads > 1 && mayWait
+    ? await startThreads(module, shared, m, builders, threads, startThread ?? await threadStarter())
     : 1;
   return {
     /** The module's exports (the lower-level calls of crates/splineskin-wasm). */
@@ -122,6 +126,36 @@ async function startThreads(module, memory, m, builders, threads, startThread) {
     return startThread({ module, memory, builder, stackTop, tls });
   }));
   return size;
+}
+
+/** How long a pool thread may take to start before the pool goes on without it. */
+const THREAD_START_MS = 10000;
+
+/**
+ * A `startThread` for loadEditor where this script runs: it starts a Web Worker (in a worker
+ * of a cross-origin-isolated page) or a Node worker thread running wasm-thread.js, and
+ * resolves once the thread works for the pool, or fails to start, or after THREAD_START_MS: a
+ * thread that did not start leaves its share to the others (the pool's loops are
+ * work-stealing), and the console says why. Node threads do not keep the process alive.
+ */
+export async function threadStarter() {
+  const url = new URL('wasm-thread.js', import.meta.url);
+  const node = typeof Worker === 'undefined' ? await import('node:worker_threads') : null;
+  return (message) => new Promise((resolve) => {
+    const thread = node ? new node.Worker(url) : new Worker(url, { type: 'module' });
+    const done = (failure) => {
+      clearTimeout(timer);
+      if (failure) console.warn(`splineskin: a WebAssembly thread did not start: ${failure}`);
+      thread.unref?.();
+      resolve();
+    };
+    const timer = setTimeout(() => done(`no answer in ${THREAD_START_MS / 1000} s`), THREAD_START_MS);
+    thread.addEventListener?.('message', ({ data }) => done(data.failed));
+    thread.addEventListener?.('error', (e) => done(e.message));
+    thread.on?.('message', (data) => done(data.failed));
+    thread.on?.('error', (e) => done(e.message));
+    thread.postMessage(message);
+  });
 }
 
 /**
