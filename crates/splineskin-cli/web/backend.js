@@ -88,6 +88,8 @@ class ModuleWorker {
     this.tag = tag;
     /** The threads it computes on, once loaded (1 with the one-thread module). */
     this.threads = 1;
+    /** The threaded module's stop flag { memory, address } (editor-worker.js), else null. */
+    this.stopFlag = null;
     /** Requests sent and not answered, oldest first: id → { resolve, signal }. */
     this.pending = new Map();
     this.nextId = 0;
@@ -108,7 +110,10 @@ class ModuleWorker {
         stages.set(data.progress, { ...data.stage, at: performance.now() });
         return;
       }
-      if (data.ready) this.threads = data.threads ?? 1;
+      if (data.ready) {
+        this.threads = data.threads ?? 1;
+        this.stopFlag = data.stop ?? null;
+      }
       if (data.ready || data.failed) return;
       const entry = this.pending.get(data.id);
       this.pending.delete(data.id);
@@ -135,14 +140,25 @@ class ModuleWorker {
     return Promise.all([...this.pending.values()].map((entry) => entry.answer));
   }
 
-  /** Whether the request the worker is working on (its oldest) was given up by the page. */
+  /**
+   * Whether all the worker has to do is for requests the page gave up: every pending request
+   * the page can give up (those with a signal) was, and there is one. What has no signal (a
+   * drawing opened for a rig) serves those requests: a worker opening the drawing for a rig
+   * the page no longer wants works for nothing.
+   */
   workingOnAbandoned() {
-    const oldest = this.pending.values().next().value;
-    return oldest?.signal?.aborted === true;
+    const signals = [...this.pending.values()].map((entry) => entry.signal).filter(Boolean);
+    return signals.length > 0 && signals.every((signal) => signal.aborted);
   }
 
-  /** Stops the worker; what it had not answered gets `status` and `message`. */
+  /**
+   * Stops the worker; what it had not answered gets `status` and `message`. A worker busy in
+   * the module goes on until it returns (browsers let a terminated worker finish its task, for
+   * up to about 2 s in Chromium, taking a core from the next rig), so the threaded module's
+   * stop flag is raised first: its bounded biharmonic weights stop at their next iteration.
+   */
   stop(status, message) {
+    if (this.stopFlag) Atomics.store(new Uint8Array(this.stopFlag.memory.buffer), this.stopFlag.address, 1);
     this.worker.terminate();
     for (const { resolve } of this.pending.values()) resolve(failure(status, message));
     this.pending.clear();

@@ -7,7 +7,9 @@
 //                  { id, method, path, headers, body (ArrayBuffer) }
 //   worker → page  { id, status, contentType, headers, body (ArrayBuffer) }
 //                  { progress: job, stage }            while a followed job runs
-//                  { ready: true, threads } | { failed: message } once the module is loaded or not
+//                  { ready: true, threads, stop } | { failed: message } once the module is
+//                  loaded or not; `stop`: the threaded module's stop flag { memory, address }
+//                  (wasm-editor.js), through which the page stops a request mid-computation
 
 import { loadEditor } from './wasm-editor.js';
 
@@ -21,7 +23,7 @@ function load(module, threads) {
     threads,
   });
   loading.then(
-    (editor) => self.postMessage({ ready: true, threads: editor.threads }),
+    (editor) => self.postMessage({ ready: true, threads: editor.threads, stop: editor.stopFlag }),
     (e) => self.postMessage({ failed: `splineskin.wasm: ${e.message}` }),
   );
 }

@@ -53,6 +53,12 @@ export async function loadEditor(source, { onProgress, threads = 1, startThread 
     /** The threads the module computes on (1 unless a threaded module was given threads). */
     threads: nThreads,
     /**
+     * With the threaded module, { memory, address }: the byte in the shared memory that stops
+     * the request being answered when 1 is stored there (`Atomics.store`), from any thread
+     * (splineskin_stop_flag); null with the one-thread module, whose memory nobody else sees.
+     */
+    stopFlag: shared ? { memory: shared, address: m.splineskin_stop_flag() } : null,
+    /**
      * Answers `method path` (a path under /api/, with `?query` if any) with `body` (bytes or
      * text) and `headers` (an object): `{ status, contentType, headers, body }`, the body a
      * Uint8Array of its own.

@@ -38,6 +38,21 @@ impl StopSignal {
     pub fn is_raised(&self) -> bool {
         self.0.load(Ordering::Relaxed)
     }
+
+    /// Where the flag lives in memory: one byte, 0 until raised, 1 after (an `AtomicBool`). A
+    /// host sharing the memory raises it by an atomic store of 1 there: the WebAssembly
+    /// editor's page does, for a worker it no longer wants, which cannot hear a request while
+    /// it computes (`crates/splineskin-wasm`, docs/webassembly.md).
+    ///
+    /// ```
+    /// use splineskin_core::stop::StopSignal;
+    /// let signal = StopSignal::new();
+    /// assert_eq!(signal.address(), signal.clone().address());
+    /// assert_ne!(signal.address(), StopSignal::new().address());
+    /// ```
+    pub fn address(&self) -> usize {
+        Arc::as_ptr(&self.0) as usize
+    }
 }
 
 /// Two signals are equal when they are the same flag (not merely two unraised ones).

@@ -67,6 +67,8 @@ pub struct ProgressBoard {
     jobs: Mutex<HashMap<String, Job>>,
     clock: Clock,
     listener: Mutex<Option<Listener>>,
+    /// The one signal every followed job gets, if set ([`ProgressBoard::share_stop`]).
+    shared_stop: Mutex<Option<StopSignal>>,
 }
 
 impl ProgressBoard {
@@ -76,7 +78,29 @@ impl ProgressBoard {
             jobs: Mutex::default(),
             clock,
             listener: Mutex::new(None),
+            shared_stop: Mutex::new(None),
         }
+    }
+
+    /// Gives every job followed from now on `signal` as its stop signal, so that raising it
+    /// stops whichever runs. For an editor that answers one request at a time and cannot hear
+    /// `POST /api/progress/{job}/stop` while it computes (WebAssembly in a Web Worker): its host
+    /// raises the flag itself, in memory it shares ([`StopSignal::address`]).
+    ///
+    /// ```
+    /// use std::sync::Arc;
+    /// use splineskin::defop::StopSignal;
+    /// use splineskin_editor::progress::{system_clock, ProgressBoard};
+    /// let board = Arc::new(ProgressBoard::new(system_clock));
+    /// let shared = StopSignal::new();
+    /// board.share_stop(shared.clone());
+    /// let job = board.follow("rig-1").unwrap();
+    /// assert_eq!(job.stop_signal(), shared);
+    /// shared.raise();
+    /// assert!(job.stop_signal().is_raised());
+    /// ```
+    pub fn share_stop(&self, signal: StopSignal) {
+        *self.shared_stop.lock().unwrap_or_else(|e| e.into_inner()) = Some(signal);
     }
 
     /// The board's clock.
@@ -123,7 +147,8 @@ impl ProgressBoard {
         if !valid || jobs.len() >= MAX_FOLLOWED || jobs.contains_key(name) {
             return None;
         }
-        let stop = StopSignal::new();
+        let shared = self.shared_stop.lock().unwrap_or_else(|e| e.into_inner());
+        let stop = shared.clone().unwrap_or_default();
         jobs.insert(
             name.to_string(),
             (("queued", (self.clock)(), None), stop.clone()),

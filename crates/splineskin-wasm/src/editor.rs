@@ -19,6 +19,7 @@
 use std::cell::RefCell;
 
 use serde::{Deserialize, Serialize};
+use splineskin::defop::StopSignal;
 use splineskin_editor::document::Document;
 use splineskin_editor::{Editor, Request};
 
@@ -27,6 +28,8 @@ use crate::INPUT;
 thread_local! {
     static EDITOR: RefCell<Option<Editor>> = const { RefCell::new(None) };
     static RESPONSE: RefCell<Vec<u8>> = const { RefCell::new(Vec::new()) };
+    /// The stop signal of every job this thread's editor follows ([`splineskin_stop_flag`]).
+    static STOP: StopSignal = StopSignal::new();
 }
 
 /// The head of a request: everything but the body.
@@ -120,8 +123,23 @@ pub fn handle(request: &Request) -> splineskin_editor::Response {
     })
 }
 
+/// The address of the stop flag every followed job of this module's editor checks (one byte,
+/// an `AtomicBool`): a host whose memory is shared with the module (the threaded build) stops
+/// the request being answered by storing 1 there, which the module cannot be told otherwise
+/// while it computes; bounded biharmonic weights stop at their next active-set iteration and
+/// the request answers 409. Once raised it stays raised: the host then drops this instance.
+#[allow(unsafe_code)]
+#[no_mangle]
+pub extern "C" fn splineskin_stop_flag() -> usize {
+    EDITOR.with_borrow_mut(|editor| {
+        editor.get_or_insert_with(new_editor);
+    });
+    STOP.with(|stop| stop.address())
+}
+
 fn new_editor() -> Editor {
     let editor = Editor::with_clock(Document::bundled().ok(), host::clock);
+    editor.progress.share_stop(STOP.with(|stop| stop.clone()));
     editor.progress.set_listener(Box::new(|job, stage| {
         let json = splineskin_editor::rig_routes::stage_json(Some(stage)).to_string();
         host::progress(job, &json);
@@ -169,4 +187,48 @@ mod host {
 
     /// Nothing: natively, pages ask the server.
     pub fn progress(_job: &str, _json: &str) {}
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The fish's document and a bounded biharmonic rig request on it with three pins.
+    fn rig_request() -> Request {
+        let initial = handle(&Request::get("/api/initial"));
+        let info: serde_json::Value = serde_json::from_slice(&initial.body).expect("json");
+        let body = serde_json::json!({
+            "document": info["id"],
+            "scene": {
+                "handles": [[440, 215], [150, 210], [300, 250]],
+                "pose": [[1, 0, 0, 1, 0, 0], [1, 0, 0, 1, 0, 0], [1, 0, 0, 1, 0, 0]],
+                "weights": {"family": "bbw"},
+                "junctions": [],
+                "flexible": false
+            }
+        });
+        Request::post("/api/rig", body.to_string()).with_header("x-splineskin", "1")
+    }
+
+    #[test]
+    fn the_stop_flag_stops_followed_rigs_and_only_when_raised() {
+        let flag = splineskin_stop_flag();
+        assert_eq!(flag, STOP.with(|s| s.address()), "the shared signal's flag");
+        let followed = |job: &str| rig_request().with_header("x-splineskin-job", job);
+        assert_eq!(
+            handle(&followed("rig-1")).status,
+            200,
+            "not raised: answered"
+        );
+        STOP.with(|s| s.raise());
+        let stopped = handle(&followed("rig-2"));
+        assert_eq!(
+            stopped.status,
+            409,
+            "{}",
+            String::from_utf8_lossy(&stopped.body)
+        );
+        // A request no job names is not followed, so not stopped.
+        assert_eq!(handle(&rig_request()).status, 200);
+    }
 }
