@@ -1,8 +1,7 @@
 //! Writing results: by extension (`.svg`, `.png`, `.json`), always atomically (a temporary file
 //! in the same folder, then a rename), so a failure never leaves a half-written file.
 
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use anyhow::{bail, ensure, Context, Result};
 use kurbo::{Point, Rect};
@@ -475,69 +474,23 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     write_all_atomic(&[(path, bytes)])
 }
 
-/// Writes several files as one: every file's bytes go to a temporary file beside it first, and
-/// only when all of them are written are they renamed into place. A failure while writing
-/// leaves every destination as it was (its temporary files removed); a rename failing after
-/// others succeeded (the disk vanishing between two renames) is reported naming the files
-/// already replaced.
+/// Writes several files as one ([`splineskin::atomic_write::write_all_atomically`]): a failure
+/// while writing leaves every destination as it was; a rename failing after others succeeded
+/// (the disk vanishing between two renames) is reported naming the files already replaced.
 pub fn write_all_atomic(files: &[(&Path, &[u8])]) -> Result<()> {
-    let mut temporaries = Vec::with_capacity(files.len());
-    let remove_all = |temporaries: &[PathBuf]| {
-        for t in temporaries {
-            let _ = std::fs::remove_file(t);
-        }
-    };
-    for (path, bytes) in files {
-        let tmp = match temporary_beside(path) {
-            Ok(tmp) => tmp,
-            Err(e) => {
-                remove_all(&temporaries);
-                return Err(e);
-            }
+    splineskin::atomic_write::write_all_atomically(files).map_err(|e| {
+        let done: Vec<String> = files[..e.replaced]
+            .iter()
+            .map(|(p, _)| p.display().to_string())
+            .collect();
+        let done = if done.is_empty() {
+            String::new()
+        } else {
+            format!(" ({} already written)", done.join(", "))
         };
-        let written = (|| -> std::io::Result<()> {
-            let mut f = std::fs::File::create(&tmp)?;
-            f.write_all(bytes)?;
-            f.sync_all()
-        })();
-        temporaries.push(tmp);
-        if let Err(e) = written {
-            remove_all(&temporaries);
-            return Err(e).with_context(|| format!("{}: cannot write", path.display()));
-        }
-    }
-    for (k, ((path, _), tmp)) in files.iter().zip(&temporaries).enumerate() {
-        if let Err(e) = std::fs::rename(tmp, path) {
-            remove_all(&temporaries[k..]);
-            let done: Vec<String> = files[..k]
-                .iter()
-                .map(|(p, _)| p.display().to_string())
-                .collect();
-            let done = if done.is_empty() {
-                String::new()
-            } else {
-                format!(" ({} already written)", done.join(", "))
-            };
-            return Err(e).with_context(|| format!("{}: cannot write{done}", path.display()));
-        }
-    }
-    Ok(())
-}
-
-/// A temporary file name in `path`'s folder: `.NAME.tmp-PID`.
-fn temporary_beside(path: &Path) -> Result<PathBuf> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .with_context(|| format!("{}: not a file name", path.display()))?;
-    Ok(dir.join(format!(
-        ".{}.tmp-{}",
-        name.to_string_lossy(),
-        std::process::id()
-    )))
+        anyhow::Error::new(e.source)
+            .context(format!("{}: cannot write{done}", files[e.file].0.display()))
+    })
 }
 
 #[cfg(test)]

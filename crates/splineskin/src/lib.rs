@@ -38,7 +38,7 @@ pub mod naive;
 pub mod scene;
 pub mod subdiv;
 
-pub use splineskin_core::{bezier, domain, folds, mesh, spline_fit, stop, weights};
+pub use splineskin_core::{atomic_write, bezier, domain, folds, mesh, spline_fit, stop, weights};
 pub use splineskin_defop as defop;
 pub use splineskin_svg::{fonts, render};
 
