@@ -22,8 +22,9 @@ use splineskin::defop::{extend, train, trained_distance, DefOpError, Progress, S
 use splineskin::scene::Compat;
 
 use crate::document_routes::gone_operator;
-use crate::editor::{ApiError, Editor, Request, Response, MAX_OPERATOR_BYTES};
+use crate::editor::Editor;
 use crate::progress::{Count, Followed};
+use crate::request::{ApiError, Request, Response, MAX_OPERATOR_BYTES};
 use crate::rig_routes::page_scene;
 use crate::scene_file::defop_energy;
 use crate::store::{OperatorBase, OperatorRig};

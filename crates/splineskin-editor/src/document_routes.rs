@@ -13,7 +13,8 @@ use splineskin::drawing::svg_out::{
 use splineskin::naive::skin_point;
 
 use crate::document::Document;
-use crate::editor::{lock_puppet, ApiError, Editor, Request, Response};
+use crate::editor::{lock_puppet, Editor};
+use crate::request::{ApiError, Request, Response};
 use crate::rig_routes::{gone_rig, page_scene};
 use crate::scene_file::scene_json;
 use crate::store::{OperatorRig, Rig};

@@ -41,8 +41,9 @@
 //! send without a CORS preflight the server never grants; on loopback, requests whose `Host`
 //! is not the server's own are refused (DNS rebinding).
 //!
-//! Modules: [`editor`] (the editor, requests, responses, errors, limits), [`document_routes`],
-//! [`rig_routes`] and [`defop_routes`] (the routes), [`document`] (an opened drawing),
+//! Modules, from the top: [`routes`] (the dispatch, [`Editor::handle`]), [`document_routes`],
+//! [`rig_routes`] and [`defop_routes`] (the routes), [`editor`] (the editor's state),
+//! [`request`] (requests, responses, errors, limits), [`document`] (an opened drawing),
 //! [`store`] (documents and rigs by id, bounded), [`progress`] (stages of running
 //! precomputations), [`wire`] (JSON exchanged with the page), [`scene_file`] (the page's scene
 //! as a scene file of ours), [`scene_lottie`] (a scene's animation as Lottie).
@@ -62,10 +63,13 @@ pub mod document;
 pub mod document_routes;
 pub mod editor;
 pub mod progress;
+pub mod request;
 pub mod rig_routes;
+pub mod routes;
 pub mod scene_file;
 pub mod scene_lottie;
 pub mod store;
 pub mod wire;
 
-pub use editor::{error_message, ApiError, Editor, Request, Response};
+pub use editor::Editor;
+pub use request::{error_message, ApiError, Request, Response};

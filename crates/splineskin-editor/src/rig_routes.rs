@@ -8,11 +8,12 @@ use splineskin::scene::{Compat, Puppet, PuppetStage, Scene, SceneError, SetupCon
 use splineskin::weights::WeightsError;
 
 use crate::document::Document;
-use crate::editor::{
-    lock_puppet, ApiError, Editor, Request, Response, MAX_GRID_SIDE, MAX_HANDLES,
-    MAX_OPERATOR_BYTES, MAX_REFINE_POSES, RIG_HEADER,
-};
+use crate::editor::{lock_puppet, Editor};
 use crate::progress::Followed;
+use crate::request::{
+    ApiError, Request, Response, MAX_GRID_SIDE, MAX_HANDLES, MAX_OPERATOR_BYTES, MAX_REFINE_POSES,
+    RIG_HEADER,
+};
 use crate::scene_file::{defop_energy, scene_json};
 use crate::wire::{
     ColumnsRequest, EditScene, PoseRequest, RefineAnswer, RefineRequest, RigRequest,

@@ -172,7 +172,7 @@ pub struct RefineRequest {
     /// The page's scene on the rig's document (its junction kinds move with the joints).
     pub scene: EditScene,
     /// The poses that matter (those seen while dragging, the keyframes'): one map per handle
-    /// each, SVG order `[a, b, c, d, e, f]`; at most [`crate::editor::MAX_REFINE_POSES`].
+    /// each, SVG order `[a, b, c, d, e, f]`; at most [`crate::request::MAX_REFINE_POSES`].
     pub poses: Vec<Vec<[f64; 6]>>,
     /// Largest distance of the fit from the skinned target, a fraction of the drawing's
     /// diagonal.

@@ -12,8 +12,8 @@ use tower::ServiceExt;
 
 use splineskin_editor::defop_routes::DEFOP_HEADER;
 use splineskin_editor::document::{Document, MAX_UPLOAD_BYTES};
-use splineskin_editor::editor::RIG_HEADER;
 use splineskin_editor::progress::Count;
+use splineskin_editor::request::RIG_HEADER;
 
 use super::http::{router, App, API_HEADER, MAX_JOBS};
 
