@@ -5,7 +5,8 @@
 //! drawing and no weights: [`super::PosedDrawing`] owns them with it, and its
 //! [`super::PosedDrawing::update`] is the way to apply a pose.
 
-use super::setup::{Compat, Setup};
+use super::compat::Compat;
+use super::setup::Setup;
 use super::{Engine, Scene, SceneError};
 use crate::drawing::Drawing;
 use crate::spline_fit::quadrature::SampledCurves;

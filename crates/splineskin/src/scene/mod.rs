@@ -24,9 +24,11 @@
 
 pub mod authors;
 mod bbw_columns;
+mod compat;
 pub mod defop;
 mod deformer;
 mod domain_file;
+pub mod handle_weights;
 pub mod handles;
 pub mod ours;
 pub mod pins;
@@ -34,18 +36,20 @@ mod posed;
 mod session;
 mod setup;
 
-pub use bbw_columns::{bbw_columns, SolvedColumns};
+pub use bbw_columns::bbw_columns;
+pub use compat::{Compat, AUTHORS_SHEPARD_SNAP};
 pub use defop::{
     energy_name, parse_energy, parse_handle_basis, Cover, DefOpSettings, DefOpShape, RegionSpec,
     SpatialBasisSpec, HANDLE_VERTEX_TOLERANCE,
 };
 pub use deformer::Deformer;
 pub use domain_file::scene_domain_options;
+pub use handle_weights::{handle_weights, mesh_weights, SolvedColumns, WeightInputs};
 pub use handles::{Bone, BonePoseError, BoneTransform, HandleKind, HandleSet};
 pub use pins::{place_pins, PinCount, PinError, PinOptions};
 pub use posed::{PoseReport, PosedDrawing, UpdateError};
 pub use session::{Puppet, PuppetStage, PuppetStats, RefinedPuppet};
-pub use setup::{handle_weights, mesh_weights, Compat, Setup, SetupControl, AUTHORS_SHEPARD_SNAP};
+pub use setup::{Setup, SetupControl};
 
 use std::path::{Path as FsPath, PathBuf};
 

@@ -18,8 +18,9 @@
 
 use kurbo::{Affine, Point};
 
+use super::compat::Compat;
 use super::deformer::Deformer;
-use super::setup::{Compat, Setup};
+use super::setup::Setup;
 use super::{Engine, Scene, SceneError};
 use crate::domain::Domain;
 use crate::drawing::Drawing;

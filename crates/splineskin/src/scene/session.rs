@@ -7,10 +7,12 @@
 
 use kurbo::{Affine, Point};
 
+use super::compat::Compat;
 use super::deformer::Deformer;
+use super::handle_weights::{handle_weights, WeightInputs};
 use super::handles::HandleSet;
 use super::posed::PosedDrawing;
-use super::setup::{check_rest_handles, handle_weights, Compat, Setup, SetupControl, WeightInputs};
+use super::setup::{check_rest_handles, Setup, SetupControl};
 use super::{Bone, HandleKind, Scene, SceneError, SceneFormat, WeightSpec};
 use crate::domain::{Domain, DomainOptions};
 use crate::drawing::Drawing;
