@@ -51,6 +51,11 @@ fn area_tolerance(loops: &[&[Point]], mesh: &TriMesh, area: f64) -> f64 {
 
 type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
 
+/// Builds the domain of `drawing` for the handles `points` and `bones` (the steps below, in
+/// order): inputs checked, the scale measured, the curves sampled, the boundary chosen
+/// ([`Outline`]), the vertices and constraint edges placed, the constrained Delaunay
+/// triangulation made and refined, the kept triangles extracted and checked to tile the
+/// boundary, and the handles, cage corners, bones, boundary loops and attachments found in it.
 pub(super) fn build(
     drawing: &Drawing,
     points: &[Point],
@@ -58,6 +63,105 @@ pub(super) fn build(
     options: &DomainOptions,
     given: Option<Given<'_>>,
 ) -> Result<Domain, DomainError> {
+    check_inputs(drawing, points, bones, options)?;
+    let cage = options.cage.as_ref().map(|c| closed_cage(c));
+    let scale = measure_scale(drawing, points, bones, cage.as_deref())?;
+    check_handles(points, bones, scale.coincident)?;
+    let spacing = sample_spacing(drawing, scale.drawing_diag, options);
+    let samples = sample_curves(drawing, spacing, options);
+    let outline = if let Some(given) = given {
+        given_outline(given, points, bones, scale.coincident)?
+    } else if cage.is_none() && options.shape == DomainShape::Art {
+        art_outline(
+            drawing,
+            points,
+            bones,
+            options,
+            (spacing, scale.coincident, scale.drawing_diag),
+        )?
+    } else {
+        enclosing_outline(
+            drawing,
+            &samples,
+            points,
+            bones,
+            options,
+            cage.as_deref(),
+            (
+                spacing,
+                scale.coincident,
+                scale.drawing_diag,
+                scale.all_bounds,
+            ),
+        )?
+    };
+    let loops: Vec<&[Point]> = outline.loops.iter().map(Vec::as_slice).collect();
+    let placed = place_vertices(&loops, &outline, &samples, points, bones, spacing, scale);
+    let (cdt, excluded, refinement_complete) =
+        triangulate_and_refine(&placed, options, outline.area)?;
+    let (mesh, remap) = extract_mesh(&cdt, &excluded)?;
+    let mesh_area: f64 = (0..mesh.n_triangles()).map(|t| mesh.signed_area(t)).sum();
+    if (mesh_area - outline.area).abs() > area_tolerance(&loops, &mesh, outline.area) {
+        return Err(DomainError::Bug(
+            "the kept triangles do not tile the domain",
+        ));
+    }
+    let mapped = |i: usize| {
+        let m = remap[i];
+        (m != usize::MAX)
+            .then_some(m)
+            .ok_or(DomainError::Bug("an input vertex is not in the mesh"))
+    };
+    let handle_vertices = placed
+        .handle_vertices
+        .iter()
+        .map(|&i| mapped(i))
+        .collect::<Result<Vec<_>, _>>()?;
+    let cage_vertices = match cage {
+        Some(_) => outline
+            .corners
+            .iter()
+            .map(|&k| mapped(placed.loop_vertices[0][k]))
+            .collect::<Result<Vec<_>, _>>()?,
+        None => Vec::new(),
+    };
+    let bone_vertices = bones
+        .iter()
+        .map(|b| vertices_on_segment(&mesh, b[0], b[1], scale.coincident))
+        .collect();
+    let boundary_loops = boundary_loops(&mesh)?;
+    let attachments = attach(&mesh, &boundary_loops, outline.unpinned);
+    tracing::debug!(
+        n_vertices = mesh.n_vertices(),
+        n_triangles = mesh.n_triangles(),
+        n_curve_samples = placed.n_curve_samples,
+        spacing,
+        boundary = ?outline.boundary,
+        refinement_complete,
+        "domain triangulated"
+    );
+    Ok(Domain {
+        mesh,
+        handle_vertices,
+        bone_vertices,
+        cage_vertices,
+        boundary_loops,
+        boundary: outline.boundary,
+        area: outline.area,
+        sample_spacing: spacing,
+        n_curve_samples: placed.n_curve_samples,
+        refinement_complete,
+        attachments,
+    })
+}
+
+/// Refuses options out of range and handles or curves that are not finite.
+fn check_inputs(
+    drawing: &Drawing,
+    points: &[Point],
+    bones: &[[Point; 2]],
+    options: &DomainOptions,
+) -> Result<(), DomainError> {
     check_options(options)?;
     for (handle, p) in points.iter().enumerate() {
         if !(p.x.is_finite() && p.y.is_finite()) {
@@ -74,19 +178,39 @@ pub(super) fn build(
             return Err(DomainError::NonFiniteDrawing { path });
         }
     }
+    Ok(())
+}
 
-    // Scale: the curves' bounding box (else everything's).
+/// The sizes every tolerance of a build is relative to.
+#[derive(Clone, Copy)]
+struct Scale {
+    /// The diagonal of the curves' bounding box (else of everything's).
+    drawing_diag: f64,
+    /// The bounding box of the curves, handles, bones and cage.
+    all_bounds: Rect,
+    /// Distance under which two points are one: [`COINCIDENT_RELATIVE`] of the larger
+    /// diagonal.
+    coincident: f64,
+}
+
+/// The [`Scale`] of the curves, handles, bones and cage; an error when there is nothing to
+/// mesh or it spans a single point.
+fn measure_scale(
+    drawing: &Drawing,
+    points: &[Point],
+    bones: &[[Point; 2]],
+    cage: Option<&[Point]>,
+) -> Result<Scale, DomainError> {
     let curve_bounds = drawing
         .paths
         .iter()
         .flat_map(|p| (0..p.n_curves()).map(move |j| p.curve(j).bounding_box()))
         .reduce(|a, b| a.union(b));
-    let cage = options.cage.as_ref().map(|c| closed_cage(c));
     let mut all_bounds = curve_bounds;
     let extra = points
         .iter()
         .chain(bones.iter().flatten())
-        .chain(cage.iter().flatten());
+        .chain(cage.into_iter().flatten());
     for &p in extra {
         all_bounds = Some(all_bounds.map_or(Rect::from_points(p, p), |r| r.union_pt(p)));
     }
@@ -107,12 +231,16 @@ pub(super) fn build(
             reason: "the drawing, handles and cage span a single point",
         });
     }
-    let coincident = COINCIDENT_RELATIVE * drawing_diag.max(diag(all_bounds));
-    check_handles(points, bones, coincident)?;
+    Ok(Scale {
+        drawing_diag,
+        all_bounds,
+        coincident: COINCIDENT_RELATIVE * drawing_diag.max(diag(all_bounds)),
+    })
+}
 
-    // Curve samples, path by path (closed paths without the repeated first point).
-    let spacing = sample_spacing(drawing, drawing_diag, options);
-    let samples: Vec<Vec<Point>> = drawing
+/// Samples along each path `spacing` apart (closed paths without the repeated first point).
+fn sample_curves(drawing: &Drawing, spacing: f64, options: &DomainOptions) -> Vec<Vec<Point>> {
+    drawing
         .paths
         .iter()
         .map(|path| {
@@ -128,45 +256,38 @@ pub(super) fn build(
             dedup_consecutive(&mut out, path.closed);
             out
         })
-        .collect();
+        .collect()
+}
 
-    // The boundary: the art's outlines, or one outer polygon and its holes.
-    let outline = if let Some(given) = given {
-        given_outline(given, points, bones, coincident)?
-    } else if cage.is_none() && options.shape == DomainShape::Art {
-        art_outline(
-            drawing,
-            points,
-            bones,
-            options,
-            (spacing, coincident, drawing_diag),
-        )?
-    } else {
-        enclosing_outline(
-            drawing,
-            &samples,
-            points,
-            bones,
-            options,
-            cage.as_deref(),
-            (spacing, coincident, drawing_diag, all_bounds),
-        )?
-    };
-    let Outline {
-        loops,
-        boundary,
-        corners,
-        area,
-        boundary_path,
-        hole_paths,
-        unpinned,
-    } = outline;
-    let loops: Vec<&[Point]> = loops.iter().map(Vec::as_slice).collect();
-    let domain_index = PolygonIndex::new(&loops);
+/// What is triangulated: the vertices and constraint edges, and where the inputs went.
+struct Placed {
+    verts: VertexSet,
+    constraints: Vec<[usize; 2]>,
+    /// Each point handle's vertex.
+    handle_vertices: Vec<usize>,
+    /// Each boundary loop's vertices.
+    loop_vertices: Vec<Vec<usize>>,
+    /// Each bone's chain of vertices, from its first end.
+    bone_chains: Vec<Vec<usize>>,
+    /// Curve samples that became vertices (those of boundary paths counted whole).
+    n_curve_samples: usize,
+}
 
-    // Vertices and constraint edges.
+/// Places the vertices: the point handles, the boundary loops (with their edges as
+/// constraints), the bones' chains, and the curve samples inside the domain that are neither
+/// near a boundary or bone segment nor merged with another vertex (within half the spacing).
+fn place_vertices(
+    loops: &[&[Point]],
+    outline: &Outline,
+    samples: &[Vec<Point>],
+    points: &[Point],
+    bones: &[[Point; 2]],
+    spacing: f64,
+    scale: Scale,
+) -> Placed {
+    let domain_index = PolygonIndex::new(loops);
     let merge = 0.5 * spacing;
-    let mut verts = VertexSet::new(merge, coincident);
+    let mut verts = VertexSet::new(merge, scale.coincident);
     let handle_vertices: Vec<usize> = points.iter().map(|&p| verts.add_fixed(p)).collect();
     let mut constraints: Vec<[usize; 2]> = Vec::new();
     let mut add_loop = |verts: &mut VertexSet, poly: &[Point]| -> Vec<usize> {
@@ -189,31 +310,10 @@ pub(super) fn build(
                 .collect()
         })
         .collect();
-
-    // Segments near which curve samples are skipped: boundary, holes, bones.
-    let mut segments: Vec<(Point, Point)> = domain_index.edges().to_vec();
-    segments.extend(bones.iter().map(|b| (b[0], b[1])));
-    let seg_bounds = segments
-        .iter()
-        .fold(domain_index.bounds(), |r, s| r.union_pt(s.0).union_pt(s.1));
-    let seg_cell = (4.0 * merge).max(diag(seg_bounds) / 2048.0);
-    let seg_grid = BucketGrid::build(seg_bounds, seg_cell, segments.len(), |k, emit| {
-        BucketGrid::segment_pieces(seg_cell, segments[k].0, segments[k].1, emit)
-    });
-    let near_segment = |p: Point| {
-        let mut near = false;
-        seg_grid.for_cells_in(Rect::from_center_size(p, (2.0 * merge, 2.0 * merge)), |b| {
-            near = near
-                || b.iter().any(|&k| {
-                    let (a, c) = segments[k as usize];
-                    segment_distance(p, a, c).0 < merge
-                });
-        });
-        near
-    };
+    let near_segment = near_segment_test(&domain_index, bones, merge);
     let mut n_curve_samples = 0;
     for (path, s) in samples.iter().enumerate() {
-        if Some(path) == boundary_path || hole_paths.contains(&path) {
+        if Some(path) == outline.boundary_path || outline.hole_paths.contains(&path) {
             n_curve_samples += s.len();
             continue;
         }
@@ -223,13 +323,65 @@ pub(super) fn build(
             }
         }
     }
+    Placed {
+        verts,
+        constraints,
+        handle_vertices,
+        loop_vertices,
+        bone_chains,
+        n_curve_samples,
+    }
+}
 
-    // Triangulate and refine.
-    let n_initial = verts.points.len();
+/// Whether a point lies within `merge` of a segment of the boundary, its holes or a bone
+/// (curve samples there are skipped: they would make slivers against the constraint edges).
+fn near_segment_test(
+    domain_index: &PolygonIndex,
+    bones: &[[Point; 2]],
+    merge: f64,
+) -> impl Fn(Point) -> bool {
+    let mut segments: Vec<(Point, Point)> = domain_index.edges().to_vec();
+    segments.extend(bones.iter().map(|b| (b[0], b[1])));
+    let seg_bounds = segments
+        .iter()
+        .fold(domain_index.bounds(), |r, s| r.union_pt(s.0).union_pt(s.1));
+    let seg_diag = seg_bounds.width().hypot(seg_bounds.height());
+    let seg_cell = (4.0 * merge).max(seg_diag / 2048.0);
+    let seg_grid = BucketGrid::build(seg_bounds, seg_cell, segments.len(), |k, emit| {
+        BucketGrid::segment_pieces(seg_cell, segments[k].0, segments[k].1, emit)
+    });
+    move |p: Point| {
+        let mut near = false;
+        seg_grid.for_cells_in(Rect::from_center_size(p, (2.0 * merge, 2.0 * merge)), |b| {
+            near = near
+                || b.iter().any(|&k| {
+                    let (a, c) = segments[k as usize];
+                    segment_distance(p, a, c).0 < merge
+                });
+        });
+        near
+    }
+}
+
+/// The constrained Delaunay triangulation of `placed`, refined to the options' angle, area and
+/// vertex cap (spade), with the bones added as constraint edges after refinement (spade's
+/// classification of outer faces needs closed constraint loops, and a bone is an open chain).
+/// Returns it, its faces outside the domain, and whether refinement met its goals.
+fn triangulate_and_refine(
+    placed: &Placed,
+    options: &DomainOptions,
+    area: f64,
+) -> Result<(Cdt, HashSet<usize>, bool), DomainError> {
+    let n_initial = placed.verts.points.len();
     let mut conflicts = Vec::new();
     let mut cdt = Cdt::try_bulk_load_cdt(
-        verts.points.iter().map(|p| Point2::new(p.x, p.y)).collect(),
-        constraints,
+        placed
+            .verts
+            .points
+            .iter()
+            .map(|p| Point2::new(p.x, p.y))
+            .collect(),
+        placed.constraints.clone(),
         |e| conflicts.push(e),
     )
     .map_err(|e| DomainError::Triangulation {
@@ -258,10 +410,7 @@ pub(super) fn build(
         );
     }
     let excluded: HashSet<usize> = result.excluded_faces.iter().map(|f| f.index()).collect();
-
-    // Bones become constraint edges after refinement: spade's classification of outer faces
-    // needs closed constraint loops, and a bone is an open chain.
-    for chain in &bone_chains {
+    for chain in &placed.bone_chains {
         for w in chain.windows(2) {
             if w[0] == w[1] {
                 continue;
@@ -276,8 +425,15 @@ pub(super) fn build(
             cdt.add_constraint(a, b);
         }
     }
+    Ok((cdt, excluded, result.refinement_complete))
+}
 
-    // Extract the kept triangles and compact the vertices.
+/// The kept triangles of `cdt` (not `excluded`) as a mesh of the vertices they use, and the map
+/// from the triangulation's vertex indices to the mesh's (`usize::MAX`: not used).
+fn extract_mesh(
+    cdt: &Cdt,
+    excluded: &HashSet<usize>,
+) -> Result<(TriMesh, Vec<usize>), DomainError> {
     let mut remap = vec![usize::MAX; cdt.num_vertices()];
     let mut vertices = Vec::new();
     let mut triangles = Vec::new();
@@ -296,59 +452,7 @@ pub(super) fn build(
         });
         triangles.push(tri);
     }
-    let mesh = TriMesh::new(vertices, triangles)?;
-    let mesh_area: f64 = (0..mesh.n_triangles()).map(|t| mesh.signed_area(t)).sum();
-    if (mesh_area - area).abs() > area_tolerance(&loops, &mesh, area) {
-        return Err(DomainError::Bug(
-            "the kept triangles do not tile the domain",
-        ));
-    }
-    let mapped = |i: usize| {
-        let m = remap[i];
-        (m != usize::MAX)
-            .then_some(m)
-            .ok_or(DomainError::Bug("an input vertex is not in the mesh"))
-    };
-    let handle_vertices = handle_vertices
-        .into_iter()
-        .map(mapped)
-        .collect::<Result<Vec<_>, _>>()?;
-    let cage_vertices = if cage.is_some() {
-        corners
-            .iter()
-            .map(|&k| mapped(loop_vertices[0][k]))
-            .collect::<Result<Vec<_>, _>>()?
-    } else {
-        Vec::new()
-    };
-    let bone_vertices = bones
-        .iter()
-        .map(|b| vertices_on_segment(&mesh, b[0], b[1], coincident))
-        .collect();
-    let boundary_loops = boundary_loops(&mesh)?;
-    let attachments = attach(&mesh, &boundary_loops, unpinned);
-    tracing::debug!(
-        n_vertices = mesh.n_vertices(),
-        n_triangles = mesh.n_triangles(),
-        n_curve_samples,
-        spacing,
-        boundary = ?boundary,
-        refinement_complete = result.refinement_complete,
-        "domain triangulated"
-    );
-    Ok(Domain {
-        mesh,
-        handle_vertices,
-        bone_vertices,
-        cage_vertices,
-        boundary_loops,
-        boundary,
-        area,
-        sample_spacing: spacing,
-        n_curve_samples,
-        refinement_complete: result.refinement_complete,
-        attachments,
-    })
+    Ok((TriMesh::new(vertices, triangles)?, remap))
 }
 
 /// A domain's boundary before triangulation ([`build`]).
