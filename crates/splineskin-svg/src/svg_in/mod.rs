@@ -99,21 +99,18 @@
 
 use std::collections::HashMap;
 use std::str::FromStr;
-use std::sync::Arc;
 
 use kurbo::{Affine, Point, Rect, Size};
 
 use crate::document::{check_size, node_label, parse_xml, unique_prefix, SHOW_HIDDEN_CSS};
+mod import_paths;
 mod segments;
 mod validate;
 
 pub use crate::document::{SvgError, MAX_SVG_BYTES};
 use crate::rewrite::{GeometryEdit, RewritePolicy};
-use segments::*;
-use splineskin_core::drawing::source::{
-    ElementKey, ElementKind, ElementPaint, ImportedElement, SvgSource,
-};
-use splineskin_core::drawing::{Drawing, JunctionOptions, Path, PathRole};
+use splineskin_core::drawing::source::{ElementKey, ElementPaint, SvgSource};
+use splineskin_core::drawing::{Drawing, JunctionOptions};
 use validate::*;
 
 /// Largest accepted absolute value of a coordinate, in user units: 1e9. Checked on every number
@@ -346,26 +343,7 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
             return read_svg_impl(&converted, &rest, origin);
         }
     }
-    check_size(origin, text.len() as u64)?;
-    if text.trim().is_empty() {
-        return Err(SvgError::Empty {
-            file: origin.to_string(),
-        });
-    }
-    let doc = parse_xml(text, origin)?;
-    let root = doc.root_element();
-    if !(crate::document::is_svg_element(root) && root.tag_name().name() == "svg") {
-        let found = match root.tag_name().namespace() {
-            Some(ns) => format!("{} (namespace {ns})", root.tag_name().name()),
-            None => root.tag_name().name().to_string(),
-        };
-        return Err(SvgError::NoSvgRoot {
-            file: origin.to_string(),
-            found,
-        });
-    }
-    validate_document(&doc, origin)?;
-
+    let doc = parse_svg_document(text, origin)?;
     let Prepared {
         text: prepared,
         ids,
@@ -392,229 +370,77 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
         .filter_map(|n| Some((n.attribute("id")?.to_string(), n.range().start)))
         .collect();
     let shown_ids: Option<std::collections::HashSet<&str>> = with_hidden.as_ref().map(|_| {
-        let mut found = Vec::new();
-        if let Some(usvg::Node::Group(wrapper)) = shown.node_by_id(&wrapper_id) {
-            collect_paths_in(
-                wrapper,
-                Affine::IDENTITY,
-                Context::Art,
-                &clip_offsets,
-                &mut found,
-            );
-        }
-        found.into_iter().map(|(p, _, _)| p.id()).collect()
+        paths_under(&shown, &wrapper_id, &clip_offsets)
+            .into_iter()
+            .map(|(p, _, _)| p.id())
+            .collect()
     });
-
-    let mut found = Vec::new();
-    let mut n_unmapped = 0usize;
-    if let Some(usvg::Node::Group(wrapper)) = tree.node_by_id(&wrapper_id) {
-        collect_paths_in(
-            wrapper,
-            Affine::IDENTITY,
-            Context::Art,
-            &clip_offsets,
-            &mut found,
-        );
+    let mut importer = import_paths::Importer::new(&doc, &ids, options, origin);
+    for (usvg_path, local_to_root, context) in paths_under(tree, &wrapper_id, &clip_offsets) {
+        let hidden = shown_ids
+            .as_ref()
+            .is_some_and(|s| !s.contains(usvg_path.id()));
+        importer.add(usvg_path, local_to_root, context, hidden)?;
     }
-    // Every `<path>` element's position in document order (the authors' numbering).
-    let path_tags: HashMap<usize, usize> = doc
-        .descendants()
-        .filter(|n| crate::document::is_svg_element(*n) && n.tag_name().name() == "path")
-        .enumerate()
-        .map(|(k, n)| (n.range().start, k))
-        .collect();
-    let mut bbox_clips: Vec<(usize, Affine)> = Vec::new();
-    let nodes: HashMap<usize, roxmltree::Node> = doc
-        .descendants()
-        .filter(|n| n.is_element())
-        .map(|n| (n.range().start, n))
-        .collect();
-
-    let mut paths: Vec<Path> = Vec::new();
-    let mut path_elements = Vec::new();
-    let mut closed_without_z = Vec::new();
-    let mut elements: Vec<ImportedElement> = Vec::new();
-    let mut element_of_key: HashMap<ElementKey, usize> = HashMap::new();
-    for (usvg_path, local_to_root, context) in found {
-        let Some(key) = ids.get(usvg_path.id()) else {
-            n_unmapped += 1;
-            continue;
-        };
-        let Some(&node) = nodes.get(&key.element) else {
-            return Err(SvgError::Internal {
-                file: origin.to_string(),
-                what: format!("no element at byte {}", key.element),
-            });
-        };
-        let role = match context {
-            Context::Art
-                if shown_ids
-                    .as_ref()
-                    .is_some_and(|s| !s.contains(usvg_path.id())) =>
-            {
-                PathRole::Hidden
-            }
-            Context::Art if !usvg_path.is_visible() => PathRole::Unpainted,
-            Context::Art => PathRole::Visible,
-            Context::Clip { .. } => PathRole::ClipPath,
-            Context::Mask { .. } => PathRole::Mask,
-        };
-        if let Context::Mask { mask } = context {
-            if nodes
-                .get(&mask)
-                .and_then(|m| m.attribute("maskContentUnits"))
-                == Some("objectBoundingBox")
-            {
-                let label = key_label(&doc, &nodes, key);
-                tracing::warn!(
-                    file = origin,
-                    element = %label,
-                    "mask content in objectBoundingBox units is not deformed (left at rest)"
-                );
-                continue;
-            }
-        }
-        let index = match element_of_key.get(key) {
-            Some(&i) if matches!(role, PathRole::ClipPath | PathRole::Mask) => {
-                // A clip path or mask used by several elements: deformed once.
-                if !same_placement(elements[i].local_to_root, local_to_root) {
-                    tracing::warn!(
-                        file = origin,
-                        element = %elements[i].label,
-                        "this clip path or mask is used by elements in different coordinates; \
-                         it is deformed for its first use only (give each element its own copy \
-                         to deform it for each)"
-                    );
-                }
-                continue;
-            }
-            Some(&i) => {
-                if elements[i].paths.end != paths.len() {
-                    tracing::warn!(
-                        file = origin,
-                        element = %elements[i].label,
-                        "usvg emitted this element twice, not contiguously; the second copy is \
-                         not imported"
-                    );
-                    continue;
-                }
-                i
-            }
-            None => {
-                let kind = ElementKind::from_tag(node.tag_name().name()).ok_or_else(|| {
-                    SvgError::Internal {
-                        file: origin.to_string(),
-                        what: format!("<{}> mapped as geometry", node.tag_name().name()),
-                    }
-                })?;
-                if let Context::Clip { clip, units } = context {
-                    let bbox_units = nodes.get(&clip).and_then(|c| c.attribute("clipPathUnits"))
-                        == Some("objectBoundingBox");
-                    if bbox_units && !bbox_clips.iter().any(|(c, _)| *c == clip) {
-                        bbox_clips.push((clip, units));
-                    }
-                }
-                elements.push(ImportedElement {
-                    key: key.clone(),
-                    kind,
-                    label: key_label(&doc, &nodes, key),
-                    range: node.range(),
-                    local_to_root,
-                    paths: paths.len()..paths.len(),
-                    role,
-                    path_tag_index: (kind == ElementKind::Path && key.uses.is_empty())
-                        .then(|| path_tags.get(&key.element).copied())
-                        .flatten(),
-                    zero_area_fill: false,
-                    paint: element_paint(usvg_path),
-                });
-                element_of_key.insert(key.clone(), elements.len() - 1);
-                elements.len() - 1
-            }
-        };
-        let element = &mut elements[index];
-        let before = paths.len();
-        let usvg_segments = segments_of_usvg(usvg_path.data());
-        let segments = match (element.kind, node.attribute("d")) {
-            (ElementKind::Path, Some(d)) => {
-                let exact = segments_of_path_data(d);
-                if same_structure(&exact, &usvg_segments) {
-                    exact
-                } else {
-                    tracing::warn!(
-                        file = origin,
-                        element = %element.label,
-                        "path data read in f64 differs from usvg's; using usvg's f32 data"
-                    );
-                    usvg_segments
-                }
-            }
-            _ => usvg_segments,
-        };
-        convert_segments(
-            &segments,
-            element.local_to_root,
-            options,
-            origin,
-            &element.label,
-            &mut paths,
-            &mut closed_without_z,
-        )?;
-        element.paths.end = paths.len();
-        element.zero_area_fill = matches!(role, PathRole::Visible | PathRole::Hidden)
-            && usvg_path.fill().is_some()
-            && paths[element.paths.clone()]
-                .iter()
-                .all(|p| collinear(&p.points));
-        path_elements.extend(std::iter::repeat_n(index, paths.len() - before));
-    }
-    if n_unmapped > 0 {
-        tracing::warn!(
-            file = origin,
-            count = n_unmapped,
-            "paths without a source element (marker contents or paint-order split copies) are \
-             not imported"
-        );
-    }
-    // Elements that produced no subpath at all (all degenerate) are not kept.
-    if paths.is_empty() {
-        return Err(SvgError::NoPaths {
-            file: origin.to_string(),
-        });
-    }
-    let mut remap = vec![usize::MAX; elements.len()];
-    let mut kept = Vec::new();
-    for (i, e) in elements.into_iter().enumerate() {
-        if !e.paths.is_empty() {
-            remap[i] = kept.len();
-            kept.push(e);
-        }
-    }
-    let path_elements = path_elements.into_iter().map(|i| remap[i]).collect();
-
     let size = Size::new(
         f64::from(tree.size().width()),
         f64::from(tree.size().height()),
     );
-    let view_box = root
+    let view_box = doc
+        .root_element()
         .attribute("viewBox")
         .and_then(|v| svgtypes::ViewBox::from_str(v).ok())
         .map(|vb| Rect::new(vb.x, vb.y, vb.x + vb.w, vb.y + vb.h))
         .unwrap_or_else(|| Rect::from_origin_size(Point::ORIGIN, size));
-    let source = SvgSource {
-        origin: origin.to_string(),
-        text: text.to_string(),
-        elements: kept,
-        path_elements,
-        closed_without_z,
-        size,
-        view_box,
-        bbox_clips,
-    };
-    Ok(Drawing {
-        paths,
-        source: Some(Arc::new(source)),
-    })
+    importer.finish(text, size, view_box)
+}
+
+/// `text` parsed, its root checked to be an SVG `<svg>` and the document validated (sizes,
+/// coordinates, what is unsupported: [`validate_document`]).
+fn parse_svg_document<'i>(
+    text: &'i str,
+    origin: &str,
+) -> Result<roxmltree::Document<'i>, SvgError> {
+    check_size(origin, text.len() as u64)?;
+    if text.trim().is_empty() {
+        return Err(SvgError::Empty {
+            file: origin.to_string(),
+        });
+    }
+    let doc = parse_xml(text, origin)?;
+    let root = doc.root_element();
+    if !(crate::document::is_svg_element(root) && root.tag_name().name() == "svg") {
+        let found = match root.tag_name().namespace() {
+            Some(ns) => format!("{} (namespace {ns})", root.tag_name().name()),
+            None => root.tag_name().name().to_string(),
+        };
+        return Err(SvgError::NoSvgRoot {
+            file: origin.to_string(),
+            found,
+        });
+    }
+    validate_document(&doc, origin)?;
+    Ok(doc)
+}
+
+/// The paths of `tree` inside the group `wrapper_id` (the root's content), in drawing order,
+/// with their local → root map and where they were found ([`collect_paths_in`]).
+fn paths_under<'t>(
+    tree: &'t usvg::Tree,
+    wrapper_id: &str,
+    clip_offsets: &HashMap<String, usize>,
+) -> Vec<(&'t usvg::Path, Affine, Context)> {
+    let mut found = Vec::new();
+    if let Some(usvg::Node::Group(wrapper)) = tree.node_by_id(wrapper_id) {
+        collect_paths_in(
+            wrapper,
+            Affine::IDENTITY,
+            Context::Art,
+            clip_offsets,
+            &mut found,
+        );
+    }
+    found
 }
 
 /// The root viewport in user units (viewBox size, else absolute width/height, else 100 × 100
@@ -875,6 +701,7 @@ fn key_label(
 
 #[cfg(test)]
 mod tests {
+    use super::segments::*;
     use super::*;
     use splineskin_core::drawing::JointKind;
 
