@@ -6,9 +6,10 @@
 use std::collections::HashMap;
 
 use kurbo::{Affine, Rect};
+use splineskin_core::drawing::source::ImportedElement;
 use splineskin_core::drawing::{ElementKind, SvgSource};
 
-use super::{Follow, FollowEdits, SINGULAR_DETERMINANT};
+use super::{Follow, FollowEdits, Timing, SINGULAR_DETERMINANT};
 use crate::document::{matrix, node_label, number, SvgError, XLINK_NS};
 use crate::rewrite::{AttributeSet, CopyEdit};
 use crate::{follow, smil};
@@ -112,6 +113,18 @@ pub(super) fn follow_edits(
     doc: &roxmltree::Document,
     follow: &Follow,
 ) -> Result<FollowEdits, SvgError> {
+    check_frames(source, follow)?;
+    let mut maker = EditMaker::new(doc);
+    for (i, e) in source.elements.iter().enumerate() {
+        maker.element_edits(i, e, follow);
+    }
+    maker.carried_edits(source, doc, follow);
+    Ok(maker.edits)
+}
+
+/// Refuses element maps that do not belong to `follow`'s drawing and `source` (another path or
+/// element count, another set of carried elements, a frame count other than the timing's).
+fn check_frames(source: &SvgSource, follow: &Follow) -> Result<(), SvgError> {
     let Follow {
         drawing,
         frames,
@@ -151,85 +164,140 @@ pub(super) fn follow_edits(
             ));
         }
     }
-    let options = frames[0].options;
-    let mut ids = HashMap::new();
-    let mut nodes = HashMap::new();
-    for n in doc.descendants().filter(|n| n.is_element()) {
-        if let Some(id) = n.attribute("id") {
-            ids.entry(id).or_insert(n);
+    Ok(())
+}
+
+/// A resource's copy: its local maps (or marker turns), one per frame, and its id.
+type Made = (Vec<Affine>, Vec<f64>, String);
+
+/// Whether every frame's map agrees with the first's (at the scale `size`).
+fn still_maps(maps: &[Affine], size: f64) -> bool {
+    maps.iter().all(|&m| follow::same_map(m, maps[0], size))
+}
+
+/// Whether every frame's marker turn agrees with the first's.
+fn still_turns(turns: &[f64]) -> bool {
+    turns
+        .iter()
+        .all(|&t| (t - turns[0]).abs() <= MIN_MARKER_TURN)
+}
+
+/// The edits being made, and what they are made from: the source document's elements by id
+/// and by byte offset, and the copies of resources made so far (one per distinct placement).
+struct EditMaker<'a, 'i> {
+    ids: HashMap<&'a str, roxmltree::Node<'a, 'i>>,
+    nodes: HashMap<usize, roxmltree::Node<'a, 'i>>,
+    /// A prefix no id of the document starts with, for the copies' ids.
+    prefix: String,
+    /// Per resource (byte offset): its copies.
+    made: HashMap<usize, Vec<Made>>,
+    edits: FollowEdits,
+}
+
+impl<'a, 'i> EditMaker<'a, 'i> {
+    fn new(doc: &'a roxmltree::Document<'i>) -> EditMaker<'a, 'i> {
+        let mut ids = HashMap::new();
+        let mut nodes = HashMap::new();
+        for n in doc.descendants().filter(|n| n.is_element()) {
+            if let Some(id) = n.attribute("id") {
+                ids.entry(id).or_insert(n);
+            }
+            nodes.insert(n.range().start, n);
         }
-        nodes.insert(n.range().start, n);
+        EditMaker {
+            ids,
+            nodes,
+            prefix: crate::document::unique_prefix(doc),
+            made: HashMap::new(),
+            edits: FollowEdits::default(),
+        }
     }
-    let prefix = crate::document::unique_prefix(doc);
-    let mut edits = FollowEdits::default();
-    // Per resource (byte offset): the local maps (or marker turns) of its copies, one per
-    // frame, and their ids.
-    type Made = (Vec<Affine>, Vec<f64>, String);
-    let mut made: HashMap<usize, Vec<Made>> = HashMap::new();
-    let mut new_copy = |edits: &mut FollowEdits,
-                        resource: roxmltree::Node,
-                        id: &str,
-                        same: &dyn Fn(&[Affine], &[f64]) -> bool,
-                        key: (Vec<Affine>, Vec<f64>),
-                        make: &dyn Fn(&str) -> CopyEdit|
-     -> String {
-        let list = made.entry(resource.range().start).or_default();
+
+    /// The id of a copy of `resource` (id `id`) for maps or turns `key`: an earlier copy when
+    /// one is the `same`, else a new one written by `make` (given its id).
+    fn copy(
+        &mut self,
+        resource: roxmltree::Node,
+        id: &str,
+        same: &dyn Fn(&[Affine], &[f64]) -> bool,
+        key: (Vec<Affine>, Vec<f64>),
+        make: &dyn Fn(&str) -> CopyEdit,
+    ) -> String {
+        let list = self.made.entry(resource.range().start).or_default();
         if let Some((_, _, copy)) = list.iter().find(|(m, t, _)| same(m, t)) {
             return copy.clone();
         }
-        let copy = format!("{prefix}{id}-{}", list.len() + 1);
+        let copy = format!("{}{id}-{}", self.prefix, list.len() + 1);
         list.push((key.0, key.1, copy.clone()));
         let mut edit = make(&copy);
         edit.set.insert(0, ("id", copy.clone()));
-        edits
+        self.edits
             .copies
             .entry(resource.range().start)
             .or_default()
             .push(edit);
         copy
-    };
-    // Whether every frame's value agrees with the first's.
-    let still_maps =
-        |maps: &[Affine], size: f64| maps.iter().all(|&m| follow::same_map(m, maps[0], size));
-    let still_turns = |turns: &[f64]| {
-        turns
-            .iter()
-            .all(|&t| (t - turns[0]).abs() <= MIN_MARKER_TURN)
-    };
-    for (i, e) in source.elements.iter().enumerate() {
+    }
+
+    /// Imported element `i` (`e`): its user-space paint servers and fixed-orientation markers
+    /// replaced by copies that follow it, and its stroke width scaled when asked; animated
+    /// when they move.
+    fn element_edits(&mut self, i: usize, e: &ImportedElement, follow: &Follow) {
         let mut decls = Vec::new();
         let mut animations = String::new();
         let l = e.local_to_root;
-        let ms: Vec<Affine> = frames
+        let ms: Vec<Affine> = follow
+            .frames
             .iter()
             .map(|maps| l.inverse() * maps.elements[i] * l)
             .collect();
-        let m = ms[0];
-        let Some(&node) = nodes.get(&e.range.start) else {
-            edits.styles.push(decls);
-            edits.animations.push(animations);
-            continue;
-        };
-        let diagonal = drawing.paths[e.paths.clone()]
-            .iter()
-            .flat_map(|p| p.points.iter())
-            .fold(None, |r: Option<Rect>, &p| {
-                Some(r.map_or(Rect::from_points(p, p), |r| r.union_pt(p)))
-            })
-            .map_or(0.0, |r| r.width().hypot(r.height()));
-        let size = diagonal / follow::local_scale(l);
+        if let Some(&node) = self.nodes.get(&e.range.start) {
+            let diagonal = follow.drawing.paths[e.paths.clone()]
+                .iter()
+                .flat_map(|p| p.points.iter())
+                .fold(None, |r: Option<Rect>, &p| {
+                    Some(r.map_or(Rect::from_points(p, p), |r| r.union_pt(p)))
+                })
+                .map_or(0.0, |r| r.width().hypot(r.height()));
+            let size = diagonal / follow::local_scale(l);
+            self.paint_edits(e, &ms, size, follow.timing, &mut decls);
+            self.marker_edits(e, node, &ms, follow.timing, &mut decls);
+            if follow.frames[0].options.scale_strokes {
+                if let Some(w) = e.paint.stroke_width {
+                    let widths: Vec<f64> = ms.iter().map(|&m| w * follow::local_scale(m)).collect();
+                    decls.push(("stroke-width".to_string(), number(widths[0])));
+                    if let Some(timing) = follow.timing.filter(|_| !still_maps(&ms, size)) {
+                        smil::push_animate(&mut animations, "stroke-width", &widths, timing);
+                    }
+                }
+            }
+        }
+        self.edits.styles.push(decls);
+        self.edits.animations.push(animations);
+    }
+
+    /// `e`'s fill and stroke servers in user space, replaced by copies whose transform is the
+    /// element's local map `ms` (per frame) times their own.
+    fn paint_edits(
+        &mut self,
+        e: &ImportedElement,
+        ms: &[Affine],
+        size: f64,
+        timing: Option<&Timing>,
+        decls: &mut Vec<(String, String)>,
+    ) {
         for (slot, server) in [
             ("fill", &e.paint.fill_server),
             ("stroke", &e.paint.stroke_server),
         ] {
-            let Some(&server) = server.as_deref().and_then(|id| ids.get(id)) else {
+            let Some(&server) = server.as_deref().and_then(|id| self.ids.get(id)) else {
                 continue;
             };
-            let Some((name, g, mut set)) = user_space_server(server, &ids) else {
+            let Some((name, g, mut set)) = user_space_server(server, &self.ids) else {
                 continue;
             };
-            set.push((name, matrix(m * g)));
-            let animated = timing.filter(|_| !still_maps(&ms, size));
+            set.push((name, matrix(ms[0] * g)));
+            let animated = timing.filter(|_| !still_maps(ms, size));
             // A server with children gets its animation as a child; one without (a pattern
             // inheriting its template's content) must stay childless: the animation follows
             // it and names it.
@@ -255,33 +323,38 @@ pub(super) fn follow_edits(
             let same = |other: &[Affine], _: &[f64]| {
                 other
                     .iter()
-                    .zip(&ms)
+                    .zip(ms)
                     .all(|(&o, &m)| follow::same_map(o, m, size))
             };
-            let copy = new_copy(
-                &mut edits,
-                server,
-                id,
-                &same,
-                (ms.clone(), Vec::new()),
-                &make,
-            );
+            let copy = self.copy(server, id, &same, (ms.to_vec(), Vec::new()), &make);
             decls.push((slot.to_string(), format!("url(#{copy})")));
         }
+    }
+
+    /// `e`'s markers of fixed orientation (`node`: its element), replaced by copies turned with
+    /// the element's local maps `ms` (per frame).
+    fn marker_edits(
+        &mut self,
+        e: &ImportedElement,
+        node: roxmltree::Node,
+        ms: &[Affine],
+        timing: Option<&Timing>,
+        decls: &mut Vec<(String, String)>,
+    ) {
         let mut turns: Vec<f64> = ms.iter().map(|&m| follow::rotation_angle(m)).collect();
         smil::unwrap_angles(&mut turns);
         let has_markers = matches!(
             e.kind,
             ElementKind::Path | ElementKind::Line | ElementKind::Polyline | ElementKind::Polygon
         );
+        if !has_markers || turns.iter().all(|t| t.abs() <= MIN_MARKER_TURN) {
+            return;
+        }
         for slot in ["start", "mid", "end"] {
-            if !has_markers || turns.iter().all(|t| t.abs() <= MIN_MARKER_TURN) {
-                break;
-            }
             let Some(id) = marker_reference(node, slot) else {
                 continue;
             };
-            let Some(&marker) = ids.get(id.as_str()) else {
+            let Some(&marker) = self.ids.get(id.as_str()) else {
                 continue;
             };
             if marker.tag_name().name() != "marker" {
@@ -316,63 +389,51 @@ pub(super) fn follow_edits(
                     .zip(&turns)
                     .all(|(o, t)| (o - t).abs() <= MIN_MARKER_TURN)
             };
-            let copy = new_copy(
-                &mut edits,
-                marker,
-                &id,
-                &same,
-                (Vec::new(), turns.clone()),
-                &make,
-            );
+            let copy = self.copy(marker, &id, &same, (Vec::new(), turns.clone()), &make);
             decls.push((format!("marker-{slot}"), format!("url(#{copy})")));
         }
-        if options.scale_strokes {
-            if let Some(w) = e.paint.stroke_width {
-                let widths: Vec<f64> = ms.iter().map(|&m| w * follow::local_scale(m)).collect();
-                decls.push(("stroke-width".to_string(), number(widths[0])));
-                if let Some(timing) = timing.filter(|_| !still_maps(&ms, size)) {
-                    smil::push_animate(&mut animations, "stroke-width", &widths, timing);
-                }
+    }
+
+    /// The carried texts and images: a `transform` (the frame's map in their parent's
+    /// coordinates, then their own), animated when the document is; left at rest, with a
+    /// warning, under a singular parent transform.
+    fn carried_edits(&mut self, source: &SvgSource, doc: &roxmltree::Document, follow: &Follow) {
+        for (k, c) in follow.frames[0].carried.iter().enumerate() {
+            let Some(&node) = self.nodes.get(&c.offset) else {
+                continue;
+            };
+            let p = c.parent_to_root;
+            let [a, b, cc, d, _, _] = p.as_coeffs();
+            let det = a * d - b * cc;
+            let invertible =
+                det.abs() > SINGULAR_DETERMINANT * (a.abs() + b.abs()) * (cc.abs() + d.abs());
+            if !invertible {
+                tracing::warn!(
+                    file = source.origin.as_str(),
+                    element = %node_label(doc, node),
+                    "its parent's transform is singular; left at rest"
+                );
+                continue;
+            }
+            let local: Vec<Affine> = follow
+                .frames
+                .iter()
+                .map(|maps| p.inverse() * maps.carried[k].map * p)
+                .collect();
+            let mut t = matrix(local[0]);
+            if let Some(own) = node.attribute("transform").filter(|v| !v.trim().is_empty()) {
+                t.push(' ');
+                t.push_str(own.trim());
+            }
+            self.edits.transforms.insert(c.offset, t);
+            if let Some(timing) = follow.timing {
+                // The element's own transform is composed on the right of every frame's map.
+                let own = follow::own_transform(node);
+                let maps: Vec<Affine> = local.iter().map(|&m| m * own).collect();
+                let mut animation = String::new();
+                smil::push_animate_transform(&mut animation, "transform", &maps, timing, None);
+                self.edits.contents.insert(c.offset, animation);
             }
         }
-        edits.styles.push(decls);
-        edits.animations.push(animations);
     }
-    for (k, c) in frames[0].carried.iter().enumerate() {
-        let Some(&node) = nodes.get(&c.offset) else {
-            continue;
-        };
-        let p = c.parent_to_root;
-        let [a, b, cc, d, _, _] = p.as_coeffs();
-        let det = a * d - b * cc;
-        let invertible =
-            det.abs() > SINGULAR_DETERMINANT * (a.abs() + b.abs()) * (cc.abs() + d.abs());
-        if !invertible {
-            tracing::warn!(
-                file = source.origin.as_str(),
-                element = %node_label(doc, node),
-                "its parent's transform is singular; left at rest"
-            );
-            continue;
-        }
-        let local: Vec<Affine> = frames
-            .iter()
-            .map(|maps| p.inverse() * maps.carried[k].map * p)
-            .collect();
-        let mut t = matrix(local[0]);
-        if let Some(own) = node.attribute("transform").filter(|v| !v.trim().is_empty()) {
-            t.push(' ');
-            t.push_str(own.trim());
-        }
-        edits.transforms.insert(c.offset, t);
-        if let Some(timing) = timing {
-            // The element's own transform is composed on the right of every frame's map.
-            let own = follow::own_transform(node);
-            let maps: Vec<Affine> = local.iter().map(|&m| m * own).collect();
-            let mut animation = String::new();
-            smil::push_animate_transform(&mut animation, "transform", &maps, timing, None);
-            edits.contents.insert(c.offset, animation);
-        }
-    }
-    Ok(edits)
 }
