@@ -39,13 +39,15 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
+use splineskin::animation::{Animation, PoseSampler};
 use splineskin::drawing::animated_image::{AnimatedFormat, AnimatedImage};
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::lottie::LottieOptions;
 use splineskin::drawing::svg_animate::{write_animated_svg_following, write_animated_svg_view_box};
 use splineskin::drawing::svg_out::{write_svg_following, write_svg_view_box, ViewBoxRule};
+use splineskin::drawing::Drawing;
 use splineskin::render::MAX_RENDER_SIZE;
-use splineskin::scene::{Compat, PosedDrawing};
+use splineskin::scene::{Compat, PosedDrawing, Scene};
 
 use splineskin_editor::scene_lottie::{
     deform_posed_frames, lottie_of_scene, BYTES_PER_ANIMATED_POINT, MAX_ANIMATED_SVG_BYTES,
@@ -107,15 +109,89 @@ pub struct Args {
     lottie_tolerance: f64,
 }
 
+/// What `-o` names: the kind of output (module documentation).
+#[derive(Clone, Copy)]
+enum Output {
+    Lottie,
+    Image(AnimatedFormat),
+    Svg,
+    Frames,
+}
+
 pub fn run(args: Args) -> Result<()> {
-    let as_svg = is_svg_name(&args.output);
-    let as_lottie = has_extension(&args.output, "json");
-    let as_image = if has_extension(&args.output, "png") {
-        Some(AnimatedFormat::Apng)
+    let output = output_kind(&args)?;
+    let scene_name = args.scene.display().to_string();
+    let (scene, animation) = load_animation(&args, &scene_name)?;
+    if let Output::Lottie = output {
+        return write_lottie(&args, &scene, &animation, &scene_name);
+    }
+    let times = animation
+        .frame_times()
+        .with_context(|| format!("{scene_name}: animation"))?;
+    let sampler = animation
+        .sampler(&scene.handle_set().pivots())
+        .with_context(|| format!("{scene_name}: animation"))?;
+    let compat: Compat = args.compat.into();
+    let mut setup = scene.setup(compat)?;
+    setup.options = setup.options.with_parallel(false);
+    for w in &setup.warnings {
+        eprintln!("warning: {w}");
+    }
+    let posed = PosedDrawing::new(&scene, setup, compat, args.flexible)?;
+    for p in posed.rank_deficient_paths() {
+        eprintln!(
+            "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
+        );
+    }
+    let posed = match args.tolerance {
+        Some(tolerance) => refined_for_frames(posed, &sampler, &times, tolerance)
+            .with_context(|| format!("{scene_name}: --tolerance {tolerance}"))?,
+        None => posed,
+    };
+    let job = Job {
+        args: &args,
+        scene_name: &scene_name,
+        posed: &posed,
+        sampler: &sampler,
+        times: &times,
+    };
+    match output {
+        Output::Image(format) => job.write_image(format)?,
+        Output::Svg => job.write_animated_svg()?,
+        _ => job.write_frames()?,
+    }
+    let drawing = &posed.setup().drawing;
+    eprintln!(
+        "{scene_name}: {} curves in {} paths, {} handles, {} keyframes, {} frames at {} fps over {} s{} -> {}",
+        drawing.n_curves(),
+        drawing.paths.len(),
+        posed.setup().weights.n_handles(),
+        animation.keyframes().len(),
+        times.len(),
+        animation.fps(),
+        animation.duration(),
+        if posed.is_flexible() {
+            " (flexible)"
+        } else {
+            ""
+        },
+        args.output.display()
+    );
+    Ok(())
+}
+
+/// The kind of output `-o` names, its flags checked against it.
+fn output_kind(args: &Args) -> Result<Output> {
+    let output = if has_extension(&args.output, "json") {
+        Output::Lottie
+    } else if has_extension(&args.output, "png") {
+        Output::Image(AnimatedFormat::Apng)
     } else if has_extension(&args.output, "gif") {
-        Some(AnimatedFormat::Gif)
+        Output::Image(AnimatedFormat::Gif)
+    } else if is_svg_name(&args.output) {
+        Output::Svg
     } else {
-        None
+        Output::Frames
     };
     if let Some(ext) = args
         .output
@@ -130,19 +206,20 @@ pub fn run(args: Args) -> Result<()> {
             args.output.display()
         );
     }
-    if as_image.is_some() && args.png {
+    let as_image = matches!(output, Output::Image(_));
+    if as_image && args.png {
         bail!(
             "{}: --png writes PNG frames into a folder; an animated .png or .gif is one file",
             args.output.display()
         );
     }
-    if as_image.is_some() && !(1..=MAX_RENDER_SIZE).contains(&args.image_size) {
+    if as_image && !(1..=MAX_RENDER_SIZE).contains(&args.image_size) {
         bail!(
             "--image-size {}: expected 1 to {MAX_RENDER_SIZE} pixels",
             args.image_size
         );
     }
-    if as_lottie && (args.png || args.viewbox == ViewBoxArg::Fit) {
+    if matches!(output, Output::Lottie) && (args.png || args.viewbox == ViewBoxArg::Fit) {
         bail!(
             "{}: --png and --viewbox fit are for SVG output; a Lottie animation keeps the \
              drawing's viewBox",
@@ -156,13 +233,18 @@ pub fn run(args: Args) -> Result<()> {
             args.lottie_tolerance
         );
     }
-    if as_svg && args.png {
+    if matches!(output, Output::Svg) && args.png {
         bail!(
             "{}: --png writes PNG frames into a folder; give a folder name instead of an .svg file",
             args.output.display()
         );
     }
-    let scene_name = args.scene.display().to_string();
+    Ok(output)
+}
+
+/// The scene (a drawing with pins going there and back, or a scene file) and its animation
+/// with `--fps` and `--duration` applied.
+fn load_animation(args: &Args, scene_name: &str) -> Result<(Scene, Animation)> {
     let from_svg = crate::drawing_input::is_svg(&args.scene);
     if from_svg && args.pose_args.is_empty() {
         bail!(
@@ -192,127 +274,104 @@ pub fn run(args: Args) -> Result<()> {
             .with_duration(duration)
             .with_context(|| format!("{scene_name}: --duration"))?;
     }
-    if as_lottie {
-        let name = args
-            .scene
-            .file_stem()
-            .map_or("splineskin".into(), |s| s.to_string_lossy().into_owned());
-        let options = LottieOptions::default()
-            .with_tolerance(args.lottie_tolerance)
-            .with_name(name);
-        let made = lottie_of_scene(
-            &scene,
-            &animation,
-            args.compat.into(),
-            args.flexible,
-            &options,
-            &scene_name,
-        )?;
-        for w in &made.rig_warnings {
-            eprintln!("warning: {w}");
-        }
-        for w in &made.lottie.warnings {
-            eprintln!("warning: {}: {w}", args.output.display());
-        }
-        write_atomic(&args.output, made.lottie.json.as_bytes())?;
-        eprintln!("{}: {}", args.output.display(), made.summary(&options));
-        return Ok(());
-    }
-    let times = animation
-        .frame_times()
-        .with_context(|| format!("{scene_name}: animation"))?;
-    let sampler = animation
-        .sampler(&scene.handle_set().pivots())
-        .with_context(|| format!("{scene_name}: animation"))?;
-    let compat: Compat = args.compat.into();
-    let mut setup = scene.setup(compat)?;
-    setup.options = setup.options.with_parallel(false);
-    for w in &setup.warnings {
+    Ok((scene, animation))
+}
+
+/// Writes the Lottie animation of `scene` (`-o NAME.json`).
+fn write_lottie(args: &Args, scene: &Scene, animation: &Animation, scene_name: &str) -> Result<()> {
+    let name = args
+        .scene
+        .file_stem()
+        .map_or("splineskin".into(), |s| s.to_string_lossy().into_owned());
+    let options = LottieOptions::default()
+        .with_tolerance(args.lottie_tolerance)
+        .with_name(name);
+    let made = lottie_of_scene(
+        scene,
+        animation,
+        args.compat.into(),
+        args.flexible,
+        &options,
+        scene_name,
+    )?;
+    for w in &made.rig_warnings {
         eprintln!("warning: {w}");
     }
-    let posed = PosedDrawing::new(&scene, setup, compat, args.flexible)?;
-    for p in posed.rank_deficient_paths() {
-        eprintln!(
-            "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
-        );
+    for w in &made.lottie.warnings {
+        eprintln!("warning: {}: {w}", args.output.display());
     }
-    let posed = match args.tolerance {
-        Some(tolerance) => refined_for_frames(posed, &sampler, &times, tolerance)
-            .with_context(|| format!("{scene_name}: --tolerance {tolerance}"))?,
-        None => posed,
-    };
-    let setup = posed.setup();
-    let drawing = &setup.drawing;
-    let n_points = drawing.n_points();
-    // Frames `first..first + times.len()`, deformed in parallel.
-    let deform_chunk = |first: usize, times: &[f64]| -> Result<Vec<Vec<Point>>> {
-        deform_posed_frames(&posed, &sampler, times, first, &scene_name)
-    };
-    // Each frame's gradients, patterns, markers, text and images follow its pose.
-    let maps_at = |f: usize| -> Result<Option<ElementMaps>> {
-        let mut pose = vec![kurbo::Affine::IDENTITY; sampler.n_handles()];
-        sampler.pose_at(times[f], &mut pose);
-        crate::deform::element_maps(setup, &pose, &FollowOptions::default())
-            .with_context(|| format!("{scene_name}: frame {f}"))
-    };
-    // Every frame's maps (`None` for a drawing without its document).
-    let all_maps = || -> Result<Option<Vec<ElementMaps>>> {
-        Ok((0..times.len())
-            .map(&maps_at)
-            .collect::<Result<Vec<_>>>()?
-            .into_iter()
-            .collect())
-    };
-    // Frame `f` (its `points`) as an SVG document with viewBox `rule`.
-    let frame_svg = |f: usize, points: &[Point], rule: ViewBoxRule| -> Result<String> {
-        match maps_at(f)? {
+    write_atomic(&args.output, made.lottie.json.as_bytes())?;
+    eprintln!("{}: {}", args.output.display(), made.summary(&options));
+    Ok(())
+}
+
+/// An animation to write frame by frame: the rig, the poses' sampler and the frames' times.
+struct Job<'a> {
+    args: &'a Args,
+    scene_name: &'a str,
+    posed: &'a PosedDrawing,
+    sampler: &'a PoseSampler,
+    times: &'a [f64],
+}
+
+impl Job<'_> {
+    fn drawing(&self) -> &Drawing {
+        &self.posed.setup().drawing
+    }
+
+    /// Frames `first..first + times.len()`, deformed in parallel.
+    fn deform_chunk(&self, first: usize, times: &[f64]) -> Result<Vec<Vec<Point>>> {
+        deform_posed_frames(self.posed, self.sampler, times, first, self.scene_name)
+    }
+
+    /// Frame `f`'s element maps: its gradients, patterns, markers, text and images follow its
+    /// pose (`None` for a drawing without its document).
+    fn maps_at(&self, f: usize) -> Result<Option<ElementMaps>> {
+        let mut pose = vec![kurbo::Affine::IDENTITY; self.sampler.n_handles()];
+        self.sampler.pose_at(self.times[f], &mut pose);
+        crate::deform::element_maps(self.posed.setup(), &pose, &FollowOptions::default())
+            .with_context(|| format!("{}: frame {f}", self.scene_name))
+    }
+
+    /// Frame `f` (its `points`) as an SVG document with viewBox `rule`.
+    fn frame_svg(&self, f: usize, points: &[Point], rule: ViewBoxRule) -> Result<String> {
+        let drawing = self.drawing();
+        match self.maps_at(f)? {
             Some(maps) => write_svg_following(drawing, points, &maps, rule),
             None => write_svg_view_box(drawing, points, rule),
         }
-        .with_context(|| format!("{scene_name}: frame {f}: writing the SVG"))
-    };
-    // `--viewbox fit` for outputs written frame by frame: the union over every frame, deformed
-    // FRAME_CHUNK at a time, before any frame is written.
-    let union_first = |outside: &mut FramesOutside| -> Result<()> {
-        if args.viewbox == ViewBoxArg::Fit {
-            for (c, chunk) in times.chunks(FRAME_CHUNK).enumerate() {
+        .with_context(|| format!("{}: frame {f}: writing the SVG", self.scene_name))
+    }
+
+    /// `--viewbox fit` for outputs written frame by frame: the union over every frame,
+    /// deformed [`FRAME_CHUNK`] at a time, before any frame is written.
+    fn union_first(&self, outside: &mut FramesOutside) -> Result<()> {
+        if self.args.viewbox == ViewBoxArg::Fit {
+            for (c, chunk) in self.times.chunks(FRAME_CHUNK).enumerate() {
                 let first = c * FRAME_CHUNK;
-                for (k, points) in deform_chunk(first, chunk)?.iter().enumerate() {
-                    outside.add(first + k, drawing, points);
+                for (k, points) in self.deform_chunk(first, chunk)?.iter().enumerate() {
+                    outside.add(first + k, self.drawing(), points);
                 }
             }
         }
         Ok(())
-    };
-    // Outputs holding every frame at once: refuse what would not fit in memory.
-    let check_in_memory = |what: &str| -> Result<()> {
-        let bytes = times.len() as f64 * n_points as f64 * BYTES_PER_ANIMATED_POINT;
-        if bytes > MAX_ANIMATED_SVG_BYTES as f64 {
-            bail!(
-                "{}: {} frames of {n_points} points make {what} of about {:.1} GB, more than \
-                 the limit of {:.1} GB (expected fewer frames: lower --fps or --duration, or \
-                 write a frames folder, which is written frame by frame)",
-                args.output.display(),
-                times.len(),
-                bytes / 1e9,
-                MAX_ANIMATED_SVG_BYTES as f64 / 1e9
-            );
-        }
-        Ok(())
-    };
-    if let Some(format) = as_image {
+    }
+
+    /// `-o NAME.png` / `-o NAME.gif`: every frame rendered into an animated image.
+    fn write_image(&self, format: AnimatedFormat) -> Result<()> {
+        let (args, times, scene_name) = (self.args, self.times, self.scene_name);
         let mut outside = FramesOutside::default();
-        union_first(&mut outside)?;
+        self.union_first(&mut outside)?;
         let rule = outside.rule(args.viewbox);
         let mut image: Option<AnimatedImage> = None;
         for (c, chunk) in times.chunks(FRAME_CHUNK).enumerate() {
             let first = c * FRAME_CHUNK;
-            for (k, points) in deform_chunk(first, chunk)?.iter().enumerate() {
+            for (k, points) in self.deform_chunk(first, chunk)?.iter().enumerate() {
                 let f = first + k;
                 if args.viewbox == ViewBoxArg::Keep {
-                    outside.add(f, drawing, points);
+                    outside.add(f, self.drawing(), points);
                 }
-                let svg = frame_svg(f, points, rule)?;
+                let svg = self.frame_svg(f, points, rule)?;
                 if f == 0 {
                     crate::output::note_font_substitutes(&args.output, &svg);
                 }
@@ -341,56 +400,66 @@ pub fn run(args: Args) -> Result<()> {
         let bytes = image.context("no frames")?.finish()?;
         write_atomic(&args.output, &bytes)?;
         outside.report(&args.output, args.viewbox);
-    } else if as_svg {
-        check_in_memory("an animated SVG")?;
-        let frames = deform_chunk(0, &times)?;
+        Ok(())
+    }
+
+    /// `-o NAME.svg`: one animated SVG holding every frame (refused past
+    /// [`MAX_ANIMATED_SVG_BYTES`], estimated).
+    fn write_animated_svg(&self) -> Result<()> {
+        let (args, times, drawing) = (self.args, self.times, self.drawing());
+        let n_points = drawing.n_points();
+        let bytes = times.len() as f64 * n_points as f64 * BYTES_PER_ANIMATED_POINT;
+        if bytes > MAX_ANIMATED_SVG_BYTES as f64 {
+            bail!(
+                "{}: {} frames of {n_points} points make an animated SVG of about {:.1} GB, more \
+                 than the limit of {:.1} GB (expected fewer frames: lower --fps or --duration, \
+                 or write a frames folder, which is written frame by frame)",
+                args.output.display(),
+                times.len(),
+                bytes / 1e9,
+                MAX_ANIMATED_SVG_BYTES as f64 / 1e9
+            );
+        }
+        let frames = self.deform_chunk(0, times)?;
         let mut outside = FramesOutside::default();
         for (f, points) in frames.iter().enumerate() {
             outside.add(f, drawing, points);
         }
         // Each frame's gradients, patterns, markers, text and images follow its pose.
-        let maps = all_maps()?;
+        let maps: Option<Vec<ElementMaps>> = (0..times.len())
+            .map(|f| self.maps_at(f))
+            .collect::<Result<Vec<_>>>()?
+            .into_iter()
+            .collect();
         let rule = outside.rule(args.viewbox);
         let svg = match &maps {
-            Some(maps) => write_animated_svg_following(drawing, &frames, &times, maps, rule),
-            None => write_animated_svg_view_box(drawing, &frames, &times, rule),
+            Some(maps) => write_animated_svg_following(drawing, &frames, times, maps, rule),
+            None => write_animated_svg_view_box(drawing, &frames, times, rule),
         }
-        .with_context(|| format!("{scene_name}: writing the animated SVG"))?;
+        .with_context(|| format!("{}: writing the animated SVG", self.scene_name))?;
         write_atomic(&args.output, svg.as_bytes())?;
         outside.report(&args.output, args.viewbox);
-    } else {
-        let mut outside = FramesOutside::default();
-        union_first(&mut outside)?;
-        let rule = outside.rule(args.viewbox);
-        let gather = (args.viewbox == ViewBoxArg::Keep).then_some(&mut outside);
-        write_frames(
-            &args,
-            &scene_name,
-            drawing,
-            &times,
-            (rule, gather),
-            deform_chunk,
-            frame_svg,
-        )?;
-        outside.report(&args.output, args.viewbox);
+        Ok(())
     }
-    eprintln!(
-        "{scene_name}: {} curves in {} paths, {} handles, {} keyframes, {} frames at {} fps over {} s{} -> {}",
-        drawing.n_curves(),
-        drawing.paths.len(),
-        setup.weights.n_handles(),
-        animation.keyframes().len(),
-        times.len(),
-        animation.fps(),
-        animation.duration(),
-        if posed.is_flexible() {
-            " (flexible)"
-        } else {
-            ""
-        },
-        args.output.display()
-    );
-    Ok(())
+
+    /// `-o DIR`: a folder of frames ([`write_frames`]).
+    fn write_frames(&self) -> Result<()> {
+        let mut outside = FramesOutside::default();
+        self.union_first(&mut outside)?;
+        let rule = outside.rule(self.args.viewbox);
+        let gather = (self.args.viewbox == ViewBoxArg::Keep).then_some(&mut outside);
+        write_frames(
+            self.args,
+            self.scene_name,
+            self.drawing(),
+            self.times,
+            (rule, gather),
+            |first, times| self.deform_chunk(first, times),
+            |f, points, rule| self.frame_svg(f, points, rule),
+        )?;
+        outside.report(&self.args.output, self.args.viewbox);
+        Ok(())
+    }
 }
 
 /// Writes `bytes` to `path` and flushes it to disk (frames are complete before their folder is
