@@ -301,214 +301,35 @@ impl OperatorFile {
 
     /// Reads an operator from its bytes; `origin` names the file in errors.
     pub fn from_bytes(bytes: &[u8], origin: &str) -> Result<OperatorFile, OperatorFileError> {
-        let invalid = |detail: String| OperatorFileError::Invalid {
-            origin: origin.into(),
-            detail,
-        };
-        let truncated = |expected: usize, what: &'static str| OperatorFileError::Truncated {
-            origin: origin.into(),
-            found: bytes.len(),
-            expected,
-            what,
-        };
-        if bytes.len() < 8 || bytes[..8] != OPERATOR_MAGIC {
-            return Err(OperatorFileError::NotAnOperator {
-                origin: origin.into(),
-            });
-        }
-        if bytes.len() < 16 {
-            return Err(truncated(16, "the version and header length"));
-        }
-        let word = |at: usize| {
-            u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]])
-        };
-        let version = word(8);
-        if version != OPERATOR_FORMAT_VERSION {
-            return Err(OperatorFileError::Version {
-                origin: origin.into(),
-                found: version,
-                expected: OPERATOR_FORMAT_VERSION,
-            });
-        }
-        let header_len = word(12);
-        if header_len > MAX_HEADER_BYTES {
-            return Err(invalid(format!(
-                "header of {header_len} bytes (expected at most {MAX_HEADER_BYTES})"
-            )));
-        }
-        let header_end = 16 + header_len as usize;
-        if bytes.len() < header_end {
-            return Err(truncated(header_end, "the header"));
-        }
-        let header: Header = serde_json::from_slice(&bytes[16..header_end])
-            .map_err(|e| invalid(format!("bad header JSON: {e}")))?;
-
-        // Sizes, with overflow checked (a hostile header must not make us allocate).
+        let file = FileBytes { bytes, origin };
+        let (header, header_end) = file.header()?;
         let n = header.handles.len();
         let nv = header.n_vertices;
-        let nf = header.spatial_basis.n_functions;
-        let kind = match header.handle_basis.kind.as_str() {
-            "linear" => HandleBasisKind::Linear,
-            "quadratic" => HandleBasisKind::Quadratic,
-            "cubic" => HandleBasisKind::Cubic,
-            "tps" => HandleBasisKind::ThinPlateSpline,
-            other => {
-                return Err(invalid(format!(
-                    "handle basis {other:?} (expected linear, quadratic, cubic or tps)"
-                )))
-            }
-        };
-        let n_centres = header.handle_basis.n_centres;
-        if kind != HandleBasisKind::ThinPlateSpline && n_centres != 0 {
-            return Err(invalid(format!(
-                "{n_centres} thin-plate centres for a {} basis (expected none)",
-                kind.name()
-            )));
-        }
-        let n_psi = kind.n_functions(n, n_centres);
-        if n_psi != header.handle_basis.n_functions {
-            return Err(invalid(format!(
-                "handle basis of {} functions (expected {n_psi} for a {} basis of {n} handles and {n_centres} centres)",
-                header.handle_basis.n_functions,
-                kind.name()
-            )));
-        }
-        let hats = header.spatial_basis.kind == "hats";
-        let sizes = (|| {
-            let vertices = nv.checked_mul(2)?;
-            let triangles = header.n_triangles.checked_mul(3)?;
-            let centres = n_centres.checked_mul(n.checked_mul(2)?)?;
-            let coefficients = nf.checked_mul(2)?.checked_mul(n_psi)?;
-            let vertex_values = if hats { 0 } else { nv.checked_mul(nf)? };
-            let total = vertices
-                .checked_add(centres)?
-                .checked_add(coefficients)?
-                .checked_add(vertex_values)?
-                .checked_mul(8)?
-                .checked_add(triangles.checked_mul(4)?)?
-                .checked_add(header_end)?;
-            Some((
-                vertices,
-                triangles,
-                centres,
-                coefficients,
-                vertex_values,
-                total,
-            ))
-        })()
-        .ok_or_else(|| invalid("array sizes overflow (a corrupt header)".into()))?;
-        let (n_xy, n_tri, n_cen, n_coef, n_vals, total) = sizes;
-        if header.n_coefficients != n_coef {
-            return Err(invalid(format!(
-                "{} coefficients (expected 2·{nf}·{n_psi} = {n_coef})",
-                header.n_coefficients
-            )));
-        }
-        if bytes.len() < total {
-            return Err(truncated(total, "the arrays the header announces"));
-        }
-        if bytes.len() > total {
-            return Err(invalid(format!(
-                "{} bytes after the arrays (expected the file to end at byte {total})",
-                bytes.len() - total
-            )));
-        }
-        let floats = |at: usize, count: usize, what: &str| -> Result<Vec<f64>, OperatorFileError> {
-            let values: Vec<f64> = bytes[at..at + 8 * count]
-                .chunks_exact(8)
-                .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
-                .collect();
-            if let Some(k) = values.iter().position(|v| !v.is_finite()) {
-                return Err(invalid(format!(
-                    "{what}: value {k} is {} (expected finite values)",
-                    values[k]
-                )));
-            }
-            Ok(values)
-        };
-        let xy = floats(header_end, n_xy, "vertices")?;
-        let tri_start = header_end + 8 * n_xy;
-        let centres_start = tri_start + 4 * n_tri;
-        let centres = floats(centres_start, n_cen, "thin-plate centres")?;
-        let coefficients_start = centres_start + 8 * n_cen;
-        let coefficients = floats(coefficients_start, n_coef, "coefficients")?;
-        let vertex_values = floats(
-            coefficients_start + 8 * n_coef,
-            n_vals,
+        let kind = file.handle_basis_kind(&header, n)?;
+        let layout = file.layout(&header, header_end, kind, n)?;
+        let xy = file.floats(header_end, layout.n_xy, "vertices")?;
+        let tri_start = header_end + 8 * layout.n_xy;
+        let centres_start = tri_start + 4 * layout.n_tri;
+        let centres = file.floats(centres_start, layout.n_cen, "thin-plate centres")?;
+        let coefficients_start = centres_start + 8 * layout.n_cen;
+        let coefficients = file.floats(coefficients_start, layout.n_coef, "coefficients")?;
+        let vertex_values = file.floats(
+            coefficients_start + 8 * layout.n_coef,
+            layout.n_vals,
             "spatial basis values",
         )?;
         let vertices: Vec<Point> = xy.chunks_exact(2).map(|c| Point::new(c[0], c[1])).collect();
-        let mut triangles = Vec::with_capacity(header.n_triangles);
-        for (t, c) in bytes[tri_start..tri_start + 4 * n_tri]
-            .chunks_exact(12)
-            .enumerate()
-        {
-            let corner = |k: usize| {
-                u32::from_le_bytes([c[4 * k], c[4 * k + 1], c[4 * k + 2], c[4 * k + 3]]) as usize
-            };
-            let tri = [corner(0), corner(1), corner(2)];
-            if let Some(&v) = tri.iter().find(|&&v| v >= nv) {
-                return Err(invalid(format!(
-                    "triangle {t}: corner {v} (expected a vertex index below {nv})"
-                )));
-            }
-            triangles.push(tri);
-        }
-        let mesh =
-            TriMesh::new(vertices, triangles).map_err(|e| invalid(format!("invalid mesh: {e}")))?;
-        if let Some(&h) = header.handles.iter().find(|&&h| h >= nv) {
-            return Err(invalid(format!(
-                "handle vertex {h} (expected a vertex index below {nv})"
-            )));
-        }
-        let rest: Vec<Point> = header
-            .handle_basis
-            .rest
-            .iter()
-            .map(|&[x, y]| Point::new(x, y))
-            .collect();
-        if rest.len() != n {
-            return Err(invalid(format!(
-                "{} rest positions for {n} handles (expected one per handle)",
-                rest.len()
-            )));
-        }
-        for (l, (&h, p)) in header.handles.iter().zip(&rest).enumerate() {
-            if mesh.vertices[h] != *p {
-                return Err(invalid(format!(
-                    "handle {l}: rest position ({}, {}) is not its vertex {h} at ({}, {})",
-                    p.x, p.y, mesh.vertices[h].x, mesh.vertices[h].y
-                )));
-            }
-        }
+        let triangles = file.triangles(tri_start, header.n_triangles, nv)?;
+        let mesh = TriMesh::new(vertices, triangles)
+            .map_err(|e| file.invalid(format!("invalid mesh: {e}")))?;
+        let rest = file.rest_positions(&header, &mesh)?;
         let handle_basis = HandleBasis::from_parts(kind, rest, header.handle_basis.scale, centres)
-            .map_err(|e| invalid(format!("handle basis: {e}")))?;
-        let spatial_kind = match header.spatial_basis.kind.as_str() {
-            "hats" => SpatialBasisKind::Hats,
-            "laplacian-eigenfunctions" => SpatialBasisKind::LaplacianEigenfunctions {
-                operator: match header.spatial_basis.operator.as_deref() {
-                    Some("cotangent") => EigenOperator::Cotangent,
-                    Some("linearly-precise") => EigenOperator::LinearlyPrecise,
-                    other => {
-                        return Err(invalid(format!(
-                            "eigenfunction operator {other:?} (expected \"cotangent\" or \"linearly-precise\")"
-                        )))
-                    }
-                },
-            },
-            "biharmonic-coordinates" => SpatialBasisKind::BiharmonicCoordinates {
-                control_vertices: header.spatial_basis.control_vertices.clone().ok_or_else(
-                    || invalid("biharmonic coordinates without control_vertices".into()),
-                )?,
-            },
-            other => {
-                return Err(invalid(format!(
-                    "spatial basis {other:?} (expected hats, laplacian-eigenfunctions or biharmonic-coordinates)"
-                )))
-            }
-        };
+            .map_err(|e| file.invalid(format!("handle basis: {e}")))?;
+        let spatial_kind = file.spatial_basis_kind(&header)?;
+        let hats = header.spatial_basis.kind == "hats";
+        let nf = header.spatial_basis.n_functions;
         if hats && nf != nv {
-            return Err(invalid(format!(
+            return Err(file.invalid(format!(
                 "{nf} hat functions for {nv} vertices (expected one per vertex)"
             )));
         }
@@ -547,6 +368,284 @@ impl OperatorFile {
                 origin: path.display().to_string(),
                 action: "cannot write the operator",
                 source,
+            }
+        })
+    }
+}
+
+/// The bytes of an operator file being read, and where they come from (for messages).
+struct FileBytes<'b> {
+    bytes: &'b [u8],
+    origin: &'b str,
+}
+
+/// Where the arrays of an operator file lie: their lengths (in numbers) and the file's
+/// length, from its header.
+struct Layout {
+    /// Vertex coordinates (`2 · n_vertices`).
+    n_xy: usize,
+    /// Triangle corners (`3 · n_triangles`).
+    n_tri: usize,
+    /// Thin-plate centres' coordinates.
+    n_cen: usize,
+    /// Coefficients (`2 · n_functions · |Ψ|`).
+    n_coef: usize,
+    /// The spatial basis's vertex values (none for hats).
+    n_vals: usize,
+}
+
+impl FileBytes<'_> {
+    fn invalid(&self, detail: String) -> OperatorFileError {
+        OperatorFileError::Invalid {
+            origin: self.origin.into(),
+            detail,
+        }
+    }
+
+    fn truncated(&self, expected: usize, what: &'static str) -> OperatorFileError {
+        OperatorFileError::Truncated {
+            origin: self.origin.into(),
+            found: self.bytes.len(),
+            expected,
+            what,
+        }
+    }
+
+    /// The little-endian `u32` at byte `at`.
+    fn word(&self, at: usize) -> u32 {
+        let b = self.bytes;
+        u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
+    }
+
+    /// The header (after the magic, the version and its length) and the byte where it ends.
+    fn header(&self) -> Result<(Header, usize), OperatorFileError> {
+        let bytes = self.bytes;
+        if bytes.len() < 8 || bytes[..8] != OPERATOR_MAGIC {
+            return Err(OperatorFileError::NotAnOperator {
+                origin: self.origin.into(),
+            });
+        }
+        if bytes.len() < 16 {
+            return Err(self.truncated(16, "the version and header length"));
+        }
+        let version = self.word(8);
+        if version != OPERATOR_FORMAT_VERSION {
+            return Err(OperatorFileError::Version {
+                origin: self.origin.into(),
+                found: version,
+                expected: OPERATOR_FORMAT_VERSION,
+            });
+        }
+        let header_len = self.word(12);
+        if header_len > MAX_HEADER_BYTES {
+            return Err(self.invalid(format!(
+                "header of {header_len} bytes (expected at most {MAX_HEADER_BYTES})"
+            )));
+        }
+        let header_end = 16 + header_len as usize;
+        if bytes.len() < header_end {
+            return Err(self.truncated(header_end, "the header"));
+        }
+        let header: Header = serde_json::from_slice(&bytes[16..header_end])
+            .map_err(|e| self.invalid(format!("bad header JSON: {e}")))?;
+        Ok((header, header_end))
+    }
+
+    /// The handle basis's kind, its centres and function count checked against it (`n`
+    /// handles).
+    fn handle_basis_kind(
+        &self,
+        header: &Header,
+        n: usize,
+    ) -> Result<HandleBasisKind, OperatorFileError> {
+        let kind = match header.handle_basis.kind.as_str() {
+            "linear" => HandleBasisKind::Linear,
+            "quadratic" => HandleBasisKind::Quadratic,
+            "cubic" => HandleBasisKind::Cubic,
+            "tps" => HandleBasisKind::ThinPlateSpline,
+            other => {
+                return Err(self.invalid(format!(
+                    "handle basis {other:?} (expected linear, quadratic, cubic or tps)"
+                )))
+            }
+        };
+        let n_centres = header.handle_basis.n_centres;
+        if kind != HandleBasisKind::ThinPlateSpline && n_centres != 0 {
+            return Err(self.invalid(format!(
+                "{n_centres} thin-plate centres for a {} basis (expected none)",
+                kind.name()
+            )));
+        }
+        let n_psi = kind.n_functions(n, n_centres);
+        if n_psi != header.handle_basis.n_functions {
+            return Err(self.invalid(format!(
+                "handle basis of {} functions (expected {n_psi} for a {} basis of {n} handles and {n_centres} centres)",
+                header.handle_basis.n_functions,
+                kind.name()
+            )));
+        }
+        Ok(kind)
+    }
+
+    /// The arrays' [`Layout`], sizes computed with overflow checked (a hostile header must not
+    /// make us allocate) and the file's length checked against them.
+    fn layout(
+        &self,
+        header: &Header,
+        header_end: usize,
+        kind: HandleBasisKind,
+        n: usize,
+    ) -> Result<Layout, OperatorFileError> {
+        let nv = header.n_vertices;
+        let nf = header.spatial_basis.n_functions;
+        let n_centres = header.handle_basis.n_centres;
+        let n_psi = kind.n_functions(n, n_centres);
+        let hats = header.spatial_basis.kind == "hats";
+        let sizes = (|| {
+            let vertices = nv.checked_mul(2)?;
+            let triangles = header.n_triangles.checked_mul(3)?;
+            let centres = n_centres.checked_mul(n.checked_mul(2)?)?;
+            let coefficients = nf.checked_mul(2)?.checked_mul(n_psi)?;
+            let vertex_values = if hats { 0 } else { nv.checked_mul(nf)? };
+            let total = vertices
+                .checked_add(centres)?
+                .checked_add(coefficients)?
+                .checked_add(vertex_values)?
+                .checked_mul(8)?
+                .checked_add(triangles.checked_mul(4)?)?
+                .checked_add(header_end)?;
+            Some((
+                Layout {
+                    n_xy: vertices,
+                    n_tri: triangles,
+                    n_cen: centres,
+                    n_coef: coefficients,
+                    n_vals: vertex_values,
+                },
+                total,
+            ))
+        })()
+        .ok_or_else(|| self.invalid("array sizes overflow (a corrupt header)".into()))?;
+        let (layout, total) = sizes;
+        if header.n_coefficients != layout.n_coef {
+            return Err(self.invalid(format!(
+                "{} coefficients (expected 2·{nf}·{n_psi} = {})",
+                header.n_coefficients, layout.n_coef
+            )));
+        }
+        if self.bytes.len() < total {
+            return Err(self.truncated(total, "the arrays the header announces"));
+        }
+        if self.bytes.len() > total {
+            return Err(self.invalid(format!(
+                "{} bytes after the arrays (expected the file to end at byte {total})",
+                self.bytes.len() - total
+            )));
+        }
+        Ok(layout)
+    }
+
+    /// `count` little-endian `f64` from byte `at`, all finite (else an error naming `what`).
+    fn floats(&self, at: usize, count: usize, what: &str) -> Result<Vec<f64>, OperatorFileError> {
+        let values: Vec<f64> = self.bytes[at..at + 8 * count]
+            .chunks_exact(8)
+            .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
+            .collect();
+        if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+            return Err(self.invalid(format!(
+                "{what}: value {k} is {} (expected finite values)",
+                values[k]
+            )));
+        }
+        Ok(values)
+    }
+
+    /// `n_triangles` triangles of `u32` corners from byte `at`, each below `nv`.
+    fn triangles(
+        &self,
+        at: usize,
+        n_triangles: usize,
+        nv: usize,
+    ) -> Result<Vec<[usize; 3]>, OperatorFileError> {
+        let mut triangles = Vec::with_capacity(n_triangles);
+        for (t, c) in self.bytes[at..at + 12 * n_triangles]
+            .chunks_exact(12)
+            .enumerate()
+        {
+            let corner = |k: usize| {
+                u32::from_le_bytes([c[4 * k], c[4 * k + 1], c[4 * k + 2], c[4 * k + 3]]) as usize
+            };
+            let tri = [corner(0), corner(1), corner(2)];
+            if let Some(&v) = tri.iter().find(|&&v| v >= nv) {
+                return Err(self.invalid(format!(
+                    "triangle {t}: corner {v} (expected a vertex index below {nv})"
+                )));
+            }
+            triangles.push(tri);
+        }
+        Ok(triangles)
+    }
+
+    /// The handles' rest positions, one per handle, each its vertex of `mesh`.
+    fn rest_positions(
+        &self,
+        header: &Header,
+        mesh: &TriMesh,
+    ) -> Result<Vec<Point>, OperatorFileError> {
+        let nv = header.n_vertices;
+        let n = header.handles.len();
+        if let Some(&h) = header.handles.iter().find(|&&h| h >= nv) {
+            return Err(self.invalid(format!(
+                "handle vertex {h} (expected a vertex index below {nv})"
+            )));
+        }
+        let rest: Vec<Point> = header
+            .handle_basis
+            .rest
+            .iter()
+            .map(|&[x, y]| Point::new(x, y))
+            .collect();
+        if rest.len() != n {
+            return Err(self.invalid(format!(
+                "{} rest positions for {n} handles (expected one per handle)",
+                rest.len()
+            )));
+        }
+        for (l, (&h, p)) in header.handles.iter().zip(&rest).enumerate() {
+            if mesh.vertices[h] != *p {
+                return Err(self.invalid(format!(
+                    "handle {l}: rest position ({}, {}) is not its vertex {h} at ({}, {})",
+                    p.x, p.y, mesh.vertices[h].x, mesh.vertices[h].y
+                )));
+            }
+        }
+        Ok(rest)
+    }
+
+    /// The spatial basis's kind, with its operator or control vertices.
+    fn spatial_basis_kind(&self, header: &Header) -> Result<SpatialBasisKind, OperatorFileError> {
+        Ok(match header.spatial_basis.kind.as_str() {
+            "hats" => SpatialBasisKind::Hats,
+            "laplacian-eigenfunctions" => SpatialBasisKind::LaplacianEigenfunctions {
+                operator: match header.spatial_basis.operator.as_deref() {
+                    Some("cotangent") => EigenOperator::Cotangent,
+                    Some("linearly-precise") => EigenOperator::LinearlyPrecise,
+                    other => {
+                        return Err(self.invalid(format!(
+                            "eigenfunction operator {other:?} (expected \"cotangent\" or \"linearly-precise\")"
+                        )))
+                    }
+                },
+            },
+            "biharmonic-coordinates" => SpatialBasisKind::BiharmonicCoordinates {
+                control_vertices: header.spatial_basis.control_vertices.clone().ok_or_else(
+                    || self.invalid("biharmonic coordinates without control_vertices".into()),
+                )?,
+            },
+            other => {
+                return Err(self.invalid(format!(
+                    "spatial basis {other:?} (expected hats, laplacian-eigenfunctions or biharmonic-coordinates)"
+                )))
             }
         })
     }
