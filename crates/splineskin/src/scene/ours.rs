@@ -360,6 +360,71 @@ pub(crate) fn parse(
     origin: &str,
     base_dir: Option<&FsPath>,
 ) -> Result<Scene, SceneError> {
+    let mut file = read_scene_file(text, origin)?;
+    let (svg_text, svg_origin) =
+        drawing_text(file.svg.take(), file.svg_text.take(), origin, base_dir)?;
+    let (handles, bones, cage) = rest_handles(&file, origin)?;
+    let set = HandleSet {
+        points: &handles,
+        bones: &bones,
+        cage: cage.as_deref(),
+    };
+    check_rest_handles(&set, origin, SceneFormat::Ours)?;
+    let weights = match &file.weights {
+        Some(w) => WeightSpec::parse(&w.family, w.exponent, origin)?,
+        None => WeightSpec::parse("shepard", None, origin)?,
+    };
+    weights.check_handles(&set, origin, "weights")?;
+    let domain = match &file.domain {
+        Some(_) if !matches!(weights, WeightSpec::Mesh(_)) => {
+            return Err(SceneError::invalid(
+                origin,
+                "domain",
+                format!(
+                    "domain options apply to the mesh families (harmonic, biharmonic, bbw), \
+                     not to '{}'",
+                    weights.name()
+                ),
+            ))
+        }
+        Some(d) => d.options(),
+        None => super::domain_file::scene_domain_options(),
+    };
+    let engine = Engine::parse(file.engine.as_deref().unwrap_or("ours"), origin)?;
+    let junctions = junction_overrides(&file, origin)?;
+    let poses = scene_poses(&file, &set, origin)?;
+    let animation = file
+        .animation
+        .as_ref()
+        .map(|a| animation(a, &poses, &set, origin))
+        .transpose()?;
+    Ok(Scene {
+        origin: origin.to_string(),
+        svg_text,
+        svg_origin,
+        handles,
+        bones,
+        cage,
+        weights,
+        domain,
+        engine,
+        measure: Measure::from_arc_length(file.arc_length),
+        junctions,
+        authors_joints: None,
+        poses,
+        flexible: file.flexible,
+        animation,
+        defop: file
+            .defop
+            .as_ref()
+            .map(|d| d.settings(origin, base_dir))
+            .transpose()?,
+        format: SceneFormat::Ours,
+    })
+}
+
+/// `text` read as a scene file of ours, of the version this library writes.
+fn read_scene_file(text: &str, origin: &str) -> Result<SceneFile, SceneError> {
     let file: SceneFile = serde_json::from_str(text).map_err(|e| {
         if !text.contains("\"splineskin_scene\"") {
             SceneError::Json {
@@ -370,9 +435,9 @@ pub(crate) fn parse(
             json_error(origin, e)
         }
     })?;
-    let invalid = |element: &str, message: String| SceneError::invalid(origin, element, message);
     if file.splineskin_scene != SCENE_VERSION {
-        return Err(invalid(
+        return Err(SceneError::invalid(
+            origin,
             "splineskin_scene",
             format!(
                 "version {} is not supported (expected {SCENE_VERSION})",
@@ -380,56 +445,60 @@ pub(crate) fn parse(
             ),
         ));
     }
-    let (svg_text, svg_origin) = match (file.svg, file.svg_text) {
-        (Some(_), Some(_)) => {
-            return Err(invalid(
-                "svg",
-                "give either svg or svg_text, not both".into(),
-            ))
-        }
-        (None, None) => {
-            return Err(invalid(
-                "svg",
-                "missing: give svg (a file) or svg_text".into(),
-            ))
-        }
-        (None, Some(text)) => (text, format!("{origin} (svg_text)")),
-        (Some(name), None) => {
-            // Without a folder (inline text, an upload) no file is read, as Scene::from_json
-            // documents: the scene's text alone must not open files.
-            let Some(dir) = base_dir else {
-                return Err(invalid(
-                    "svg",
-                    format!(
-                        "names the file {name}, but this scene was not read from a folder, so                          no file is read: give the drawing inline as svg_text"
-                    ),
-                ));
-            };
-            let path = dir.join(&name);
-            // The message names the scene and its `svg` field as well as the file: a missing
-            // drawing is an error in the scene.
-            let unreadable = |e: std::io::Error| {
-                invalid(
-                    "svg",
-                    format!(
-                        "cannot read the drawing {}: {e} (expected an SVG file; a relative \
-                         name is taken from the scene's folder)",
-                        path.display()
-                    ),
-                )
-            };
-            let meta = std::fs::metadata(&path).map_err(unreadable)?;
-            if meta.len() > MAX_SCENE_BYTES {
-                return Err(SceneError::TooLarge {
-                    path,
-                    size: meta.len(),
-                    limit: MAX_SCENE_BYTES,
-                });
-            }
-            let text = std::fs::read_to_string(&path).map_err(unreadable)?;
-            (text, path.display().to_string())
-        }
+    Ok(file)
+}
+
+/// The drawing's text and its origin for messages: `svg_text` inline, or the file `svg` names
+/// (relative to `base_dir`, the scene's folder; without one no file is read).
+fn drawing_text(
+    svg: Option<String>,
+    svg_text: Option<String>,
+    origin: &str,
+    base_dir: Option<&FsPath>,
+) -> Result<(String, String), SceneError> {
+    let invalid = |message: String| SceneError::invalid(origin, "svg", message);
+    let name = match (svg, svg_text) {
+        (Some(_), Some(_)) => return Err(invalid("give either svg or svg_text, not both".into())),
+        (None, None) => return Err(invalid("missing: give svg (a file) or svg_text".into())),
+        (None, Some(text)) => return Ok((text, format!("{origin} (svg_text)"))),
+        (Some(name), None) => name,
     };
+    // Without a folder (inline text, an upload) no file is read, as Scene::from_json documents:
+    // the scene's text alone must not open files.
+    let Some(dir) = base_dir else {
+        return Err(invalid(format!(
+            "names the file {name}, but this scene was not read from a folder, so no file is \
+             read: give the drawing inline as svg_text"
+        )));
+    };
+    let path = dir.join(&name);
+    // The message names the scene and its `svg` field as well as the file: a missing drawing
+    // is an error in the scene.
+    let unreadable = |e: std::io::Error| {
+        invalid(format!(
+            "cannot read the drawing {}: {e} (expected an SVG file; a relative name is taken \
+             from the scene's folder)",
+            path.display()
+        ))
+    };
+    let meta = std::fs::metadata(&path).map_err(unreadable)?;
+    if meta.len() > MAX_SCENE_BYTES {
+        return Err(SceneError::TooLarge {
+            path,
+            size: meta.len(),
+            limit: MAX_SCENE_BYTES,
+        });
+    }
+    let text = std::fs::read_to_string(&path).map_err(unreadable)?;
+    Ok((text, path.display().to_string()))
+}
+
+/// The rest point handles, bones and cage of `file`, each point checked finite.
+#[allow(clippy::type_complexity)]
+fn rest_handles(
+    file: &SceneFile,
+    origin: &str,
+) -> Result<(Vec<Point>, Vec<Bone>, Option<Vec<Point>>), SceneError> {
     let handles = file
         .handles
         .iter()
@@ -463,41 +532,20 @@ pub(crate) fn parse(
                 .collect::<Result<Vec<_>, _>>()
         })
         .transpose()?;
-    let set = HandleSet {
-        points: &handles,
-        bones: &bones,
-        cage: cage.as_deref(),
-    };
-    check_rest_handles(&set, origin, SceneFormat::Ours)?;
-    let weights = match &file.weights {
-        Some(w) => WeightSpec::parse(&w.family, w.exponent, origin)?,
-        None => WeightSpec::parse("shepard", None, origin)?,
-    };
-    weights.check_handles(&set, origin, "weights")?;
-    let domain = match &file.domain {
-        Some(_) if !matches!(weights, WeightSpec::Mesh(_)) => {
-            return Err(invalid(
-                "domain",
-                format!(
-                    "domain options apply to the mesh families (harmonic, biharmonic, bbw), \
-                     not to '{}'",
-                    weights.name()
-                ),
-            ))
-        }
-        Some(d) => d.options(),
-        None => super::domain_file::scene_domain_options(),
-    };
-    let engine = Engine::parse(file.engine.as_deref().unwrap_or("ours"), origin)?;
-    let junctions = file
-        .junctions
+    Ok((handles, bones, cage))
+}
+
+/// The junction kinds `file` imposes (`end` cannot be).
+fn junction_overrides(file: &SceneFile, origin: &str) -> Result<Vec<JunctionOverride>, SceneError> {
+    file.junctions
         .iter()
         .enumerate()
         .map(|(i, j)| {
             if j.kind == JointKind::End {
-                Err(invalid(
-                    &format!("junctions[{i}].kind"),
-                    "'end' cannot be imposed (expected C0, C1, G1 or angle)".into(),
+                Err(SceneError::invalid(
+                    origin,
+                    format!("junctions[{i}].kind"),
+                    "'end' cannot be imposed (expected C0, C1, G1 or angle)",
                 ))
             } else {
                 Ok(JunctionOverride {
@@ -507,13 +555,23 @@ pub(crate) fn parse(
                 })
             }
         })
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect()
+}
+
+/// The poses of `file` (`pose`, or `poses` with names and cage positions), each a map per
+/// handle of `set`.
+fn scene_poses(
+    file: &SceneFile,
+    set: &HandleSet<'_>,
+    origin: &str,
+) -> Result<Vec<Pose>, SceneError> {
     type PoseParts<'f> = (Option<String>, &'f [TransformFile], Option<&'f [[f64; 2]]>);
     let pose_files: Vec<PoseParts<'_>> = match (&file.pose, &file.poses) {
         (Some(_), Some(_)) => {
-            return Err(invalid(
+            return Err(SceneError::invalid(
+                origin,
                 "pose",
-                "give either pose or poses, not both".into(),
+                "give either pose or poses, not both",
             ))
         }
         (Some(p), None) => vec![(None, p.as_slice(), None)],
@@ -534,7 +592,7 @@ pub(crate) fn parse(
         poses.push(Pose {
             name,
             transforms: pose_transforms(
-                &set,
+                set,
                 transforms,
                 cage_positions,
                 origin,
@@ -542,34 +600,7 @@ pub(crate) fn parse(
             )?,
         });
     }
-    let animation = file
-        .animation
-        .as_ref()
-        .map(|a| animation(a, &poses, &set, origin))
-        .transpose()?;
-    Ok(Scene {
-        origin: origin.to_string(),
-        svg_text,
-        svg_origin,
-        handles,
-        bones,
-        cage,
-        weights,
-        domain,
-        engine,
-        measure: Measure::from_arc_length(file.arc_length),
-        junctions,
-        authors_joints: None,
-        poses,
-        flexible: file.flexible,
-        animation,
-        defop: file
-            .defop
-            .as_ref()
-            .map(|d| d.settings(origin, base_dir))
-            .transpose()?,
-        format: SceneFormat::Ours,
-    })
+    Ok(poses)
 }
 
 /// The scene's animation: each keyframe's pose resolved (a pose of `poses` by index or name,
