@@ -150,18 +150,7 @@ pub fn read_obj(path: &Path) -> Result<Cage, ObjError> {
 
 /// Reads a cage from OBJ text; `file` names it in errors.
 pub fn parse_obj(text: &str, file: &str) -> Result<Cage, ObjError> {
-    let mut positions: Vec<Point3> = Vec::new();
-    let mut position_lines: Vec<usize> = Vec::new();
-    let mut faces: Vec<Vec<u32>> = Vec::new();
-    let mut face_lines: Vec<usize> = Vec::new();
-    let mut tags = SubdivTags::default();
-    // (kind, index in its list) -> line, to name the line of a tag the cage refuses.
-    let mut crease_lines = Vec::new();
-    let mut corner_lines = Vec::new();
-    let mut hole_lines = Vec::new();
-    // Positive face indices are checked once all vertices are known.
-    let mut face_index_checks: Vec<(usize, i64)> = Vec::new();
-
+    let mut reader = ObjReader::default();
     for (number, raw) in text.lines().enumerate() {
         let line = number + 1;
         let content = raw.split('#').next().unwrap_or("");
@@ -176,114 +165,9 @@ pub fn parse_obj(text: &str, file: &str) -> Result<Cage, ObjError> {
             expected: expected.to_owned(),
         };
         match keyword {
-            "v" => {
-                let numbers = words
-                    .map(|w| {
-                        w.parse::<f64>()
-                            .map_err(|_| syntax(format!("`{w}` is not a number"), "`v x y z [w]`"))
-                    })
-                    .collect::<Result<Vec<f64>, _>>()?;
-                let p = match numbers.len() {
-                    3 | 6 => [numbers[0], numbers[1], numbers[2]],
-                    4 if numbers[3] != 0.0 => {
-                        let w = numbers[3];
-                        [numbers[0] / w, numbers[1] / w, numbers[2] / w]
-                    }
-                    4 => return Err(syntax("w = 0".into(), "a non-zero w")),
-                    n => {
-                        return Err(syntax(
-                            format!("{n} numbers after `v`"),
-                            "`v x y z`, `v x y z w` or `v x y z r g b`",
-                        ))
-                    }
-                };
-                if let Some(c) = p.iter().find(|c| !c.is_finite()) {
-                    return Err(syntax(
-                        format!("coordinate {c}"),
-                        "finite coordinates (no nan or inf)",
-                    ));
-                }
-                positions.push(p);
-                position_lines.push(line);
-            }
-            "f" => {
-                let mut face = Vec::new();
-                for w in words {
-                    let first = w.split('/').next().unwrap_or("");
-                    let index: i64 = first.parse().map_err(|_| {
-                        syntax(
-                            format!("`{w}` is not a vertex reference"),
-                            "`f a b c …` with 1-based vertex indices (`a`, `a/t`, `a//n`, `a/t/n`)",
-                        )
-                    })?;
-                    let resolved = match index {
-                        0 => {
-                            return Err(syntax(
-                                "vertex index 0".into(),
-                                "1-based indices (or negative ones relative to the last `v`)",
-                            ))
-                        }
-                        i if i > 0 => {
-                            face_index_checks.push((faces.len(), i));
-                            i - 1
-                        }
-                        i => {
-                            let r = positions.len() as i64 + i;
-                            if r < 0 {
-                                return Err(syntax(
-                                    format!("relative vertex index {i} before the first vertex"),
-                                    format!(
-                                        "a relative index in -1..=-{} ({} vertices so far)",
-                                        positions.len(),
-                                        positions.len()
-                                    )
-                                    .as_str(),
-                                ));
-                            }
-                            r
-                        }
-                    };
-                    let resolved = u32::try_from(resolved).map_err(|_| {
-                        syntax(format!("vertex index {index}"), "an index below 2^32")
-                    })?;
-                    face.push(resolved);
-                }
-                faces.push(face);
-                face_lines.push(line);
-            }
-            "t" => {
-                let tag = parse_tag(words).map_err(|(what, expected)| syntax(what, &expected))?;
-                match tag.name.as_str() {
-                    "crease" => {
-                        for c in crease_tags(&tag).map_err(|(w, e)| syntax(w, &e))? {
-                            tags.creases.push(c);
-                            crease_lines.push(line);
-                        }
-                    }
-                    "corner" => {
-                        for c in corner_tags(&tag).map_err(|(w, e)| syntax(w, &e))? {
-                            tags.corners.push(c);
-                            corner_lines.push(line);
-                        }
-                    }
-                    "hole" => {
-                        if !tag.floats.is_empty() || !tag.strings.is_empty() {
-                            return Err(syntax(
-                                "float or string arguments".into(),
-                                "`t hole n/0/0 f1 … fn`",
-                            ));
-                        }
-                        for &f in &tag.ints {
-                            let f = u32::try_from(f).map_err(|_| {
-                                syntax(format!("face {f}"), "0-based face indices ≥ 0")
-                            })?;
-                            tags.holes.push(f);
-                            hole_lines.push(line);
-                        }
-                    }
-                    _ => tags.other.push(tag),
-                }
-            }
+            "v" => reader.vertex(words, line, &syntax)?,
+            "f" => reader.face(words, line, &syntax)?,
+            "t" => reader.tag(words, line, &syntax)?,
             "vt" | "vn" | "vp" | "g" | "o" | "s" | "usemtl" | "mtllib" => {}
             "l" | "p" => {
                 return Err(syntax(
@@ -299,43 +183,205 @@ pub fn parse_obj(text: &str, file: &str) -> Result<Cage, ObjError> {
             }
         }
     }
-    if faces.is_empty() {
-        return Err(ObjError::NoFaces {
-            file: file.to_owned(),
-        });
+    reader.finish(file)
+}
+
+/// An error at the current line: what was found, and what was expected.
+type Syntax<'s> = dyn Fn(String, &str) -> ObjError + 's;
+
+/// What an OBJ file has said so far, with the line of each statement (to name it in errors).
+#[derive(Default)]
+struct ObjReader {
+    positions: Vec<Point3>,
+    position_lines: Vec<usize>,
+    faces: Vec<Vec<u32>>,
+    face_lines: Vec<usize>,
+    tags: SubdivTags,
+    // (kind, index in its list) -> line, to name the line of a tag the cage refuses.
+    crease_lines: Vec<usize>,
+    corner_lines: Vec<usize>,
+    hole_lines: Vec<usize>,
+    /// Positive face indices, checked once all vertices are known: (face, index).
+    face_index_checks: Vec<(usize, i64)>,
+}
+
+impl ObjReader {
+    /// `v x y z [w]` (or `v x y z r g b`).
+    fn vertex<'a>(
+        &mut self,
+        words: impl Iterator<Item = &'a str>,
+        line: usize,
+        syntax: &Syntax,
+    ) -> Result<(), ObjError> {
+        let numbers = words
+            .map(|w| {
+                w.parse::<f64>()
+                    .map_err(|_| syntax(format!("`{w}` is not a number"), "`v x y z [w]`"))
+            })
+            .collect::<Result<Vec<f64>, _>>()?;
+        let p = match numbers.len() {
+            3 | 6 => [numbers[0], numbers[1], numbers[2]],
+            4 if numbers[3] != 0.0 => {
+                let w = numbers[3];
+                [numbers[0] / w, numbers[1] / w, numbers[2] / w]
+            }
+            4 => return Err(syntax("w = 0".into(), "a non-zero w")),
+            n => {
+                return Err(syntax(
+                    format!("{n} numbers after `v`"),
+                    "`v x y z`, `v x y z w` or `v x y z r g b`",
+                ))
+            }
+        };
+        if let Some(c) = p.iter().find(|c| !c.is_finite()) {
+            return Err(syntax(
+                format!("coordinate {c}"),
+                "finite coordinates (no nan or inf)",
+            ));
+        }
+        self.positions.push(p);
+        self.position_lines.push(line);
+        Ok(())
     }
-    for &(face, index) in &face_index_checks {
-        if index as usize > positions.len() {
-            return Err(ObjError::Syntax {
+
+    /// `f a b c …` with 1-based (or negative, relative) vertex references.
+    fn face<'a>(
+        &mut self,
+        words: impl Iterator<Item = &'a str>,
+        line: usize,
+        syntax: &Syntax,
+    ) -> Result<(), ObjError> {
+        let mut face = Vec::new();
+        for w in words {
+            let first = w.split('/').next().unwrap_or("");
+            let index: i64 = first.parse().map_err(|_| {
+                syntax(
+                    format!("`{w}` is not a vertex reference"),
+                    "`f a b c …` with 1-based vertex indices (`a`, `a/t`, `a//n`, `a/t/n`)",
+                )
+            })?;
+            let resolved = match index {
+                0 => {
+                    return Err(syntax(
+                        "vertex index 0".into(),
+                        "1-based indices (or negative ones relative to the last `v`)",
+                    ))
+                }
+                i if i > 0 => {
+                    self.face_index_checks.push((self.faces.len(), i));
+                    i - 1
+                }
+                i => {
+                    let n = self.positions.len();
+                    let r = n as i64 + i;
+                    if r < 0 {
+                        return Err(syntax(
+                            format!("relative vertex index {i} before the first vertex"),
+                            format!("a relative index in -1..=-{n} ({n} vertices so far)").as_str(),
+                        ));
+                    }
+                    r
+                }
+            };
+            let resolved = u32::try_from(resolved)
+                .map_err(|_| syntax(format!("vertex index {index}"), "an index below 2^32"))?;
+            face.push(resolved);
+        }
+        self.faces.push(face);
+        self.face_lines.push(line);
+        Ok(())
+    }
+
+    /// `t NAME …`: creases, corners and holes kept for the cage, other tags as they are.
+    fn tag<'a>(
+        &mut self,
+        words: impl Iterator<Item = &'a str>,
+        line: usize,
+        syntax: &Syntax,
+    ) -> Result<(), ObjError> {
+        let tag = parse_tag(words).map_err(|(what, expected)| syntax(what, &expected))?;
+        match tag.name.as_str() {
+            "crease" => {
+                for c in crease_tags(&tag).map_err(|(w, e)| syntax(w, &e))? {
+                    self.tags.creases.push(c);
+                    self.crease_lines.push(line);
+                }
+            }
+            "corner" => {
+                for c in corner_tags(&tag).map_err(|(w, e)| syntax(w, &e))? {
+                    self.tags.corners.push(c);
+                    self.corner_lines.push(line);
+                }
+            }
+            "hole" => {
+                if !tag.floats.is_empty() || !tag.strings.is_empty() {
+                    return Err(syntax(
+                        "float or string arguments".into(),
+                        "`t hole n/0/0 f1 … fn`",
+                    ));
+                }
+                for &f in &tag.ints {
+                    let f = u32::try_from(f)
+                        .map_err(|_| syntax(format!("face {f}"), "0-based face indices ≥ 0"))?;
+                    self.tags.holes.push(f);
+                    self.hole_lines.push(line);
+                }
+            }
+            _ => self.tags.other.push(tag),
+        }
+        Ok(())
+    }
+
+    /// The cage of what was read: at least one face, every index in range; the cage's own
+    /// refusals named by the line of the statement concerned.
+    fn finish(self, file: &str) -> Result<Cage, ObjError> {
+        if self.faces.is_empty() {
+            return Err(ObjError::NoFaces {
                 file: file.to_owned(),
-                line: face_lines[face],
-                what: format!("vertex index {index}"),
-                expected: format!(
-                    "an index in 1..={} (the number of `v` lines)",
-                    positions.len()
-                ),
             });
         }
-    }
-    Cage::new(positions, faces, tags).map_err(|source| {
-        let line = match &source {
-            CageError::NonFiniteCoordinate { vertex, .. } => position_lines[*vertex],
-            CageError::FaceTooSmall { face, .. }
-            | CageError::VertexOutOfRange { face, .. }
-            | CageError::RepeatedVertex { face, .. } => face_lines[*face],
-            CageError::BadTag { tag, index, .. } => match *tag {
-                "crease" => crease_lines[*index],
-                "corner" => corner_lines[*index],
-                _ => hole_lines[*index],
-            },
-            _ => 0,
-        };
-        ObjError::Cage {
-            file: file.to_owned(),
-            line,
-            source,
+        let n = self.positions.len();
+        for &(face, index) in &self.face_index_checks {
+            if index as usize > n {
+                return Err(ObjError::Syntax {
+                    file: file.to_owned(),
+                    line: self.face_lines[face],
+                    what: format!("vertex index {index}"),
+                    expected: format!("an index in 1..={n} (the number of `v` lines)"),
+                });
+            }
         }
-    })
+        let ObjReader {
+            positions,
+            position_lines,
+            faces,
+            face_lines,
+            tags,
+            crease_lines,
+            corner_lines,
+            hole_lines,
+            ..
+        } = self;
+        Cage::new(positions, faces, tags).map_err(|source| {
+            let line = match &source {
+                CageError::NonFiniteCoordinate { vertex, .. } => position_lines[*vertex],
+                CageError::FaceTooSmall { face, .. }
+                | CageError::VertexOutOfRange { face, .. }
+                | CageError::RepeatedVertex { face, .. } => face_lines[*face],
+                CageError::BadTag { tag, index, .. } => match *tag {
+                    "crease" => crease_lines[*index],
+                    "corner" => corner_lines[*index],
+                    _ => hole_lines[*index],
+                },
+                _ => 0,
+            };
+            ObjError::Cage {
+                file: file.to_owned(),
+                line,
+                source,
+            }
+        })
+    }
 }
 
 /// Parses the words after `t`: `NAME nI/nF/nS <ints> <floats> <strings>`.
