@@ -75,84 +75,149 @@ pub fn study_plot_png(study: &Study, title: &str) -> Result<Vec<u8>, DefOpError>
     let (w, h) = PLOT_SIZE;
     let mut image = Pixmap::new(w, h).ok_or_else(|| bad("pixmap".into()))?;
     image.fill(tiny_skia::Color::WHITE);
-    let (ml, mr, mt, mb) = MARGINS;
-    let (x0, x1, y0, y1) = (ml, f64::from(w) - mr, mt, f64::from(h) - mb);
-    let fold = |f: fn(f64, f64) -> f64, init: f64, g: fn(&StudyRow) -> f64| {
-        study.rows.iter().map(g).fold(init, f)
-    };
-    let (s_lo, s_hi) = (
-        fold(f64::min, f64::INFINITY, |r| r.samples as f64),
-        fold(f64::max, 0.0, |r| r.samples as f64),
-    );
-    let (e_lo, e_hi) = (
-        fold(f64::min, f64::INFINITY, |r| r.error),
-        fold(f64::max, 0.0, |r| r.error),
-    );
-    // Log ranges padded by a little; the error range spans at least a factor of 10.
-    let (lx0, lx1) = (s_lo.log10() - 0.05, s_hi.max(s_lo * 1.5).log10() + 0.05);
-    let (mut ly0, mut ly1) = (e_lo.log10(), e_hi.log10());
-    if ly1 - ly0 < 1.0 {
-        let mid = 0.5 * (ly0 + ly1);
-        (ly0, ly1) = (mid - 0.5, mid + 0.5);
-    }
-    let pad = 0.05 * (ly1 - ly0);
-    (ly0, ly1) = (ly0 - pad, ly1 + pad);
-    let px = |s: f64| x0 + (s.log10() - lx0) / (lx1 - lx0) * (x1 - x0);
-    let py = |e: f64| y1 - (e.log10() - ly0) / (ly1 - ly0) * (y1 - y0);
-    let line = |pixmap: &mut Pixmap, a: (f64, f64), b: (f64, f64), style: Line| {
-        let mut pb = tiny_skia::PathBuilder::new();
-        pb.move_to(a.0 as f32, a.1 as f32);
-        pb.line_to(b.0 as f32, b.1 as f32);
-        if let Some(path) = pb.finish() {
-            stroke(pixmap, &path, style, 1.0);
+    let axes = Axes::of(study, w, h);
+    draw_grid(&mut image, &axes, study);
+    draw_titles(&mut image, &axes, title);
+    // One line per basis, in the order they first appear.
+    let mut bases: Vec<HandleBasisKind> = Vec::new();
+    for r in &study.rows {
+        if !bases.contains(&r.basis) {
+            bases.push(r.basis);
         }
-    };
+    }
+    for &b in &bases {
+        draw_series(&mut image, &axes, study, b);
+    }
+    draw_legend(&mut image, &axes, &bases);
+    image.encode_png().map_err(|e| bad(format!("encode: {e}")))
+}
+
+/// The plot's frame in pixels and its logarithmic ranges: sample counts across, errors up.
+struct Axes {
+    x0: f64,
+    x1: f64,
+    y0: f64,
+    y1: f64,
+    /// log10 of the sample counts at `x0` and `x1`.
+    lx0: f64,
+    lx1: f64,
+    /// log10 of the errors at `y1` (bottom) and `y0` (top).
+    ly0: f64,
+    ly1: f64,
+}
+
+impl Axes {
+    /// The axes of `study` on a `w × h` image: log ranges padded by a little, the error range
+    /// spanning at least a factor of 10.
+    fn of(study: &Study, w: u32, h: u32) -> Axes {
+        let (ml, mr, mt, mb) = MARGINS;
+        let fold = |f: fn(f64, f64) -> f64, init: f64, g: fn(&StudyRow) -> f64| {
+            study.rows.iter().map(g).fold(init, f)
+        };
+        let (s_lo, s_hi) = (
+            fold(f64::min, f64::INFINITY, |r| r.samples as f64),
+            fold(f64::max, 0.0, |r| r.samples as f64),
+        );
+        let (e_lo, e_hi) = (
+            fold(f64::min, f64::INFINITY, |r| r.error),
+            fold(f64::max, 0.0, |r| r.error),
+        );
+        let (lx0, lx1) = (s_lo.log10() - 0.05, s_hi.max(s_lo * 1.5).log10() + 0.05);
+        let (mut ly0, mut ly1) = (e_lo.log10(), e_hi.log10());
+        if ly1 - ly0 < 1.0 {
+            let mid = 0.5 * (ly0 + ly1);
+            (ly0, ly1) = (mid - 0.5, mid + 0.5);
+        }
+        let pad = 0.05 * (ly1 - ly0);
+        Axes {
+            x0: ml,
+            x1: f64::from(w) - mr,
+            y0: mt,
+            y1: f64::from(h) - mb,
+            lx0,
+            lx1,
+            ly0: ly0 - pad,
+            ly1: ly1 + pad,
+        }
+    }
+
+    /// The pixel column of `samples`.
+    fn px(&self, samples: f64) -> f64 {
+        self.x0 + (samples.log10() - self.lx0) / (self.lx1 - self.lx0) * (self.x1 - self.x0)
+    }
+
+    /// The pixel row of `error`.
+    fn py(&self, error: f64) -> f64 {
+        self.y1 - (error.log10() - self.ly0) / (self.ly1 - self.ly0) * (self.y1 - self.y0)
+    }
+}
+
+/// A straight line from `a` to `b`.
+fn draw_line(pixmap: &mut Pixmap, a: (f64, f64), b: (f64, f64), style: Line) {
+    let mut pb = tiny_skia::PathBuilder::new();
+    pb.move_to(a.0 as f32, a.1 as f32);
+    pb.line_to(b.0 as f32, b.1 as f32);
+    if let Some(path) = pb.finish() {
+        stroke(pixmap, &path, style, 1.0);
+    }
+}
+
+/// The height of a label's glyphs in pixels.
+fn glyph_height() -> f64 {
+    f64::from(glyphs::GLYPH_HEIGHT * LABEL_SCALE)
+}
+
+/// The grid, the ticks (errors at 1, 2, 5 × 10^k; the study's sample counts) and the axes.
+fn draw_grid(image: &mut Pixmap, axes: &Axes, study: &Study) {
+    let Axes { x0, x1, y0, y1, .. } = *axes;
     let text_paint = paint(TEXT);
     let s = LABEL_SCALE;
-    let glyph_h = f64::from(glyphs::GLYPH_HEIGHT * s);
-
-    // Horizontal grid and y ticks at 1, 2, 5 × 10^k.
-    for k in (ly0.floor() as i32)..=(ly1.ceil() as i32) {
+    for k in (axes.ly0.floor() as i32)..=(axes.ly1.ceil() as i32) {
         for m in [1.0, 2.0, 5.0] {
             let v = m * 10f64.powi(k);
             let l = v.log10();
-            if l < ly0 || l > ly1 {
+            if l < axes.ly0 || l > axes.ly1 {
                 continue;
             }
-            let y = py(v).round() + 0.5;
-            line(&mut image, (x0, y), (x1, y), GRID);
-            line(&mut image, (x0 - 6.0, y), (x0, y), AXIS);
+            let y = axes.py(v).round() + 0.5;
+            draw_line(image, (x0, y), (x1, y), GRID);
+            draw_line(image, (x0 - 6.0, y), (x0, y), AXIS);
             let text = tick_text(v);
             let tw = f64::from(glyphs::text_width(&text, s));
             glyphs::draw_text(
-                &mut image,
+                image,
                 &text,
                 x0 - 10.0 - tw,
-                y - glyph_h / 2.0,
+                y - glyph_height() / 2.0,
                 s,
                 &text_paint,
             );
         }
     }
-    // Vertical grid and x ticks at the sample counts.
     let mut counts: Vec<usize> = study.rows.iter().map(|r| r.samples).collect();
     counts.sort_unstable();
     counts.dedup();
     for &c in &counts {
-        let x = px(c as f64).round() + 0.5;
-        line(&mut image, (x, y0), (x, y1), GRID);
-        line(&mut image, (x, y1), (x, y1 + 6.0), AXIS);
+        let x = axes.px(c as f64).round() + 0.5;
+        draw_line(image, (x, y0), (x, y1), GRID);
+        draw_line(image, (x, y1), (x, y1 + 6.0), AXIS);
         let text = c.to_string();
         let tw = f64::from(glyphs::text_width(&text, s));
-        glyphs::draw_text(&mut image, &text, x - tw / 2.0, y1 + 12.0, s, &text_paint);
+        glyphs::draw_text(image, &text, x - tw / 2.0, y1 + 12.0, s, &text_paint);
     }
-    // Axes.
-    line(&mut image, (x0, y1), (x1, y1), AXIS);
-    line(&mut image, (x0, y0), (x0, y1), AXIS);
+    draw_line(image, (x0, y1), (x1, y1), AXIS);
+    draw_line(image, (x0, y0), (x0, y1), AXIS);
+}
+
+/// The axes' titles and the plot's `title`.
+fn draw_titles(image: &mut Pixmap, axes: &Axes, title: &str) {
+    let Axes { x0, x1, y0, y1, .. } = *axes;
+    let text_paint = paint(TEXT);
+    let s = LABEL_SCALE;
     let x_title = "TRAINING SAMPLES";
     let tw = f64::from(glyphs::text_width(x_title, s));
     glyphs::draw_text(
-        &mut image,
+        image,
         x_title,
         0.5 * (x0 + x1) - tw / 2.0,
         y1 + 40.0,
@@ -160,7 +225,7 @@ pub fn study_plot_png(study: &Study, title: &str) -> Result<Vec<u8>, DefOpError>
         &text_paint,
     );
     glyphs::draw_text(
-        &mut image,
+        image,
         "ERROR: RMS DISTANCE / DIAGONAL",
         x0 - 100.0,
         y0 - 22.0,
@@ -168,65 +233,65 @@ pub fn study_plot_png(study: &Study, title: &str) -> Result<Vec<u8>, DefOpError>
         &text_paint,
     );
     glyphs::draw_text(
-        &mut image,
+        image,
         title,
         x0 - 100.0,
         14.0,
         TITLE_SCALE,
         &paint(TITLE_TEXT),
     );
+}
 
-    // One line per basis, dots at the measurements.
-    let mut bases: Vec<HandleBasisKind> = Vec::new();
-    for r in &study.rows {
-        if !bases.contains(&r.basis) {
-            bases.push(r.basis);
-        }
-    }
-    let colour = |b: HandleBasisKind| {
-        STUDY_BASES
-            .iter()
-            .position(|&k| k == b)
-            .map_or([0, 0, 0, 255], |i| BASIS_COLOURS[i])
+/// The colour of basis `b` (black for one the study does not list).
+fn basis_colour(b: HandleBasisKind) -> [u8; 4] {
+    STUDY_BASES
+        .iter()
+        .position(|&k| k == b)
+        .map_or([0, 0, 0, 255], |i| BASIS_COLOURS[i])
+}
+
+/// Basis `b`'s line through its measurements, with a dot at each.
+fn draw_series(image: &mut Pixmap, axes: &Axes, study: &Study, b: HandleBasisKind) {
+    let style = Line {
+        rgba: basis_colour(b),
+        width: 2.5,
     };
-    for &b in &bases {
-        let style = Line {
-            rgba: colour(b),
-            width: 2.5,
-        };
-        let points: Vec<(f64, f64)> = study
-            .rows
-            .iter()
-            .filter(|r| r.basis == b)
-            .map(|r| (px(r.samples as f64), py(r.error)))
-            .collect();
-        let mut pb = tiny_skia::PathBuilder::new();
-        for (i, &(x, y)) in points.iter().enumerate() {
-            if i == 0 {
-                pb.move_to(x as f32, y as f32);
-            } else {
-                pb.line_to(x as f32, y as f32);
-            }
-        }
-        if let Some(path) = pb.finish() {
-            stroke(&mut image, &path, style, 1.0);
-        }
-        for &(x, y) in &points {
-            if let Some(dot) = tiny_skia::PathBuilder::from_circle(x as f32, y as f32, 4.5) {
-                image.fill_path(
-                    &dot,
-                    &paint(colour(b)),
-                    tiny_skia::FillRule::Winding,
-                    tiny_skia::Transform::identity(),
-                    None,
-                );
-            }
+    let points: Vec<(f64, f64)> = study
+        .rows
+        .iter()
+        .filter(|r| r.basis == b)
+        .map(|r| (axes.px(r.samples as f64), axes.py(r.error)))
+        .collect();
+    let mut pb = tiny_skia::PathBuilder::new();
+    for (i, &(x, y)) in points.iter().enumerate() {
+        if i == 0 {
+            pb.move_to(x as f32, y as f32);
+        } else {
+            pb.line_to(x as f32, y as f32);
         }
     }
-    // Legend, top right inside the axes, on white.
+    if let Some(path) = pb.finish() {
+        stroke(image, &path, style, 1.0);
+    }
+    for &(x, y) in &points {
+        if let Some(dot) = tiny_skia::PathBuilder::from_circle(x as f32, y as f32, 4.5) {
+            image.fill_path(
+                &dot,
+                &paint(basis_colour(b)),
+                tiny_skia::FillRule::Winding,
+                tiny_skia::Transform::identity(),
+                None,
+            );
+        }
+    }
+}
+
+/// The legend, top right inside the axes, on white: a line of each basis's colour and its name.
+fn draw_legend(image: &mut Pixmap, axes: &Axes, bases: &[HandleBasisKind]) {
+    let glyph_h = glyph_height();
     let entry_h = glyph_h + 10.0;
     let legend_w = 150.0;
-    let (lx, ly) = (x1 - legend_w - 10.0, y0 + 10.0);
+    let (lx, ly) = (axes.x1 - legend_w - 10.0, axes.y0 + 10.0);
     if let Some(rect) = tiny_skia::Rect::from_xywh(
         lx as f32,
         ly as f32,
@@ -239,22 +304,17 @@ pub fn study_plot_png(study: &Study, title: &str) -> Result<Vec<u8>, DefOpError>
             tiny_skia::Transform::identity(),
             None,
         );
-        stroke(
-            &mut image,
-            &tiny_skia::PathBuilder::from_rect(rect),
-            GRID,
-            1.0,
-        );
+        stroke(image, &tiny_skia::PathBuilder::from_rect(rect), GRID, 1.0);
     }
     for (i, &b) in bases.iter().enumerate() {
         let y = ly + 10.0 + entry_h * i as f64;
         let mid = y + glyph_h / 2.0;
-        line(
-            &mut image,
+        draw_line(
+            image,
             (lx + 10.0, mid),
             (lx + 45.0, mid),
             Line {
-                rgba: colour(b),
+                rgba: basis_colour(b),
                 width: 3.0,
             },
         );
@@ -262,9 +322,8 @@ pub fn study_plot_png(study: &Study, title: &str) -> Result<Vec<u8>, DefOpError>
             HandleBasisKind::ThinPlateSpline => "TPS",
             other => other.name(),
         };
-        glyphs::draw_text(&mut image, name, lx + 55.0, y, s, &text_paint);
+        glyphs::draw_text(image, name, lx + 55.0, y, LABEL_SCALE, &paint(TEXT));
     }
-    image.encode_png().map_err(|e| bad(format!("encode: {e}")))
 }
 
 #[cfg(test)]
