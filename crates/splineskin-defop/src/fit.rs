@@ -212,11 +212,9 @@ impl DefOp {
                 n_vertices: nv,
             });
         }
-        let n = handles.len();
         let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
         let diagonal = bounding_box_diagonal(mesh);
         check_samples(configurations, solutions, handles, nv, diagonal)?;
-        let m = configurations.len();
         let scale = match options.scale {
             Some(scale) => scale,
             None => rms_displacement(configurations, &rest).unwrap_or(diagonal),
@@ -229,10 +227,73 @@ impl DefOp {
             HandleBasisKind::Quadratic => HandleBasis::polynomial(2, &rest, scale)?,
             HandleBasisKind::Cubic => HandleBasis::polynomial(3, &rest, scale)?,
         };
-        let np = handle_basis.n_functions();
+        let hs = HandleSide::new(&handle_basis, configurations, &rest, options)?;
+        let side = spatial_side(mesh, handles, &handle_set, spatial, diagonal)?;
         let nf = spatial.n_functions();
+        let n_free = nf - handles.len();
+        let m = configurations.len();
+        // Per coordinate: G₀ and F, F stacked [F_x; F_y].
+        let mut f = Mat::<f64>::zeros(2 * n_free, m);
+        let g0 = [0, 1].map(|axis| {
+            let samples = AxisSamples {
+                mesh,
+                handles,
+                rest: &rest,
+                configurations,
+                solutions,
+                scale,
+                nf,
+            };
+            let (g0, fa) = samples.terms(axis, &handle_basis, &hs, &side);
+            f.get_mut(axis * n_free..(axis + 1) * n_free, ..)
+                .copy_from(&fa);
+            g0
+        });
+        let x = &f * &hs.pinv; // 2(|Φ| − n) × (|Ψ| − r)
+        let coefficients = coefficients(&x, g0, &hs.n_r, &side, nf, n_free);
+        let vertex_values = match side {
+            SpatialSide::Hats { .. } => Vec::new(),
+            SpatialSide::Reduced(side) => (0..nf)
+                .flat_map(|i| (0..nv).map(move |v| (v, i)))
+                .map(|(v, i)| side.dt[(v, i)])
+                .collect(),
+        };
+        Ok(DefOp {
+            spatial: spatial.clone(),
+            handle_basis,
+            handles: handles.to_vec(),
+            coefficients,
+            vertex_values,
+        })
+    }
+}
 
-        // Handle side: Ψ_s, R = [ψ(P) | T], its QR, N_R, W_R, Ψ' and its pseudo-inverse.
+/// The handle side of the fit, from `Ψ_s` (the basis at every sample, `|Ψ| × m`):
+/// `R = [ψ(P) | T]`, its null space `N_R` and `W_Rᵀ = R_r⁻¹ Q₁ᵀ` from its QR factorisation,
+/// `W_Rᵀ Ψ_s`, and the pseudo-inverse of `Ψ′ = N_Rᵀ Ψ_s`.
+struct HandleSide {
+    /// `R`, `|Ψ| × r`.
+    r_mat: Mat<f64>,
+    /// `N_R`, `|Ψ| × (|Ψ| − r)`.
+    n_r: Mat<f64>,
+    /// `W_Rᵀ`, `r × |Ψ|`.
+    w_rt: Mat<f64>,
+    /// `(Ψ′)⁺`, `m × (|Ψ| − r)`.
+    pinv: Mat<f64>,
+    /// `W_Rᵀ Ψ_s`, `r × m`.
+    w_psi: Mat<f64>,
+}
+
+impl HandleSide {
+    fn new(
+        handle_basis: &HandleBasis,
+        configurations: &[Vec<Point>],
+        rest: &[Point],
+        options: &DefOpOptions,
+    ) -> Result<HandleSide, DefOpError> {
+        let n = rest.len();
+        let m = configurations.len();
+        let np = handle_basis.n_functions();
         let mut psi_s = Mat::<f64>::zeros(np, m);
         let mut buffer = vec![0.0; np];
         for (k, q) in configurations.iter().enumerate() {
@@ -250,7 +311,7 @@ impl DefOp {
         };
         let r = 1 + n_side;
         let mut r_mat = Mat::<f64>::zeros(np, r);
-        handle_basis.eval(&rest, &mut buffer)?;
+        handle_basis.eval(rest, &mut buffer)?;
         r_mat
             .col_mut(0)
             .iter_mut()
@@ -281,102 +342,123 @@ impl DefOp {
         solve_upper_triangular_in_place(r_r.as_ref(), w_rt.as_mut(), Par::Seq);
         let psi_prime = n_r.transpose() * &psi_s;
         let pinv = pseudo_inverse(psi_prime.as_ref(), options.rank_tolerance)?;
-
-        // Spatial side.
-        let side = spatial_side(mesh, handles, &handle_set, spatial, diagonal)?;
-        let n_free = nf - n;
-        let w_psi = &w_rt * &psi_s; // r × m
-
-        // Per coordinate: G₀ and F, F stacked [F_x; F_y].
-        let mut g0 = [Mat::<f64>::zeros(nf, np), Mat::<f64>::zeros(nf, np)];
-        let mut f = Mat::<f64>::zeros(2 * n_free, m);
-        for axis in 0..2 {
-            let coordinate = |p: Point| if axis == 0 { p.x } else { p.y };
-            // L: n × |Ψ|, two entries per row.
-            let mut l = Mat::<f64>::zeros(n, np);
-            for (ell, &p) in rest.iter().enumerate() {
-                l[(ell, 0)] = coordinate(p);
-                l[(ell, handle_basis.linear_index(ell, axis))] = scale;
-            }
-            // Q_ν: n × m.
-            let q_nu = Mat::<f64>::from_fn(n, m, |ell, k| coordinate(configurations[k][ell]));
-            let (z_l, z_q, c0) = match &side {
-                SpatialSide::Hats { .. } => {
-                    let mut z_l = Mat::<f64>::zeros(nf, np);
-                    let mut z_q = Mat::<f64>::zeros(nf, m);
-                    for (ell, &h) in handles.iter().enumerate() {
-                        z_l.row_mut(h).copy_from(l.row(ell));
-                        z_q.row_mut(h).copy_from(q_nu.row(ell));
-                    }
-                    let c0 = Mat::<f64>::from_fn(nf, 1, |v, _| coordinate(mesh.vertices[v]));
-                    (z_l, z_q, c0)
-                }
-                SpatialSide::Reduced(side) => (
-                    &side.z_s * &l,
-                    &side.z_s * &q_nu,
-                    side.c0.get(.., axis..axis + 1).to_owned(),
-                ),
-            };
-            // B = C_R − Z_S L R.
-            let mut b = -(&z_l * &r_mat);
-            for i in 0..nf {
-                b[(i, 0)] += c0[(i, 0)];
-            }
-            g0[axis] = &z_l + &b * &w_rt;
-            let g0_psi = &z_q + &b * &w_psi; // |Φ| × m
-            let u = Mat::<f64>::from_fn(nv, m, |v, k| coordinate(solutions[k][v]));
-            match &side {
-                SpatialSide::Hats { free } => {
-                    for (row, &v) in free.iter().enumerate() {
-                        for k in 0..m {
-                            f[(axis * n_free + row, k)] = u[(v, k)] - g0_psi[(v, k)];
-                        }
-                    }
-                }
-                SpatialSide::Reduced(side) => {
-                    let e0 = &u - &side.dt * &g0_psi;
-                    let fa = &side.projection * &e0;
-                    f.get_mut(axis * n_free..(axis + 1) * n_free, ..)
-                        .copy_from(&fa);
-                }
-            }
-        }
-        let x = &f * &pinv; // 2(|Φ| − n) × (|Ψ| − r)
-        let mut coefficients = vec![0.0; 2 * nf * np];
-        for axis in 0..2 {
-            let xn = x.get(axis * n_free..(axis + 1) * n_free, ..) * n_r.transpose();
-            let mut g = g0[axis].clone();
-            match &side {
-                SpatialSide::Hats { free } => {
-                    for (row, &v) in free.iter().enumerate() {
-                        for j in 0..np {
-                            g[(v, j)] += xn[(row, j)];
-                        }
-                    }
-                }
-                SpatialSide::Reduced(side) => g += &side.n_s * &xn,
-            }
-            for j in 0..np {
-                for i in 0..nf {
-                    coefficients[j * 2 * nf + axis * nf + i] = g[(i, j)];
-                }
-            }
-        }
-        let vertex_values = match side {
-            SpatialSide::Hats { .. } => Vec::new(),
-            SpatialSide::Reduced(side) => (0..nf)
-                .flat_map(|i| (0..nv).map(move |v| (v, i)))
-                .map(|(v, i)| side.dt[(v, i)])
-                .collect(),
-        };
-        Ok(DefOp {
-            spatial: spatial.clone(),
-            handle_basis,
-            handles: handles.to_vec(),
-            coefficients,
-            vertex_values,
+        let w_psi = &w_rt * &psi_s;
+        Ok(HandleSide {
+            r_mat,
+            n_r,
+            w_rt,
+            pinv,
+            w_psi,
         })
     }
+}
+
+/// The training data of one coordinate's terms ([`AxisSamples::terms`]).
+struct AxisSamples<'a> {
+    mesh: &'a TriMesh,
+    handles: &'a [usize],
+    rest: &'a [Point],
+    configurations: &'a [Vec<Point>],
+    solutions: &'a [Vec<Point>],
+    scale: f64,
+    /// `|Φ|`, the spatial basis's functions.
+    nf: usize,
+}
+
+impl AxisSamples<'_> {
+    /// Coordinate `axis`'s `G₀` (`|Φ| × |Ψ|`) and its block of `F` (`(|Φ| − n) × m`): the
+    /// solutions' residuals from `G₀ Ψ_s` on the free rows.
+    fn terms(
+        &self,
+        axis: usize,
+        handle_basis: &HandleBasis,
+        hs: &HandleSide,
+        side: &SpatialSide,
+    ) -> (Mat<f64>, Mat<f64>) {
+        let (mesh, handles, rest) = (self.mesh, self.handles, self.rest);
+        let (n, m) = (handles.len(), self.configurations.len());
+        let nv = mesh.n_vertices();
+        let np = handle_basis.n_functions();
+        let coordinate = |p: Point| if axis == 0 { p.x } else { p.y };
+        // L: n × |Ψ|, two entries per row.
+        let mut l = Mat::<f64>::zeros(n, np);
+        for (ell, &p) in rest.iter().enumerate() {
+            l[(ell, 0)] = coordinate(p);
+            l[(ell, handle_basis.linear_index(ell, axis))] = self.scale;
+        }
+        // Q_ν: n × m.
+        let q_nu = Mat::<f64>::from_fn(n, m, |ell, k| coordinate(self.configurations[k][ell]));
+        let (z_l, z_q, c0) = match side {
+            SpatialSide::Hats { .. } => {
+                let nf = self.nf;
+                let mut z_l = Mat::<f64>::zeros(nf, np);
+                let mut z_q = Mat::<f64>::zeros(nf, m);
+                for (ell, &h) in handles.iter().enumerate() {
+                    z_l.row_mut(h).copy_from(l.row(ell));
+                    z_q.row_mut(h).copy_from(q_nu.row(ell));
+                }
+                let c0 = Mat::<f64>::from_fn(nf, 1, |v, _| coordinate(mesh.vertices[v]));
+                (z_l, z_q, c0)
+            }
+            SpatialSide::Reduced(side) => (
+                &side.z_s * &l,
+                &side.z_s * &q_nu,
+                side.c0.get(.., axis..axis + 1).to_owned(),
+            ),
+        };
+        let nf = self.nf;
+        // B = C_R − Z_S L R.
+        let mut b = -(&z_l * &hs.r_mat);
+        for i in 0..nf {
+            b[(i, 0)] += c0[(i, 0)];
+        }
+        let g0 = &z_l + &b * &hs.w_rt;
+        let g0_psi = &z_q + &b * &hs.w_psi; // |Φ| × m
+        let u = Mat::<f64>::from_fn(nv, m, |v, k| coordinate(self.solutions[k][v]));
+        let fa = match side {
+            SpatialSide::Hats { free } => Mat::<f64>::from_fn(free.len(), m, |row, k| {
+                u[(free[row], k)] - g0_psi[(free[row], k)]
+            }),
+            SpatialSide::Reduced(side) => {
+                let e0 = &u - &side.dt * &g0_psi;
+                &side.projection * &e0
+            }
+        };
+        (g0, fa)
+    }
+}
+
+/// The operator's coefficients `G` (`2 · |Φ| × |Ψ|`, stored column by column of `Ψ`, `x` rows
+/// then `y` rows): `G₀ + N_S X N_Rᵀ` per coordinate, `X` the least-squares solution `x`.
+fn coefficients(
+    x: &Mat<f64>,
+    g0: [Mat<f64>; 2],
+    n_r: &Mat<f64>,
+    side: &SpatialSide,
+    nf: usize,
+    n_free: usize,
+) -> Vec<f64> {
+    let np = n_r.nrows();
+    let mut coefficients = vec![0.0; 2 * nf * np];
+    for (axis, mut g) in g0.into_iter().enumerate() {
+        let xn = x.get(axis * n_free..(axis + 1) * n_free, ..) * n_r.transpose();
+        match side {
+            SpatialSide::Hats { free } => {
+                for (row, &v) in free.iter().enumerate() {
+                    for j in 0..np {
+                        g[(v, j)] += xn[(row, j)];
+                    }
+                }
+            }
+            SpatialSide::Reduced(side) => g += &side.n_s * &xn,
+        }
+        for j in 0..np {
+            for i in 0..nf {
+                coefficients[j * 2 * nf + axis * nf + i] = g[(i, j)];
+            }
+        }
+    }
+    coefficients
 }
 
 /// Checks the training data: as many solutions as configurations (at least one), each of the
