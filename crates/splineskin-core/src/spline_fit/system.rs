@@ -208,16 +208,93 @@ pub(crate) fn solve_group(
     let mut triplets: Vec<Triplet<usize, usize, f64>> =
         Vec::with_capacity(n_curves * 32 + 2 * rows.entries.len());
     // Homogeneous rows of C̄ kept (x, y, 1 or only 1) and the columns per handle.
+    let per_handle = match maps {
+        HandleMaps::Affine => 6,
+        HandleMaps::Translation => 2,
+    };
+    let mut rhs = Mat::<f64>::zeros(n, per_handle * h);
+    // The system is solved about the group's own centre `o` (module doc, "Centring").
+    let o = centre(members.iter().flat_map(|m| m.path.points.iter().copied()));
+    add_energy(members, samples, maps, o, &mut triplets, &mut rhs);
+    for &(r, col, v) in &rows.entries {
+        triplets.push(Triplet::new(n_x + r, col, v));
+        triplets.push(Triplet::new(col, n_x + r, v));
+    }
+    if let [member] = members {
+        add_held_points(
+            member,
+            points,
+            maps,
+            o,
+            n_x + rows.n_rows,
+            &mut triplets,
+            &mut rhs,
+        );
+    }
+    let rank_deficient = options.check_rank && is_rank_deficient(n, &triplets);
+    lu_solve_in_place(n, &triplets, rhs.as_mut()).map_err(|e| FitError::Solver {
+        path: path_index,
+        detail: e.to_string(),
+    })?;
+
+    let mut operator = rhs.subrows(0, n_x).to_owned();
+    // The group's rest points, about the centre (one per unknown).
+    let rest = canonical_rest(members, n_unknowns, o);
+    let mut mean_weights = None;
+    if maps == HandleMaps::Affine {
+        if options.constraint_form == ConstraintForm::Ours {
+            mean_weights = reproduce_similarities(&mut operator, members, &rest, samples, &rows);
+        }
+        uncentre(&mut operator, o);
+    }
+    if !rank_deficient
+        && operator
+            .col_iter()
+            .any(|c| c.iter().any(|v| !v.is_finite()))
+    {
+        return Err(FitError::Singular { path: path_index });
+    }
+    if let [member] = members {
+        if member.unknowns.iter().enumerate().all(|(k, &u)| k == u) {
+            return Ok(vec![PathOperator {
+                operator,
+                n_constraints: rows.n_rows,
+                rank_deficient,
+            }]);
+        }
+    }
+    let shared = SharedOperator {
+        operator: &operator,
+        rest: &rest,
+        o,
+        mean_weights: mean_weights.as_deref(),
+        n_constraints: rows.n_rows,
+        rank_deficient,
+    };
+    Ok(members
+        .iter()
+        .enumerate()
+        .map(|(g, member)| shared.member_operator(g, member))
+        .collect())
+}
+
+/// Adds the members' fit energies to the system (module doc): each curve's Gram block to
+/// `triplets` and its weighted integrals of the rest curve (about `o`) to `rhs`, each member
+/// relative to its own size ("Groups") and all divided by the largest curve measure
+/// ("Balance").
+fn add_energy(
+    members: &[GroupMember<'_>],
+    samples: &SampledCurves,
+    maps: HandleMaps,
+    o: Vec2,
+    triplets: &mut Vec<Triplet<usize, usize, f64>>,
+    rhs: &mut Mat<f64>,
+) {
     let (first_row, per_handle) = match maps {
         HandleMaps::Affine => (0, 6),
         HandleMaps::Translation => (2, 2),
     };
-    let mut rhs = Mat::<f64>::zeros(n, per_handle * h);
-    let mut weighted = Vec::with_capacity(h);
-    // The system is solved about the group's own centre `o` (module doc, "Centring"), and
-    // its energy divided by the largest curve measure (module doc, "Balance").
-    let o = centre(members.iter().flat_map(|m| m.path.points.iter().copied()));
-    // Each member's energy relative to its own size (module doc, "Groups").
+    let mut weighted = Vec::with_capacity(samples.n_handles());
     let scales = relative_scales(members);
     let largest_measure = members
         .iter()
@@ -268,106 +345,92 @@ pub(crate) fn solve_group(
             }
         }
     }
-    for &(r, col, v) in &rows.entries {
-        triplets.push(Triplet::new(n_x + r, col, v));
-        triplets.push(Triplet::new(col, n_x + r, v));
-    }
-    if let [member] = members {
-        let first = n_x + rows.n_rows;
-        for (pi, held) in points.iter().enumerate() {
-            let t = held.t;
-            let s = 1.0 - t;
-            let b = [s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t];
-            let a = held.point - o;
-            for d in 0..2 {
-                let row = first + 2 * pi + d;
-                for (k, bk) in b.iter().enumerate() {
-                    let col =
-                        2 * member.unknowns[member.path.unknown_index(3 * held.curve + k)] + d;
-                    triplets.push(Triplet::new(row, col, *bk));
-                    triplets.push(Triplet::new(col, row, *bk));
-                }
-                for &(i, w) in &held.weights {
-                    match maps {
-                        HandleMaps::Translation => rhs[(row, 2 * i + d)] += w,
-                        HandleMaps::Affine => {
-                            rhs[(row, 6 * i + d)] += w * a.x;
-                            rhs[(row, 6 * i + 2 + d)] += w * a.y;
-                            rhs[(row, 6 * i + 4 + d)] += w;
-                        }
-                    }
-                }
-            }
-        }
-    }
-    let rank_deficient = options.check_rank && is_rank_deficient(n, &triplets);
-    lu_solve_in_place(n, &triplets, rhs.as_mut()).map_err(|e| FitError::Solver {
-        path: path_index,
-        detail: e.to_string(),
-    })?;
+}
 
-    let mut operator = rhs.subrows(0, n_x).to_owned();
-    // The group's rest points, about the centre (one per unknown).
-    let rest = canonical_rest(members, n_unknowns, o);
-    let mut mean_weights = None;
-    if maps == HandleMaps::Affine {
-        if options.constraint_form == ConstraintForm::Ours {
-            mean_weights = reproduce_similarities(&mut operator, members, &rest, samples, &rows);
-        }
-        uncentre(&mut operator, o);
-    }
-    if !rank_deficient
-        && operator
-            .col_iter()
-            .any(|c| c.iter().any(|v| !v.is_finite()))
-    {
-        return Err(FitError::Singular { path: path_index });
-    }
-    if let [member] = members {
-        if member.unknowns.iter().enumerate().all(|(k, &u)| k == u) {
-            return Ok(vec![PathOperator {
-                operator,
-                n_constraints: rows.n_rows,
-                rank_deficient,
-            }]);
-        }
-    }
-    Ok(members
-        .iter()
-        .enumerate()
-        .map(|(g, member)| {
-            let mut own = Mat::<f64>::zeros(2 * member.unknowns.len(), operator.ncols());
-            for (k, &u) in member.unknowns.iter().enumerate() {
-                for d in 0..2 {
-                    for c in 0..operator.ncols() {
-                        own[(2 * k + d, c)] = operator[(2 * u + d, c)];
-                    }
-                }
-                // A copy's point differs from the canonical one by δ (within the sharing
-                // tolerance): it follows as the canonical point plus δ under the handles'
-                // linear parts averaged by their mean weights, Σ_i ω_i L_i δ, so that the
-                // identity and similarities reproduce the copy's own input while the deformed
-                // copies stay within |L δ| of each other.
-                let delta = member.path.points[k] - (rest[u] + o).to_point();
-                if let Some(mean) = &mean_weights {
-                    if delta != Vec2::ZERO {
-                        for (i, &m) in mean.iter().enumerate() {
-                            own[(2 * k, 6 * i)] += m * delta.x;
-                            own[(2 * k, 6 * i + 2)] += m * delta.y;
-                            own[(2 * k + 1, 6 * i + 1)] += m * delta.x;
-                            own[(2 * k + 1, 6 * i + 3)] += m * delta.y;
-                        }
+/// Adds the rows holding `points` on a lone path (`member`), two each from row `first`: the
+/// curve's point at `t` equals the held point's skinned position.
+fn add_held_points(
+    member: &GroupMember<'_>,
+    points: &[PointConstraint],
+    maps: HandleMaps,
+    o: Vec2,
+    first: usize,
+    triplets: &mut Vec<Triplet<usize, usize, f64>>,
+    rhs: &mut Mat<f64>,
+) {
+    for (pi, held) in points.iter().enumerate() {
+        let t = held.t;
+        let s = 1.0 - t;
+        let b = [s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t];
+        let a = held.point - o;
+        for d in 0..2 {
+            let row = first + 2 * pi + d;
+            for (k, bk) in b.iter().enumerate() {
+                let col = 2 * member.unknowns[member.path.unknown_index(3 * held.curve + k)] + d;
+                triplets.push(Triplet::new(row, col, *bk));
+                triplets.push(Triplet::new(col, row, *bk));
+            }
+            for &(i, w) in &held.weights {
+                match maps {
+                    HandleMaps::Translation => rhs[(row, 2 * i + d)] += w,
+                    HandleMaps::Affine => {
+                        rhs[(row, 6 * i + d)] += w * a.x;
+                        rhs[(row, 6 * i + 2 + d)] += w * a.y;
+                        rhs[(row, 6 * i + 4 + d)] += w;
                     }
                 }
             }
-            PathOperator {
-                operator: own,
-                // The group's rows are counted once, with its first path.
-                n_constraints: if g == 0 { rows.n_rows } else { 0 },
-                rank_deficient,
+        }
+    }
+}
+
+/// A group's solved operator over its shared unknowns, to be split into its members' own.
+struct SharedOperator<'a> {
+    operator: &'a Mat<f64>,
+    /// The canonical rest points about `o`, one per unknown.
+    rest: &'a [Vec2],
+    o: Vec2,
+    /// The handles' mean weights over the group (affine maps, our constraint form).
+    mean_weights: Option<&'a [f64]>,
+    n_constraints: usize,
+    rank_deficient: bool,
+}
+
+impl SharedOperator<'_> {
+    /// Member `g`'s operator: the rows of its unknowns, its copies' offsets carried.
+    fn member_operator(&self, g: usize, member: &GroupMember<'_>) -> PathOperator {
+        let operator = self.operator;
+        let mut own = Mat::<f64>::zeros(2 * member.unknowns.len(), operator.ncols());
+        for (k, &u) in member.unknowns.iter().enumerate() {
+            for d in 0..2 {
+                for c in 0..operator.ncols() {
+                    own[(2 * k + d, c)] = operator[(2 * u + d, c)];
+                }
             }
-        })
-        .collect())
+            // A copy's point differs from the canonical one by δ (within the sharing
+            // tolerance): it follows as the canonical point plus δ under the handles' linear
+            // parts averaged by their mean weights, Σ_i ω_i L_i δ, so that the identity and
+            // similarities reproduce the copy's own input while the deformed copies stay within
+            // |L δ| of each other.
+            let delta = member.path.points[k] - (self.rest[u] + self.o).to_point();
+            if let Some(mean) = self.mean_weights {
+                if delta != Vec2::ZERO {
+                    for (i, &m) in mean.iter().enumerate() {
+                        own[(2 * k, 6 * i)] += m * delta.x;
+                        own[(2 * k, 6 * i + 2)] += m * delta.y;
+                        own[(2 * k + 1, 6 * i + 1)] += m * delta.x;
+                        own[(2 * k + 1, 6 * i + 3)] += m * delta.y;
+                    }
+                }
+            }
+        }
+        PathOperator {
+            operator: own,
+            // The group's rows are counted once, with its first path.
+            n_constraints: if g == 0 { self.n_constraints } else { 0 },
+            rank_deficient: self.rank_deficient,
+        }
+    }
 }
 
 /// The factor `s_p = (D / d_p)²` by which member `p`'s energy is multiplied in a group
