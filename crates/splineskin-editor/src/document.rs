@@ -5,7 +5,7 @@ use anyhow::{bail, Context, Result};
 use splineskin::defop::Energy;
 use splineskin::drawing::svg_in::MAX_SVG_BYTES;
 use splineskin::drawing::svg_out::{write_svg_marked, write_svg_with_inserted, ViewBoxRule};
-use splineskin::drawing::Drawing;
+use splineskin::drawing::{Drawing, SvgSource};
 use splineskin::folds::FoldCheck;
 use splineskin::scene::{Compat, Engine, MeshFamily, Scene, WeightSpec};
 use splineskin::spline_fit::Measure;
@@ -91,84 +91,20 @@ impl Document {
     /// Opens a loaded scene. Its first pose is the one shown. Errors for what the editor cannot
     /// edit yet (bones, cages) and for drawings the library cannot read, naming the file.
     pub fn from_scene(scene: Scene, name: &str) -> Result<Document> {
-        scene.check_supported()?;
-        let mut warnings = Vec::new();
-        if !scene.bones.is_empty() || scene.cage.is_some() {
-            bail!(
-                "{name}: the editor places point handles only; this scene has {} bones{} \
-                 (deform it with `splineskin deform`)",
-                scene.bones.len(),
-                if scene.cage.is_some() {
-                    " and a cage"
-                } else {
-                    ""
-                }
-            );
-        }
-        if scene.engine != Engine::Ours {
-            warnings.push(format!(
-                "{name}: engine '{}' (a naive baseline) is not used: the editor deforms with the \
-                 spline fit",
-                scene.engine.name()
-            ));
-        }
-        let weights = match &scene.weights {
-            WeightSpec::Shepard { exponent } => WeightsWire {
-                family: "shepard".into(),
-                exponent: Some(*exponent),
-                samples: None,
-                coarse: false,
-            },
-            WeightSpec::Mesh(family) => WeightsWire {
-                family: family.name().into(),
-                exponent: None,
-                samples: None,
-                coarse: false,
-            },
-            other => bail!(
-                "{name}: weight family '{}' needs a cage, which the editor does not edit yet",
-                other.name()
-            ),
-        };
+        let mut warnings = check_editable(&scene, name)?;
+        let weights = weights_wire(&scene, name)?;
         // The kinds the rig uses (the authors' saved kinds, then the scene's overrides) and
         // those classified from the geometry: the page gets the latter and, as overrides,
         // every joint where the two differ.
         let (rigged, more) = scene.drawing_with_junctions(Compat::None)?;
         warnings.extend(more);
         let drawing = scene.drawing(Compat::None)?;
-        let mut junctions = Vec::new();
-        for (p, (a, b)) in rigged.paths.iter().zip(&drawing.paths).enumerate() {
-            for (j, (&kind, &classified)) in a.joints.iter().zip(&b.joints).enumerate() {
-                if kind != classified {
-                    junctions.push(JunctionWire {
-                        path: p,
-                        joint: j,
-                        kind,
-                    });
-                }
-            }
-        }
+        let junctions = junction_overrides(&rigged, &drawing);
         let pose = scene
             .pose(0)
             .map(|p| p.transforms.iter().map(|t| t.as_coeffs()).collect())
             .unwrap_or_default();
-        // A scene's `defop` section is kept (and offered to the page): its operator is trained
-        // when the user picks it, on the drawing's domain only.
-        let mut defop = scene.defop.clone();
-        if let Some(settings) = &mut defop {
-            for (key, file) in [
-                ("mesh", settings.mesh.take()),
-                ("operator", settings.operator.take()),
-            ] {
-                if let Some(file) = file {
-                    warnings.push(format!(
-                        "{name}: defop.{key} ({}) is not used: the editor trains its operator on \
-                         the drawing's domain (and saves the scene without it)",
-                        file.display()
-                    ));
-                }
-            }
-        }
+        let defop = page_defop(&scene, name, &mut warnings);
         let operator = defop.as_ref().map(|settings| OperatorInfo {
             family: match settings.energy {
                 Energy::Arap => "defop-arap",
@@ -200,32 +136,6 @@ impl Document {
             .source
             .as_ref()
             .context("an imported drawing has its source")?;
-        let elements = (0..source.n_elements())
-            .map(|e| {
-                let paths = source.element_paths(e).unwrap_or(0..0);
-                let to_local = source
-                    .element_local_to_root(e)
-                    .map(|t| t.inverse().as_coeffs())
-                    .unwrap_or([1.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
-                ElementInfo {
-                    first_path: paths.start,
-                    end_path: paths.end,
-                    to_local,
-                }
-            })
-            .collect();
-        let paths = drawing
-            .paths
-            .iter()
-            .enumerate()
-            .map(|(i, p)| PathInfo {
-                closed: p.closed,
-                n_points: p.points.len(),
-                joints: p.joints.clone(),
-                close_with_z: p.closed && !source.is_closed_without_z(i),
-                inserted: vec![false; p.joints.len()],
-            })
-            .collect();
         let info = DocumentInfo {
             id: String::new(),
             name: name.to_string(),
@@ -234,8 +144,8 @@ impl Document {
                 let b = source.view_box();
                 [b.x0, b.y0, b.width(), b.height()]
             },
-            paths,
-            elements,
+            paths: path_infos(&drawing, source),
+            elements: element_infos(source),
             rest: rest.iter().flat_map(|p| [p.x, p.y]).collect(),
             scene: edit,
             operator,
@@ -376,4 +286,131 @@ fn has_extension(path: &std::path::Path, ext: &str) -> bool {
     path.extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+}
+
+/// Refuses what the editor cannot edit (bones, cages, scenes the library does not support);
+/// the warnings of what it leaves out (a naive engine).
+fn check_editable(scene: &Scene, name: &str) -> Result<Vec<String>> {
+    scene.check_supported()?;
+    let mut warnings = Vec::new();
+    if !scene.bones.is_empty() || scene.cage.is_some() {
+        bail!(
+            "{name}: the editor places point handles only; this scene has {} bones{} \
+             (deform it with `splineskin deform`)",
+            scene.bones.len(),
+            if scene.cage.is_some() {
+                " and a cage"
+            } else {
+                ""
+            }
+        );
+    }
+    if scene.engine != Engine::Ours {
+        warnings.push(format!(
+            "{name}: engine '{}' (a naive baseline) is not used: the editor deforms with the \
+             spline fit",
+            scene.engine.name()
+        ));
+    }
+    Ok(warnings)
+}
+
+/// The scene's weights as the page names them; an error for families that need a cage.
+fn weights_wire(scene: &Scene, name: &str) -> Result<WeightsWire> {
+    Ok(match &scene.weights {
+        WeightSpec::Shepard { exponent } => WeightsWire {
+            family: "shepard".into(),
+            exponent: Some(*exponent),
+            samples: None,
+            coarse: false,
+        },
+        WeightSpec::Mesh(family) => WeightsWire {
+            family: family.name().into(),
+            exponent: None,
+            samples: None,
+            coarse: false,
+        },
+        other => bail!(
+            "{name}: weight family '{}' needs a cage, which the editor does not edit yet",
+            other.name()
+        ),
+    })
+}
+
+/// Every joint whose kind in `rigged` (the rig's) differs from `drawing`'s (classified from
+/// the geometry), as the page's overrides.
+fn junction_overrides(rigged: &Drawing, drawing: &Drawing) -> Vec<JunctionWire> {
+    let mut junctions = Vec::new();
+    for (p, (a, b)) in rigged.paths.iter().zip(&drawing.paths).enumerate() {
+        for (j, (&kind, &classified)) in a.joints.iter().zip(&b.joints).enumerate() {
+            if kind != classified {
+                junctions.push(JunctionWire {
+                    path: p,
+                    joint: j,
+                    kind,
+                });
+            }
+        }
+    }
+    junctions
+}
+
+/// The scene's `defop` section, kept (and offered to the page) without its mesh and operator
+/// files, which the editor does not use (it trains on the drawing's domain when the user picks
+/// the operator): a warning for each left out.
+fn page_defop(
+    scene: &Scene,
+    name: &str,
+    warnings: &mut Vec<String>,
+) -> Option<splineskin::scene::DefOpSettings> {
+    let mut defop = scene.defop.clone();
+    if let Some(settings) = &mut defop {
+        for (key, file) in [
+            ("mesh", settings.mesh.take()),
+            ("operator", settings.operator.take()),
+        ] {
+            if let Some(file) = file {
+                warnings.push(format!(
+                    "{name}: defop.{key} ({}) is not used: the editor trains its operator on \
+                     the drawing's domain (and saves the scene without it)",
+                    file.display()
+                ));
+            }
+        }
+    }
+    defop
+}
+
+/// Each imported element's paths and root → local map, for the page.
+fn element_infos(source: &SvgSource) -> Vec<ElementInfo> {
+    (0..source.n_elements())
+        .map(|e| {
+            let paths = source.element_paths(e).unwrap_or(0..0);
+            let to_local = source
+                .element_local_to_root(e)
+                .map(|t| t.inverse().as_coeffs())
+                .unwrap_or([1.0, 0.0, 0.0, 1.0, 0.0, 0.0]);
+            ElementInfo {
+                first_path: paths.start,
+                end_path: paths.end,
+                to_local,
+            }
+        })
+        .collect()
+}
+
+/// Each path's shape for the page: closed or not, its points, joints and how it closes.
+fn path_infos(drawing: &Drawing, source: &SvgSource) -> Vec<PathInfo> {
+    drawing
+        .paths
+        .iter()
+        .enumerate()
+        .map(|(i, p)| PathInfo {
+            closed: p.closed,
+            n_points: p.points.len(),
+            joints: p.joints.clone(),
+            close_with_z: p.closed && !source.is_closed_without_z(i),
+            inserted: vec![false; p.joints.len()],
+        })
+        .collect()
 }
