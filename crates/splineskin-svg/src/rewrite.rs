@@ -473,107 +473,11 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
             strip_ids: ctx.in_copy,
             ..TagSpec::default()
         };
-        let href = node
-            .attribute("href")
-            .or_else(|| node.attribute((XLINK_NS, "href")));
-        let target = href
-            .and_then(|h| h.trim().strip_prefix('#'))
-            .and_then(|id| self.ids.get(id))
-            .copied();
-        let Some(target) = target.filter(|t| is_svg_element(*t)) else {
+        let Some((target, instance)) = self.expanded_use(node, ctx)? else {
             return self.write_with(node, &plain, ctx, None);
         };
         let target_tag = target.tag_name().name();
-        let graphic = matches!(
-            target_tag,
-            "g" | "symbol"
-                | "use"
-                | "a"
-                | "switch"
-                | "path"
-                | "rect"
-                | "circle"
-                | "ellipse"
-                | "line"
-                | "polyline"
-                | "polygon"
-                | "text"
-                | "image"
-                | "svg"
-        );
-        let recursive = node.ancestors().any(|a| a == target) || ctx.targets.contains(&target.id());
-        if recursive {
-            tracing::warn!(
-                file = self.origin,
-                element = %node_label(self.doc, node),
-                "recursive use; left as it is (usvg skips it)"
-            );
-        }
-        if !graphic || recursive {
-            return self.write_with(node, &plain, ctx, None);
-        }
-        let mut instance = ctx.uses.clone();
-        instance.push(node.range().start);
-        if !self.policy.expand_use(&instance) {
-            return self.write_with(node, &plain, ctx, None);
-        }
-        if target_tag == "svg" {
-            return Err(self.unsupported(node, "a use that references an <svg> element"));
-        }
-        if ctx.uses.len() >= MAX_USE_DEPTH {
-            return Err(self.unsupported(
-                node,
-                format!("use elements nested more than {MAX_USE_DEPTH} deep"),
-            ));
-        }
-        if node.has_attribute("transform-origin") {
-            return Err(self.unsupported(node, "transform-origin on a use element"));
-        }
-
-        // transform = use transform · translate(x y) [· symbol viewBox mapping]
-        let (vw, vh) = (self.viewport.width, self.viewport.height);
-        let length = |name: &str, base: f64, default: f64| -> Result<f64, SvgError> {
-            match node.attribute(name) {
-                Some(v) => user_length(v, base).map_err(|e| {
-                    self.unsupported(node, format!("attribute {name}=\"{v}\": expected {e}"))
-                }),
-                None => Ok(default),
-            }
-        };
-        let (x, y) = (length("x", vw, 0.0)?, length("y", vh, 0.0)?);
-        let mut transform = node.attribute("transform").unwrap_or("").trim().to_string();
-        let mut push = |part: String| {
-            if !transform.is_empty() {
-                transform.push(' ');
-            }
-            transform.push_str(&part);
-        };
-        if x != 0.0 || y != 0.0 {
-            push(format!("translate({} {})", number(x), number(y)));
-        }
-        if target_tag == "symbol" {
-            let (w, h) = (length("width", vw, vw)?, length("height", vh, vh)?);
-            let view_box = target
-                .attribute("viewBox")
-                .and_then(|v| <svgtypes::ViewBox as std::str::FromStr>::from_str(v).ok());
-            if let Some(vb) = view_box.filter(|_| w > 0.0 && h > 0.0) {
-                let aspect = target
-                    .attribute("preserveAspectRatio")
-                    .and_then(|v| <svgtypes::AspectRatio as std::str::FromStr>::from_str(v).ok())
-                    .unwrap_or_default();
-                let c = view_box_transform(vb, aspect, w, h).as_coeffs();
-                push(format!(
-                    "matrix({} {} {} {} {} {})",
-                    number(c[0]),
-                    number(c[1]),
-                    number(c[2]),
-                    number(c[3]),
-                    number(c[4]),
-                    number(c[5])
-                ));
-            }
-        }
-
+        let transform = self.use_transform(node, target)?;
         let pos = self.positions(node)?;
         let _ = write!(self.out, "<{}g", pos.prefix);
         for a in node.attributes() {
@@ -623,5 +527,125 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
         }
         let _ = write!(self.out, "</{}g>", pos.prefix);
         Ok(())
+    }
+
+    /// The element `use` element `node` references and the `use` chain of its copy, when the
+    /// copy is written (a graphic element, not recursive, which the policy expands); `None`
+    /// to write the `use` as it is. Errors for what cannot be expanded: a use of an `<svg>`,
+    /// uses nested past [`MAX_USE_DEPTH`], `transform-origin`.
+    fn expanded_use(
+        &mut self,
+        node: roxmltree::Node<'a, 'i>,
+        ctx: &Context,
+    ) -> Result<Option<(roxmltree::Node<'a, 'i>, Vec<usize>)>, SvgError> {
+        let href = node
+            .attribute("href")
+            .or_else(|| node.attribute((XLINK_NS, "href")));
+        let target = href
+            .and_then(|h| h.trim().strip_prefix('#'))
+            .and_then(|id| self.ids.get(id))
+            .copied();
+        let Some(target) = target.filter(|t| is_svg_element(*t)) else {
+            return Ok(None);
+        };
+        let target_tag = target.tag_name().name();
+        let graphic = matches!(
+            target_tag,
+            "g" | "symbol"
+                | "use"
+                | "a"
+                | "switch"
+                | "path"
+                | "rect"
+                | "circle"
+                | "ellipse"
+                | "line"
+                | "polyline"
+                | "polygon"
+                | "text"
+                | "image"
+                | "svg"
+        );
+        let recursive = node.ancestors().any(|a| a == target) || ctx.targets.contains(&target.id());
+        if recursive {
+            tracing::warn!(
+                file = self.origin,
+                element = %node_label(self.doc, node),
+                "recursive use; left as it is (usvg skips it)"
+            );
+        }
+        if !graphic || recursive {
+            return Ok(None);
+        }
+        let mut instance = ctx.uses.clone();
+        instance.push(node.range().start);
+        if !self.policy.expand_use(&instance) {
+            return Ok(None);
+        }
+        if target_tag == "svg" {
+            return Err(self.unsupported(node, "a use that references an <svg> element"));
+        }
+        if ctx.uses.len() >= MAX_USE_DEPTH {
+            return Err(self.unsupported(
+                node,
+                format!("use elements nested more than {MAX_USE_DEPTH} deep"),
+            ));
+        }
+        if node.has_attribute("transform-origin") {
+            return Err(self.unsupported(node, "transform-origin on a use element"));
+        }
+        Ok(Some((target, instance)))
+    }
+
+    /// The transform of the group replacing `use` element `node`: its own transform, then
+    /// `translate(x y)`, then for a `symbol` target its viewBox mapping.
+    fn use_transform(
+        &self,
+        node: roxmltree::Node<'a, 'i>,
+        target: roxmltree::Node<'a, 'i>,
+    ) -> Result<String, SvgError> {
+        let (vw, vh) = (self.viewport.width, self.viewport.height);
+        let length = |name: &str, base: f64, default: f64| -> Result<f64, SvgError> {
+            match node.attribute(name) {
+                Some(v) => user_length(v, base).map_err(|e| {
+                    self.unsupported(node, format!("attribute {name}=\"{v}\": expected {e}"))
+                }),
+                None => Ok(default),
+            }
+        };
+        let (x, y) = (length("x", vw, 0.0)?, length("y", vh, 0.0)?);
+        let mut transform = node.attribute("transform").unwrap_or("").trim().to_string();
+        let mut push = |part: String| {
+            if !transform.is_empty() {
+                transform.push(' ');
+            }
+            transform.push_str(&part);
+        };
+        if x != 0.0 || y != 0.0 {
+            push(format!("translate({} {})", number(x), number(y)));
+        }
+        if target.tag_name().name() == "symbol" {
+            let (w, h) = (length("width", vw, vw)?, length("height", vh, vh)?);
+            let view_box = target
+                .attribute("viewBox")
+                .and_then(|v| <svgtypes::ViewBox as std::str::FromStr>::from_str(v).ok());
+            if let Some(vb) = view_box.filter(|_| w > 0.0 && h > 0.0) {
+                let aspect = target
+                    .attribute("preserveAspectRatio")
+                    .and_then(|v| <svgtypes::AspectRatio as std::str::FromStr>::from_str(v).ok())
+                    .unwrap_or_default();
+                let c = view_box_transform(vb, aspect, w, h).as_coeffs();
+                push(format!(
+                    "matrix({} {} {} {} {} {})",
+                    number(c[0]),
+                    number(c[1]),
+                    number(c[2]),
+                    number(c[3]),
+                    number(c[4]),
+                    number(c[5])
+                ));
+            }
+        }
+        Ok(transform)
     }
 }
