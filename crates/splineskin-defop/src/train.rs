@@ -386,23 +386,7 @@ pub fn train(
     options: &TrainOptions,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<Training, DefOpError> {
-    if options.growth < 2 {
-        return Err(DefOpError::InvalidOption {
-            name: "growth",
-            value: options.growth.to_string(),
-            expected: "at least 2",
-        });
-    }
-    check_count_option("n_samples", options.n_samples)?;
-    if options.fit.handle_basis == HandleBasisKind::ThinPlateSpline
-        && options.n_samples < 2 * handles.len()
-    {
-        return Err(DefOpError::TooFewSamples {
-            handles: handles.len(),
-            needed: 2 * handles.len(),
-            given: options.n_samples,
-        });
-    }
+    check_train_options(options, handles.len())?;
     let solver = Solver {
         arap: Arap::new(mesh, handles, options.arap)?,
         sarap: match options.energy {
@@ -410,41 +394,9 @@ pub fn train(
             Energy::SymmetricArap => Some(SymmetricArap::new(mesh, handles, options.sarap)?),
         },
     };
-    let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
-    let regions = if options.regions.is_empty() {
-        vec![(
-            SampleRegion::Disc {
-                radius: DEFAULT_DISC_FRACTION * bounding_box_diagonal(mesh),
-            },
-            1.0,
-        )]
-    } else {
-        options.regions.clone()
-    };
-    let mut sampler = Sampler::new(&rest, &regions, options.seed)?;
-    if !options.cover.is_empty() {
-        sampler = sampler.with_cover(options.cover.clone(), options.cover_share)?;
-    }
-    // The targets to cover are samples themselves (last, so that their solves start from
-    // the most trained prediction): a thin-plate operator then reproduces their ground truth.
-    let targets = cover_targets(
-        &options.cover,
-        &rest,
-        options.cover_share,
-        options.n_samples,
-    );
-    let mut configurations = vec![rest.clone()];
-    configurations.extend(sampler.configurations(options.n_samples - targets.len()));
-    configurations.extend(targets);
+    let configurations = training_configurations(mesh, handles, options)?;
     let mut solutions = vec![mesh.vertices.clone()];
-    // Stage ends, in samples besides the rest configuration.
-    let mut ends = vec![(2 * handles.len() + 1).min(options.n_samples)];
-    while let Some(&last) = ends.last() {
-        if last >= options.n_samples {
-            break;
-        }
-        ends.push((last * options.growth).min(options.n_samples));
-    }
+    let ends = stage_ends(handles.len(), options);
     let n_stages = ends.len();
     let solved = AtomicUsize::new(0);
     let mut op: Option<DefOp> = None;
@@ -483,16 +435,7 @@ pub fn train(
         let rest_starts = results.iter().filter(|s| s.start == Start::Rest).count();
         let not_converged = results.iter().filter(|s| !s.converged).count();
         solutions.extend(results.into_iter().map(|s| s.solution));
-        let last = stage + 1 == n_stages;
-        let wanted = options.fit.handle_basis;
-        let handle_basis = if last
-            || wanted == HandleBasisKind::ThinPlateSpline
-            || wanted.n_functions(handles.len(), 0) <= end + 1
-        {
-            wanted
-        } else {
-            HandleBasisKind::Linear
-        };
+        let handle_basis = stage_basis(options, stage + 1 == n_stages, end, handles.len());
         let clock = stopwatch();
         let fitted = DefOp::fit(
             mesh,
@@ -534,6 +477,88 @@ pub fn train(
         solutions,
         stages,
     })
+}
+
+/// Refuses a growth under 2, no samples, and fewer than `2n` samples for a thin-plate basis
+/// (`n` handles).
+fn check_train_options(options: &TrainOptions, n: usize) -> Result<(), DefOpError> {
+    if options.growth < 2 {
+        return Err(DefOpError::InvalidOption {
+            name: "growth",
+            value: options.growth.to_string(),
+            expected: "at least 2",
+        });
+    }
+    check_count_option("n_samples", options.n_samples)?;
+    if options.fit.handle_basis == HandleBasisKind::ThinPlateSpline && options.n_samples < 2 * n {
+        return Err(DefOpError::TooFewSamples {
+            handles: n,
+            needed: 2 * n,
+            given: options.n_samples,
+        });
+    }
+    Ok(())
+}
+
+/// The training's handle configurations: the rest first, then the sampler's (in the options'
+/// regions, else a disc of [`DEFAULT_DISC_FRACTION`] of the diagonal), then the targets to
+/// cover (last, so that their solves start from the most trained prediction: a thin-plate
+/// operator then reproduces their ground truth).
+fn training_configurations(
+    mesh: &TriMesh,
+    handles: &[usize],
+    options: &TrainOptions,
+) -> Result<Vec<Vec<Point>>, DefOpError> {
+    let rest: Vec<Point> = handles.iter().map(|&h| mesh.vertices[h]).collect();
+    let regions = if options.regions.is_empty() {
+        vec![(
+            SampleRegion::Disc {
+                radius: DEFAULT_DISC_FRACTION * bounding_box_diagonal(mesh),
+            },
+            1.0,
+        )]
+    } else {
+        options.regions.clone()
+    };
+    let mut sampler = Sampler::new(&rest, &regions, options.seed)?;
+    if !options.cover.is_empty() {
+        sampler = sampler.with_cover(options.cover.clone(), options.cover_share)?;
+    }
+    let targets = cover_targets(
+        &options.cover,
+        &rest,
+        options.cover_share,
+        options.n_samples,
+    );
+    let mut configurations = vec![rest];
+    configurations.extend(sampler.configurations(options.n_samples - targets.len()));
+    configurations.extend(targets);
+    Ok(configurations)
+}
+
+/// Where each stage ends, in samples besides the rest configuration: `2n + 1` (`n` handles),
+/// then growing by the options' factor up to all samples.
+fn stage_ends(n: usize, options: &TrainOptions) -> Vec<usize> {
+    let mut ends = vec![(2 * n + 1).min(options.n_samples)];
+    while let Some(&last) = ends.last() {
+        if last >= options.n_samples {
+            break;
+        }
+        ends.push((last * options.growth).min(options.n_samples));
+    }
+    ends
+}
+
+/// The handle basis a stage fits (ending at sample `end`, `last` or not, `n` handles): the
+/// wanted one, except a polynomial basis with more functions than samples before the last
+/// stage, which fits a linear one meanwhile.
+fn stage_basis(options: &TrainOptions, last: bool, end: usize, n: usize) -> HandleBasisKind {
+    let wanted = options.fit.handle_basis;
+    if last || wanted == HandleBasisKind::ThinPlateSpline || wanted.n_functions(n, 0) <= end + 1 {
+        wanted
+    } else {
+        HandleBasisKind::Linear
+    }
 }
 
 /// The ground truths at `configurations` solved from the rest pose, independently of any
