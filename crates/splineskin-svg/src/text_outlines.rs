@@ -133,21 +133,56 @@ pub(crate) fn outline_text(text: &str, origin: &str) -> Result<Option<String>, S
         });
     }
 
-    // Every text gets an id usvg keeps: its own when it is the first element with it, else a
-    // fresh one (in the copy usvg reads only).
     let ids: HashSet<&str> = doc
         .descendants()
         .filter_map(|n| n.attribute("id"))
         .collect();
+    let mut prefix = String::from("splineskin-text-");
+    while ids.iter().any(|id| id.starts_with(&prefix)) {
+        prefix.push('x');
+    }
+    let (prepared, text_ids) = with_text_ids(text, &doc, &texts, &prefix);
+    let index: HashMap<&str, usize> = text_ids
+        .iter()
+        .enumerate()
+        .map(|(k, id)| (id.as_str(), k))
+        .collect();
+    let mut outlines: Vec<Option<Vec<Outline>>> = (0..texts.len()).map(|_| None).collect();
+    read_outlines(
+        &prepared,
+        &index,
+        crate::fonts::usvg_options(false),
+        &ids,
+        &mut outlines,
+    );
+    if outlines.iter().any(Option::is_none) && text.contains("display") {
+        // Hidden text (display: none) is laid out too, so that unhiding its layer shows it.
+        read_outlines(&prepared, &index, show_hidden(), &ids, &mut outlines);
+    }
+    if outlines.iter().any(Option::is_none) {
+        lay_out_undrawn(text, &doc, &texts, &prepared, &prefix, &ids, &mut outlines);
+    }
+    let edits = outline_edits(text, &doc, &texts, outlines, origin);
+    if edits.is_empty() {
+        return Ok(None);
+    }
+    Ok(Some(splice(text, edits)))
+}
+
+/// `text` with an id usvg keeps on every text of `texts`: its own when it is the first
+/// element with it, else a fresh one (`prefix` and its number; in the copy usvg reads only);
+/// and each text's id.
+fn with_text_ids(
+    text: &str,
+    doc: &roxmltree::Document,
+    texts: &[roxmltree::Node],
+    prefix: &str,
+) -> (String, Vec<String>) {
     let mut first_owner: HashMap<&str, roxmltree::NodeId> = HashMap::new();
     for n in doc.descendants() {
         if let Some(id) = n.attribute("id") {
             first_owner.entry(id).or_insert(n.id());
         }
-    }
-    let mut prefix = String::from("splineskin-text-");
-    while ids.iter().any(|id| id.starts_with(&prefix)) {
-        prefix.push('x');
     }
     let mut edits: Vec<(usize, usize, String)> = Vec::new();
     let mut text_ids: Vec<String> = Vec::new();
@@ -164,75 +199,85 @@ pub(crate) fn outline_text(text: &str, origin: &str) -> Result<Option<String>, S
             }
         }
     }
-    let prepared = splice(text, edits);
+    (splice(text, edits), text_ids)
+}
 
-    let index: HashMap<&str, usize> = text_ids
-        .iter()
-        .enumerate()
-        .map(|(k, id)| (id.as_str(), k))
-        .collect();
-    let mut outlines: Vec<Option<Vec<Outline>>> = (0..texts.len()).map(|_| None).collect();
-    let read = |document: &str,
-                index: &HashMap<&str, usize>,
-                options: usvg::Options,
-                outlines: &mut [Option<Vec<Outline>>]| {
-        if let Ok(tree) = usvg::Tree::from_str(document, &options) {
-            collect_texts(tree.root(), index, &ids, outlines);
-        }
-    };
-    let show_hidden = || usvg::Options {
+/// usvg's options with every element shown (`display: none` overridden).
+fn show_hidden() -> usvg::Options<'static> {
+    usvg::Options {
         style_sheet: Some(SHOW_HIDDEN_CSS.to_string()),
         ..crate::fonts::usvg_options(false)
-    };
-    read(
-        &prepared,
-        &index,
-        crate::fonts::usvg_options(false),
-        &mut outlines,
-    );
-    if outlines.iter().any(Option::is_none) && text.contains("display") {
-        // Hidden text (display: none) is laid out too, so that unhiding its layer shows it.
-        read(&prepared, &index, show_hidden(), &mut outlines);
     }
-    if outlines.iter().any(Option::is_none) {
-        // Text not drawn where it is (drawn through `use` or a marker, whose copies lose
-        // their ids; unused; a `switch` branch not taken): a copy of it, with an id, placed at
-        // the end of the document, is laid out instead.
-        let end = doc.root_element().range().end;
-        let end_tag = text[..end].rfind("</").unwrap_or(end);
-        let mut copies = String::new();
-        let mut copy_ids = Vec::new();
-        for (k, node) in texts.iter().enumerate() {
-            if outlines[k].is_none() {
-                let id = format!("{prefix}copy{k}");
-                // With the id, and without the conditions that kept it from being drawn.
-                let range = node.range();
-                let mut edits = vec![id_edit(text, *node, &id)];
-                for a in node
-                    .attributes()
-                    .filter(|a| a.namespace().is_none() && CONDITIONS.contains(&a.name()))
-                {
-                    edits.push((a.range().start, a.range().end, String::new()));
-                }
-                let shifted = edits
-                    .into_iter()
-                    .map(|(from, to, t)| (from - range.start, to - range.start, t))
-                    .collect();
-                copies.push_str(&splice(&text[range.clone()], shifted));
-                copy_ids.push((id, k));
-            }
-        }
-        // Every edit of `prepared` lies before the root's end tag: what follows is the same.
-        let at = prepared.len() - (text.len() - end_tag);
-        let with_copies = splice(&prepared, vec![(at, at, copies)]);
-        let index: HashMap<&str, usize> =
-            copy_ids.iter().map(|(id, k)| (id.as_str(), *k)).collect();
-        read(&with_copies, &index, show_hidden(), &mut outlines);
-    }
+}
 
+/// Lays `document` out with `options` and records the outlines of the texts whose ids `index`
+/// maps (a document usvg refuses records nothing).
+fn read_outlines(
+    document: &str,
+    index: &HashMap<&str, usize>,
+    options: usvg::Options,
+    ids: &HashSet<&str>,
+    outlines: &mut [Option<Vec<Outline>>],
+) {
+    if let Ok(tree) = usvg::Tree::from_str(document, &options) {
+        collect_texts(tree.root(), index, ids, outlines);
+    }
+}
+
+/// Text not drawn where it is (drawn through `use` or a marker, whose copies lose their ids;
+/// unused; a `switch` branch not taken): a copy of it, with an id and without the conditions
+/// that kept it from being drawn, placed at the end of `prepared`, is laid out instead.
+fn lay_out_undrawn(
+    text: &str,
+    doc: &roxmltree::Document,
+    texts: &[roxmltree::Node],
+    prepared: &str,
+    prefix: &str,
+    ids: &HashSet<&str>,
+    outlines: &mut [Option<Vec<Outline>>],
+) {
+    let end = doc.root_element().range().end;
+    let end_tag = text[..end].rfind("</").unwrap_or(end);
+    let mut copies = String::new();
+    let mut copy_ids = Vec::new();
+    for (k, node) in texts.iter().enumerate() {
+        if outlines[k].is_none() {
+            let id = format!("{prefix}copy{k}");
+            let range = node.range();
+            let mut edits = vec![id_edit(text, *node, &id)];
+            for a in node
+                .attributes()
+                .filter(|a| a.namespace().is_none() && CONDITIONS.contains(&a.name()))
+            {
+                edits.push((a.range().start, a.range().end, String::new()));
+            }
+            let shifted = edits
+                .into_iter()
+                .map(|(from, to, t)| (from - range.start, to - range.start, t))
+                .collect();
+            copies.push_str(&splice(&text[range.clone()], shifted));
+            copy_ids.push((id, k));
+        }
+    }
+    // Every edit of `prepared` lies before the root's end tag: what follows is the same.
+    let at = prepared.len() - (text.len() - end_tag);
+    let with_copies = splice(prepared, vec![(at, at, copies)]);
+    let index: HashMap<&str, usize> = copy_ids.iter().map(|(id, k)| (id.as_str(), *k)).collect();
+    read_outlines(&with_copies, &index, show_hidden(), ids, outlines);
+}
+
+/// The edits of `text` replacing each of `texts` laid out (`outlines`) by its paths; a text
+/// declaring namespaces on itself or not laid out is kept, with a warning.
+fn outline_edits(
+    text: &str,
+    doc: &roxmltree::Document,
+    texts: &[roxmltree::Node],
+    outlines: Vec<Option<Vec<Outline>>>,
+    origin: &str,
+) -> Vec<(usize, usize, String)> {
     let mut edits = Vec::new();
     for (node, outline) in texts.iter().zip(outlines) {
-        let label = crate::document::node_label(&doc, *node);
+        let label = crate::document::node_label(doc, *node);
         let start_tag = &text[node.range().start..node.range().end];
         let start_tag = &start_tag[..start_tag.find('>').unwrap_or(start_tag.len())];
         if start_tag.contains("xmlns") {
@@ -262,10 +307,7 @@ pub(crate) fn outline_text(text: &str, origin: &str) -> Result<Option<String>, S
             ),
         }
     }
-    if edits.is_empty() {
-        return Ok(None);
-    }
-    Ok(Some(splice(text, edits)))
+    edits
 }
 
 /// The edit of `src` that gives the element `node` the id `id`: its `id` attribute's value
