@@ -34,43 +34,40 @@ const STATIC = document.documentElement.dataset.backend === 'wasm';
 /** The latest stage each followed job reported: { stage, since (ms) }. */
 const stages = new Map();
 
-/** The module, compiled once by the page and sent to every worker (null until asked for). */
-let compiled = null;
+/** The modules compiled by the page, by file name (each once; null where one cannot be). */
+const compiled = new Map();
 
 /**
- * The module compiled (a WebAssembly.Module), or null where the page cannot compile it (the
- * workers then fetch and compile it themselves). Workers given the same Module share its code,
- * so a new worker (a solver replacing a superseded one, a helper) neither compiles it again nor
+ * The module in file `name` beside the page, compiled once (a WebAssembly.Module), or null
+ * where the page cannot fetch or compile it. Workers given the same Module share its code, so
+ * a new worker (a solver replacing a superseded one, a helper) neither compiles it again nor
  * starts from unoptimised code.
  */
-function compiledModule() {
-  compiled ??= (async () => {
-    const response = await fetch(new URL('splineskin.wasm', import.meta.url));
-    if (!response.ok) return null;
-    // Streaming needs the server to say application/wasm; any other type is compiled whole.
-    if (/wasm/.test(response.headers.get('content-type') ?? '')) return WebAssembly.compileStreaming(response);
-    return WebAssembly.compile(await response.arrayBuffer());
-  })().catch(() => null);
-  return compiled;
+function compiledFile(name) {
+  if (!compiled.has(name)) {
+    compiled.set(name, (async () => {
+      const response = await fetch(new URL(name, import.meta.url));
+      if (!response.ok) return null;
+      // Streaming needs the server to say application/wasm; any other type is compiled whole.
+      if (/wasm/.test(response.headers.get('content-type') ?? '')) return WebAssembly.compileStreaming(response);
+      return WebAssembly.compile(await response.arrayBuffer());
+    })().catch(() => null));
+  }
+  return compiled.get(name);
 }
 
-/** The threaded module, compiled once (null until asked for). */
-let compiledThreaded = null;
+/** The one-thread module (the workers fetch and compile it themselves where this is null). */
+function compiledModule() {
+  return compiledFile('splineskin.wasm');
+}
 
 /**
- * The threaded module compiled (a WebAssembly.Module built with shared memory), or null where
- * it cannot run (the page is not cross-origin isolated, so it has no shared memory) or is not
- * beside the page (a static build made without it).
+ * The threaded module (built with shared memory), or null where it cannot run (the page is
+ * not cross-origin isolated, so it has no shared memory) or is not beside the page (a static
+ * build made without it).
  */
 function threadedModule() {
-  if (!self.crossOriginIsolated) return Promise.resolve(null);
-  compiledThreaded ??= (async () => {
-    const response = await fetch(new URL('splineskin-threads.wasm', import.meta.url));
-    if (!response.ok) return null;
-    if (/wasm/.test(response.headers.get('content-type') ?? '')) return WebAssembly.compileStreaming(response);
-    return WebAssembly.compile(await response.arrayBuffer());
-  })().catch(() => null);
-  return compiledThreaded;
+  return self.crossOriginIsolated ? compiledFile('splineskin-threads.wasm') : Promise.resolve(null);
 }
 
 /** The cores a computation may spread over: the browser's count, at most 8. */
