@@ -96,6 +96,10 @@
 //!   copy. A `use` of an `<svg>` element and `use` lengths in `em`/`ex` are unsupported
 //!   (an error), and the clipping of a referenced `symbol` to its viewport is dropped.
 //! - Elements created by DTD entity expansion are unsupported (an error).
+//!
+//! [`Path`]: splineskin_core::drawing::Path
+//! [`PathRole`]: splineskin_core::drawing::PathRole
+//! [`PathRole::Hidden`]: splineskin_core::drawing::PathRole::Hidden
 
 use std::collections::HashMap;
 use std::str::FromStr;
