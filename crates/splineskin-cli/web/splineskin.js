@@ -13,6 +13,8 @@
 // page uses, answered synchronously by the module; failures throw SplineskinError with the
 // module's message (naming the file and element).
 
+import { isIdentity } from './affine.js';
+import { pathOffsets, writePaths } from './pathdata.js';
 import { matVec } from './rig.js';
 import { loadEditor } from './wasm-editor.js';
 
@@ -101,12 +103,7 @@ export class Drawing {
      * scripts and event attributes are the caller's to neutralise (a content security policy).
      */
     this.document = info.svg;
-    this._offsets = [];
-    let offset = 0;
-    for (const p of info.paths) {
-      this._offsets.push(offset);
-      offset += p.n_points;
-    }
+    this._offsets = pathOffsets(info.paths).offsets;
   }
 
   /**
@@ -133,16 +130,8 @@ export class Drawing {
   /** Path data (`M … C … Z`) of every path at chain points `points`, root user units. */
   pathData(points) {
     this._check(points);
-    return this.info.paths.map((path, p) => {
-      const o = this._offsets[p];
-      let d = '';
-      for (let i = 0; i < path.n_points; i++) {
-        // A closed path's last point is its first.
-        const q = path.closed && i === path.n_points - 1 ? o : o + i;
-        d += `${i === 0 ? 'M' : i % 3 === 1 ? ' C' : ' '}${points[2 * q]} ${points[2 * q + 1]}`;
-      }
-      return path.close_with_z ? `${d} Z` : d;
-    });
+    const { paths } = this.info;
+    return paths.map((_, p) => writePaths(paths, this._offsets, p, p + 1, points, String));
   }
 
   /**
@@ -150,17 +139,12 @@ export class Drawing {
    * own coordinates: the `d` of the element marked `data-splineskin-element="k"` in `document`.
    */
   elementPathData(points) {
-    const d = this.pathData(points);
+    this._check(points);
+    const { paths } = this.info;
     return this.info.elements.map((e) => {
-      const [a, b, c, dd, ee, f] = e.to_local;
-      const identity = a === 1 && b === 0 && c === 0 && dd === 1 && ee === 0 && f === 0;
-      const parts = d.slice(e.first_path, e.end_path);
-      if (identity) return parts.join(' ');
       // Root user space → the element's coordinates, point by point.
-      return parts.join(' ').replace(/(-?[\d.e+-]+) (-?[\d.e+-]+)/g, (_, xs, ys) => {
-        const [x, y] = [Number(xs), Number(ys)];
-        return `${a * x + c * y + ee} ${b * x + dd * y + f}`;
-      });
+      const T = isIdentity(e.to_local) ? null : e.to_local;
+      return writePaths(paths, this._offsets, e.first_path, e.end_path, points, String, T);
     });
   }
 

@@ -3,6 +3,7 @@
 // same user space with the handles, the junction markers and the weight field.
 
 import { apply, isIdentity } from './affine.js';
+import { pathOffsets, writePaths } from './pathdata.js';
 
 const SVG_NS = 'http://www.w3.org/2000/svg';
 const MARKER = 'data-splineskin-element';
@@ -81,13 +82,7 @@ export class DrawingView {
       const k = Number(e.getAttribute(MARKER));
       if (Number.isInteger(k) && k >= 0 && k < this.elements.length) this.elements[k] = e;
     }
-    this.offsets = [];
-    let offset = 0;
-    for (const p of info.paths) {
-      this.offsets.push(offset);
-      offset += p.n_points;
-    }
-    this.nPoints = offset;
+    ({ offsets: this.offsets, nPoints: this.nPoints } = pathOffsets(info.paths));
     // Decimals of the written coordinates: 1e-5 of the view box's diagonal or finer.
     const diagonal = Math.hypot(w, h) || 1;
     this.digits = Math.min(8, Math.max(0, Math.ceil(5 - Math.log10(diagonal))));
@@ -273,28 +268,7 @@ export class DrawingView {
       const element = this.elements[k];
       if (!element) continue;
       const { first_path: first, end_path: end } = info.elements[k];
-      const T = this.localMaps[k];
-      let d = '';
-      for (let p = first; p < end; p++) {
-        const path = info.paths[p];
-        const o = offsets[p];
-        const n = path.n_points;
-        if (d) d += ' ';
-        for (let i = 0; i < n; i++) {
-          // A closed path's last point is its first (so that Z adds no segment).
-          const q = path.closed && i === n - 1 ? o : o + i;
-          let x = points[2 * q];
-          let y = points[2 * q + 1];
-          if (T) {
-            const lx = T[0] * x + T[2] * y + T[4];
-            y = T[1] * x + T[3] * y + T[5];
-            x = lx;
-          }
-          d += (i === 0 ? 'M' : i % 3 === 1 ? ' C' : ' ') + format(x) + ' ' + format(y);
-        }
-        if (path.close_with_z) d += ' Z';
-      }
-      element.setAttribute('d', d);
+      element.setAttribute('d', writePaths(info.paths, offsets, first, end, points, format, this.localMaps[k]));
     }
   }
 
@@ -438,21 +412,9 @@ export class DrawingView {
 
   /** Path data of every path of the drawing at chain points `points`, relative to the origin. */
   outline(points) {
-    const { info, offsets } = this;
-    const format = this.markFormat();
     const [ox, oy] = this.origin;
-    const parts = [];
-    info.paths.forEach((path, p) => {
-      const o = offsets[p];
-      let d = '';
-      for (let i = 0; i < path.n_points; i++) {
-        const q = path.closed && i === path.n_points - 1 ? o : o + i;
-        d += (i === 0 ? 'M' : i % 3 === 1 ? ' C' : ' ') + format(points[2 * q] - ox) + ' ' + format(points[2 * q + 1] - oy);
-      }
-      if (path.close_with_z) d += ' Z';
-      parts.push(d);
-    });
-    return parts.join(' ');
+    const { paths } = this.info;
+    return writePaths(paths, this.offsets, 0, paths.length, points, this.markFormat(), [1, 0, 0, 1, -ox, -oy]);
   }
 
   /**
