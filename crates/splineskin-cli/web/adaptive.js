@@ -6,6 +6,7 @@
 import * as affine from './affine.js';
 import * as api from './api.js';
 import { autosave } from './autosave.js';
+import { MAX_REFINE_POSES } from './constants.js';
 import { syncControls } from './controls.js';
 import { flexibleSolve, render } from './frames.js';
 import { plural, say, showError } from './messages.js';
@@ -16,9 +17,6 @@ import { editor, isDefop, keyframes, movedJunctions, notify, rigKeyOf, rigReady,
 import { DrawingView } from './view.js';
 
 const $ = (id) => document.getElementById(id);
-
-/** Largest number of poses one request measures (editor.rs MAX_REFINE_POSES). */
-const MAX_REFINE_POSES = 64;
 
 /** The poses that matter: the one shown and the keyframes'. */
 function posesThatMatter() {

@@ -11,8 +11,10 @@
 // move linearly, θ along the shortest arc, s_x and s_y geometrically (s_y linearly when its
 // sign changes). At e(u) = 0 or 1 a keyframe's own maps are returned.
 
-/** Easings of a keyframe's segment, in the order the menu lists them (Easing::ALL). */
-export const EASINGS = ['linear', 'ease-in', 'ease-out', 'ease-in-out', 'hold'];
+import { DEFAULT_FPS, EASINGS, MAX_FPS } from './constants.js';
+
+// Easings of a keyframe's segment in menu order, the default and largest frame rates: Rust's.
+export { DEFAULT_FPS, EASINGS, MAX_FPS };
 
 /** Plain-language labels of the easings. */
 export const EASING_LABELS = {
@@ -23,10 +25,6 @@ export const EASING_LABELS = {
   hold: 'Hold',
 };
 
-/** Frames per second of a new timeline (DEFAULT_FPS). */
-export const DEFAULT_FPS = 30;
-/** Largest frame rate a scene may have (MAX_FPS). */
-export const MAX_FPS = 1000;
 
 /** e(u) of easing `name` for u in [0, 1] (Easing::apply). */
 export function ease(name, u) {

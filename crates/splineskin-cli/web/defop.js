@@ -12,10 +12,11 @@
 // Q is where the handles are: q_ℓ = T_ℓ(p_ℓ) for handle ℓ's map T_ℓ and rest position p_ℓ, so
 // only a handle's translation matters. Nothing is allocated per frame.
 
+import { HANDLE_BASIS_KINDS } from './constants.js';
 import { matVec } from './rig.js';
 
-/** The handle basis kinds the server names, as in HandleBasisKind::name. */
-export const HANDLE_BASIS_KINDS = ['linear', 'quadratic', 'cubic', 'tps'];
+// The handle basis kinds the server names (HandleBasisKind::name).
+export { HANDLE_BASIS_KINDS };
 
 /** Number of functions |Ψ| of `kind` for n handles and m centres (HandleBasisKind::n_functions). */
 export function nFunctions(kind, n, m) {

@@ -10,7 +10,7 @@ import { drawOverlay, updateWeights } from './overlays.js';
 import { drawTimeline, pause, showTime } from './playback.js';
 import { blendMaps } from './skinning.js';
 import { editor, fps, isDefop, junctionKind, keyframes, notify } from './store.js';
-import { JUNCTION_KINDS } from './view.js';
+import { JUNCTION_KINDS } from './constants.js';
 
 /** The translation that puts point `h` where map `T` does. */
 function translationOf(T, h) {

@@ -10,24 +10,27 @@
 // the pose changes. `editor.time` is the timeline's shown time.
 
 import * as anim from './animation.js';
+import {
+  DEFAULT_DEFOP_SAMPLES,
+  DEFAULT_MARGIN,
+  DEFOP_FAMILIES,
+  MAX_DEFOP_SAMPLES,
+  MAX_MARGIN,
+  MESH_FAMILIES as MESH_FAMILY_NAMES,
+} from './constants.js';
 import { History } from './history.js';
 
-/** Training samples of an operator when the user has not chosen (DEFAULT_EDITOR_SAMPLES). */
-export const DEFAULT_DEFOP_SAMPLES = 100;
+// Limits shared with Rust (constants.js, generated): operator samples, the domain's margin.
+export { DEFAULT_DEFOP_SAMPLES, DEFAULT_MARGIN, MAX_DEFOP_SAMPLES, MAX_MARGIN };
 
-/** Most training samples the server takes (MAX_EDITOR_SAMPLES). */
-export const MAX_DEFOP_SAMPLES = 5000;
+/** How the page names each operator family's ground truth. */
+const ENERGY_LABELS = { 'defop-arap': 'ARAP', 'defop-sarap': 'symmetric ARAP' };
 
-/** The operator "families" of the weights menu and their ground truths. */
-export const DEFOP_ENERGIES = { 'defop-arap': 'ARAP', 'defop-sarap': 'symmetric ARAP' };
+/** The operator "families" of the weights menu (Rust's names), each its ground truth's label. */
+export const DEFOP_ENERGIES = Object.fromEntries(DEFOP_FAMILIES.map((family) => [family, ENERGY_LABELS[family] ?? family]));
 
 /** The weight families solved on a triangulated domain: seconds on big drawings. */
-export const MESH_FAMILIES = new Set(['bbw', 'harmonic', 'biharmonic']);
-
-/** The art-shaped domain's margin, a fraction of the diagonal: its default and largest value
- * (splineskin::domain::DEFAULT_MARGIN, MAX_MARGIN). */
-export const DEFAULT_MARGIN = 0.01;
-export const MAX_MARGIN = 1;
+export const MESH_FAMILIES = new Set(MESH_FAMILY_NAMES);
 
 export const editor = {
   /** The opened drawing as the server describes it (DocumentInfo), and its view. */

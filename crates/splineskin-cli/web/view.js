@@ -3,13 +3,12 @@
 // same user space with the handles, the junction markers and the weight field.
 
 import { apply, isIdentity } from './affine.js';
+import { JUNCTION_KINDS } from './constants.js';
 import { pathOffsets, writePaths } from './pathdata.js';
 
 const SVG_NS = 'http://www.w3.org/2000/svg';
 const MARKER = 'data-splineskin-element';
 
-/** Junction kinds in the order a click cycles through them. */
-export const JUNCTION_KINDS = ['C0', 'C1', 'G1', 'angle'];
 
 /** Sizes of the overlay, in CSS pixels. */
 export const HANDLE_RADIUS = 7;

@@ -47,6 +47,14 @@ pub enum HandleBasisKind {
 }
 
 impl HandleBasisKind {
+    /// Every kind, from the smallest space to the largest.
+    pub const ALL: [HandleBasisKind; 4] = [
+        HandleBasisKind::Linear,
+        HandleBasisKind::Quadratic,
+        HandleBasisKind::Cubic,
+        HandleBasisKind::ThinPlateSpline,
+    ];
+
     /// The basis' name as the study and the CLI print it: `linear`, `quadratic`, `cubic`,
     /// `tps`.
     pub fn name(self) -> &'static str {

@@ -2,7 +2,6 @@
 //! library once, with what the page needs to show and deform it ([`DocumentInfo`]).
 
 use anyhow::{bail, Context, Result};
-use splineskin::defop::Energy;
 use splineskin::drawing::svg_in::MAX_SVG_BYTES;
 use splineskin::drawing::svg_out::{write_svg_marked, write_svg_with_inserted, ViewBoxRule};
 use splineskin::drawing::{Drawing, SvgSource};
@@ -10,7 +9,7 @@ use splineskin::folds::FoldCheck;
 use splineskin::scene::{Compat, Engine, MeshFamily, Scene, WeightSpec};
 use splineskin::spline_fit::Measure;
 
-use crate::scene_file::{scene_json, SceneExtras};
+use crate::scene_file::{defop_family, scene_json, SceneExtras};
 use crate::wire::{
     AnimationWire, DocumentInfo, EditScene, ElementInfo, JunctionWire, OperatorInfo, PathInfo,
     WeightsWire,
@@ -106,10 +105,7 @@ impl Document {
             .unwrap_or_default();
         let defop = page_defop(&scene, name, &mut warnings);
         let operator = defop.as_ref().map(|settings| OperatorInfo {
-            family: match settings.energy {
-                Energy::Arap => "defop-arap",
-                Energy::SymmetricArap => "defop-sarap",
-            },
+            family: defop_family(settings.energy),
             samples: settings.samples,
         });
         let edit = EditScene {

@@ -46,7 +46,8 @@
 //! [`request`] (requests, responses, errors, limits), [`document`] (an opened drawing),
 //! [`store`] (documents and rigs by id, bounded), [`progress`] (stages of running
 //! precomputations), [`wire`] (JSON exchanged with the page), [`scene_file`] (the page's scene
-//! as a scene file of ours), [`scene_lottie`] (a scene's animation as Lottie).
+//! as a scene file of ours), [`scene_lottie`] (a scene's animation as Lottie), [`page_constants`]
+//! (the names and limits the page imports, written as `web/constants.js`).
 //!
 //! ```
 //! use splineskin_editor::{document::Document, Editor, Request};
@@ -62,6 +63,7 @@ pub mod defop_routes;
 pub mod document;
 pub mod document_routes;
 pub mod editor;
+pub mod page_constants;
 pub mod progress;
 pub mod request;
 pub mod rig_routes;

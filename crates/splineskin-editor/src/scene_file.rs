@@ -20,13 +20,30 @@ use crate::wire::{AnimationWire, EditScene, JunctionWire, WeightsWire};
 /// 3.8 s (its scene's discs of 0.1) on symmetric ARAP.
 pub const DEFAULT_EDITOR_SAMPLES: usize = 100;
 
-/// The "family" names of the operators and their ground truths.
-pub fn defop_energy(family: &str) -> Option<Energy> {
-    match family {
-        "defop-arap" => Some(Energy::Arap),
-        "defop-sarap" => Some(Energy::SymmetricArap),
-        _ => None,
+/// The operators' ground truths, in the order the page's weights menu lists them.
+pub const DEFOP_ENERGIES: [Energy; 2] = [Energy::Arap, Energy::SymmetricArap];
+
+/// The page's "family" name of an operator trained on `energy`: `defop-arap`, `defop-sarap`.
+pub fn defop_family(energy: Energy) -> &'static str {
+    match energy {
+        Energy::Arap => "defop-arap",
+        Energy::SymmetricArap => "defop-sarap",
     }
+}
+
+/// The ground truth of the operator "family" `family` (see [`defop_family`]), or `None` for a
+/// weight family.
+///
+/// ```
+/// use splineskin::defop::Energy;
+/// use splineskin_editor::scene_file::defop_energy;
+/// assert_eq!(defop_energy("defop-sarap"), Some(Energy::SymmetricArap));
+/// assert_eq!(defop_energy("bbw"), None);
+/// ```
+pub fn defop_energy(family: &str) -> Option<Energy> {
+    DEFOP_ENERGIES
+        .into_iter()
+        .find(|&energy| defop_family(energy) == family)
 }
 
 /// What a scene carries besides the page's [`EditScene`] and is kept as it was opened.

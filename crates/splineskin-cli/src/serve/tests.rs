@@ -1725,3 +1725,20 @@ fn static_build_marks_its_page_carries_the_module_and_replaces_only_its_own_fold
     assert!(message.contains("not a WebAssembly module"), "{message}");
     assert!(!tmp.path().join("new").exists(), "nothing written");
 }
+
+/// The page's `constants.js` is what `splineskin_editor::page_constants` generates from the Rust
+/// values (`SPLINESKIN_WRITE_CONSTANTS=1` writes it again instead of comparing).
+#[test]
+fn page_constants_file_is_generated_from_rust() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/web/constants.js");
+    let generated = splineskin_editor::page_constants::javascript();
+    if std::env::var_os("SPLINESKIN_WRITE_CONSTANTS").is_some() {
+        std::fs::write(path, &generated).expect("write web/constants.js");
+    }
+    let on_disk = std::fs::read_to_string(path).unwrap_or_default();
+    assert!(
+        on_disk == generated,
+        "{path} is not what splineskin_editor::page_constants generates: \
+         SPLINESKIN_WRITE_CONSTANTS=1 cargo test -p splineskin-cli page_constants writes it again"
+    );
+}
