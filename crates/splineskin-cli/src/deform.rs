@@ -171,3 +171,95 @@ fn refine(
     }
     Ok((refined, points))
 }
+
+#[cfg(test)]
+mod tests {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Arc;
+
+    use clap::Parser;
+    use tracing::span::{Attributes, Id, Record};
+    use tracing::{Event, Metadata, Subscriber};
+
+    use super::{run, Args};
+
+    /// Counts the library's "reading an SVG document" events (`splineskin_svg::svg_in`).
+    struct CountReadings(Arc<AtomicUsize>);
+
+    impl Subscriber for CountReadings {
+        fn enabled(&self, _: &Metadata<'_>) -> bool {
+            true
+        }
+        fn new_span(&self, _: &Attributes<'_>) -> Id {
+            Id::from_u64(1)
+        }
+        fn record(&self, _: &Id, _: &Record<'_>) {}
+        fn record_follows_from(&self, _: &Id, _: &Id) {}
+        fn event(&self, event: &Event<'_>) {
+            let meta = event.metadata();
+            if meta.target().starts_with("splineskin_svg::svg_in")
+                && meta.fields().field("bytes").is_some()
+            {
+                self.0.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+        fn enter(&self, _: &Id) {}
+        fn exit(&self, _: &Id) {}
+    }
+
+    #[derive(Parser)]
+    struct Deform {
+        #[command(flatten)]
+        args: Args,
+    }
+
+    /// `deform DRAWING.svg --pin … --move …` reads the drawing once: the pins are placed on it,
+    /// the scene is made of it and the rig set up on it without reading it (or a scene file
+    /// written of it) again.
+    #[test]
+    fn deform_of_an_svg_with_pins_reads_it_once() {
+        let dir = tempfile::tempdir().expect("temporary folder");
+        let svg = dir.path().join("fish.svg");
+        std::fs::write(&svg, splineskin::examples::DEMO_SVG).expect("write the drawing");
+        let out = dir.path().join("posed.svg");
+        let drawing =
+            splineskin::drawing::read_svg(splineskin::examples::DEMO_SVG, &Default::default())
+                .expect("the bundled drawing reads");
+        let p = drawing.paths[0].points[0];
+        let pin = format!("{},{}", p.x, p.y);
+        let args = Deform::try_parse_from([
+            "deform".as_ref(),
+            svg.as_os_str(),
+            "--pin".as_ref(),
+            pin.as_ref(),
+            "--pins".as_ref(),
+            "3".as_ref(),
+            "--weights".as_ref(),
+            "shepard".as_ref(),
+            "--move".as_ref(),
+            "0:5,-3".as_ref(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ])
+        .expect("the command line parses")
+        .args;
+        let readings = Arc::new(AtomicUsize::new(0));
+        tracing::subscriber::with_default(CountReadings(readings.clone()), || run(args))
+            .expect("deform runs");
+        assert!(out.exists(), "the posed drawing is written");
+        assert_eq!(
+            readings.load(Ordering::Relaxed),
+            1,
+            "SVG readings during deform"
+        );
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .expect("list the folder")
+            .map(|e| e.expect("entry").file_name())
+            .collect();
+        assert_eq!(
+            names.len(),
+            2,
+            "only the drawing and the output in the folder: {names:?}"
+        );
+    }
+}

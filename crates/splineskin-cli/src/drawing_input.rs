@@ -14,7 +14,10 @@ use splineskin::animation::{Animation, Keyframe, DEFAULT_FPS};
 use splineskin::drawing::text_outlines::text_to_outlines;
 use splineskin::drawing::{read_svg_file, Drawing, ImportOptions, SvgError};
 use splineskin::scene::handles::transform_about;
-use splineskin::scene::{place_pins, PinCount, PinOptions, Scene, MAX_COORDINATE};
+use splineskin::scene::pinned::PinnedDrawing;
+use splineskin::scene::{
+    place_pins, scene_domain_options, PinCount, PinOptions, Scene, WeightSpec, MAX_COORDINATE,
+};
 
 use crate::output::has_extension;
 use splineskin_editor::scene_file::{scene_json_with, SceneExtras, SvgRef};
@@ -227,20 +230,14 @@ pub fn load(input: &Path, pins: &PinArgs, pose: Option<&PoseArgs>) -> Result<Sce
         return Ok(Scene::load(input)?);
     }
     let rigged = Rigged::new(input, pins, pose)?;
-    let dir = folder_of(input);
-    let name = input
-        .file_name()
-        .and_then(|n| n.to_str())
-        .with_context(|| format!("{}: not a UTF-8 file name", input.display()))?;
-    let json = rigged.scene_json(SvgRef::File(name));
-    let mut scene = Scene::from_json(&json, &input.display().to_string(), Some(&dir))
+    let (pin_list, family) = (rigged.pin_list(), rigged.family);
+    let scene = rigged
+        .into_scene(&input.display().to_string())
         .with_context(|| format!("{}: the scene of its pins", input.display()))?;
-    scene.svg_origin = input.display().to_string();
     eprintln!(
-        "{}: pins {}; {} weights",
+        "{}: pins {pin_list}; {} weights",
         input.display(),
-        rigged.pin_list(),
-        rigged.family.name()
+        family.name()
     );
     Ok(scene)
 }
@@ -338,6 +335,29 @@ impl Rigged {
             pose,
             margin: args.margin,
         })
+    }
+
+    /// The scene of the drawing, its pins, weights, margin and pose ([`Scene::from_pins`]):
+    /// no scene file is written, and the drawing is not read again. `origin` names the drawing
+    /// in messages.
+    pub fn into_scene(self, origin: &str) -> Result<Scene> {
+        let svg_text = match &self.drawing.source {
+            Some(source) => source.text.clone(),
+            None => bail!("{origin}: the drawing has no source text (a bug)"),
+        };
+        let domain = scene_domain_options();
+        Ok(Scene::from_pins(PinnedDrawing {
+            weights: WeightSpec::parse(self.family.name(), None, origin)?,
+            domain: match self.margin {
+                Some(margin) => domain.with_margin(margin),
+                None => domain,
+            },
+            drawing: self.drawing,
+            svg_text,
+            origin: origin.to_string(),
+            pins: self.pins,
+            pose: self.pose,
+        })?)
     }
 
     /// The scene file text, by the editor's scene writer, with the drawing at `svg`.

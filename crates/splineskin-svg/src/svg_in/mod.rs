@@ -338,6 +338,9 @@ fn usvg_options_showing_hidden() -> usvg::Options<'static> {
 }
 
 fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Drawing, SvgError> {
+    // The one place a document is read: `RUST_LOG=splineskin_svg=debug` shows every reading
+    // (and a test counts them).
+    tracing::debug!(origin, bytes = text.len(), "reading an SVG document");
     if options.text == TextMode::Outlines {
         if let Some(converted) = crate::text_outlines::outline_text(text, origin)? {
             let rest = ImportOptions {

@@ -216,5 +216,6 @@ pub(crate) fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
         animation,
         defop: None,
         format: SceneFormat::Authors,
+        read: Default::default(),
     })
 }

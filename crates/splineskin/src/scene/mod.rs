@@ -31,6 +31,7 @@ mod domain_file;
 pub mod handle_weights;
 pub mod handles;
 pub mod ours;
+pub mod pinned;
 pub mod pins;
 mod posed;
 mod session;
@@ -111,6 +112,8 @@ pub struct Scene {
     pub defop: Option<DefOpSettings>,
     /// Which format the scene was read from.
     pub format: SceneFormat,
+    /// The drawing as the scene's maker already read it ([`Scene::from_pins`]), if it did.
+    pub(crate) read: pinned::ReadDrawing,
 }
 
 /// The file format a scene was read from.
@@ -207,7 +210,21 @@ impl Engine {
 }
 
 impl WeightSpec {
-    fn parse(name: &str, exponent: Option<f64>, origin: &str) -> Result<WeightSpec, SceneError> {
+    /// The weight family named `name` in scenes (`shepard` with its `exponent`, default
+    /// [`crate::weights::shepard::DEFAULT_EXPONENT`]; `harmonic`, `biharmonic`, `bbw`, `mvc`).
+    /// Errors name `origin` and the element `weights`.
+    ///
+    /// ```
+    /// use splineskin::scene::{MeshFamily, WeightSpec};
+    /// assert_eq!(WeightSpec::parse("bbw", None, "x.json")?, WeightSpec::Mesh(MeshFamily::Bbw));
+    /// assert!(WeightSpec::parse("smooth", None, "x.json").is_err());
+    /// # Ok::<(), splineskin::scene::SceneError>(())
+    /// ```
+    pub fn parse(
+        name: &str,
+        exponent: Option<f64>,
+        origin: &str,
+    ) -> Result<WeightSpec, SceneError> {
         match name {
             "shepard" => {
                 let exponent = exponent.unwrap_or(crate::weights::shepard::DEFAULT_EXPONENT);

@@ -420,6 +420,7 @@ pub(crate) fn parse(
             .map(|d| d.settings(origin, base_dir))
             .transpose()?,
         format: SceneFormat::Ours,
+        read: Default::default(),
     })
 }
 

@@ -174,14 +174,19 @@ impl Scene {
     /// Reads the scene's SVG with the importer of `compat`, joints classified by it. Errors
     /// name [`Scene::svg_origin`] (our importer's as [`SceneError::Svg`], the authors' reader's
     /// as [`SceneError::Drawing`]); in our mode the drawing's [`crate::drawing::SvgSource`]
-    /// carries it too, so export errors name it as well.
+    /// carries it too, so export errors name it as well. In our mode a drawing the scene's
+    /// maker read already ([`Scene::from_pins`]) is taken as it is, not read again.
     pub fn drawing(&self, compat: Compat) -> Result<Drawing, SceneError> {
         match compat {
-            Compat::None => Ok(read_svg_named(
-                &self.svg_text,
-                &ImportOptions::default(),
-                &self.svg_origin,
-            )?),
+            Compat::None => match self.read.of(&self.svg_text, &self.svg_origin) {
+                // Read by the scene's maker already (Scene::from_pins): not read again.
+                Some(drawing) => Ok(drawing),
+                None => Ok(read_svg_named(
+                    &self.svg_text,
+                    &ImportOptions::default(),
+                    &self.svg_origin,
+                )?),
+            },
             Compat::VectorSkinning => read_authors_drawing_named(&self.svg_text, &self.svg_origin)
                 .map_err(|e| SceneError::Drawing {
                     origin: self.svg_origin.clone(),

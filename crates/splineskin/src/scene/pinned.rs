@@ -1,0 +1,152 @@
+//! A scene made from a drawing already read and pins placed on it, with no scene file in
+//! between: what a command line's `DRAWING.svg --pin X,Y --move I:DX,DY` describes. The scene
+//! holds the same values a scene file of ours with those pins, that family and that pose would
+//! give ([`ours`](super::ours)), checked the same way, and it keeps the drawing, so that
+//! [`Scene::setup`] does not read the SVG a second time ([`ReadDrawing`]).
+
+use std::sync::Arc;
+
+use kurbo::{Affine, Point};
+
+use super::{
+    check_affine, setup::check_rest_handles, Engine, HandleSet, Pose, Scene, SceneError,
+    SceneFormat, WeightSpec,
+};
+use crate::domain::DomainOptions;
+use crate::drawing::Drawing;
+use crate::spline_fit::Measure;
+
+/// A drawing, its pins and their pose: the parts of a scene that a drawing given without a
+/// scene file has. See [`Scene::from_pins`].
+#[derive(Clone, Debug)]
+pub struct PinnedDrawing {
+    /// The drawing, read from `svg_text` with the default import options (our importer).
+    pub drawing: Drawing,
+    /// The SVG document's text.
+    pub svg_text: String,
+    /// Where the drawing came from (its file name), for messages.
+    pub origin: String,
+    /// The point handles' rest positions.
+    pub pins: Vec<Point>,
+    /// The weight family.
+    pub weights: WeightSpec,
+    /// Options of the triangulated domain (mesh families).
+    pub domain: DomainOptions,
+    /// One map per pin.
+    pub pose: Vec<Affine>,
+}
+
+impl Scene {
+    /// The scene of `pinned`: its point handles, weights, domain and one pose, on its drawing.
+    /// Checked as [`Scene::from_json`] checks a scene file of ours with the same content (the
+    /// rest handles, the weights against them, every map finite and within
+    /// [`MAX_COORDINATE`](super::MAX_COORDINATE)); errors name `pinned.origin` and the element
+    /// as that file would have it (`handles[1]`, `poses[0].transforms[2]`). The drawing is kept:
+    /// [`Scene::setup`] uses it instead of reading `svg_text` again.
+    ///
+    /// ```
+    /// use kurbo::{Affine, Point};
+    /// use splineskin::drawing::{read_svg, ImportOptions};
+    /// use splineskin::scene::{pinned::PinnedDrawing, scene_domain_options, Compat, Scene, WeightSpec};
+    /// let svg = "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C1 1 2 1 3 0'/></svg>";
+    /// let scene = Scene::from_pins(PinnedDrawing {
+    ///     drawing: read_svg(svg, &ImportOptions::default())?,
+    ///     svg_text: svg.into(),
+    ///     origin: "curve.svg".into(),
+    ///     pins: vec![Point::new(0.0, 0.0), Point::new(3.0, 0.0)],
+    ///     weights: WeightSpec::parse("shepard", None, "curve.svg")?,
+    ///     domain: scene_domain_options(),
+    ///     pose: vec![Affine::IDENTITY, Affine::translate((0.0, 1.0))],
+    /// })?;
+    /// assert_eq!(scene.n_handles(), 2);
+    /// assert_eq!(scene.setup(Compat::None)?.drawing.n_curves(), 1);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn from_pins(pinned: PinnedDrawing) -> Result<Scene, SceneError> {
+        let PinnedDrawing {
+            drawing,
+            svg_text,
+            origin,
+            pins,
+            weights,
+            domain,
+            pose,
+        } = pinned;
+        let set = HandleSet {
+            points: &pins,
+            bones: &[],
+            cage: None,
+        };
+        check_rest_handles(&set, &origin, SceneFormat::Ours)?;
+        weights.check_handles(&set, &origin, "weights")?;
+        if pose.len() != pins.len() {
+            return Err(SceneError::invalid(
+                &origin,
+                "poses[0]",
+                format!(
+                    "{} transforms for {} point handles (one per handle expected)",
+                    pose.len(),
+                    pins.len()
+                ),
+            ));
+        }
+        let transforms = pose
+            .iter()
+            .enumerate()
+            .map(|(i, &t)| check_affine(t, &origin, format!("poses[0].transforms[{i}]")))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Scene {
+            svg_origin: origin.clone(),
+            origin,
+            read: ReadDrawing(Some(Arc::new(drawing))),
+            svg_text,
+            handles: pins,
+            bones: Vec::new(),
+            cage: None,
+            weights,
+            domain,
+            engine: Engine::Ours,
+            measure: Measure::from_arc_length(false),
+            junctions: Vec::new(),
+            authors_joints: None,
+            poses: vec![Pose {
+                name: None,
+                transforms,
+            }],
+            flexible: false,
+            animation: None,
+            defop: None,
+            format: SceneFormat::Ours,
+        })
+    }
+}
+
+/// The drawing of a scene as its maker already read it ([`Scene::from_pins`]), or nothing (a
+/// scene read from a file). [`Scene::drawing`] takes it instead of reading the SVG again while
+/// it is still the drawing of the scene's `svg_text` and `svg_origin` (a scene whose text was
+/// replaced, say by its text-as-outlines version, is read anew). It is a cache: two scenes
+/// compare equal whatever their caches hold.
+#[derive(Clone, Default)]
+pub struct ReadDrawing(pub(crate) Option<Arc<Drawing>>);
+
+impl ReadDrawing {
+    /// The drawing held, if it was read from `svg_text` named `svg_origin`.
+    pub(crate) fn of(&self, svg_text: &str, svg_origin: &str) -> Option<Drawing> {
+        let drawing = self.0.as_ref()?;
+        let source = drawing.source.as_ref()?;
+        (source.text == svg_text && source.origin == svg_origin).then(|| Drawing::clone(drawing))
+    }
+}
+
+impl PartialEq for ReadDrawing {
+    fn eq(&self, _: &ReadDrawing) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for ReadDrawing {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let held = if self.0.is_some() { "held" } else { "none" };
+        write!(f, "ReadDrawing({held})")
+    }
+}
