@@ -47,14 +47,13 @@ use splineskin::drawing::svg_animate::{write_animated_svg_following, write_anima
 use splineskin::drawing::svg_out::{write_svg_following, write_svg_view_box, ViewBoxRule};
 use splineskin::drawing::Drawing;
 use splineskin::render::MAX_RENDER_SIZE;
-use splineskin::scene::{Compat, PosedDrawing, Scene};
+use splineskin::scene::{PosedDrawing, Scene};
 
 use splineskin_editor::scene_lottie::{
     deform_posed_frames, lottie_of_scene, BYTES_PER_ANIMATED_POINT, MAX_ANIMATED_SVG_BYTES,
 };
 
 use crate::output::{has_extension, write_atomic, FramesOutside, ViewBoxArg, PNG_SIZE};
-use crate::CompatArg;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -78,12 +77,8 @@ pub struct Args {
     /// keyframe falls at the end (default: the last keyframe's time).
     #[arg(long)]
     duration: Option<f64>,
-    /// Reproduce another implementation's discretisation exactly.
-    #[arg(long, value_enum, default_value_t = CompatArg::None)]
-    compat: CompatArg,
-    /// Flexible G¹ and fixed-angle junctions (as in `deform --flexible`).
-    #[arg(long)]
-    flexible: bool,
+    #[command(flatten)]
+    posing: crate::PosingArgs,
     /// Adaptive control points (as in `deform --tolerance`): input curves split at rest until
     /// the fit is within FRACTION of the diagonal of the skinned target in every frame.
     #[arg(long, value_name = "FRACTION")]
@@ -131,17 +126,10 @@ pub fn run(args: Args) -> Result<()> {
     let sampler = animation
         .sampler(&scene.handle_set().pivots())
         .with_context(|| format!("{scene_name}: animation"))?;
-    let compat: Compat = args.compat.into();
-    let mut setup = scene.setup(compat)?;
-    setup.options = setup.options.with_parallel(false);
-    for w in &setup.warnings {
+    // One thread per frame product: the frames are deformed in parallel.
+    let posed = PosedDrawing::of_scene(&scene, args.posing.options(false))?;
+    for w in posed.warnings() {
         eprintln!("warning: {w}");
-    }
-    let posed = PosedDrawing::new(&scene, setup, compat, args.flexible)?;
-    for p in posed.rank_deficient_paths() {
-        eprintln!(
-            "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
-        );
     }
     let posed = match args.tolerance {
         Some(tolerance) => refined_for_frames(posed, &sampler, &times, tolerance)
@@ -289,8 +277,7 @@ fn write_lottie(args: &Args, scene: &Scene, animation: &Animation, scene_name: &
     let made = lottie_of_scene(
         scene,
         animation,
-        args.compat.into(),
-        args.flexible,
+        args.posing.options(false),
         &options,
         scene_name,
     )?;

@@ -4,12 +4,12 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use kurbo::Point;
+use kurbo::{Affine, Point};
 use splineskin::adaptive::{AdaptiveOptions, Refined};
-use splineskin::scene::{Compat, PosedDrawing};
+use splineskin::drawing::follow::{ElementMaps, FollowOptions};
+use splineskin::scene::{PosedDrawing, Setup};
 
 use crate::output::DeformedOutputArgs;
-use crate::CompatArg;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -24,14 +24,8 @@ pub struct Args {
     /// Which of the scene's poses to apply: its name, or its index (0 is the first).
     #[arg(long, default_value = "0")]
     pose: String,
-    /// Reproduce another implementation's discretisation exactly.
-    #[arg(long, value_enum, default_value_t = CompatArg::None)]
-    compat: CompatArg,
-    /// Flexible G¹ and fixed-angle junctions: parallel tangents (fixed angle: their angle) with
-    /// the tangent-length ratio free, fitted by iteration. Scenes can ask for it themselves
-    /// (`"flexible": true`; the authors' scenes always do).
-    #[arg(long)]
-    flexible: bool,
+    #[command(flatten)]
+    posing: crate::PosingArgs,
     /// Adaptive control points: split input curves at rest where the fit is farther than
     /// FRACTION of the diagonal from the skinned target under any of the scene's poses, and
     /// re-rig, until it is within (or 4 times the input's curves are used). Every input anchor
@@ -52,20 +46,12 @@ pub fn run(args: Args) -> Result<()> {
     crate::output::Format::of(&args.output)?;
     let mut scene = crate::drawing_input::load(&args.scene, &args.pins, Some(&args.pose_args))?;
     args.text.apply(&mut scene)?;
-    let mut setup = scene.setup(args.compat.into())?;
-    setup.options = setup.options.with_parallel(true);
-    for w in &setup.warnings {
-        eprintln!("warning: {w}");
-    }
     let (pose_index, pose) = scene
         .pose_by_key(&args.pose)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.scene.display()))?;
-    let compat: Compat = args.compat.into();
-    let posed = PosedDrawing::new(&scene, setup, compat, args.flexible)?;
-    for p in posed.rank_deficient_paths() {
-        eprintln!(
-            "warning: path {p}: its system is rank deficient (a curve with no length); its result is not unique"
-        );
+    let posed = PosedDrawing::of_scene(&scene, args.posing.options(true))?;
+    for w in posed.warnings() {
+        eprintln!("warning: {w}");
     }
     let mut points = vec![Point::ZERO; posed.n_points()];
     let report = posed.update(&pose.transforms, &mut points).map_err(|e| {
@@ -136,7 +122,25 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-pub use splineskin_editor::scene_lottie::element_maps;
+/// The maps that carry gradients, patterns, markers, text and images with the skinning map of
+/// `setup`'s weights under `pose` ([`Setup::element_maps`]), saying on stderr when the pose does
+/// not have one map per weight function (those elements then stay at rest).
+pub fn element_maps(
+    setup: &Setup,
+    pose: &[Affine],
+    options: &FollowOptions,
+) -> Result<Option<ElementMaps>> {
+    let maps = setup.element_maps(pose, options)?;
+    if maps.is_none() {
+        eprintln!(
+            "note: {} transforms for {} weight functions: gradients, patterns, markers, text \
+             and images are left at rest",
+            pose.len(),
+            setup.weights.n_handles()
+        );
+    }
+    Ok(maps)
+}
 
 /// Adaptive control points for `deform --tolerance`: the drawing refined for every pose of the
 /// scene (and `pose`, the one written, if it is not one of them), and its deformation by `pose` (the flexible solve on

@@ -357,8 +357,10 @@ pub(crate) fn lottie(editor: &Editor, id: &str, request: &Request) -> Result<Res
         let made = crate::scene_lottie::lottie_of_scene(
             &read,
             &animation,
-            splineskin::scene::Compat::None,
-            scene.flexible,
+            splineskin::scene::PoseOptions {
+                flexible: scene.flexible,
+                ..Default::default()
+            },
             &options,
             &document.name,
         )?;

@@ -1,14 +1,14 @@
 //! A scene's animation as Lottie ([`lottie_of_scene`]), as `splineskin animate SCENE -o
-//! anim.json` and the editor's Lottie export write it, and the maps that carry what is not a
-//! curve (gradients, patterns, markers, text, images) with a rig's skinning map
-//! ([`element_maps`]).
+//! anim.json` and the editor's Lottie export write it, what is not a curve (gradients, patterns,
+//! markers, text, images) carried by each frame's skinning map
+//! ([`Setup::element_maps`](splineskin::scene::Setup::element_maps)).
 
 use anyhow::{bail, Context, Result};
-use kurbo::{Affine, Point};
+use kurbo::Point;
 use splineskin::animation::{deform_frames, Animation, PoseSampler};
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::lottie::{write_lottie, LottieExport, LottieOptions};
-use splineskin::scene::{Compat, PosedDrawing, Scene, Setup};
+use splineskin::scene::{PoseOptions, PosedDrawing, Scene};
 
 /// Bytes of animated SVG text per point and frame, for the size check: about 40 (two numbers
 /// of up to 17 significant digits and separators).
@@ -48,16 +48,16 @@ impl SceneLottie {
     }
 }
 
-/// `scene` played by `animation` (its frames at its frame rate, the rig built once, `flexible`
-/// as `deform --flexible`) as a Lottie animation: frames deformed in parallel, each frame's
+/// `scene` played by `animation` (its frames at its frame rate, the rig built once as `posing`
+/// says; give it `parallel: false`, the frames are deformed in parallel) as a Lottie
+/// animation: each frame's
 /// gradients following its element maps, keyframes within `options.tolerance`
 /// ([`write_lottie`]). Errors name `scene_name`; an animation too long to hold in memory is
 /// refused with what to do.
 pub fn lottie_of_scene(
     scene: &Scene,
     animation: &Animation,
-    compat: Compat,
-    flexible: bool,
+    posing: PoseOptions,
     options: &LottieOptions,
     scene_name: &str,
 ) -> Result<SceneLottie> {
@@ -67,15 +67,8 @@ pub fn lottie_of_scene(
     let sampler = animation
         .sampler(&scene.handle_set().pivots())
         .with_context(|| format!("{scene_name}: animation"))?;
-    let mut setup = scene.setup(compat)?;
-    setup.options = setup.options.with_parallel(false);
-    let mut rig_warnings = setup.warnings.clone();
-    let posed = PosedDrawing::new(scene, setup, compat, flexible)?;
-    for p in posed.rank_deficient_paths() {
-        rig_warnings.push(format!(
-            "path {p}: its system is rank deficient (a curve with no length); its result is not unique"
-        ));
-    }
+    let posed = PosedDrawing::of_scene(scene, posing)?;
+    let rig_warnings = posed.warnings();
     let setup = posed.setup();
     let drawing = &setup.drawing;
     let n_points = drawing.n_points();
@@ -96,7 +89,8 @@ pub fn lottie_of_scene(
         .enumerate()
         .map(|(f, &t)| {
             sampler.pose_at(t, &mut pose);
-            element_maps(setup, &pose, &FollowOptions::default())
+            setup
+                .element_maps(&pose, &FollowOptions::default())
                 .with_context(|| format!("{scene_name}: frame {f}"))
         })
         .collect::<Result<Vec<_>>>()?
@@ -148,31 +142,4 @@ pub fn deform_posed_frames(
             e.error
         )
     })
-}
-
-/// The maps that carry gradients, patterns, markers, text and images with the skinning map of
-/// `setup`'s weights under `pose` ([`splineskin::drawing::follow`]); `None` (with a note) when
-/// the pose does not have one transform per weight function.
-pub fn element_maps(
-    setup: &Setup,
-    pose: &[Affine],
-    options: &FollowOptions,
-) -> Result<Option<ElementMaps>> {
-    let field = &*setup.weights;
-    if pose.len() != field.n_handles() {
-        eprintln!(
-            "note: {} transforms for {} weight functions: gradients, patterns, markers, text \
-             and images are left at rest",
-            pose.len(),
-            field.n_handles()
-        );
-        return Ok(None);
-    }
-    let mut w = vec![0.0; pose.len()];
-    let mut map = |p: Point| splineskin::naive::skin_point(field, pose, p, &mut w);
-    Ok(Some(ElementMaps::from_map(
-        &setup.drawing,
-        &mut map,
-        options,
-    )?))
 }

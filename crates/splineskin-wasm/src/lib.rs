@@ -23,7 +23,7 @@ pub mod threads;
 use std::cell::RefCell;
 
 use kurbo::{Affine, Point};
-use splineskin::scene::{Compat, PosedDrawing, Scene};
+use splineskin::scene::{Compat, PoseOptions, PosedDrawing, Scene};
 
 thread_local! {
     static INPUT: RefCell<Vec<u8>> = const { RefCell::new(Vec::new()) };
@@ -156,11 +156,13 @@ fn deformed(text: &str, pose: usize) -> Result<(splineskin::drawing::Drawing, Ve
             )
         })?
         .transforms;
-    let mut setup = scene.setup(Compat::None).map_err(|e| e.to_string())?;
     // One thread: a page's WebAssembly has no threads unless it is built for them.
-    setup.options = setup.options.with_parallel(false);
-    let posed = PosedDrawing::new(&scene, setup, Compat::None, scene.flexible)
-        .map_err(|e| e.to_string())?;
+    let options = PoseOptions {
+        compat: Compat::None,
+        flexible: scene.flexible,
+        parallel: false,
+    };
+    let posed = PosedDrawing::of_scene(&scene, options).map_err(|e| e.to_string())?;
     let mut points = vec![Point::ZERO; posed.setup().drawing.n_points()];
     posed
         .update(&transforms, &mut points)

@@ -1541,8 +1541,7 @@ async fn serve_lottie_plays_the_page_timeline_as_animate_does() {
     let made = splineskin_editor::scene_lottie::lottie_of_scene(
         &read,
         read.animation.as_ref().expect("animation"),
-        splineskin::scene::Compat::None,
-        false,
+        splineskin::scene::PoseOptions::default(),
         &options,
         "saved",
     )

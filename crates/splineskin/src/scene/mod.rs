@@ -48,7 +48,7 @@ pub use domain_file::scene_domain_options;
 pub use handle_weights::{handle_weights, mesh_weights, SolvedColumns, WeightInputs};
 pub use handles::{Bone, BonePoseError, BoneTransform, HandleKind, HandleSet};
 pub use pins::{place_pins, PinCount, PinError, PinOptions};
-pub use posed::{PoseReport, PosedDrawing, UpdateError};
+pub use posed::{PoseOptions, PoseReport, PosedDrawing, UpdateError};
 pub use session::{Puppet, PuppetStage, PuppetStats, RefinedPuppet};
 pub use setup::{Setup, SetupControl};
 

@@ -57,7 +57,51 @@ pub struct PosedDrawing {
     bound: Option<f64>,
 }
 
+/// How a scene is posed ([`PosedDrawing::of_scene`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PoseOptions {
+    /// The discretisation: ours, or another implementation's ([`Compat`]).
+    pub compat: Compat,
+    /// Flexible G¹ and fixed-angle junctions even where the scene does not ask for them
+    /// (a command line's `--flexible`; [`Scene::flexible_options_or`]).
+    pub flexible: bool,
+    /// Whether the per-frame product may use a second thread on big operators
+    /// ([`crate::spline_fit::FitOptions::parallel`]): not for a frame loop that is itself
+    /// parallel, nor in a page's one-thread WebAssembly.
+    pub parallel: bool,
+}
+
 impl PosedDrawing {
+    /// `scene` set up ([`Scene::setup`]) and rigged ([`PosedDrawing::new`]) under `options`:
+    /// the one way from a scene to its per-frame update. What the user should know about the
+    /// result is [`PosedDrawing::warnings`].
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin::scene::{PoseOptions, PosedDrawing};
+    /// let scene = splineskin::examples::demo_scene();
+    /// let posed = PosedDrawing::of_scene(&scene, PoseOptions::default())?;
+    /// let mut points = vec![Point::ZERO; posed.n_points()];
+    /// posed.update(&scene.pose(0).expect("a pose").transforms, &mut points)?;
+    /// assert!(posed.warnings().is_empty());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn of_scene(scene: &Scene, options: PoseOptions) -> Result<PosedDrawing, SceneError> {
+        let mut setup = scene.setup(options.compat)?;
+        setup.options = setup.options.with_parallel(options.parallel);
+        PosedDrawing::new(scene, setup, options.compat, options.flexible)
+    }
+
+    /// What the user should know about the posed drawing: the setup's warnings (saved
+    /// junction kinds that do not fit the drawing, [`Setup::warnings`]) and one line per path
+    /// whose system is rank deficient (its result is not unique).
+    pub fn warnings(&self) -> Vec<String> {
+        let rank = self.rank_deficient_paths().iter().map(|p| {
+            format!("path {p}: its system is rank deficient (a curve with no length); its result is not unique")
+        });
+        self.setup.warnings.iter().cloned().chain(rank).collect()
+    }
+
     /// Sets up `scene` in `compat` ([`Scene::setup`]) and builds its engine
     /// ([`PosedDrawing::new`]).
     pub fn from_scene(

@@ -4,10 +4,13 @@
 
 use std::sync::Arc;
 
+use kurbo::{Affine, Point};
+
 use crate::domain::polygon::{check_cage, signed_area};
 use crate::domain::{Domain, DomainError};
 use crate::drawing::authors_svg::read_authors_drawing_named;
-use crate::drawing::{read_svg_named, Drawing, ImportOptions, JointKind};
+use crate::drawing::follow::{ElementMaps, FollowOptions};
+use crate::drawing::{read_svg_named, Drawing, ImportOptions, JointKind, SvgError};
 use crate::spline_fit::{FitOptions, FlexibleOptions};
 use crate::stop::StopSignal;
 use crate::weights::WeightField;
@@ -41,6 +44,40 @@ pub struct Setup {
     /// The triangulated domain the weights were solved on (mesh weight families only), for
     /// showing the mesh and reporting its size.
     pub domain: Option<Domain>,
+}
+
+impl Setup {
+    /// The maps that carry gradients, patterns, markers, text and images with the skinning map
+    /// `x ↦ Σᵢ wᵢ(x) Tᵢ x` of the weights under `pose` (each element's best-fit affine map,
+    /// [`crate::drawing::follow`]); `None` when the pose does not have one map per weight
+    /// function, and those elements then stay at rest (the caller says so).
+    ///
+    /// ```
+    /// use kurbo::Affine;
+    /// use splineskin::drawing::follow::FollowOptions;
+    /// use splineskin::scene::Compat;
+    /// let setup = splineskin::examples::demo_scene().setup(Compat::None)?;
+    /// // Every handle moved alike: the skinning map is that move, and so is each element's map.
+    /// let pose = vec![Affine::translate((5.0, 0.0)); setup.weights.n_handles()];
+    /// let maps = setup.element_maps(&pose, &FollowOptions::default())?.expect("one map per handle");
+    /// let map = maps.element_map(0).expect("the first element's map").as_coeffs();
+    /// assert!(map.iter().zip([1.0, 0.0, 0.0, 1.0, 5.0, 0.0]).all(|(a, b)| (a - b).abs() < 1e-9));
+    /// assert!(setup.element_maps(&pose[1..], &FollowOptions::default())?.is_none());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn element_maps(
+        &self,
+        pose: &[Affine],
+        options: &FollowOptions,
+    ) -> Result<Option<ElementMaps>, SvgError> {
+        let field = &*self.weights;
+        if pose.len() != field.n_handles() {
+            return Ok(None);
+        }
+        let mut w = vec![0.0; pose.len()];
+        let mut map = |p: Point| crate::naive::skin_point(field, pose, p, &mut w);
+        ElementMaps::from_map(&self.drawing, &mut map, options).map(Some)
+    }
 }
 
 impl Scene {
