@@ -8,8 +8,7 @@ use kurbo::{Point, Rect};
 use serde::Serialize;
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::svg_out::{
-    art_bounds, art_outside_view_box, write_svg_following, write_svg_view_box,
-    write_svg_with_inserted, ViewBoxRule,
+    art_bounds, art_outside_view_box, write_svg_with, SvgOptions, ViewBoxRule,
 };
 use splineskin::drawing::Drawing;
 
@@ -434,11 +433,11 @@ pub fn write_deformed_marked(
     maps: Option<&ElementMaps>,
     inserted: Option<&[Vec<bool>]>,
 ) -> Result<()> {
-    let svg = || match (maps, inserted) {
-        (_, Some(inserted)) => write_svg_with_inserted(drawing, points, rule, maps, inserted),
-        (Some(maps), None) => write_svg_following(drawing, points, maps, rule),
-        (None, None) => write_svg_view_box(drawing, points, rule),
-    };
+    let options = SvgOptions::default()
+        .with_view_box(rule)
+        .with_follow(maps)
+        .with_inserted(inserted);
+    let svg = || write_svg_with(drawing, points, &options);
     let bytes = match Format::of(path)? {
         Format::Json => paths_json(drawing, points, inserted)
             .context("writing the deformed JSON")?

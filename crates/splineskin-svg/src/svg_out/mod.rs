@@ -84,7 +84,7 @@ const SINGULAR_DETERMINANT: f64 = 1e-12;
 /// assert!(out.contains(r#"<path id="box" fill="red" d="M6 1 C"#));
 /// ```
 pub fn write_svg(drawing: &Drawing, points: &[Point]) -> Result<String, SvgError> {
-    write_svg_impl(drawing, points, None)
+    write_svg_with(drawing, points, &SvgOptions::default())
 }
 
 /// [`write_svg`], with every imported element (each `use` instance separately) also given the
@@ -107,54 +107,103 @@ pub fn write_svg_marked(
     points: &[Point],
     marker: &'static str,
 ) -> Result<String, SvgError> {
-    write_svg_impl(drawing, points, Some(marker))
+    write_svg_with(drawing, points, &SvgOptions::default().with_marker(marker))
 }
 
-fn write_svg_impl(
-    drawing: &Drawing,
-    points: &[Point],
-    marker: Option<&'static str>,
-) -> Result<String, SvgError> {
-    write_svg_view(drawing, points, marker, ViewBoxRule::Keep, None)
+/// How [`write_svg_with`] writes a drawing: every option off by default (the input's viewBox
+/// kept, nothing carried, no marks), set one by one.
+///
+/// ```
+/// use splineskin_svg::svg_out::{SvgOptions, ViewBoxRule};
+/// let options = SvgOptions::default().with_view_box(ViewBoxRule::Fit).with_marker("data-k");
+/// assert_eq!(options.view_box, ViewBoxRule::Fit);
+/// assert!(options.follow.is_none() && options.inserted.is_none());
+/// ```
+#[derive(Clone, Copy, Debug, Default)]
+#[non_exhaustive]
+pub struct SvgOptions<'a> {
+    /// What becomes of the root viewBox when the art leaves it.
+    pub view_box: ViewBoxRule,
+    /// The attribute that marks every imported element with its index (see
+    /// [`write_svg_marked`]).
+    pub marker: Option<&'static str>,
+    /// Maps that carry what is not a curve (see [`write_svg_following`]).
+    pub follow: Option<&'a ElementMaps>,
+    /// The anchors adaptive control points inserted, per path and joint (see
+    /// [`write_svg_with_inserted`]).
+    pub inserted: Option<&'a [Vec<bool>]>,
 }
 
-fn write_svg_view(
-    drawing: &Drawing,
-    points: &[Point],
-    marker: Option<&'static str>,
-    view_box: ViewBoxRule,
-    follow: Option<&ElementMaps>,
-) -> Result<String, SvgError> {
-    write_svg_view_marked(drawing, points, marker, view_box, follow, None)
+impl<'a> SvgOptions<'a> {
+    /// Sets [`SvgOptions::view_box`].
+    pub fn with_view_box(mut self, view_box: ViewBoxRule) -> Self {
+        self.view_box = view_box;
+        self
+    }
+
+    /// Sets [`SvgOptions::marker`].
+    pub fn with_marker(mut self, marker: &'static str) -> Self {
+        self.marker = Some(marker);
+        self
+    }
+
+    /// Sets [`SvgOptions::follow`].
+    pub fn with_follow(mut self, maps: Option<&'a ElementMaps>) -> Self {
+        self.follow = maps;
+        self
+    }
+
+    /// Sets [`SvgOptions::inserted`].
+    pub fn with_inserted(mut self, inserted: Option<&'a [Vec<bool>]>) -> Self {
+        self.inserted = inserted;
+        self
+    }
 }
 
-/// [`write_svg_view`], the anchors `inserted` (per path, per joint) listed on each element in
-/// [`INSERTED_ATTRIBUTE`].
-fn write_svg_view_marked(
+/// Writes `drawing` at `points` as [`write_svg`] does, as `options` say: the one writer the
+/// other `write_svg*` functions name a case of.
+///
+/// ```
+/// use kurbo::Vec2;
+/// use splineskin_svg::svg_in::{read_svg, ImportOptions};
+/// use splineskin_svg::svg_out::{write_svg_with, SvgOptions, ViewBoxRule};
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10"><rect width="2" height="2"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default())?;
+/// let moved: Vec<_> = drawing.flat_points().iter().map(|&p| p + Vec2::new(9.0, 0.0)).collect();
+/// let options = SvgOptions::default().with_view_box(ViewBoxRule::Fit).with_marker("data-k");
+/// let out = write_svg_with(&drawing, &moved, &options)?;
+/// assert!(out.contains(r#"viewBox="0 0 11 10""#) && out.contains(r#"data-k="0""#), "{out}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn write_svg_with(
     drawing: &Drawing,
     points: &[Point],
-    marker: Option<&'static str>,
-    view_box: ViewBoxRule,
-    follow: Option<&ElementMaps>,
-    inserted: Option<&[Vec<bool>]>,
+    options: &SvgOptions<'_>,
 ) -> Result<String, SvgError> {
     let offsets = chain_offsets(drawing, points)?;
-    match &drawing.source {
-        Some(source) => {
-            let data = element_path_data(drawing, points, &offsets, source)?;
-            let root = root_attributes(drawing, points, &offsets, source, view_box)?;
-            let follow = follow.map(|maps| Follow {
-                drawing,
-                frames: std::slice::from_ref(maps),
-                timing: None,
-            });
-            let attributes = inserted
-                .map(|inserted| inserted_attributes(source, inserted))
-                .unwrap_or_default();
-            export_geometry_follow(source, data, Vec::new(), marker, root, follow, attributes)
-        }
-        None => Ok(write_standalone(drawing, points, &offsets, &[])),
-    }
+    let Some(source) = &drawing.source else {
+        return Ok(write_standalone(drawing, points, &offsets, &[]));
+    };
+    let data = element_path_data(drawing, points, &offsets, source)?;
+    let root = root_attributes(drawing, points, &offsets, source, options.view_box)?;
+    let follow = options.follow.map(|maps| Follow {
+        drawing,
+        frames: std::slice::from_ref(maps),
+        timing: None,
+    });
+    let attributes = options
+        .inserted
+        .map(|inserted| inserted_attributes(source, inserted))
+        .unwrap_or_default();
+    export_geometry_follow(
+        source,
+        data,
+        Vec::new(),
+        options.marker,
+        root,
+        follow,
+        attributes,
+    )
 }
 
 /// The attribute on an exported element that lists the anchors adaptive control points
@@ -219,7 +268,11 @@ pub fn write_svg_with_inserted(
     maps: Option<&ElementMaps>,
     inserted: &[Vec<bool>],
 ) -> Result<String, SvgError> {
-    write_svg_view_marked(drawing, points, None, view_box, maps, Some(inserted))
+    let options = SvgOptions::default()
+        .with_view_box(view_box)
+        .with_follow(maps)
+        .with_inserted(Some(inserted));
+    write_svg_with(drawing, points, &options)
 }
 
 /// What export does with the root `viewBox` when the deformed art leaves it.
@@ -344,7 +397,11 @@ pub fn write_svg_view_box(
     points: &[Point],
     view_box: ViewBoxRule,
 ) -> Result<String, SvgError> {
-    write_svg_view(drawing, points, None, view_box, None)
+    write_svg_with(
+        drawing,
+        points,
+        &SvgOptions::default().with_view_box(view_box),
+    )
 }
 
 /// [`write_svg_view_box`], with everything that is not a curve carried by `maps` (computed for
@@ -377,7 +434,10 @@ pub fn write_svg_following(
     maps: &ElementMaps,
     view_box: ViewBoxRule,
 ) -> Result<String, SvgError> {
-    write_svg_view(drawing, points, None, view_box, Some(maps))
+    let options = SvgOptions::default()
+        .with_view_box(view_box)
+        .with_follow(Some(maps));
+    write_svg_with(drawing, points, &options)
 }
 
 /// The union of the exact bounding boxes of the art paths of `drawing` (drawn or hidden, not
