@@ -14,8 +14,8 @@
 use kurbo::Point;
 
 use super::deformation_gradient::TriangleGradients;
+use super::error::DefOpError;
 use super::handles::check_position_count;
-use super::DefOpError;
 use splineskin_core::mesh::TriMesh;
 
 /// `E_ARAP` of `mesh` deformed to `positions` (one per vertex; the rest pose is

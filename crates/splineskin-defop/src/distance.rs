@@ -4,7 +4,7 @@
 
 use kurbo::Point;
 
-use super::DefOpError;
+use super::error::DefOpError;
 use splineskin_core::mesh::operators::consistent_mass_csc;
 use splineskin_core::mesh::TriMesh;
 

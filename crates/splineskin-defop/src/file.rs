@@ -28,7 +28,10 @@ use std::path::Path;
 use kurbo::Point;
 use serde::{Deserialize, Serialize};
 
-use super::{DefOp, EigenOperator, HandleBasis, HandleBasisKind, SpatialBasis, SpatialBasisKind};
+use super::handle_basis::{HandleBasis, HandleBasisKind};
+use super::laplacian_eigen::EigenOperator;
+use super::operator::DefOp;
+use super::spatial_basis::{SpatialBasis, SpatialBasisKind};
 use splineskin_core::mesh::TriMesh;
 
 /// The first eight bytes of every operator file.

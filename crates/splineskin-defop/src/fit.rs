@@ -74,8 +74,11 @@ use faer::linalg::triangular_solve::solve_upper_triangular_in_place;
 use faer::{Mat, MatRef, Par, Side};
 use kurbo::Point;
 
+use super::error::DefOpError;
+use super::handle_basis::{HandleBasis, HandleBasisKind};
 use super::handles::{bounding_box_diagonal, HandleSet};
-use super::{DefOp, DefOpError, HandleBasis, HandleBasisKind, SpatialBasis};
+use super::operator::DefOp;
+use super::spatial_basis::SpatialBasis;
 use splineskin_core::mesh::operators::consistent_mass_csc;
 use splineskin_core::mesh::TriMesh;
 

@@ -30,8 +30,8 @@
 
 use kurbo::Point;
 
+use super::error::DefOpError;
 use super::handles::{check_finite_targets, check_rest_handles};
-use super::DefOpError;
 
 /// Which family of handle functions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -3,7 +3,7 @@
 
 use kurbo::Point;
 
-use super::DefOpError;
+use super::error::DefOpError;
 use splineskin_core::mesh::TriMesh;
 
 /// Marks a vertex that is not free in [`HandleSet::free_index`].

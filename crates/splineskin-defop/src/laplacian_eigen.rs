@@ -56,7 +56,7 @@
 use faer::dyn_stack::MemBuffer;
 use faer::{Mat, MatRef};
 
-use super::DefOpError;
+use super::error::DefOpError;
 use splineskin_core::linalg::Csc;
 use splineskin_core::linalg::{CholeskyAnalysis, Ordering};
 use splineskin_core::mesh::cotangent::laplacian_csc;

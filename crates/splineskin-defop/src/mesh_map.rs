@@ -15,7 +15,8 @@
 
 use kurbo::Point;
 
-use super::{DefOp, DefOpError};
+use super::error::DefOpError;
+use super::operator::DefOp;
 use splineskin_core::domain::MeshWeights;
 use splineskin_core::mesh::TriMesh;
 use splineskin_core::weights::WeightField;

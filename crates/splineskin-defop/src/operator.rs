@@ -22,8 +22,10 @@ use faer::linalg::matmul::matmul;
 use faer::{Accum, MatMut, MatRef, Par};
 use kurbo::Point;
 
+use super::error::DefOpError;
+use super::handle_basis::HandleBasis;
 use super::handles::check_finite_targets;
-use super::{DefOpError, HandleBasis, SpatialBasis};
+use super::spatial_basis::SpatialBasis;
 
 /// A deformation operator: spatial basis, handle basis and the fitted coefficients.
 #[derive(Clone, Debug, PartialEq)]

@@ -3,7 +3,7 @@
 
 use kurbo::{Point, Vec2};
 
-use super::DefOpError;
+use super::error::DefOpError;
 use splineskin_core::mesh::TriMesh;
 
 /// The triangles of `mesh` that `positions` (one per vertex) flip or collapse: signed area

@@ -19,8 +19,8 @@
 
 use kurbo::{Point, Rect, Vec2};
 
+use super::error::DefOpError;
 use super::handles::check_rest_handles;
-use super::DefOpError;
 
 /// Rejection-sampling draws allowed per handle in a Voronoi cell before giving up: a cell
 /// covering 1e-4 of its rectangle would need 1e4 on average; this bounds a cell that is

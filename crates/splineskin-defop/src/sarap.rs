@@ -39,10 +39,10 @@
 use kurbo::{Point, Vec2};
 
 use super::deformation_gradient::TriangleGradients;
+use super::error::DefOpError;
 use super::handles::{bounding_box_diagonal, HandleSet, NOT_FREE};
 use super::orientation::{double_area, max_orientation_preserving_step};
 use super::sarap_energy::{sarap_energy_of, triangle_derivatives};
-use super::DefOpError;
 use splineskin_core::linalg::{CholeskyAnalysis, Ordering};
 use splineskin_core::mesh::cotangent::laplacian_csc;
 use splineskin_core::mesh::TriMesh;

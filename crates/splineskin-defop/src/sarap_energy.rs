@@ -40,9 +40,9 @@
 use kurbo::{Point, Vec2};
 
 use super::deformation_gradient::{ConformalSplit, TriangleGradients};
+use super::error::DefOpError;
 use super::handles::check_position_count;
 use super::orientation::double_area;
-use super::DefOpError;
 use splineskin_core::mesh::TriMesh;
 
 /// `E_SARAP` of `mesh` deformed to `positions` (one per vertex; the rest pose is

@@ -14,8 +14,8 @@
 
 use kurbo::Point;
 
+use super::error::DefOpError;
 use super::laplacian_eigen::{smallest_eigenpairs, EigenOperator};
-use super::DefOpError;
 use splineskin_core::mesh::operators::{lumped_mass, MassKind};
 use splineskin_core::mesh::TriMesh;
 use splineskin_core::weights::biharmonic_coordinates;

@@ -12,10 +12,12 @@ use std::sync::Mutex;
 
 use kurbo::{CubicBez, ParamCurve, ParamCurveNearest, Point};
 
+use super::error::DefOpError;
+use super::handle_basis::HandleBasis;
 use super::operator::coefficients_at;
-use super::{
-    train, DefOp, DefOpError, HandleBasis, Progress, SpatialBasis, TrainOptions, Training,
-};
+use super::operator::DefOp;
+use super::spatial_basis::SpatialBasis;
+use super::train::{train, Progress, TrainOptions, Training};
 use splineskin_core::domain::{Domain, DomainOptions, MeshWeights};
 use splineskin_core::drawing::Drawing;
 use splineskin_core::mesh::TriMesh;

@@ -21,11 +21,16 @@ use std::time::Instant;
 
 use kurbo::Point;
 
+use super::distance::l2_distance;
 use super::error::check_count_option;
+use super::error::DefOpError;
+use super::handle_basis::HandleBasisKind;
 use super::handles::bounding_box_diagonal;
-use super::{
-    ground_truths_from_rest, l2_distance, train, DefOp, DefOpError, HandleBasisKind, Progress,
-    SampleRegion, Sampler, SpatialBasis, TrainOptions, Training, DEFAULT_DISC_FRACTION,
+use super::operator::DefOp;
+use super::sample::{SampleRegion, Sampler};
+use super::spatial_basis::SpatialBasis;
+use super::train::{
+    ground_truths_from_rest, train, Progress, TrainOptions, Training, DEFAULT_DISC_FRACTION,
 };
 use splineskin_core::mesh::TriMesh;
 

@@ -39,12 +39,17 @@ pub use splineskin_core::stop::StopSignal;
 use kurbo::Point;
 use rayon::prelude::*;
 
+use super::arap::{Arap, ArapOptions, TRAINING_ANDERSON_DEPTH};
 use super::error::check_count_option;
+use super::error::DefOpError;
+use super::fit::DefOpOptions;
+use super::handle_basis::HandleBasisKind;
 use super::handles::bounding_box_diagonal;
-use super::{
-    flipped_triangles, Arap, ArapOptions, DefOp, DefOpError, DefOpOptions, HandleBasisKind,
-    SampleRegion, Sampler, SarapOptions, SpatialBasis, SymmetricArap, TRAINING_ANDERSON_DEPTH,
-};
+use super::operator::DefOp;
+use super::orientation::flipped_triangles;
+use super::sample::{SampleRegion, Sampler};
+use super::sarap::{SarapOptions, SymmetricArap};
+use super::spatial_basis::SpatialBasis;
 use splineskin_core::mesh::TriMesh;
 
 /// Default [`TrainOptions::n_samples`]: 1 000, the paper's octopus (Fig. 1).
