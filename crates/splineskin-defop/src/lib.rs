@@ -63,6 +63,7 @@ mod arap;
 mod arap_energy;
 mod deformation_gradient;
 mod distance;
+mod drawing_defop;
 mod error;
 mod file;
 mod fit;
@@ -72,6 +73,7 @@ mod laplacian_eigen;
 mod mesh_map;
 mod operator;
 mod orientation;
+mod pin_holding;
 mod sample;
 mod sarap;
 mod sarap_energy;
@@ -86,6 +88,10 @@ pub use arap::{
 };
 pub use arap_energy::arap_energy;
 pub use distance::l2_distance;
+pub use drawing_defop::{
+    training_domain_options, DrawingDefOp, TRAINING_MAX_AREA_FRACTION,
+    TRAINING_SAMPLES_PER_DIAGONAL,
+};
 pub use error::DefOpError;
 pub use file::{
     OperatorFile, OperatorFileError, TrainingMetadata, OPERATOR_FORMAT_VERSION, OPERATOR_MAGIC,
@@ -96,6 +102,7 @@ pub use laplacian_eigen::{EigenOperator, SHIFT_FRACTION};
 pub use mesh_map::MeshMap;
 pub use operator::{DefOp, DefOpEvaluator};
 pub use orientation::flipped_triangles;
+pub use pin_holding::PIN_SNAP_FRACTION;
 pub use sample::{SampleRegion, Sampler};
 pub use sarap::{
     SarapOptions, SarapReport, SarapStop, SymmetricArap, DEFAULT_SARAP_MAX_ITERATIONS,
@@ -103,11 +110,7 @@ pub use sarap::{
 };
 pub use sarap_energy::sarap_energy;
 pub use spatial_basis::{SpatialBasis, SpatialBasisKind};
-pub use spline_join::{
-    training_domain_options, DefOpRig, DefOpRigEvaluator, DrawingDefOp, SplineJoin,
-    OUTSIDE_TOLERANCE_FRACTION, PIN_SNAP_FRACTION, TRAINING_MAX_AREA_FRACTION,
-    TRAINING_SAMPLES_PER_DIAGONAL,
-};
+pub use spline_join::{DefOpRig, DefOpRigEvaluator, SplineJoin, OUTSIDE_TOLERANCE_FRACTION};
 pub use study::{
     geometric_sample_counts, study, Study, StudyOptions, StudyProgress, StudyRow, DEFAULT_HELD_OUT,
     DEFAULT_HELD_OUT_SEED, STUDY_BASES,

@@ -2,23 +2,24 @@
 //! item 6): point-handle, ARAP-quality deformation of a Bézier drawing in closed form, the
 //! drawing staying a drawing of the same cubics under its junction constraints.
 //!
-//! [`DefOpRig`] has the formula, its sources, the recipe and an example; [`DrawingDefOp`] builds
-//! everything from a drawing and its handles; [`training_domain_options`] sizes the domain.
+//! [`DefOpRig`] has the formula, its sources, the recipe and an example; [`SplineJoin`] is its
+//! part that depends on the drawing and the mesh only, reused for every operator on them, with
+//! the curve points the pins hold ([`crate::PIN_SNAP_FRACTION`]); [`crate::DrawingDefOp`] builds
+//! everything from a drawing and its handles.
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par};
 use std::collections::HashMap;
 use std::sync::Mutex;
 
-use kurbo::{CubicBez, ParamCurve, ParamCurveNearest, Point};
+use kurbo::Point;
 
 use super::error::DefOpError;
 use super::handle_basis::HandleBasis;
 use super::operator::coefficients_at;
 use super::operator::DefOp;
-use super::spatial_basis::SpatialBasis;
-use super::train::{train, Progress, TrainOptions, Training};
-use splineskin_core::domain::{Domain, DomainOptions, MeshWeights};
+use super::pin_holding::{held_points, Held, PIN_SNAP_FRACTION};
+use splineskin_core::domain::{Domain, MeshWeights};
 use splineskin_core::drawing::Drawing;
 use splineskin_core::mesh::TriMesh;
 use splineskin_core::spline_fit::quadrature::SampledCurves;
@@ -31,35 +32,6 @@ use splineskin_core::weights::WeightField;
 /// far from anything the operator was trained on (and a drawing wholly outside, in other
 /// units or coordinates, is caught).
 pub const OUTSIDE_TOLERANCE_FRACTION: f64 = 0.05;
-
-/// Curve samples per diagonal of the drawing in [`training_domain_options`]: 100 (a boundary
-/// or curve vertex every 1 % of the diagonal; the default, 500, is meant for weights solved
-/// once, not for 1 000 ground-truth solves).
-pub const TRAINING_SAMPLES_PER_DIAGONAL: f64 = 100.0;
-
-/// Largest triangle, as a fraction of the domain's area, in [`training_domain_options`]:
-/// 1/1000. On the bundled fish (padded box domain) this gives 1 917 vertices and 3 714
-/// triangles, the size of the paper's octopus (and of `splineskin::examples::octopus_domain`
-/// with `1/1800`).
-pub const TRAINING_MAX_AREA_FRACTION: f64 = 1.0 / 1000.0;
-
-/// [`DomainOptions`] for training an operator on a drawing's domain: the defaults with
-/// [`TRAINING_SAMPLES_PER_DIAGONAL`] and [`TRAINING_MAX_AREA_FRACTION`], about 2 000 vertices
-/// and 4 000 triangles for a drawing like the bundled fish (58 curves), which keeps a
-/// 1 000-sample training near the issue's budget (the octopus, 1 991 vertices: about 20 s on
-/// two cores). Drawings with many more curves get more curve vertices: lower
-/// `samples_per_diagonal` for them.
-///
-/// ```
-/// use splineskin_defop::{training_domain_options, TRAINING_MAX_AREA_FRACTION};
-/// let options = training_domain_options();
-/// assert_eq!(options.max_area_fraction, TRAINING_MAX_AREA_FRACTION);
-/// ```
-pub fn training_domain_options() -> DomainOptions {
-    DomainOptions::default()
-        .with_samples_per_diagonal(TRAINING_SAMPLES_PER_DIAGONAL)
-        .with_max_area_fraction(TRAINING_MAX_AREA_FRACTION)
-}
 
 /// A drawing joined to a deformation operator: the drawing's control points as a closed-form
 /// function of the handle configuration, `G_spline ψ(Q)`, junction constraints kept.
@@ -114,6 +86,10 @@ pub fn training_domain_options() -> DomainOptions {
 ///
 /// Without a mesh at hand, [`DrawingDefOp::train`] triangulates the drawing's domain
 /// ([`training_domain_options`]), trains the operator ([`train`]) and builds the rig.
+///
+/// [`DrawingDefOp::train`]: crate::DrawingDefOp::train
+/// [`training_domain_options`]: crate::training_domain_options
+/// [`train`]: crate::train
 ///
 /// ```
 /// use kurbo::{Point, Rect, Vec2};
@@ -434,63 +410,6 @@ pub struct SplineJoin {
     max_outside_distance: f64,
     rank_deficient_paths: Vec<usize>,
     n_held: usize,
-}
-
-/// Largest distance from a pin to the drawing's curves at which the nearest curve point is
-/// held by it ([`SplineJoin::new`]), as a fraction of the mesh's bounding-box diagonal: 0.002
-/// (a pin placed on a stroke holds the curve under it; a pin inside a fill holds nothing: held
-/// there, the nearest curve, say a small decoration near an arm's tip, would be bent to the
-/// deformation's sharpest point).
-pub const PIN_SNAP_FRACTION: f64 = 0.002;
-
-/// A curve point a pin holds: curve `curve` of its path at `t`, rest point `point`.
-#[derive(Clone, Copy, Debug)]
-struct Held {
-    curve: usize,
-    t: f64,
-    point: Point,
-}
-
-/// For each path, the curve points the pins hold: each pin's nearest curve point over the
-/// drawing when within `snap`; per curve the nearest pin's; none equal to another's point
-/// (an anchor shared by two curves is held once).
-fn held_points(drawing: &Drawing, pins: &[Point], snap: f64) -> Vec<Vec<Held>> {
-    let mut held: Vec<Vec<(Held, f64)>> = vec![Vec::new(); drawing.paths.len()];
-    for &pin in pins {
-        let mut best: Option<(usize, Held, f64)> = None;
-        for (pi, path) in drawing.paths.iter().enumerate() {
-            for j in 0..path.n_curves() {
-                let [p0, p1, p2, p3] = path.curve_points(j);
-                let nearest = CubicBez::new(p0, p1, p2, p3).nearest(pin, 1e-12 * snap.max(1e-300));
-                let d = nearest.distance_sq.sqrt();
-                if d <= snap && best.as_ref().is_none_or(|b| d < b.2) {
-                    let point = CubicBez::new(p0, p1, p2, p3).eval(nearest.t);
-                    best = Some((
-                        pi,
-                        Held {
-                            curve: j,
-                            t: nearest.t,
-                            point,
-                        },
-                        d,
-                    ));
-                }
-            }
-        }
-        let Some((pi, h, d)) = best else { continue };
-        let same_point = |o: &Held| (o.point - h.point).hypot() <= 1e-9 * snap;
-        match held[pi]
-            .iter()
-            .position(|(o, _)| o.curve == h.curve || same_point(o))
-        {
-            Some(k) if held[pi][k].1 > d => held[pi][k] = (h, d),
-            Some(_) => {}
-            None => held[pi].push((h, d)),
-        }
-    }
-    held.into_iter()
-        .map(|v| v.into_iter().map(|(h, _)| h).collect())
-        .collect()
 }
 
 /// A path to fit, where it sits in the drawing, and the curve points pins hold on it.
@@ -863,85 +782,12 @@ impl DefOpRigEvaluator<'_> {
     }
 }
 
-/// Everything from a drawing and its point handles: the triangulated domain, the trained
-/// operator (hat functions as the spatial basis) and the rig — the "mesh-free" use, where the
-/// mesh is an implementation detail.
-///
-/// ```text
-/// once:        let joined = DrawingDefOp::train(&drawing, &handles, &training_domain_options(),
-///                                               &TrainOptions::default(), &FitOptions::default(), &|_| {})?;
-/// each frame:  evaluator.update(&q, &mut points)?     (let mut evaluator = joined.rig.evaluator();)
-/// ```
-///
-/// ```
-/// use kurbo::{Point, Vec2};
-/// use splineskin_defop::{training_domain_options, DrawingDefOp, HandleBasisKind, TrainOptions};
-/// use splineskin_svg::{read_svg, ImportOptions};
-/// use splineskin_core::spline_fit::FitOptions;
-/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 C30 40 70 40 100 0"/></svg>"#;
-/// let drawing = read_svg(svg, &ImportOptions::default())?;
-/// let handles = [Point::new(0.0, 0.0), Point::new(100.0, 0.0)];
-/// // A tiny training for the example: 10 samples, linear handle basis, a coarse domain.
-/// let domain = training_domain_options().with_max_area_fraction(0.02).with_samples_per_diagonal(20.0);
-/// let training = TrainOptions::default().with_n_samples(10).with_handle_basis(HandleBasisKind::Linear);
-/// let joined = DrawingDefOp::train(&drawing, &handles, &domain, &training, &FitOptions::default(), &|_| {})?;
-/// // The rest configuration gives the curve back; moving a handle moves it.
-/// let input = drawing.flat_points();
-/// let rest = joined.rig.deform(&handles)?;
-/// assert!(rest.iter().zip(&input).all(|(p, c)| (*p - *c).hypot() < 1e-9));
-/// let moved = joined.rig.deform(&[handles[0], handles[1] + Vec2::new(0.0, 8.0)])?;
-/// assert!(moved[3].y > 1.0);
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-#[derive(Clone, Debug)]
-#[non_exhaustive]
-pub struct DrawingDefOp {
-    /// The triangulated domain of the drawing, handles at vertices.
-    pub domain: Domain,
-    /// The training (operator, samples, ground truths, stage reports).
-    pub training: Training,
-    /// The join of the drawing with the operator.
-    pub rig: DefOpRig,
-}
-
-impl DrawingDefOp {
-    /// Triangulates the domain of `drawing` with point handles `handles`
-    /// ([`Domain::build`] with `domain`; [`training_domain_options`] is a reasonable
-    /// choice), trains an operator on it with the hat functions as spatial basis ([`train`]
-    /// with `training`, `progress` called as it goes) and joins it with the drawing
-    /// ([`DefOpRig::precompute`] with `fit`).
-    pub fn train(
-        drawing: &Drawing,
-        handles: &[Point],
-        domain: &DomainOptions,
-        training: &TrainOptions,
-        fit: &FitOptions,
-        progress: &(dyn Fn(Progress) + Sync),
-    ) -> Result<DrawingDefOp, DefOpError> {
-        let domain = Domain::build(drawing, handles, &[], domain)?;
-        let spatial = SpatialBasis::hats(&domain.mesh)?;
-        let training = train(
-            &domain.mesh,
-            &domain.handle_vertices,
-            &spatial,
-            training,
-            progress,
-        )?;
-        let rig = DefOpRig::from_domain(drawing, &domain, &training.op, fit)?;
-        Ok(DrawingDefOp {
-            domain,
-            training,
-            rig,
-        })
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use kurbo::{Affine, Rect, Vec2};
 
     use super::*;
-    use crate::{Arap, ArapOptions, DefOpOptions, HandleBasisKind};
+    use crate::{Arap, ArapOptions, DefOpOptions, HandleBasisKind, SpatialBasis};
     use splineskin_core::drawing::{JunctionOptions, Path};
     use splineskin_core::spline_fit::SplineRig;
 
