@@ -1,6 +1,7 @@
 use kurbo::{Affine, Point, Vec2};
 use serde_json::Value;
 
+use super::gradient_space::LottieParts;
 use super::*;
 use crate::svg_in::{read_svg, ImportOptions};
 
