@@ -49,7 +49,7 @@ use splineskin::drawing::Drawing;
 use splineskin::render::MAX_RENDER_SIZE;
 use splineskin::scene::{PosedDrawing, Scene};
 
-use splineskin_editor::scene_lottie::{
+use splineskin::scene_lottie::{
     deform_posed_frames, lottie_of_scene, BYTES_PER_ANIMATED_POINT, MAX_ANIMATED_SVG_BYTES,
 };
 
@@ -78,7 +78,7 @@ pub struct Args {
     #[arg(long)]
     duration: Option<f64>,
     #[command(flatten)]
-    posing: crate::PosingArgs,
+    posing: crate::posing::PosingArgs,
     /// Adaptive control points (as in `deform --tolerance`): input curves split at rest until
     /// the fit is within FRACTION of the diagonal of the skinned target in every frame.
     #[arg(long, value_name = "FRACTION")]
@@ -308,7 +308,13 @@ impl Job<'_> {
 
     /// Frames `first..first + times.len()`, deformed in parallel.
     fn deform_chunk(&self, first: usize, times: &[f64]) -> Result<Vec<Vec<Point>>> {
-        deform_posed_frames(self.posed, self.sampler, times, first, self.scene_name)
+        Ok(deform_posed_frames(
+            self.posed,
+            self.sampler,
+            times,
+            first,
+            self.scene_name,
+        )?)
     }
 
     /// Frame `f`'s element maps: its gradients, patterns, markers, text and images follow its

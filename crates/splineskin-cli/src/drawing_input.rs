@@ -1,10 +1,10 @@
 //! A drawing given on the command line instead of a scene: `deform`, `animate`, `weights` and
 //! `rig` take an SVG with pins (`--pin X,Y`, `--pins N`: placed by
 //! [`splineskin::scene::place_pins`] when none are given), a weight family (`--weights`) and a
-//! pose (`--move I:DX,DY`, `--rotate I:DEG`, `--scale I:S`). The scene is then written by the
-//! editor's scene writer ([`splineskin_editor::scene_file`]) and read back by the library's scene
-//! reader, so that an SVG with flags and the scene `splineskin rig` writes for the same flags
-//! are one and the same scene.
+//! pose (`--move I:DX,DY`, `--rotate I:DEG`, `--scale I:S`). The scene is made of the drawing
+//! as read, with no scene file in between ([`splineskin::scene::Scene::from_pins`]), checked as
+//! the scene file `splineskin rig` writes for the same flags would be (by the editor's scene
+//! writer, [`splineskin_editor::scene_file`]), so that the two are one and the same scene.
 
 use std::path::{Path, PathBuf};
 

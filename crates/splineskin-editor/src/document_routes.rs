@@ -354,7 +354,7 @@ pub(crate) fn lottie(editor: &Editor, id: &str, request: &Request) -> Result<Res
             .file_stem()
             .map_or("splineskin".into(), |s| s.to_string_lossy().into_owned());
         let options = splineskin::drawing::lottie::LottieOptions::default().with_name(stem);
-        let made = crate::scene_lottie::lottie_of_scene(
+        let made = splineskin::scene_lottie::lottie_of_scene(
             &read,
             &animation,
             splineskin::scene::PoseOptions {
@@ -363,7 +363,8 @@ pub(crate) fn lottie(editor: &Editor, id: &str, request: &Request) -> Result<Res
             },
             &options,
             &document.name,
-        )?;
+        )
+        .map_err(anyhow::Error::from)?;
         let mut warnings = made.rig_warnings.clone();
         warnings.extend(made.lottie.warnings.iter().map(|w| w.to_string()));
         let report = LottieReport {

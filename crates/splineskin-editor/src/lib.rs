@@ -46,8 +46,8 @@
 //! [`request`] (requests, responses, errors, limits), [`document`] (an opened drawing),
 //! [`store`] (documents and rigs by id, bounded), [`progress`] (stages of running
 //! precomputations), [`wire`] (JSON exchanged with the page), [`scene_file`] (the page's scene
-//! as a scene file of ours), [`scene_lottie`] (a scene's animation as Lottie), [`page_constants`]
-//! (the names and limits the page imports, written as `web/constants.js`).
+//! as a scene file of ours), [`page_constants`] (the names and limits the page imports, written
+//! as `web/constants.js`).
 //!
 //! ```
 //! use splineskin_editor::{document::Document, Editor, Request};
@@ -69,7 +69,6 @@ pub mod request;
 pub mod rig_routes;
 pub mod routes;
 pub mod scene_file;
-pub mod scene_lottie;
 pub mod store;
 pub mod wire;
 

@@ -1538,7 +1538,7 @@ async fn serve_lottie_plays_the_page_timeline_as_animate_does() {
     )
     .expect("it reads");
     let options = splineskin::drawing::lottie::LottieOptions::default().with_name("fish drawing");
-    let made = splineskin_editor::scene_lottie::lottie_of_scene(
+    let made = splineskin::scene_lottie::lottie_of_scene(
         &read,
         read.animation.as_ref().expect("animation"),
         splineskin::scene::PoseOptions::default(),
