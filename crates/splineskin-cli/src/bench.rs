@@ -16,7 +16,7 @@ use splineskin::scene::{Compat, Deformer, Engine, HandleSet, PosedDrawing, Scene
 use splineskin::spline_fit::quadrature::SampledCurves;
 use splineskin::spline_fit::{FlexibleOptions, FlexibleSolver, SplineRig};
 
-use crate::CompatArg;
+use crate::posing::CompatArg;
 
 /// Fewest timed updates per scene.
 const MIN_UPDATES: usize = 200;

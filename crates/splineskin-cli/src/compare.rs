@@ -26,7 +26,7 @@ use splineskin::metrics::MetricsOptions;
 use splineskin::scene::{Compat, Engine, PosedDrawing, Scene};
 
 use crate::output::{write_atomic, Format};
-use crate::CompatArg;
+use crate::posing::CompatArg;
 
 #[derive(clap::Args)]
 pub struct Args {

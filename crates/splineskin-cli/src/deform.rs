@@ -25,7 +25,7 @@ pub struct Args {
     #[arg(long, default_value = "0")]
     pose: String,
     #[command(flatten)]
-    posing: crate::PosingArgs,
+    posing: crate::posing::PosingArgs,
     /// Adaptive control points: split input curves at rest where the fit is farther than
     /// FRACTION of the diagonal from the skinned target under any of the scene's poses, and
     /// re-rig, until it is within (or 4 times the input's curves are used). Every input anchor

@@ -11,7 +11,7 @@ use splineskin::drawing::{read_svg_file, Drawing, ImportOptions, JointKind};
 use splineskin::scene::{Compat, Scene};
 
 use crate::output::has_extension;
-use crate::CompatArg;
+use crate::posing::CompatArg;
 
 #[derive(clap::Args)]
 pub struct Args {

@@ -12,6 +12,7 @@ mod demo;
 mod drawing_input;
 mod info;
 mod output;
+mod posing;
 mod read_bandwidth;
 mod rig;
 mod serve;
@@ -78,49 +79,6 @@ fn main() -> std::process::ExitCode {
         Err(e) => {
             eprintln!("error: {}", splineskin_editor::error_message(&e));
             std::process::ExitCode::FAILURE
-        }
-    }
-}
-
-/// How `deform` and `animate` pose a scene: `--compat` and `--flexible`.
-#[derive(clap::Args, Clone, Copy, Debug)]
-pub struct PosingArgs {
-    /// Reproduce another implementation's discretisation exactly.
-    #[arg(long, value_enum, default_value_t = CompatArg::None)]
-    pub compat: CompatArg,
-    /// Flexible G¹ and fixed-angle junctions: parallel tangents (fixed angle: their angle) with
-    /// the tangent-length ratio free, fitted by iteration. Scenes can ask for it themselves
-    /// (`"flexible": true`; the authors' scenes always do).
-    #[arg(long)]
-    pub flexible: bool,
-}
-
-impl PosingArgs {
-    /// The library's posing options; the per-frame product on a second thread when `parallel`
-    /// (not where frames are deformed in parallel already).
-    pub fn options(self, parallel: bool) -> splineskin::scene::PoseOptions {
-        splineskin::scene::PoseOptions {
-            compat: self.compat.into(),
-            flexible: self.flexible,
-            parallel,
-        }
-    }
-}
-
-/// The `--compat` values.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum CompatArg {
-    /// Our discretisation (default).
-    None,
-    /// The paper authors' code exactly (their SVG reading, quadrature and constraint rows).
-    Vectorskinning,
-}
-
-impl From<CompatArg> for splineskin::scene::Compat {
-    fn from(c: CompatArg) -> Self {
-        match c {
-            CompatArg::None => splineskin::scene::Compat::None,
-            CompatArg::Vectorskinning => splineskin::scene::Compat::VectorSkinning,
         }
     }
 }

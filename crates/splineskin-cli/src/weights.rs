@@ -26,7 +26,7 @@ use serde::{Deserialize, Serialize};
 use splineskin::mesh::{MeshError, TriMesh};
 use splineskin::scene::Compat;
 use splineskin::weight_map::{
-    render_weight_map, HandleMarker, WeightMapOptions, DEFAULT_ISO_STEP, DEFAULT_PANEL_WIDTH,
+    render_weight_map, WeightMapOptions, DEFAULT_ISO_STEP, DEFAULT_PANEL_WIDTH,
 };
 use splineskin::weights::{bbw_weights, harmonic_weights, BbwOptions, VertexWeights};
 
@@ -158,7 +158,7 @@ fn draw_scene(scene_path: &Path, args: &Args) -> Result<()> {
     if args.mesh_lines && mesh.is_none() {
         eprintln!("warning: --mesh-lines: {family} weights are not solved on a mesh; none drawn");
     }
-    let markers = HandleMarker::of_handles(&scene.handle_set());
+    let markers = scene.handle_set().markers();
     let options = WeightMapOptions::default()
         .with_panel_width(args.width)
         .with_handle(args.handle)

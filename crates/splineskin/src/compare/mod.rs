@@ -561,7 +561,8 @@ fn compare_fits(
 /// assert_eq!(m, [HandleMarker::Point(Point::new(1.0, 2.0))]);
 /// ```
 pub fn posed_markers(handles: &HandleSet<'_>, pose: &[Affine]) -> Vec<HandleMarker> {
-    HandleMarker::of_handles(handles)
+    handles
+        .markers()
         .into_iter()
         .zip(pose)
         .map(|(m, &t)| match m {

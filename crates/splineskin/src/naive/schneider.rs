@@ -12,7 +12,7 @@ use crate::weights::WeightField;
 
 /// Default samples per input curve of [`schneider_refit`]: 64. Dense enough that the refit
 /// follows the target between samples too: with the default tolerance, the target's largest
-/// distance from the refit (101 samples per curve, [`crate::metrics::refit_metrics`]) is below
+/// distance from the refit (101 samples per curve, `metrics::refit_metrics`) is below
 /// 0.1 % of the diagonal on the bundled drawing and the authors' clam and turtles
 /// (`tests/naive_baselines.rs`).
 pub const DEFAULT_REFIT_SAMPLES: usize = 64;
@@ -109,7 +109,7 @@ impl Refit {
 
     /// Wraps chain points in the layout of [`crate::spline_fit::SplineRig::update`] (any
     /// result of the same structure as `drawing`), e.g. to measure them by closest point with
-    /// [`crate::metrics::refit_metrics`]. `None` on a length mismatch.
+    /// `metrics::refit_metrics`. `None` on a length mismatch.
     pub fn from_chains(drawing: &Drawing, points: &[Point]) -> Option<Refit> {
         if points.len() != drawing.n_points() {
             return None;

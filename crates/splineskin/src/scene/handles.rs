@@ -14,6 +14,8 @@
 
 use kurbo::{Affine, Point, Vec2};
 
+use crate::figure::weight_map::HandleMarker;
+
 /// How a posed bone is interpreted.
 ///
 /// Given its posed end points `q₀, q₁` (rest `p₀, p₁`, directions `u = p₁ − p₀`,
@@ -208,6 +210,28 @@ pub struct HandleSet<'a> {
 }
 
 impl HandleSet<'_> {
+    /// The markers pictures draw for these handles at rest, in rig order: point handles and
+    /// cage vertices as rings, bones as segments.
+    ///
+    /// ```
+    /// use kurbo::Point;
+    /// use splineskin::figure::weight_map::HandleMarker;
+    /// use splineskin::scene::HandleSet;
+    /// let points = [Point::new(1.0, 2.0)];
+    /// let set = HandleSet { points: &points, bones: &[], cage: None };
+    /// assert_eq!(set.markers(), vec![HandleMarker::Point(Point::new(1.0, 2.0))]);
+    /// ```
+    pub fn markers(&self) -> Vec<HandleMarker> {
+        let points = self.points.iter().map(|&p| HandleMarker::Point(p));
+        let bones = self.bones.iter().map(|b| HandleMarker::Segment(b.ends));
+        let cage = self
+            .cage
+            .unwrap_or(&[])
+            .iter()
+            .map(|&p| HandleMarker::Point(p));
+        points.chain(bones).chain(cage).collect()
+    }
+
     /// Number of cage vertices (0 without a cage).
     pub fn n_cage_vertices(&self) -> usize {
         self.cage.map_or(0, <[Point]>::len)

@@ -288,19 +288,6 @@ pub enum HandleMarker {
 }
 
 impl HandleMarker {
-    /// The markers of a scene's handles at rest, in rig order: point handles and cage
-    /// vertices as rings, bones as segments.
-    pub fn of_handles(handles: &crate::scene::HandleSet<'_>) -> Vec<HandleMarker> {
-        let points = handles.points.iter().map(|&p| HandleMarker::Point(p));
-        let bones = handles.bones.iter().map(|b| HandleMarker::Segment(b.ends));
-        let cage = handles
-            .cage
-            .unwrap_or(&[])
-            .iter()
-            .map(|&p| HandleMarker::Point(p));
-        points.chain(bones).chain(cage).collect()
-    }
-
     /// The points that define it.
     pub fn points(&self) -> &[Point] {
         match self {
