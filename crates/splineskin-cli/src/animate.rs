@@ -9,7 +9,7 @@
 //! * `-o NAME.svg`: one SVG whose deformed paths carry SMIL `<animate>` of their `d`, and
 //!   whose text, images, user-space gradients and patterns and fixed-orientation markers carry
 //!   animations of their transform (orient) through each frame's element maps
-//!   ([`splineskin::drawing::svg_animate::write_animated_svg_following`]); written atomically
+//!   ([`splineskin::drawing::svg_animate::write_animated_svg_with`]); written atomically
 //!   (temporary file, rename).
 //! * `-o NAME.json`: a Lottie animation ([`splineskin::drawing::lottie`]): one path shape per
 //!   path, keyframed only where the player's linear interpolation would stray from the
@@ -43,7 +43,7 @@ use splineskin::animation::{Animation, PoseSampler};
 use splineskin::drawing::animated_image::{AnimatedFormat, AnimatedImage};
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::lottie::LottieOptions;
-use splineskin::drawing::svg_animate::{write_animated_svg_following, write_animated_svg_view_box};
+use splineskin::drawing::svg_animate::{write_animated_svg_with, AnimatedSvgOptions};
 use splineskin::drawing::svg_out::{write_svg_following, write_svg_view_box, ViewBoxRule};
 use splineskin::drawing::Drawing;
 use splineskin::render::MAX_RENDER_SIZE;
@@ -425,11 +425,11 @@ impl Job<'_> {
             .into_iter()
             .collect();
         let rule = outside.rule(args.viewbox);
-        let svg = match &maps {
-            Some(maps) => write_animated_svg_following(drawing, &frames, times, maps, rule),
-            None => write_animated_svg_view_box(drawing, &frames, times, rule),
-        }
-        .with_context(|| format!("{}: writing the animated SVG", self.scene_name))?;
+        let options = AnimatedSvgOptions::default()
+            .with_view_box(rule)
+            .with_follow(maps.as_deref());
+        let svg = write_animated_svg_with(drawing, &frames, times, &options)
+            .with_context(|| format!("{}: writing the animated SVG", self.scene_name))?;
         write_atomic(&args.output, svg.as_bytes())?;
         outside.report(&args.output, args.viewbox);
         Ok(())

@@ -115,7 +115,12 @@ pub fn write_animated_svg_view_box(
     times: &[f64],
     view_box: ViewBoxRule,
 ) -> Result<String, AnimateError> {
-    write_animated(drawing, frames, times, view_box, None)
+    write_animated_svg_with(
+        drawing,
+        frames,
+        times,
+        &AnimatedSvgOptions::default().with_view_box(view_box),
+    )
 }
 
 /// [`write_animated_svg_view_box`], with everything that is not a curve carried through the
@@ -181,17 +186,69 @@ pub fn write_animated_svg_following(
     maps: &[ElementMaps],
     view_box: ViewBoxRule,
 ) -> Result<String, AnimateError> {
-    write_animated(drawing, frames, times, view_box, Some(maps))
+    let options = AnimatedSvgOptions::default()
+        .with_view_box(view_box)
+        .with_follow(Some(maps));
+    write_animated_svg_with(drawing, frames, times, &options)
 }
 
-/// [`write_animated_svg_view_box`] and [`write_animated_svg_following`].
-fn write_animated(
+/// How [`write_animated_svg_with`] writes an animation: the input's viewBox kept and nothing
+/// carried by default, set one by one.
+///
+/// ```
+/// use splineskin_svg::svg_animate::AnimatedSvgOptions;
+/// use splineskin_svg::svg_out::ViewBoxRule;
+/// let options = AnimatedSvgOptions::default().with_view_box(ViewBoxRule::Fit);
+/// assert!(options.follow.is_none());
+/// ```
+#[derive(Clone, Copy, Debug, Default)]
+#[non_exhaustive]
+pub struct AnimatedSvgOptions<'a> {
+    /// The root viewBox, one for the whole animation (see [`write_animated_svg_view_box`]).
+    pub view_box: ViewBoxRule,
+    /// One [`ElementMaps`] per frame, carrying what is not a curve (see
+    /// [`write_animated_svg_following`]).
+    pub follow: Option<&'a [ElementMaps]>,
+}
+
+impl<'a> AnimatedSvgOptions<'a> {
+    /// Sets [`AnimatedSvgOptions::view_box`].
+    pub fn with_view_box(mut self, view_box: ViewBoxRule) -> Self {
+        self.view_box = view_box;
+        self
+    }
+
+    /// Sets [`AnimatedSvgOptions::follow`].
+    pub fn with_follow(mut self, maps: Option<&'a [ElementMaps]>) -> Self {
+        self.follow = maps;
+        self
+    }
+}
+
+/// Writes `drawing` animated through `frames` at `times` as [`write_animated_svg`] does, as
+/// `options` say: the one writer the other `write_animated_svg*` functions name a case of.
+///
+/// ```
+/// use kurbo::Vec2;
+/// use splineskin_svg::svg_animate::{write_animated_svg_with, AnimatedSvgOptions};
+/// use splineskin_svg::svg_in::{read_svg, ImportOptions};
+/// use splineskin_svg::svg_out::ViewBoxRule;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10"><path d="M1 1 C2 2 3 2 4 1"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default())?;
+/// let rest = drawing.flat_points();
+/// let right: Vec<_> = rest.iter().map(|&p| p + Vec2::new(8.0, 0.0)).collect();
+/// let options = AnimatedSvgOptions::default().with_view_box(ViewBoxRule::Fit);
+/// let out = write_animated_svg_with(&drawing, &[rest, right], &[0.0, 1.0], &options)?;
+/// assert!(out.contains(r#"viewBox="0 0 12 10""#), "{out}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn write_animated_svg_with(
     drawing: &Drawing,
     frames: &[Vec<Point>],
     times: &[f64],
-    view_box: ViewBoxRule,
-    maps: Option<&[ElementMaps]>,
+    options: &AnimatedSvgOptions<'_>,
 ) -> Result<String, AnimateError> {
+    let (view_box, maps) = (options.view_box, options.follow);
     let invalid = |what: String| AnimateError::InvalidFrames { what };
     if frames.len() < 2 {
         return Err(invalid(format!(
