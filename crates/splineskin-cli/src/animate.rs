@@ -84,16 +84,12 @@ pub struct Args {
     #[arg(long, value_name = "FRACTION")]
     tolerance: Option<f64>,
     #[command(flatten)]
-    pins: crate::drawing_input::PinArgs,
-    #[command(flatten)]
-    pose_args: crate::drawing_input::PoseArgs,
+    svg_input: crate::drawing_input::SvgInputArgs,
     /// When the deformed art leaves the input's viewBox: `keep` it in every frame (a warning
     /// names the frames and paths and how far) or `fit` it (one viewBox for all frames, the
     /// union of the art over the animation; width/height grow in proportion).
     #[arg(long, value_enum, default_value_t = ViewBoxArg::Keep)]
     viewbox: ViewBoxArg,
-    #[command(flatten)]
-    text: crate::drawing_input::TextArgs,
     /// Animated PNG or GIF output: pixels on the image's longer side.
     #[arg(long, default_value_t = ANIMATED_IMAGE_SIZE)]
     image_size: u32,
@@ -234,14 +230,13 @@ fn output_kind(args: &Args) -> Result<Output> {
 /// with `--fps` and `--duration` applied.
 fn load_animation(args: &Args, scene_name: &str) -> Result<(Scene, Animation)> {
     let from_svg = crate::drawing_input::is_svg(&args.scene);
-    if from_svg && args.pose_args.is_empty() {
+    if from_svg && args.svg_input.pose.is_empty() {
         bail!(
             "{scene_name}: nothing moves: give the pose the animation goes to with --move \
              I:DX,DY, --rotate I:DEG or --scale I:S (pins numbered from 0)"
         );
     }
-    let mut scene = crate::drawing_input::load(&args.scene, &args.pins, Some(&args.pose_args))?;
-    args.text.apply(&mut scene)?;
+    let mut scene = args.svg_input.scene(&args.scene)?;
     if from_svg {
         scene.animation = Some(crate::drawing_input::there_and_back(&scene)?);
     }

@@ -33,19 +33,14 @@ pub struct Args {
     #[arg(long, value_name = "FRACTION")]
     tolerance: Option<f64>,
     #[command(flatten)]
-    pins: crate::drawing_input::PinArgs,
-    #[command(flatten)]
-    pose_args: crate::drawing_input::PoseArgs,
-    #[command(flatten)]
-    text: crate::drawing_input::TextArgs,
+    svg_input: crate::drawing_input::SvgInputArgs,
     #[command(flatten)]
     written: DeformedOutputArgs,
 }
 
 pub fn run(args: Args) -> Result<()> {
     crate::output::Format::of(&args.output)?;
-    let mut scene = crate::drawing_input::load(&args.scene, &args.pins, Some(&args.pose_args))?;
-    args.text.apply(&mut scene)?;
+    let scene = args.svg_input.scene(&args.scene)?;
     let (pose_index, pose) = scene
         .pose_by_key(&args.pose)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.scene.display()))?;

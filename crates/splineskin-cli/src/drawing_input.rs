@@ -48,6 +48,28 @@ pub struct PinArgs {
     pub margin: Option<f64>,
 }
 
+/// What `deform` and `animate` take besides a scene: an SVG's pins and pose, and what becomes
+/// of the drawing's text.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct SvgInputArgs {
+    #[command(flatten)]
+    pub pins: PinArgs,
+    #[command(flatten)]
+    pub pose: PoseArgs,
+    #[command(flatten)]
+    pub text: TextArgs,
+}
+
+impl SvgInputArgs {
+    /// The scene `input` names ([`load`]: a scene file, or the SVG with its pins and pose),
+    /// its text turned to outlines when asked ([`TextArgs::apply`]).
+    pub fn scene(&self, input: &Path) -> Result<Scene> {
+        let mut scene = load(input, &self.pins, Some(&self.pose))?;
+        self.text.apply(&mut scene)?;
+        Ok(scene)
+    }
+}
+
 /// What becomes of the drawing's text (scene or SVG input).
 #[derive(clap::Args, Clone, Debug, Default)]
 pub struct TextArgs {
