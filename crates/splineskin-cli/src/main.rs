@@ -77,7 +77,10 @@ fn main() -> std::process::ExitCode {
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", splineskin_editor::error_message(&e));
+            eprintln!(
+                "error: {}",
+                splineskin::errors::message_with_causes(e.as_ref())
+            );
             std::process::ExitCode::FAILURE
         }
     }

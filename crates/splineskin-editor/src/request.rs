@@ -232,17 +232,7 @@ impl From<anyhow::Error> for ApiError {
 /// An error and its causes in one line, each cause added unless the text so far says it
 /// already.
 pub fn error_message(e: &anyhow::Error) -> String {
-    let mut message = String::new();
-    for cause in e.chain() {
-        let text = cause.to_string();
-        if message.is_empty() {
-            message = text;
-        } else if !message.contains(&text) {
-            message.push_str(": ");
-            message.push_str(&text);
-        }
-    }
-    message
+    splineskin::errors::message_with_causes(e.as_ref())
 }
 
 /// `values` as little-endian bytes.

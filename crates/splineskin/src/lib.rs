@@ -31,6 +31,7 @@ pub mod adaptive;
 pub mod animation;
 pub mod compare;
 pub mod drawing;
+pub mod errors;
 pub mod examples;
 pub mod figure;
 pub mod metrics;

@@ -236,21 +236,6 @@ pub fn deform_posed_frames(
         scene: scene_name.to_string(),
         frame: first + e.frame,
         time: e.time,
-        message: with_causes(&e.error),
+        message: crate::errors::message_with_causes(&e.error),
     })
-}
-
-/// `error` and its causes, joined by ": " (each cause once).
-fn with_causes(error: &dyn std::error::Error) -> String {
-    let mut message = error.to_string();
-    let mut cause = error.source();
-    while let Some(e) = cause {
-        let text = e.to_string();
-        if !message.contains(&text) {
-            message.push_str(": ");
-            message.push_str(&text);
-        }
-        cause = e.source();
-    }
-    message
 }
