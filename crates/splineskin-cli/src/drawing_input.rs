@@ -3,8 +3,8 @@
 //! [`splineskin::scene::place_pins`] when none are given), a weight family (`--weights`) and a
 //! pose (`--move I:DX,DY`, `--rotate I:DEG`, `--scale I:S`). The scene is made of the drawing
 //! as read, with no scene file in between ([`splineskin::scene::Scene::from_pins`]), checked as
-//! the scene file `splineskin rig` writes for the same flags would be (by the editor's scene
-//! writer, [`splineskin_editor::scene_file`]), so that the two are one and the same scene.
+//! a scene file is; `splineskin rig` writes that same scene ([`Scene::to_json`]), so that an SVG
+//! with flags and the scene `rig` writes for the same flags are one and the same scene.
 
 use std::path::{Path, PathBuf};
 
@@ -20,8 +20,6 @@ use splineskin::scene::{
 };
 
 use crate::output::has_extension;
-use splineskin_editor::scene_file::{scene_json_with, SceneExtras, SvgRef};
-use splineskin_editor::wire::{EditScene, WeightsWire};
 
 /// Pins and weights for an SVG input.
 #[derive(clap::Args, Clone, Debug, Default)]
@@ -380,31 +378,6 @@ impl Rigged {
             pins: self.pins,
             pose: self.pose,
         })?)
-    }
-
-    /// The scene file text, by the editor's scene writer, with the drawing at `svg`.
-    pub fn scene_json(&self, svg: SvgRef<'_>) -> String {
-        let scene = EditScene {
-            handles: self.pins.iter().map(|p| [p.x, p.y]).collect(),
-            pose: self.pose.iter().map(|t| t.as_coeffs()).collect(),
-            weights: WeightsWire {
-                family: self.family.name().into(),
-                exponent: None,
-                samples: None,
-                coarse: false,
-            },
-            junctions: Vec::new(),
-            flexible: false,
-            animation: None,
-            margin: None,
-        };
-        let extras = SceneExtras {
-            domain: self
-                .margin
-                .map(|m| splineskin::scene::scene_domain_options().with_margin(m)),
-            ..SceneExtras::default()
-        };
-        scene_json_with(svg, &scene, &extras)
     }
 
     /// The pins as `0 (x, y), 1 (x, y), …`, the `--pin` ones marked `given`.

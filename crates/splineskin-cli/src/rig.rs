@@ -1,18 +1,18 @@
 //! `splineskin rig DRAWING.svg -o SCENE.json [--pin X,Y]… [--pins N] [--weights FAMILY]
 //! [--inline] [--text-outlines] [--move I:DX,DY]…`: a scene of ours (version 1) for a drawing, its pins placed
-//! by [`splineskin::scene::place_pins`] unless given, written by the editor's scene writer
-//! and checked by reading it back. The drawing is named relative to the scene's folder, or
+//! by [`splineskin::scene::place_pins`] unless given, written by the library's scene writer
+//! ([`Scene::to_json`]) and checked by reading it back. The drawing is named relative to the scene's folder, or
 //! written into the scene with `--inline`.
 
 use std::path::{Component, Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use splineskin::drawing::text_outlines::text_to_outlines;
+use splineskin::scene::ours_write::SvgRef;
 use splineskin::scene::Scene;
 
 use crate::drawing_input::{folder_of, is_svg, PinArgs, PoseArgs, Rigged};
 use crate::output::{has_extension, write_atomic};
-use splineskin_editor::scene_file::SvgRef;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -78,17 +78,6 @@ pub fn run(args: Args) -> Result<()> {
             .to_string();
         SvgRef::File(&text)
     };
-    let json = rigged.scene_json(svg);
-    // What is written must read back as the scene asked for.
-    let scene = Scene::from_json(&json, &args.output.display().to_string(), Some(&scene_dir))
-        .with_context(|| {
-            format!(
-                "{}: the scene written does not read back (a bug)",
-                args.output.display()
-            )
-        })?;
-    debug_assert_eq!(scene.handles, rigged.pins);
-    write_atomic(&args.output, json.as_bytes())?;
     let placed = if rigged.n_given == rigged.pins.len() {
         "as given".to_string()
     } else {
@@ -97,14 +86,31 @@ pub fn run(args: Args) -> Result<()> {
             rigged.pins.len() - rigged.n_given
         )
     };
-    eprintln!(
-        "{}: {} curves in {} paths, {} pins ({placed}): {}; {} weights -> {}",
-        args.drawing.display(),
+    let summary = format!(
+        "{} curves in {} paths, {} pins ({placed}): {}; {} weights",
         rigged.drawing.n_curves(),
         rigged.drawing.paths.len(),
         rigged.pins.len(),
         rigged.pin_list(),
         rigged.family.name(),
+    );
+    let pins = rigged.pins.clone();
+    let json = rigged
+        .into_scene(&args.drawing.display().to_string())?
+        .to_json(svg)?;
+    // What is written must read back as the scene asked for.
+    let scene = Scene::from_json(&json, &args.output.display().to_string(), Some(&scene_dir))
+        .with_context(|| {
+            format!(
+                "{}: the scene written does not read back (a bug)",
+                args.output.display()
+            )
+        })?;
+    debug_assert_eq!(scene.handles, pins);
+    write_atomic(&args.output, json.as_bytes())?;
+    eprintln!(
+        "{}: {summary} -> {}",
+        args.drawing.display(),
         args.output.display()
     );
     Ok(())

@@ -7,7 +7,9 @@
 use serde::Serialize;
 use splineskin::defop::Energy;
 use splineskin::domain::DomainOptions;
-use splineskin::scene::{energy_name, DefOpSettings, RegionSpec};
+pub use splineskin::scene::ours_write::SvgRef;
+use splineskin::scene::ours_write::{DefOpOut, DomainOut};
+use splineskin::scene::DefOpSettings;
 
 use crate::wire::{AnimationWire, EditScene, JunctionWire, WeightsWire};
 
@@ -99,7 +101,7 @@ struct SceneFile<'a> {
     handles: Vec<HandleFile>,
     weights: &'a WeightsWire,
     #[serde(skip_serializing_if = "Option::is_none")]
-    domain: Option<DomainFile>,
+    domain: Option<DomainOut>,
     arc_length: bool,
     flexible: bool,
     junctions: &'a [JunctionWire],
@@ -107,46 +109,12 @@ struct SceneFile<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     animation: Option<&'a AnimationWire>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    defop: Option<DefOpFile>,
-}
-
-/// A `defop` section as written (keys of `splineskin::scene::defop`).
-#[derive(Serialize)]
-struct DefOpFile {
-    energy: &'static str,
-    spatial_basis: String,
-    handle_basis: &'static str,
-    samples: usize,
-    region: RegionFile,
-    seed: u64,
-    domain: DomainFile,
-}
-
-#[derive(Serialize)]
-#[serde(rename_all = "lowercase")]
-enum RegionFile {
-    Disc(f64),
-    Circle(f64),
-    Gaussian(f64),
+    defop: Option<DefOpOut>,
 }
 
 #[derive(Serialize)]
 struct HandleFile {
     position: [f64; 2],
-}
-
-#[derive(Serialize)]
-struct DomainFile {
-    min_angle: f64,
-    max_area_fraction: f64,
-    holes: bool,
-    max_vertices: usize,
-    samples_per_diagonal: f64,
-    max_samples_per_curve: usize,
-    max_curve_samples: usize,
-    padding: f64,
-    shape: &'static str,
-    margin: f64,
 }
 
 /// Whether `family` (a scene's weight family name) is solved on a triangulated domain.
@@ -159,21 +127,6 @@ fn is_mesh_family(family: &str) -> bool {
     ]
     .iter()
     .any(|f| f.name() == family)
-}
-
-fn domain_file(d: &DomainOptions) -> DomainFile {
-    DomainFile {
-        min_angle: d.min_angle,
-        max_area_fraction: d.max_area_fraction,
-        holes: d.holes,
-        max_vertices: d.max_vertices,
-        samples_per_diagonal: d.samples_per_diagonal,
-        max_samples_per_curve: d.max_samples_per_curve,
-        max_curve_samples: d.max_curve_samples,
-        padding: d.padding,
-        shape: d.shape.name(),
-        margin: d.margin,
-    }
 }
 
 /// The domain options a written scene carries: the opened scene's (`None`: the defaults) with
@@ -190,15 +143,6 @@ fn page_domain(scene: &EditScene, extras: &SceneExtras) -> Option<DomainOptions>
             Some(domain)
         }
     }
-}
-
-/// Where a written scene's drawing is.
-#[derive(Clone, Copy, Debug)]
-pub enum SvgRef<'a> {
-    /// The document itself, inline (`svg_text`).
-    Inline(&'a str),
-    /// A file name, relative to the scene's folder (`svg`).
-    File(&'a str),
 }
 
 /// The scene file text (pretty JSON) of `scene` on the drawing `svg_text`, inline. While the
@@ -222,19 +166,7 @@ pub fn scene_json_with(svg: SvgRef<'_>, scene: &EditScene, extras: &SceneExtras)
     } else {
         &scene.weights
     };
-    let defop = defop_settings(scene, extras).map(|s| DefOpFile {
-        energy: energy_name(s.energy),
-        spatial_basis: s.spatial_basis.name(),
-        handle_basis: s.handle_basis.name(),
-        samples: s.samples,
-        region: match s.region {
-            RegionSpec::Disc(f) => RegionFile::Disc(f),
-            RegionSpec::Circle(f) => RegionFile::Circle(f),
-            RegionSpec::Gaussian(f) => RegionFile::Gaussian(f),
-        },
-        seed: s.seed,
-        domain: domain_file(&s.domain),
-    });
+    let defop = defop_settings(scene, extras).map(|s| DefOpOut::of(&s));
     let file = SceneFile {
         splineskin_scene: splineskin::scene::ours::SCENE_VERSION,
         svg: match svg {
@@ -256,7 +188,7 @@ pub fn scene_json_with(svg: SvgRef<'_>, scene: &EditScene, extras: &SceneExtras)
         domain: page_domain(scene, extras)
             .as_ref()
             .filter(|_| is_mesh_family(&weights.family))
-            .map(domain_file),
+            .map(DomainOut::of),
         arc_length: extras.arc_length,
         flexible: scene.flexible,
         junctions: &scene.junctions,

@@ -31,6 +31,7 @@ mod domain_file;
 pub mod handle_weights;
 pub mod handles;
 pub mod ours;
+pub mod ours_write;
 pub mod pinned;
 pub mod pins;
 mod posed;
