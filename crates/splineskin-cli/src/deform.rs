@@ -173,38 +173,10 @@ fn refine(
 
 #[cfg(test)]
 mod tests {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    use std::sync::Arc;
-
     use clap::Parser;
-    use tracing::span::{Attributes, Id, Record};
-    use tracing::{Event, Metadata, Subscriber};
 
     use super::{run, Args};
-
-    /// Counts the library's "reading an SVG document" events (`splineskin_svg::svg_in`).
-    struct CountReadings(Arc<AtomicUsize>);
-
-    impl Subscriber for CountReadings {
-        fn enabled(&self, _: &Metadata<'_>) -> bool {
-            true
-        }
-        fn new_span(&self, _: &Attributes<'_>) -> Id {
-            Id::from_u64(1)
-        }
-        fn record(&self, _: &Id, _: &Record<'_>) {}
-        fn record_follows_from(&self, _: &Id, _: &Id) {}
-        fn event(&self, event: &Event<'_>) {
-            let meta = event.metadata();
-            if meta.target().starts_with("splineskin_svg::svg_in")
-                && meta.fields().field("bytes").is_some()
-            {
-                self.0.fetch_add(1, Ordering::Relaxed);
-            }
-        }
-        fn enter(&self, _: &Id) {}
-        fn exit(&self, _: &Id) {}
-    }
+    use crate::test_support::svg_readings;
 
     #[derive(Parser)]
     struct Deform {
@@ -242,15 +214,10 @@ mod tests {
         ])
         .expect("the command line parses")
         .args;
-        let readings = Arc::new(AtomicUsize::new(0));
-        tracing::subscriber::with_default(CountReadings(readings.clone()), || run(args))
-            .expect("deform runs");
+        let (ran, readings) = svg_readings(|| run(args));
+        ran.expect("deform runs");
         assert!(out.exists(), "the posed drawing is written");
-        assert_eq!(
-            readings.load(Ordering::Relaxed),
-            1,
-            "SVG readings during deform"
-        );
+        assert_eq!(readings, 1, "SVG readings during deform");
         let names: Vec<_> = std::fs::read_dir(dir.path())
             .expect("list the folder")
             .map(|e| e.expect("entry").file_name())

@@ -17,6 +17,8 @@ mod read_bandwidth;
 mod rig;
 mod serve;
 mod subdiv;
+#[cfg(test)]
+mod test_support;
 mod weights;
 
 use clap::{Parser, Subcommand};

@@ -48,6 +48,8 @@ pub(crate) fn page_scene(document: &Document, scene: &EditScene) -> Result<Scene
     let mut scene =
         Scene::from_json(&json, &document.name, None).map_err(|e| ApiError::bad(e.to_string()))?;
     scene.svg_origin = document.name.clone();
+    // The drawing was read when the document was opened: not read again for each rig.
+    let mut scene = scene.with_drawing(document.drawing.clone());
     if coarse {
         if !matches!(scene.weights, WeightSpec::Mesh(_)) {
             return Err(ApiError::bad(format!(

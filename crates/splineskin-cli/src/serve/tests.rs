@@ -1741,3 +1741,32 @@ fn page_constants_file_is_generated_from_rust() {
          SPLINESKIN_WRITE_CONSTANTS=1 cargo test -p splineskin-cli page_constants writes it again"
     );
 }
+
+/// A rig of an opened document does not read its drawing again: the drawing read when the
+/// document was opened is the scene's (one reading per request before).
+#[test]
+fn a_rig_request_does_not_read_the_drawing_again() {
+    let editor = splineskin_editor::Editor::new(Some(Document::bundled().expect("the fish")));
+    let initial = editor.handle(&splineskin_editor::Request::get("/api/initial"));
+    let info = json(&initial.body);
+    let body = serde_json::json!({
+        "document": info["id"],
+        "scene": {
+            "handles": [[440, 215], [150, 210], [300, 250]],
+            "pose": [[1, 0, 0, 1, 0, 0], [1, 0, 0, 1, 0, 0], [1, 0, 0, 1, 0, 0]],
+            "weights": {"family": "shepard"},
+            "junctions": [],
+            "flexible": false
+        }
+    });
+    let request =
+        splineskin_editor::Request::post("/api/rig", body.to_string()).with_header(API_HEADER, "1");
+    let (response, readings) = crate::test_support::svg_readings(|| editor.handle(&request));
+    assert_eq!(
+        response.status,
+        200,
+        "{}",
+        String::from_utf8_lossy(&response.body)
+    );
+    assert_eq!(readings, 0, "SVG readings during the rig request");
+}

@@ -13,7 +13,7 @@ use super::{
     SceneFormat, WeightSpec,
 };
 use crate::domain::DomainOptions;
-use crate::drawing::Drawing;
+use crate::drawing::{Drawing, SvgSource};
 use crate::spline_fit::Measure;
 
 /// A drawing, its pins and their pose: the parts of a scene that a drawing given without a
@@ -121,20 +121,54 @@ impl Scene {
     }
 }
 
-/// The drawing of a scene as its maker already read it ([`Scene::from_pins`]), or nothing (a
-/// scene read from a file). [`Scene::drawing`] takes it instead of reading the SVG again while
-/// it is still the drawing of the scene's `svg_text` and `svg_origin` (a scene whose text was
-/// replaced, say by its text-as-outlines version, is read anew). It is a cache: two scenes
+impl Scene {
+    /// The scene with `drawing` kept as its drawing as read, so that [`Scene::setup`] takes it
+    /// instead of reading `svg_text` again: `drawing` must be what our importer reads of
+    /// `svg_text` with the default options. It is taken only while its source is the scene's
+    /// `svg_text` (otherwise the SVG is read as before), its source then named `svg_origin`. An editor that
+    /// opened the drawing once gives it to every scene of it.
+    ///
+    /// ```
+    /// use splineskin::scene::Compat;
+    /// let scene = splineskin::examples::demo_scene();
+    /// let drawing = scene.drawing(Compat::None)?;
+    /// let scene = scene.with_drawing(drawing.clone());
+    /// assert_eq!(scene.drawing(Compat::None)?.flat_points(), drawing.flat_points());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_drawing(mut self, drawing: Drawing) -> Scene {
+        self.read = ReadDrawing(Some(Arc::new(drawing)));
+        self
+    }
+}
+
+/// The drawing of a scene as its maker already read it ([`Scene::from_pins`],
+/// [`Scene::with_drawing`]), or nothing (a scene read from a file). [`Scene::drawing`] takes it
+/// instead of reading the SVG again while it is still the drawing of the scene's `svg_text`
+/// (named as the scene's `svg_origin` names it; a scene whose text was replaced, say by its
+/// text-as-outlines version, is read anew). It is a cache: two scenes
 /// compare equal whatever their caches hold.
 #[derive(Clone, Default)]
 pub struct ReadDrawing(pub(crate) Option<Arc<Drawing>>);
 
 impl ReadDrawing {
-    /// The drawing held, if it was read from `svg_text` named `svg_origin`.
+    /// The drawing held, if it was read from `svg_text`, its source named `svg_origin` (as
+    /// reading the text under that name would name it).
     pub(crate) fn of(&self, svg_text: &str, svg_origin: &str) -> Option<Drawing> {
         let drawing = self.0.as_ref()?;
         let source = drawing.source.as_ref()?;
-        (source.text == svg_text && source.origin == svg_origin).then(|| Drawing::clone(drawing))
+        if source.text != svg_text {
+            return None;
+        }
+        let mut drawing = Drawing::clone(drawing);
+        if source.origin != svg_origin {
+            let renamed = SvgSource {
+                origin: svg_origin.to_string(),
+                ..SvgSource::clone(source)
+            };
+            drawing.source = Some(Arc::new(renamed));
+        }
+        Some(drawing)
     }
 }
 
