@@ -9,9 +9,9 @@
 // `animation`); the rig is precomputed for the scene's rest part (`rigKey`) and reused while only
 // the pose changes. `editor.time` is the timeline's shown time.
 
-import * as anim from './animation.js';
 import {
   DEFAULT_DEFOP_SAMPLES,
+  DEFAULT_FPS,
   DEFAULT_MARGIN,
   DEFOP_FAMILIES,
   MAX_DEFOP_SAMPLES,
@@ -166,7 +166,7 @@ export function keyframes() {
 
 /** The animation's frames per second (its own, or the default). */
 export function fps() {
-  return editor.scene?.animation?.fps ?? anim.DEFAULT_FPS;
+  return editor.scene?.animation?.fps ?? DEFAULT_FPS;
 }
 
 /** The kind of junction `j` ({ path, joint }): the scene's override, or as classified. */

@@ -288,16 +288,9 @@ async fn serve_refine_inserts_anchors_where_the_fit_falls_short() {
     let pose = serde_json::json!([turn.as_coeffs(), [1.0, 0.0, 0.0, 1.0, 0.0, 0.0]]);
     scene["scene"]["pose"] = pose.clone();
     let tolerance = 1e-3;
-    let request =
-        |rig: &str, scene: &serde_json::Value, poses: serde_json::Value, tolerance: f64| {
-            post_json(
-                &format!("/api/rigs/{rig}/refine"),
-                &serde_json::json!({"scene": scene, "poses": poses, "tolerance": tolerance}),
-            )
-        };
     let (_, body) = send_ok(
         &app,
-        request(&rig, &scene["scene"], serde_json::json!([pose]), tolerance),
+        refine_request(&rig, &scene["scene"], serde_json::json!([pose]), tolerance),
     )
     .await;
     let answer = json(&body);
@@ -314,45 +307,9 @@ async fn serve_refine_inserts_anchors_where_the_fit_falls_short() {
     let refined = &answer["document"];
     assert_eq!(refined["n_curves"], answer["n_curves"]);
     // Every anchor of the artist's, in order, at its place; the inserted ones marked.
-    let numbers = |v: &serde_json::Value| -> Vec<f64> {
-        v.as_array()
-            .expect("array")
-            .iter()
-            .map(|x| x.as_f64().expect("number"))
-            .collect()
-    };
     let (old_rest, new_rest) = (numbers(&info["rest"]), numbers(&refined["rest"]));
-    let (mut old_at, mut new_at, mut marked) = (0, 0, 0);
-    let mut moved = Vec::new();
     let scale = 500.0;
-    for (old, new) in info["paths"]
-        .as_array()
-        .expect("paths")
-        .iter()
-        .zip(refined["paths"].as_array().expect("paths"))
-    {
-        let flags: Vec<bool> = new["inserted"]
-            .as_array()
-            .expect("flags")
-            .iter()
-            .map(|b| b.as_bool().expect("bool"))
-            .collect();
-        marked += flags.iter().filter(|&&b| b).count();
-        let kept: Vec<usize> = (0..flags.len()).filter(|&j| !flags[j]).collect();
-        moved.push(serde_json::json!(kept));
-        assert_eq!(kept.len(), old["joints"].as_array().expect("joints").len());
-        for (k, &j) in kept.iter().enumerate() {
-            for c in 0..2 {
-                let (a, b) = (old_rest[old_at + 6 * k + c], new_rest[new_at + 6 * j + c]);
-                assert!(
-                    (a - b).abs() <= 1e-12 * scale,
-                    "anchor {k} moved: {a} → {b}"
-                );
-            }
-        }
-        old_at += 2 * old["n_points"].as_u64().expect("n") as usize;
-        new_at += 2 * new["n_points"].as_u64().expect("n") as usize;
-    }
+    let (moved, marked) = kept_anchors(&info, refined, &old_rest, &new_rest, scale);
     assert_eq!(answer["moved"], serde_json::json!(moved));
     assert_eq!(marked, n_inserted);
     // The refined rig's operator reproduces the refined rest at the identity.
@@ -384,7 +341,7 @@ async fn serve_refine_inserts_anchors_where_the_fit_falls_short() {
     refined_scene["pose"] = pose.clone();
     let (_, body) = send_ok(
         &app,
-        request(
+        refine_request(
             new_rig,
             &refined_scene,
             serde_json::json!([pose]),
@@ -398,26 +355,102 @@ async fn serve_refine_inserts_anchors_where_the_fit_falls_short() {
         (Some(false), Some(true)),
         "{again}"
     );
-    // Refusals name what is wrong.
+    refine_refusals(&app, &rig, &scene["scene"], &pose, tolerance).await;
+}
+
+/// `POST /api/rigs/{rig}/refine` of `scene` for `poses` within `tolerance`.
+fn refine_request(
+    rig: &str,
+    scene: &serde_json::Value,
+    poses: serde_json::Value,
+    tolerance: f64,
+) -> Request<Body> {
+    post_json(
+        &format!("/api/rigs/{rig}/refine"),
+        &serde_json::json!({"scene": scene, "poses": poses, "tolerance": tolerance}),
+    )
+}
+
+/// The numbers of a JSON array.
+fn numbers(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .expect("array")
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect()
+}
+
+/// Checks that every anchor of `info`'s drawing stands, in order, at its place in the refined
+/// document `refined` (rest points `old_rest`, `new_rest`; drawing size `scale`); returns, per
+/// path, the refined joints the old ones went to, and how many joints are marked inserted.
+fn kept_anchors(
+    info: &serde_json::Value,
+    refined: &serde_json::Value,
+    old_rest: &[f64],
+    new_rest: &[f64],
+    scale: f64,
+) -> (Vec<serde_json::Value>, usize) {
+    let (mut old_at, mut new_at, mut marked) = (0, 0, 0);
+    let mut moved = Vec::new();
+    for (old, new) in info["paths"]
+        .as_array()
+        .expect("paths")
+        .iter()
+        .zip(refined["paths"].as_array().expect("paths"))
+    {
+        let flags: Vec<bool> = new["inserted"]
+            .as_array()
+            .expect("flags")
+            .iter()
+            .map(|b| b.as_bool().expect("bool"))
+            .collect();
+        marked += flags.iter().filter(|&&b| b).count();
+        let kept: Vec<usize> = (0..flags.len()).filter(|&j| !flags[j]).collect();
+        moved.push(serde_json::json!(kept));
+        assert_eq!(kept.len(), old["joints"].as_array().expect("joints").len());
+        for (k, &j) in kept.iter().enumerate() {
+            for c in 0..2 {
+                let (a, b) = (old_rest[old_at + 6 * k + c], new_rest[new_at + 6 * j + c]);
+                assert!(
+                    (a - b).abs() <= 1e-12 * scale,
+                    "anchor {k} moved: {a} → {b}"
+                );
+            }
+        }
+        old_at += 2 * old["n_points"].as_u64().expect("n") as usize;
+        new_at += 2 * new["n_points"].as_u64().expect("n") as usize;
+    }
+    (moved, marked)
+}
+
+/// `POST /api/rigs/{id}/refine` refusals name what is wrong: a tolerance of 0, no poses, a pose
+/// of the wrong length, a rig that does not exist.
+async fn refine_refusals(
+    app: &Router,
+    rig: &str,
+    scene: &serde_json::Value,
+    pose: &serde_json::Value,
+    tolerance: f64,
+) {
     let message = refused_with(
-        &app,
-        request(&rig, &scene["scene"], serde_json::json!([pose]), 0.0),
+        app,
+        refine_request(rig, scene, serde_json::json!([pose]), 0.0),
         StatusCode::BAD_REQUEST,
     )
     .await;
     assert!(message.contains("tolerance"), "{message}");
     let message = refused_with(
-        &app,
-        request(&rig, &scene["scene"], serde_json::json!([]), tolerance),
+        app,
+        refine_request(rig, scene, serde_json::json!([]), tolerance),
         StatusCode::BAD_REQUEST,
     )
     .await;
     assert!(message.contains("0 poses"), "{message}");
     let message = refused_with(
-        &app,
-        request(
-            &rig,
-            &scene["scene"],
+        app,
+        refine_request(
+            rig,
+            scene,
             serde_json::json!([[[1.0, 0.0, 0.0, 1.0, 0.0, 0.0]]]),
             tolerance,
         ),
@@ -426,13 +459,8 @@ async fn serve_refine_inserts_anchors_where_the_fit_falls_short() {
     .await;
     assert!(message.contains("pose 0"), "{message}");
     refused_with(
-        &app,
-        request(
-            "r999",
-            &scene["scene"],
-            serde_json::json!([pose]),
-            tolerance,
-        ),
+        app,
+        refine_request("r999", scene, serde_json::json!([pose]), tolerance),
         StatusCode::NOT_FOUND,
     )
     .await;

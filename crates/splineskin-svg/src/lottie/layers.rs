@@ -104,15 +104,7 @@ impl Writer<'_> {
                 .and_then(|clip| self.clip_masks(clip, lookup, &label));
             match masks {
                 Some(masks) => {
-                    if g.mask().is_some() {
-                        self.warnings.add(format!(
-                            "{label}: its mask is not written (the content is drawn unmasked)"
-                        ));
-                    }
-                    if !g.filters().is_empty() {
-                        self.warnings
-                            .add(format!("{label}: its filters are not written"));
-                    }
+                    self.warnings.unwritten_effects(g, &label);
                     // Its content, inner clip paths included, in one masked layer.
                     let mut shapes = Vec::new();
                     self.group_items(g, lookup, &mut shapes);

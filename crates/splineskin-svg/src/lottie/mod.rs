@@ -457,15 +457,7 @@ impl Writer<'_> {
                              the outer one only)"
                         ));
                     }
-                    if g.mask().is_some() {
-                        self.warnings.add(format!(
-                            "{label}: its mask is not written (the content is drawn unmasked)"
-                        ));
-                    }
-                    if !g.filters().is_empty() {
-                        self.warnings
-                            .add(format!("{label}: its filters are not written"));
-                    }
+                    self.warnings.unwritten_effects(g, label);
                     let opacity = f64::from(g.opacity().get());
                     if opacity < 1.0 {
                         let mut items = Vec::new();
@@ -603,6 +595,18 @@ impl Warnings {
     pub(super) fn add(&mut self, warning: String) {
         if !self.0.contains(&warning) {
             self.0.push(warning);
+        }
+    }
+
+    /// What of group `g` (named `label`) is not written: its mask and its filters.
+    pub(super) fn unwritten_effects(&mut self, g: &usvg::Group, label: &str) {
+        if g.mask().is_some() {
+            self.add(format!(
+                "{label}: its mask is not written (the content is drawn unmasked)"
+            ));
+        }
+        if !g.filters().is_empty() {
+            self.add(format!("{label}: its filters are not written"));
         }
     }
 }

@@ -208,6 +208,7 @@ impl Scene {
             Some(d) => Some(DefOpOut::of(d)),
             None => None,
         };
+        let (pose, poses) = poses_out(self);
         let file = SceneOut {
             splineskin_scene: SCENE_VERSION,
             svg: match svg {
@@ -238,37 +239,35 @@ impl Scene {
             flexible: self.flexible,
             engine: (self.engine != Engine::Ours).then(|| self.engine.name()),
             junctions: self.junctions.iter().map(junction_out).collect(),
-            pose: None,
-            poses: None,
+            pose,
+            poses,
             animation: self.animation.as_ref().map(animation_out),
             defop,
         };
-        let file = with_poses(file, self);
         serde_json::to_string_pretty(&file)
             .map_err(|e| SceneError::invalid(&self.origin, "scene", format!("writing it: {e}")))
     }
 }
 
-/// `file` with the scene's poses: one unnamed pose as `pose`, others as `poses`.
-fn with_poses<'a>(mut file: SceneOut<'a>, scene: &Scene) -> SceneOut<'a> {
+/// The scene's poses as written: one unnamed pose as `pose` (first), others as `poses`.
+#[allow(clippy::type_complexity)]
+fn poses_out(scene: &Scene) -> (Option<Vec<[f64; 6]>>, Option<Vec<PoseOut>>) {
     let matrices =
         |transforms: &[kurbo::Affine]| transforms.iter().map(|t| t.as_coeffs()).collect();
     match scene.poses.as_slice() {
-        [] => {}
-        [only] if only.name.is_none() => file.pose = Some(matrices(&only.transforms)),
+        [] => (None, None),
+        [only] if only.name.is_none() => (Some(matrices(&only.transforms)), None),
         poses => {
-            file.poses = Some(
-                poses
-                    .iter()
-                    .map(|p| PoseOut {
-                        name: p.name.clone(),
-                        transforms: matrices(&p.transforms),
-                    })
-                    .collect(),
-            )
+            let poses = poses
+                .iter()
+                .map(|p| PoseOut {
+                    name: p.name.clone(),
+                    transforms: matrices(&p.transforms),
+                })
+                .collect();
+            (None, Some(poses))
         }
     }
-    file
 }
 
 fn bone_out(bone: &super::Bone) -> BoneOut {

@@ -102,15 +102,18 @@ impl PosedDrawing {
         self.setup.warnings.iter().cloned().chain(rank).collect()
     }
 
-    /// Sets up `scene` in `compat` ([`Scene::setup`]) and builds its engine
-    /// ([`PosedDrawing::new`]).
+    /// [`PosedDrawing::of_scene`] with the per-frame product on one thread.
     pub fn from_scene(
         scene: &Scene,
         compat: Compat,
         flexible: bool,
     ) -> Result<PosedDrawing, SceneError> {
-        let setup = scene.setup(compat)?;
-        PosedDrawing::new(scene, setup, compat, flexible)
+        let options = PoseOptions {
+            compat,
+            flexible,
+            parallel: false,
+        };
+        PosedDrawing::of_scene(scene, options)
     }
 
     /// Keeps `setup` (of `scene`, in `compat`) with the engine the scene asks for: a naive
