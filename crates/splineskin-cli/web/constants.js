@@ -4,7 +4,7 @@
 /** Weight families solved on a triangulated domain (splineskin::scene::MeshFamily). */
 export const MESH_FAMILIES = ['bbw', 'harmonic', 'biharmonic'];
 
-/** Operator families, by ground truth (splineskin_editor::scene_file::defop_family). */
+/** Operator families, by ground truth (splineskin_editor::page_scene::defop_family). */
 export const DEFOP_FAMILIES = ['defop-arap', 'defop-sarap'];
 
 /** Training samples of an operator when the user has not chosen (DEFAULT_EDITOR_SAMPLES). */

@@ -3,7 +3,7 @@
 //! evaluation of it (the crate's documentation has the table of routes).
 //!
 //! ```text
-//! POST /api/defop:  the scene's defop section (scene_file::defop_settings: the page's energy
+//! POST /api/defop:  the scene's defop section (page_scene::defop_settings: the page's energy
 //!                   and samples) → Scene::defop_shape (the drawing's domain) → train, as
 //!                   `splineskin defop train` does → DefOpRig::precompute   (once, seconds)
 //! page, each frame: points = G_spline · ψ(Q)                              (rig.js, DefOpLiveRig)
@@ -23,10 +23,10 @@ use splineskin::scene::Compat;
 
 use crate::document_routes::gone_operator;
 use crate::editor::Editor;
+use crate::page_scene::defop_energy;
 use crate::progress::{Count, Followed};
 use crate::request::{ApiError, Request, Response, MAX_OPERATOR_BYTES};
-use crate::rig_routes::page_scene;
-use crate::scene_file::defop_energy;
+use crate::rig_routes::checked_scene;
 use crate::store::{OperatorBase, OperatorRig};
 use crate::wire::{EditScene, SceneRequest};
 
@@ -94,7 +94,7 @@ pub(crate) fn defop(
         // Validated and read like any scene file (the one "Save scene" writes, whose `defop`
         // section holds the page's energy and sample count): the drawing with the page's
         // junction kinds, the fit options, the operator's settings.
-        let library_scene = page_scene(&document, scene)?;
+        let library_scene = checked_scene(&document, scene)?;
         let bad = |e: &dyn std::fmt::Display| ApiError::bad(format!("{}: {e}", document.name));
         let settings = library_scene.defop.clone().ok_or_else(|| {
             ApiError::new(

@@ -4,12 +4,12 @@
 use anyhow::{bail, Context, Result};
 use splineskin::drawing::svg_in::MAX_SVG_BYTES;
 use splineskin::drawing::svg_out::{write_svg_marked, write_svg_with_inserted, ViewBoxRule};
-use splineskin::drawing::{Drawing, SvgSource};
+use splineskin::drawing::{read_svg_named, Drawing, ImportOptions, SvgSource};
 use splineskin::folds::FoldCheck;
 use splineskin::scene::{Compat, Engine, MeshFamily, Scene, WeightSpec};
 use splineskin::spline_fit::Measure;
 
-use crate::scene_file::{defop_family, scene_json, SceneExtras};
+use crate::page_scene::{defop_family, scene_of_page, SceneExtras};
 use crate::wire::{
     AnimationWire, DocumentInfo, EditScene, ElementInfo, JunctionWire, OperatorInfo, PathInfo,
     WeightsWire,
@@ -232,9 +232,8 @@ impl Document {
             junctions,
             ..scene.clone()
         };
-        let json = scene_json(&svg_text, &scene, &self.extras);
-        let mut scene = Scene::from_json(&json, name, None)?;
-        scene.svg_origin = name.clone();
+        let read = read_svg_named(&svg_text, &ImportOptions::default(), name)?;
+        let scene = scene_of_page(name, &svg_text, read, &scene, &self.extras)?;
         let mut document = Document::from_scene(scene, name)?;
         if document.drawing.n_curves() != drawing.n_curves() {
             bail!(

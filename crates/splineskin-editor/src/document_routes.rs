@@ -15,10 +15,10 @@ use splineskin::naive::skin_point;
 use crate::document::Document;
 use crate::editor::{lock_puppet, Editor};
 use crate::request::{ApiError, Request, Response};
-use crate::rig_routes::{gone_rig, page_scene};
-use crate::scene_file::scene_json;
+use crate::rig_routes::{checked_scene, gone_rig};
 use crate::store::{OperatorRig, Rig};
 use crate::wire::{EditScene, ExportQuery, FoldWire, OutsideWire, ViewBoxReport};
+use splineskin::scene::ours_write::SvgRef;
 
 /// `GET /api/initial`.
 pub(crate) fn initial(editor: &Editor) -> Result<Response, ApiError> {
@@ -303,9 +303,9 @@ pub(crate) fn save_scene(
 ) -> Result<Response, ApiError> {
     let scene: EditScene = request.json()?;
     let document = editor.document(id)?;
-    // Validated as it will be read back.
-    page_scene(&document, &scene)?;
-    let json = scene_json(&document.svg_text, &scene, &document.extras);
+    let json = checked_scene(&document, &scene)?
+        .to_json(SvgRef::Inline(&document.svg_text))
+        .map_err(|e| ApiError::bad(e.to_string()))?;
     Ok(Response::ok("application/json", json))
 }
 
@@ -336,14 +336,14 @@ pub(crate) fn lottie(editor: &Editor, id: &str, request: &Request) -> Result<Res
     let scene: EditScene = request.json()?;
     let document = editor.document(id)?;
     let (json, report) = {
-        if crate::scene_file::defop_energy(&scene.weights.family).is_some() {
+        if crate::page_scene::defop_energy(&scene.weights.family).is_some() {
             return Err(ApiError::bad(format!(
                 "{}: Lottie export plays a rig of weights; pick a weight family (the trained \
                  operators are not exported as animations yet)",
                 document.name
             )));
         }
-        let read = page_scene(&document, &scene)?;
+        let read = checked_scene(&document, &scene)?;
         let Some(animation) = read.animation.clone() else {
             return Err(ApiError::bad(format!(
                 "{}: the timeline has no keyframes (key the pose at two times or more)",

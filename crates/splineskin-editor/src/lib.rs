@@ -45,7 +45,7 @@
 //! [`rig_routes`] and [`defop_routes`] (the routes), [`editor`] (the editor's state),
 //! [`request`] (requests, responses, errors, limits), [`document`] (an opened drawing),
 //! [`store`] (documents and rigs by id, bounded), [`progress`] (stages of running
-//! precomputations), [`wire`] (JSON exchanged with the page), [`scene_file`] (the page's scene
+//! precomputations), [`wire`] (JSON exchanged with the page), [`page_scene`] (the page's scene
 //! as a scene file of ours), [`page_constants`] (the names and limits the page imports, written
 //! as `web/constants.js`).
 //!
@@ -64,11 +64,11 @@ pub mod document;
 pub mod document_routes;
 pub mod editor;
 pub mod page_constants;
+pub mod page_scene;
 pub mod progress;
 pub mod request;
 pub mod rig_routes;
 pub mod routes;
-pub mod scene_file;
 pub mod store;
 pub mod wire;
 

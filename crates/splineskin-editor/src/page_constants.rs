@@ -17,8 +17,8 @@ use splineskin::drawing::JointKind;
 use splineskin::scene::MeshFamily;
 
 use crate::defop_routes::MAX_EDITOR_SAMPLES;
+use crate::page_scene::{defop_family, DEFAULT_EDITOR_SAMPLES, DEFOP_ENERGIES};
 use crate::request::MAX_REFINE_POSES;
-use crate::scene_file::{defop_family, DEFAULT_EDITOR_SAMPLES, DEFOP_ENERGIES};
 
 /// The junction kinds a click on a junction marker cycles through, in that order.
 pub const CYCLED_JUNCTION_KINDS: [JointKind; 4] = [
@@ -58,7 +58,7 @@ pub fn javascript() -> String {
         list(MESH_FAMILIES.map(MeshFamily::name)),
     );
     constant(
-        "Operator families, by ground truth (splineskin_editor::scene_file::defop_family).",
+        "Operator families, by ground truth (splineskin_editor::page_scene::defop_family).",
         "DEFOP_FAMILIES",
         list(DEFOP_ENERGIES.map(defop_family)),
     );

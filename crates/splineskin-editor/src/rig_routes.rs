@@ -9,21 +9,22 @@ use splineskin::weights::WeightsError;
 
 use crate::document::Document;
 use crate::editor::{lock_puppet, Editor};
+use crate::page_scene::{defop_energy, scene_of_page};
 use crate::progress::Followed;
 use crate::request::{
     ApiError, Request, Response, MAX_GRID_SIDE, MAX_HANDLES, MAX_OPERATOR_BYTES, MAX_REFINE_POSES,
     RIG_HEADER,
 };
-use crate::scene_file::{defop_energy, scene_json};
 use crate::wire::{
     ColumnsRequest, EditScene, PoseRequest, RefineAnswer, RefineRequest, RigRequest,
 };
 use splineskin::scene::WeightSpec;
 use splineskin::weights::coarse_to_fine::preview_options;
 
-/// Reads the page's scene on `document` as a scene of ours (validating it like any scene
-/// file), refusing rigs larger than [`MAX_HANDLES`] or [`MAX_OPERATOR_BYTES`].
-pub(crate) fn page_scene(document: &Document, scene: &EditScene) -> Result<Scene, ApiError> {
+/// The page's scene on `document` as a scene of the library, checked as a scene file of ours
+/// is ([`scene_of_page`]), refusing rigs larger than [`MAX_HANDLES`] or
+/// [`MAX_OPERATOR_BYTES`]; a coarse preview's domain coarsened.
+pub(crate) fn checked_scene(document: &Document, scene: &EditScene) -> Result<Scene, ApiError> {
     let n_handles = scene.handles.len();
     if n_handles > MAX_HANDLES {
         return Err(ApiError::bad(format!(
@@ -42,26 +43,28 @@ pub(crate) fn page_scene(document: &Document, scene: &EditScene) -> Result<Scene
             MAX_OPERATOR_BYTES >> 20
         )));
     }
-    // The scene file leaves `weights.coarse` out: it is applied to the scene read back.
-    let coarse = scene.weights.coarse;
-    let json = scene_json(&document.svg_text, scene, &document.extras);
-    let mut scene =
-        Scene::from_json(&json, &document.name, None).map_err(|e| ApiError::bad(e.to_string()))?;
-    scene.svg_origin = document.name.clone();
     // The drawing was read when the document was opened: not read again for each rig.
-    let mut scene = scene.with_drawing(document.drawing.clone());
-    if coarse {
-        if !matches!(scene.weights, WeightSpec::Mesh(_)) {
+    let mut read = scene_of_page(
+        &document.name,
+        &document.svg_text,
+        document.drawing.clone(),
+        scene,
+        &document.extras,
+    )
+    .map_err(|e| ApiError::bad(e.to_string()))?;
+    // A request's only: never written.
+    if scene.weights.coarse {
+        if !matches!(read.weights, WeightSpec::Mesh(_)) {
             return Err(ApiError::bad(format!(
                 "{}: weights.coarse: the '{}' weights have no mesh to coarsen (expected \
                  harmonic, biharmonic or bbw)",
                 document.name,
-                scene.weights.name()
+                read.weights.name()
             )));
         }
-        scene.domain = preview_options(&scene.domain);
+        read.domain = preview_options(&read.domain);
     }
-    Ok(scene)
+    Ok(read)
 }
 
 /// `POST /api/rig` ([`RigRequest`]).
@@ -82,7 +85,7 @@ pub(crate) fn rig(
     // A newer request (the page's next click) asks this one to stop: its weights end at the
     // next active-set iteration, and the cores go to the newer one.
     let stop = followed.map(|f| f.stop_signal());
-    let scene = page_scene(&document, &request.scene)?;
+    let scene = checked_scene(&document, &request.scene)?;
     let mut stage = |s: PuppetStage| {
         if let Some(report) = &report {
             report(match s {
@@ -122,7 +125,7 @@ pub(crate) fn columns(
         report("weights");
     }
     let stop = followed.map(|f| f.stop_signal());
-    let scene = page_scene(&document, &request.scene)?;
+    let scene = checked_scene(&document, &request.scene)?;
     let solved = scene
         .bbw_columns(Compat::None, &request.columns, stop.as_ref())
         .map_err(|e| weights_error(&document.name, e))?;

@@ -11,7 +11,7 @@ use splineskin::scene::SolvedColumns;
 
 /// The part of a scene the page edits: point handles, their pose, the weight family, junction
 /// overrides and flexible G¹. Together with a document's SVG text it is a scene of ours
-/// ([`crate::scene_file`]).
+/// ([`crate::page_scene`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EditScene {
@@ -96,7 +96,7 @@ pub struct WeightsWire {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub exponent: Option<f64>,
     /// Training samples of a deformation operator (default
-    /// [`crate::scene_file::DEFAULT_EDITOR_SAMPLES`]).
+    /// [`crate::page_scene::DEFAULT_EDITOR_SAMPLES`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<usize>,
     /// A quick preview of a mesh family: the same family solved on a coarse triangulation of

@@ -152,6 +152,21 @@ impl Easing {
         Easing::ALL.into_iter().find(|e| e.name() == name)
     }
 
+    /// The easing named `name`, or an error naming the easings there are.
+    ///
+    /// ```
+    /// use splineskin::animation::Easing;
+    /// assert_eq!(Easing::parse("hold"), Ok(Easing::Hold));
+    /// let e = Easing::parse("bounce").unwrap_err();
+    /// assert_eq!(
+    ///     e.to_string(),
+    ///     "'bounce' is not an easing (expected one of linear, ease-in, ease-out, ease-in-out, hold)"
+    /// );
+    /// ```
+    pub fn parse(name: &str) -> Result<Easing, UnknownEasing> {
+        Easing::from_name(name).ok_or_else(|| UnknownEasing(name.to_string()))
+    }
+
     /// `e(u)` for `u ∈ [0, 1]` (type doc); exact at 0 and 1.
     ///
     /// ```
@@ -178,6 +193,24 @@ impl Easing {
         }
     }
 }
+
+/// A name that is none of the easings' ([`Easing::parse`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnknownEasing(pub String);
+
+impl std::fmt::Display for UnknownEasing {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let names: Vec<&str> = Easing::ALL.iter().map(|e| e.name()).collect();
+        write!(
+            f,
+            "'{}' is not an easing (expected one of {})",
+            self.0,
+            names.join(", ")
+        )
+    }
+}
+
+impl std::error::Error for UnknownEasing {}
 
 /// Keyframes with strictly increasing times, and a frame rate.
 #[derive(Clone, Debug, PartialEq)]

@@ -404,7 +404,13 @@ pub enum SceneError {
 impl SceneError {
     /// [`SceneError::Invalid`]: `element` of the scene `origin` holds a value that is not
     /// what `message` says was expected.
-    pub(crate) fn invalid(
+    ///
+    /// ```
+    /// use splineskin::scene::SceneError;
+    /// let e = SceneError::invalid("fish.json", "handles[2].position", "expected [x, y]");
+    /// assert_eq!(e.to_string(), "fish.json: handles[2].position: expected [x, y]");
+    /// ```
+    pub fn invalid(
         origin: &str,
         element: impl Into<String>,
         message: impl Into<String>,
@@ -414,6 +420,24 @@ impl SceneError {
             element: element.into(),
             message: message.into(),
         }
+    }
+
+    /// The scene `origin`'s `animation` refused by [`Animation::new`](crate::animation::Animation::new):
+    /// [`SceneError::Invalid`] of the element `animation.fps` for a frame rate, else
+    /// `animation`.
+    ///
+    /// ```
+    /// use splineskin::animation::{Animation, Keyframe};
+    /// use splineskin::scene::SceneError;
+    /// let e = Animation::new(0.0, vec![Keyframe::new(0.0, vec![])]).unwrap_err();
+    /// assert!(SceneError::animation("walk.json", e).to_string().starts_with("walk.json: animation.fps: "));
+    /// ```
+    pub fn animation(origin: &str, e: crate::animation::AnimationError) -> SceneError {
+        let element = match &e {
+            crate::animation::AnimationError::Fps { .. } => "animation.fps",
+            _ => "animation",
+        };
+        SceneError::invalid(origin, element, e.to_string())
     }
 }
 

@@ -84,7 +84,7 @@ use super::{
     check_affine, check_point, handle_element, json_error, Bone, BoneTransform, Engine, HandleKind,
     HandleSet, JunctionOverride, Pose, Scene, SceneError, SceneFormat, WeightSpec, MAX_SCENE_BYTES,
 };
-use crate::animation::{Animation, AnimationError, Easing, Keyframe, DEFAULT_FPS};
+use crate::animation::{Animation, Easing, Keyframe, DEFAULT_FPS};
 use crate::drawing::JointKind;
 use crate::spline_fit::Measure;
 
@@ -538,25 +538,33 @@ fn rest_handles(
 
 /// The junction kinds `file` imposes (`end` cannot be).
 fn junction_overrides(file: &SceneFile, origin: &str) -> Result<Vec<JunctionOverride>, SceneError> {
-    file.junctions
+    let overrides: Vec<JunctionOverride> = file
+        .junctions
         .iter()
-        .enumerate()
-        .map(|(i, j)| {
-            if j.kind == JointKind::End {
-                Err(SceneError::invalid(
-                    origin,
-                    format!("junctions[{i}].kind"),
-                    "'end' cannot be imposed (expected C0, C1, G1 or angle)",
-                ))
-            } else {
-                Ok(JunctionOverride {
-                    path: j.path,
-                    joint: j.joint,
-                    kind: j.kind,
-                })
-            }
+        .map(|j| JunctionOverride {
+            path: j.path,
+            joint: j.joint,
+            kind: j.kind,
         })
-        .collect()
+        .collect();
+    check_junction_overrides(&overrides, origin)?;
+    Ok(overrides)
+}
+
+/// Refuses an imposed `end` (a joint's being an end is the drawing's, not a choice), naming the
+/// element `junctions[i].kind`.
+pub(crate) fn check_junction_overrides(
+    overrides: &[JunctionOverride],
+    origin: &str,
+) -> Result<(), SceneError> {
+    match overrides.iter().position(|j| j.kind == JointKind::End) {
+        Some(i) => Err(SceneError::invalid(
+            origin,
+            format!("junctions[{i}].kind"),
+            "'end' cannot be imposed (expected C0, C1, G1 or angle)",
+        )),
+        None => Ok(()),
+    }
 }
 
 /// The poses of `file` (`pose`, or `poses` with names and cage positions), each a map per
@@ -659,16 +667,8 @@ fn animation(
         };
         let easing = match key.easing.as_deref() {
             None => Easing::Linear,
-            Some(name) => Easing::from_name(name).ok_or_else(|| {
-                let names: Vec<&str> = Easing::ALL.iter().map(|e| e.name()).collect();
-                invalid(
-                    format!("animation.keyframes[{k}].easing"),
-                    format!(
-                        "'{name}' is not an easing (expected one of {})",
-                        names.join(", ")
-                    ),
-                )
-            })?,
+            Some(name) => Easing::parse(name)
+                .map_err(|e| invalid(format!("animation.keyframes[{k}].easing"), e.to_string()))?,
         };
         keyframes.push(Keyframe {
             time: key.time,
@@ -677,13 +677,7 @@ fn animation(
         });
     }
     let fps = file.fps.unwrap_or(DEFAULT_FPS);
-    Animation::new(fps, keyframes).map_err(|e| {
-        let element = match &e {
-            AnimationError::Fps { .. } => "animation.fps".to_string(),
-            _ => "animation".to_string(),
-        };
-        invalid(element, e.to_string())
-    })
+    Animation::new(fps, keyframes).map_err(|e| SceneError::animation(origin, e))
 }
 
 /// Index of `kind` in rig order.

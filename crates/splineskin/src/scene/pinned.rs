@@ -8,10 +8,12 @@ use std::sync::Arc;
 
 use kurbo::{Affine, Point};
 
+use super::ours::check_junction_overrides;
 use super::{
-    check_affine, setup::check_rest_handles, Engine, HandleSet, Pose, Scene, SceneError,
-    SceneFormat, WeightSpec,
+    check_affine, check_point, setup::check_rest_handles, Engine, HandleSet, JunctionOverride,
+    Pose, Scene, SceneError, SceneFormat, WeightSpec,
 };
+use crate::animation::Animation;
 use crate::domain::DomainOptions;
 use crate::drawing::{Drawing, SvgSource};
 use crate::spline_fit::Measure;
@@ -72,6 +74,9 @@ impl Scene {
             domain,
             pose,
         } = pinned;
+        for (i, p) in pins.iter().enumerate() {
+            check_point([p.x, p.y], &origin, format!("handles[{i}].position"))?;
+        }
         let set = HandleSet {
             points: &pins,
             bones: &[],
@@ -79,22 +84,7 @@ impl Scene {
         };
         check_rest_handles(&set, &origin, SceneFormat::Ours)?;
         weights.check_handles(&set, &origin, "weights")?;
-        if pose.len() != pins.len() {
-            return Err(SceneError::invalid(
-                &origin,
-                "poses[0]",
-                format!(
-                    "{} transforms for {} point handles (one per handle expected)",
-                    pose.len(),
-                    pins.len()
-                ),
-            ));
-        }
-        let transforms = pose
-            .iter()
-            .enumerate()
-            .map(|(i, &t)| check_affine(t, &origin, format!("poses[0].transforms[{i}]")))
-            .collect::<Result<Vec<_>, _>>()?;
+        let transforms = checked_maps(&pose, pins.len(), &origin, "poses[0]")?;
         Ok(Scene {
             svg_origin: origin.clone(),
             origin,
@@ -122,6 +112,52 @@ impl Scene {
 }
 
 impl Scene {
+    /// The scene with the junction kinds `junctions` imposed (replacing any), checked as the
+    /// `junctions` of a scene file: `end` cannot be imposed (error element
+    /// `junctions[i].kind`).
+    ///
+    /// ```
+    /// use splineskin::drawing::JointKind;
+    /// use splineskin::scene::JunctionOverride;
+    /// let scene = splineskin::examples::demo_scene();
+    /// let c1 = JunctionOverride { path: 0, joint: 1, kind: JointKind::C1 };
+    /// assert_eq!(scene.clone().with_junctions(vec![c1])?.junctions, vec![c1]);
+    /// let end = JunctionOverride { kind: JointKind::End, ..c1 };
+    /// assert!(scene.with_junctions(vec![end]).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_junctions(mut self, junctions: Vec<JunctionOverride>) -> Result<Scene, SceneError> {
+        check_junction_overrides(&junctions, &self.origin)?;
+        self.junctions = junctions;
+        Ok(self)
+    }
+
+    /// The scene with `animation` as its keyframed poses, checked as a scene file's
+    /// `animation`: each keyframe has one map per handle, finite and within
+    /// [`MAX_COORDINATE`](super::MAX_COORDINATE) (error element
+    /// `animation.keyframes[k].pose`).
+    ///
+    /// ```
+    /// use kurbo::Affine;
+    /// use splineskin::animation::{Animation, Keyframe};
+    /// let scene = splineskin::examples::demo_scene();
+    /// let n = scene.n_handles();
+    /// let still = |time| Keyframe::new(time, vec![Affine::IDENTITY; n]);
+    /// let animation = Animation::new(30.0, vec![still(0.0), still(1.0)])?;
+    /// assert!(scene.clone().with_animation(animation)?.animation.is_some());
+    /// let short = Animation::new(30.0, vec![Keyframe::new(0.0, vec![Affine::IDENTITY])])?;
+    /// assert!(scene.with_animation(short).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_animation(mut self, animation: Animation) -> Result<Scene, SceneError> {
+        for (k, key) in animation.keyframes().iter().enumerate() {
+            let element = format!("animation.keyframes[{k}].pose");
+            checked_maps(&key.transforms, self.n_handles(), &self.origin, &element)?;
+        }
+        self.animation = Some(animation);
+        Ok(self)
+    }
+
     /// The scene with `drawing` kept as its drawing as read, so that [`Scene::setup`] takes it
     /// instead of reading `svg_text` again: `drawing` must be what our importer reads of
     /// `svg_text` with the default options. It is taken only while its source is the scene's
@@ -140,6 +176,30 @@ impl Scene {
         self.read = ReadDrawing(Some(Arc::new(drawing)));
         self
     }
+}
+
+/// `maps` checked as the pose `element` of `n` handles: one map per handle, each finite and
+/// within [`MAX_COORDINATE`](super::MAX_COORDINATE) (elements `{element}.transforms[i]`).
+fn checked_maps(
+    maps: &[Affine],
+    n: usize,
+    origin: &str,
+    element: &str,
+) -> Result<Vec<Affine>, SceneError> {
+    if maps.len() != n {
+        return Err(SceneError::invalid(
+            origin,
+            element,
+            format!(
+                "{} transforms for {n} point handles (one per handle expected)",
+                maps.len()
+            ),
+        ));
+    }
+    maps.iter()
+        .enumerate()
+        .map(|(i, &t)| check_affine(t, origin, format!("{element}.transforms[{i}]")))
+        .collect()
 }
 
 /// The drawing of a scene as its maker already read it ([`Scene::from_pins`],
