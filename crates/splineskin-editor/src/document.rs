@@ -6,13 +6,12 @@ use splineskin::drawing::svg_in::MAX_SVG_BYTES;
 use splineskin::drawing::svg_out::{write_svg_marked, write_svg_with_inserted, ViewBoxRule};
 use splineskin::drawing::{read_svg_named, Drawing, ImportOptions, SvgSource};
 use splineskin::folds::FoldCheck;
-use splineskin::scene::{Compat, Engine, MeshFamily, Scene, WeightSpec};
+use splineskin::scene::{Compat, Engine, JunctionOverride, MeshFamily, Scene, WeightSpec};
 use splineskin::spline_fit::Measure;
 
 use crate::page_scene::{defop_family, scene_of_page, SceneExtras};
 use crate::wire::{
-    AnimationWire, DocumentInfo, EditScene, ElementInfo, JunctionWire, OperatorInfo, PathInfo,
-    WeightsWire,
+    AnimationWire, DocumentInfo, EditScene, ElementInfo, OperatorInfo, PathInfo, WeightsWire,
 };
 
 /// The attribute that marks each imported element in the shown document with its index
@@ -193,14 +192,14 @@ impl Document {
                 .with_context(|| {
                     format!("{name}: junction {}:{}: no such joint", j.path, j.joint)
                 })?;
-            junctions.push(JunctionWire {
+            junctions.push(JunctionOverride {
                 joint: *joint,
                 ..*j
             });
         }
         for (p, flags) in inserted.iter().enumerate() {
             for (joint, _) in flags.iter().enumerate().filter(|(_, &new)| new) {
-                junctions.push(JunctionWire {
+                junctions.push(JunctionOverride {
                     path: p,
                     joint,
                     kind: drawing.paths[p].joints[joint],
@@ -334,12 +333,12 @@ fn weights_wire(scene: &Scene, name: &str) -> Result<WeightsWire> {
 
 /// Every joint whose kind in `rigged` (the rig's) differs from `drawing`'s (classified from
 /// the geometry), as the page's overrides.
-fn junction_overrides(rigged: &Drawing, drawing: &Drawing) -> Vec<JunctionWire> {
+fn junction_overrides(rigged: &Drawing, drawing: &Drawing) -> Vec<JunctionOverride> {
     let mut junctions = Vec::new();
     for (p, (a, b)) in rigged.paths.iter().zip(&drawing.paths).enumerate() {
         for (j, (&kind, &classified)) in a.joints.iter().zip(&b.joints).enumerate() {
             if kind != classified {
-                junctions.push(JunctionWire {
+                junctions.push(JunctionOverride {
                     path: p,
                     joint: j,
                     kind,

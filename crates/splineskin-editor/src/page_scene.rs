@@ -10,9 +10,7 @@ use splineskin::defop::Energy;
 use splineskin::domain::DomainOptions;
 use splineskin::drawing::Drawing;
 use splineskin::scene::pinned::PinnedDrawing;
-use splineskin::scene::{
-    scene_domain_options, DefOpSettings, JunctionOverride, Scene, SceneError, WeightSpec,
-};
+use splineskin::scene::{scene_domain_options, DefOpSettings, Scene, SceneError, WeightSpec};
 use splineskin::spline_fit::Measure;
 
 use crate::wire::{AnimationWire, EditScene, WeightsWire};
@@ -195,16 +193,7 @@ pub fn scene_of_page(
     made.measure = Measure::from_arc_length(extras.arc_length);
     made.flexible = scene.flexible;
     made.defop = defop;
-    let junctions = scene
-        .junctions
-        .iter()
-        .map(|j| JunctionOverride {
-            path: j.path,
-            joint: j.joint,
-            kind: j.kind,
-        })
-        .collect();
-    let made = made.with_junctions(junctions)?;
+    let made = made.with_junctions(scene.junctions.clone())?;
     match &scene.animation {
         Some(wire) => made.with_animation(page_animation(wire, origin)?),
         None => Ok(made),
@@ -215,9 +204,10 @@ pub fn scene_of_page(
 mod tests {
     use super::*;
     use crate::document::Document;
-    use crate::wire::{JunctionWire, KeyframeWire};
+    use crate::wire::KeyframeWire;
     use splineskin::drawing::JointKind;
     use splineskin::scene::ours_write::SvgRef;
+    use splineskin::scene::JunctionOverride;
 
     /// The page's scene of the bundled fish, with a junction kind, a margin and a timeline of
     /// two keyframes, on bounded biharmonic weights.
@@ -230,7 +220,7 @@ mod tests {
             coarse: false,
         };
         scene.margin = Some(0.02);
-        scene.junctions = vec![JunctionWire {
+        scene.junctions = vec![JunctionOverride {
             path: 0,
             joint: 1,
             kind: JointKind::C0,

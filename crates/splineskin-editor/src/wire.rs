@@ -7,7 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 use splineskin::drawing::JointKind;
-use splineskin::scene::SolvedColumns;
+use splineskin::scene::{JunctionOverride, SolvedColumns};
 
 /// The part of a scene the page edits: point handles, their pose, the weight family, junction
 /// overrides and flexible G¹. Together with a document's SVG text it is a scene of ours
@@ -22,7 +22,7 @@ pub struct EditScene {
     /// The weight family.
     pub weights: WeightsWire,
     /// Junction kinds the user chose, replacing the drawing's classification.
-    pub junctions: Vec<JunctionWire>,
+    pub junctions: Vec<JunctionOverride>,
     /// Whether G¹ and fixed-angle junctions are flexible (solved by the server on mouse-up).
     pub flexible: bool,
     /// The timeline's keyframes, if any (a scene's `animation`).
@@ -105,18 +105,6 @@ pub struct WeightsWire {
     /// request's only: never written (scene files and the page's scene leave it out).
     #[serde(default, skip_serializing)]
     pub coarse: bool,
-}
-
-/// One junction override: joint `joint` of path `path` takes `kind`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct JunctionWire {
-    /// Path index (subpaths in document order).
-    pub path: usize,
-    /// On-curve point index within the path (joint `k` starts curve `k`).
-    pub joint: usize,
-    /// The kind: `C0`, `C1`, `G1` or `angle`.
-    pub kind: JointKind,
 }
 
 /// A request naming a document and carrying the page's scene.

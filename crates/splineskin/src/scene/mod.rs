@@ -299,8 +299,10 @@ impl WeightSpec {
 }
 
 /// A junction kind chosen by the user for on-curve point `joint` of path `path` (joint `k` is
-/// the start of curve `k`, as in [`crate::drawing::Path::joints`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// the start of curve `k`, as in [`crate::drawing::Path::joints`]). In a scene file of ours
+/// (and the editor's JSON): `{"path": 0, "joint": 3, "kind": "C1"}`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct JunctionOverride {
     /// Path index (subpaths in document order).
     pub path: usize,

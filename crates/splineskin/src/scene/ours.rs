@@ -116,7 +116,7 @@ struct SceneFile {
     #[serde(default)]
     engine: Option<String>,
     #[serde(default)]
-    junctions: Vec<JunctionFile>,
+    junctions: Vec<JunctionOverride>,
     #[serde(default)]
     pose: Option<Vec<TransformFile>>,
     #[serde(default)]
@@ -183,14 +183,6 @@ struct WeightsFile {
     family: String,
     #[serde(default)]
     exponent: Option<f64>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct JunctionFile {
-    path: usize,
-    joint: usize,
-    kind: JointKind,
 }
 
 #[derive(Deserialize)]
@@ -538,17 +530,8 @@ fn rest_handles(
 
 /// The junction kinds `file` imposes (`end` cannot be).
 fn junction_overrides(file: &SceneFile, origin: &str) -> Result<Vec<JunctionOverride>, SceneError> {
-    let overrides: Vec<JunctionOverride> = file
-        .junctions
-        .iter()
-        .map(|j| JunctionOverride {
-            path: j.path,
-            joint: j.joint,
-            kind: j.kind,
-        })
-        .collect();
-    check_junction_overrides(&overrides, origin)?;
-    Ok(overrides)
+    check_junction_overrides(&file.junctions, origin)?;
+    Ok(file.junctions.clone())
 }
 
 /// Refuses an imposed `end` (a joint's being an end is the drawing's, not a choice), naming the

@@ -12,7 +12,6 @@ use super::{
 };
 use crate::animation::Animation;
 use crate::domain::DomainOptions;
-use crate::drawing::JointKind;
 use crate::spline_fit::Measure;
 
 /// Where a written scene's drawing is.
@@ -43,7 +42,7 @@ struct SceneOut<'a> {
     flexible: bool,
     #[serde(skip_serializing_if = "Option::is_none")]
     engine: Option<&'static str>,
-    junctions: Vec<JunctionOut>,
+    junctions: &'a [JunctionOverride],
     #[serde(skip_serializing_if = "Option::is_none")]
     pose: Option<Vec<[f64; 6]>>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -70,13 +69,6 @@ struct WeightsOut {
     family: String,
     #[serde(skip_serializing_if = "Option::is_none")]
     exponent: Option<f64>,
-}
-
-#[derive(Serialize)]
-struct JunctionOut {
-    path: usize,
-    joint: usize,
-    kind: JointKind,
 }
 
 #[derive(Serialize)]
@@ -238,7 +230,7 @@ impl Scene {
             arc_length: self.measure == Measure::ArcLength,
             flexible: self.flexible,
             engine: (self.engine != Engine::Ours).then(|| self.engine.name()),
-            junctions: self.junctions.iter().map(junction_out).collect(),
+            junctions: &self.junctions,
             pose,
             poses,
             animation: self.animation.as_ref().map(animation_out),
@@ -288,14 +280,6 @@ fn weights_out(weights: &WeightSpec) -> WeightsOut {
             WeightSpec::Shepard { exponent } => Some(*exponent),
             _ => None,
         },
-    }
-}
-
-fn junction_out(o: &JunctionOverride) -> JunctionOut {
-    JunctionOut {
-        path: o.path,
-        joint: o.joint,
-        kind: o.kind,
     }
 }
 
