@@ -68,6 +68,16 @@ async fn refused_with(app: &Router, request: Request<Body>, expected: StatusCode
     json(&body)["error"].as_str().expect("message").to_string()
 }
 
+/// The message of the `400 Bad Request` that `request` is answered with.
+async fn bad_request(app: &Router, request: Request<Body>) -> String {
+    refused_with(app, request, StatusCode::BAD_REQUEST).await
+}
+
+/// The message of the `404 Not Found` that `request` is answered with.
+async fn not_found(app: &Router, request: Request<Body>) -> String {
+    refused_with(app, request, StatusCode::NOT_FOUND).await
+}
+
 fn get(uri: &str) -> Request<Body> {
     Request::get(uri)
         .header(header::HOST, HOST)
@@ -99,14 +109,19 @@ fn f64s(bytes: &[u8]) -> Vec<f64> {
         .collect()
 }
 
-/// Opens the bundled SVG (no handles) and returns its description.
-async fn open_demo_svg(app: &Router) -> serde_json::Value {
+/// Opens the file `bytes` under the (URL-encoded) file name `name` and returns its description.
+async fn open_file(app: &Router, name: &str, bytes: impl Into<Body>) -> serde_json::Value {
     let request = post("/api/open")
-        .header("x-file-name", "fish%20drawing.svg")
-        .body(Body::from(DEMO_SVG))
+        .header("x-file-name", name)
+        .body(bytes.into())
         .expect("a request");
     let (_, body) = send_ok(app, request).await;
     json(&body)
+}
+
+/// Opens the bundled SVG (no handles) and returns its description.
+async fn open_demo_svg(app: &Router) -> serde_json::Value {
+    open_file(app, "fish%20drawing.svg", DEMO_SVG).await
 }
 
 /// A router with the bundled SVG opened: the router, the document's description and its id.
@@ -115,6 +130,45 @@ async fn demo_app() -> (Router, serde_json::Value, String) {
     let info = open_demo_svg(&app).await;
     let id = info["id"].as_str().expect("id").to_string();
     (app, info, id)
+}
+
+/// [`demo_app`] with the server's state, for tests that look into it.
+async fn demo_app_state() -> (std::sync::Arc<App>, Router, String) {
+    let state = App::new(
+        Document::bundled().expect("the bundled drawing opens"),
+        vec![HOST.to_string()],
+    );
+    let app = router(state.clone());
+    let info = open_demo_svg(&app).await;
+    let id = info["id"].as_str().expect("id").to_string();
+    (state, app, id)
+}
+
+/// `POST /api/defops/{rig}/deform` of the handles at `q`.
+fn operator_deform(rig: &str, q: &[[f64; 2]]) -> Request<Body> {
+    post_json(
+        &format!("/api/defops/{rig}/deform"),
+        &serde_json::json!({ "handles": q }),
+    )
+}
+
+/// The operator's description a `/api/defop` answer carries in its header.
+fn defop_info(headers: &axum::http::HeaderMap) -> serde_json::Value {
+    serde_json::from_str(headers[DEFOP_HEADER].to_str().expect("ASCII")).expect("JSON")
+}
+
+/// `POST /api/defop` of `scene`, answered: the operator's description and the answer's body.
+async fn train(app: &Router, scene: &serde_json::Value) -> (serde_json::Value, Vec<u8>) {
+    let (headers, body) = send_ok(app, post_json("/api/defop", scene)).await;
+    (defop_info(&headers), body)
+}
+
+/// The largest `|a_k − b_k|` over the pairs of `a` and `b`.
+fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
 }
 
 fn two_handle_scene(document: &str, flexible: bool) -> serde_json::Value {
@@ -203,12 +257,7 @@ async fn serve_rig_operator_reproduces_the_rest_pose_and_export_reads_back() {
         .to_str()
         .expect("ascii")
         .starts_with('r'));
-    let rest: Vec<f64> = info["rest"]
-        .as_array()
-        .expect("rest")
-        .iter()
-        .map(|v| v.as_f64().expect("a number"))
-        .collect();
+    let rest: Vec<f64> = serde_json::from_value(info["rest"].clone()).expect("rest");
     let operator = f64s(&body);
     let n_cols = 6 * 2;
     assert_eq!(operator.len(), rest.len() * n_cols);
@@ -239,7 +288,7 @@ async fn serve_rig_operator_reproduces_the_rest_pose_and_export_reads_back() {
     let request = post(&format!("/api/documents/{id}/export"))
         .body(Body::from(vec![0u8; 16]))
         .expect("a request");
-    let message = refused_with(&app, request, StatusCode::BAD_REQUEST).await;
+    let message = bad_request(&app, request).await;
     assert!(message.contains("expected"), "{message}");
 }
 
@@ -262,12 +311,7 @@ async fn serve_flexible_solve_translates_exactly_under_one_translation() {
         );
     }
     // A rig that was never built is reported as gone.
-    let message = refused_with(
-        &app,
-        post_json("/api/rigs/r999/solve", &pose),
-        StatusCode::NOT_FOUND,
-    )
-    .await;
+    let message = not_found(&app, post_json("/api/rigs/r999/solve", &pose)).await;
     assert!(message.contains("precompute again"), "{message}");
 }
 
@@ -398,12 +442,7 @@ fn kept_anchors(
         .iter()
         .zip(refined["paths"].as_array().expect("paths"))
     {
-        let flags: Vec<bool> = new["inserted"]
-            .as_array()
-            .expect("flags")
-            .iter()
-            .map(|b| b.as_bool().expect("bool"))
-            .collect();
+        let flags: Vec<bool> = serde_json::from_value(new["inserted"].clone()).expect("flags");
         marked += flags.iter().filter(|&&b| b).count();
         let kept: Vec<usize> = (0..flags.len()).filter(|&j| !flags[j]).collect();
         moved.push(serde_json::json!(kept));
@@ -432,21 +471,19 @@ async fn refine_refusals(
     pose: &serde_json::Value,
     tolerance: f64,
 ) {
-    let message = refused_with(
+    let message = bad_request(
         app,
         refine_request(rig, scene, serde_json::json!([pose]), 0.0),
-        StatusCode::BAD_REQUEST,
     )
     .await;
     assert!(message.contains("tolerance"), "{message}");
-    let message = refused_with(
+    let message = bad_request(
         app,
         refine_request(rig, scene, serde_json::json!([]), tolerance),
-        StatusCode::BAD_REQUEST,
     )
     .await;
     assert!(message.contains("0 poses"), "{message}");
-    let message = refused_with(
+    let message = bad_request(
         app,
         refine_request(
             rig,
@@ -454,14 +491,12 @@ async fn refine_refusals(
             serde_json::json!([[[1.0, 0.0, 0.0, 1.0, 0.0, 0.0]]]),
             tolerance,
         ),
-        StatusCode::BAD_REQUEST,
     )
     .await;
     assert!(message.contains("pose 0"), "{message}");
-    refused_with(
+    not_found(
         app,
         refine_request("r999", scene, serde_json::json!([pose]), tolerance),
-        StatusCode::NOT_FOUND,
     )
     .await;
 }
@@ -483,7 +518,7 @@ async fn serve_weight_grid_is_one_at_its_handle() {
     assert_eq!(grid[4], 1.0, "Shepard weights interpolate: {grid:?}");
     assert!(grid.iter().all(|&w| w > 0.9 && w <= 1.0), "{grid:?}");
     let uri = format!("/api/rigs/{rig}/weights?handle=2&x0=0&y0=0&x1=1&y1=1&width=3&height=3");
-    let message = refused_with(&app, get(&uri), StatusCode::BAD_REQUEST).await;
+    let message = bad_request(&app, get(&uri)).await;
     assert!(message.contains("no such handle"), "{message}");
 }
 
@@ -496,7 +531,7 @@ async fn serve_malformed_upload_is_a_message_and_the_server_goes_on() {
             "<svg xmlns='http://www.w3.org/2000/svg'><path d='M0 0 C 1",
         ))
         .expect("a request");
-    let message = refused_with(&app, request, StatusCode::BAD_REQUEST).await;
+    let message = bad_request(&app, request).await;
     assert!(message.starts_with("broken.svg"), "{message}");
     // Binary garbage, a scene of the wrong shape, a scene naming a file on the server.
     for (name, bytes) in [
@@ -511,7 +546,7 @@ async fn serve_malformed_upload_is_a_message_and_the_server_goes_on() {
             .header("x-file-name", name)
             .body(Body::from(bytes))
             .expect("a request");
-        let message = refused_with(&app, request, StatusCode::BAD_REQUEST).await;
+        let message = bad_request(&app, request).await;
         assert!(message.contains(name), "{message}");
         if name == "f.json" {
             assert!(message.contains("no file is read"), "{message}");
@@ -603,19 +638,13 @@ async fn serve_saved_scene_reads_back_as_the_page_left_it() {
         [0.0, 1.0, -1.0, 0.0, 300.0, 100.0]
     );
     // Reopening it gives the page the same scene.
-    let request = post("/api/open")
-        .header("x-file-name", "saved.json")
-        .body(Body::from(text))
-        .expect("a request");
-    let (_, body) = send_ok(&app, request).await;
-    let reopened = json(&body);
+    let reopened = open_file(&app, "saved.json", text).await;
     assert_eq!(reopened["scene"], scene);
     // Coincident handles are refused, naming the handle.
     scene["handles"][1] = serde_json::json!([440.0, 200.0]);
-    let message = refused_with(
+    let message = bad_request(
         &app,
         post_json(&format!("/api/documents/{id}/scene"), &scene),
-        StatusCode::BAD_REQUEST,
     )
     .await;
     assert!(message.contains("handles[1]"), "{message}");
@@ -623,13 +652,7 @@ async fn serve_saved_scene_reads_back_as_the_page_left_it() {
 
 #[tokio::test]
 async fn serve_requests_dropped_midway_leave_the_server_serving() {
-    let state = App::new(
-        Document::bundled().expect("the bundled drawing opens"),
-        vec![HOST.to_string()],
-    );
-    let app = router(state.clone());
-    let info = open_demo_svg(&app).await;
-    let id = info["id"].as_str().expect("id").to_string();
+    let (state, app, id) = demo_app_state().await;
     // Rig requests abandoned right after they start (a page reloaded mid-request).
     for _ in 0..4 {
         let request = post_json("/api/rig", &two_handle_scene(&id, true));
@@ -651,13 +674,7 @@ async fn serve_requests_dropped_midway_leave_the_server_serving() {
 
 #[tokio::test]
 async fn serve_progress_follows_a_precomputation_until_it_ends() {
-    let state = App::new(
-        Document::bundled().expect("the bundled drawing opens"),
-        vec![HOST.to_string()],
-    );
-    let app = router(state.clone());
-    let info = open_demo_svg(&app).await;
-    let id = info["id"].as_str().expect("id").to_string();
+    let (state, app, id) = demo_app_state().await;
     // While followed, the board gives the stage the job told it; after, nothing.
     let followed = state.editor.progress.follow("job-1").expect("a valid name");
     assert!(
@@ -823,33 +840,18 @@ async fn serve_columns_solved_apart_make_the_same_rig() {
     assert_ne!(f64s(&other), f64s(&whole));
     let mut wrong = given.clone();
     wrong["solved"]["n_vertices"] = serde_json::json!(3);
-    let message = refused_with(&app, post_json("/api/rig", &wrong), StatusCode::BAD_REQUEST).await;
+    let message = bad_request(&app, post_json("/api/rig", &wrong)).await;
     assert!(
         message.contains("weights.solved") && message.contains("3 vertices"),
         "{message}"
     );
-    let message = refused_with(
-        &app,
-        columns_of(serde_json::json!([5])),
-        StatusCode::BAD_REQUEST,
-    )
-    .await;
+    let message = bad_request(&app, columns_of(serde_json::json!([5]))).await;
     assert!(message.contains("column 5 does not exist"), "{message}");
-    let message = refused_with(
-        &app,
-        columns_of(serde_json::json!([])),
-        StatusCode::BAD_REQUEST,
-    )
-    .await;
+    let message = bad_request(&app, columns_of(serde_json::json!([]))).await;
     assert!(message.contains("0 columns asked for"), "{message}");
     let mut shepard = two_handle_scene(&id, false);
     shepard["columns"] = serde_json::json!([0]);
-    let message = refused_with(
-        &app,
-        post_json("/api/weights/columns", &shepard),
-        StatusCode::BAD_REQUEST,
-    )
-    .await;
+    let message = bad_request(&app, post_json("/api/weights/columns", &shepard)).await;
     assert!(message.contains("'bbw' weights only"), "{message}");
 }
 
@@ -947,13 +949,7 @@ async fn serve_operator_layout_reproduces_the_library_and_the_rest_drawing() {
         };
         span(&xs).hypot(span(&ys))
     };
-    let (headers, body) = send_ok(
-        &app,
-        post_json("/api/defop", &operator_scene(&id, "defop-arap", 12)),
-    )
-    .await;
-    let op: serde_json::Value =
-        serde_json::from_str(headers[DEFOP_HEADER].to_str().expect("ASCII")).expect("JSON");
+    let (op, body) = train(&app, &operator_scene(&id, "defop-arap", 12)).await;
     assert_eq!(op["kind"], "tps");
     assert_eq!(op["n_samples"], 13, "the rest configuration and 12 samples");
     assert_eq!(op["n_centres"], 13);
@@ -968,37 +964,18 @@ async fn serve_operator_layout_reproduces_the_library_and_the_rest_drawing() {
     let moved = [[452.0, 188.0], [104.0, 230.0]];
     let rig = op["id"].as_str().expect("id");
     for q in [handles, moved] {
-        let (_, body) = send_ok(
-            &app,
-            post_json(
-                &format!("/api/defops/{rig}/deform"),
-                &serde_json::json!({ "handles": q }),
-            ),
-        )
-        .await;
+        let (_, body) = send_ok(&app, operator_deform(rig, &q)).await;
         let library = f64s(&body);
         let page = operator_points(&op, &data, &q);
-        let worst = page
-            .iter()
-            .zip(&library)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let worst = largest_difference(&page, &library);
         // Same numbers summed in another order: rounding only.
         assert!(worst < 1e-9 * diagonal, "page vs library {worst:e}");
         if q == handles {
-            let off = library
-                .iter()
-                .zip(&rest)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
+            let off = largest_difference(&library, &rest);
             // The join reproduces the drawing at rest (DefOpRig's doc): to rounding.
             assert!(off < 1e-9 * diagonal, "rest configuration off by {off:e}");
         } else {
-            let moved_by = library
-                .iter()
-                .zip(&rest)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
+            let moved_by = largest_difference(&library, &rest);
             assert!(moved_by > 5.0, "moved handles should move the drawing");
         }
     }
@@ -1010,13 +987,7 @@ async fn serve_operator_layout_reproduces_the_library_and_the_rest_drawing() {
 #[tokio::test]
 async fn serve_operator_follows_a_far_configuration() {
     let (app, _, id) = demo_app().await;
-    let (headers, _) = send_ok(
-        &app,
-        post_json("/api/defop", &operator_scene(&id, "defop-arap", 12)),
-    )
-    .await;
-    let op: serde_json::Value =
-        serde_json::from_str(headers[DEFOP_HEADER].to_str().expect("ASCII")).expect("JSON");
+    let (op, _) = train(&app, &operator_scene(&id, "defop-arap", 12)).await;
     let rig = op["id"].as_str().expect("id").to_string();
     let reach = op["reach"].as_f64().expect("reach");
     assert_eq!(op["n_followed"], 0);
@@ -1046,8 +1017,7 @@ async fn serve_operator_follows_a_far_configuration() {
     let far = serde_json::json!([[440.0, 200.0 - 3.0 * reach], [110.0, 205.0]]);
     let (status, headers, body) = follow(rig.clone(), far.clone(), false).await;
     assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
-    let followed: serde_json::Value =
-        serde_json::from_str(headers[DEFOP_HEADER].to_str().expect("ASCII")).expect("JSON");
+    let followed = defop_info(&headers);
     assert_eq!(followed["n_followed"], 1);
     assert_eq!(followed["n_samples"], 14);
     assert_eq!(followed["n_functions"], 1 + 4 + 14);
@@ -1055,14 +1025,7 @@ async fn serve_operator_follows_a_far_configuration() {
     assert_ne!(new_rig, rig);
     let data = f64s(&body);
     let q: [[f64; 2]; 2] = serde_json::from_value(far.clone()).expect("q");
-    let (_, library) = send_ok(
-        &app,
-        post_json(
-            &format!("/api/defops/{new_rig}/deform"),
-            &serde_json::json!({ "handles": q }),
-        ),
-    )
-    .await;
+    let (_, library) = send_ok(&app, operator_deform(&new_rig, &q)).await;
     let page = operator_points(&followed, &data, &q);
     let worst = page
         .iter()
@@ -1140,13 +1103,12 @@ async fn serve_operator_refuses_what_it_cannot_train_with_a_message() {
     let mut nan = operator_scene(&id, "defop-sarap", 10);
     nan["scene"]["handles"][0][0] = serde_json::json!(f64::NAN); // JSON null
     refused(nan, "scene.handles[0]").await;
-    let message = refused_with(
+    let message = not_found(
         &app,
         post_json(
             "/api/defops/o999/deform",
             &serde_json::json!({"handles": [[0.0, 0.0]]}),
         ),
-        StatusCode::NOT_FOUND,
     )
     .await;
     assert!(message.contains("train it again"), "{message}");
@@ -1182,12 +1144,7 @@ async fn serve_saved_operator_scene_records_its_defop_section_and_offers_it_reop
     assert_eq!(settings.samples, 37);
     // Reopened, the page gets the scene with its weights, the pose as it was, and the
     // operator offered.
-    let request = post("/api/open")
-        .header("x-file-name", "saved.json")
-        .body(Body::from(text))
-        .expect("a request");
-    let (_, body) = send_ok(&app, request).await;
-    let reopened = json(&body);
+    let reopened = open_file(&app, "saved.json", text).await;
     let mut as_weights = scene.clone();
     as_weights["weights"] = serde_json::json!({"family": "bbw"});
     assert_eq!(reopened["scene"], as_weights);
@@ -1206,10 +1163,9 @@ async fn serve_saved_operator_scene_records_its_defop_section_and_offers_it_reop
     assert_eq!(again["defop"], file["defop"]);
     assert_eq!(again["weights"], file["weights"]);
     // The weights route does not build an operator's scene as weights.
-    let message = refused_with(
+    let message = bad_request(
         &app,
         post_json("/api/rig", &operator_scene(&id, "defop-sarap", 10)),
-        StatusCode::BAD_REQUEST,
     )
     .await;
     assert!(message.contains("POST /api/defop"), "{message}");
@@ -1260,12 +1216,7 @@ async fn serve_outside_reports_and_export_fits_the_view_box() {
         .unwrap()
         .unwrap()
         .union(drawing.source.as_ref().unwrap().view_box());
-    let fitted: Vec<f64> = report["fitted"]
-        .as_array()
-        .expect("fitted")
-        .iter()
-        .map(|v| v.as_f64().expect("a number"))
-        .collect();
+    let fitted: Vec<f64> = serde_json::from_value(report["fitted"].clone()).expect("fitted");
     assert_eq!(fitted, [r.x0, r.y0, r.width(), r.height()]);
 
     let view_box_of = |svg: &[u8]| {
@@ -1290,10 +1241,9 @@ async fn serve_outside_reports_and_export_fits_the_view_box() {
         assert_eq!(status, StatusCode::OK);
         assert_eq!(view_box_of(&body), input, "{query}");
     }
-    let message = refused_with(
+    let message = bad_request(
         &app,
         request(format!("/api/documents/{id}/export?viewbox=grow")),
-        StatusCode::BAD_REQUEST,
     )
     .await;
     assert!(
@@ -1315,12 +1265,7 @@ const PLATE_SVG: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0
 const PLATE_HANDLES: [[f64; 2]; 3] = [[40.0, 50.0], [160.0, 50.0], [100.0, 30.0]];
 
 async fn open_plate(app: &Router) -> serde_json::Value {
-    let request = post("/api/open")
-        .header("x-file-name", "plate.svg")
-        .body(Body::from(PLATE_SVG))
-        .expect("a request");
-    let (_, body) = send_ok(app, request).await;
-    json(&body)
+    open_file(app, "plate.svg", PLATE_SVG).await
 }
 
 /// The `matrix(a b c d e f)` of attribute `attribute` in the first start tag of `svg` that
@@ -1478,9 +1423,7 @@ async fn serve_export_carries_text_with_the_operator() {
             "flexible": false
         }
     });
-    let (headers, _) = send_ok(&app, post_json("/api/defop", &scene)).await;
-    let defop_info: serde_json::Value =
-        serde_json::from_str(headers[DEFOP_HEADER].to_str().expect("ascii")).expect("JSON");
+    let (defop_info, _) = train(&app, &scene).await;
     let op = defop_info["id"].as_str().expect("id");
     let turn = kurbo::Affine::translate((100.0, 50.0))
         * kurbo::Affine::rotate(10f64.to_radians())
@@ -1493,14 +1436,7 @@ async fn serve_export_carries_text_with_the_operator() {
         })
         .collect();
     // The points: the server's own deformation at Q (the page's product equals it).
-    let (status, _, points) = send(
-        &app,
-        post_json(
-            &format!("/api/defops/{op}/deform"),
-            &serde_json::json!({ "handles": q }),
-        ),
-    )
-    .await;
+    let (status, _, points) = send(&app, operator_deform(op, &q)).await;
     assert_eq!(status, StatusCode::OK);
     let body = [points, le_bytes(q.iter().flatten().copied())].concat();
     let request = post(&format!("/api/documents/{id}/export?defop={op}"))
@@ -1530,7 +1466,7 @@ async fn serve_lottie_plays_the_page_timeline_as_animate_does() {
     let mut scene = two_handle_scene(&id, false)["scene"].clone();
     let uri = format!("/api/documents/{id}/lottie");
     // No timeline: refused, saying what to do.
-    let message = refused_with(&app, post_json(&uri, &scene), StatusCode::BAD_REQUEST).await;
+    let message = bad_request(&app, post_json(&uri, &scene)).await;
     assert!(message.contains("no keyframes"), "{message}");
     let identity = [1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
     let turned = [0.0, 1.0, -1.0, 0.0, 315.0, 95.0];
@@ -1577,7 +1513,7 @@ async fn serve_lottie_plays_the_page_timeline_as_animate_does() {
     assert_eq!(made.lottie.json.as_bytes(), &body[..]);
     // An operator family is refused with a message.
     scene["weights"] = serde_json::json!({"family": "defop-arap", "samples": 10});
-    let message = refused_with(&app, post_json(&uri, &scene), StatusCode::BAD_REQUEST).await;
+    let message = bad_request(&app, post_json(&uri, &scene)).await;
     assert!(message.contains("pick a weight family"), "{message}");
 }
 
@@ -1587,12 +1523,7 @@ async fn serve_mesh_is_the_weights_domain_with_weights_at_its_vertices() {
     // Inverse-distance weights have no mesh: said so.
     let (_, headers, _) = send(&app, post_json("/api/rig", &two_handle_scene(&id, false))).await;
     let rig = rig_id(&headers);
-    let message = refused_with(
-        &app,
-        get(&format!("/api/rigs/{rig}/mesh")),
-        StatusCode::BAD_REQUEST,
-    )
-    .await;
+    let message = bad_request(&app, get(&format!("/api/rigs/{rig}/mesh"))).await;
     assert!(message.contains("have no mesh"), "{message}");
     // Harmonic weights are solved on one: a valid triangulation, weights summing to 1 and 1 at
     // each handle's vertex (the handles are vertices of the domain).
@@ -1671,12 +1602,7 @@ async fn serve_coarse_preview_is_the_family_on_a_coarser_mesh_of_the_same_domain
     // Inverse-distance weights have no mesh to coarsen.
     let mut shepard = two_handle_scene(&id, false);
     shepard["scene"]["weights"]["coarse"] = serde_json::json!(true);
-    let message = refused_with(
-        &app,
-        post_json("/api/rig", &shepard),
-        StatusCode::BAD_REQUEST,
-    )
-    .await;
+    let message = bad_request(&app, post_json("/api/rig", &shepard)).await;
     assert!(message.contains("weights.coarse"), "{message}");
 }
 
