@@ -6,12 +6,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use kurbo::Point;
 use rayon::prelude::*;
 
-use super::super::arap::Arap;
 use super::super::error::DefOpError;
 use super::super::operator::DefOp;
-use super::super::sarap::SymmetricArap;
 use super::ground_truth::{solve_sample, Solved, Solver, Start};
-use super::options::{check_stop, Energy, TrainOptions};
+use super::options::{check_stop, TrainOptions};
 use super::{stopwatch, Training};
 use splineskin_core::mesh::TriMesh;
 
@@ -74,13 +72,7 @@ pub fn extend(
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<ExtendReport, DefOpError> {
     let handles = training.op.handles().to_vec();
-    let solver = Solver {
-        arap: Arap::new(mesh, &handles, options.arap)?,
-        sarap: match options.energy {
-            Energy::Arap => None,
-            Energy::SymmetricArap => Some(SymmetricArap::new(mesh, &handles, options.sarap)?),
-        },
-    };
+    let solver = Solver::new(mesh, &handles, options)?;
     let clock = stopwatch();
     let solved = AtomicUsize::new(0);
     let n_before = training.configurations.len();

@@ -21,6 +21,23 @@ pub(super) struct Solver {
     pub(super) sarap: Option<SymmetricArap>,
 }
 
+impl Solver {
+    /// The solvers for `handles` on `mesh` with the options' energy and solver options.
+    pub(super) fn new(
+        mesh: &TriMesh,
+        handles: &[usize],
+        options: &TrainOptions,
+    ) -> Result<Solver, DefOpError> {
+        Ok(Solver {
+            arap: Arap::new(mesh, handles, options.arap)?,
+            sarap: match options.energy {
+                Energy::Arap => None,
+                Energy::SymmetricArap => Some(SymmetricArap::new(mesh, handles, options.sarap)?),
+            },
+        })
+    }
+}
+
 /// One sample's solve: its solution, iterations (of the solve that succeeded), which start
 /// succeeded, whether it converged.
 pub(super) struct Solved {
@@ -70,13 +87,7 @@ pub fn ground_truths_from_rest(
     configurations: &[Vec<Point>],
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Vec<Vec<Point>>, DefOpError> {
-    let solver = Solver {
-        arap: Arap::new(mesh, handles, options.arap)?,
-        sarap: match options.energy {
-            Energy::Arap => None,
-            Energy::SymmetricArap => Some(SymmetricArap::new(mesh, handles, options.sarap)?),
-        },
-    };
+    let solver = Solver::new(mesh, handles, options)?;
     let solved = AtomicUsize::new(0);
     let solve_one = |k: usize| -> Result<Vec<Point>, DefOpError> {
         check_stop(&options.stop)?;

@@ -41,14 +41,12 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use kurbo::Point;
 use rayon::prelude::*;
 
-use super::arap::Arap;
 use super::error::check_count_option;
 use super::error::DefOpError;
 use super::handle_basis::HandleBasisKind;
 use super::handles::bounding_box_diagonal;
 use super::operator::DefOp;
 use super::sample::{SampleRegion, Sampler};
-use super::sarap::SymmetricArap;
 use super::spatial_basis::SpatialBasis;
 use splineskin_core::mesh::TriMesh;
 
@@ -142,13 +140,7 @@ pub fn train(
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<Training, DefOpError> {
     check_train_options(options, handles.len())?;
-    let solver = Solver {
-        arap: Arap::new(mesh, handles, options.arap)?,
-        sarap: match options.energy {
-            Energy::Arap => None,
-            Energy::SymmetricArap => Some(SymmetricArap::new(mesh, handles, options.sarap)?),
-        },
-    };
+    let solver = Solver::new(mesh, handles, options)?;
     let configurations = training_configurations(mesh, handles, options)?;
     let mut solutions = vec![mesh.vertices.clone()];
     let ends = stage_ends(handles.len(), options);
