@@ -549,14 +549,22 @@ mod tests {
         );
     }
 
+    /// The default options with the cage `c`.
+    fn cage(c: &[Point]) -> DomainOptions {
+        DomainOptions::default().with_cage(c.to_vec())
+    }
+
+    /// The error of a build that must fail.
+    fn err(r: Result<Domain, DomainError>) -> DomainError {
+        r.expect_err("must fail")
+    }
+
     #[test]
     fn domain_bad_input_is_a_clear_error() {
         let d = wave();
         let o = DomainOptions::default();
         let h = [Point::new(10.0, 0.0), Point::new(60.0, 0.0)];
         let square = [(0., -50.), (100., -50.), (100., 50.), (0., 50.)].map(Point::from);
-        let cage = |c: &[Point]| DomainOptions::default().with_cage(c.to_vec());
-        let err = |r: Result<Domain, DomainError>| r.expect_err("must fail");
 
         // A handle outside the cage.
         let e = err(Domain::build(
@@ -580,43 +588,7 @@ mod tests {
                 distance: 0.0
             }
         );
-        // Self-intersecting cage (a bow tie).
-        let bowtie = [(0., -50.), (100., 50.), (100., -50.), (0., 50.)].map(Point::from);
-        let e = err(Domain::build(&d, &h, &[], &cage(&bowtie)));
-        assert_eq!(
-            e,
-            DomainError::CageSelfIntersecting {
-                first: 0,
-                second: 2
-            }
-        );
-        // Clockwise cage.
-        let mut cw = square.to_vec();
-        cw.reverse();
-        let e = err(Domain::build(&d, &h, &[], &cage(&cw)));
-        assert!(matches!(e, DomainError::CageClockwise { signed_area } if signed_area == -10000.0));
-        assert!(e.to_string().contains("reverse"));
-        // Fewer than three vertices (also after dropping a repeated closing vertex).
-        let e = err(Domain::build(&d, &h, &[], &cage(&square[..2])));
-        assert_eq!(e, DomainError::CageTooFewVertices { n_vertices: 2 });
-        let e = err(Domain::build(
-            &d,
-            &h,
-            &[],
-            &cage(&[square[0], square[1], square[0]]),
-        ));
-        assert_eq!(e, DomainError::CageTooFewVertices { n_vertices: 2 });
-        // A zero-length cage edge and a non-finite vertex.
-        let dup = [square[0], square[1], square[1], square[2], square[3]];
-        assert_eq!(
-            err(Domain::build(&d, &h, &[], &cage(&dup))),
-            DomainError::CageDegenerateEdge { edge: 1 }
-        );
-        let nan = [square[0], Point::new(f64::NAN, 0.0), square[2]];
-        assert_eq!(
-            err(Domain::build(&d, &h, &[], &cage(&nan))),
-            DomainError::CageNonFinite { vertex: 1 }
-        );
+        bad_cages_are_clear_errors(&d, &h, square);
         // Empty domains: nothing at all, or a drawing that is a single point.
         let e = err(Domain::build(&Drawing::default(), &h, &[], &o));
         assert!(matches!(e, DomainError::EmptyDomain { .. }), "{e}");
@@ -706,5 +678,47 @@ mod tests {
                 ..
             }
         ));
+    }
+
+    /// The cage checks of [`domain_bad_input_is_a_clear_error`]: a bow tie, a clockwise cage,
+    /// too few vertices, a zero-length edge and a non-finite vertex, around the `square`.
+    fn bad_cages_are_clear_errors(d: &Drawing, h: &[Point], square: [Point; 4]) {
+        // Self-intersecting cage (a bow tie).
+        let bowtie = [(0., -50.), (100., 50.), (100., -50.), (0., 50.)].map(Point::from);
+        let e = err(Domain::build(d, h, &[], &cage(&bowtie)));
+        assert_eq!(
+            e,
+            DomainError::CageSelfIntersecting {
+                first: 0,
+                second: 2
+            }
+        );
+        // Clockwise cage.
+        let mut cw = square.to_vec();
+        cw.reverse();
+        let e = err(Domain::build(d, h, &[], &cage(&cw)));
+        assert!(matches!(e, DomainError::CageClockwise { signed_area } if signed_area == -10000.0));
+        assert!(e.to_string().contains("reverse"));
+        // Fewer than three vertices (also after dropping a repeated closing vertex).
+        let e = err(Domain::build(d, h, &[], &cage(&square[..2])));
+        assert_eq!(e, DomainError::CageTooFewVertices { n_vertices: 2 });
+        let e = err(Domain::build(
+            d,
+            h,
+            &[],
+            &cage(&[square[0], square[1], square[0]]),
+        ));
+        assert_eq!(e, DomainError::CageTooFewVertices { n_vertices: 2 });
+        // A zero-length cage edge and a non-finite vertex.
+        let dup = [square[0], square[1], square[1], square[2], square[3]];
+        assert_eq!(
+            err(Domain::build(d, h, &[], &cage(&dup))),
+            DomainError::CageDegenerateEdge { edge: 1 }
+        );
+        let nan = [square[0], Point::new(f64::NAN, 0.0), square[2]];
+        assert_eq!(
+            err(Domain::build(d, h, &[], &cage(&nan))),
+            DomainError::CageNonFinite { vertex: 1 }
+        );
     }
 }
