@@ -7,15 +7,23 @@ use tracing::span::{Attributes, Id, Record};
 use tracing::subscriber::Interest;
 use tracing::{Dispatch, Event, Metadata, Subscriber};
 
-/// Counts the library's "reading an SVG document" events (`splineskin_svg::svg_in`).
-struct CountReadings(Arc<AtomicUsize>);
+/// A subscriber that asks again at every event: with a count, it counts the library's "reading
+/// an SVG document" events (`splineskin_svg::svg_in`); without one, it wants nothing.
+///
+/// `tracing` decides once per process whether a call site is wanted, and while at most one
+/// subscriber is registered it decides by the subscriber of the thread that reaches the call
+/// site first. A test on another thread (with no subscriber) reaching the SVG reader first
+/// would then switch it off for the counting test too. Kept registered for the life of the
+/// test process, the subscriber without a count makes the decision "ask at each event" for
+/// every call site, so each event reaches the subscriber of the thread it happens on.
+struct CountReadings(Option<Arc<AtomicUsize>>);
 
 impl Subscriber for CountReadings {
     fn register_callsite(&self, _: &'static Metadata<'static>) -> Interest {
         Interest::sometimes()
     }
     fn enabled(&self, _: &Metadata<'_>) -> bool {
-        true
+        self.0.is_some()
     }
     fn new_span(&self, _: &Attributes<'_>) -> Id {
         Id::from_u64(1)
@@ -23,40 +31,14 @@ impl Subscriber for CountReadings {
     fn record(&self, _: &Id, _: &Record<'_>) {}
     fn record_follows_from(&self, _: &Id, _: &Id) {}
     fn event(&self, event: &Event<'_>) {
+        let Some(count) = &self.0 else { return };
         let meta = event.metadata();
         if meta.target().starts_with("splineskin_svg::svg_in")
             && meta.fields().field("bytes").is_some()
         {
-            self.0.fetch_add(1, Ordering::Relaxed);
+            count.fetch_add(1, Ordering::Relaxed);
         }
     }
-    fn enter(&self, _: &Id) {}
-    fn exit(&self, _: &Id) {}
-}
-
-/// A subscriber that wants nothing but asks again at every event.
-///
-/// `tracing` decides once per process whether a call site is wanted, and while at most one
-/// subscriber is registered it decides by the subscriber of the thread that reaches the call
-/// site first. A test on another thread (with no subscriber) reaching the SVG reader first
-/// would then switch it off for the counting test too. Kept registered for the life of the
-/// test process, this subscriber makes the decision "ask at each event" for every call site,
-/// so each event reaches the subscriber of the thread it happens on.
-struct AskEveryTime;
-
-impl Subscriber for AskEveryTime {
-    fn register_callsite(&self, _: &'static Metadata<'static>) -> Interest {
-        Interest::sometimes()
-    }
-    fn enabled(&self, _: &Metadata<'_>) -> bool {
-        false
-    }
-    fn new_span(&self, _: &Attributes<'_>) -> Id {
-        Id::from_u64(1)
-    }
-    fn record(&self, _: &Id, _: &Record<'_>) {}
-    fn record_follows_from(&self, _: &Id, _: &Id) {}
-    fn event(&self, _: &Event<'_>) {}
     fn enter(&self, _: &Id) {}
     fn exit(&self, _: &Id) {}
 }
@@ -65,9 +47,9 @@ static ASK_EVERY_TIME: OnceLock<Dispatch> = OnceLock::new();
 
 /// What `f` returns, and how many SVG documents the library read on this thread meanwhile.
 pub fn svg_readings<T>(f: impl FnOnce() -> T) -> (T, usize) {
-    ASK_EVERY_TIME.get_or_init(|| Dispatch::new(AskEveryTime));
+    ASK_EVERY_TIME.get_or_init(|| Dispatch::new(CountReadings(None)));
     let readings = Arc::new(AtomicUsize::new(0));
-    let counting = Dispatch::new(CountReadings(readings.clone()));
+    let counting = Dispatch::new(CountReadings(Some(readings.clone())));
     let out = tracing::dispatcher::with_default(&counting, || {
         // Call sites decided before both subscribers were registered are decided again.
         tracing::callsite::rebuild_interest_cache();

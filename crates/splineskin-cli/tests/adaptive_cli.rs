@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::cli::{failed, ok, run};
+use common::cli::{failed, json_lines, ok, run};
 use common::test_dir::TestDir;
 
 fn scene() -> String {
@@ -38,18 +38,10 @@ fn deform_tolerance_inserts_marked_anchors_and_keeps_the_others() {
     let read = |name: &str| -> serde_json::Value {
         serde_json::from_str(&std::fs::read_to_string(dir.join(name)).unwrap()).unwrap()
     };
+    // The scene deformed with adaptive control points, written to `output`.
+    let refined_args = |output| ["deform", &scene, "--tolerance", "0.001", "-o", output];
     ok(&run(&dir, &["deform", &scene, "-o", "plain.json"]));
-    let stderr = common::cli::ok_stderr(
-        &dir,
-        &[
-            "deform",
-            &scene,
-            "--tolerance",
-            "0.001",
-            "-o",
-            "refined.json",
-        ],
-    );
+    let stderr = common::cli::ok_stderr(&dir, &refined_args("refined.json"));
     assert!(stderr.contains("anchors inserted"), "{stderr}");
     // The summary counts the curves written: more than the input's 58.
     assert!(!stderr.contains(": 58 curves in 16 paths"), "{stderr}");
@@ -79,17 +71,7 @@ fn deform_tolerance_inserts_marked_anchors_and_keeps_the_others() {
 
     // In SVG output the inserted anchors are listed on their elements ("subpath:anchor"), the
     // same ones as in the JSON (the fish's elements are one subpath each, in path order).
-    ok(&run(
-        &dir,
-        &[
-            "deform",
-            &scene,
-            "--tolerance",
-            "0.001",
-            "-o",
-            "refined.svg",
-        ],
-    ));
+    ok(&run(&dir, &refined_args("refined.svg")));
     let svg = std::fs::read_to_string(dir.join("refined.svg")).unwrap();
     let document = roxmltree::Document::parse(&svg).unwrap();
     let marked: Vec<Vec<usize>> = document
@@ -141,10 +123,7 @@ fn compare_tolerance_adds_the_adaptive_methods() {
             "c.png",
         ],
     ));
-    let rows: Vec<serde_json::Value> = out
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    let rows: Vec<serde_json::Value> = json_lines(&out);
     let row = |m: &str| {
         rows.iter()
             .find(|r| r["method"] == m)

@@ -14,7 +14,7 @@ mod common;
 
 use std::path::Path;
 
-use common::cli::{defop_eval, failed, ok, run_ok, s, splineskin};
+use common::cli::{defop_eval, failed, json_lines, ok, run_ok, s, splineskin};
 use common::test_dir::TestDir;
 use kurbo::Point;
 use splineskin::defop::OperatorFile;
@@ -129,7 +129,7 @@ fn defop_cli_study_quick_json() {
     let dir = TestDir::new("splineskin-defop-cli-");
     let scene = write_scene(&dir, "");
     let plot = dir.join("study.png");
-    let stdout = ok(&splineskin(&[
+    let rows: Vec<serde_json::Value> = json_lines(&ok(&splineskin(&[
         "defop",
         "study",
         s(&scene),
@@ -141,11 +141,7 @@ fn defop_cli_study_quick_json() {
         "60",
         "--held-out",
         "4",
-    ]));
-    let rows: Vec<serde_json::Value> = stdout
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    ])));
     assert!(!rows.is_empty());
     for r in &rows {
         assert!(r["basis"].is_string() && r["samples"].is_u64() && r["error"].is_f64());

@@ -30,12 +30,19 @@ fn deform_warns_where_a_dragged_corner_folds_the_outline() {
     let pins = [
         "--pin", "0,0", "--pin", "20,0", "--pin", "20,20", "--pin", "0,20",
     ];
-    let run = |moves: &[&str]| {
+    // Deforms the square with its corners pinned by `moves`, written to `output`: the stderr.
+    let deform_to = |moves: &[&str], output: &str| {
         let mut args = vec!["deform", "square.svg", "--weights", "bbw"];
         args.extend_from_slice(&pins);
         args.extend_from_slice(moves);
-        args.extend_from_slice(&["-o", "out.svg"]);
+        args.extend_from_slice(&["-o", output]);
         ok_stderr(&dir, &args)
+    };
+    let run = |moves: &[&str]| deform_to(moves, "out.svg");
+    // The JSON output of `moves`, written to `output`.
+    let json_of = |moves: &[&str], output: &str| -> serde_json::Value {
+        deform_to(moves, output);
+        serde_json::from_str(&std::fs::read_to_string(dir.join(output)).unwrap()).unwrap()
     };
     // Corner (20, 20) dragged to (−10, 10): across the left side.
     let folded = run(&["--move", "2:-30,-10"]);
@@ -58,12 +65,7 @@ fn deform_warns_where_a_dragged_corner_folds_the_outline() {
         );
     }
     // The JSON output lists the same crossings, with the curves and positions.
-    let mut args = vec!["deform", "square.svg", "--weights", "bbw"];
-    args.extend_from_slice(&pins);
-    args.extend_from_slice(&["--move", "2:-30,-10", "-o", "out.json"]);
-    ok_stderr(&dir, &args);
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("out.json")).unwrap()).unwrap();
+    let json = json_of(&["--move", "2:-30,-10"], "out.json");
     let folds = json["folds"].as_array().expect("a folds list");
     assert_eq!(folds.len(), lines.len(), "{json}");
     for (fold, line) in folds.iter().zip(&lines) {
@@ -81,12 +83,7 @@ fn deform_warns_where_a_dragged_corner_folds_the_outline() {
     // fit draws a spike at that corner, whose two sides overlap: a fold it reports).
     let gentle = run(&["--move", "2:3,-2"]);
     assert!(!gentle.contains("folds over itself"), "{gentle}");
-    let mut args = vec!["deform", "square.svg", "--weights", "bbw"];
-    args.extend_from_slice(&pins);
-    args.extend_from_slice(&["--move", "2:3,-2", "-o", "gentle.json"]);
-    ok_stderr(&dir, &args);
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("gentle.json")).unwrap()).unwrap();
+    let json = json_of(&["--move", "2:3,-2"], "gentle.json");
     assert_eq!(json["folds"], serde_json::json!([]), "{json}");
 }
 
