@@ -1,44 +1,14 @@
-//! Side-by-side comparison of the spline fit with the naive baselines (paper §5 and its
-//! Figs. 1, 3, 7): every method deforms the same drawing by the same pose, and each result is
-//! measured against the same target, the exactly skinned input curves
-//! `s_j(t) = Σ_i w_i(B_j(t)) T_i B̄_j(t)` ([`crate::metrics`]).
-//!
-//! | [`Method`] | result | distance to the target |
-//! |---|---|---|
-//! | `ours` | [`SplineRig`]: fixed tangent-length ratios | parametric |
-//! | `ours-flexible` | [`FlexibleSolver`]: G¹ and fixed-angle ratios free | parametric |
-//! | `fourcontrols` | [`naive::skin_control_points`] | parametric |
-//! | `twoendpoints` | [`naive::skin_on_curve_points`] | parametric |
-//! | `jacobian` | [`naive::skin_with_jacobian`] | parametric |
-//! | `schneider` | [`naive::schneider_refit`] (more curves) | closest point |
-//! | `schneider-same-count` | [`naive::schneider_refit_same_count`] (at most the input's curves per path) | closest point |
-//! | `ours-adaptive` (when asked) | the fit of the drawing refined by [`crate::adaptive::refine`] for the pose: more curves, every input anchor kept | closest point |
-//! | `schneider-adaptive-count` (when asked) | [`naive::schneider_refit_within`] with `ours-adaptive`'s curve count per path | closest point |
-//!
-//! "Parametric" is `‖R_j(t) − s_j(t)‖` at equal `t` ([`metrics::chain_metrics`]); "closest
-//! point" is the distance from `s_j(t)` to the nearest point of the refitted path
-//! ([`metrics::refit_metrics`]): a refit has its own curves and parametrisation. The distances
-//! along the target ([`MethodResult::distances`]) are exactly those the metrics' max and RMS
-//! are taken over (uniform `t_k = k / (S − 1)`, `S` = [`MetricsOptions::samples_per_curve`]),
-//! so the picture ([`render_comparison`]) and the table show the same numbers.
-//!
-//! ```text
-//! once per comparison:  drawing + weights + pose ──► compare_methods ──► Comparison
-//!                       (or a PosedDrawing + pose ──► compare_posed: its rig is reused)
-//!                       Comparison + posed handle markers ──► render_comparison ──► PNG
-//! ```
-
-pub use crate::figure::comparison::{
-    render_comparison, ComparePicture, PictureOptions, DEFAULT_COMPARE_PANEL_WIDTH, ERROR_FLOOR,
-};
+//! Every method deformed by the same pose and measured against the same target
+//! ([`super`] tells which and how); the pictures of the result are
+//! [`crate::figure::comparison`]'s.
 
 use kurbo::{Affine, Point};
 
 use crate::adaptive::{AdaptiveError, AdaptiveOptions};
 use crate::drawing::Drawing;
-use crate::figure::weight_map::HandleMarker;
 use crate::metrics::{self, Metrics, MetricsError, MetricsOptions};
 use crate::naive::{self, check_pose_len, Refit, RefitError, RefitOptions, WeightGradient};
+use crate::scene::handles::HandleMarker;
 use crate::scene::{HandleSet, PosedDrawing};
 use crate::spline_fit::quadrature::SampledCurves;
 use crate::spline_fit::{
@@ -237,7 +207,8 @@ impl Comparison {
     }
 }
 
-/// Why a comparison cannot be made or drawn.
+/// Why a comparison cannot be made (why it cannot be drawn:
+/// [`crate::figure::comparison::ComparePictureError`]).
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum CompareError {
@@ -277,23 +248,6 @@ pub enum CompareError {
         method: &'static str,
         /// The input path.
         path: usize,
-    },
-    /// The picture cannot be laid out.
-    #[error("picture: {0}")]
-    Grid(#[from] crate::figure::GridError),
-    /// The pixmap cannot be allocated.
-    #[error("picture: cannot allocate a {width}×{height} pixmap")]
-    Pixmap {
-        /// Width in pixels.
-        width: u32,
-        /// Height in pixels.
-        height: u32,
-    },
-    /// PNG encoding failed.
-    #[error("picture: cannot encode the PNG: {message}")]
-    Encode {
-        /// The encoder's description.
-        message: String,
     },
 }
 
