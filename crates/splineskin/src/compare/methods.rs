@@ -262,7 +262,7 @@ impl CompareError {
 }
 
 /// Deforms `inputs.drawing` by `inputs.pose` with every [`Method`] (the flexible fit when
-/// `inputs.flexible` is given) and measures each against the target (module doc).
+/// `inputs.flexible` is given) and measures each against the target (the [`crate::compare`] module doc).
 ///
 /// Errors: a pose of the wrong length, a fit that cannot be built, a refit tolerance that is
 /// not positive and finite, a result that is not finite (naming the method and path).
