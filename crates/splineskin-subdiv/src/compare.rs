@@ -16,10 +16,10 @@
 
 use super::affine3::{affine3_apply, Affine3};
 use super::cage::Point3;
-use super::error::SubdivError;
+use super::error::{SubdivError, SurfaceWeightsError};
 use super::limit_mesh::LimitMesh;
 use super::scene::SubdivSetup;
-use super::surface_weights::{cage_weights, sample_weights, SurfaceWeightsError};
+use super::surface_weights::{cage_weights, sample_weights};
 
 /// Level of the sample mesh by default: 3, 81 samples per quad face (the paper: 100 per face).
 pub const DEFAULT_COMPARE_LEVEL: usize = 3;

@@ -5,7 +5,7 @@
 
 use super::affine3::{distance2, dot, sub};
 use super::cage::Point3;
-use super::surface_weights::SurfaceWeightsError;
+use super::error::SurfaceWeightsError;
 
 /// Point handles and bones, in that order (module documentation).
 ///

@@ -63,7 +63,7 @@ pub use compare::{
     compare_subdiv, skin_points, ComparisonSamples, ErrorSummary, MethodResult, SubdivCompareError,
     SubdivComparison, DEFAULT_COMPARE_LEVEL,
 };
-pub use error::SubdivError;
+pub use error::{SubdivError, SurfaceWeightsError};
 pub use handles::{farthest_point_sample, Handles3};
 pub use limit::{
     LimitOptions, LimitSurface, SurfaceLocation, VertexLimit, DEFAULT_ISOLATION_LEVEL,
@@ -81,6 +81,5 @@ pub use stencil::{LimitStencil, StencilTable};
 pub use surface_weights::{
     cage_weights, node_weights, parse_weight_csv, read_weight_csv, sample_weights, BoneHeat,
     BoneHeatOptions, CageVertexWeights, Shepard3, SurfaceSample, SurfaceWeights,
-    SurfaceWeightsError,
 };
 pub use uniform::{refine_uniform, UniformLevel, UniformRefinement, MAX_UNIFORM_LEVEL};

@@ -123,26 +123,30 @@ fn precompute_sarap(bencher: divan::Bencher) {
     });
 }
 
+/// Times `solve` on a fresh copy of `start` per run (the copy is not timed).
+fn bench_from<T>(bencher: divan::Bencher, start: &[Point], solve: impl Fn(&mut Vec<Point>) -> T) {
+    bencher
+        .with_inputs(|| start.to_vec())
+        .bench_local_refs(solve);
+}
+
 #[divan::bench(args = CONFIGURATIONS, sample_count = 5)]
 fn arap(bencher: divan::Bencher, k: usize) {
     let s = setup();
-    bencher
-        .with_inputs(|| s.mesh.vertices.clone())
-        .bench_local_refs(|u| s.arap.solve(&s.configurations[k], u).expect("ARAP"));
+    let solve = |u: &mut Vec<Point>| s.arap.solve(&s.configurations[k], u).expect("ARAP");
+    bench_from(bencher, &s.mesh.vertices, solve);
 }
 
 #[divan::bench(args = CONFIGURATIONS, sample_count = 5)]
 fn sarap_from_arap(bencher: divan::Bencher, k: usize) {
     let s = setup();
-    bencher
-        .with_inputs(|| s.sarap_starts[k].clone())
-        .bench_local_refs(|u| s.sarap.solve(&s.configurations[k], u).expect("SARAP"));
+    let solve = |u: &mut Vec<Point>| s.sarap.solve(&s.configurations[k], u).expect("SARAP");
+    bench_from(bencher, &s.sarap_starts[k], solve);
 }
 
 #[divan::bench(args = CONFIGURATIONS, sample_count = 5)]
 fn sarap_from_rest(bencher: divan::Bencher, k: usize) {
     let s = setup();
-    bencher
-        .with_inputs(|| s.mesh.vertices.clone())
-        .bench_local_refs(|u| s.sarap.solve(&s.configurations[k], u).expect("SARAP"));
+    let solve = |u: &mut Vec<Point>| s.sarap.solve(&s.configurations[k], u).expect("SARAP");
+    bench_from(bencher, &s.mesh.vertices, solve);
 }

@@ -10,7 +10,7 @@ mod alloc_checks;
 mod defop_data;
 
 use alloc_checks::assert_counter_counts;
-use counting_alloc::{count, CountingAlloc, Counts};
+use counting_alloc::{count, Counts};
 use defop_data::{arap_solutions, fit_on_hats, rest_and_disc_samples};
 use kurbo::{Point, Rect, Vec2};
 use splineskin::defop::{
@@ -18,9 +18,6 @@ use splineskin::defop::{
 };
 use splineskin::mesh::TriMesh;
 use std::hint::black_box;
-
-#[global_allocator]
-static ALLOCATOR: CountingAlloc = CountingAlloc;
 
 #[test]
 fn defop_evaluation_allocates_nothing() {

@@ -18,7 +18,7 @@ use measure::max_distance;
 use std::sync::OnceLock;
 use std::time::Instant;
 
-use counting_alloc::{count, CountingAlloc, Counts};
+use counting_alloc::{count, Counts};
 use kurbo::{Affine, CubicBez, ParamCurve, ParamCurveNearest, Point, Vec2};
 use splineskin::defop::{
     flipped_triangles, train, training_domain_options, Arap, ArapOptions, DefOp, DefOpError,
@@ -33,9 +33,6 @@ use splineskin::mesh::TriMesh;
 use splineskin::metrics::{chain_metrics, MetricsOptions};
 use splineskin::spline_fit::{FitOptions, SplineRig};
 use splineskin::weights::{Shepard, ShepardOptions};
-
-#[global_allocator]
-static ALLOCATOR: CountingAlloc = CountingAlloc;
 
 /// Training samples besides the rest configuration: small enough for the dev profile.
 const N_TRAINING_SAMPLES: usize = 80;

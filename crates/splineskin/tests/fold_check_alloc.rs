@@ -10,22 +10,16 @@
 #[path = "common/alloc_checks.rs"]
 mod alloc_checks;
 
-use alloc_checks::assert_counter_counts;
-use counting_alloc::{count, CountingAlloc, Counts};
+use alloc_checks::{assert_counter_counts, demo_posed};
+use counting_alloc::{count, Counts};
 use kurbo::{Affine, Point};
-use splineskin::examples::demo_scene;
 use splineskin::folds::{FoldCheck, FoldScratch};
-use splineskin::scene::{Compat, PosedDrawing};
 use std::hint::black_box;
-
-#[global_allocator]
-static ALLOCATOR: CountingAlloc = CountingAlloc;
 
 #[test]
 fn fold_check_alloc_none_with_warm_scratch() {
     assert_counter_counts();
-    let scene = demo_scene();
-    let posed = PosedDrawing::from_scene(&scene, Compat::None, false).unwrap();
+    let (scene, posed) = demo_posed();
     let drawing = posed.drawing();
     let rest = drawing.flat_points();
     let check = FoldCheck::new(drawing, &rest);

@@ -9,22 +9,17 @@
 #[path = "common/alloc_checks.rs"]
 mod alloc_checks;
 
-use alloc_checks::{assert_counter_counts, assert_refusals_allocate_nothing};
-use counting_alloc::{count, CountingAlloc, Counts};
+use alloc_checks::{assert_counter_counts, assert_refusals_allocate_nothing, demo_posed};
+use counting_alloc::{count, Counts};
 use kurbo::{Affine, Point};
-use splineskin::examples::demo_scene;
-use splineskin::scene::{Compat, PosedDrawing, Puppet};
+use splineskin::scene::{Compat, Puppet};
 use std::hint::black_box;
-
-#[global_allocator]
-static ALLOCATOR: CountingAlloc = CountingAlloc;
 
 #[test]
 fn posed_update_alloc_none_with_the_fixed_rig() {
     assert_counter_counts();
 
-    let scene = demo_scene();
-    let posed = PosedDrawing::from_scene(&scene, Compat::None, false).unwrap();
+    let (scene, posed) = demo_posed();
     assert!(posed.rig().is_some() && !posed.is_flexible());
     let n = posed.n_handles();
     let mut poses: Vec<Vec<Affine>> = scene.poses.iter().map(|p| p.transforms.clone()).collect();

@@ -8,14 +8,11 @@
 mod alloc_checks;
 
 use alloc_checks::assert_refusals_allocate_nothing;
-use counting_alloc::{count, CountingAlloc, Counts};
+use counting_alloc::{count, Counts};
 use splineskin::subdiv::{
     parse_obj, Affine3, LimitOptions, LimitQuadrature, LimitSurface, SubdivRig, AFFINE3_IDENTITY,
 };
 use std::hint::black_box;
-
-#[global_allocator]
-static ALLOCATOR: CountingAlloc = CountingAlloc;
 
 /// A 4 × 4 grid of quads folded into a tube: 20 vertices, boundaries at both ends.
 fn tube_obj() -> String {

@@ -11,16 +11,13 @@
 mod alloc_checks;
 
 use alloc_checks::assert_refusals_allocate_nothing;
-use counting_alloc::{count, CountingAlloc, Counts};
+use counting_alloc::{count, Counts};
 use kurbo::{Affine, Point};
 use splineskin::drawing::{read_svg, Drawing, ImportOptions};
 use splineskin::examples::{demo_scene, tile, DEMO_SVG};
 use splineskin::spline_fit::{FitOptions, Measure, SplineRig};
 use splineskin::weights::{Shepard, ShepardOptions};
 use std::hint::black_box;
-
-#[global_allocator]
-static ALLOCATOR: CountingAlloc = CountingAlloc;
 
 /// Curves of the tiled drawing: about ten thousand, a large frame.
 const TILED_CURVES: usize = 10_000;

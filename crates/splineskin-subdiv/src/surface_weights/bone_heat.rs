@@ -44,11 +44,12 @@
 
 use super::super::affine3::{distance2, norm, sub};
 use super::super::cage::{bounds3, Cage, Point3};
+use super::super::error::SurfaceWeightsError;
 use super::super::handles::Handles3;
 use super::super::limit::LimitSurface;
 use super::super::limit_mesh::LimitMesh;
 use super::super::visibility::TriangleBvh;
-use super::{SurfaceSample, SurfaceWeights, SurfaceWeightsError};
+use super::{SurfaceSample, SurfaceWeights};
 use splineskin_core::linalg::{solve_spd_in_place, Csc};
 use splineskin_core::mesh::cotangent::quad_stiffness_and_mass;
 

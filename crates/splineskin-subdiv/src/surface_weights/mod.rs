@@ -15,14 +15,13 @@
 //! invariants hold whatever rounding the family leaves).
 
 mod bone_heat;
-mod error;
 mod shepard;
 mod vertex_table;
 
+pub use super::error::SurfaceWeightsError;
 pub use bone_heat::{
     BoneHeat, BoneHeatOptions, BONE_HEAT_MAX_LEVEL, BONE_HEAT_MIN_LEVEL, BONE_HEAT_MIN_QUADS,
 };
-pub use error::SurfaceWeightsError;
 pub use shepard::Shepard3;
 pub use vertex_table::{parse_weight_csv, read_weight_csv, CageVertexWeights};
 

@@ -12,8 +12,9 @@
 //! position, a cage vertex (for the naive method) at its own position.
 
 use super::super::cage::Point3;
+use super::super::error::SurfaceWeightsError;
 use super::super::handles::Handles3;
-use super::{SurfaceSample, SurfaceWeights, SurfaceWeightsError};
+use super::{SurfaceSample, SurfaceWeights};
 use splineskin_core::weights::shepard::weights_from_squared_distances;
 use splineskin_core::weights::ShepardOptions;
 

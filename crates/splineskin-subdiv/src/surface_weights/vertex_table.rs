@@ -32,7 +32,8 @@
 use std::path::Path;
 
 use super::super::cage::Point3;
-use super::{SurfaceSample, SurfaceWeights, SurfaceWeightsError};
+use super::super::error::SurfaceWeightsError;
+use super::{SurfaceSample, SurfaceWeights};
 
 /// The largest weight file read, in bytes (256 MiB, as for OBJ files).
 pub const MAX_WEIGHT_FILE_BYTES: u64 = 256 << 20;

@@ -3,6 +3,7 @@ use serde_json::Value;
 
 use super::gradient_space::LottieParts;
 use super::*;
+use crate::follow::{ElementMaps, FollowOptions};
 use crate::svg_in::{read_svg, ImportOptions};
 
 const ART: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100" viewBox="0 0 100 50">
@@ -37,6 +38,36 @@ fn turning(n: usize, turn: f64) -> (Drawing, Vec<Vec<Point>>) {
 /// `n` times `k / fps`.
 fn times(n: usize, fps: f64) -> Vec<f64> {
     (0..n).map(|k| k as f64 / fps).collect()
+}
+
+/// The points of `drawing` moved by `motion(k)`, for frames `k = 0..n`.
+fn moved(drawing: &Drawing, n: usize, motion: impl Fn(usize) -> Affine) -> Vec<Vec<Point>> {
+    let rest = drawing.flat_points();
+    (0..n)
+        .map(|k| rest.iter().map(|&p| motion(k) * p).collect())
+        .collect()
+}
+
+/// The element maps of `drawing` following `motion(k)`, for frames `k = 0..n`.
+fn following(drawing: &Drawing, n: usize, motion: impl Fn(usize) -> Affine) -> Vec<ElementMaps> {
+    (0..n)
+        .map(|k| {
+            let m = motion(k);
+            ElementMaps::from_map(drawing, &mut |p| m * p, &FollowOptions::default()).unwrap()
+        })
+        .collect()
+}
+
+/// `drawing` written through `frames` at `fps` (frame `k` at `k / fps`) with the default
+/// options and `maps`.
+fn written(
+    drawing: &Drawing,
+    frames: &[Vec<Point>],
+    fps: f64,
+    maps: Option<&[ElementMaps]>,
+) -> LottieExport {
+    let t = times(frames.len(), fps);
+    write_lottie(drawing, frames, &t, fps, maps, &LottieOptions::default()).unwrap()
 }
 
 /// Every shape item (`"ty": "sh"`) of the document, in document order (depth first).
@@ -165,15 +196,7 @@ fn lottie_shapes_follow_the_deformation_within_the_tolerance() {
 #[test]
 fn lottie_paint_is_the_documents() {
     let (drawing, frames) = turning(3, 0.1);
-    let out = write_lottie(
-        &drawing,
-        &frames,
-        &times(3, 24.0),
-        24.0,
-        None,
-        &LottieOptions::default(),
-    )
-    .unwrap();
+    let out = written(&drawing, &frames, 24.0, None);
     let doc: Value = serde_json::from_str(&out.json).unwrap();
     assert_eq!(
         (doc["w"].as_f64(), doc["h"].as_f64()),
@@ -333,27 +356,12 @@ fn lottie_rejects_bad_frames_and_options() {
 
 #[test]
 fn lottie_gradients_follow_their_elements() {
-    use crate::follow::{ElementMaps, FollowOptions};
     let n = 5;
     let (drawing, frames) = turning(n, 0.8);
     let rotation =
         |k: usize| Affine::rotate_about(0.8 * k as f64 / (n - 1) as f64, Point::new(50.0, 25.0));
-    let maps: Vec<ElementMaps> = (0..n)
-        .map(|k| {
-            let m = rotation(k);
-            ElementMaps::from_map(&drawing, &mut |p| m * p, &FollowOptions::default()).unwrap()
-        })
-        .collect();
-    let t = times(n, 10.0);
-    let out = write_lottie(
-        &drawing,
-        &frames,
-        &t,
-        10.0,
-        Some(&maps),
-        &LottieOptions::default(),
-    )
-    .unwrap();
+    let maps = following(&drawing, n, rotation);
+    let out = written(&drawing, &frames, 10.0, Some(&maps));
     assert!(
         !out.warnings.iter().any(|w| w.contains("at rest")),
         "{:?}",
@@ -377,7 +385,7 @@ fn lottie_gradients_follow_their_elements() {
     let wrong = write_lottie(
         &drawing,
         &frames,
-        &t,
+        &times(n, 10.0),
         10.0,
         Some(&maps[1..]),
         &LottieOptions::default(),
@@ -409,7 +417,6 @@ fn lottie_transform_parts_round_trip_general_maps() {
 /// true ellipse; nothing is approximated, so no warning.
 #[test]
 fn lottie_elliptical_gradient_fill_is_drawn_in_its_own_space() {
-    use crate::follow::{ElementMaps, FollowOptions};
     let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100" viewBox="0 0 100 100">
       <radialGradient id="glow" cx="0" cy="0" r="10" gradientUnits="userSpaceOnUse"
           gradientTransform="translate(50 50) rotate(30) scale(1 3)">
@@ -418,31 +425,14 @@ fn lottie_elliptical_gradient_fill_is_drawn_in_its_own_space() {
       <path id="blob" d="M20 50 C20 20 80 20 80 50 C80 80 20 80 20 50 Z" fill="url(#glow)" stroke="#000"/>
     </svg>"##;
     let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
-    let rest = drawing.flat_points();
     let n = 9;
     let motion = |k: usize| {
         let u = k as f64 / (n - 1) as f64;
         Affine::translate((10.0 * u, 0.0)) * Affine::rotate_about(1.2 * u, Point::new(50.0, 50.0))
     };
-    let frames: Vec<Vec<Point>> = (0..n)
-        .map(|k| rest.iter().map(|&p| motion(k) * p).collect())
-        .collect();
-    let maps: Vec<ElementMaps> = (0..n)
-        .map(|k| {
-            let m = motion(k);
-            ElementMaps::from_map(&drawing, &mut |p| m * p, &FollowOptions::default()).unwrap()
-        })
-        .collect();
-    let t = times(n, 8.0);
-    let out = write_lottie(
-        &drawing,
-        &frames,
-        &t,
-        8.0,
-        Some(&maps),
-        &LottieOptions::default(),
-    )
-    .unwrap();
+    let frames = moved(&drawing, n, motion);
+    let maps = following(&drawing, n, motion);
+    let out = written(&drawing, &frames, 8.0, Some(&maps));
     assert!(
         !out.warnings.iter().any(|w| w.contains("elliptical")),
         "{:?}",
@@ -539,23 +529,11 @@ fn lottie_clip_paths_become_layer_masks() {
       <path id="above" d="M10 90 L90 90" stroke="#000" stroke-width="4"/>
     </svg>"##;
     let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
-    let rest = drawing.flat_points();
     let n = 6;
-    let frames: Vec<Vec<Point>> = (0..n)
-        .map(|k| {
-            let m = Affine::rotate_about(0.6 * k as f64 / (n - 1) as f64, Point::new(50.0, 50.0));
-            rest.iter().map(|&p| m * p).collect()
-        })
-        .collect();
-    let out = write_lottie(
-        &drawing,
-        &frames,
-        &times(n, 10.0),
-        10.0,
-        None,
-        &LottieOptions::default(),
-    )
-    .unwrap();
+    let frames = moved(&drawing, n, |k| {
+        Affine::rotate_about(0.6 * k as f64 / (n - 1) as f64, Point::new(50.0, 50.0))
+    });
+    let out = written(&drawing, &frames, 10.0, None);
     // Nothing approximated: the group with opacity holds the clipped group alone.
     assert!(out.warnings.is_empty(), "{:?}", out.warnings);
     let doc: Value = serde_json::from_str(&out.json).unwrap();
@@ -606,25 +584,14 @@ fn lottie_bounding_box_gradients_follow_the_deformed_box() {
       <path id="tile" d="M10 10 H50 V50 H10 Z" fill="url(#spot)"/>
     </svg>"##;
     let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
-    let rest = drawing.flat_points();
     let n = 5;
     let stretch = |k: usize| {
         Affine::translate((10.0, 0.0))
             * Affine::scale_non_uniform(1.0 + k as f64 / (n - 1) as f64, 1.0)
             * Affine::translate((-10.0, 0.0))
     };
-    let frames: Vec<Vec<Point>> = (0..n)
-        .map(|k| rest.iter().map(|&p| stretch(k) * p).collect())
-        .collect();
-    let out = write_lottie(
-        &drawing,
-        &frames,
-        &times(n, 10.0),
-        10.0,
-        None,
-        &LottieOptions::default(),
-    )
-    .unwrap();
+    let frames = moved(&drawing, n, stretch);
+    let out = written(&drawing, &frames, 10.0, None);
     assert!(out.warnings.is_empty(), "{:?}", out.warnings);
     let doc: Value = serde_json::from_str(&out.json).unwrap();
     let group = doc["layers"][0]["shapes"][0]["it"]
@@ -673,15 +640,7 @@ fn lottie_names_every_text_it_leaves_out() {
       <g><text x="50" y="40">no id</text></g></svg>"##;
     let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
     let rest = drawing.flat_points();
-    let out = write_lottie(
-        &drawing,
-        &[rest.clone(), rest],
-        &times(2, 10.0),
-        10.0,
-        None,
-        &LottieOptions::default(),
-    )
-    .unwrap();
+    let out = written(&drawing, &[rest.clone(), rest], 10.0, None);
     let texts: Vec<&String> = out
         .warnings
         .iter()

@@ -24,10 +24,12 @@ use resvg::tiny_skia::{
 
 use super::colour_map::error_colour;
 use super::glyphs;
+use super::grid::GridError;
 use super::grid::{PanelGrid, TICK_LENGTH};
+use super::pixmap::{encode_png, new_pixmap, PixmapError};
 use super::strokes::{self, paint, stroke, Line, COLOUR_BAR_LINE};
 use super::weight_map::{draw_handle_marker, HandleMarker};
-use crate::compare::{CompareError, Comparison, Method, MethodResult};
+use crate::compare::methods::{Comparison, Method, MethodResult};
 use crate::naive::Refit;
 
 /// Default panel width: 420 pixels (six panels fit a 1300-pixel-wide picture in three columns).
@@ -37,6 +39,18 @@ pub const DEFAULT_COMPARE_PANEL_WIDTH: u32 = 420;
 /// are the largest: 1e-9 (rounding of `Σ_i w_i T_i x` on drawing coordinates is ~1e-13 of the
 /// diagonal; an error worth seeing is many orders above).
 pub const ERROR_FLOOR: f64 = 1e-9;
+
+/// Why a comparison cannot be drawn.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ComparePictureError {
+    /// The picture cannot be laid out.
+    #[error("picture: {0}")]
+    Grid(#[from] GridError),
+    /// The pixmap cannot be allocated or encoded.
+    #[error("picture: {0}")]
+    Pixmap(#[from] PixmapError),
+}
 
 /// Options of [`render_comparison`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -70,7 +84,7 @@ impl PictureOptions {
     /// assert!(PictureOptions::default().check(6).is_ok());
     /// assert!(PictureOptions::default().with_panel_width(0).check(6).is_err());
     /// ```
-    pub fn check(&self, n_methods: usize) -> Result<(), CompareError> {
+    pub fn check(&self, n_methods: usize) -> Result<(), ComparePictureError> {
         PanelGrid::new(
             Rect::new(0.0, 0.0, 1.0, 1.0),
             n_methods.max(1),
@@ -122,7 +136,8 @@ const FIGURE_TEXT: [u8; 4] = [70, 70, 70, 255];
 /// and `handles` (the posed handles, drawn as rings and segments); the method's name, max and
 /// RMS distance (% of the diagonal) and curve count above it; the colour bar below.
 ///
-/// Errors: the grid's ([`CompareError::Grid`]), allocation or encoding failures.
+/// Errors: the grid's ([`ComparePictureError::Grid`]), allocation or encoding failures
+/// ([`ComparePictureError::Pixmap`]).
 ///
 /// ```
 /// use kurbo::{Affine, Point};
@@ -151,7 +166,7 @@ pub fn render_comparison(
     comparison: &Comparison,
     handles: &[HandleMarker],
     options: &PictureOptions,
-) -> Result<ComparePicture, CompareError> {
+) -> Result<ComparePicture, ComparePictureError> {
     let content = content_bounds(comparison, handles);
     let grid = PanelGrid::new(
         content,
@@ -164,15 +179,9 @@ pub fn render_comparison(
         .max(ERROR_FLOOR * comparison.diagonal)
         .max(f64::MIN_POSITIVE);
     let (pw, ph) = (grid.panel_width, grid.panel_height);
-    let mut image = Pixmap::new(grid.width, grid.height).ok_or(CompareError::Pixmap {
-        width: grid.width,
-        height: grid.height,
-    })?;
+    let mut image = new_pixmap(grid.width, grid.height)?;
     image.fill(tiny_skia::Color::WHITE);
-    let mut panel = Pixmap::new(pw, ph).ok_or(CompareError::Pixmap {
-        width: pw,
-        height: ph,
-    })?;
+    let mut panel = new_pixmap(pw, ph)?;
     let to_panel = |p: Point| grid.panel_pixel(p);
     let text_scale = label_scale(comparison, &grid);
     for (m, &(x, y)) in comparison.methods.iter().zip(&grid.corners) {
@@ -207,9 +216,7 @@ pub fn render_comparison(
         &grid,
         error_scale / comparison.diagonal.max(f64::MIN_POSITIVE),
     );
-    let png = image.encode_png().map_err(|e| CompareError::Encode {
-        message: e.to_string(),
-    })?;
+    let png = encode_png(&image)?;
     Ok(ComparePicture {
         png,
         grid,

@@ -14,6 +14,7 @@ pub mod colour_map;
 pub mod comparison;
 pub mod glyphs;
 pub mod grid;
+pub mod pixmap;
 pub mod strokes;
 pub mod study_plot;
 pub mod subdiv_comparison;
@@ -21,6 +22,7 @@ pub mod surface_raster;
 pub mod weight_map;
 
 pub use grid::{GridError, PanelGrid};
+pub use pixmap::PixmapError;
 pub use study_plot::study_plot_png;
 pub use subdiv_comparison::{render_comparison_png, ComparisonPictureOptions, DEFAULT_PANEL_WIDTH};
 pub use surface_raster::{Camera, Raster};

@@ -14,7 +14,31 @@
 
 use kurbo::{Affine, Point, Vec2};
 
-use crate::figure::weight_map::HandleMarker;
+/// A handle as drawn on the panels: where its weight is 1 at rest.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum HandleMarker {
+    /// A point handle (or a cage vertex): a ring.
+    Point(Point),
+    /// A bone: the segment between its end points.
+    Segment([Point; 2]),
+}
+
+impl HandleMarker {
+    /// The points that define it.
+    pub fn points(&self) -> &[Point] {
+        match self {
+            HandleMarker::Point(p) => std::slice::from_ref(p),
+            HandleMarker::Segment(ends) => ends,
+        }
+    }
+
+    /// Whether all its coordinates are finite.
+    pub fn is_finite(&self) -> bool {
+        self.points()
+            .iter()
+            .all(|p| p.x.is_finite() && p.y.is_finite())
+    }
+}
 
 /// How a posed bone is interpreted.
 ///
@@ -215,7 +239,7 @@ impl HandleSet<'_> {
     ///
     /// ```
     /// use kurbo::Point;
-    /// use splineskin::figure::weight_map::HandleMarker;
+    /// use splineskin::scene::handles::HandleMarker;
     /// use splineskin::scene::HandleSet;
     /// let points = [Point::new(1.0, 2.0)];
     /// let set = HandleSet { points: &points, bones: &[], cage: None };

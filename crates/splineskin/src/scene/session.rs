@@ -384,14 +384,9 @@ impl Puppet {
     /// is where it already is). Refused (nothing changed) if it would coincide with another
     /// point handle or is not finite.
     pub fn set_point_handle(&mut self, i: usize, p: Point) -> Result<(), SceneError> {
-        let mut points = self.points.clone();
-        let n = points.len();
-        *points.get_mut(i).ok_or_else(|| {
-            self.invalid(
-                format!("handles[{i}]"),
-                format!("no such point handle (there are {n})"),
-            )
-        })? = p;
+        let points = self.replaced(&self.points, i, p, "handles", |n| {
+            format!("no such point handle (there are {n})")
+        })?;
         self.edit_rest(points, self.bones.clone(), self.cage.clone(), None)
     }
 
@@ -425,28 +420,19 @@ impl Puppet {
     /// Replaces bone `b` (rest end points and kind). Weights and rig become stale unless it is
     /// unchanged.
     pub fn set_bone(&mut self, b: usize, bone: Bone) -> Result<(), SceneError> {
-        let mut bones = self.bones.clone();
-        let n = bones.len();
-        *bones.get_mut(b).ok_or_else(|| {
-            self.invalid(
-                format!("bones[{b}]"),
-                format!("no such bone (there are {n})"),
-            )
-        })? = bone;
+        let bones = self.replaced(&self.bones, b, bone, "bones", |n| {
+            format!("no such bone (there are {n})")
+        })?;
         self.edit_rest(self.points.clone(), bones, self.cage.clone(), None)
     }
 
     /// Moves cage vertex `k` to rest position `p`. Weights and rig become stale unless it is
     /// unchanged. Refused if the cage would not stay a simple counter-clockwise polygon.
     pub fn set_cage_vertex(&mut self, k: usize, p: Point) -> Result<(), SceneError> {
-        let mut cage = self.cage.clone().unwrap_or_default();
-        let n = cage.len();
-        *cage.get_mut(k).ok_or_else(|| {
-            self.invalid(
-                format!("cage[{k}]"),
-                format!("no such cage vertex (the cage has {n})"),
-            )
-        })? = p;
+        let cage = self.cage.as_deref().unwrap_or_default();
+        let cage = self.replaced(cage, k, p, "cage", |n| {
+            format!("no such cage vertex (the cage has {n})")
+        })?;
         self.edit_rest(self.points.clone(), self.bones.clone(), Some(cage), None)
     }
 
@@ -760,6 +746,24 @@ impl Puppet {
 
     fn element(&self, kind: HandleKind) -> String {
         super::handle_element(self.format, kind)
+    }
+
+    /// A copy of `items` (elements `element[..]` of the scene) with entry `i` replaced by
+    /// `value`, or the error naming `element[i]` with `missing(items.len())`.
+    fn replaced<T: Clone>(
+        &self,
+        items: &[T],
+        i: usize,
+        value: T,
+        element: &str,
+        missing: impl FnOnce(usize) -> String,
+    ) -> Result<Vec<T>, SceneError> {
+        if i >= items.len() {
+            return Err(self.invalid(format!("{element}[{i}]"), missing(items.len())));
+        }
+        let mut items = items.to_vec();
+        items[i] = value;
+        Ok(items)
     }
 
     fn invalid(&self, element: String, message: String) -> SceneError {

@@ -1,9 +1,22 @@
-//! Checks shared by the allocation tests (each its own test binary with the counting global
-//! allocator installed; they include this file by `#[path]`).
+//! Checks shared by the allocation tests (each its own test binary; they include this file by
+//! `#[path]`, which installs the counting global allocator for the binary).
 #![allow(dead_code)]
 
-use counting_alloc::{count, Counts};
+use counting_alloc::{count, CountingAlloc, Counts};
+use splineskin::examples::demo_scene;
+use splineskin::scene::{Compat, PosedDrawing, Scene};
 use std::hint::black_box;
+
+#[global_allocator]
+static ALLOCATOR: CountingAlloc = CountingAlloc;
+
+/// The bundled demo scene and its drawing posed by the scene's own engine (no compatibility
+/// mode, fixed ratios).
+pub fn demo_posed() -> (Scene, PosedDrawing) {
+    let scene = demo_scene();
+    let posed = PosedDrawing::from_scene(&scene, Compat::None, false).unwrap();
+    (scene, posed)
+}
 
 /// Asserts that the counter sees an allocation made on purpose (a counter that never counts,
 /// e.g. because the allocator is not installed, would pass every other check).

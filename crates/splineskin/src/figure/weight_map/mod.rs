@@ -30,6 +30,9 @@ mod paint;
 /// The colour maps, shared with the other pictures ([`crate::figure::colour_map`]).
 pub use crate::figure::colour_map;
 
+/// The handle markers drawn on the panels, at the path they always had
+/// ([`crate::scene::handles::HandleMarker`]).
+pub use crate::scene::handles::HandleMarker;
 pub use layout::{Panel, WeightMapLayout};
 
 pub(crate) use paint::draw_handle_marker;
@@ -42,6 +45,7 @@ use kurbo::Point;
 use resvg::tiny_skia::{self, Pixmap, PixmapPaint, Transform};
 
 use crate::drawing::Drawing;
+use crate::figure::pixmap::{encode_png, new_pixmap, PixmapError};
 use crate::figure::strokes::stroke;
 use crate::mesh::TriMesh;
 use crate::weights::WeightField;
@@ -192,20 +196,9 @@ pub enum WeightMapError {
         /// Where (drawing units).
         y: f64,
     },
-    /// The pixmap cannot be allocated.
-    #[error("cannot allocate a {width}×{height} pixmap")]
-    Pixmap {
-        /// Width in pixels.
-        width: u32,
-        /// Height in pixels.
-        height: u32,
-    },
-    /// PNG encoding failed.
-    #[error("cannot encode the PNG: {message}")]
-    Encode {
-        /// The encoder's description.
-        message: String,
-    },
+    /// The pixmap cannot be allocated or encoded.
+    #[error(transparent)]
+    Pixmap(#[from] PixmapError),
     /// [`RgbaImage::decode_png`] cannot read the bytes.
     #[error("cannot decode the PNG: {message}")]
     Decode {
@@ -275,32 +268,6 @@ impl RgbaImage {
         }
         let [r, g, b, _] = self.pixel(p.x.floor() as u32, p.y.floor() as u32)?;
         Some([r, g, b])
-    }
-}
-
-/// A handle as drawn on the panels: where its weight is 1 at rest.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum HandleMarker {
-    /// A point handle (or a cage vertex): a ring.
-    Point(Point),
-    /// A bone: the segment between its end points.
-    Segment([Point; 2]),
-}
-
-impl HandleMarker {
-    /// The points that define it.
-    pub fn points(&self) -> &[Point] {
-        match self {
-            HandleMarker::Point(p) => std::slice::from_ref(p),
-            HandleMarker::Segment(ends) => ends,
-        }
-    }
-
-    /// Whether all its coordinates are finite.
-    pub fn is_finite(&self) -> bool {
-        self.points()
-            .iter()
-            .all(|p| p.x.is_finite() && p.y.is_finite())
     }
 }
 
@@ -402,15 +369,9 @@ pub fn render_weight_map(
     let ranges = ranges_of(&samples, &shown);
 
     let (pw, ph) = (layout.panel_width, layout.panel_height);
-    let mut image = Pixmap::new(layout.width, layout.height).ok_or(WeightMapError::Pixmap {
-        width: layout.width,
-        height: layout.height,
-    })?;
+    let mut image = new_pixmap(layout.width, layout.height)?;
     image.fill(tiny_skia::Color::WHITE);
-    let mut panel = Pixmap::new(pw, ph).ok_or(WeightMapError::Pixmap {
-        width: pw,
-        height: ph,
-    })?;
+    let mut panel = new_pixmap(pw, ph)?;
     let curves = curves_path(drawing, &layout);
     let (edges, boundary) = match mesh {
         Some(mesh) => mesh_paths(mesh, &layout),
@@ -460,9 +421,7 @@ pub fn render_weight_map(
     let below = ranges.iter().any(|r| range_of(r.min) == Range::Below);
     let above = ranges.iter().any(|r| range_of(r.max) == Range::Above);
     colour_bar(&mut image, &layout, below, above, options.iso_step);
-    let png = image.encode_png().map_err(|e| WeightMapError::Encode {
-        message: e.to_string(),
-    })?;
+    let png = encode_png(&image)?;
     Ok(WeightMap {
         png,
         layout,
