@@ -19,8 +19,11 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 use splineskin::adaptive::AdaptiveOptions;
 use splineskin::compare::{
-    compare_posed, posed_markers, render_comparison, CompareOptions, Comparison, Method,
-    PictureOptions, DEFAULT_COMPARE_PANEL_WIDTH, DEFAULT_REFIT_TOLERANCE_FRACTION,
+    compare_posed, posed_markers, CompareOptions, Comparison, Method,
+    DEFAULT_REFIT_TOLERANCE_FRACTION,
+};
+use splineskin::figure::comparison::{
+    render_comparison, PictureOptions, DEFAULT_COMPARE_PANEL_WIDTH,
 };
 use splineskin::metrics::MetricsOptions;
 use splineskin::scene::{Compat, Engine, PosedDrawing, Scene};

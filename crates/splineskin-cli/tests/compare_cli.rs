@@ -21,10 +21,10 @@ use common::test_dir::TestDir;
 use kurbo::Affine;
 use serde::Deserialize;
 use splineskin::compare::{
-    compare_methods, posed_markers, render_comparison, CompareInputs, CompareOptions,
-    ComparePicture, Comparison, Method, PictureOptions,
+    compare_methods, posed_markers, CompareInputs, CompareOptions, Comparison, Method,
 };
 use splineskin::figure::colour_map::error_colour;
+use splineskin::figure::comparison::{render_comparison, ComparePicture, PictureOptions};
 use splineskin::metrics::MetricsOptions;
 use splineskin::scene::{Compat, Scene};
 use splineskin::weight_map::RgbaImage;

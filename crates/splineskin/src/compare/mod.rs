@@ -20,7 +20,7 @@
 //! ([`metrics::refit_metrics`]): a refit has its own curves and parametrisation. The distances
 //! along the target ([`MethodResult::distances`]) are exactly those the metrics' max and RMS
 //! are taken over (uniform `t_k = k / (S − 1)`, `S` = [`MetricsOptions::samples_per_curve`]),
-//! so the picture ([`render_comparison`], drawn by [`crate::figure::comparison`]) and the table show the same numbers.
+//! so the picture ([`render_comparison`](crate::figure::comparison::render_comparison), drawn by [`crate::figure::comparison`]) and the table show the same numbers.
 //!
 //! ```text
 //! once per comparison:  drawing + weights + pose ──► compare_methods ──► Comparison
@@ -33,11 +33,4 @@ pub(crate) mod methods;
 pub use methods::{
     compare_methods, compare_posed, posed_markers, CompareError, CompareInputs, CompareOptions,
     Comparison, Method, MethodResult, DEFAULT_REFIT_TOLERANCE_FRACTION,
-};
-
-/// The comparison's picture, at the path it always had. It draws what `methods` computes,
-/// and nothing of `compare` imports it.
-pub use crate::figure::comparison::{
-    render_comparison, ComparePicture, ComparePictureError, PictureOptions,
-    DEFAULT_COMPARE_PANEL_WIDTH, ERROR_FLOOR,
 };

@@ -80,7 +80,7 @@ impl PictureOptions {
     /// comparison. `n_methods` panels of a square drawing are laid out.
     ///
     /// ```
-    /// use splineskin::compare::PictureOptions;
+    /// use splineskin::figure::comparison::PictureOptions;
     /// assert!(PictureOptions::default().check(6).is_ok());
     /// assert!(PictureOptions::default().with_panel_width(0).check(6).is_err());
     /// ```
@@ -141,7 +141,8 @@ const FIGURE_TEXT: [u8; 4] = [70, 70, 70, 255];
 ///
 /// ```
 /// use kurbo::{Affine, Point};
-/// use splineskin::compare::{compare_methods, render_comparison, CompareInputs, CompareOptions, PictureOptions};
+/// use splineskin::compare::{compare_methods, CompareInputs, CompareOptions};
+/// use splineskin::figure::comparison::{render_comparison, PictureOptions};
 /// use splineskin::drawing::{read_svg, ImportOptions};
 /// use splineskin::weight_map::{HandleMarker, RgbaImage};
 /// use splineskin::weights::{Shepard, ShepardOptions};

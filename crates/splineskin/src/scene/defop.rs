@@ -522,7 +522,7 @@ fn read_triangle_mesh(path: &Path) -> Result<TriMesh, SceneError> {
         origin: origin.clone(),
         message,
     };
-    let cage = crate::subdiv::obj::read_obj(path).map_err(|e| invalid(e.to_string()))?;
+    let cage = splineskin_subdiv::obj::read_obj(path).map_err(|e| invalid(e.to_string()))?;
     let mut vertices = Vec::with_capacity(cage.n_vertices());
     for (v, p) in cage.positions().iter().enumerate() {
         if p[2] != 0.0 {
