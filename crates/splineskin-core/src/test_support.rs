@@ -7,6 +7,17 @@ pub(crate) fn pts(v: &[(f64, f64)]) -> Vec<Point> {
     v.iter().map(|&p| Point::from(p)).collect()
 }
 
+/// Two open curves (points 0–3 and 3–6) meeting C¹ at point 3: equal, collinear tangents.
+pub(crate) const SMOOTH_C1: [(f64, f64); 7] = [
+    (0., 0.),
+    (1., 1.),
+    (2., 0.),
+    (3., 0.),
+    (4., 0.),
+    (5., 1.),
+    (6., 0.),
+];
+
 /// Two open curves (points 0–3 and 3–6) meeting G¹ at point 3 with tangent lengths 1 and 2:
 /// smooth, but not strictly C¹.
 pub(crate) const SMOOTH_RATIO_2: [(f64, f64); 7] = [

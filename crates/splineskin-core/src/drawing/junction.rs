@@ -421,15 +421,7 @@ mod tests {
 
     #[test]
     fn junction_equal_collinear_tangents_are_c1() {
-        let smooth = [
-            (0., 0.),
-            (1., 1.),
-            (2., 0.),
-            (3., 0.),
-            (4., 0.),
-            (5., 1.),
-            (6., 0.),
-        ];
+        let smooth = crate::test_support::SMOOTH_C1;
         assert_eq!(middle_joint(&smooth), JointKind::C1);
     }
 

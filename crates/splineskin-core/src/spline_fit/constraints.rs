@@ -456,15 +456,7 @@ mod tests {
     fn constraints_c1_is_strict_where_the_input_is_c1() {
         // A C1 input: ours writes equal lengths, so a configuration whose outgoing tangent is
         // parallel but twice as long violates the rows.
-        let c1 = test_support::pts(&[
-            (0., 0.),
-            (1., 1.),
-            (2., 0.),
-            (3., 0.),
-            (4., 0.),
-            (5., 1.),
-            (6., 0.),
-        ]);
+        let c1 = test_support::pts(&test_support::SMOOTH_C1);
         let joints = [JointKind::End, JointKind::C1, JointKind::End];
         let rows = junction_rows(
             &c1,
