@@ -6,7 +6,10 @@ use splineskin::drawing::svg_in::MAX_SVG_BYTES;
 use splineskin::drawing::svg_out::{write_svg_marked, write_svg_with_inserted, ViewBoxRule};
 use splineskin::drawing::{read_svg_named, Drawing, ImportOptions, SvgSource};
 use splineskin::folds::FoldCheck;
-use splineskin::scene::{Compat, Engine, JunctionOverride, MeshFamily, Scene, WeightSpec};
+use splineskin::scene::pinned::PinnedDrawing;
+use splineskin::scene::{
+    scene_domain_options, Compat, Engine, JunctionOverride, MeshFamily, Scene, WeightSpec,
+};
 use splineskin::spline_fit::Measure;
 
 use crate::page_scene::{defop_family, scene_of_page, SceneExtras};
@@ -71,18 +74,15 @@ impl Document {
     /// Opens an SVG document: no handles, bounded biharmonic weights (Puppet Warp's shape-aware
     /// behaviour; the page shows the same family on a coarser mesh while they compute).
     pub fn from_svg(name: &str, text: &str) -> Result<Document> {
-        #[derive(serde::Serialize)]
-        struct Minimal<'a> {
-            splineskin_scene: u32,
-            svg_text: &'a str,
-        }
-        let json = serde_json::to_string(&Minimal {
-            splineskin_scene: splineskin::scene::ours::SCENE_VERSION,
-            svg_text: text,
+        let scene = Scene::from_pins(PinnedDrawing {
+            drawing: read_svg_named(text, &ImportOptions::default(), name)?,
+            svg_text: text.to_string(),
+            origin: name.to_string(),
+            pins: Vec::new(),
+            weights: WeightSpec::Mesh(MeshFamily::Bbw),
+            domain: scene_domain_options(),
+            pose: Vec::new(),
         })?;
-        let mut scene = Scene::from_json(&json, name, None)?;
-        scene.svg_origin = name.to_string();
-        scene.weights = WeightSpec::Mesh(MeshFamily::Bbw);
         Document::from_scene(scene, name)
     }
 
@@ -94,9 +94,11 @@ impl Document {
         // The kinds the rig uses (the authors' saved kinds, then the scene's overrides) and
         // those classified from the geometry: the page gets the latter and, as overrides,
         // every joint where the two differ.
+        let drawing = scene.drawing(Compat::None)?;
+        // Read once: the scene keeps the drawing for the rig's junction kinds.
+        let scene = scene.with_drawing(drawing.clone());
         let (rigged, more) = scene.drawing_with_junctions(Compat::None)?;
         warnings.extend(more);
-        let drawing = scene.drawing(Compat::None)?;
         let junctions = junction_overrides(&rigged, &drawing);
         let pose = scene
             .pose(0)

@@ -1724,3 +1724,21 @@ fn a_rig_request_does_not_read_the_drawing_again() {
     );
     assert_eq!(readings, 0, "SVG readings during the rig request");
 }
+
+/// Opening an SVG document or a scene reads the drawing once: the editor's document is made of
+/// the drawing it read, with no scene file written and read back in between (an SVG was read
+/// twice before).
+#[test]
+fn opening_a_drawing_or_a_scene_reads_the_drawing_once() {
+    let (document, readings) =
+        crate::test_support::svg_readings(|| Document::from_svg("fish.svg", DEMO_SVG));
+    let document = document.expect("the fish opens");
+    assert_eq!(document.drawing.n_curves(), 58);
+    assert_eq!(readings, 1, "SVG readings while opening the drawing");
+    let scene = splineskin::examples::demo_scene();
+    let (document, readings) =
+        crate::test_support::svg_readings(|| Document::from_scene(scene, "demo-scene.json"));
+    let document = document.expect("the scene opens");
+    assert_eq!(document.drawing.n_curves(), 58);
+    assert_eq!(readings, 1, "SVG readings while opening the scene");
+}
