@@ -5,21 +5,21 @@
 //!
 //! | [`Method`] | result | distance to the target |
 //! |---|---|---|
-//! | `ours` | [`SplineRig`]: fixed tangent-length ratios | parametric |
-//! | `ours-flexible` | [`FlexibleSolver`]: G¹ and fixed-angle ratios free | parametric |
-//! | `fourcontrols` | [`naive::skin_control_points`] | parametric |
-//! | `twoendpoints` | [`naive::skin_on_curve_points`] | parametric |
-//! | `jacobian` | [`naive::skin_with_jacobian`] | parametric |
-//! | `schneider` | [`naive::schneider_refit`] (more curves) | closest point |
-//! | `schneider-same-count` | [`naive::schneider_refit_same_count`] (at most the input's curves per path) | closest point |
+//! | `ours` | [`SplineRig`](crate::spline_fit::SplineRig): fixed tangent-length ratios | parametric |
+//! | `ours-flexible` | [`FlexibleSolver`](crate::spline_fit::FlexibleSolver): G¹ and fixed-angle ratios free | parametric |
+//! | `fourcontrols` | [`naive::skin_control_points`](crate::naive::skin_control_points) | parametric |
+//! | `twoendpoints` | [`naive::skin_on_curve_points`](crate::naive::skin_on_curve_points) | parametric |
+//! | `jacobian` | [`naive::skin_with_jacobian`](crate::naive::skin_with_jacobian) | parametric |
+//! | `schneider` | [`naive::schneider_refit`](crate::naive::schneider_refit) (more curves) | closest point |
+//! | `schneider-same-count` | [`naive::schneider_refit_same_count`](crate::naive::schneider_refit_same_count) (at most the input's curves per path) | closest point |
 //! | `ours-adaptive` (when asked) | the fit of the drawing refined by [`crate::adaptive::refine`] for the pose: more curves, every input anchor kept | closest point |
-//! | `schneider-adaptive-count` (when asked) | [`naive::schneider_refit_within`] with `ours-adaptive`'s curve count per path | closest point |
+//! | `schneider-adaptive-count` (when asked) | [`naive::schneider_refit_within`](crate::naive::schneider_refit_within) with `ours-adaptive`'s curve count per path | closest point |
 //!
-//! "Parametric" is `‖R_j(t) − s_j(t)‖` at equal `t` ([`metrics::chain_metrics`]); "closest
+//! "Parametric" is `‖R_j(t) − s_j(t)‖` at equal `t` ([`metrics::chain_metrics`](crate::metrics::chain_metrics)); "closest
 //! point" is the distance from `s_j(t)` to the nearest point of the refitted path
-//! ([`metrics::refit_metrics`]): a refit has its own curves and parametrisation. The distances
+//! ([`metrics::refit_metrics`](crate::metrics::refit_metrics)): a refit has its own curves and parametrisation. The distances
 //! along the target ([`MethodResult::distances`]) are exactly those the metrics' max and RMS
-//! are taken over (uniform `t_k = k / (S − 1)`, `S` = [`MetricsOptions::samples_per_curve`]),
+//! are taken over (uniform `t_k = k / (S − 1)`, `S` = [`MetricsOptions::samples_per_curve`](crate::metrics::MetricsOptions::samples_per_curve)),
 //! so the picture ([`render_comparison`](crate::figure::comparison::render_comparison), drawn by [`crate::figure::comparison`]) and the table show the same numbers.
 //!
 //! ```text
