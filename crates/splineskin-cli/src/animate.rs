@@ -44,7 +44,7 @@ use splineskin::drawing::animated_image::{AnimatedFormat, AnimatedImage};
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::lottie::LottieOptions;
 use splineskin::drawing::svg_animate::{write_animated_svg_with, AnimatedSvgOptions};
-use splineskin::drawing::svg_out::{write_svg_following, write_svg_view_box, ViewBoxRule};
+use splineskin::drawing::svg_out::{write_svg_with, SvgOptions, ViewBoxRule};
 use splineskin::drawing::Drawing;
 use splineskin::render::MAX_RENDER_SIZE;
 use splineskin::scene::{PosedDrawing, Scene};
@@ -323,12 +323,12 @@ impl Job<'_> {
 
     /// Frame `f` (its `points`) as an SVG document with viewBox `rule`.
     fn frame_svg(&self, f: usize, points: &[Point], rule: ViewBoxRule) -> Result<String> {
-        let drawing = self.drawing();
-        match self.maps_at(f)? {
-            Some(maps) => write_svg_following(drawing, points, &maps, rule),
-            None => write_svg_view_box(drawing, points, rule),
-        }
-        .with_context(|| format!("{}: frame {f}: writing the SVG", self.scene_name))
+        let maps = self.maps_at(f)?;
+        let options = SvgOptions::default()
+            .with_view_box(rule)
+            .with_follow(maps.as_ref());
+        write_svg_with(self.drawing(), points, &options)
+            .with_context(|| format!("{}: frame {f}: writing the SVG", self.scene_name))
     }
 
     /// `--viewbox fit` for outputs written frame by frame: the union over every frame,

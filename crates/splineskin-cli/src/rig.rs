@@ -94,8 +94,8 @@ pub fn run(args: Args) -> Result<()> {
         rigged.pin_list(),
         rigged.family.name(),
     );
-    let rigged = rigged.into_scene(&args.drawing.display().to_string())?;
-    let json = rigged.to_json(svg)?;
+    let made = rigged.into_scene(&args.drawing.display().to_string())?;
+    let json = made.to_json(svg)?;
     // What is written must read back as the scene asked for.
     let scene = Scene::from_json(&json, &args.output.display().to_string(), Some(&scene_dir))
         .with_context(|| {
@@ -104,7 +104,7 @@ pub fn run(args: Args) -> Result<()> {
                 args.output.display()
             )
         })?;
-    debug_assert_eq!(scene.handles, rigged.handles);
+    debug_assert_eq!(scene.handles, made.handles);
     write_atomic(&args.output, json.as_bytes())?;
     eprintln!(
         "{}: {summary} -> {}",

@@ -7,10 +7,10 @@ use kurbo::{Affine, Point};
 use splineskin::defop::MeshMap;
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::svg_out::{
-    art_bounds, art_outside_view_box, write_svg_following, write_svg_view_box,
-    write_svg_with_inserted, ViewBoxRule,
+    art_bounds, art_outside_view_box, write_svg_with, SvgOptions, ViewBoxRule,
 };
 use splineskin::naive::skin_point;
+use splineskin::scene::ours_write::SvgRef;
 
 use crate::document::Document;
 use crate::editor::{lock_puppet, Editor};
@@ -18,7 +18,6 @@ use crate::request::{ApiError, Request, Response};
 use crate::rig_routes::{checked_scene, gone_rig};
 use crate::store::{OperatorRig, Rig};
 use crate::wire::{EditScene, ExportQuery, FoldWire, OutsideWire, ViewBoxReport};
-use splineskin::scene::ours_write::SvgRef;
 
 /// `GET /api/initial`.
 pub(crate) fn initial(editor: &Editor) -> Result<Response, ApiError> {
@@ -101,18 +100,13 @@ pub(crate) fn export(editor: &Editor, id: &str, request: &Request) -> Result<Res
         let points = points_of(&document, &body[..n_bytes.min(body.len())])?;
         let tail = &body[n_bytes..];
         let maps = deformation.element_maps(&document, tail)?;
-        match (&maps, document.inserted.is_empty()) {
-            (_, false) => write_svg_with_inserted(
-                &document.drawing,
-                &points,
-                rule,
-                maps.as_ref(),
-                &document.inserted,
-            ),
-            (Some(maps), true) => write_svg_following(&document.drawing, &points, maps, rule),
-            (None, true) => write_svg_view_box(&document.drawing, &points, rule),
-        }
-        .map_err(|e| ApiError::bad(e.to_string()))?
+        let inserted = (!document.inserted.is_empty()).then_some(document.inserted.as_slice());
+        let options = SvgOptions::default()
+            .with_view_box(rule)
+            .with_follow(maps.as_ref())
+            .with_inserted(inserted);
+        write_svg_with(&document.drawing, &points, &options)
+            .map_err(|e| ApiError::bad(e.to_string()))?
     };
     Ok(Response::ok("image/svg+xml; charset=utf-8", svg))
 }

@@ -78,8 +78,7 @@ pub fn editor_defop_settings() -> DefOpSettings {
 
 /// The `defop` section the page's scene implies: `None` unless its "family" is an operator or
 /// the opened scene had one; the page's energy and sample count over the opened settings (or
-/// [`editor_defop_settings`]).
-/// The page's sample count must be at least 1 (error element `defop.samples`, as in a scene
+/// [`editor_defop_settings`]). The page's sample count must be at least 1 (error element `defop.samples`, as in a scene
 /// file).
 fn defop_settings(
     scene: &EditScene,

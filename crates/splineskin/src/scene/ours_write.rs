@@ -92,9 +92,9 @@ struct KeyframeOut {
 }
 
 /// A scene's `domain` section as written: every option (the reader sets each over its
-/// defaults). Also what the editor's scene writer puts in the files it writes.
+/// defaults).
 #[derive(Clone, Debug, Serialize)]
-pub struct DomainOut {
+struct DomainOut {
     min_angle: f64,
     max_area_fraction: f64,
     holes: bool,
@@ -109,7 +109,7 @@ pub struct DomainOut {
 
 impl DomainOut {
     /// The section of `d`.
-    pub fn of(d: &DomainOptions) -> DomainOut {
+    fn of(d: &DomainOptions) -> DomainOut {
         DomainOut {
             min_angle: d.min_angle,
             max_area_fraction: d.max_area_fraction,
@@ -125,10 +125,9 @@ impl DomainOut {
     }
 }
 
-/// A scene's `defop` section as written (the keys [`super::defop`] reads). Also what the
-/// editor's scene writer puts in the files it writes.
+/// A scene's `defop` section as written (the keys [`super::defop`] reads).
 #[derive(Clone, Debug, Serialize)]
-pub struct DefOpOut {
+struct DefOpOut {
     energy: &'static str,
     spatial_basis: String,
     handle_basis: &'static str,
