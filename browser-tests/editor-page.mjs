@@ -2,8 +2,34 @@
 // picker, read the page's state and the drawing's path data, find a drawing point on screen,
 // drag with the mouse.
 
+import { launchBrowser, startEditor } from './harness.mjs';
+
 /** Longest wait for the editor (precomputation, uploads), ms. */
 export const WAIT = 60_000;
+
+/**
+ * The editor served (`splineskin serve` with `args`: the bundled fish without), a browser of
+ * `viewport` and a page of it, booted, its rig ready when `rig`: { page, close() }. The page's
+ * errors are printed.
+ */
+export async function servedEditor({ viewport, args = [], rig = false } = {}) {
+  const browser = await launchBrowser({ viewport });
+  const server = await startEditor(args);
+  const page = await browser.context.newPage();
+  page.on('pageerror', (e) => console.log(`page error: ${e.message}`));
+  await page.goto(server.url);
+  await page.waitForSelector('body[data-booted]', { timeout: WAIT });
+  if (rig) await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  return {
+    page,
+    server,
+    browser,
+    async close() {
+      await browser.close();
+      await server.close();
+    },
+  };
+}
 
 /** Opens `file` (a path, or { name, mimeType, buffer }) through the page's file picker and waits until it is shown. */
 export async function openThroughPicker(p, file) {

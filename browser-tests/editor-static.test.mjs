@@ -364,6 +364,39 @@ check('add points in the static page: the refined drawing and its rig come from 
   assert.deepEqual(pageErrors, [], 'no error in the page');
 });
 
+check('an operator training in the static page stops at Stop training, and the next change trains again', { skip: MISSING }, async () => {
+  const p = await browser.context.newPage();
+  try {
+    await p.goto(site.url('index.html'));
+    await p.waitForSelector('body[data-booted]', { timeout: WAIT });
+    await p.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+    // 5 000 samples: minutes of training in one worker.
+    await p.selectOption('#family', 'defop-arap');
+    await p.fill('#defop-samples', '5000');
+    await p.dispatchEvent('#defop-samples', 'change');
+    await p.waitForFunction(() => document.body.dataset.rig === 'computing', null, { timeout: WAIT });
+    assert.equal(await p.isVisible('#progress-stop'), true, 'Stop training is offered');
+    await p.click('#progress-stop');
+    await p.waitForFunction(() => document.body.dataset.rig !== 'computing', null, { timeout: WAIT }).catch(async (e) => {
+      const said = await p.evaluate(() => ({ rig: document.body.dataset.rig, message: document.getElementById('message').textContent, error: document.getElementById('error').textContent, progress: document.getElementById('progress-text').textContent }));
+      throw new Error(`${e.message}: ${JSON.stringify(said)}`);
+    });
+    assert.equal(await p.evaluate(() => document.body.dataset.rig), 'stopped', await p.textContent('#error'));
+    assert.match(await p.textContent('#message'), /training stopped as asked/);
+    assert.equal(await p.isVisible('#error'), false, 'a stop is not an error');
+    // The next change trains again, at once: the stopped worker no longer holds its core.
+    const started = performance.now();
+    await p.fill('#defop-samples', '20');
+    await p.dispatchEvent('#defop-samples', 'change');
+    await p.waitForFunction(() => ['ready', 'error'].includes(document.body.dataset.rig), null, { timeout: WAIT });
+    assert.equal(await p.evaluate(() => document.body.dataset.rig), 'ready', await p.textContent('#error'));
+    assert.equal((await p.evaluate(() => window.splineskinEditor.rig.info)).n_samples, 21);
+    console.log(`static: stopped a 5 000-sample training; a 20-sample one then trained in ${((performance.now() - started) / 1000).toFixed(1)} s`);
+  } finally {
+    await p.close();
+  }
+});
+
 check('served cross-origin isolated (the static build\'s _headers), exact rigs run on the threaded module: the fish\'s export is the native deformation; giraffe and dog timed (printed)', { skip: MISSING || NO_THREADS }, async () => {
   assert.match(readFileSync(join(out.path, 'site', '_headers'), 'utf8'), /Cross-Origin-Embedder-Policy: require-corp/i);
   const isolated = await serveFolder(join(out.path, 'site'), { isolated: true });

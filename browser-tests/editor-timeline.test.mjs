@@ -293,6 +293,21 @@ check('Export Lottie downloads what `splineskin animate -o anim.json` writes of 
   assert.match(await page.textContent('#message'), /exported demo\.json/);
 });
 
+check('Export animation writes the animated SVG, GIF and APNG that `splineskin animate` writes of the saved scene', async () => {
+  const scenePath = join(out.path, 'timeline-scene.json');
+  for (const [format, ending] of [['svg', 'svg'], ['gif', 'gif'], ['apng', 'png']]) {
+    await page.selectOption('#animation-format', format);
+    const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export-animation')]);
+    const fromPage = readFileSync(await download.path());
+    const cli = join(out.path, `cli.${ending}`);
+    await runSplineskin(['animate', scenePath, '-o', cli]);
+    const fromCli = readFileSync(cli);
+    console.log(`timeline: Export animation ${format}: ${fromPage.length} bytes (the command's: ${fromCli.length})`);
+    assert.ok(fromPage.equals(fromCli), `${format}: the page's file equals the command's`);
+    assert.match(await page.textContent('#message'), new RegExp(`exported demo\\.${ending}`));
+  }
+});
+
 check('a reload brings the session back: pins, keyframes, the shown time', async () => {
   const state = await editorState();
   await page.waitForFunction(() => document.body.dataset.autosaved, null, { timeout: WAIT });
@@ -308,4 +323,47 @@ check('a reload brings the session back: pins, keyframes, the shown time', async
   assert.equal(back.time, state.time);
   await page.screenshot({ path: join(out.path, 'timeline-reloaded.png') });
   writeFileSync(join(out.path, 'notice.txt'), await page.locator('#notice').textContent());
+});
+
+check('the ruler fits the animation: a click at its end keys there, the wheel zooms about the pointer', async () => {
+  const box = await page.locator('#ruler').boundingBox();
+  assert.ok(box.width > 0.6 * VIEWPORT.width, `the ruler is ${box.width} px wide`);
+  const keyTimes = async () => (await editorState()).scene.animation.keyframes.map((k) => k.time);
+  const before = await keyTimes();
+  // The last second shown, at the ruler's right end (a click on its border's last pixel).
+  const end = await page.evaluate(() => {
+    const r = window.splineskinEditor.ruler;
+    return r.window.start + r.window.span;
+  });
+  await page.mouse.click(box.x + box.width - 1, box.y + box.height / 2);
+  await drawn();
+  const fpsNow = await page.evaluate(() => Number(document.getElementById('fps').value));
+  const t = (await editorState()).time;
+  assert.ok(Math.abs(t - end) <= 0.5 / fpsNow, `the click went to ${t} s, the ruler's end is ${end} s`);
+  await page.click('#key-pose');
+  const after = await keyTimes();
+  assert.deepEqual(after, [...before, t], 'a new keyframe at the end, the others kept');
+  // The ruler grew to show room after it: the new diamond is not at its edge.
+  const x = await page.evaluate((t) => window.splineskinEditor.ruler.clientX(t), t);
+  assert.ok(x < box.x + box.width - 40, `the new key is drawn at ${x}, inside the ruler ending at ${box.x + box.width}`);
+  // The wheel zooms in about the pointer: the time under it stays put.
+  const at = box.x + box.width / 3;
+  const under = () => page.evaluate((at) => {
+    const r = window.splineskinEditor.ruler;
+    const { left, width } = r.scale();
+    return r.window.start + ((at - left) / width) * r.window.span;
+  }, at);
+  const t0 = await under();
+  const span0 = await page.evaluate(() => window.splineskinEditor.ruler.window.span);
+  await page.mouse.move(at, box.y + box.height / 2);
+  await page.mouse.wheel(0, -300);
+  await drawn();
+  const span1 = await page.evaluate(() => window.splineskinEditor.ruler.window.span);
+  assert.ok(span1 < 0.7 * span0, `zoomed in: ${span0} s → ${span1} s`);
+  const t1 = await under();
+  assert.ok(Math.abs(t1 - t0) < 1e-9 * span0 + 0.01 * span1, `the time under the pointer stays: ${t0} s → ${t1} s`);
+  await page.screenshot({ path: join(out.path, 'timeline-zoomed.png') });
+  await page.mouse.dblclick(at, box.y + box.height / 2);
+  await drawn();
+  assert.equal(await page.evaluate(() => window.splineskinEditor.ruler.window.zoomed), false, 'a double-click fits it again');
 });

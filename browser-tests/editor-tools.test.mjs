@@ -404,6 +404,8 @@ check('an operator family moves pins only: no rotate or scale widgets, no hidden
   await page.click('#undo');
   await waitRig();
   assert.deepEqual((await scene()).pose[1], turned);
+  // Back on a family that turns pins: the notice that they were set aside is gone.
+  assert.ok(await page.isHidden('#notice'), `the notice went: ${await page.textContent('#notice')}`);
 });
 
 check('the toolbar fits one row at 1280 px, with the mesh families\' margin field or the operators\' samples field', async () => {
@@ -637,4 +639,58 @@ check('the exact weights replace their coarse stand-in without a jump: blended i
   const jump = distance(final, preview);
   assert.ok(jump > 1e-3, `the exact deformation differs from the stand-in's (${jump})`);
   assert.ok(distance(ready, preview) < 0.25 * jump, `when the exact rig arrived the drawing was still near the stand-in's: ${distance(ready, preview)} of ${jump}`);
+});
+
+check('a click a few pixels off a thin stroke adds the pin on the stroke; farther off, the status says where pins go', async () => {
+  // One hairline across the drawing: 0.5 units wide, about 1 px on screen.
+  const file = join(out.path, 'hairline.svg');
+  writeFileSync(file, '<svg xmlns="http://www.w3.org/2000/svg" width="400" height="400" viewBox="0 0 400 400"><path d="M50 200 C150 198 250 202 350 200" stroke="#333" stroke-width="0.5" fill="none"/></svg>');
+  await page.setInputFiles('#open-file', file);
+  await page.waitForFunction(() => window.splineskinEditor.info?.name.endsWith('hairline.svg'), null, { timeout: WAIT });
+  const on = await client([200, 200]);
+  const near = [on[0], on[1] + 4];
+  const handles = async () => (await scene()).handles;
+  assert.equal(await page.evaluate(([x, y]) => window.splineskinEditor.view.artAt(x, y), near), false, '4 px off, nothing is painted');
+  await page.mouse.click(...near);
+  const added = await handles();
+  assert.equal(added.length, 1, 'the click added a pin');
+  const u = await unitsPerPixel();
+  assert.ok(Math.abs(added[0][1] - 200) < 1.5 * u, `the pin is on the stroke: y = ${added[0][1]}`);
+  await waitRig();
+  await page.keyboard.press('Escape'); // nothing selected: a click off the art has nothing to deselect
+  await page.mouse.click(on[0], on[1] + 40);
+  assert.equal((await handles()).length, 1, '40 px off, no pin');
+  assert.match(await page.textContent('#message'), /pins go on the art/);
+});
+
+check('Auto pins places pins over the art, the user\'s own kept, one undo step', async () => {
+  // Two discs apart: the rule pins both.
+  const file = join(out.path, 'two-discs.svg');
+  writeFileSync(file, '<svg xmlns="http://www.w3.org/2000/svg" width="400" height="200" viewBox="0 0 200 100"><circle cx="50" cy="50" r="30" fill="#4a8"/><circle cx="150" cy="50" r="30" fill="#a48"/></svg>');
+  await page.setInputFiles('#open-file', file);
+  await page.waitForFunction(() => window.splineskinEditor.info?.name.endsWith('two-discs.svg'), null, { timeout: WAIT });
+  await page.mouse.click(...(await client([45, 55])));
+  await waitRig();
+  const mine = (await scene()).handles[0];
+  // The status line's messages as they come (the rig's own follows at once).
+  await page.evaluate(() => {
+    const line = document.getElementById('message');
+    window.messagesSeen = [];
+    new MutationObserver(() => window.messagesSeen.push(line.textContent)).observe(line, { childList: true, characterData: true, subtree: true });
+  });
+  await page.click('#auto-pins');
+  await page.waitForFunction(() => window.splineskinEditor.scene.handles.length > 1, null, { timeout: WAIT });
+  await waitRig();
+  const { handles, pose } = await scene();
+  assert.deepEqual(handles[0], mine, 'the user\'s pin is kept first');
+  assert.equal(pose.length, handles.length);
+  const inDisc = (p, cx) => Math.hypot(p[0] - cx, p[1] - 50) < 30;
+  assert.ok(handles.every((p) => inDisc(p, 50) || inDisc(p, 150)), `every pin on the art: ${JSON.stringify(handles)}`);
+  assert.ok(handles.slice(1).some((p) => inDisc(p, 150)), 'the other disc is pinned');
+  const seen = await page.evaluate(() => window.messagesSeen);
+  assert.ok(seen.some((m) => /\d+ pins? placed over the art/.test(m)), `the status said so: ${JSON.stringify(seen)}`);
+  await page.screenshot({ path: join(out.path, 'auto-pins.png') });
+  await page.keyboard.press('Control+z');
+  await waitRig();
+  assert.deepEqual((await scene()).handles, [mine], 'one Ctrl+Z takes them away');
 });

@@ -379,10 +379,41 @@ check('a fold is ringed in red where the outline crosses itself, and cleared whe
   const shot = join(out.path, 'editor-fold.png');
   await page.screenshot({ path: shot });
   console.log(`editor-viewbox: ${note} at ${report.folds.map((f) => f.at.map((v) => v.toFixed(2)).join(',')).join('; ')}; screenshot ${shot}`);
+  // A click on the note hides the rings, another shows them again.
+  const ringsNow = () => page.evaluate(() => document.getElementById('canvas').shadowRoot.querySelector('.ss-folds').getAttribute('d'));
+  await page.click('#fold-note');
+  assert.equal(await ringsNow(), '', 'hidden');
+  assert.match(await page.textContent('#fold-note'), /rings hidden: click to show/);
+  await page.click('#fold-note');
+  assert.equal(await ringsNow(), rings, 'shown again');
   // Back where it was: no fold.
   await drag(page, [-10, 10], [30, 10], 12);
   await page.waitForSelector('body[data-folds="0"]', { timeout: WAIT });
   assert.ok(await page.isHidden('#fold-note'), 'no note without folds');
   const cleared = await page.evaluate(() => document.getElementById('canvas').shadowRoot.querySelector('.ss-folds').getAttribute('d'));
   assert.equal(cleared, '', 'the rings are cleared');
+});
+
+check('folds close together are ringed as one place, and loops below a pixel at the zoom are not counted', {}, async () => {
+  const result = await page.evaluate(async () => {
+    const { foldMarks } = await import('./viewbox.js');
+    const fold = (x, y) => ({ path: 0, curves: [0, 1], at: [x, y] });
+    // At 1 unit per pixel: three loops of two crossings within 0.2 px, two crossings 100 px
+    // apart, and five crossings within 5 px of each other (far from the others).
+    const tiny = [0, 1, 2].flatMap((k) => [fold(1000 + 40 * k + 0.05, 500.05), fold(1000 + 40 * k + 0.15, 500.15)]);
+    const apart = [fold(100, 100), fold(200, 100)];
+    const bunch = [0, 1, 2, 3, 4].map((k) => fold(600.2 + k, 600.5 + 0.5 * k));
+    const at1 = foldMarks([...tiny, ...apart, ...bunch], 1);
+    // Zoomed in 100 times (0.01 units per pixel) the tiny loops are 14 px across: counted.
+    const at100 = foldMarks(tiny, 0.01);
+    return { at1, at100 };
+  });
+  const { at1, at100 } = result;
+  assert.equal(at1.hidden, 6, 'the three sub-pixel loops are set aside');
+  assert.equal(at1.counted, 7);
+  assert.equal(at1.marks.length, 3, `one ring each for the two apart, one for the bunch: ${JSON.stringify(at1.marks)}`);
+  const bunch = at1.marks.find((m) => m.at[0] > 500 && m.at[0] < 700);
+  assert.ok(bunch && bunch.radius >= 9, 'the bunch ringed at least as large as one fold');
+  assert.equal(at100.hidden, 0);
+  assert.equal(at100.counted, 6);
 });

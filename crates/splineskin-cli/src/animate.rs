@@ -39,18 +39,17 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use kurbo::Point;
-use splineskin::animation::{Animation, PoseSampler};
-use splineskin::drawing::animated_image::{AnimatedFormat, AnimatedImage};
-use splineskin::drawing::follow::{ElementMaps, FollowOptions};
+use splineskin::animation::Animation;
+use splineskin::drawing::animated_image::AnimatedFormat;
 use splineskin::drawing::lottie::LottieOptions;
-use splineskin::drawing::svg_animate::{write_animated_svg_with, AnimatedSvgOptions};
-use splineskin::drawing::svg_out::{write_svg_with, SvgOptions, ViewBoxRule};
+use splineskin::drawing::svg_out::ViewBoxRule;
 use splineskin::drawing::Drawing;
 use splineskin::render::MAX_RENDER_SIZE;
 use splineskin::scene::{PosedDrawing, Scene};
 
-use splineskin::scene_lottie::{
-    deform_posed_frames, lottie_of_scene, BYTES_PER_ANIMATED_POINT, MAX_ANIMATED_SVG_BYTES,
+use splineskin::scene_animation::{
+    lottie_of_scene, SceneAnimationError, SceneFrames, ANIMATED_IMAGE_SIZE, FRAME_CHUNK,
+    MAX_ANIMATED_SVG_BYTES,
 };
 
 use crate::output::{has_extension, write_atomic, FramesOutside, ViewBoxArg, PNG_SIZE};
@@ -63,7 +62,8 @@ pub struct Args {
     #[arg(value_name = "SCENE|SVG")]
     scene: PathBuf,
     /// `NAME.svg`: an animated SVG (SMIL, plays in browsers). `NAME.json`: a Lottie animation
-    /// (path keyframes; plays in Lottie players). Any other name: a folder of numbered frames
+    /// (path keyframes; plays in Lottie players). `NAME.png` / `NAME.gif`: an animated PNG
+    /// (APNG) or GIF that any viewer plays. Any other name: a folder of numbered frames
     /// `frame-0000.svg`, … (replaced if it holds only an earlier run's frames).
     #[arg(short, long)]
     output: PathBuf,
@@ -134,10 +134,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     let job = Job {
         args: &args,
-        scene_name: &scene_name,
-        posed: &posed,
-        sampler: &sampler,
-        times: &times,
+        frames: SceneFrames::new(&posed, &sampler, &times, &scene_name),
     };
     match output {
         Output::Image(format) => job.write_image(format)?,
@@ -287,57 +284,24 @@ fn write_lottie(args: &Args, scene: &Scene, animation: &Animation, scene_name: &
     Ok(())
 }
 
-/// An animation to write frame by frame: the rig, the poses' sampler and the frames' times.
+/// An animation to write frame by frame ([`SceneFrames`]), with the command's arguments.
 struct Job<'a> {
     args: &'a Args,
-    scene_name: &'a str,
-    posed: &'a PosedDrawing,
-    sampler: &'a PoseSampler,
-    times: &'a [f64],
+    frames: SceneFrames<'a>,
 }
 
 impl Job<'_> {
     fn drawing(&self) -> &Drawing {
-        &self.posed.setup().drawing
-    }
-
-    /// Frames `first..first + times.len()`, deformed in parallel.
-    fn deform_chunk(&self, first: usize, times: &[f64]) -> Result<Vec<Vec<Point>>> {
-        Ok(deform_posed_frames(
-            self.posed,
-            self.sampler,
-            times,
-            first,
-            self.scene_name,
-        )?)
-    }
-
-    /// Frame `f`'s element maps: its gradients, patterns, markers, text and images follow its
-    /// pose (`None` for a drawing without its document).
-    fn maps_at(&self, f: usize) -> Result<Option<ElementMaps>> {
-        let mut pose = vec![kurbo::Affine::IDENTITY; self.sampler.n_handles()];
-        self.sampler.pose_at(self.times[f], &mut pose);
-        crate::deform::element_maps(self.posed.setup(), &pose, &FollowOptions::default())
-            .with_context(|| format!("{}: frame {f}", self.scene_name))
-    }
-
-    /// Frame `f` (its `points`) as an SVG document with viewBox `rule`.
-    fn frame_svg(&self, f: usize, points: &[Point], rule: ViewBoxRule) -> Result<String> {
-        let maps = self.maps_at(f)?;
-        let options = SvgOptions::default()
-            .with_view_box(rule)
-            .with_follow(maps.as_ref());
-        write_svg_with(self.drawing(), points, &options)
-            .with_context(|| format!("{}: frame {f}: writing the SVG", self.scene_name))
+        self.frames.drawing()
     }
 
     /// `--viewbox fit` for outputs written frame by frame: the union over every frame,
     /// deformed [`FRAME_CHUNK`] at a time, before any frame is written.
     fn union_first(&self, outside: &mut FramesOutside) -> Result<()> {
         if self.args.viewbox == ViewBoxArg::Fit {
-            for (c, chunk) in self.times.chunks(FRAME_CHUNK).enumerate() {
+            for (c, chunk) in self.times().chunks(FRAME_CHUNK).enumerate() {
                 let first = c * FRAME_CHUNK;
-                for (k, points) in self.deform_chunk(first, chunk)?.iter().enumerate() {
+                for (k, points) in self.frames.deform_chunk(first, chunk)?.iter().enumerate() {
                     outside.add(first + k, self.drawing(), points);
                 }
             }
@@ -345,86 +309,62 @@ impl Job<'_> {
         Ok(())
     }
 
-    /// `-o NAME.png` / `-o NAME.gif`: every frame rendered into an animated image.
+    fn times(&self) -> &[f64] {
+        self.frames.times()
+    }
+
+    fn scene_name(&self) -> &str {
+        self.frames.name()
+    }
+
+    /// `-o NAME.png` / `-o NAME.gif`: every frame rendered into an animated image
+    /// ([`SceneFrames::animated_image`]).
     fn write_image(&self, format: AnimatedFormat) -> Result<()> {
-        let (args, times, scene_name) = (self.args, self.times, self.scene_name);
+        let args = self.args;
         let mut outside = FramesOutside::default();
         self.union_first(&mut outside)?;
         let rule = outside.rule(args.viewbox);
-        let mut image: Option<AnimatedImage> = None;
-        for (c, chunk) in times.chunks(FRAME_CHUNK).enumerate() {
-            let first = c * FRAME_CHUNK;
-            for (k, points) in self.deform_chunk(first, chunk)?.iter().enumerate() {
-                let f = first + k;
-                if args.viewbox == ViewBoxArg::Keep {
-                    outside.add(f, self.drawing(), points);
-                }
-                let svg = self.frame_svg(f, points, rule)?;
-                if f == 0 {
-                    crate::output::note_font_substitutes(&args.output, &svg);
-                }
-                let pixels = splineskin::render::render_rgba(&svg, args.image_size)
-                    .with_context(|| format!("{scene_name}: frame {f}: rendering"))?;
-                let image = match &mut image {
-                    Some(image) => image,
-                    None => image.insert(AnimatedImage::new(
-                        format,
-                        pixels.width,
-                        pixels.height,
-                        times.len(),
-                    )?),
-                };
-                // Shown until the next frame; the last one for the last interval.
-                let delay = if f + 1 < times.len() {
-                    times[f + 1] - times[f]
-                } else {
-                    times[f] - times[f - 1]
-                };
-                image
-                    .push(&pixels, delay)
-                    .with_context(|| format!("{scene_name}: frame {f}"))?;
-            }
-        }
-        let bytes = image.context("no frames")?.finish()?;
+        let keep = args.viewbox == ViewBoxArg::Keep;
+        let bytes =
+            self.frames
+                .animated_image(format, args.image_size, rule, |f, points, svg| {
+                    if keep {
+                        outside.add(f, self.drawing(), points);
+                    }
+                    if f == 0 {
+                        crate::output::note_font_substitutes(&args.output, svg);
+                    }
+                })?;
         write_atomic(&args.output, &bytes)?;
         outside.report(&args.output, args.viewbox);
         Ok(())
     }
 
-    /// `-o NAME.svg`: one animated SVG holding every frame (refused past
-    /// [`MAX_ANIMATED_SVG_BYTES`], estimated).
+    /// `-o NAME.svg`: one animated SVG holding every frame ([`SceneFrames::animated_svg`];
+    /// refused past [`MAX_ANIMATED_SVG_BYTES`], estimated).
     fn write_animated_svg(&self) -> Result<()> {
-        let (args, times, drawing) = (self.args, self.times, self.drawing());
-        let n_points = drawing.n_points();
-        let bytes = times.len() as f64 * n_points as f64 * BYTES_PER_ANIMATED_POINT;
-        if bytes > MAX_ANIMATED_SVG_BYTES as f64 {
-            bail!(
-                "{}: {} frames of {n_points} points make an animated SVG of about {:.1} GB, more \
-                 than the limit of {:.1} GB (expected fewer frames: lower --fps or --duration, \
-                 or write a frames folder, which is written frame by frame)",
+        let (args, drawing) = (self.args, self.drawing());
+        let mut outside = FramesOutside::default();
+        let fit = args.viewbox == ViewBoxArg::Fit;
+        let svg = match self
+            .frames
+            .animated_svg(fit, |f, points| outside.add(f, drawing, points))
+        {
+            Err(SceneAnimationError::TooLarge {
+                frames,
+                n_points,
+                bytes,
+                ..
+            }) => bail!(
+                "{}: {frames} frames of {n_points} points make an animated SVG of about {:.1} GB, \
+                 more than the limit of {:.1} GB (expected fewer frames: lower --fps or \
+                 --duration, or write a frames folder, which is written frame by frame)",
                 args.output.display(),
-                times.len(),
                 bytes / 1e9,
                 MAX_ANIMATED_SVG_BYTES as f64 / 1e9
-            );
-        }
-        let frames = self.deform_chunk(0, times)?;
-        let mut outside = FramesOutside::default();
-        for (f, points) in frames.iter().enumerate() {
-            outside.add(f, drawing, points);
-        }
-        // Each frame's gradients, patterns, markers, text and images follow its pose.
-        let maps: Option<Vec<ElementMaps>> = (0..times.len())
-            .map(|f| self.maps_at(f))
-            .collect::<Result<Vec<_>>>()?
-            .into_iter()
-            .collect();
-        let rule = outside.rule(args.viewbox);
-        let options = AnimatedSvgOptions::default()
-            .with_view_box(rule)
-            .with_follow(maps.as_deref());
-        let svg = write_animated_svg_with(drawing, &frames, times, &options)
-            .with_context(|| format!("{}: writing the animated SVG", self.scene_name))?;
+            ),
+            made => made?,
+        };
         write_atomic(&args.output, svg.as_bytes())?;
         outside.report(&args.output, args.viewbox);
         Ok(())
@@ -438,12 +378,12 @@ impl Job<'_> {
         let gather = (self.args.viewbox == ViewBoxArg::Keep).then_some(&mut outside);
         write_frames(
             self.args,
-            self.scene_name,
+            self.scene_name(),
             self.drawing(),
-            self.times,
+            self.times(),
             (rule, gather),
-            |first, times| self.deform_chunk(first, times),
-            |f, points, rule| self.frame_svg(f, points, rule),
+            |first, times| Ok(self.frames.deform_chunk(first, times)?),
+            |f, points, rule| Ok(self.frames.frame_svg(f, points, rule)?),
         )?;
         outside.report(&self.args.output, self.args.viewbox);
         Ok(())
@@ -514,9 +454,6 @@ fn write_synced(path: &Path, bytes: &[u8]) -> Result<()> {
 /// rather than becoming a frames folder of that name.
 const FILE_EXTENSIONS: [&str; 6] = ["jpg", "jpeg", "webp", "pdf", "html", "mp4"];
 
-/// Default `--image-size`: 480 pixels on the longer side of an animated PNG or GIF.
-const ANIMATED_IMAGE_SIZE: u32 = 480;
-
 /// Whether `path` names an `.svg` file (otherwise it names a frames folder).
 fn is_svg_name(path: &Path) -> bool {
     has_extension(path, "svg")
@@ -539,10 +476,6 @@ fn is_frame_file(name: &str) -> bool {
         && digits.bytes().all(|b| b.is_ascii_digit())
         && (ext == "svg" || ext == "png")
 }
-
-/// Frames deformed at a time when writing a frames folder: 64 (memory stays that of 64 frames
-/// however long the animation).
-const FRAME_CHUNK: usize = 64;
 
 /// Writes the frames (deformed [`FRAME_CHUNK`] at a time by `deform_chunk(first, times)`) into
 /// a temporary folder beside `args.output`, then renames it into place (module doc), each as

@@ -279,6 +279,18 @@ fn malformed_deform_scene_of_ours() {
             &["drawing.svg", "not well-formed XML"],
         ),
         deform(
+            "svg-cut-short",
+            vec![
+                file("scene.json", ours("")),
+                file(
+                    "drawing.svg",
+                    "<svg xmlns=\"http://www.w3.org/2000/svg\">\n  <g>\n    <path d=\"M0 0 L5",
+                ),
+            ],
+            &[],
+            &["drawing.svg:3:21:", "unexpected end of stream", "cut short"],
+        ),
+        deform(
             "svg-without-paths",
             vec![file(
                 "scene.json",

@@ -76,6 +76,20 @@ export async function rigOperator(rig) {
 }
 
 /**
+ * Pins over the art of document `id` as `splineskin rig` places them, the page's pins
+ * `handles` (rest positions) kept first: `{ pins: [[x, y], …] }`.
+ */
+export async function autoPins(id, handles) {
+  return (await postJson(`/api/documents/${encodeURIComponent(id)}/pins`, { handles })).json();
+}
+
+/** The carry operator of rig `rig` (its text and images' best-fit maps per pose): Float64Array. */
+export async function rigCarry(rig) {
+  const response = await call(`/api/rigs/${encodeURIComponent(rig)}/carry`);
+  return new Float64Array(await response.arrayBuffer());
+}
+
+/**
  * Trains a deformation operator for `scene` (family defop-arap or defop-sarap) on document
  * `id` and joins it with the drawing: { info, data: Float64Array } (layout in api.rs). `job`
  * names the request for `progressOf`.
@@ -192,6 +206,17 @@ export async function exportLottie(document, scene) {
   const response = await postJson(`/api/documents/${encodeURIComponent(document)}/lottie`, scene);
   const header = response.headers.get('x-splineskin-lottie');
   return { json: await response.text(), report: header ? JSON.parse(header) : null };
+}
+
+/**
+ * The animation of `scene`'s timeline on document `id` as `splineskin animate` writes it to
+ * an `.svg` (format 'svg'), `.gif` ('gif') or animated `.png` ('apng'), the viewBox kept or
+ * fitted to the art of every frame (`viewbox`): { blob, warning (text or null) }.
+ */
+export async function exportAnimation(document, scene, format, viewbox) {
+  const query = new URLSearchParams({ format, viewbox });
+  const response = await postJson(`/api/documents/${encodeURIComponent(document)}/animation?${query}`, scene);
+  return { blob: await response.blob(), warning: response.headers.get('x-splineskin-warning') };
 }
 
 /**

@@ -1,13 +1,24 @@
-// Autosave: the session (the opened file, the scene, the shown time) in the browser's storage
-// after every change, offered back after a reload (main.js recovers it).
+// Autosave: the session (the opened file, the scene, the shown time) in the browser's
+// IndexedDB after every change, offered back after a reload (main.js recovers it).
+//
+// The opened file is stored once, in its own record, and written again only when another file
+// is opened: a drag saves the scene alone, however large the drawing. When the browser refuses
+// to store (no IndexedDB, storage full, a private window's limits), the page says so once in
+// the notice box instead of losing the session without a word.
 
 import { editor, sceneOfOriginal } from './store.js';
+import { showNotice } from './messages.js';
 
-/** Where the session is kept in the browser's storage. */
-const AUTOSAVE_KEY = 'splineskin-editor-session';
+/** The database, its one object store, and the keys of its two records. */
+const DB = { name: 'splineskin-editor', version: 1, store: 'session' };
+const SESSION_KEY = 'session';
+const SOURCE_KEY = 'source';
 
-/** Largest opened file kept with the session, characters (storage holds a few MB). */
-const AUTOSAVE_MAX_SOURCE = 2_000_000;
+/** Where sessions were kept before IndexedDB (read once, then removed). */
+const LEGACY_KEY = 'splineskin-editor-session';
+
+/** What this module knows of the stored state: the source last written and the failure shown. */
+const stored = { source: undefined, failureShown: false, writing: Promise.resolve() };
 
 /** Saves the session soon (changes in a burst are saved once). */
 export function autosave() {
@@ -16,37 +27,105 @@ export function autosave() {
   editor.autosaveTimer = setTimeout(saveSessionNow, 150);
 }
 
-/** Saves the session now (`body[data-autosaved]` says when, for the tests). */
-function saveSessionNow() {
-  if (!editor.info) return;
+/** The session record as saved now (the opened file apart). */
+function sessionRecord() {
   // A refined drawing is saved as the drawing as opened with adaptive control points on: the
   // next drag adds them again.
   const opened = editor.adaptive.original?.info ?? editor.info;
-  const session = {
-    version: 1,
+  return {
+    version: 2,
     name: opened.name,
-    // The file opened in this page (the server's own drawing needs none).
-    source: editor.source && editor.source.length <= AUTOSAVE_MAX_SOURCE ? editor.source : null,
+    // Whether the file opened in this page is stored (the server's own drawing needs none).
+    hasSource: editor.source != null,
     svgLength: opened.svg.length,
     scene: sceneOfOriginal(),
     adaptive: editor.adaptive.on ? { tolerance: editor.adaptive.tolerance } : null,
     time: editor.time,
     savedAt: new Date().toISOString(),
   };
-  try {
-    localStorage.setItem(AUTOSAVE_KEY, JSON.stringify(session));
-    document.body.dataset.autosaved = session.savedAt;
-  } catch {
-    // Storage full or refused: the session is simply not kept.
-  }
 }
 
-/** The saved session, if any and readable. */
-export function savedSession() {
+/** Saves the session now (`body[data-autosaved]` says when, for the tests). */
+function saveSessionNow() {
+  if (!editor.info) return;
+  const session = sessionRecord();
+  const source = editor.source ?? null;
+  stored.writing = stored.writing.then(async () => {
+    try {
+      const db = await openDatabase();
+      const writes = [[SESSION_KEY, session]];
+      if (source !== stored.source) writes.push([SOURCE_KEY, source]);
+      await transact(db, 'readwrite', (store) => writes.forEach(([key, value]) => store.put(value, key)));
+      db.close();
+      stored.source = source;
+      document.body.dataset.autosaved = session.savedAt;
+      delete document.body.dataset.autosaveFailed;
+    } catch (e) {
+      saveFailed(e);
+    }
+  });
+}
+
+/** Says once that the session is not being kept (and why), until a save succeeds again. */
+function saveFailed(error) {
+  document.body.dataset.autosaveFailed = '1';
+  stored.source = undefined; // write the file again on the next try
+  if (stored.failureShown) return;
+  stored.failureShown = true;
+  const why = error?.message ?? String(error);
+  showNotice(`autosave failed (${why}): this session will not come back after a reload; use Save scene to keep it`);
+}
+
+/** The saved session with its opened file (`session.source`), if any and readable. */
+export async function savedSession() {
+  const legacy = legacySession();
   try {
-    const session = JSON.parse(localStorage.getItem(AUTOSAVE_KEY) ?? 'null');
+    const db = await openDatabase();
+    const [session, source] = await transact(db, 'readonly', (store) => [store.get(SESSION_KEY), store.get(SOURCE_KEY)]);
+    db.close();
+    if (session?.version === 2 && session.scene) {
+      stored.source = source ?? null;
+      return { ...session, source: session.hasSource ? (source ?? null) : null };
+    }
+  } catch {
+    // No IndexedDB here: the first save says so.
+  }
+  return legacy;
+}
+
+/** A session saved by an earlier version of the page in localStorage (removed once read). */
+function legacySession() {
+  try {
+    const session = JSON.parse(localStorage.getItem(LEGACY_KEY) ?? 'null');
+    localStorage.removeItem(LEGACY_KEY);
     return session?.version === 1 && session.scene ? session : null;
   } catch {
     return null;
   }
+}
+
+/** Opens (creating on first use) the editor's database. */
+function openDatabase() {
+  return new Promise((resolve, reject) => {
+    if (typeof indexedDB === 'undefined') throw new Error('this browser has no IndexedDB');
+    const request = indexedDB.open(DB.name, DB.version);
+    request.onupgradeneeded = () => request.result.createObjectStore(DB.store);
+    request.onsuccess = () => resolve(request.result);
+    request.onerror = () => reject(request.error);
+    request.onblocked = () => reject(new Error('the storage is held by another tab'));
+  });
+}
+
+/**
+ * Runs `body(store)` in one transaction of `mode`; resolves, once the transaction completes,
+ * to the results of the requests `body` returns (an array of them, or nothing).
+ */
+function transact(db, mode, body) {
+  return new Promise((resolve, reject) => {
+    const tx = db.transaction(DB.store, mode);
+    const requests = body(tx.objectStore(DB.store)) ?? [];
+    tx.oncomplete = () => resolve(requests.map((r) => r.result));
+    tx.onerror = () => reject(tx.error);
+    tx.onabort = () => reject(tx.error ?? new Error('the browser aborted the write'));
+  });
 }

@@ -19,6 +19,10 @@
 //     dealt round-robin), and the solver then builds the rig with all of them given (POST
 //     /api/rig with `solved`): the same weights, bit for bit, on every core. Helpers are
 //     stopped with the solver they help when superseded.
+//   - the trainer worker trains the deformation operators (POST /api/defop) and answers for
+//     them (their deformations, following, exports): "Stop training" stops it (a worker cannot
+//     be interrupted mid-request, so it is terminated and a new one trains next), and a
+//     training the page gave up is stopped before the next request.
 //   - on a cross-origin-isolated page (its server sends COOP/COEP, docs/webassembly.md) with
 //     the threaded module beside the page (splineskin-threads.wasm), the solver instead runs
 //     that module on one thread per core (up to 8; wasm-thread.js): its exact rigs are
@@ -155,6 +159,7 @@ class ModuleWorker {
    * stop flag is raised first: its bounded biharmonic weights stop at their next iteration.
    */
   stop(status, message) {
+    this.stopped = { status, message };
     if (this.stopFlag) Atomics.store(new Uint8Array(this.stopFlag.memory.buffer), this.stopFlag.address, 1);
     this.worker.terminate();
     for (const { resolve } of this.pending.values()) resolve(failure(status, message));
@@ -174,6 +179,8 @@ let main = null;
 let preview = null;
 let solver = null;
 let solverGeneration = 0;
+let trainer = null;
+let trainerGeneration = 0;
 /** Every worker that tags ids, by tag (stopped solvers stay out). */
 const tagged = new Map();
 /** Documents the page opened on the main worker: id → the request that opened it. */
@@ -187,10 +194,12 @@ export async function send(path, options = {}) {
   if (!STATIC) return fetch(path, options);
   const job = /^\/api\/progress\/([^/?]+)$/.exec(path);
   if (job) return progressOf(decodeURIComponent(job[1]));
-  if (/^\/api\/progress\/[^/?]+\/stop$/.test(path)) {
-    // A worker cannot be interrupted mid-request: nothing to ask (a superseded exact rig is
+  const stopped = /^\/api\/progress\/([^/?]+)\/stop$/.exec(path);
+  if (stopped) {
+    // A training is stopped with its worker; nothing else is (a superseded exact rig is
     // stopped when the next one is asked for, see route).
-    return new Response(JSON.stringify({ stopping: false }), { headers: { 'content-type': 'application/json' } });
+    const stopping = stopTraining(decodeURIComponent(stopped[1]));
+    return new Response(JSON.stringify({ stopping }), { headers: { 'content-type': 'application/json' } });
   }
   main ??= new ModuleWorker('');
   const method = options.method ?? 'GET';
@@ -224,6 +233,7 @@ async function route(method, path, headers, body, signal) {
     if (data.status === 200) opened.set(decode(data.body).id, request);
     return data;
   }
+  dropAbandonedTrainer();
   // The ids the request names: in its path, its query (rig, defop) and a scene request's body.
   let [, prefix, named, rest] = NAMED.exec(path) ?? [null, null, null, null];
   const query = rest === null ? null : new URLSearchParams(rest.split('?')[1] ?? '');
@@ -236,6 +246,9 @@ async function route(method, path, headers, body, signal) {
     const [tag] = tags;
     worker = tagged.get(tag);
     if (!worker) return failure(404, `${ids.join(', ')}: no longer kept (a newer precomputation replaced it): precompute again`);
+  } else if (path === '/api/defop' && method === 'POST') {
+    worker = (trainer ??= tag(new ModuleWorker(`t${++trainerGeneration}`)));
+    if (headers['x-splineskin-job']) trainer.job = headers['x-splineskin-job'];
   } else if (path === '/api/rig' && method === 'POST') {
     if (!scene.scene?.weights?.coarse) {
       const solver = exactSolver();
@@ -259,6 +272,8 @@ async function route(method, path, headers, body, signal) {
   };
   const translated = new Map();
   for (const id of ids) translated.set(id, await local(id));
+  // Stopped while it opened the drawing (Stop training): the request ends as the worker did.
+  if (worker.stopped) return failure(worker.stopped.status, worker.stopped.message);
   if ([...translated.values()].includes(null)) {
     // A document the page did not open itself (a refined drawing): the main worker has it.
     if (tags.size === 0) return main.request(method, path, headers, body, signal);
@@ -298,6 +313,26 @@ function dropAbandonedSolver() {
     solver.stop(404, 'superseded: the editor asked for another rig');
   }
   solver = null;
+}
+
+/**
+ * Stops the training of job `job`, if the trainer runs it: the worker is terminated (its
+ * operators go with it) and the request answers 409, as the server's stopped training does.
+ */
+function stopTraining(job) {
+  if (!trainer || trainer.job !== job || trainer.pending.size === 0) return false;
+  tagged.delete(trainer.tag);
+  trainer.stop(409, 'training stopped as asked');
+  trainer = null;
+  return true;
+}
+
+/** Stops the trainer when all it works on is a training the page gave up (another family chosen). */
+function dropAbandonedTrainer() {
+  if (!trainer?.workingOnAbandoned()) return;
+  tagged.delete(trainer.tag);
+  trainer.stop(404, 'superseded: the editor asked for something else');
+  trainer = null;
 }
 
 /** Exact rigs made so far with their columns spread over workers (for tests: splitRigs). */
@@ -374,10 +409,18 @@ function tagOf(id) {
   return dash < 0 ? '' : String(id).slice(0, dash);
 }
 
-/** The answer of `worker` with the ids it made tagged: a new rig's header, a refined drawing's. */
+/**
+ * The answer of `worker` with the ids it made tagged: a new rig's header, a new operator's
+ * (its x-splineskin-defop description), a refined drawing's.
+ */
 function tagAnswer(worker, data, path) {
   const mark = (id) => `${worker.tag}-${id}`;
   if (data.headers['x-splineskin-rig']) data.headers['x-splineskin-rig'] = mark(data.headers['x-splineskin-rig']);
+  if (data.headers['x-splineskin-defop']) {
+    const info = JSON.parse(data.headers['x-splineskin-defop']);
+    info.id = mark(info.id);
+    data.headers['x-splineskin-defop'] = JSON.stringify(info);
+  }
   if (data.status === 200 && /^\/api\/rigs\/[^/]+\/refine$/.test(path)) {
     const answer = decode(data.body);
     if (answer.document) {

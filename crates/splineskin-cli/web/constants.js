@@ -36,3 +36,12 @@ export const MAX_MARGIN = 1;
 
 /** Most poses one refinement request measures (MAX_REFINE_POSES). */
 export const MAX_REFINE_POSES = 64;
+
+/** The attribute marking each imported element of the shown document (ELEMENT_MARKER). */
+export const ELEMENT_MARKER = 'data-splineskin-element';
+
+/** The attribute marking each carried text and image of the shown document (CARRIED_MARKER). */
+export const CARRIED_MARKER = 'data-splineskin-carried';
+
+/** The attribute marking each element's own copy of a user-space paint server (PAINT_MARKER). */
+export const PAINT_MARKER = 'data-splineskin-paint';

@@ -1,4 +1,5 @@
-// Files out: the deformed SVG, the Lottie animation and the scene file, downloaded.
+// Files out: the deformed SVG, the animation (Lottie, animated SVG, GIF, APNG) and the scene
+// file, downloaded.
 
 import * as api from './api.js';
 import { settleBlend } from './frames.js';
@@ -9,9 +10,9 @@ import { DEFAULT_DEFOP_SAMPLES, DEFOP_ENERGIES, baseName, editor, isDefop, rigRe
 
 const $ = (id) => document.getElementById(id);
 
-/** Hands `text` to the browser as a download named `name`, of MIME type `type`. */
-function download(text, name, type) {
-  const url = URL.createObjectURL(new Blob([text], { type }));
+/** Hands `data` (text or a Blob) to the browser as a download named `name`, of MIME type `type`. */
+function download(data, name, type) {
+  const url = URL.createObjectURL(data instanceof Blob ? data : new Blob([data], { type }));
   const a = document.createElement('a');
   a.href = url;
   a.download = name;
@@ -65,6 +66,31 @@ export async function exportLottie() {
     editor.lottieReport = report;
     say(`exported ${baseName()}.json: ${report?.summary ?? `${json.length} bytes`}`);
     showNotice(report?.warnings.length ? `Lottie: ${report.warnings.join('\n')}` : '');
+  } catch (e) {
+    showError(e);
+  } finally {
+    progress(null);
+  }
+}
+
+/** The file name ending of each animation format of the menu. */
+const ANIMATION_FILES = { svg: ['svg', 'image/svg+xml'], gif: ['gif', 'image/gif'], apng: ['png', 'image/png'] };
+
+/**
+ * Downloads the timeline's animation in the format the menu names (an animated SVG, a GIF or
+ * an animated PNG), as `splineskin animate` writes it, the viewBox as the export menu says.
+ */
+export async function exportAnimation() {
+  pause();
+  const format = $('animation-format').value;
+  const [ending, type] = ANIMATION_FILES[format];
+  const name = `${baseName()}.${ending}`;
+  progress(`writing ${name}`);
+  try {
+    const { blob, warning } = await api.exportAnimation(editor.info.id, editor.scene, format, $('export-viewbox').value);
+    download(blob, name, type);
+    say(`exported ${name}: ${blob.size} bytes`);
+    if (warning) showNotice(warning);
   } catch (e) {
     showError(e);
   } finally {

@@ -74,23 +74,33 @@ function blendedMap(handles, pose, p) {
   return blendMaps(pose, w.map((wi) => wi / total));
 }
 
+/** `blended` as a pin at `rest` of `scene` takes it: an operator's pins carry translations only. */
+function pinMap(scene, blended, rest) {
+  return isDefop(scene) ? translationOf(blended, rest) : blended;
+}
+
+/**
+ * Adds a pin at rest point `rest` with map `map` to `scene`; every keyframe gives it the map
+ * its pose has there (blended from the other pins), so that the animation plays on as before.
+ */
+function pushPin(scene, rest, map) {
+  for (const key of scene.animation?.keyframes ?? []) {
+    key.pose.push(pinMap(scene, blendedMap(scene.handles, key.pose, rest), rest));
+  }
+  scene.handles.push(rest);
+  scene.pose.push(pinMap(scene, map, rest));
+}
+
+/** Whether `p` is a finite point where no pin of the scene is yet. */
+function isNewPin(p) {
+  return p.every(Number.isFinite) && !editor.scene.handles.some(([x, y]) => x === p[0] && y === p[1]);
+}
+
 /** Adds a handle where the drawing as shown has point q, selected (an undo step). */
 export function addHandle(q) {
-  const { rest, map: blended } = placeHandle(q);
-  // An operator's handles carry translations only (their posed point kept).
-  const map = isDefop(editor.scene) ? translationOf(blended, rest) : blended;
-  if (!rest.every(Number.isFinite)) return;
-  if (editor.scene.handles.some(([x, y]) => x === rest[0] && y === rest[1])) return;
-  edit((scene) => {
-    // Every keyframe gives the new pin the map its pose has there (blended from the others), so
-    // that the animation plays on as before.
-    for (const key of scene.animation?.keyframes ?? []) {
-      const keyed = blendedMap(scene.handles, key.pose, rest);
-      key.pose.push(isDefop(scene) ? translationOf(keyed, rest) : keyed);
-    }
-    scene.handles.push(rest);
-    scene.pose.push(map);
-  });
+  const { rest, map } = placeHandle(q);
+  if (!isNewPin(rest)) return;
+  edit((scene) => pushPin(scene, rest, map));
   const i = editor.scene.handles.length - 1;
   editor.selected = i;
   editor.selection = [i];
@@ -98,6 +108,20 @@ export function addHandle(q) {
   syncControls();
   drawTimeline();
   updateWeights();
+}
+
+/**
+ * Adds pins at rest points `points` (pins placed over the art), one undo step: each takes the
+ * map the pins' pose blends there (in every keyframe too), so the drawing stays as shown.
+ * Returns how many were added (a point already pinned is passed over).
+ */
+export function addPins(points) {
+  const fresh = points.filter(isNewPin);
+  if (!fresh.length) return 0;
+  edit((scene) => {
+    for (const p of fresh) pushPin(scene, [...p], blendedMap(scene.handles, scene.pose, p));
+  });
+  return fresh.length;
 }
 
 /** Deletes the selected handles (from every keyframe too). */
@@ -151,6 +175,26 @@ export function select(selection, primary) {
 export function deselect() {
   if (editor.selected === null && !editor.selection.length) return;
   select([], null);
+}
+
+/**
+ * Moves the selected pins by `[dx, dy]` drawing units (the arrow keys: one screen pixel, ten
+ * with Shift), one undo step: each map `T` becomes `translate(d) ∘ T`. While animating, the
+ * moved pins are keyed at the shown time, as a drag keys them.
+ */
+export function nudge([dx, dy]) {
+  const moved = [...editor.selection];
+  if (!moved.length) return;
+  pause();
+  edit((scene) => {
+    for (const i of moved) {
+      const T = scene.pose[i];
+      scene.pose[i] = [T[0], T[1], T[2], T[3], T[4] + dx, T[5] + dy];
+    }
+    if (editor.animating && scene.animation?.keyframes.length) {
+      editor.selectedKey = anim.setKey(scene, editor.time, scene.pose, moved);
+    }
+  });
 }
 
 /** K: keys the selected pins, or the whole pose when none is selected. */

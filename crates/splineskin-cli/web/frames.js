@@ -6,12 +6,19 @@ import * as affine from './affine.js';
 import * as api from './api.js';
 import { DefOpLiveRig } from './defop.js';
 import { OperatorFollower, blendIn, endBlend } from './follow.js';
-import { plural, say, showError } from './messages.js';
+import { plural, say, showError, showNotice } from './messages.js';
 import { drawOverlay } from './overlays.js';
 import { editor, isDefop, notify, rigReady, shortName } from './store.js';
 import { checkViewBox } from './viewbox.js';
 
 const $ = (id) => document.getElementById(id);
+
+/**
+ * Time a drag's frame may spend writing path data, ms: a drawing whose paths take longer (tens
+ * of thousands of curves) has its most moved elements written first, the others in the frames
+ * after, so that the drawing follows the pointer at the screen's rate.
+ */
+export const FRAME_BUDGET_MS = 8;
 
 /** Frames kept for the frame-time figure in the status bar. */
 const FRAME_WINDOW = 120;
@@ -31,11 +38,25 @@ export function render({ timed = false } = {}) {
   if (scene.handles.length === 0) {
     editor.points.set(editor.rest);
   } else if (rigReady()) {
-    editor.rig.deform(scene.pose, editor.points);
+    editor.rig.deform(scene.pose, editor.points, !timed);
     if (timed && editor.rig instanceof DefOpLiveRig) follower.moved();
   }
   const t1 = performance.now();
-  view.writePaths(editor.points);
+  // A drag's frames write what FRAME_BUDGET_MS allows, the most moved first; the rest follow
+  // in the next frames (drawn without waiting for the pointer), the release writes everything.
+  if (view.writePaths(editor.points, timed ? FRAME_BUDGET_MS : Infinity)) {
+    scheduleFrame();
+    if (!editor.partialFramesSaid) {
+      editor.partialFramesSaid = true;
+      showNotice(
+        `${shortName()} is big (${editor.info.n_curves} curves): while you drag, the parts that move most are ` +
+          'redrawn first and the rest follow within a few frames; everything is exact when you let go',
+      );
+    }
+  }
+  // Text and images by their best-fit maps, as Export SVG writes them (skinning rigs; an
+  // operator's stand where the document has them).
+  view.writeCarried(scene.handles.length && rigReady() && editor.rig.carryMaps ? editor.rig.carryMaps(scene.pose) : null);
   const t2 = performance.now();
   drawOverlay();
   // While dragging, once on mouse-up (dragged → sceneChanged → render). The fold rings

@@ -213,7 +213,8 @@ export function installGestures(element, editor, actions) {
   );
 
   window.addEventListener('keydown', (event) => {
-    if (event.key === ' ' && !(event.target instanceof HTMLInputElement || event.target instanceof HTMLSelectElement)) {
+    // Space pans whatever has the focus (a menu included), except a field that types text.
+    if (event.key === ' ' && !(event.target instanceof HTMLInputElement && event.target.type !== 'checkbox')) {
       spaceHeld = true;
       event.preventDefault();
     }

@@ -12,12 +12,13 @@ import * as anim from './animation.js';
 import * as api from './api.js';
 import { autosave, savedSession } from './autosave.js';
 import { syncControls } from './controls.js';
-import { exportLottie, exportSvg, saveScene } from './downloads.js';
+import { exportAnimation, exportLottie, exportSvg, saveScene } from './downloads.js';
 import * as edits from './edits.js';
 import { DefOpLiveRig } from './defop.js';
 import { flexibleSolve, render, scheduleFrame } from './frames.js';
 import { installGestures } from './gestures.js';
-import { clearError, progress, say, showError, showNotice } from './messages.js';
+import { wireKeys } from './keyboard.js';
+import { clearError, clearNotice, plural, progress, say, showError, showNotice, toggleStatusDetails } from './messages.js';
 import { drawOverlay, updateMesh, updateWeights } from './overlays.js';
 import { drawTimeline, pause, play, seek, showTime, updateOnion } from './playback.js';
 import { precompute } from './precompute.js';
@@ -39,7 +40,7 @@ import {
 } from './store.js';
 import { TimelineRuler } from './timeline.js';
 import { DrawingView, posedHandles } from './view.js';
-import { showViewBoxReport } from './viewbox.js';
+import { drawFoldMarks, showViewBoxReport, toggleFoldMarks } from './viewbox.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -55,6 +56,7 @@ function show(info, source = null) {
   editor.rig = null;
   editor.rigKey = null;
   editor.rigPreview = false;
+  editor.partialFramesSaid = false;
   editor.selected = null;
   editor.selection = [];
   pause();
@@ -103,8 +105,27 @@ async function open(file) {
   }
 }
 
+/** Places pins over the art (the server's rule, `splineskin rig`'s), the user's own kept. */
+async function autoPins() {
+  if (!editor.info) return;
+  try {
+    const { pins } = await api.autoPins(editor.info.id, editor.scene.handles);
+    const n = edits.addPins(pins.slice(editor.scene.handles.length));
+    say(n ? `${shortName()}: ${plural(n, 'pin')} placed over the art (Ctrl+Z takes them away)` : `${shortName()}: its pins cover the art already`);
+  } catch (e) {
+    showError(e);
+  }
+}
+
+/** How far from the art a click still adds a pin on it, CSS pixels. */
+const SNAP_PX = 6;
+
+/** The notice that turns and scales were set aside: it goes once no operator family is chosen. */
+const TURNS_SET_ASIDE = 'turns-set-aside';
+
 /** After any change of the scene: precompute if its rest part changed, else redraw. */
 function sceneChanged() {
+  if (!isDefop(editor.scene)) clearNotice(TURNS_SET_ASIDE);
   const key = rigKeyOf(editor.scene);
   if (editor.scene.handles.length === 0) {
     editor.abort?.abort();
@@ -186,16 +207,20 @@ const gestureActions = {
     const junction = editor.shown.junctions ? editor.view.junctionAt(editor.points, p) : null;
     if (junction) {
       edits.cycleJunction(junction);
-    } else if (altKey || editor.view.artAt(clientX, clientY)) {
-      // Pins go on the art, as in Puppet Warp; Alt places one anywhere (say, outside a shape).
+    } else if (altKey) {
+      // Alt places a pin anywhere (say, outside a shape).
       edits.addHandle(p);
     } else {
-      // Empty canvas: deselect.
-      edits.deselect();
+      // Pins go on the art, as in Puppet Warp: a click a few pixels off a thin stroke snaps to it.
+      const near = editor.view.artNear(clientX, clientY, SNAP_PX);
+      if (near) edits.addHandle(editor.view.toUser(...near));
+      else if (editor.selection.length) edits.deselect();
+      else say('pins go on the art: click a shape or stroke (Alt-click: anywhere)');
     }
   },
   viewChanged() {
     drawOverlay();
+    drawFoldMarks();
   },
 };
 
@@ -305,6 +330,7 @@ function wireFiles() {
   $('export-svg').addEventListener('click', exportSvg);
   $('save-scene').addEventListener('click', saveScene);
   $('export-lottie').addEventListener('click', exportLottie);
+  $('export-animation').addEventListener('click', exportAnimation);
   $('progress-stop').addEventListener('click', () => {
     if (!editor.job) return;
     $('progress-stop').hidden = true;
@@ -318,6 +344,7 @@ function wireSettings() {
   $('undo').addEventListener('click', edits.undo);
   $('redo').addEventListener('click', edits.redo);
   $('delete-handle').addEventListener('click', edits.deleteHandles);
+  $('auto-pins').addEventListener('click', autoPins);
   $('reset-pose').addEventListener('click', () =>
     edits.edit((scene) => (scene.pose = scene.pose.map(() => [...affine.IDENTITY]))),
   );
@@ -333,7 +360,7 @@ function wireSettings() {
         // The operator moves pins, it does not turn or scale them: set turns and scales aside
         // here, visibly and undoably, rather than keep them unseen for another family.
         if (edits.translationsOnly(scene)) {
-          showNotice('the operator moves pins only: their turns and scales were set aside (Ctrl+Z brings them back)');
+          showNotice('the operator moves pins only: their turns and scales were set aside (Ctrl+Z brings them back)', TURNS_SET_ASIDE);
         }
       } else {
         scene.weights = { family };
@@ -347,7 +374,10 @@ function wireSettings() {
       syncControls();
       return;
     }
-    if (isDefop(editor.scene)) edits.edit((scene) => (scene.weights = { ...scene.weights, samples }));
+    // The field's change on losing the focus (a click on Stop training) repeats the value: no edit.
+    if (isDefop(editor.scene) && editor.scene.weights.samples !== samples) {
+      edits.edit((scene) => (scene.weights = { ...scene.weights, samples }));
+    }
   });
   $('margin').addEventListener('change', (event) => {
     const percent = Number(event.target.value);
@@ -386,51 +416,17 @@ function wireView() {
   }
   $('error').addEventListener('click', clearError);
   $('notice').addEventListener('click', () => showNotice(''));
+  $('status-more').addEventListener('click', toggleStatusDetails);
+  $('fold-note').addEventListener('click', toggleFoldMarks);
+  $('status-details').addEventListener('click', toggleStatusDetails);
   $('fit').addEventListener('click', () => {
     if (!editor.view) return;
     editor.view.fit(posedHandles(editor.scene));
     drawOverlay();
+    drawFoldMarks();
   });
 
   window.addEventListener('resize', () => editor.view && drawOverlay());
-}
-
-/** The keyboard shortcuts. */
-function wireKeys() {
-  window.addEventListener('keydown', (event) => {
-    // Shortcuts work whatever has the focus (a checkbox, a menu, a button), except where keys
-    // type text.
-    if (isTextField(event.target)) return;
-    const key = event.key.toLowerCase();
-    if ((event.ctrlKey || event.metaKey) && key === 'z') {
-      event.preventDefault();
-      event.shiftKey ? edits.redo() : edits.undo();
-    } else if ((event.ctrlKey || event.metaKey) && key === 'y') {
-      event.preventDefault();
-      edits.redo();
-    } else if (key === 'delete' || key === 'backspace') {
-      event.preventDefault();
-      if (editor.selection.length) edits.deleteHandles();
-      else if (editor.selectedKey !== null) edits.deleteKey();
-    } else if (key === 'escape') {
-      edits.deselect();
-    } else if ((event.ctrlKey || event.metaKey) && key === 'a') {
-      event.preventDefault();
-      const all = editor.scene.handles.map((_, i) => i);
-      edits.select(all, all.length ? all[all.length - 1] : null);
-    } else if (key === 'k' && !event.ctrlKey && !event.metaKey) {
-      edits.keyShortcut();
-    } else if ((key === ',' || key === '.') && !event.ctrlKey && !event.metaKey) {
-      seek(Math.max(0, Math.round(editor.time * fps() + (key === '.' ? 1 : -1)) / fps()));
-    }
-  });
-}
-
-/** Whether keys pressed in `target` type text (so shortcuts leave them alone). */
-function isTextField(target) {
-  if (target instanceof HTMLTextAreaElement || target?.isContentEditable) return true;
-  if (!(target instanceof HTMLInputElement)) return false;
-  return ['text', 'search', 'email', 'url', 'password', 'tel', 'number'].includes(target.type);
 }
 
 // Events of the lower modules (store.js): an edit, or a rig the backend no longer has.
@@ -447,7 +443,7 @@ async function boot() {
     return;
   }
   // Read before the first autosave replaces it.
-  const session = savedSession();
+  const session = await savedSession();
   try {
     show(await api.initialDocument());
   } catch (e) {

@@ -33,7 +33,18 @@ export function drawTimeline() {
   $('easing').disabled = k === null || k === keys.length - 1;
   $('easing').value = k === null ? 'linear' : keys[k].easing;
   $('fps').disabled = !editor.scene.animation;
-  $('export-lottie').disabled = anim.duration(editor.scene.animation) <= 0 || isDefop(editor.scene);
+  // The exports say why they cannot run, in their hover text.
+  const why = anim.duration(editor.scene.animation) <= 0
+    ? 'key the pose at two times or more to export an animation'
+    : isDefop(editor.scene)
+      ? 'the trained operators (Rigid) are not exported as animations yet: pick a weight family'
+      : '';
+  for (const id of ['export-lottie', 'export-animation']) {
+    const button = $(id);
+    button.dataset.title ??= button.title;
+    button.disabled = Boolean(why);
+    button.title = why ? `${button.dataset.title} — not now: ${why}` : button.dataset.title;
+  }
   if (document.activeElement !== $('fps')) $('fps').value = fps();
   document.body.dataset.keyframes = String(keys.length);
 }

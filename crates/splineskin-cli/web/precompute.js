@@ -39,7 +39,7 @@ export async function precompute() {
   const job = `rig-${seq}-${Math.random().toString(36).slice(2, 10)}`;
   editor.job = job;
   progress(defop ? 'training the operator' : 'precomputing');
-  $('progress-stop').hidden = !defop || isStatic;
+  $('progress-stop').hidden = !defop;
   render();
   const follow = followProgress(job, seq);
   try {
@@ -59,6 +59,7 @@ export async function precompute() {
       // BLEND_MS (follow.js) rather than with a jump of the stand-in's error.
       const standIn = editor.rigPreview && editor.rigKey === key ? editor.rig : null;
       editor.rig = new LiveRig(id, operator, editor.view.nPoints, scene.handles.length);
+      fetchCarry(editor.rig);
       // (With flexible G¹ on, the server's solve replaces the points after the swap anyway.)
       if (standIn && !scene.flexible && !editor.scene.pose.every((T) => affine.isIdentity(T))) {
         blendIn(editor.rig, standIn);
@@ -129,6 +130,7 @@ async function preview(scene, key, seq, signal, started) {
     const { id, operator } = await api.precompute(editor.info.id, quick, signal, `preview-${seq}`);
     if (seq !== editor.precomputeSeq || editor.rigState !== 'computing') return;
     editor.rig = new LiveRig(id, operator, editor.view.nPoints, scene.handles.length);
+    fetchCarry(editor.rig);
     editor.rigKey = key;
     editor.rigPreview = true;
     editor.previewSeconds = (performance.now() - started) / 1000;
@@ -145,9 +147,28 @@ async function preview(scene, key, seq, signal, started) {
   }
 }
 
+/**
+ * Asks for `rig`'s carry operator when the document has text, images or user-space paint
+ * (they then move with the art on the canvas as Export SVG moves them), and draws again once it is there
+ * (`body[data-carry]` names the rig, for the tests).
+ */
+async function fetchCarry(rig) {
+  const n = editor.info.carried.length + editor.info.painted.length;
+  if (!n) return;
+  try {
+    rig.setCarry(await api.rigCarry(rig.id), n);
+    if (editor.rig !== rig) return;
+    document.body.dataset.carry = rig.id;
+    render();
+  } catch (e) {
+    if (editor.rig === rig) showError(`${shortName()}: moving its text and images with the art: ${e.message}`);
+  }
+}
+
 /** What the progress bar says in each stage the server reports. */
 const STAGE_LABELS = {
-  queued: 'waiting for the server',
+  // The static build has no server: its requests wait for a worker of the page.
+  queued: isStatic ? 'waiting for a worker' : 'waiting for the server',
   weights: 'computing the weights',
   rig: 'precomputing the rig',
   domain: 'triangulating the domain',

@@ -96,12 +96,14 @@ export const editor = {
   weightsShown: null,
   /** Whether the fold rings of the last viewBox check are drawn. */
   foldsShown: false,
+  /** Whether the notice about a drawing too big to redraw whole in a drag's frame was shown. */
+  partialFramesSaid: false,
   /** The rig's mesh as last fetched: { rig (id), mesh (api.mesh), edges } or null. */
   shownMesh: null,
   /** The rig whose mesh is being fetched ({ rig }), or null. */
   meshRequest: null,
   /** The overlays and playback options the user turned on (the checkboxes of the page). */
-  shown: { junctions: false, weights: false, mesh: false, onion: false },
+  shown: { junctions: false, weights: false, mesh: false, onion: false, folds: true },
   /** Whether playing starts again at the end. */
   loop: true,
   /**

@@ -2,13 +2,11 @@
 // the `d` of its imported elements rewritten from deformed chain points, and an overlay in the
 // same user space with the handles, the junction markers and the weight field.
 
-import { apply, isIdentity } from './affine.js';
-import { JUNCTION_KINDS } from './constants.js';
+import { apply, compose, inverse, isIdentity } from './affine.js';
+import { CARRIED_MARKER, ELEMENT_MARKER as MARKER, JUNCTION_KINDS, PAINT_MARKER } from './constants.js';
 import { pathOffsets, writePaths } from './pathdata.js';
 
 const SVG_NS = 'http://www.w3.org/2000/svg';
-const MARKER = 'data-splineskin-element';
-
 
 /** Sizes of the overlay, in CSS pixels. */
 export const HANDLE_RADIUS = 7;
@@ -81,7 +79,35 @@ export class DrawingView {
       const k = Number(e.getAttribute(MARKER));
       if (Number.isInteger(k) && k >= 0 && k < this.elements.length) this.elements[k] = e;
     }
+    // The carried text and images (DocumentInfo.carried): each with its parent's map P to root
+    // user space and its own transform, which writeCarried prefixes with P⁻¹ A P.
+    this.carried = info.carried.map((P, j) => {
+      const node = root.querySelector(`[${CARRIED_MARKER}="${j}"]`);
+      return { node, P, inverseP: inverse(P), own: node?.getAttribute('transform') ?? '' };
+    });
+    // Each element's own copies of user-space gradients and patterns (DocumentInfo.painted):
+    // their transform is M · G, M the element's local map, G the copy's own transform.
+    // A fixed-orientation marker's copy turns: its orient is its own plus M's rotation.
+    this.paints = [...root.querySelectorAll(`[${PAINT_MARKER}]`)].flatMap((node) => {
+      const k = Number(node.getAttribute(PAINT_MARKER));
+      const j = info.painted.indexOf(k);
+      const toLocal = info.elements[k]?.to_local;
+      if (j < 0 || !toLocal) return [];
+      const place = { node, j, toLocal, toRoot: inverse(toLocal) };
+      if (node.localName === 'marker') {
+        const orient = Number(node.getAttribute('orient'));
+        return Number.isFinite(orient) ? [{ ...place, name: 'orient', orient }] : [];
+      }
+      const name = node.localName === 'pattern' ? 'patternTransform' : 'gradientTransform';
+      const G = /^matrix\(([^)]*)\)$/.exec(node.getAttribute(name)?.trim() ?? '')?.[1].split(/[\s,]+/).map(Number);
+      return G?.length === 6 ? [{ ...place, name, G }] : [];
+    });
     ({ offsets: this.offsets, nPoints: this.nPoints } = pathOffsets(info.paths));
+    // Per element, its chain points [first, end) (writePaths), and the points last written.
+    this.pointRanges = info.elements.map(({ first_path: first, end_path: end }) =>
+      first < end ? [this.offsets[first], this.offsets[end - 1] + info.paths[end - 1].n_points] : [0, 0],
+    );
+    this.written = null;
     // Decimals of the written coordinates: 1e-5 of the view box's diagonal or finer.
     const diagonal = Math.hypot(w, h) || 1;
     this.digits = Math.min(8, Math.max(0, Math.ceil(5 - Math.log10(diagonal))));
@@ -157,23 +183,41 @@ export class DrawingView {
   }
 
   /**
-   * Rings in red the points `at` ([x, y] in drawing units) where the deformation folds an
-   * outline over itself; an empty list clears them.
+   * The client point on the art nearest to (clientX, clientY) within `radius` CSS pixels (the
+   * point itself when the art is there; else the first hit on rings of 1, 2, … px, 16 directions
+   * each), or null: a click just off a thin stroke still lands on it.
    */
-  drawFolds(at) {
-    const r = FOLD_RADIUS * this.unitsPerPixel();
+  artNear(clientX, clientY, radius) {
+    if (this.artAt(clientX, clientY)) return [clientX, clientY];
+    for (let r = 1; r <= radius; r++) {
+      for (let k = 0; k < 16; k++) {
+        const a = (k * Math.PI) / 8;
+        const [x, y] = [clientX + r * Math.cos(a), clientY + r * Math.sin(a)];
+        if (this.artAt(x, y)) return [x, y];
+      }
+    }
+    return null;
+  }
+
+  /**
+   * Rings in red where the deformation folds an outline over itself: `marks` are
+   * { at: [x, y] (drawing units), radius (CSS pixels) }; an empty list clears them.
+   */
+  drawFolds(marks) {
+    const u = this.unitsPerPixel();
     const f = this.markFormat();
     const [ox, oy] = this.origin;
     this.folds.setAttribute(
       'd',
-      at
-        .map(([px, py]) => {
-          const [x, y] = [px - ox, py - oy];
+      marks
+        .map(({ at: [px, py], radius }) => {
+          const [x, y, r] = [px - ox, py - oy, radius * u];
           return `M${f(x - r)} ${f(y)}a${f(r)} ${f(r)} 0 1 0 ${f(2 * r)} 0a${f(r)} ${f(r)} 0 1 0 ${f(-2 * r)} 0z`;
         })
         .join(''),
     );
   }
+
 
   /** Outlines the document's viewBox (dashed), or hides the outline. */
   showViewBox(shown) {
@@ -260,15 +304,73 @@ export class DrawingView {
     return this._markFormat;
   }
 
-  /** Rewrites the `d` of every imported element from chain points x0, y0, x1, y1, …. */
-  writePaths(points) {
+  /**
+   * Rewrites the `d` of every imported element from chain points x0, y0, x1, y1, …. With a
+   * `budgetMs` (a drag's frames on a big drawing), only the elements that time allows, those
+   * whose points moved most since they were last written first (unmoved ones are left as they
+   * are); returns whether a moved element was left for a later frame. Without one, every
+   * element is written.
+   */
+  writePaths(points, budgetMs = Infinity) {
     const { info, offsets, format } = this;
-    for (let k = 0; k < info.elements.length; k++) {
-      const element = this.elements[k];
-      if (!element) continue;
+    const write = (k) => {
       const { first_path: first, end_path: end } = info.elements[k];
-      element.setAttribute('d', writePaths(info.paths, offsets, first, end, points, format, this.localMaps[k]));
+      this.elements[k].setAttribute('d', writePaths(info.paths, offsets, first, end, points, format, this.localMaps[k]));
+      const [a, b] = this.pointRanges[k];
+      this.written.set(points.subarray(2 * a, 2 * b), 2 * a);
+    };
+    if (!this.written || budgetMs === Infinity) {
+      this.written ??= new Float64Array(points.length);
+      for (let k = 0; k < info.elements.length; k++) if (this.elements[k]) write(k);
+      return false;
     }
+    // Each element's largest move since it was written, and the moved ones, most moved first.
+    const count = info.elements.length;
+    const { moves, order } = (this.writeOrder ??= { moves: new Float64Array(count), order: new Int32Array(count) });
+    let nMoved = 0;
+    for (let k = 0; k < count; k++) {
+      if (!this.elements[k]) continue;
+      const [a, b] = this.pointRanges[k];
+      let most = 0;
+      for (let i = 2 * a; i < 2 * b; i++) most = Math.max(most, Math.abs(points[i] - this.written[i]));
+      moves[k] = most;
+      if (most > 0) order[nMoved++] = k;
+    }
+    const moved = order.subarray(0, nMoved).sort((x, y) => moves[y] - moves[x]);
+    const start = performance.now();
+    let n = 0;
+    while (n < nMoved && (n === 0 || performance.now() - start < budgetMs)) write(moved[n++]);
+    return n < nMoved;
+  }
+
+  /**
+   * Carries each text and image, and each element's own user-space gradients and patterns, by
+   * its best-fit map: `maps` holds six numbers per carried element, then per painted element,
+   * root user space (the rig's carry operator, LiveRig.carryMaps), or is null for none (they
+   * stand as the document has them). A text's or image's `transform` becomes `P⁻¹ A P` before
+   * its own, a paint copy's transform `L⁻¹ A L · G`, a marker copy's orient its own plus the
+   * rotation of `L⁻¹ A L`, as Export SVG writes them.
+   */
+  writeCarried(maps) {
+    const n = this.carried.length;
+    for (const { node, name, G, orient, j, toLocal, toRoot } of this.paints) {
+      const M = maps ? compose(toLocal, compose(maps.subarray(6 * (n + j), 6 * (n + j) + 6), toRoot)) : [1, 0, 0, 1, 0, 0];
+      if (name === 'orient') {
+        node.setAttribute('orient', String(orient + (Math.atan2(M[1] - M[2], M[0] + M[3]) * 180) / Math.PI));
+      } else {
+        node.setAttribute(name, `matrix(${compose(M, G).join(' ')})`);
+      }
+    }
+    this.carried.forEach(({ node, P, inverseP, own }, j) => {
+      if (!node) return;
+      if (!maps) {
+        if (own) node.setAttribute('transform', own);
+        else node.removeAttribute('transform');
+        return;
+      }
+      const M = compose(inverseP, compose(maps.subarray(6 * j, 6 * j + 6), P));
+      node.setAttribute('transform', `matrix(${M.join(' ')}) ${own}`.trim());
+    });
   }
 
   /**

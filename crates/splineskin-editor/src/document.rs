@@ -2,8 +2,12 @@
 //! library once, with what the page needs to show and deform it ([`DocumentInfo`]).
 
 use anyhow::{bail, Context, Result};
+use splineskin::drawing::carry::carried_parents;
+use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::svg_in::MAX_SVG_BYTES;
-use splineskin::drawing::svg_out::{write_svg_marked, write_svg_with_inserted, ViewBoxRule};
+use splineskin::drawing::svg_out::{
+    write_svg_with, write_svg_with_inserted, SvgOptions, ViewBoxRule,
+};
 use splineskin::drawing::{read_svg_named, Drawing, ImportOptions, SvgSource};
 use splineskin::folds::FoldCheck;
 use splineskin::scene::pinned::PinnedDrawing;
@@ -20,6 +24,31 @@ use crate::wire::{
 /// The attribute that marks each imported element in the shown document with its index
 /// ([`splineskin::drawing::svg_out::write_svg_marked`]).
 pub const ELEMENT_MARKER: &str = "data-splineskin-element";
+
+/// The attribute that marks each carried `<text>` and `<image>` in the shown document with its
+/// index ([`SvgOptions::carried_marker`]): the page sets their `transform` as the pose moves
+/// them, by the rig's carry operator (`GET /api/rigs/{id}/carry`).
+pub const CARRIED_MARKER: &str = "data-splineskin-carried";
+
+/// The attribute that marks each element's own copy of a user-space paint server in the shown
+/// document with the element's index ([`SvgOptions::paint_marker`]): the page sets its
+/// transform as the element's map moves it.
+pub const PAINT_MARKER: &str = "data-splineskin-paint";
+
+/// The distinct values `k` of `marker="k"` in `svg`, ascending.
+fn marked_indices(svg: &str, marker: &str) -> Vec<usize> {
+    let key = format!("{marker}=\"");
+    let mut found: Vec<usize> = svg
+        .match_indices(&key)
+        .filter_map(|(at, _)| {
+            let rest = &svg[at + key.len()..];
+            rest[..rest.find('"')?].parse().ok()
+        })
+        .collect();
+    found.sort_unstable();
+    found.dedup();
+    found
+}
 
 /// Largest upload: an SVG document or a scene, whichever limit is larger
 /// ([`MAX_SVG_BYTES`], 64 MiB; scenes of ours hold their drawing inline, so a scene may be a
@@ -127,8 +156,20 @@ impl Document {
             weights: Some(weights),
         };
         let rest = drawing.flat_points();
-        let svg = write_svg_marked(&drawing, &rest, ELEMENT_MARKER)
+        // At rest every map is the identity; each element gets its own copies of its user-space
+        // paint servers, which the page turns with the element's map.
+        let at_rest = ElementMaps::from_map(&drawing, &mut |p| p, &FollowOptions::default())
             .with_context(|| format!("{name}: preparing the drawing for display"))?;
+        let marks = SvgOptions::default()
+            .with_marker(ELEMENT_MARKER)
+            .with_carried_marker(CARRIED_MARKER)
+            .with_follow(Some(&at_rest))
+            .with_paint_marker(PAINT_MARKER);
+        let svg = write_svg_with(&drawing, &rest, &marks)
+            .with_context(|| format!("{name}: preparing the drawing for display"))?;
+        let painted = marked_indices(&svg, PAINT_MARKER);
+        let carried = carried_parents(&drawing)
+            .with_context(|| format!("{name}: finding its text and images"))?;
         let source = drawing
             .source
             .as_ref()
@@ -143,6 +184,8 @@ impl Document {
             },
             paths: path_infos(&drawing, source),
             elements: element_infos(source),
+            carried: carried.iter().map(|p| p.as_coeffs()).collect(),
+            painted,
             rest: rest.iter().flat_map(|p| [p.x, p.y]).collect(),
             scene: edit,
             operator,

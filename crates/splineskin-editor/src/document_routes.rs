@@ -5,19 +5,24 @@ use std::sync::Arc;
 
 use kurbo::{Affine, Point};
 use splineskin::defop::MeshMap;
+use splineskin::drawing::animated_image::AnimatedFormat;
 use splineskin::drawing::follow::{ElementMaps, FollowOptions};
 use splineskin::drawing::svg_out::{
     art_bounds, art_outside_view_box, write_svg_with, SvgOptions, ViewBoxRule,
 };
 use splineskin::naive::skin_point;
 use splineskin::scene::ours_write::SvgRef;
+use splineskin::scene::{place_pins, PinOptions, PoseOptions};
+use splineskin::scene_animation::{AnimationRig, SceneAnimationError, ANIMATED_IMAGE_SIZE};
 
 use crate::document::Document;
 use crate::editor::{lock_puppet, Editor};
-use crate::request::{ApiError, Request, Response};
+use crate::request::{ApiError, Request, Response, MAX_HANDLES};
 use crate::rig_routes::{checked_scene, gone_rig};
 use crate::store::{OperatorRig, Rig};
-use crate::wire::{EditScene, ExportQuery, FoldWire, OutsideWire, ViewBoxReport};
+use crate::wire::{
+    AnimationQuery, EditScene, ExportQuery, FoldWire, OutsideWire, PinsRequest, ViewBoxReport,
+};
 
 /// `GET /api/initial`.
 pub(crate) fn initial(editor: &Editor) -> Result<Response, ApiError> {
@@ -67,15 +72,7 @@ fn percent_decode(s: &str) -> String {
 /// `POST /api/documents/{id}/export` ([`ExportQuery`]: the query and the body's layout).
 pub(crate) fn export(editor: &Editor, id: &str, request: &Request) -> Result<Response, ApiError> {
     let query: ExportQuery = request.query("export")?;
-    let rule = match query.viewbox.as_deref() {
-        None | Some("keep") => ViewBoxRule::Keep,
-        Some("fit") => ViewBoxRule::Fit,
-        Some(other) => {
-            return Err(ApiError::bad(format!(
-                "export: viewbox={other} (expected keep or fit)"
-            )))
-        }
-    };
+    let rule = view_box_rule("export", query.viewbox.as_deref())?;
     let body = request.upload()?;
     let document = editor.document(id)?;
     let deformation =
@@ -109,6 +106,18 @@ pub(crate) fn export(editor: &Editor, id: &str, request: &Request) -> Result<Res
             .map_err(|e| ApiError::bad(e.to_string()))?
     };
     Ok(Response::ok("image/svg+xml; charset=utf-8", svg))
+}
+
+/// The viewBox rule a query's `viewbox` names: `keep` (the default) or `fit`; `route` names
+/// the route in the refusal.
+fn view_box_rule(route: &str, viewbox: Option<&str>) -> Result<ViewBoxRule, ApiError> {
+    match viewbox {
+        None | Some("keep") => Ok(ViewBoxRule::Keep),
+        Some("fit") => Ok(ViewBoxRule::Fit),
+        Some(other) => Err(ApiError::bad(format!(
+            "{route}: viewbox={other} (expected keep or fit)"
+        ))),
+    }
 }
 
 /// What deformed an exported drawing ([`ExportQuery`]).
@@ -213,6 +222,36 @@ pub(crate) fn gone_operator(id: &str) -> ApiError {
         ),
     )
 }
+
+/// `POST /api/documents/{id}/pins` ([`PinsRequest`]): pins placed over the drawing's art as
+/// `splineskin rig` places them ([`place_pins`]: farthest points inside the filled shapes, as
+/// many as cover the art), the page's own pins (rest positions) kept first and exactly.
+pub(crate) fn pins(editor: &Editor, id: &str, request: &Request) -> Result<Response, ApiError> {
+    let request: PinsRequest = request.json()?;
+    let document = editor.document(id)?;
+    let given: Vec<Point> = request
+        .handles
+        .iter()
+        .map(|&[x, y]| Point::new(x, y))
+        .collect();
+    let options = PinOptions::default().with_pin_range(1, MAX_AUTO_PINS.max(given.len()));
+    let pins = place_pins(&document.drawing, &given, &options)
+        .map_err(|e| ApiError::bad(format!("{}: placing pins: {e}", document.name)))?;
+    if pins.len() > MAX_HANDLES {
+        return Err(ApiError::bad(format!(
+            "{}: {} pins would be more than the {MAX_HANDLES} a rig takes",
+            document.name,
+            pins.len()
+        )));
+    }
+    Response::json(
+        &serde_json::json!({ "pins": pins.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>() }),
+    )
+}
+
+/// The most pins `POST /api/documents/{id}/pins` adds to cover a drawing: 12 (Puppet Warp
+/// places a handful; a drawing needs more only for detailed posing, which the user adds).
+pub const MAX_AUTO_PINS: usize = 12;
 
 /// `POST /api/documents/{id}/outside`: which paths of the drawing through the posted points
 /// leave the document's viewBox, the viewBox a `fit` export would write, and where the
@@ -330,25 +369,12 @@ pub(crate) fn lottie(editor: &Editor, id: &str, request: &Request) -> Result<Res
     let scene: EditScene = request.json()?;
     let document = editor.document(id)?;
     let (json, report) = {
-        if crate::page_scene::defop_energy(&scene.weights.family).is_some() {
-            return Err(ApiError::bad(format!(
-                "{}: Lottie export plays a rig of weights; pick a weight family (the trained \
-                 operators are not exported as animations yet)",
-                document.name
-            )));
-        }
-        let read = checked_scene(&document, &scene)?;
-        let Some(animation) = read.animation.clone() else {
-            return Err(ApiError::bad(format!(
-                "{}: the timeline has no keyframes (key the pose at two times or more)",
-                document.name
-            )));
-        };
+        let (read, animation) = animated_scene(&document, &scene, "Lottie export")?;
         let stem = std::path::Path::new(&document.name)
             .file_stem()
             .map_or("splineskin".into(), |s| s.to_string_lossy().into_owned());
         let options = splineskin::drawing::lottie::LottieOptions::default().with_name(stem);
-        let made = splineskin::scene_lottie::lottie_of_scene(
+        let made = splineskin::scene_animation::lottie_of_scene(
             &read,
             &animation,
             splineskin::scene::PoseOptions {
@@ -375,6 +401,101 @@ pub(crate) fn lottie(editor: &Editor, id: &str, request: &Request) -> Result<Res
         ascii_json(&serde_json::to_string(&report).map_err(|e| ApiError::bad(e.to_string()))?);
     Ok(Response::ok("application/json", json).with_header(LOTTIE_HEADER, header))
 }
+
+/// The page's scene with its animation, read as a scene file is; refused (naming the
+/// document and `what` was asked) for an operator family or a timeline without keyframes.
+fn animated_scene(
+    document: &Document,
+    scene: &EditScene,
+    what: &str,
+) -> Result<(splineskin::scene::Scene, splineskin::animation::Animation), ApiError> {
+    if crate::page_scene::defop_energy(&scene.weights.family).is_some() {
+        return Err(ApiError::bad(format!(
+            "{}: {what} plays a rig of weights; pick a weight family (the trained operators are \
+             not exported as animations yet)",
+            document.name
+        )));
+    }
+    let read = checked_scene(document, scene)?;
+    let Some(animation) = read.animation.clone() else {
+        return Err(ApiError::bad(format!(
+            "{}: the timeline has no keyframes (key the pose at two times or more)",
+            document.name
+        )));
+    };
+    Ok((read, animation))
+}
+
+/// `POST /api/documents/{id}/animation?format=svg|gif|apng[&viewbox=keep|fit]`
+/// ([`AnimationQuery`]), body the page's [`EditScene`] with an `animation`: the animation as
+/// `splineskin animate SCENE -o anim.svg|anim.gif|anim.png [--viewbox fit]` writes it
+/// ([`SceneFrames`]: an animated SVG, or every frame rendered
+/// [`ANIMATED_IMAGE_SIZE`] pixels on its longer side into a GIF or an animated PNG). A build
+/// without fonts (WebAssembly) renders no text: header `x-splineskin-warning` says so when the
+/// drawing has any.
+pub(crate) fn animation(
+    editor: &Editor,
+    id: &str,
+    request: &Request,
+) -> Result<Response, ApiError> {
+    let query: AnimationQuery = request.query("animation")?;
+    let scene: EditScene = request.json()?;
+    let document = editor.document(id)?;
+    let format = match query.format.as_str() {
+        "svg" => None,
+        "gif" => Some(AnimatedFormat::Gif),
+        "apng" => Some(AnimatedFormat::Apng),
+        other => {
+            return Err(ApiError::bad(format!(
+                "animation: format '{other}' (expected svg, gif or apng)"
+            )))
+        }
+    };
+    let fit = view_box_rule("animation", query.viewbox.as_deref())? == ViewBoxRule::Fit;
+    let (read, animation) = animated_scene(&document, &scene, "the animation export")?;
+    let failed = |e: SceneAnimationError| ApiError::bad(e.to_string());
+    let posing = PoseOptions {
+        flexible: scene.flexible,
+        ..Default::default()
+    };
+    let rig = AnimationRig::of_scene(&read, &animation, posing, &document.name).map_err(failed)?;
+    let frames = rig.frames();
+    let response = match format {
+        None => {
+            let svg = frames.animated_svg(fit, |_, _| {}).map_err(failed)?;
+            Response::ok("image/svg+xml; charset=utf-8", svg)
+        }
+        Some(format) => {
+            let rule = frames.view_box(fit).map_err(failed)?;
+            let bytes = frames
+                .animated_image(format, ANIMATED_IMAGE_SIZE, rule, |_, _, _| {})
+                .map_err(failed)?;
+            let kind = match format {
+                AnimatedFormat::Gif => "image/gif",
+                _ => "image/png",
+            };
+            Response::ok(kind, bytes)
+        }
+    };
+    let has_text = document
+        .drawing
+        .source
+        .as_ref()
+        .is_some_and(|s| s.text.contains("<text"));
+    Ok(
+        if format.is_some() && has_text && !splineskin::fonts::HAS_FONTS {
+            response.with_header(
+            WARNING_HEADER,
+            "this build has no fonts: the frames are rendered without their text (splineskin serve and the command line draw it)".to_string(),
+        )
+        } else {
+            response
+        },
+    )
+}
+
+/// The header of an answer that carries a warning for the user (plain ASCII text).
+pub const WARNING_HEADER: &str = "x-splineskin-warning";
 
 /// JSON text with every character beyond ASCII written as `\uXXXX` escapes (UTF-16, as JSON
 /// has them), so that it fits in an HTTP header.

@@ -2,7 +2,8 @@
 //! `crates/splineskin-cli/web/constants.js`, so that the page imports them instead of copying
 //! them by hand: the weight families, operator families and their sample limits, the junction
 //! kinds a click cycles through, the easings and frame rates of the timeline, the handle bases
-//! of an operator, the domain's margin and the most poses one refinement measures.
+//! of an operator, the domain's margin, the most poses one refinement measures and the
+//! attributes that mark the shown document's elements.
 //!
 //! The file is generated: `SPLINESKIN_WRITE_CONSTANTS=1 cargo test -p splineskin-cli
 //! page_constants` writes it again, and the same test without the variable fails while the
@@ -17,6 +18,7 @@ use splineskin::drawing::JointKind;
 use splineskin::scene::MeshFamily;
 
 use crate::defop_routes::MAX_EDITOR_SAMPLES;
+use crate::document::{CARRIED_MARKER, ELEMENT_MARKER, PAINT_MARKER};
 use crate::page_scene::{defop_family, DEFAULT_EDITOR_SAMPLES, DEFOP_ENERGIES};
 use crate::request::MAX_REFINE_POSES;
 
@@ -111,6 +113,21 @@ pub fn javascript() -> String {
         "Most poses one refinement request measures (MAX_REFINE_POSES).",
         "MAX_REFINE_POSES",
         MAX_REFINE_POSES.to_string(),
+    );
+    constant(
+        "The attribute marking each imported element of the shown document (ELEMENT_MARKER).",
+        "ELEMENT_MARKER",
+        format!("'{ELEMENT_MARKER}'"),
+    );
+    constant(
+        "The attribute marking each carried text and image of the shown document (CARRIED_MARKER).",
+        "CARRIED_MARKER",
+        format!("'{CARRIED_MARKER}'"),
+    );
+    constant(
+        "The attribute marking each element's own copy of a user-space paint server (PAINT_MARKER).",
+        "PAINT_MARKER",
+        format!("'{PAINT_MARKER}'"),
     );
     js
 }

@@ -4,6 +4,8 @@
 use kurbo::{Affine, Point};
 use serde::Deserialize;
 use splineskin::adaptive::AdaptiveOptions;
+use splineskin::drawing::carry::CarryOperator;
+use splineskin::naive::skin_point_derivatives;
 use splineskin::scene::{Compat, Puppet, PuppetStage, Scene, SceneError, SetupControl};
 use splineskin::weights::WeightsError;
 
@@ -183,6 +185,33 @@ pub(crate) fn operator(editor: &Editor, id: &str) -> Result<Response, ApiError> 
     Ok(Response::f64s(
         puppet.rig().map(|r| r.operator()).unwrap_or(&[]),
     ))
+}
+
+/// `GET /api/rigs/{id}/carry`: the rig's carry operator
+/// ([`splineskin::drawing::carry::CarryOperator`] of its skinning map in the pose), as f64s:
+/// per carried `<text>` and `<image>` of its document (in
+/// [`crate::wire::DocumentInfo::carried`] order), then per element with its own paint copies
+/// ([`crate::wire::DocumentInfo::painted`]), the six coefficients of its best-fit map as rows
+/// of `6h + 1` numbers (the pose's `6h` coefficients, handle by handle, then the constant).
+/// Empty when the document has none of either; the page then asks no more.
+pub(crate) fn carry(editor: &Editor, id: &str) -> Result<Response, ApiError> {
+    let rig = editor.store().rig(id).ok_or_else(|| gone_rig(id))?;
+    let document = editor.document(&rig.document)?;
+    if document.info.carried.is_empty() && document.info.painted.is_empty() {
+        return Ok(Response::f64s(&[]));
+    }
+    let puppet = lock_puppet(&rig)?;
+    let field = puppet
+        .weights()
+        .ok_or_else(|| ApiError::bad("the rig's weights are not computed"))?;
+    let mut w = vec![0.0; field.n_handles()];
+    let n_inputs = 6 * field.n_handles();
+    let painted = &document.info.painted;
+    let carry = CarryOperator::with_elements(&document.drawing, painted, n_inputs, &mut |p, d| {
+        skin_point_derivatives(field, p, d, &mut w)
+    })
+    .map_err(|e| ApiError::bad(format!("{}: {e}", document.name)))?;
+    Ok(Response::f64s(carry.coefficients()))
 }
 
 /// `POST /api/rigs/{id}/refine` ([`RefineRequest`]): adaptive control points for the poses

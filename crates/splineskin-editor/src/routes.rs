@@ -44,6 +44,7 @@ impl Editor {
             (["rigs", id, "weights"], true, _) => rig_routes::weights(self, id, request),
             (["rigs", id, "mesh"], true, _) => rig_routes::mesh(self, id),
             (["rigs", id, "operator"], true, _) => rig_routes::operator(self, id),
+            (["rigs", id, "carry"], true, _) => rig_routes::carry(self, id),
             (["rigs", id, "refine"], _, true) => rig_routes::refine(self, id, request),
             (["progress", job], true, _) => rig_routes::progress(self, job),
             (["progress", job, "stop"], _, true) => rig_routes::stop(self, job),
@@ -52,8 +53,12 @@ impl Editor {
             (["defops", id, "follow"], _, true) => defop_routes::follow(self, id, request),
             (["documents", id, "export"], _, true) => document_routes::export(self, id, request),
             (["documents", id, "outside"], _, true) => document_routes::outside(self, id, request),
+            (["documents", id, "pins"], _, true) => document_routes::pins(self, id, request),
             (["documents", id, "scene"], _, true) => document_routes::save_scene(self, id, request),
             (["documents", id, "lottie"], _, true) => document_routes::lottie(self, id, request),
+            (["documents", id, "animation"], _, true) => {
+                document_routes::animation(self, id, request)
+            }
             (_, false, false) => Err(ApiError::new(
                 405,
                 format!("{method}: the editor's routes take GET or POST"),

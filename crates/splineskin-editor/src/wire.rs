@@ -209,6 +209,15 @@ pub struct DocumentInfo {
     pub paths: Vec<PathInfo>,
     /// The imported elements, in marker order.
     pub elements: Vec<ElementInfo>,
+    /// Per carried `<text>` and `<image>` (marked with
+    /// [`crate::document::CARRIED_MARKER`]`="j"`), its parent's user space → root user space
+    /// `P`, `[a, b, c, d, e, f]`: its shown `transform` is `P⁻¹ A P` before its own, `A` its
+    /// best-fit map.
+    pub carried: Vec<[f64; 6]>,
+    /// The elements (indices, ascending) that have their own copies of user-space paint servers
+    /// in the shown document (marked [`crate::document::PAINT_MARKER`]`="k"`): the carry
+    /// operator gives their maps after the carried ones'.
+    pub painted: Vec<usize>,
     /// Rest chain points of all paths, concatenated: `x0, y0, x1, y1, …` (root user units).
     pub rest: Vec<f64>,
     /// The scene as opened (a drawing alone: no handles, Shepard weights).
@@ -257,6 +266,25 @@ pub struct ElementInfo {
     pub end_path: usize,
     /// Root user space → local coordinates, `[a, b, c, d, e, f]`.
     pub to_local: [f64; 6],
+}
+
+/// The query of `POST /api/documents/{id}/animation`.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnimationQuery {
+    /// `svg` (an animated SVG), `gif` or `apng` (an animated PNG).
+    pub format: String,
+    /// `keep` (default: every frame with the drawing's viewBox) or `fit` (one viewBox holding
+    /// the art of every frame).
+    pub viewbox: Option<String>,
+}
+
+/// `POST /api/documents/{id}/pins`: the pins the page has (rest positions), kept first.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PinsRequest {
+    /// The page's pins, `[x, y]` at rest (root user units).
+    pub handles: Vec<[f64; 2]>,
 }
 
 /// An error as the page receives it.

@@ -201,13 +201,33 @@ pub(crate) fn parse_xml<'i>(
 ) -> Result<roxmltree::Document<'i>, SvgError> {
     roxmltree::Document::parse_with_options(text, xml_options()).map_err(|e| {
         let pos = e.pos();
+        let (line, column, message) = match e {
+            // The parser places these at 1:1; the file ends where they are found.
+            roxmltree::Error::UnexpectedEndOfStream | roxmltree::Error::UnclosedRootNode => {
+                let (line, column) = end_position(text);
+                (
+                    line,
+                    column,
+                    format!("{e} (the file ends here: is it cut short?)"),
+                )
+            }
+            _ => (pos.row, pos.col, e.to_string()),
+        };
         SvgError::Xml {
             file: origin.to_string(),
-            line: pos.row,
-            column: pos.col,
-            message: e.to_string(),
+            line,
+            column,
+            message,
         }
     })
+}
+
+/// The line and column (1-based, in characters) just past the end of `text`.
+fn end_position(text: &str) -> (u32, u32) {
+    let line = 1 + text.matches('\n').count();
+    let last = text.rsplit('\n').next().unwrap_or("");
+    let to_u32 = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+    (to_u32(line), to_u32(last.chars().count() + 1))
 }
 
 /// A user style sheet that shows every element usvg would leave out for `display: none`

@@ -84,7 +84,7 @@ use std::str::FromStr;
 use kurbo::{Affine, BezPath, Point, Rect, Shape, Vec2};
 
 use crate::document::SvgError;
-use splineskin_core::drawing::Drawing;
+use splineskin_core::drawing::{Drawing, SvgSource};
 
 /// Cells per side of the grid sampling an element's region: 16 (256 samples; the best-fit map
 /// of a smooth deformation changes by well under 1 % of its size from 8 to 32).
@@ -295,36 +295,23 @@ impl ElementMaps {
         };
         let mut elements = Vec::new();
         let mut carried = Vec::new();
-        match &drawing.source {
-            None => {
-                for (i, path) in drawing.paths.iter().enumerate() {
-                    let (s, w) = curve_samples(std::slice::from_ref(path));
-                    elements.push(fit(&|| format!("path {i}"), &s, &w)?);
-                }
-            }
-            Some(source) => {
-                for e in &source.elements {
-                    let paths = &drawing.paths[e.paths.clone()];
-                    let (s, w) = match e.paint.filled && !e.zero_area_fill {
-                        true => area_samples(paths).unwrap_or_else(|| curve_samples(paths)),
-                        false => curve_samples(paths),
-                    };
-                    elements.push(fit(&|| e.label.clone(), &s, &w)?);
-                }
-                let doc = crate::document::parse_xml(&source.text, &source.origin)?;
-                for (node, parent_to_root, local) in carried_elements(&doc, source) {
-                    let local_to_root = parent_to_root * own_transform(node);
-                    let s: Vec<Point> =
-                        grid(local).into_iter().map(|p| local_to_root * p).collect();
-                    let label = || crate::document::node_label(&doc, node);
-                    let w = vec![1.0; s.len()];
-                    let map = fit(&label, &s, &w)?;
-                    carried.push(Carried {
-                        offset: node.range().start,
-                        parent_to_root,
-                        map,
-                    });
-                }
+        let n_elements = drawing
+            .source
+            .as_ref()
+            .map_or(drawing.paths.len(), |s| s.elements.len());
+        for k in 0..n_elements {
+            let (s, w) = element_region(drawing, k);
+            elements.push(fit(&|| element_label(drawing, k), &s, &w)?);
+        }
+        if let Some(source) = &drawing.source {
+            for region in carried_regions(source)? {
+                let w = vec![1.0; region.samples.len()];
+                let map = fit(&|| region.label.clone(), &region.samples, &w)?;
+                carried.push(Carried {
+                    offset: region.offset,
+                    parent_to_root: region.parent_to_root,
+                    map,
+                });
             }
         }
         Ok(ElementMaps {
@@ -355,10 +342,70 @@ impl ElementMaps {
             .map(|c| c.map)
     }
 
+    /// The best-fit maps (root user space) of the carried `<text>` and `<image>` elements, in
+    /// document order (that of [`crate::carry::CarryOperator`]).
+    pub fn carried_maps(&self) -> impl Iterator<Item = Affine> + '_ {
+        self.carried.iter().map(|c| c.map)
+    }
+
     /// The options they were computed with.
     pub fn options(&self) -> FollowOptions {
         self.options
     }
+}
+
+/// Where the best-fit map of element `k` of `drawing`'s document is sampled (module doc; path
+/// `k` for a drawing without a source): its samples and their weights.
+pub(crate) fn element_region(drawing: &Drawing, k: usize) -> (Vec<Point>, Vec<f64>) {
+    match &drawing.source {
+        None => curve_samples(std::slice::from_ref(&drawing.paths[k])),
+        Some(source) => {
+            let e = &source.elements[k];
+            let paths = &drawing.paths[e.paths.clone()];
+            match e.paint.filled && !e.zero_area_fill {
+                true => area_samples(paths).unwrap_or_else(|| curve_samples(paths)),
+                false => curve_samples(paths),
+            }
+        }
+    }
+}
+
+/// Element `k` of `drawing`'s document as messages name it (`path k` without a source).
+pub(crate) fn element_label(drawing: &Drawing, k: usize) -> String {
+    match &drawing.source {
+        None => format!("path {k}"),
+        Some(source) => source.elements[k].label.clone(),
+    }
+}
+
+/// Where the best-fit map of a carried `<text>` or `<image>` is sampled (module doc).
+pub(crate) struct CarriedRegion {
+    /// Byte offset of the element in the source text.
+    pub(crate) offset: usize,
+    /// Its parent's user space → root user space (`P`).
+    pub(crate) parent_to_root: Affine,
+    /// The element as messages name it.
+    pub(crate) label: String,
+    /// A [`REGION_GRID`]² grid over its region, root user space (equal weights).
+    pub(crate) samples: Vec<Point>,
+}
+
+/// The regions of the `<text>` and `<image>` elements of `source` that are carried, in
+/// document order.
+pub(crate) fn carried_regions(source: &SvgSource) -> Result<Vec<CarriedRegion>, SvgError> {
+    let doc = crate::document::parse_xml(&source.text, &source.origin)?;
+    Ok(carried_elements(&doc, source)
+        .into_iter()
+        .map(|(node, parent_to_root, local)| {
+            let local_to_root = parent_to_root * own_transform(node);
+            CarriedRegion {
+                offset: node.range().start,
+                parent_to_root,
+                label: crate::document::node_label(&doc, node),
+                samples: grid(local).into_iter().map(|p| local_to_root * p).collect(),
+            }
+        })
+        .collect())
 }
 
 fn origin(drawing: &Drawing) -> &str {

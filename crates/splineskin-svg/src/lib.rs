@@ -32,6 +32,7 @@
 
 pub mod animated_image;
 pub mod authors_svg;
+pub mod carry;
 pub mod document;
 pub mod follow;
 pub mod fonts;

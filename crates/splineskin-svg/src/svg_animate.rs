@@ -354,6 +354,7 @@ pub fn write_animated_svg_with(
                         drawing,
                         frames: maps,
                         timing: Some(&timing),
+                        paint_marker: None,
                     };
                     export_geometry_animated(source, first, children, root, follow)
                 }

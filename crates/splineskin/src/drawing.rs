@@ -1,6 +1,6 @@
 //! Drawings and SVG: the model of `splineskin-core` ([`Drawing`], [`Path`], [`JointKind`],
 //! [`SvgSource`]) and the document code of `splineskin-svg` ([`svg_in`], [`svg_out`],
-//! [`follow`], [`svg_animate`], [`lottie`], [`smil`], [`text_outlines`], [`authors_svg`]), at one path.
+//! [`follow`], [`carry`], [`svg_animate`], [`lottie`], [`smil`], [`text_outlines`], [`authors_svg`]), at one path.
 //!
 //! ```
 //! use splineskin::drawing::{read_svg, ImportOptions};
@@ -14,5 +14,6 @@ pub use splineskin_svg::svg_in::{
     read_svg, read_svg_file, read_svg_named, ImportOptions, SvgError, TextMode,
 };
 pub use splineskin_svg::{
-    animated_image, authors_svg, follow, lottie, smil, svg_animate, svg_in, svg_out, text_outlines,
+    animated_image, authors_svg, carry, follow, lottie, smil, svg_animate, svg_in, svg_out,
+    text_outlines,
 };

@@ -37,7 +37,7 @@ pub mod figure;
 pub mod metrics;
 pub mod naive;
 pub mod scene;
-pub mod scene_lottie;
+pub mod scene_animation;
 pub mod subdiv;
 
 pub use splineskin_core::{atomic_write, bezier, domain, folds, mesh, spline_fit, stop, weights};

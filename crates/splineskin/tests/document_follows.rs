@@ -766,3 +766,114 @@ fn the_fish_label_follows_its_plate_in_every_pose() {
         assert!(at_rest > 18.0, "{:?}: {at_rest}", pose.name);
     }
 }
+
+/// How close the carry operator's maps are to those of [`ElementMaps::from_map`], relative to
+/// each map's size (its linear part's norm plus its translation over the drawing's diagonal):
+/// the same least-squares fit summed in another order, so rounding only.
+const CARRY_AGREES: f64 = 1e-9;
+
+/// Checks the carry operator of `drawing` under `field` against the element maps at `poses`.
+fn check_carry(
+    drawing: &Drawing,
+    field: &dyn splineskin::weights::WeightField,
+    poses: &[Vec<Affine>],
+    what: &str,
+) {
+    use splineskin::drawing::carry::CarryOperator;
+    use splineskin::naive::skin_point_derivatives;
+    let h = field.n_handles();
+    let mut w = vec![0.0; h];
+    let carry = CarryOperator::new(drawing, 6 * h, &mut |p, d| {
+        skin_point_derivatives(field, p, d, &mut w)
+    })
+    .unwrap();
+    assert_eq!(carry.n_carried(), 1, "{what}: its label");
+    let diagonal = drawing
+        .flat_points()
+        .iter()
+        .fold(
+            kurbo::Rect::from_points(drawing.paths[0].points[0], drawing.paths[0].points[0]),
+            |r, &p| r.union_pt(p),
+        )
+        .size()
+        .to_vec2()
+        .hypot();
+    for pose in poses {
+        let mut f = |p| skin_point(field, pose, p, &mut w);
+        let maps = ElementMaps::from_map(drawing, &mut f, &FollowOptions::default()).unwrap();
+        let expected: Vec<Affine> = maps.carried_maps().collect();
+        let x: Vec<f64> = pose.iter().flat_map(|t| t.as_coeffs()).collect();
+        let mut got = vec![Affine::IDENTITY; carry.n_carried()];
+        carry.apply(&x, &mut got);
+        for (a, b) in got.iter().zip(&expected) {
+            let (a, b) = (a.as_coeffs(), b.as_coeffs());
+            let linear = (0..4).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max);
+            let shift = (4..6).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max) / diagonal;
+            let size = (0..4).map(|i| b[i].abs()).fold(0.0, f64::max);
+            eprintln!("{what}: carry operator off by {linear:.1e} (linear part), {shift:.1e} of the diagonal (translation)");
+            assert!(
+                linear <= CARRY_AGREES * size && shift <= CARRY_AGREES,
+                "{what}: {a:?} vs {b:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_carry_operator_gives_the_element_maps_at_every_pose_and_scale() {
+    use splineskin::examples::DEMO_SCENE;
+    use splineskin::scene::{Compat, Scene};
+    let assets = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets"));
+    let scene = Scene::from_json(DEMO_SCENE, "demo-scene.json", Some(assets)).unwrap();
+    let setup = scene.setup(Compat::None).unwrap();
+    let poses: Vec<Vec<Affine>> = scene.poses.iter().map(|p| p.transforms.clone()).collect();
+    check_carry(&setup.drawing, &*setup.weights, &poses, "the bundled fish");
+    // A label 1e5 times larger and 3e8 units from the origin, and one 1e-6 times smaller, under
+    // the test handles' bend and rigid map carried there.
+    for (s, what) in [
+        (
+            Affine::translate((3e8, -2e8)) * Affine::scale(1e5),
+            "a label far from the origin",
+        ),
+        (
+            Affine::translate((3e-3, -2e-3)) * Affine::scale(1e-6),
+            "a tiny label",
+        ),
+    ] {
+        let at = |x: f64, y: f64| s * Point::new(x, y);
+        let [a, b, c, t, corner] = [
+            at(10.0, 10.0),
+            at(60.0, 40.0),
+            at(20.0, 70.0),
+            at(20.0, 50.0),
+            at(0.0, 0.0),
+        ];
+        let size = s.as_coeffs()[0];
+        let svg = format!(
+            "<svg xmlns='http://www.w3.org/2000/svg' viewBox='{} {} {} {}'>\
+             <path d='M{} {} L{} {} L{} {} Z'/><text x='{}' y='{}' font-size='{}'>far</text></svg>",
+            corner.x,
+            corner.y,
+            100.0 * size,
+            100.0 * size,
+            a.x,
+            a.y,
+            b.x,
+            b.y,
+            c.x,
+            c.y,
+            t.x,
+            t.y,
+            10.0 * size
+        );
+        let drawing = read_svg(&svg, &ImportOptions::default()).unwrap();
+        let handles = [(20.0, 30.0), (80.0, 40.0), (50.0, 85.0)].map(|(x, y)| at(x, y));
+        let field = Shepard::new(&handles, ShepardOptions::default());
+        let conjugate = |t: &Affine| s * *t * s.inverse();
+        let poses = [
+            bend().iter().map(conjugate).collect(),
+            vec![conjugate(&rigid()); 3],
+        ];
+        check_carry(&drawing, &field, &poses, what);
+    }
+}

@@ -1287,6 +1287,114 @@ fn le_bytes(values: impl IntoIterator<Item = f64>) -> Vec<u8> {
     values.into_iter().flat_map(|v| v.to_le_bytes()).collect()
 }
 
+/// `POST /api/documents/{id}/pins` places pins over the plate as `splineskin rig` does: inside
+/// its rectangle, the page's own pin kept first and exactly; a body that is not a list of
+/// points is refused with a message.
+#[tokio::test]
+async fn serve_pins_cover_the_art_and_keep_the_given_ones() {
+    let app = app();
+    let info = open_plate(&app).await;
+    let id = info["id"].as_str().expect("id");
+    let inside = |p: &[f64]| p[0] > 10.0 && p[0] < 190.0 && p[1] > 20.0 && p[1] < 80.0;
+    let uri = format!("/api/documents/{id}/pins");
+    let (_, body) = send_ok(&app, post_json(&uri, &serde_json::json!({"handles": []}))).await;
+    let placed: Vec<[f64; 2]> = serde_json::from_value(json(&body)["pins"].clone()).expect("pins");
+    assert!(placed.len() >= 2, "{placed:?}");
+    assert!(placed.iter().all(|p| inside(p)), "{placed:?}");
+    let given = [33.25, 41.5];
+    let request = post_json(&uri, &serde_json::json!({"handles": [given]}));
+    let (_, body) = send_ok(&app, request).await;
+    let with_given: Vec<[f64; 2]> =
+        serde_json::from_value(json(&body)["pins"].clone()).expect("pins");
+    assert_eq!(with_given[0], given);
+    assert!(with_given.len() >= 2 && with_given[1..].iter().all(|p| inside(p)));
+    let message = refused_with(
+        &app,
+        post_json(&uri, &serde_json::json!({"handles": "all"})),
+        StatusCode::UNPROCESSABLE_ENTITY,
+    )
+    .await;
+    assert!(message.contains("handles"), "{message}");
+}
+
+/// The plate with its label inside a turned, moved group and scaled by its own transform.
+const LABELLED_PLATE_SVG: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100">
+  <rect x="10" y="20" width="180" height="60" fill="#468"/>
+  <g transform="translate(10 5) rotate(10)"><text x="40" y="40" font-size="14" transform="scale(1.2)">plate</text></g>
+</svg>"##;
+
+/// The carry operator the page moves text with gives, at a bend of the plate, the map Export
+/// SVG writes on the label (`P⁻¹ A P` before its own transform), to rounding; the shown
+/// document marks the label and the description gives its group's map `P`.
+#[tokio::test]
+async fn serve_carry_operator_gives_the_exported_label_map() {
+    let app = app();
+    let info = open_file(&app, "labelled.svg", LABELLED_PLATE_SVG).await;
+    let id = info["id"].as_str().expect("id");
+    let parent = kurbo::Affine::translate((10.0, 5.0)) * kurbo::Affine::rotate(10f64.to_radians());
+    let carried: Vec<[f64; 6]> = serde_json::from_value(info["carried"].clone()).expect("carried");
+    assert_eq!(carried.len(), 1);
+    for (a, b) in carried[0].iter().zip(parent.as_coeffs()) {
+        assert!((a - b).abs() < 1e-12, "{carried:?}");
+    }
+    let shown = info["svg"].as_str().expect("svg");
+    assert!(shown.contains("data-splineskin-carried=\"0\""), "{shown}");
+    let bend = [
+        kurbo::Affine::IDENTITY,
+        kurbo::Affine::translate((20.0, -10.0))
+            * kurbo::Affine::rotate_about(0.4, Point::new(160.0, 50.0)),
+        kurbo::Affine::translate((0.0, 15.0)),
+    ];
+    let scene = serde_json::json!({
+        "document": id,
+        "scene": {
+            "handles": PLATE_HANDLES,
+            "pose": bend.map(|t| t.as_coeffs()),
+            "weights": {"family": "shepard", "exponent": 2.0},
+            "junctions": [],
+            "flexible": false
+        }
+    });
+    let (headers, _) = send_ok(&app, post_json("/api/rig", &scene)).await;
+    let rig = rig_id(&headers);
+    let (_, body) = send_ok(&app, get(&format!("/api/rigs/{rig}/carry"))).await;
+    let carry = f64s(&body);
+    let width = 6 * bend.len() + 1;
+    assert_eq!(carry.len(), 6 * width);
+    let x: Vec<f64> = bend
+        .iter()
+        .flat_map(|t| t.as_coeffs())
+        .chain([1.0])
+        .collect();
+    let a = kurbo::Affine::new(std::array::from_fn(|r| {
+        (0..width).map(|c| carry[r * width + c] * x[c]).sum::<f64>()
+    }));
+    let expected = parent.inverse() * a * parent;
+    let rest = numbers(&info["rest"]);
+    let body = le_bytes(
+        rest.into_iter()
+            .chain(bend.iter().flat_map(|t| t.as_coeffs())),
+    );
+    let request = post(&format!("/api/documents/{id}/export?rig={rig}"))
+        .body(Body::from(body))
+        .expect("a request");
+    let (_, body) = send_ok(&app, request).await;
+    let svg = String::from_utf8(body).expect("text");
+    let written = matrix_in(&svg, "<text", "transform").expect("the label carries a transform");
+    assert!(
+        svg.contains(") scale(1.2)\""),
+        "its own transform follows: {svg}"
+    );
+    for (got, want) in written.as_coeffs().iter().zip(expected.as_coeffs()) {
+        assert!(
+            (got - want).abs() <= 1e-9 * 200.0,
+            "{written:?} vs {expected:?}"
+        );
+    }
+    // The label does move under the bend (a map left at rest would not pass the above).
+    assert!((expected.as_coeffs()[5]).abs() > 1.0, "{expected:?}");
+}
+
 /// Every handle of the plate turned by 30° about its centre: the skinning map is that
 /// rotation everywhere (the weights sum to one), so the export's label `transform` and the
 /// gradient copy's `gradientTransform` are exactly it (to rounding of the fit: 1e-12 of the
@@ -1460,6 +1568,18 @@ async fn serve_export_carries_text_with_the_operator() {
     assert!(worst < 0.5, "the label is {worst} from the rotation");
 }
 
+/// The page's `scene` on document `id` as "Save scene" writes it, read back by the library.
+async fn saved_scene(
+    app: &Router,
+    id: &str,
+    scene: &serde_json::Value,
+) -> splineskin::scene::Scene {
+    let uri = format!("/api/documents/{id}/scene");
+    let (_, saved) = send_ok(app, post_json(&uri, scene)).await;
+    let text = std::str::from_utf8(&saved).expect("text");
+    splineskin::scene::Scene::from_json(text, "fish drawing.svg", None).expect("it reads")
+}
+
 #[tokio::test]
 async fn serve_lottie_plays_the_page_timeline_as_animate_does() {
     let (app, _, id) = demo_app().await;
@@ -1490,19 +1610,9 @@ async fn serve_lottie_plays_the_page_timeline_as_animate_does() {
         .as_str()
         .is_some_and(|s| s.contains("× 11 frames")));
     // The same file as the command writes from the saved scene.
-    let (_, saved) = send_ok(
-        &app,
-        post_json(&format!("/api/documents/{id}/scene"), &scene),
-    )
-    .await;
-    let read = splineskin::scene::Scene::from_json(
-        std::str::from_utf8(&saved).expect("text"),
-        "fish drawing.svg",
-        None,
-    )
-    .expect("it reads");
+    let read = saved_scene(&app, &id, &scene).await;
     let options = splineskin::drawing::lottie::LottieOptions::default().with_name("fish drawing");
-    let made = splineskin::scene_lottie::lottie_of_scene(
+    let made = splineskin::scene_animation::lottie_of_scene(
         &read,
         read.animation.as_ref().expect("animation"),
         splineskin::scene::PoseOptions::default(),
@@ -1515,6 +1625,51 @@ async fn serve_lottie_plays_the_page_timeline_as_animate_does() {
     scene["weights"] = serde_json::json!({"family": "defop-arap", "samples": 10});
     let message = bad_request(&app, post_json(&uri, &scene)).await;
     assert!(message.contains("pick a weight family"), "{message}");
+}
+
+/// `POST /api/documents/{id}/animation` writes the GIF and animated SVG the library's
+/// [`SceneFrames`](splineskin::scene_animation::SceneFrames) writes of the saved scene (what
+/// `animate` writes), and refuses an unknown format, a bad viewbox and a timeline without
+/// keyframes with messages.
+#[tokio::test]
+async fn serve_animation_writes_what_animate_writes() {
+    use splineskin::drawing::animated_image::AnimatedFormat;
+    use splineskin::drawing::svg_out::ViewBoxRule;
+    use splineskin::scene_animation::{AnimationRig, ANIMATED_IMAGE_SIZE};
+    let (app, _, id) = demo_app().await;
+    let mut scene = two_handle_scene(&id, false)["scene"].clone();
+    let uri = |query: &str| format!("/api/documents/{id}/animation?{query}");
+    let message = bad_request(&app, post_json(&uri("format=gif"), &scene)).await;
+    assert!(message.contains("no keyframes"), "{message}");
+    let identity = [1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
+    let moved = [1.0, 0.0, 0.0, 1.0, 30.0, -20.0];
+    scene["animation"] = serde_json::json!({"fps": 4.0, "keyframes": [
+        {"time": 0.0, "pose": [identity, identity]},
+        {"time": 1.0, "pose": [identity, moved]}
+    ]});
+    let message = bad_request(&app, post_json(&uri("format=webm"), &scene)).await;
+    assert!(message.contains("expected svg, gif or apng"), "{message}");
+    let message = bad_request(&app, post_json(&uri("format=gif&viewbox=all"), &scene)).await;
+    assert!(message.contains("expected keep or fit"), "{message}");
+    let (_, gif) = send_ok(&app, post_json(&uri("format=gif"), &scene)).await;
+    let (_, svg) = send_ok(&app, post_json(&uri("format=svg&viewbox=fit"), &scene)).await;
+    // What the library writes of the saved scene, as animate does.
+    let read = saved_scene(&app, &id, &scene).await;
+    let animation = read.animation.clone().expect("animation");
+    let rig = AnimationRig::of_scene(&read, &animation, Default::default(), "saved").expect("rig");
+    let frames = rig.frames();
+    let expected = frames
+        .animated_image(
+            AnimatedFormat::Gif,
+            ANIMATED_IMAGE_SIZE,
+            ViewBoxRule::Keep,
+            |_, _, _| {},
+        )
+        .expect("the GIF");
+    assert!(gif.starts_with(b"GIF89a"));
+    assert!(gif == expected, "the route's GIF is the library's");
+    let expected = frames.animated_svg(true, |_, _| {}).expect("the SVG");
+    assert_eq!(String::from_utf8(svg).expect("text"), expected);
 }
 
 #[tokio::test]

@@ -136,6 +136,15 @@ pub struct SvgOptions<'a> {
     /// The anchors adaptive control points inserted, per path and joint (see
     /// [`write_svg_with_inserted`]).
     pub inserted: Option<&'a [Vec<bool>]>,
+    /// The attribute that marks every carried `<text>` and `<image>` with its index in
+    /// document order ([`crate::carry::CarryOperator`]'s): a live view finds there the nodes
+    /// whose `transform` to update.
+    pub carried_marker: Option<&'static str>,
+    /// With [`SvgOptions::follow`]: each element gets its own copy of its user-space paint
+    /// servers (gradients, patterns) and fixed-orientation markers, none shared, marked with
+    /// this attribute and the element's index, so that a live view can set each copy's
+    /// transform (orient) as the element's map moves (turns) it.
+    pub paint_marker: Option<&'static str>,
 }
 
 impl<'a> SvgOptions<'a> {
@@ -160,6 +169,18 @@ impl<'a> SvgOptions<'a> {
     /// Sets [`SvgOptions::inserted`].
     pub fn with_inserted(mut self, inserted: Option<&'a [Vec<bool>]>) -> Self {
         self.inserted = inserted;
+        self
+    }
+
+    /// Sets [`SvgOptions::carried_marker`].
+    pub fn with_carried_marker(mut self, marker: &'static str) -> Self {
+        self.carried_marker = Some(marker);
+        self
+    }
+
+    /// Sets [`SvgOptions::paint_marker`].
+    pub fn with_paint_marker(mut self, marker: &'static str) -> Self {
+        self.paint_marker = Some(marker);
         self
     }
 }
@@ -194,20 +215,46 @@ pub fn write_svg_with(
         drawing,
         frames: std::slice::from_ref(maps),
         timing: None,
+        paint_marker: options.paint_marker,
     });
     let attributes = options
         .inserted
         .map(|inserted| inserted_attributes(source, inserted))
         .unwrap_or_default();
+    let carried_marks = match options.carried_marker {
+        Some(name) => Some((name, carried_indices(source)?)),
+        None => None,
+    };
     export_geometry_follow(
         source,
         data,
         Vec::new(),
-        options.marker,
+        Marks {
+            elements: options.marker,
+            carried: carried_marks,
+        },
         root,
         follow,
         attributes,
     )
+}
+
+/// The index of each carried `<text>` and `<image>` of `source` (by byte offset), in document
+/// order.
+fn carried_indices(source: &SvgSource) -> Result<HashMap<usize, usize>, SvgError> {
+    Ok(crate::follow::carried_regions(source)?
+        .iter()
+        .enumerate()
+        .map(|(j, region)| (region.offset, j))
+        .collect())
+}
+
+/// The attributes that mark elements for a live view: imported elements by index, and the
+/// carried `<text>` and `<image>` elements by index (offset → index).
+#[derive(Default)]
+struct Marks {
+    elements: Option<&'static str>,
+    carried: Option<(&'static str, HashMap<usize, usize>)>,
 }
 
 /// The attribute on an exported element that lists the anchors adaptive control points
@@ -436,6 +483,8 @@ struct ExportPolicy<'e> {
     children: Vec<String>,
     /// The attribute that receives each element's index, if any.
     marker: Option<&'static str>,
+    /// The attribute that receives each carried text's or image's index, and the indices.
+    carried_marks: Option<(&'static str, HashMap<usize, usize>)>,
     /// Attributes set on the root element (the fitted viewBox).
     root: Vec<(&'static str, String)>,
     /// What follows the deformation besides the curves ([`crate::follow`]).
@@ -470,6 +519,10 @@ pub(crate) struct Follow<'f> {
     pub(crate) frames: &'f [ElementMaps],
     /// `Some` for an animated document (then one map per frame of the timing).
     pub(crate) timing: Option<&'f Timing>,
+    /// For a live view ([`SvgOptions::paint_marker`]): every element's own copy of its
+    /// user-space paint servers and fixed-orientation markers (none shared), marked with this
+    /// attribute and the element's index.
+    pub(crate) paint_marker: Option<&'static str>,
 }
 
 impl RewritePolicy for ExportPolicy<'_> {
@@ -553,6 +606,13 @@ impl RewritePolicy for ExportPolicy<'_> {
             if let Some(t) = self.follow.transforms.get(&start) {
                 set.push(("transform", t.clone()));
             }
+            if let Some((name, j)) = self
+                .carried_marks
+                .as_ref()
+                .and_then(|(name, marks)| Some((*name, marks.get(&start)?)))
+            {
+                set.push((name, j.to_string()));
+            }
         }
         if node.parent().is_some_and(|p| p.is_root()) {
             set.append(&mut self.root);
@@ -634,7 +694,11 @@ pub(crate) fn export_geometry_root(
     marker: Option<&'static str>,
     root: Vec<(&'static str, String)>,
 ) -> Result<String, SvgError> {
-    export_geometry_follow(source, data, children, marker, root, None, Vec::new())
+    let marks = Marks {
+        elements: marker,
+        carried: None,
+    };
+    export_geometry_follow(source, data, children, marks, root, None, Vec::new())
 }
 
 /// [`export_geometry_root`] for an animated document: what is not a curve follows each frame's
@@ -646,7 +710,16 @@ pub(crate) fn export_geometry_animated(
     root: Vec<(&'static str, String)>,
     follow: Follow,
 ) -> Result<String, SvgError> {
-    export_geometry_follow(source, data, children, None, root, Some(follow), Vec::new())
+    let marks = Marks::default();
+    export_geometry_follow(
+        source,
+        data,
+        children,
+        marks,
+        root,
+        Some(follow),
+        Vec::new(),
+    )
 }
 
 /// [`export_geometry_root`], with what is not a curve carried by the maps of `follow`
@@ -655,7 +728,7 @@ fn export_geometry_follow(
     source: &SvgSource,
     data: Vec<String>,
     children: Vec<String>,
-    marker: Option<&'static str>,
+    marks: Marks,
     root: Vec<(&'static str, String)>,
     follow: Option<Follow>,
     attributes: Vec<Vec<(&'static str, String)>>,
@@ -681,7 +754,8 @@ fn export_geometry_follow(
             .collect(),
         data,
         children,
-        marker,
+        marker: marks.elements,
+        carried_marks: marks.carried,
         root,
         follow,
         attributes,

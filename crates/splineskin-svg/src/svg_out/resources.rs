@@ -115,6 +115,7 @@ pub(super) fn follow_edits(
 ) -> Result<FollowEdits, SvgError> {
     check_frames(source, follow)?;
     let mut maker = EditMaker::new(doc);
+    maker.paint_marker = follow.paint_marker;
     for (i, e) in source.elements.iter().enumerate() {
         maker.element_edits(i, e, follow);
     }
@@ -129,6 +130,7 @@ fn check_frames(source: &SvgSource, follow: &Follow) -> Result<(), SvgError> {
         drawing,
         frames,
         timing,
+        ..
     } = *follow;
     let mismatch = |what: String| SvgError::SourceMismatch {
         file: source.origin.clone(),
@@ -192,6 +194,8 @@ struct EditMaker<'a, 'i> {
     /// Per resource (byte offset): its copies.
     made: HashMap<usize, Vec<Made>>,
     edits: FollowEdits,
+    /// Every element's own paint copies, marked with this attribute ([`Follow::paint_marker`]).
+    paint_marker: Option<&'static str>,
 }
 
 impl<'a, 'i> EditMaker<'a, 'i> {
@@ -210,6 +214,7 @@ impl<'a, 'i> EditMaker<'a, 'i> {
             prefix: crate::document::unique_prefix(doc),
             made: HashMap::new(),
             edits: FollowEdits::default(),
+            paint_marker: None,
         }
     }
 
@@ -260,8 +265,8 @@ impl<'a, 'i> EditMaker<'a, 'i> {
                 })
                 .map_or(0.0, |r| r.width().hypot(r.height()));
             let size = diagonal / follow::local_scale(l);
-            self.paint_edits(e, &ms, size, follow.timing, &mut decls);
-            self.marker_edits(e, node, &ms, follow.timing, &mut decls);
+            self.paint_edits(i, e, &ms, size, follow.timing, &mut decls);
+            self.marker_edits(i, e, node, &ms, follow.timing, &mut decls);
             if follow.frames[0].options.scale_strokes {
                 if let Some(w) = e.paint.stroke_width {
                     let widths: Vec<f64> = ms.iter().map(|&m| w * follow::local_scale(m)).collect();
@@ -280,6 +285,7 @@ impl<'a, 'i> EditMaker<'a, 'i> {
     /// element's local map `ms` (per frame) times their own.
     fn paint_edits(
         &mut self,
+        i: usize,
         e: &ImportedElement,
         ms: &[Affine],
         size: f64,
@@ -297,6 +303,9 @@ impl<'a, 'i> EditMaker<'a, 'i> {
                 continue;
             };
             set.push((name, matrix(ms[0] * g)));
+            if let Some(marker) = self.paint_marker {
+                set.push((marker, i.to_string()));
+            }
             let animated = timing.filter(|_| !still_maps(ms, size));
             // A server with children gets its animation as a child; one without (a pattern
             // inheriting its template's content) must stay childless: the animation follows
@@ -320,12 +329,16 @@ impl<'a, 'i> EditMaker<'a, 'i> {
                 edit
             };
             let id = server.attribute("id").unwrap_or("paint");
+            // A live view's copies are the element's own: none is shared.
+            let shared = self.paint_marker.is_none();
             let same = |other: &[Affine], _: &[f64]| {
-                other
-                    .iter()
-                    .zip(ms)
-                    .all(|(&o, &m)| follow::same_map(o, m, size))
+                shared
+                    && other
+                        .iter()
+                        .zip(ms)
+                        .all(|(&o, &m)| follow::same_map(o, m, size))
             };
+
             let copy = self.copy(server, id, &same, (ms.to_vec(), Vec::new()), &make);
             decls.push((slot.to_string(), format!("url(#{copy})")));
         }
@@ -335,6 +348,7 @@ impl<'a, 'i> EditMaker<'a, 'i> {
     /// the element's local maps `ms` (per frame).
     fn marker_edits(
         &mut self,
+        i: usize,
         e: &ImportedElement,
         node: roxmltree::Node,
         ms: &[Affine],
@@ -347,7 +361,9 @@ impl<'a, 'i> EditMaker<'a, 'i> {
             e.kind,
             ElementKind::Path | ElementKind::Line | ElementKind::Polyline | ElementKind::Polygon
         );
-        if !has_markers || turns.iter().all(|t| t.abs() <= MIN_MARKER_TURN) {
+        // A live view's markers get their own copies at rest too: the page turns them.
+        let unturned = turns.iter().all(|t| t.abs() <= MIN_MARKER_TURN);
+        if !has_markers || (unturned && self.paint_marker.is_none()) {
             return;
         }
         for slot in ["start", "mid", "end"] {
@@ -371,9 +387,13 @@ impl<'a, 'i> EditMaker<'a, 'i> {
                 .iter()
                 .map(|t| angle.to_degrees() + t.to_degrees())
                 .collect();
+            let mut set = vec![("orient", number(degrees[0]))];
+            if let Some(marker) = self.paint_marker {
+                set.push((marker, i.to_string()));
+            }
             let make = |_: &str| {
                 let mut edit = CopyEdit {
-                    set: vec![("orient", number(degrees[0]))],
+                    set: set.clone(),
                     ..CopyEdit::default()
                 };
                 if let Some(timing) = timing.filter(|_| !still_turns(&turns)) {
@@ -383,11 +403,13 @@ impl<'a, 'i> EditMaker<'a, 'i> {
                 }
                 edit
             };
+            let shared = self.paint_marker.is_none();
             let same = |_: &[Affine], other: &[f64]| {
-                other
-                    .iter()
-                    .zip(&turns)
-                    .all(|(o, t)| (o - t).abs() <= MIN_MARKER_TURN)
+                shared
+                    && other
+                        .iter()
+                        .zip(&turns)
+                        .all(|(o, t)| (o - t).abs() <= MIN_MARKER_TURN)
             };
             let copy = self.copy(marker, &id, &same, (Vec::new(), turns.clone()), &make);
             decls.push((format!("marker-{slot}"), format!("url(#{copy})")));

@@ -88,6 +88,42 @@ pub fn skin_point(field: &dyn WeightField, pose: &[Affine], p: Point, w: &mut [f
     blended_transform(field, pose, p, w) * p
 }
 
+/// The skinning map's derivatives in the pose, for [`crate::drawing::carry::CarryOperator`]:
+/// `f(p) = Σ_i w_i(p) T_i p̄` is linear in the pose's coefficients, with
+/// `∂f/∂(a_i, b_i, c_i, d_i, e_i, f_i) = w_i(p) ((x, 0), (0, x), (y, 0), (0, y), (1, 0), (0, 1))`
+/// (`T_i = [a b c d e f]` in `Affine`'s order, `p = (x, y)`). Writes them into `d[6i + k]`,
+/// and `d[6h] = 0` (`f` at the zero pose); `d` has `6h + 1` entries, `w` `h` (scratch).
+///
+/// ```
+/// use kurbo::{Affine, Point, Vec2};
+/// use splineskin::naive::{skin_point, skin_point_derivatives};
+/// use splineskin::weights::{Shepard, ShepardOptions};
+/// let field = Shepard::new(&[Point::new(0.0, 0.0), Point::new(2.0, 0.0)], ShepardOptions::default());
+/// let p = Point::new(0.5, 1.0);
+/// let mut d = [Vec2::ZERO; 13];
+/// skin_point_derivatives(&field, p, &mut d, &mut [0.0; 2]);
+/// // Linear in the pose: Σ_j x_j d_j is the skinning map at the pose x.
+/// let pose = [Affine::rotate(0.3), Affine::translate((1.0, 2.0))];
+/// let x: Vec<f64> = pose.iter().flat_map(|t| t.as_coeffs()).collect();
+/// let f = x.iter().zip(&d).fold(d[12], |s, (xj, dj)| s + *xj * *dj);
+/// assert!((f.to_point() - skin_point(&field, &pose, p, &mut [0.0; 2])).hypot() < 1e-12);
+/// ```
+pub fn skin_point_derivatives(field: &dyn WeightField, p: Point, d: &mut [Vec2], w: &mut [f64]) {
+    field.eval(p, w);
+    for (i, &wi) in w.iter().enumerate() {
+        let [x, y] = [p.x * wi, p.y * wi];
+        d[6 * i..6 * i + 6].copy_from_slice(&[
+            Vec2::new(x, 0.0),
+            Vec2::new(0.0, x),
+            Vec2::new(y, 0.0),
+            Vec2::new(0.0, y),
+            Vec2::new(wi, 0.0),
+            Vec2::new(0.0, wi),
+        ]);
+    }
+    d[6 * w.len()] = Vec2::ZERO;
+}
+
 /// `Σ_i w_i T_i` (coefficient-wise: affine maps form a vector space).
 pub(crate) fn blend(pose: &[Affine], w: &[f64]) -> Affine {
     let mut c = [0.0; 6];

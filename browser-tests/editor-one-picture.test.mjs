@@ -1,0 +1,164 @@
+// What the canvas shows is what Export SVG writes: a label on a real emoji (Noto's flamingo,
+// from test-art's npm packages, with a <text> added) moves with the art while a pin is dragged
+// far, and the canvas's label stands where the exported document's does, to the pixel.
+
+import assert from 'node:assert/strict';
+import { existsSync, readFileSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { after, before } from 'node:test';
+
+import { REPO, outputFolder } from './harness.mjs';
+import { WAIT, clientPoint, drag, openThroughPicker, servedEditor } from './editor-page.mjs';
+
+const VIEWPORT = { width: 1280, height: 800 };
+const NOTO = join(REPO, 'test-art', 'node_modules', '@iconify-json', 'noto', 'icons.json');
+const MISSING = !existsSync(NOTO) && `${NOTO} missing (npm ci in test-art)`;
+/** How far the label of the canvas may stand from the exported one's, CSS pixels. */
+const SAME_PLACE = 1;
+
+const out = outputFolder('editor-one-picture');
+const check = (...args) => out.check(...args);
+let session;
+let page;
+
+before(async () => {
+  if (MISSING) return;
+  session = await servedEditor({ viewport: VIEWPORT });
+  page = session.page;
+});
+
+after(async () => {
+  await session?.close();
+  out.finish();
+});
+
+/** The flamingo with a label under its feet, as a file. */
+function labelledFlamingo() {
+  const noto = JSON.parse(readFileSync(NOTO, 'utf8'));
+  const svg =
+    `<svg xmlns="http://www.w3.org/2000/svg" width="512" height="512" viewBox="0 0 ${noto.width} ${noto.height}">` +
+    noto.icons.flamingo.body +
+    '<g transform="translate(64 124)"><text id="label" x="0" y="0" font-size="9" text-anchor="middle" font-family="DejaVu Sans" fill="#333">flamingo</text></g></svg>';
+  const file = join(out.path, 'flamingo.svg');
+  writeFileSync(file, svg);
+  return file;
+}
+
+/** The label's box on screen in the page's canvas (CSS pixels): [left, top, right, bottom]. */
+const canvasLabelBox = () =>
+  page.evaluate(() => {
+    const r = document.getElementById('canvas').shadowRoot.querySelector('#label').getBoundingClientRect();
+    return [r.left, r.top, r.right, r.bottom];
+  });
+
+/**
+ * The label's box on screen when `svg` (the exported document) is drawn over the canvas with
+ * the canvas's view (the same frame, size and place): [left, top, right, bottom].
+ */
+const exportedLabelBox = (svg) =>
+  page.evaluate((svg) => {
+    const canvas = document.getElementById('canvas');
+    const shown = canvas.shadowRoot.querySelector('svg');
+    const doc = new DOMParser().parseFromString(svg, 'image/svg+xml').documentElement;
+    const probe = document.importNode(doc, true);
+    for (const name of ['viewBox', 'width', 'height', 'preserveAspectRatio']) {
+      const v = shown.getAttribute(name);
+      if (v === null) probe.removeAttribute(name);
+      else probe.setAttribute(name, v);
+    }
+    const box = canvas.getBoundingClientRect();
+    Object.assign(probe.style, { position: 'fixed', left: `${box.left}px`, top: `${box.top}px`, width: `${box.width}px`, height: `${box.height}px`, opacity: '0.5', pointerEvents: 'none' });
+    probe.id = 'exported-probe';
+    document.body.append(probe);
+    const r = probe.querySelector('#label').getBoundingClientRect();
+    return [r.left, r.top, r.right, r.bottom];
+  }, svg);
+
+check('a label moves with the flamingo during a far drag, where Export SVG puts it', { skip: MISSING }, async () => {
+  await openThroughPicker(page, labelledFlamingo());
+  // Pins on the head, the body and the standing leg, as Puppet Warp users place them.
+  for (const p of [[45, 12], [80, 60], [68, 110]]) {
+    const [x, y] = await clientPoint(page, p);
+    await page.keyboard.down('Alt');
+    await page.mouse.click(x, y);
+    await page.keyboard.up('Alt');
+  }
+  await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  const atRest = await canvasLabelBox();
+  // A far drag of the leg pin: half the drawing to the right and up.
+  await drag(page, [68, 110], [60, -30], 10);
+  await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  await page.waitForFunction(() => document.body.dataset.carry === window.splineskinEditor.rig?.id, null, { timeout: WAIT });
+  const moved = await canvasLabelBox();
+  const shift = Math.hypot(moved[0] - atRest[0], moved[1] - atRest[1]);
+  assert.ok(shift > 20, `the label moved with the art on the canvas (${shift.toFixed(1)} px)`);
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export-svg')]);
+  const exported = readFileSync(await download.path(), 'utf8');
+  writeFileSync(join(out.path, 'exported.svg'), exported);
+  const expected = await exportedLabelBox(exported);
+  const off = Math.max(...moved.map((v, k) => Math.abs(v - expected[k])));
+  console.log(`one picture: the canvas's label ${off.toFixed(3)} px from the exported one's (moved ${shift.toFixed(1)} px)`);
+  await page.screenshot({ path: join(out.path, 'flamingo-label.png') });
+  assert.ok(off <= SAME_PLACE, `the canvas's label box ${moved} vs the export's ${expected}`);
+  // The flamingo's user-space gradients: every path's fill transform on the canvas is the one
+  // the export wrote for it.
+  const [shown, written] = await page.evaluate(() => {
+    const fillTransforms = (root, scope) =>
+      [...root.querySelectorAll('path')].map((path) => {
+        const id = /url\("?#([^")]+)"?\)/.exec(getComputedStyle(path).fill)?.[1];
+        const server = id ? scope.querySelector(`[id="${id}"]`) : null;
+        const t = server?.getAttribute('gradientTransform');
+        return t ? t.match(/-?[\d.]+(?:e-?\d+)?/g).map(Number) : null;
+      });
+    const canvas = document.getElementById('canvas').shadowRoot;
+    const probe = document.getElementById('exported-probe');
+    return [fillTransforms(canvas.querySelector('svg'), canvas), fillTransforms(probe, probe)];
+  });
+  const moved2 = written.filter((t) => t && Math.abs(t[4]) + Math.abs(t[5]) > 0).length;
+  console.log(`one picture: ${written.filter(Boolean).length} paths filled by user-space gradients, ${moved2} of them moved`);
+  assert.ok(written.filter(Boolean).length >= 2, 'the flamingo has user-space gradients');
+  assert.equal(shown.length, written.length);
+  shown.forEach((t, k) => {
+    if (!written[k]) return;
+    assert.ok(t && t.every((v, i) => Math.abs(v - written[k][i]) <= 1e-6 * (1 + Math.abs(written[k][i]))), `path ${k}: canvas ${t} vs export ${written[k]}`);
+  });
+});
+
+check('a fixed-orientation marker turns on the canvas as Export SVG turns it', async () => {
+  const file = join(out.path, 'arrow.svg');
+  writeFileSync(
+    file,
+    '<svg xmlns="http://www.w3.org/2000/svg" width="400" height="400" viewBox="0 0 100 100">' +
+      '<defs><marker id="head" orient="0" markerWidth="6" markerHeight="6" refX="0" refY="3"><path d="M0 0 L6 3 L0 6z" fill="#c33"/></marker></defs>' +
+      '<path id="shaft" d="M10 50 C35 50 65 50 90 50" stroke="#333" stroke-width="2" fill="none" marker-end="url(#head)"/></svg>',
+  );
+  await openThroughPicker(page, file);
+  await page.selectOption('#family', 'shepard');
+  for (const p of [[12, 50], [88, 50]]) {
+    const [x, y] = await clientPoint(page, p);
+    await page.keyboard.down('Alt');
+    await page.mouse.click(x, y);
+    await page.keyboard.up('Alt');
+  }
+  await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  // The arrow's tip raised: its best-fit map turns.
+  await drag(page, [88, 50], [0, -30], 8);
+  await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  await page.waitForFunction(() => document.body.dataset.carry === window.splineskinEditor.rig?.id, null, { timeout: WAIT });
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export-svg')]);
+  const exported = readFileSync(await download.path(), 'utf8');
+  const shown = await page.evaluate(() => {
+    const canvas = document.getElementById('canvas').shadowRoot;
+    const id = /url\("?#([^")]+)"?\)/.exec(getComputedStyle(canvas.querySelector('#shaft')).markerEnd)?.[1];
+    return Number(canvas.querySelector(`[id="${id}"]`)?.getAttribute('orient'));
+  });
+  const written = await page.evaluate((svg) => {
+    const doc = new DOMParser().parseFromString(svg, 'image/svg+xml');
+    const style = doc.getElementById('shaft').getAttribute('style') ?? '';
+    const id = /marker-end:\s*url\(#([^)]+)\)/.exec(style)?.[1];
+    return Number(doc.getElementById(id)?.getAttribute('orient'));
+  }, exported);
+  console.log(`one picture: the arrow's head turned ${shown.toFixed(3)}° on the canvas, ${written.toFixed(3)}° in the export`);
+  assert.ok(Math.abs(shown) > 5, `the head turns on the canvas: ${shown}°`);
+  assert.ok(Math.abs(shown - written) < 1e-6, `canvas ${shown}° vs export ${written}°`);
+});
