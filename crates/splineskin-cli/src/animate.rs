@@ -47,6 +47,8 @@ use splineskin::drawing::Drawing;
 use splineskin::render::MAX_RENDER_SIZE;
 use splineskin::scene::{PosedDrawing, Scene};
 
+use crate::frames_folder::{frame_name, replace_frames_folder, write_synced};
+
 use splineskin::scene_animation::{
     lottie_of_scene, SceneAnimationError, SceneFrames, ANIMATED_IMAGE_SIZE, FRAME_CHUNK,
     MAX_ANIMATED_SVG_BYTES,
@@ -441,15 +443,6 @@ fn refined_for_frames(
     Ok(PosedDrawing::from_parts(origin, setup, deformer))
 }
 
-fn write_synced(path: &Path, bytes: &[u8]) -> Result<()> {
-    use std::io::Write;
-    let mut file = std::fs::File::create(path)
-        .with_context(|| format!("{}: cannot create", path.display()))?;
-    file.write_all(bytes)
-        .and_then(|()| file.sync_all())
-        .with_context(|| format!("{}: cannot write", path.display()))
-}
-
 /// Extensions of single files that are not an animated SVG: an output named so is refused
 /// rather than becoming a frames folder of that name.
 const FILE_EXTENSIONS: [&str; 6] = ["jpg", "jpeg", "webp", "pdf", "html", "mp4"];
@@ -457,24 +450,6 @@ const FILE_EXTENSIONS: [&str; 6] = ["jpg", "jpeg", "webp", "pdf", "html", "mp4"]
 /// Whether `path` names an `.svg` file (otherwise it names a frames folder).
 fn is_svg_name(path: &Path) -> bool {
     has_extension(path, "svg")
-}
-
-/// The name of frame `f` with extension `ext`: `frame-0000.svg`, … (at least four digits).
-pub fn frame_name(f: usize, ext: &str) -> String {
-    format!("frame-{f:04}.{ext}")
-}
-
-/// Whether `name` is one this command writes into a frames folder.
-fn is_frame_file(name: &str) -> bool {
-    let Some(rest) = name.strip_prefix("frame-") else {
-        return false;
-    };
-    let Some((digits, ext)) = rest.split_once('.') else {
-        return false;
-    };
-    !digits.is_empty()
-        && digits.bytes().all(|b| b.is_ascii_digit())
-        && (ext == "svg" || ext == "png")
 }
 
 /// Writes the frames (deformed [`FRAME_CHUNK`] at a time by `deform_chunk(first, times)`) into
@@ -492,44 +467,7 @@ fn write_frames(
 ) -> Result<()> {
     let (view_box, mut gather) = view;
     let dir = &args.output;
-    let name = dir
-        .file_name()
-        .with_context(|| format!("{}: not a folder name", dir.display()))?
-        .to_string_lossy()
-        .into_owned();
-    let parent = match dir.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    if dir.exists() {
-        if !dir.is_dir() {
-            bail!(
-                "{}: exists and is not a folder (expected a new folder, or one holding only frame-*.svg/png files)",
-                dir.display()
-            );
-        }
-        for entry in
-            std::fs::read_dir(dir).with_context(|| format!("{}: cannot read", dir.display()))?
-        {
-            let entry = entry.with_context(|| format!("{}: cannot read", dir.display()))?;
-            let file = entry.file_name().to_string_lossy().into_owned();
-            let is_file = entry
-                .file_type()
-                .with_context(|| format!("{}: cannot read {file}", dir.display()))?
-                .is_file();
-            if !(is_frame_file(&file) && is_file) {
-                bail!(
-                    "{}: exists and holds {file}, which is not a frame; choose another folder \
-                     (a folder holding only frame-*.svg/png files is replaced)",
-                    dir.display()
-                );
-            }
-        }
-    }
-    let tmp = parent.join(format!(".{name}.tmp-{}", std::process::id()));
-    let old = parent.join(format!(".{name}.old-{}", std::process::id()));
-    let result = (|| -> Result<()> {
-        std::fs::create_dir(&tmp).with_context(|| format!("{}: cannot create", tmp.display()))?;
+    replace_frames_folder(dir, &["svg", "png"], |tmp| {
         let write_one = |f: usize, points: &Vec<Point>| -> Result<()> {
             let svg = frame_svg(f, points, view_box)?;
             write_synced(&tmp.join(frame_name(f, "svg")), svg.as_bytes())?;
@@ -552,22 +490,6 @@ fn write_frames(
                 }
             }
         }
-        if dir.exists() {
-            std::fs::rename(dir, &old).with_context(|| {
-                format!("{}: cannot move the earlier frames aside", dir.display())
-            })?;
-        }
-        std::fs::rename(&tmp, dir).with_context(|| format!("{}: cannot write", dir.display()))?;
         Ok(())
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_dir_all(&tmp);
-        if old.exists() && !dir.exists() {
-            let _ = std::fs::rename(&old, dir);
-        }
-    }
-    if old.exists() {
-        let _ = std::fs::remove_dir_all(&old);
-    }
-    result
+    })
 }

@@ -10,6 +10,7 @@ mod defop;
 mod deform;
 mod demo;
 mod drawing_input;
+mod frames_folder;
 mod info;
 mod output;
 mod posing;

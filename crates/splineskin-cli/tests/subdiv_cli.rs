@@ -362,3 +362,106 @@ fn subdiv_cli_malformed_input_fails_cleanly() {
         fails(&dir, line, names, output);
     }
 }
+
+/// `subdiv animate`: a USD file, a glTF file and a folder of OBJ frames from one animated
+/// scene; the OBJ frames are `subdiv deform --frame N`'s cages; names it cannot write, a scene
+/// without animation and a folder holding other files are refused, leaving nothing behind.
+#[test]
+fn subdiv_cli_animate_hands_off_every_frame() {
+    let dir = folder("animate");
+    let animated = scene(r#"{"family": "shepard"}"#).replacen(
+        "\"poses\":",
+        r#""animation": {"fps": 4, "keyframes": [{"time": 0, "pose": [{}, {}]}, {"time": 1, "pose": "turn", "easing": "ease-out"}]},
+  "poses":"#,
+        1,
+    );
+    std::fs::write(dir.join("anim.json"), animated).unwrap();
+    std::fs::write(dir.join("still.json"), scene(r#"{"family": "shepard"}"#)).unwrap();
+    run_ok(&dir, "subdiv animate anim.json -o anim.usda --up z");
+    let usda = std::fs::read_to_string(dir.join("anim.usda")).unwrap();
+    assert!(
+        usda.contains("upAxis = \"Z\"") && usda.contains("endTimeCode = 4"),
+        "{usda:.400}"
+    );
+    assert!(
+        usda.contains("int[] creaseIndices = [1, 4]"),
+        "the crease tag's vertices (0-based, as OBJ tags are)"
+    );
+    run_ok(&dir, "subdiv animate anim.json -o anim.glb --level 1");
+    let glb = std::fs::read(dir.join("anim.glb")).unwrap();
+    assert_eq!(&glb[..4], b"glTF");
+    run_ok(&dir, "subdiv animate anim.json -o frames");
+    let names: Vec<String> = {
+        let mut n: Vec<String> = std::fs::read_dir(dir.join("frames"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        n.sort();
+        n
+    };
+    assert_eq!(
+        names,
+        [
+            "frame-0000.obj",
+            "frame-0001.obj",
+            "frame-0002.obj",
+            "frame-0003.obj",
+            "frame-0004.obj"
+        ]
+    );
+    run_ok(&dir, "subdiv deform anim.json --frame 2 -o two.obj");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("two.obj")).unwrap(),
+        std::fs::read_to_string(dir.join("frames/frame-0002.obj")).unwrap()
+    );
+    let (last, _, tags) = read(&dir.join("frames/frame-0004.obj"));
+    run_ok(&dir, "subdiv deform anim.json --pose 0 -o turn.obj");
+    assert_eq!(
+        read(&dir.join("turn.obj")).0,
+        last,
+        "the last frame is the last keyframe's pose"
+    );
+    assert_eq!(tags, ["t crease 2/1/0 1 4 2.5"]);
+    // Again into the same folder: replaced (it holds only frames).
+    run_ok(&dir, "subdiv animate anim.json -o frames --fps 2");
+    assert_eq!(std::fs::read_dir(dir.join("frames")).unwrap().count(), 3);
+
+    fails(
+        &dir,
+        "subdiv animate anim.json -o anim.gltf",
+        &["anim.gltf", ".usda", ".glb"],
+        "anim.gltf",
+    );
+    fails(
+        &dir,
+        "subdiv animate still.json -o still.usda",
+        &["still.json", "animation"],
+        "still.usda",
+    );
+    fails(
+        &dir,
+        "subdiv deform anim.json --frame 9 -o nine.obj",
+        &["--frame 9", "5 frames"],
+        "nine.obj",
+    );
+    fails(
+        &dir,
+        "subdiv animate anim.json -o box.obj.d --fps 0",
+        &["--fps 0", "frame rate"],
+        "box.obj.d",
+    );
+    std::fs::create_dir(dir.join("mixed")).unwrap();
+    std::fs::write(dir.join("mixed/notes.txt"), "mine").unwrap();
+    let out = run_line(&dir, "subdiv animate anim.json -o mixed");
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("notes.txt, which is not a frame"),
+        "{stderr}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("mixed/notes.txt")).unwrap(),
+        "mine"
+    );
+    assert!(temporaries(&dir).is_empty());
+}

@@ -5,7 +5,8 @@
 //! domain of a drawing ([`domain`]), skinning weights ([`weights`]: Shepard, harmonic, bounded
 //! biharmonic, mean-value coordinates, coarse-to-fine), the sparse factorisations they share
 //! ([`linalg`]), and the closed-form spline fit with its per-frame rig
-//! ([`spline_fit`]; Liu, Jacobson & Gingold 2014).
+//! ([`spline_fit`]; Liu, Jacobson & Gingold 2014), and keyframed poses of plane and space
+//! ([`animation`]).
 //!
 //! ```text
 //! once:        drawing + handles + weights ──► SplineRig::precompute ──► dense operator O
@@ -16,6 +17,7 @@
 //! `splineskin-subdiv`, `splineskin-defop` and the `splineskin` facade build on it.
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
+pub mod animation;
 pub mod atomic_write;
 pub mod bezier;
 pub mod domain;

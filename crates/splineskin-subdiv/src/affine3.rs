@@ -12,6 +12,7 @@
 //! an angle ([`rotation_axis_angle`]) or a unit quaternion ([`rotation_quaternion`]).
 
 use super::cage::Point3;
+use splineskin_core::mesh::vec3::quaternion_rotation;
 pub(crate) use splineskin_core::mesh::vec3::{cross, dot, norm, sub};
 
 /// A 3D affine map as 3 rows of 4: `x' = T[0][0] x + T[0][1] y + T[0][2] z + T[0][3]`, and so
@@ -128,24 +129,7 @@ pub fn rotation_quaternion(q: [f64; 4]) -> Option<Linear3> {
     if !(len > 0.0 && len.is_finite()) {
         return None;
     }
-    let [w, x, y, z] = q.map(|a| a / len);
-    Some([
-        [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y - w * z),
-            2.0 * (x * z + w * y),
-        ],
-        [
-            2.0 * (x * y + w * z),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z - w * x),
-        ],
-        [
-            2.0 * (x * z - w * y),
-            2.0 * (y * z + w * x),
-            1.0 - 2.0 * (x * x + y * y),
-        ],
-    ])
+    Some(quaternion_rotation(q.map(|a| a / len)))
 }
 
 /// Are all twelve entries finite?

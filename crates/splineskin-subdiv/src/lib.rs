@@ -24,7 +24,8 @@
 //! | point handles and bones | [`Handles3`] |
 //! | handle weights: Shepard, bone heat, per cage vertex from a file | [`surface_weights`]: [`Shepard3`], [`BoneHeat`], [`CageVertexWeights`]; [`node_weights`] |
 //! | the limit surface on a uniform grid, as a quad mesh | [`LimitMesh`] |
-//! | scenes (JSON: OBJ, handles, weights, poses) | [`SubdivScene`], [`mod@scene`] |
+//! | scenes (JSON: OBJ, handles, weights, poses, animation) | [`SubdivScene`], [`mod@scene`] |
+//! | animation out: USD (the cage, Catmull–Clark, time-sampled points), glTF (the tessellated limit surface, morph targets) | [`handoff`]: [`handoff::write_usda`], [`handoff::write_glb`] |
 //! | ours against naive, each against the skinned limit surface; the picture | [`compare_subdiv`]; the picture is drawn by the `splineskin` crate (`figure::subdiv_comparison`) |
 //!
 //! Topology (levels, sharpness and its decay, vertex rules, sparse adaptive levels) comes from
@@ -36,6 +37,7 @@ mod cage;
 mod compare;
 mod error;
 mod handles;
+pub mod handoff;
 mod hierarchy;
 pub mod limit;
 mod limit_mesh;
@@ -45,6 +47,7 @@ mod quadrature;
 mod regular_patch;
 mod rig;
 pub mod scene;
+mod scene_pose;
 mod stencil;
 pub mod surface_weights;
 mod uniform;
@@ -74,9 +77,10 @@ pub use obj::{parse_obj, read_obj, to_obj_string, write_obj, ObjError, MAX_OBJ_B
 pub use quadrature::{LimitQuadrature, QuadratureNode, DEFAULT_GAUSS_POINTS};
 pub use rig::{SubdivRig, RIG_REGULARIZATION};
 pub use scene::{
-    Pose3, SubdivScene, SubdivSceneError, SubdivSetup, SurfaceWeightSpec, MAX_QUADRATURE_POINTS,
+    SubdivScene, SubdivSceneError, SubdivSetup, SurfaceWeightSpec, MAX_QUADRATURE_POINTS,
     SUBDIV_SCENE_VERSION,
 };
+pub use scene_pose::Pose3;
 pub use stencil::{LimitStencil, StencilTable};
 pub use surface_weights::{
     cage_weights, node_weights, parse_weight_csv, read_weight_csv, sample_weights, BoneHeat,

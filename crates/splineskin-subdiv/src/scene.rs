@@ -26,6 +26,7 @@
 //! | `weights` | `family`: `shepard` (`exponent`, default 2: inverse distance to points and to bones' segments, [`Shepard3`]), `bone_heat` (`level` of the limit mesh, default automatic; `visibility`, default true: [`BoneHeat`]) or `file` (`path`: a CSV file relative to the scene's folder, one row per cage vertex, one column per handle: [`CageVertexWeights`](super::CageVertexWeights)). Default: `shepard` |
 //! | `quadrature` | Gauss–Legendre nodes per axis per ptex face, 1 ..= [`MAX_QUADRATURE_POINTS`]. Default: [`DEFAULT_GAUSS_POINTS`] (exact on regular faces) |
 //! | `poses` | a list of `{name?, transforms}`, `transforms` one per handle. Default: none (pose 0 is then the identity) |
+//! | `animation` | keyframed poses: `fps` (frames per second, default 30, at most 1000) and `keyframes`, a non-empty list of `{time, pose, easing?}`: `time` in seconds, ≥ 0, strictly increasing; `pose` an index into `poses` (`0` is the identity in a scene without poses), a pose's `name`, or a list of transforms (as in `poses`); `easing` how the segment to the next keyframe runs (`linear` (default), `ease-in`, `ease-out`, `ease-in-out`, `hold`). Between keyframes each handle's map is interpolated by parts about its pivot ([`splineskin_core::animation::SpaceParts`]: position, rotation along the shortest arc, stretch), so every map must be invertible. Default: none |
 //!
 //! **Handle order.** Point handles first (in `handles` order), then bones: the order of
 //! `transforms`, of weight-file columns and of the rig.
@@ -45,10 +46,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use super::affine3::{
-    affine3_about, affine3_is_finite, linear3_mul, rotation_axis_angle, rotation_quaternion,
-    Affine3, LINEAR3_IDENTITY,
-};
+use super::affine3::Affine3;
 use super::cage::{Cage, Point3};
 use super::error::SubdivError;
 use super::handles::Handles3;
@@ -56,10 +54,13 @@ use super::limit::{LimitOptions, LimitSurface, DEFAULT_ISOLATION_LEVEL};
 use super::obj::{read_obj, ObjError};
 use super::quadrature::{LimitQuadrature, DEFAULT_GAUSS_POINTS};
 use super::rig::SubdivRig;
+use super::scene_pose::{resolve_animation, KeyPoseFile, Pose3, PoseFile};
 use super::surface_weights::{
     node_weights, read_weight_csv, BoneHeat, BoneHeatOptions, Shepard3, SurfaceWeights,
     SurfaceWeightsError,
 };
+use splineskin_core::animation::file::AnimationFile;
+use splineskin_core::animation::Animation;
 use splineskin_core::weights::ShepardOptions;
 
 /// The format version this library reads.
@@ -174,15 +175,6 @@ impl SurfaceWeightSpec {
     }
 }
 
-/// A named pose: one map per handle.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Pose3 {
-    /// The pose's name, if it has one.
-    pub name: Option<String>,
-    /// One map per handle, in handle order.
-    pub transforms: Vec<Affine3>,
-}
-
 /// A subdivision-surface scene (module documentation).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SubdivScene {
@@ -198,6 +190,8 @@ pub struct SubdivScene {
     pub quadrature: usize,
     /// The poses.
     pub poses: Vec<Pose3>,
+    /// Keyframed poses, if the scene has an `animation`.
+    pub animation: Option<Animation<Affine3>>,
 }
 
 /// Everything a scene precomputes: the cage, its limit surface, the quadrature, the weights
@@ -364,6 +358,10 @@ impl SubdivScene {
         if parsed.obj.is_empty() {
             return Err(invalid("obj", "empty path; expected an OBJ file".into()));
         }
+        let animation = parsed
+            .animation
+            .map(|a| resolve_animation(&a, &poses, &handles, &invalid))
+            .transpose()?;
         Ok(SubdivScene {
             file: file.to_owned(),
             obj: base.join(&parsed.obj),
@@ -371,6 +369,7 @@ impl SubdivScene {
             weights,
             quadrature,
             poses,
+            animation,
         })
     }
 
@@ -394,6 +393,58 @@ impl SubdivScene {
                     self.poses.len()
                 ),
             })
+    }
+
+    /// The frames of the scene's animation: every frame's time (seconds,
+    /// [`Animation::frame_times`]) and pose (one map per handle, interpolated about the
+    /// handles' pivots).
+    ///
+    /// ```
+    /// use std::path::Path;
+    /// use splineskin_subdiv::{affine3_apply, SubdivScene};
+    ///
+    /// let text = r#"{"splineskin_subdiv_scene": 1, "obj": "box.obj",
+    ///     "handles": [{"position": [1, 0, 0]}],
+    ///     "animation": {"fps": 2, "keyframes": [
+    ///         {"time": 0, "pose": [{}]},
+    ///         {"time": 1, "pose": [{"rotate": {"axis": [0, 0, 1], "degrees": 90}}]}]}}"#;
+    /// let scene = SubdivScene::parse(text, "scene.json", Path::new(""))?;
+    /// let frames = scene.animation_frames()?;
+    /// assert_eq!(frames.iter().map(|f| f.0).collect::<Vec<_>>(), [0.0, 0.5, 1.0]);
+    /// // Halfway: an eighth turn about the handle at (1, 0, 0).
+    /// let p = affine3_apply(&frames[1].1[0], [2.0, 0.0, 0.0]);
+    /// let h = std::f64::consts::FRAC_1_SQRT_2;
+    /// assert!((p[0] - (1.0 + h)).abs() < 1e-15 && (p[1] - h).abs() < 1e-15);
+    /// # Ok::<(), splineskin_subdiv::SubdivSceneError>(())
+    /// ```
+    pub fn animation_frames(&self) -> Result<Vec<(f64, Vec<Affine3>)>, SubdivSceneError> {
+        let invalid = |message: String| SubdivSceneError::Invalid {
+            file: self.file.clone(),
+            element: "animation".into(),
+            message,
+        };
+        let animation = self.animation.as_ref().ok_or_else(|| {
+            invalid(
+                "the scene has no animation (expected an \"animation\" key with keyframes)".into(),
+            )
+        })?;
+        let pivots: Vec<Point3> = (0..self.handles.n_handles())
+            .map(|i| self.handles.pivot(i))
+            .collect();
+        let sampler = animation
+            .sampler(&pivots)
+            .map_err(|e| invalid(e.to_string()))?;
+        let times = animation
+            .frame_times()
+            .map_err(|e| invalid(e.to_string()))?;
+        Ok(times
+            .into_iter()
+            .map(|t| {
+                let mut pose = vec![super::affine3::AFFINE3_IDENTITY; pivots.len()];
+                sampler.pose_at(t, &mut pose);
+                (t, pose)
+            })
+            .collect())
     }
 
     /// Reads the cage and precomputes everything: limit surface, quadrature, weights at the
@@ -472,6 +523,8 @@ struct SceneFile {
     quadrature: Option<usize>,
     #[serde(default)]
     poses: Vec<PoseFile>,
+    #[serde(default)]
+    animation: Option<AnimationFile<KeyPoseFile>>,
 }
 
 #[derive(Deserialize)]
@@ -554,120 +607,6 @@ impl WeightsFile {
                 SurfaceWeightSpec::File(base.join(path))
             }
         })
-    }
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct PoseFile {
-    #[serde(default)]
-    name: Option<String>,
-    transforms: Vec<TransformFile>,
-}
-
-#[derive(Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-struct TransformFile {
-    #[serde(default)]
-    matrix: Option<[[f64; 4]; 3]>,
-    #[serde(default)]
-    translate: Option<[f64; 3]>,
-    #[serde(default)]
-    rotate: Option<RotateFile>,
-    #[serde(default)]
-    quaternion: Option<[f64; 4]>,
-    #[serde(default)]
-    scale: Option<ScaleFile>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RotateFile {
-    axis: [f64; 3],
-    degrees: f64,
-}
-
-#[derive(Deserialize, Clone, Copy)]
-#[serde(untagged)]
-enum ScaleFile {
-    Uniform(f64),
-    PerAxis([f64; 3]),
-}
-
-impl TransformFile {
-    /// The map this transform gives a handle pivoting at `pivot`.
-    fn resolve<E>(
-        &self,
-        pivot: Point3,
-        element: &str,
-        invalid: &impl Fn(&str, String) -> E,
-    ) -> Result<Affine3, E> {
-        let at = |key: &str| format!("{element}.{key}");
-        if let Some(m) = self.matrix {
-            if self.translate.is_some()
-                || self.rotate.is_some()
-                || self.quaternion.is_some()
-                || self.scale.is_some()
-            {
-                return Err(invalid(
-                    element,
-                    "give either \"matrix\" or translate/rotate/quaternion/scale, not both".into(),
-                ));
-            }
-            if !affine3_is_finite(&m) {
-                return Err(invalid(
-                    &at("matrix"),
-                    format!("{m:?}; expected finite entries"),
-                ));
-            }
-            return Ok(m);
-        }
-        let rotation = match (&self.rotate, self.quaternion) {
-            (Some(_), Some(_)) => {
-                return Err(invalid(
-                    element,
-                    "give \"rotate\" or \"quaternion\", not both".into(),
-                ))
-            }
-            (Some(r), None) => rotation_axis_angle(r.axis, r.degrees.to_radians()).ok_or_else(
-                || {
-                    invalid(
-                        &at("rotate"),
-                        format!(
-                            "axis {:?}, {} degrees; expected a non-zero finite axis and a finite angle",
-                            r.axis, r.degrees
-                        ),
-                    )
-                },
-            )?,
-            (None, Some(q)) => rotation_quaternion(q).ok_or_else(|| {
-                invalid(
-                    &at("quaternion"),
-                    format!("{q:?}; expected a non-zero finite quaternion [w, x, y, z]"),
-                )
-            })?,
-            (None, None) => LINEAR3_IDENTITY,
-        };
-        let s = match self.scale {
-            None => [1.0; 3],
-            Some(ScaleFile::Uniform(s)) => [s; 3],
-            Some(ScaleFile::PerAxis(s)) => s,
-        };
-        if !s.iter().all(|x| x.is_finite()) {
-            return Err(invalid(
-                &at("scale"),
-                format!("{s:?}; expected finite factors"),
-            ));
-        }
-        let d = self.translate.unwrap_or([0.0; 3]);
-        if !d.iter().all(|x| x.is_finite()) {
-            return Err(invalid(
-                &at("translate"),
-                format!("{d:?}; expected finite coordinates"),
-            ));
-        }
-        let scale = [[s[0], 0.0, 0.0], [0.0, s[1], 0.0], [0.0, 0.0, s[2]]];
-        Ok(affine3_about(pivot, &linear3_mul(&rotation, &scale), d))
     }
 }
 

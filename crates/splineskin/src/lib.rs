@@ -21,14 +21,13 @@
 //!
 //! | crate | what it computes | here as |
 //! |---|---|---|
-//! | `splineskin-core` | drawings, meshes, the domain, weights, the spline fit and its rig | [`bezier`], [`drawing`], [`mesh`], [`domain`], [`weights`], [`spline_fit`] |
+//! | `splineskin-core` | drawings, meshes, the domain, weights, the spline fit and its rig, keyframed poses | [`bezier`], [`drawing`], [`mesh`], [`domain`], [`weights`], [`spline_fit`], [`animation`] |
 //! | `splineskin-svg` | SVG import, rewriting the same document, animated SVG, renders | [`drawing`] (`svg_in`, `svg_out`, …), [`render`], [`fonts`] |
 //! | `splineskin-subdiv` | Catmull–Clark limit surfaces and their closed-form rig | [`subdiv`] |
 //! | `splineskin-defop` | closed-form ARAP / symmetric-ARAP operators and their spline join | [`defop`] |
-//! | `splineskin` (this one) | scenes, comparisons, metrics, baselines, adaptive control points, pictures, examples | [`scene`], [`compare`], [`metrics`], [`naive`], [`adaptive`], [`figure`], [`weight_map`], [`examples`], [`animation`] |
+//! | `splineskin` (this one) | scenes, comparisons, metrics, baselines, adaptive control points, pictures, examples | [`scene`], [`compare`], [`metrics`], [`naive`], [`adaptive`], [`figure`], [`weight_map`], [`examples`] |
 
 pub mod adaptive;
-pub mod animation;
 pub mod compare;
 pub mod drawing;
 pub mod errors;
@@ -40,7 +39,9 @@ pub mod scene;
 pub mod scene_animation;
 pub mod subdiv;
 
-pub use splineskin_core::{atomic_write, bezier, domain, folds, mesh, spline_fit, stop, weights};
+pub use splineskin_core::{
+    animation, atomic_write, bezier, domain, folds, mesh, spline_fit, stop, weights,
+};
 pub use splineskin_defop as defop;
 pub use splineskin_svg::{fonts, render};
 

@@ -466,7 +466,7 @@ fn animation_scene_errors_name_the_element() {
         Err(AnimationError::Fps { .. })
     ));
     assert_eq!(
-        Animation::new(30.0, vec![]),
+        Animation::<Affine>::new(30.0, vec![]),
         Err(AnimationError::NoKeyframes)
     );
 }

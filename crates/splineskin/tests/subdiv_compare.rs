@@ -35,6 +35,7 @@ fn setup(cage: &Cage, n: usize, weights: SurfaceWeightSpec) -> (SubdivScene, Sub
         weights,
         quadrature: DEFAULT_GAUSS_POINTS,
         poses: Vec::<Pose3>::new(),
+        animation: None,
     };
     let setup = scene.setup_with(cage.clone()).unwrap();
     (scene, setup)

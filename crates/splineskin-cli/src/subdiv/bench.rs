@@ -114,6 +114,7 @@ fn load(input: &Path, n_handles: usize) -> Result<(SubdivScene, Cage)> {
         weights: SurfaceWeightSpec::Shepard(ShepardOptions::default()),
         quadrature: DEFAULT_GAUSS_POINTS,
         poses: Vec::new(),
+        animation: None,
     };
     Ok((scene, cage))
 }

@@ -1,4 +1,4 @@
-//! `splineskin subdiv deform SCENE -o OUT.obj [--pose N] [--limit-mesh MESH.obj --level K]`:
+//! `splineskin subdiv deform SCENE -o OUT.obj [--pose N | --frame N] [--limit-mesh MESH.obj --level K]`:
 //! the cage fitted so that its limit surface follows the skinned surface, as OBJ with the
 //! input's faces and tags; optionally the deformed limit surface itself, sampled as a quad
 //! mesh (the topology of the `K`-th uniform refinement, vertices on the limit surface).
@@ -18,8 +18,12 @@ pub struct Args {
     #[arg(short, long)]
     output: PathBuf,
     /// Which of the scene's poses to apply (0 is the first; the identity if it has none).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, conflicts_with = "frame")]
     pose: usize,
+    /// Apply frame N of the scene's animation instead (0 is the first; `subdiv animate`
+    /// writes the same frames).
+    #[arg(long, value_name = "N")]
+    frame: Option<usize>,
     /// Also write the deformed limit surface as a quad mesh (`.obj`).
     #[arg(long, value_name = "MESH.obj")]
     limit_mesh: Option<PathBuf>,
@@ -41,19 +45,32 @@ pub fn run(args: Args) -> Result<()> {
         }
     }
     let scene = SubdivScene::load(&args.scene)?;
-    let pose = scene.pose(args.pose)?;
+    let (pose, what) = match args.frame {
+        None => (scene.pose(args.pose)?, format!("pose {}", args.pose)),
+        Some(f) => {
+            let mut frames = scene.animation_frames()?;
+            if f >= frames.len() {
+                bail!(
+                    "{}: --frame {f}: the animation has {} frames (0-based)",
+                    args.scene.display(),
+                    frames.len()
+                );
+            }
+            let (t, pose) = frames.swap_remove(f);
+            (pose, format!("frame {f} (t = {t} s)"))
+        }
+    };
     let setup = scene.setup()?;
     let mut deformed = vec![[0.0; 3]; setup.cage.n_vertices()];
     setup
         .rig
         .update(&pose, &mut deformed)
-        .with_context(|| format!("{}: pose {}", args.scene.display(), args.pose))?;
+        .with_context(|| format!("{}: {what}", args.scene.display()))?;
     let mut cage = setup.cage.clone();
     cage.set_positions(deformed.clone()).with_context(|| {
         format!(
-            "{}: pose {}: the deformed cage is not finite",
-            args.scene.display(),
-            args.pose
+            "{}: {what}: the deformed cage is not finite",
+            args.scene.display()
         )
     })?;
     let cage_text = to_obj_string(&cage);
@@ -86,9 +103,8 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     eprintln!(
-        "{}: pose {} of {} handles, {} vertices, {} faces",
+        "{}: {what} of {} handles, {} vertices, {} faces",
         args.output.display(),
-        args.pose,
         scene.handles.n_handles(),
         cage.n_vertices(),
         cage.n_faces()

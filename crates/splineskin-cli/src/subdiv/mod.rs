@@ -2,6 +2,7 @@
 //! follows the skinned surface (Liu, Jacobson & Gingold 2014 §3; [`splineskin::subdiv`]).
 //! One file per subcommand.
 
+mod animate;
 mod bench;
 mod compare;
 mod deform;
@@ -23,6 +24,9 @@ pub struct Args {
 enum Command {
     /// Deform a scene's cage by one of its poses and write it as OBJ (tags kept).
     Deform(deform::Args),
+    /// Play a scene's animation and hand it off: USD (the cage, Catmull-Clark, time-sampled
+    /// points), binary glTF (the tessellated limit surface, morph targets) or OBJ frames.
+    Animate(animate::Args),
     /// Our fit against skinning the cage, each against the skinned limit surface: errors and a
     /// PNG of both surfaces coloured by their error.
     Compare(compare::Args),
@@ -35,6 +39,7 @@ enum Command {
 pub fn run(args: Args) -> Result<()> {
     match args.command {
         Command::Deform(a) => deform::run(a),
+        Command::Animate(a) => animate::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Refine(a) => refine::run(a),

@@ -435,10 +435,7 @@ impl SceneError {
     /// assert!(SceneError::animation("walk.json", e).to_string().starts_with("walk.json: animation.fps: "));
     /// ```
     pub fn animation(origin: &str, e: crate::animation::AnimationError) -> SceneError {
-        let element = match &e {
-            crate::animation::AnimationError::Fps { .. } => "animation.fps",
-            _ => "animation",
-        };
+        let element = crate::animation::file::error_element(&e);
         SceneError::invalid(origin, element, e.to_string())
     }
 }

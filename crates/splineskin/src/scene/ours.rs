@@ -84,7 +84,8 @@ use super::{
     check_affine, check_point, handle_element, json_error, Bone, BoneTransform, Engine, HandleKind,
     HandleSet, JunctionOverride, Pose, Scene, SceneError, SceneFormat, WeightSpec, MAX_SCENE_BYTES,
 };
-use crate::animation::{Animation, Easing, Keyframe, DEFAULT_FPS};
+use crate::animation::file::{pose_named, AnimationFile};
+use crate::animation::Animation;
 use crate::drawing::JointKind;
 use crate::spline_fit::Measure;
 
@@ -122,26 +123,9 @@ struct SceneFile {
     #[serde(default)]
     poses: Option<Vec<PoseFile>>,
     #[serde(default)]
-    animation: Option<AnimationFile>,
+    animation: Option<AnimationFile<KeyframePoseFile>>,
     #[serde(default)]
     defop: Option<super::defop::DefOpFile>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct AnimationFile {
-    #[serde(default)]
-    fps: Option<f64>,
-    keyframes: Vec<KeyframeFile>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct KeyframeFile {
-    time: f64,
-    pose: KeyframePoseFile,
-    #[serde(default)]
-    easing: Option<String>,
 }
 
 /// A keyframe's pose: an index into `poses`, a pose's name, a list of transforms, or a pose
@@ -598,17 +582,16 @@ fn scene_poses(
 /// The scene's animation: each keyframe's pose resolved (a pose of `poses` by index or name,
 /// or inline transforms), then checked by [`Animation::new`].
 fn animation(
-    file: &AnimationFile,
+    file: &AnimationFile<KeyframePoseFile>,
     poses: &[Pose],
     set: &HandleSet<'_>,
     origin: &str,
 ) -> Result<Animation, SceneError> {
     let invalid = |element: String, message: String| SceneError::invalid(origin, element, message);
     let n_poses = poses.len().max(1);
-    let mut keyframes = Vec::with_capacity(file.keyframes.len());
-    for (k, key) in file.keyframes.iter().enumerate() {
+    let pose = |k: usize, pose: &KeyframePoseFile| {
         let element = format!("animation.keyframes[{k}].pose");
-        let transforms = match &key.pose {
+        Ok(match pose {
             KeyframePoseFile::Index(p) => match poses.get(*p) {
                 Some(pose) => pose.transforms.clone(),
                 // As everywhere, a scene without poses has the identity pose 0.
@@ -622,21 +605,10 @@ fn animation(
                     ))
                 }
             },
-            KeyframePoseFile::Name(name) => {
-                let mut named = poses.iter().filter(|p| p.name.as_deref() == Some(name));
-                match (named.next(), named.next()) {
-                    (Some(pose), None) => pose.transforms.clone(),
-                    (None, _) => {
-                        return Err(invalid(element, format!("no pose is named '{name}'")))
-                    }
-                    (Some(_), Some(_)) => {
-                        return Err(invalid(
-                            element,
-                            format!("several poses are named '{name}'; refer to one by index"),
-                        ))
-                    }
-                }
-            }
+            KeyframePoseFile::Name(name) => pose_named(poses, name, |p| p.name.as_deref())
+                .map_err(|message| invalid(element, message))?
+                .transforms
+                .clone(),
             KeyframePoseFile::Transforms(list) => {
                 pose_transforms(set, list, None, origin, &element)?
             }
@@ -647,20 +619,9 @@ fn animation(
                 origin,
                 &element,
             )?,
-        };
-        let easing = match key.easing.as_deref() {
-            None => Easing::Linear,
-            Some(name) => Easing::parse(name)
-                .map_err(|e| invalid(format!("animation.keyframes[{k}].easing"), e.to_string()))?,
-        };
-        keyframes.push(Keyframe {
-            time: key.time,
-            transforms,
-            easing,
-        });
-    }
-    let fps = file.fps.unwrap_or(DEFAULT_FPS);
-    Animation::new(fps, keyframes).map_err(|e| SceneError::animation(origin, e))
+        })
+    };
+    file.resolve(pose, invalid)
 }
 
 /// Index of `kind` in rig order.

@@ -1,5 +1,5 @@
-//! Keyframed animation of handle poses: each handle's affine map is decomposed into a
-//! translation of its pivot, a rotation, scales and a shear, and the parts are interpolated
+//! Keyframed animation of handle poses: each handle's map is split into parts about its
+//! pivot (where the pivot goes, a rotation, scales and shear) and the parts are interpolated
 //! between keyframes — not the matrix entries, which would shrink a turning handle (a half
 //! turn lerped entry-wise passes through the zero matrix).
 //!
@@ -9,43 +9,58 @@
 //! each frame:  sampler.pose_at(t, &mut pose);  rig.update(&pose, &mut points)   (a mat-vec)
 //! ```
 //!
-//! **Decomposition** (translate · rotate · scale · shear about the handle's pivot `c`). A map
-//! `T(x) = A x + t` with invertible linear part `A` (SVG coefficients `a b c d e f`, columns
-//! `(a, b)` and `(c, d)`) is written
+//! The maps are those of the plane ([`kurbo::Affine`], split by [`AffineParts`]: module
+//! [`plane`]) or of space (3 × 4 matrices, split by [`SpaceParts`]: module [`space`]); both
+//! implement [`KeyMap`], and everything here is written once for either.
 //!
-//! ```text
-//! T(x) = q + R(θ) · diag(s_x, s_y) · [[1, k], [0, 1]] · (x − c)
-//!
-//! q   = T(c)                                  where the pivot goes
-//! s_x = |(a, b)| > 0,  θ = atan2(b, a)        length and angle of the first column
-//! s_y = det A / s_x                           negative iff A reflects
-//! k   = ((a, b) · (c, d)) / s_x²              shear
-//! ```
-//!
-//! It is exact (a QR factorisation of `A`): `compose(decompose(T)) = T` up to rounding.
-//! **Reflections** are carried by the sign of `s_y` (a flip across the rotated first axis);
-//! `s_x` and `θ` are those of the first column as for any map.
-//!
-//! **Interpolation** between keyframes `(t₀, T₀)` and `(t₁, T₁)` at `u = e((t − t₀)/(t₁ − t₀))`,
-//! `e` the first keyframe's [`Easing`] (linear by default):
-//!
-//! ```text
-//! q(u)   = (1 − u) q₀ + u q₁                          linear
-//! θ(u)   = θ₀ + u Δ,  Δ = θ₁ − θ₀ wrapped to (−π, π]   shortest arc (a half turn goes +π)
-//! s_x(u) = s_x₀ (s_x₁ / s_x₀)^u                        geometric
-//! s_y(u) = s_y₀ (s_y₁ / s_y₀)^u  if s_y₀ s_y₁ > 0      geometric;
-//!          (1 − u) s_y₀ + u s_y₁ otherwise             linear through 0 when a reflection
-//!                                                      starts or ends (the drawing turns over)
-//! k(u)   = (1 − u) k₀ + u k₁                          linear
-//! ```
-//!
-//! At `u = 0` and `u = 1` the keyframe's own map is returned, bit for bit. Rotations about the
-//! pivot stay rotations about it (a bone's rigid maps stay rigid); translations stay
-//! translations. Keyframe times may be uneven; before the first keyframe its pose holds, after
-//! the last the last pose holds. A turn of more than half a circle between two keyframes needs
-//! a keyframe in between (the shortest arc is taken).
+//! **Interpolation** between keyframes `(t₀, T₀)` and `(t₁, T₁)` runs at `u = e((t − t₀)/(t₁ − t₀))`,
+//! `e` the first keyframe's [`Easing`] (linear by default). At `u = 0` and `u = 1` the
+//! keyframe's own map is returned, bit for bit. Rotations about the pivot stay rotations about
+//! it (a bone's rigid maps stay rigid); translations stay translations. Keyframe times may be
+//! uneven; before the first keyframe its pose holds, after the last the last pose holds. A turn
+//! of more than half a circle between two keyframes needs a keyframe in between (the shortest
+//! arc is taken).
 
-use kurbo::{Affine, Point, Vec2};
+pub mod file;
+pub mod plane;
+pub mod space;
+
+pub use plane::{interpolate_map, shortest_turn, AffineParts};
+pub use space::SpaceParts;
+
+use kurbo::Affine;
+
+/// A map that keyframes carry, split into parts about a pivot to be interpolated: the plane's
+/// [`kurbo::Affine`] ([`AffineParts`]) and space's 3 × 4 matrices `[[f64; 4]; 3]`
+/// ([`SpaceParts`]).
+///
+/// ```
+/// use kurbo::{Affine, Point};
+/// use splineskin_core::animation::KeyMap;
+/// let c = Point::new(1.0, 2.0);
+/// let turn = Affine::rotate_about(1.0, c);
+/// let parts = turn.split(c).unwrap();
+/// let back = Affine::join(&Affine::blend(&parts, &parts, 0.5), c);
+/// assert!((back.as_coeffs()[0] - 1f64.cos()).abs() < 1e-15);
+/// ```
+pub trait KeyMap: Copy + PartialEq + std::fmt::Debug + Send + Sync + 'static {
+    /// A point of the map's space: a handle's pivot, a deformed point.
+    type Point: Copy + Default + PartialEq + std::fmt::Debug + Send + Sync + 'static;
+    /// The map's parts about a pivot.
+    type Parts: Copy + std::fmt::Debug + Send + Sync + 'static;
+    /// The identity map.
+    const IDENTITY: Self;
+    /// Splits the map about `pivot`; `None` if it is not finite or its linear part is
+    /// singular (it has no rotation and scale to interpolate).
+    fn split(self, pivot: Self::Point) -> Option<Self::Parts>;
+    /// The map made of `parts` about `pivot`: `join(split(T, c), c) = T` up to rounding.
+    fn join(parts: &Self::Parts, pivot: Self::Point) -> Self;
+    /// The parts at fraction `u` from `from` (`u = 0`) to `to` (`u = 1`); exactly `from` and
+    /// `to` at the ends.
+    fn blend(from: &Self::Parts, to: &Self::Parts, u: f64) -> Self::Parts;
+    /// The map's coefficients, row by row, for error messages.
+    fn coefficients(&self) -> Vec<f64>;
+}
 
 /// Frames per second when a scene does not say: 30.
 pub const DEFAULT_FPS: f64 = 30.0;
@@ -65,25 +80,25 @@ const FRAME_COUNT_SLACK: f64 = 1e-9;
 /// One keyframe: a time, one affine map per handle (rig order), and the easing of the segment
 /// from it to the next keyframe.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Keyframe {
+pub struct Keyframe<M = Affine> {
     /// Time in seconds (≥ 0).
     pub time: f64,
     /// One map per handle.
-    pub transforms: Vec<Affine>,
+    pub transforms: Vec<M>,
     /// How the segment from this keyframe to the next runs (unused on the last keyframe).
     pub easing: Easing,
 }
 
-impl Keyframe {
+impl<M> Keyframe<M> {
     /// A keyframe at `time` with maps `transforms` and a linear segment after it.
     ///
     /// ```
     /// use kurbo::Affine;
-    /// use splineskin::animation::{Easing, Keyframe};
+    /// use splineskin_core::animation::{Easing, Keyframe};
     /// let key = Keyframe::new(0.5, vec![Affine::IDENTITY]);
     /// assert_eq!(key.easing, Easing::Linear);
     /// ```
-    pub fn new(time: f64, transforms: Vec<Affine>) -> Keyframe {
+    pub fn new(time: f64, transforms: Vec<M>) -> Keyframe<M> {
         Keyframe {
             time,
             transforms,
@@ -144,7 +159,7 @@ impl Easing {
     /// The easing named `name` ([`Easing::name`]), if any.
     ///
     /// ```
-    /// use splineskin::animation::Easing;
+    /// use splineskin_core::animation::Easing;
     /// assert_eq!(Easing::from_name("ease-in-out"), Some(Easing::EaseInOut));
     /// assert_eq!(Easing::from_name("bounce"), None);
     /// ```
@@ -155,7 +170,7 @@ impl Easing {
     /// The easing named `name`, or an error naming the easings there are.
     ///
     /// ```
-    /// use splineskin::animation::Easing;
+    /// use splineskin_core::animation::Easing;
     /// assert_eq!(Easing::parse("hold"), Ok(Easing::Hold));
     /// let e = Easing::parse("bounce").unwrap_err();
     /// assert_eq!(
@@ -170,7 +185,7 @@ impl Easing {
     /// `e(u)` for `u ∈ [0, 1]` (type doc); exact at 0 and 1.
     ///
     /// ```
-    /// use splineskin::animation::Easing;
+    /// use splineskin_core::animation::Easing;
     /// assert_eq!(Easing::EaseInOut.apply(0.5), 0.5);
     /// assert_eq!(Easing::EaseIn.apply(0.5), 0.25);
     /// assert_eq!(Easing::EaseOut.apply(0.5), 0.75);
@@ -214,9 +229,9 @@ impl std::error::Error for UnknownEasing {}
 
 /// Keyframes with strictly increasing times, and a frame rate.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Animation {
+pub struct Animation<M = Affine> {
     fps: f64,
-    keyframes: Vec<Keyframe>,
+    keyframes: Vec<Keyframe<M>>,
 }
 
 /// Why an animation is invalid or cannot be sampled. Keyframes are numbered from 0.
@@ -268,8 +283,8 @@ pub enum AnimationError {
         keyframe: usize,
         /// The handle.
         handle: usize,
-        /// The map's coefficients `[a, b, c, d, e, f]`.
-        coefficients: [f64; 6],
+        /// The map's coefficients ([`KeyMap::coefficients`]).
+        coefficients: Vec<f64>,
     },
     /// The animation lasts no time (its last keyframe is at 0): there is nothing to play.
     #[error(
@@ -290,14 +305,14 @@ pub enum AnimationError {
     },
 }
 
-impl Animation {
+impl<M: KeyMap> Animation<M> {
     /// Checks and builds an animation: at least one keyframe, `fps` in `(0, MAX_FPS]`, times
     /// finite, ≥ 0 and strictly increasing, the same number of maps in every keyframe, every
     /// map finite with an invertible linear part ([`AffineParts::decompose`]).
     ///
     /// ```
     /// use kurbo::Affine;
-    /// use splineskin::animation::{Animation, AnimationError, Keyframe};
+    /// use splineskin_core::animation::{Animation, AnimationError, Keyframe};
     /// let key = |time: f64| Keyframe::new(time, vec![Affine::IDENTITY]);
     /// assert!(Animation::new(30.0, vec![key(0.0), key(0.5), key(2.0)]).is_ok());
     /// assert_eq!(
@@ -305,7 +320,7 @@ impl Animation {
     ///     Err(AnimationError::NotIncreasing { keyframe: 1, time: 0.0, previous: 0.0 })
     /// );
     /// ```
-    pub fn new(fps: f64, keyframes: Vec<Keyframe>) -> Result<Animation, AnimationError> {
+    pub fn new(fps: f64, keyframes: Vec<Keyframe<M>>) -> Result<Animation<M>, AnimationError> {
         if !(fps > 0.0 && fps <= MAX_FPS) {
             return Err(AnimationError::Fps { fps });
         }
@@ -333,11 +348,11 @@ impl Animation {
                 });
             }
             for (i, &t) in key.transforms.iter().enumerate() {
-                if AffineParts::decompose(t, Point::ZERO).is_none() {
+                if t.split(M::Point::default()).is_none() {
                     return Err(AnimationError::Singular {
                         keyframe: k,
                         handle: i,
-                        coefficients: t.as_coeffs(),
+                        coefficients: t.coefficients(),
                     });
                 }
             }
@@ -351,7 +366,7 @@ impl Animation {
     }
 
     /// The keyframes, times increasing.
-    pub fn keyframes(&self) -> &[Keyframe] {
+    pub fn keyframes(&self) -> &[Keyframe<M>] {
         &self.keyframes
     }
 
@@ -366,7 +381,7 @@ impl Animation {
     }
 
     /// The same animation at another frame rate.
-    pub fn with_fps(&self, fps: f64) -> Result<Animation, AnimationError> {
+    pub fn with_fps(&self, fps: f64) -> Result<Animation<M>, AnimationError> {
         Animation::new(fps, self.keyframes.clone())
     }
 
@@ -375,7 +390,7 @@ impl Animation {
     ///
     /// Errors: [`AnimationError::Duration`] for a duration that is not finite and positive,
     /// [`AnimationError::ZeroDuration`] when the animation has no length to scale.
-    pub fn with_duration(&self, duration: f64) -> Result<Animation, AnimationError> {
+    pub fn with_duration(&self, duration: f64) -> Result<Animation<M>, AnimationError> {
         if !(duration.is_finite() && duration > 0.0) {
             return Err(AnimationError::Duration { duration });
         }
@@ -410,11 +425,11 @@ impl Animation {
     ///
     /// ```
     /// use kurbo::Affine;
-    /// use splineskin::animation::{Animation, Keyframe};
+    /// use splineskin_core::animation::{Animation, Keyframe};
     /// let key = |time: f64| Keyframe::new(time, vec![Affine::IDENTITY]);
     /// let a = Animation::new(4.0, vec![key(0.0), key(0.6)])?;
     /// assert_eq!(a.frame_times()?, vec![0.0, 0.25, 0.5, 0.6]);
-    /// # Ok::<(), splineskin::animation::AnimationError>(())
+    /// # Ok::<(), splineskin_core::animation::AnimationError>(())
     /// ```
     pub fn frame_times(&self) -> Result<Vec<f64>, AnimationError> {
         let duration = self.duration();
@@ -441,7 +456,7 @@ impl Animation {
     /// handle's rest position, a bone's first end, a cage vertex) once, for [`PoseSampler`].
     ///
     /// Errors: [`AnimationError::TransformCount`] if `pivots` is not one per handle.
-    pub fn sampler(&self, pivots: &[Point]) -> Result<PoseSampler, AnimationError> {
+    pub fn sampler(&self, pivots: &[M::Point]) -> Result<PoseSampler<M>, AnimationError> {
         if pivots.len() != self.n_handles() {
             return Err(AnimationError::TransformCount {
                 keyframe: 0,
@@ -452,13 +467,11 @@ impl Animation {
         let mut parts = Vec::with_capacity(self.keyframes.len() * pivots.len());
         for (k, key) in self.keyframes.iter().enumerate() {
             for (i, (&t, &c)) in key.transforms.iter().zip(pivots).enumerate() {
-                parts.push(
-                    AffineParts::decompose(t, c).ok_or(AnimationError::Singular {
-                        keyframe: k,
-                        handle: i,
-                        coefficients: t.as_coeffs(),
-                    })?,
-                );
+                parts.push(t.split(c).ok_or_else(|| AnimationError::Singular {
+                    keyframe: k,
+                    handle: i,
+                    coefficients: t.coefficients(),
+                })?);
             }
         }
         Ok(PoseSampler {
@@ -472,16 +485,16 @@ impl Animation {
 /// An [`Animation`] with its keyframe maps decomposed ([`AffineParts`]): evaluates the pose at
 /// any time without allocating.
 #[derive(Clone, Debug)]
-pub struct PoseSampler {
-    animation: Animation,
-    pivots: Vec<Point>,
+pub struct PoseSampler<M: KeyMap = Affine> {
+    animation: Animation<M>,
+    pivots: Vec<M::Point>,
     /// `parts[k · n_handles + i]`: keyframe `k`, handle `i`.
-    parts: Vec<AffineParts>,
+    parts: Vec<M::Parts>,
 }
 
-impl PoseSampler {
+impl<M: KeyMap> PoseSampler<M> {
     /// The animation sampled.
-    pub fn animation(&self) -> &Animation {
+    pub fn animation(&self) -> &Animation<M> {
         &self.animation
     }
 
@@ -500,7 +513,7 @@ impl PoseSampler {
     ///
     /// ```
     /// use kurbo::{Affine, Point};
-    /// use splineskin::animation::{Animation, Keyframe};
+    /// use splineskin_core::animation::{Animation, Keyframe};
     /// let c = Point::new(10.0, 0.0);
     /// let quarter = Affine::rotate_about(std::f64::consts::FRAC_PI_2, c);
     /// let a = Animation::new(30.0, vec![
@@ -515,9 +528,9 @@ impl PoseSampler {
     /// for (g, w) in pose[0].as_coeffs().iter().zip(eighth.as_coeffs()) {
     ///     assert!((g - w).abs() < 1e-14);
     /// }
-    /// # Ok::<(), splineskin::animation::AnimationError>(())
+    /// # Ok::<(), splineskin_core::animation::AnimationError>(())
     /// ```
-    pub fn pose_at(&self, t: f64, out: &mut [Affine]) {
+    pub fn pose_at(&self, t: f64, out: &mut [M]) {
         let n = self.n_handles();
         assert_eq!(out.len(), n, "pose_at: output length");
         let keys = &self.animation.keyframes;
@@ -540,147 +553,9 @@ impl PoseSampler {
         for (i, (slot, &c)) in out.iter_mut().zip(&self.pivots).enumerate() {
             let p0 = &self.parts[k0 * n + i];
             let p1 = &self.parts[k1 * n + i];
-            *slot = p0.interpolate(p1, u).compose(c);
+            *slot = M::join(&M::blend(p0, p1, u), c);
         }
     }
-}
-
-/// An affine map split about a pivot `c`: `T(x) = q + R(θ) · diag(s_x, s_y) · [[1, k], [0, 1]] ·
-/// (x − c)` (module doc).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AffineParts {
-    /// `q = T(c)`: where the pivot goes.
-    pub pivot_image: Point,
-    /// `θ`, radians in `(−π, π]`: the angle of the first column (SVG's y-down frame: positive
-    /// turns x towards y, clockwise on screen).
-    pub angle: f64,
-    /// `(s_x, s_y)`: `s_x > 0`; `s_y < 0` for a reflection.
-    pub scale: Vec2,
-    /// `k`: the shear of the second axis along the first, applied before scaling.
-    pub shear: f64,
-}
-
-impl AffineParts {
-    /// Splits `map` about `pivot`; `None` if `map` is not finite or its linear part is
-    /// singular.
-    ///
-    /// ```
-    /// use kurbo::{Affine, Point, Vec2};
-    /// use splineskin::animation::AffineParts;
-    /// let c = Point::new(3.0, 4.0);
-    /// // Scale by (2, −1) (a reflection), turn by 0.5 rad about c, then move by (1, 0).
-    /// let map = Affine::translate(c.to_vec2() + Vec2::new(1.0, 0.0))
-    ///     * Affine::rotate(0.5)
-    ///     * Affine::scale_non_uniform(2.0, -1.0)
-    ///     * Affine::translate(-c.to_vec2());
-    /// let parts = AffineParts::decompose(map, c).unwrap();
-    /// assert!((parts.angle - 0.5).abs() < 1e-15);
-    /// assert!((parts.scale - Vec2::new(2.0, -1.0)).hypot() < 1e-15);
-    /// assert!(parts.shear.abs() < 1e-15);
-    /// assert!((parts.pivot_image - Point::new(4.0, 4.0)).hypot() < 1e-14);
-    /// let back = parts.compose(c);
-    /// for (g, w) in back.as_coeffs().iter().zip(map.as_coeffs()) {
-    ///     assert!((g - w).abs() < 1e-14);
-    /// }
-    /// assert!(AffineParts::decompose(Affine::scale_non_uniform(1.0, 0.0), c).is_none());
-    /// ```
-    pub fn decompose(map: Affine, pivot: Point) -> Option<AffineParts> {
-        let coeffs = map.as_coeffs();
-        if !coeffs.iter().all(|v| v.is_finite()) {
-            return None;
-        }
-        let [a, b, c, d, _, _] = coeffs;
-        let det = a * d - b * c;
-        let sx = a.hypot(b);
-        if !(det != 0.0 && det.is_finite() && sx > 0.0) {
-            return None;
-        }
-        let (cos, sin) = (a / sx, b / sx);
-        // Rᵀ · (c, d) = (s_x k, s_y).
-        let along = cos * c + sin * d;
-        let across = -sin * c + cos * d;
-        Some(AffineParts {
-            pivot_image: map * pivot,
-            angle: b.atan2(a),
-            scale: Vec2::new(sx, across),
-            shear: along / sx,
-        })
-    }
-
-    /// The map `x ↦ q + R(θ) · diag(s_x, s_y) · [[1, k], [0, 1]] · (x − pivot)`.
-    pub fn compose(&self, pivot: Point) -> Affine {
-        let (sin, cos) = self.angle.sin_cos();
-        let (sx, sy, k) = (self.scale.x, self.scale.y, self.shear);
-        // Columns of R · [[s_x, s_x k], [0, s_y]].
-        let (a, b) = (cos * sx, sin * sx);
-        let (c, d) = (cos * sx * k - sin * sy, sin * sx * k + cos * sy);
-        let linear = Affine::new([a, b, c, d, 0.0, 0.0]);
-        let moved = linear * pivot;
-        Affine::new([
-            a,
-            b,
-            c,
-            d,
-            self.pivot_image.x - moved.x,
-            self.pivot_image.y - moved.y,
-        ])
-    }
-
-    /// The parts at fraction `u` from `self` (`u = 0`) to `other` (`u = 1`), by the module
-    /// doc's rules: pivot image and shear linear, angle along the shortest arc, scales
-    /// geometric (`s_y` linear when its sign changes). `u = 0` and `u = 1` return `self` and
-    /// `other` exactly.
-    pub fn interpolate(&self, other: &AffineParts, u: f64) -> AffineParts {
-        if u == 0.0 {
-            return *self;
-        }
-        if u == 1.0 {
-            return *other;
-        }
-        let lerp = |x: f64, y: f64| x + u * (y - x);
-        let geometric = |x: f64, y: f64| x * (y / x).powf(u);
-        AffineParts {
-            pivot_image: self.pivot_image.lerp(other.pivot_image, u),
-            angle: self.angle + u * shortest_turn(self.angle, other.angle),
-            scale: Vec2::new(
-                geometric(self.scale.x, other.scale.x),
-                if self.scale.y * other.scale.y > 0.0 {
-                    geometric(self.scale.y, other.scale.y)
-                } else {
-                    lerp(self.scale.y, other.scale.y)
-                },
-            ),
-            shear: lerp(self.shear, other.shear),
-        }
-    }
-}
-
-/// `to − from` wrapped to `(−π, π]`, radians: the shortest turn, a half turn counted positive.
-///
-/// ```
-/// use std::f64::consts::PI;
-/// use splineskin::animation::shortest_turn;
-/// assert!((shortest_turn(0.9 * PI, -0.9 * PI) - 0.2 * PI).abs() < 1e-15);
-/// assert_eq!(shortest_turn(0.0, PI), PI);
-/// assert_eq!(shortest_turn(0.0, -PI), PI);
-/// ```
-pub fn shortest_turn(from: f64, to: f64) -> f64 {
-    use std::f64::consts::{PI, TAU};
-    PI - (PI - (to - from)).rem_euclid(TAU)
-}
-
-/// Interpolates one map: [`AffineParts::decompose`] both about `pivot`, interpolate at `u`,
-/// compose. `None` if either map is singular. Exact at `u = 0` and `u = 1`.
-pub fn interpolate_map(from: Affine, to: Affine, pivot: Point, u: f64) -> Option<Affine> {
-    if u == 0.0 {
-        return Some(from);
-    }
-    if u == 1.0 {
-        return Some(to);
-    }
-    let p0 = AffineParts::decompose(from, pivot)?;
-    let p1 = AffineParts::decompose(to, pivot)?;
-    Some(p0.interpolate(&p1, u).compose(pivot))
 }
 
 /// Deforming frame `frame` (at `time` seconds) failed.
@@ -702,7 +577,7 @@ pub struct FrameError<E: std::fmt::Display + std::fmt::Debug> {
 ///
 /// ```
 /// use kurbo::{Affine, Point};
-/// use splineskin::animation::{deform_frames, Animation, Keyframe};
+/// use splineskin_core::animation::{deform_frames, Animation, Keyframe};
 /// let a = Animation::new(2.0, vec![
 ///     Keyframe::new(0.0, vec![Affine::IDENTITY]),
 ///     Keyframe::new(1.0, vec![Affine::translate((4.0, 0.0))]),
@@ -714,23 +589,25 @@ pub struct FrameError<E: std::fmt::Display + std::fmt::Debug> {
 ///     Ok::<(), std::convert::Infallible>(())
 /// }).unwrap();
 /// assert_eq!(frames, vec![vec![Point::new(1.0, 1.0)], vec![Point::new(3.0, 1.0)], vec![Point::new(5.0, 1.0)]]);
-/// # Ok::<(), splineskin::animation::AnimationError>(())
+/// # Ok::<(), splineskin_core::animation::AnimationError>(())
 /// ```
-pub fn deform_frames<E, F>(
-    sampler: &PoseSampler,
+pub fn deform_frames<M, P, E, F>(
+    sampler: &PoseSampler<M>,
     times: &[f64],
     n_points: usize,
     parallel: bool,
     deform: F,
-) -> Result<Vec<Vec<Point>>, FrameError<E>>
+) -> Result<Vec<Vec<P>>, FrameError<E>>
 where
+    M: KeyMap,
+    P: Copy + Default + Send,
     E: std::fmt::Display + std::fmt::Debug + Send,
-    F: Fn(&[Affine], &mut [Point]) -> Result<(), E> + Sync,
+    F: Fn(&[M], &mut [P]) -> Result<(), E> + Sync,
 {
     let one = |(frame, &time): (usize, &f64)| {
-        let mut pose = vec![Affine::IDENTITY; sampler.n_handles()];
+        let mut pose = vec![M::IDENTITY; sampler.n_handles()];
         sampler.pose_at(time, &mut pose);
-        let mut points = vec![Point::ZERO; n_points];
+        let mut points = vec![P::default(); n_points];
         deform(&pose, &mut points).map_err(|error| FrameError { frame, time, error })?;
         Ok(points)
     };

@@ -1,0 +1,129 @@
+//! Animation hand-off: a scene's frames written where 3D tools read them.
+//!
+//! | format | what it holds | written by |
+//! |---|---|---|
+//! | USD (`.usda`, text) | the fitted cage as a Catmull–Clark `Mesh` (faces, creases, corners, holes) with time-sampled `points`: tools that subdivide (Blender, Houdini, Maya, usdview) rebuild our limit surface | [`write_usda`] |
+//! | glTF 2.0 (`.glb`) | the tessellated limit surface ([`LimitMesh`](super::LimitMesh), triangles), one morph target per frame and an animation that steps through them: glTF has no subdivision, so the surface itself travels | [`write_glb`] |
+//! | OBJ per frame | the fitted cage ([`to_obj_string`](super::to_obj_string)) | the CLI (`subdiv animate -o DIR`) |
+//!
+//! The fitted cage is not linear blend skinning of the rest cage (every vertex depends on
+//! every handle's map through the fit), so no skeleton schema carries it: the frames are
+//! baked. Both formats store coordinates as 32-bit floats (USD's `point3f`, glTF's `FLOAT`
+//! accessors), so a written point is the `f64` one rounded to `f32`: within `2⁻²⁴` of its
+//! largest coordinate.
+
+use super::cage::Point3;
+
+mod gltf;
+mod usd;
+
+pub use gltf::{write_glb, SurfaceFrames, MAX_GLTF_FRAMES};
+pub use usd::{write_usda, CageFrames};
+
+/// Which axis of the model points up. USD's `upAxis` is Y or Z; glTF is always Y-up, so a
+/// Z-up model is turned by a quarter turn about X on its node.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum UpAxis {
+    /// +Y up (OBJ's and glTF's habit).
+    #[default]
+    Y,
+    /// +Z up (CAD's and Blender's world).
+    Z,
+}
+
+/// Why frames could not be written.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum HandoffError {
+    /// No frames, or times and frames of different lengths, or times not increasing.
+    #[error("{what}")]
+    Frames {
+        /// What is wrong.
+        what: String,
+    },
+    /// A frame holds a number of points other than the mesh's vertex count.
+    #[error("frame {frame}: {got} points for a mesh of {expected} vertices")]
+    PointCount {
+        /// The frame.
+        frame: usize,
+        /// Points it has.
+        got: usize,
+        /// Vertices of the mesh.
+        expected: usize,
+    },
+    /// A coordinate that is NaN or infinite, or beyond what a 32-bit float holds.
+    #[error("frame {frame}: vertex {vertex}: coordinate {value} is not a finite 32-bit number")]
+    NonFinite {
+        /// The frame.
+        frame: usize,
+        /// The vertex.
+        vertex: usize,
+        /// The coordinate.
+        value: f64,
+    },
+    /// More frames than the format's writer takes.
+    #[error("{n_frames} frames is more than the {max} a glTF morph animation holds here; lower the frame rate or write USD or OBJ frames")]
+    TooManyFrames {
+        /// Frames given.
+        n_frames: usize,
+        /// The limit.
+        max: usize,
+    },
+}
+
+/// Checks frame times (finite, increasing, one per frame) and that every frame has `n`
+/// points with coordinates that round to finite `f32`.
+fn check_frames(times: &[f64], frames: &[Vec<Point3>], n: usize) -> Result<(), HandoffError> {
+    if frames.is_empty() || times.len() != frames.len() {
+        return Err(HandoffError::Frames {
+            what: format!(
+                "{} frame times for {} frames; expected one time per frame, at least one frame",
+                times.len(),
+                frames.len()
+            ),
+        });
+    }
+    if let Some(k) = (0..times.len())
+        .find(|&k| !times[k].is_finite() || times[k] < 0.0 || (k > 0 && times[k] <= times[k - 1]))
+    {
+        return Err(HandoffError::Frames {
+            what: format!(
+                "frame {k}: time {} is not a finite time ≥ 0 after the frame before",
+                times[k]
+            ),
+        });
+    }
+    for (f, frame) in frames.iter().enumerate() {
+        if frame.len() != n {
+            return Err(HandoffError::PointCount {
+                frame: f,
+                got: frame.len(),
+                expected: n,
+            });
+        }
+        for (v, p) in frame.iter().enumerate() {
+            if let Some(&value) = p.iter().find(|c| !(**c as f32).is_finite()) {
+                return Err(HandoffError::NonFinite {
+                    frame: f,
+                    vertex: v,
+                    value,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The smallest box holding `points`: `(min, max)` per axis, in `f32` (as written).
+fn extent_f32(points: &[Point3]) -> ([f32; 3], [f32; 3]) {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for p in points {
+        for k in 0..3 {
+            let c = p[k] as f32;
+            lo[k] = lo[k].min(c);
+            hi[k] = hi[k].max(c);
+        }
+    }
+    (lo, hi)
+}
