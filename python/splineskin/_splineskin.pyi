@@ -167,6 +167,12 @@ class SubdivRig:
     ) -> npt.NDArray[np.float64]:
         """Cage positions (``n_vertices × 3``) for one 3 × 4 map per handle."""
     def pose(self, index: int = 0) -> npt.NDArray[np.float64]: ...
+    def animation(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """Frame times (``n_frames``) and fitted cages (``n_frames × n_vertices × 3``)."""
+    def write_animation(
+        self, path: Union[str, os.PathLike[str]], *, level: int = 3, up: str = "y"
+    ) -> None:
+        """Writes the animation as ``.usda`` (Catmull-Clark cage) or ``.glb`` (limit surface)."""
     @property
     def n_poses(self) -> int: ...
     @property

@@ -7,9 +7,10 @@ use numpy::{
 };
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use splineskin::subdiv::handoff::{FittedAnimation, UpAxis};
 use splineskin::subdiv::{
     parse_obj, to_obj_string, Affine3, Cage, LimitOptions, LimitSurface, Point3, SubdivScene,
-    SubdivSetup,
+    SubdivSetup, MAX_LIMIT_MESH_LEVEL,
 };
 
 use crate::arrays::{check_finite, matrix, matrix_array, output};
@@ -164,6 +165,9 @@ impl<'a, 'py> FromPyObject<'a, 'py> for ObjSource {
     }
 }
 
+/// Frame times (`n_frames`) and cages (`n_frames × n_vertices × 3`).
+type TimesAndCages<'py> = (Bound<'py, numpy::PyArray1<f64>>, Bound<'py, PyArray3<f64>>);
+
 /// The rig of a subdivision scene (`SubdivRig.from_scene`): `update(transforms)` gives the
 /// cage whose limit surface is closest to the skinned one.
 #[pyclass(module = "splineskin._splineskin", name = "SubdivRig")]
@@ -257,6 +261,75 @@ impl PySubdivRig {
         Ok(PyArray3::from_owned_array(py, array))
     }
 
+    /// The scene's animation fitted frame by frame (what `splineskin subdiv animate` writes):
+    /// `(times, cages)`, the frame times in seconds (`n_frames`) and every frame's cage
+    /// (`n_frames × n_vertices × 3`). Raises if the scene has no `animation`.
+    fn animation<'py>(&self, py: Python<'py>) -> PyResult<TimesAndCages<'py>> {
+        let fitted = self.fitted(py)?;
+        let (n_frames, n) = (fitted.cages.len(), self.setup.cage.n_vertices());
+        let data: Vec<f64> = fitted.cages.iter().flatten().flatten().copied().collect();
+        let cages = numpy::ndarray::Array3::from_shape_vec((n_frames, n, 3), data)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok((
+            numpy::PyArray1::from_vec(py, fitted.times),
+            PyArray3::from_owned_array(py, cages),
+        ))
+    }
+
+    /// Writes the scene's animation to `path` as `splineskin subdiv animate` does: `.usda` (the
+    /// cage as a Catmull-Clark USD mesh, points sampled per frame) or `.glb` (the limit surface
+    /// tessellated at `level`, one morph target per frame); `up` is `"y"` or `"z"`. The file is
+    /// written whole or not at all.
+    #[pyo3(signature = (path, *, level = 3, up = "y"))]
+    fn write_animation(
+        &self,
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        level: usize,
+        up: &str,
+    ) -> PyResult<()> {
+        let up = match up {
+            "y" | "Y" => UpAxis::Y,
+            "z" | "Z" => UpAxis::Z,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "up={other:?}; expected \"y\" or \"z\""
+                )))
+            }
+        };
+        if !(1..=MAX_LIMIT_MESH_LEVEL).contains(&level) {
+            return Err(PyValueError::new_err(format!(
+                "level={level}; expected 1 ..= {MAX_LIMIT_MESH_LEVEL}"
+            )));
+        }
+        let extension = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        let fitted = self.fitted(py)?;
+        let name = self
+            .scene
+            .obj
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let setup = &self.setup;
+        let bytes = py
+            .detach(|| match extension.as_deref() {
+                Some("usda") => fitted.usda(setup, &name, up).map(String::into_bytes),
+                Some("glb") => fitted.glb(setup, level, &name, up),
+                _ => Ok(Vec::new()),
+            })
+            .map_err(library_error)?;
+        if bytes.is_empty() {
+            return Err(PyValueError::new_err(format!(
+                "{}: expected a name ending in .usda (USD) or .glb (binary glTF)",
+                path.display()
+            )));
+        }
+        splineskin::atomic_write::write_atomically(&path, &bytes)
+            .map_err(|e| library_error(format!("{}: {e}", path.display())))
+    }
+
     /// Number of poses of the scene.
     #[getter]
     fn n_poses(&self) -> usize {
@@ -291,5 +364,14 @@ impl PySubdivRig {
             self.setup.rig.n_vertices(),
             self.setup.rig.n_handles()
         )
+    }
+}
+
+impl PySubdivRig {
+    /// The scene's animation fitted frame by frame, the GIL released.
+    fn fitted(&self, py: Python<'_>) -> PyResult<FittedAnimation> {
+        let (scene, setup) = (&self.scene, &self.setup);
+        py.detach(|| FittedAnimation::new(scene, setup))
+            .map_err(library_error)
     }
 }

@@ -102,3 +102,22 @@ def test_points_at_every_time_code_are_the_fitted_cage_of_that_frame(handoff, tm
         assert out.read_text() == frames[n].read_text(), f"frame {n}"
     # Frames move: a control frame differs.
     assert np.abs(np.array(points.Get(30)) - np.array(points.Get(0))).max() > 0.1 * diagonal
+
+
+def test_python_writes_what_the_command_line_writes(handoff, tmp_path):
+    import splineskin
+
+    rig = splineskin.SubdivRig.from_scene(TUBE)
+    times, cages = rig.animation()
+    assert times.shape == (97,) and cages.shape == (97, rig.n_vertices, 3)
+    assert times[-1] == 4.0
+    frames = sorted((handoff / "frames").glob("frame-*.obj"))
+    assert np.abs(cages[30] - obj_vertices(frames[30].read_text())).max() <= 1e-12
+    rig.write_animation(tmp_path / "tube.usda")
+    assert (tmp_path / "tube.usda").read_text() == (handoff / "tube.usda").read_text()
+    rig.write_animation(tmp_path / "tube.glb", level=2)
+    run_cli("subdiv", "animate", str(TUBE), "-o", str(tmp_path / "cli.glb"), "--level", "2")
+    assert (tmp_path / "tube.glb").read_bytes() == (tmp_path / "cli.glb").read_bytes()
+    with pytest.raises(ValueError, match="expected a name ending in .usda"):
+        rig.write_animation(tmp_path / "tube.fbx")
+    assert not (tmp_path / "tube.fbx").exists()

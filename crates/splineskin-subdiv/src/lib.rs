@@ -50,6 +50,8 @@ pub mod scene;
 mod scene_pose;
 mod stencil;
 pub mod surface_weights;
+#[cfg(test)]
+mod test_support;
 mod uniform;
 mod visibility;
 

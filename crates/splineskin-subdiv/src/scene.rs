@@ -23,7 +23,7 @@
 //! | `obj` | the cage, an OBJ file relative to the scene's folder ([`super::obj`]: polygons of any size, `t crease`/`corner`/`hole` tags) |
 //! | `handles` | point handles: `position` = `[x, y, z]` in the OBJ's units. Default: none |
 //! | `bones` | segment handles: `ends` = `[[x, y, z], [x, y, z]]`, distinct. Default: none |
-//! | `weights` | `family`: `shepard` (`exponent`, default 2: inverse distance to points and to bones' segments, [`Shepard3`]), `bone_heat` (`level` of the limit mesh, default automatic; `visibility`, default true: [`BoneHeat`]) or `file` (`path`: a CSV file relative to the scene's folder, one row per cage vertex, one column per handle: [`CageVertexWeights`](super::CageVertexWeights)). Default: `shepard` |
+//! | `weights` | `family`: `shepard` (`exponent`, default 2: inverse distance to points and to bones' segments, [`Shepard3`]), `bone_heat` (`level` of the limit mesh, default automatic; `visibility`, default true: [`BoneHeat`]), `file` (`path`: a CSV file relative to the scene's folder, one row per cage vertex, one column per handle: [`CageVertexWeights`](super::CageVertexWeights)) or `bbw` (`resolution`: grid cells along the longest side, default [`DEFAULT_VOLUME_RESOLUTION`](super::surface_weights::DEFAULT_VOLUME_RESOLUTION): bounded biharmonic weights on the enclosed volume, [`VolumeBbw`]). Default: `shepard` |
 //! | `quadrature` | Gauss–Legendre nodes per axis per ptex face, 1 ..= [`MAX_QUADRATURE_POINTS`]. Default: [`DEFAULT_GAUSS_POINTS`] (exact on regular faces) |
 //! | `poses` | a list of `{name?, transforms}`, `transforms` one per handle. Default: none (pose 0 is then the identity) |
 //! | `animation` | keyframed poses: `fps` (frames per second, default 30, at most 1000) and `keyframes`, a non-empty list of `{time, pose, easing?}`: `time` in seconds, ≥ 0, strictly increasing; `pose` an index into `poses` (`0` is the identity in a scene without poses), a pose's `name`, or a list of transforms (as in `poses`); `easing` how the segment to the next keyframe runs (`linear` (default), `ease-in`, `ease-out`, `ease-in-out`, `hold`). Between keyframes each handle's map is interpolated by parts about its pivot ([`splineskin_core::animation::SpaceParts`]: position, rotation along the shortest arc, stretch), so every map must be invertible. Default: none |
@@ -57,7 +57,7 @@ use super::rig::SubdivRig;
 use super::scene_pose::{resolve_animation, KeyPoseFile, Pose3, PoseFile};
 use super::surface_weights::{
     node_weights, read_weight_csv, BoneHeat, BoneHeatOptions, Shepard3, SurfaceWeights,
-    SurfaceWeightsError,
+    SurfaceWeightsError, VolumeBbw, VolumeBbwOptions, MAX_VOLUME_RESOLUTION,
 };
 use splineskin_core::animation::file::AnimationFile;
 use splineskin_core::animation::Animation;
@@ -143,6 +143,8 @@ pub enum SurfaceWeightSpec {
     BoneHeat(BoneHeatOptions),
     /// [`CageVertexWeights`](super::CageVertexWeights) read from this CSV file.
     File(PathBuf),
+    /// [`VolumeBbw`] with these options.
+    Bbw(VolumeBbwOptions),
 }
 
 impl SurfaceWeightSpec {
@@ -152,6 +154,7 @@ impl SurfaceWeightSpec {
             SurfaceWeightSpec::Shepard(_) => "shepard",
             SurfaceWeightSpec::BoneHeat(_) => "bone_heat",
             SurfaceWeightSpec::File(_) => "file",
+            SurfaceWeightSpec::Bbw(_) => "bbw",
         }
     }
 
@@ -171,6 +174,7 @@ impl SurfaceWeightSpec {
                 cage.n_vertices(),
                 handles.n_handles(),
             )?),
+            SurfaceWeightSpec::Bbw(o) => Box::new(VolumeBbw::new(cage, surface, handles, o)?),
         })
     }
 }
@@ -470,8 +474,9 @@ impl SubdivScene {
         let (surface, quadrature) =
             LimitQuadrature::for_cage(&cage, self.quadrature).map_err(subdiv)?;
         let weights = match &self.weights {
-            // Bone heat samples the surface on a grid: at the default isolation.
-            SurfaceWeightSpec::BoneHeat(_)
+            // Bone heat and the volume's weights sample the surface on a grid: at the default
+            // isolation.
+            SurfaceWeightSpec::BoneHeat(_) | SurfaceWeightSpec::Bbw(_)
                 if surface.isolation_level() < DEFAULT_ISOLATION_LEVEL =>
             {
                 let full = LimitSurface::new(&cage, &LimitOptions::default()).map_err(subdiv)?;
@@ -555,6 +560,10 @@ enum WeightsFile {
     File {
         path: String,
     },
+    Bbw {
+        #[serde(default)]
+        resolution: Option<usize>,
+    },
 }
 
 impl Default for WeightsFile {
@@ -605,6 +614,19 @@ impl WeightsFile {
                     ));
                 }
                 SurfaceWeightSpec::File(base.join(path))
+            }
+            WeightsFile::Bbw { resolution } => {
+                let mut o = VolumeBbwOptions::default();
+                if let Some(r) = resolution {
+                    if !(4..=MAX_VOLUME_RESOLUTION).contains(&r) {
+                        return Err(invalid(
+                            "weights.resolution",
+                            format!("{r} cells; expected 4 ..= {MAX_VOLUME_RESOLUTION}"),
+                        ));
+                    }
+                    o = o.with_resolution(r);
+                }
+                SurfaceWeightSpec::Bbw(o)
             }
         })
     }

@@ -182,21 +182,7 @@ mod tests {
     #[test]
     fn visibility_segments_through_a_cube_are_blocked() {
         // The unit cube's 12 triangles.
-        let p: Vec<Point3> = (0..8)
-            .map(|k| [(k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64])
-            .collect();
-        let quads = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        let tris: Vec<[u32; 3]> = quads
-            .iter()
-            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
-            .collect();
+        let (p, tris) = crate::test_support::unit_cube_triangles();
         let bvh = TriangleBvh::new(&p, &tris);
         // From outside to the centre: crosses one face.
         assert!(bvh.blocks([-1.0, 0.5, 0.5], [0.5, 0.5, 0.5], 1e-6));

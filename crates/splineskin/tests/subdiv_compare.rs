@@ -4,14 +4,15 @@
 //! * the identity pose gives zero error for both, one affine map on every handle gives zero
 //!   error for both (ours fits exactly that map of the cage; the naive cage is that map of the
 //!   cage, and the limit surface of an affine image is the affine image of the limit surface);
-//! * on torus-like shapes and the car, with two to four handles, Shepard and bone-heat weights
-//!   and random rigid poses, ours is closer to the skinned surface than naive, in RMS and in
+//! * on torus-like shapes and the car, with two to four handles, Shepard, bone-heat and
+//!   volumetric bounded biharmonic weights and random rigid poses, ours is closer to the skinned surface than naive, in RMS and in
 //!   max; the table is printed (`--nocapture`) and the car's picture is written to
 //!   `$CARGO_TARGET_TMPDIR/subdiv-compare/`.
 
 mod common;
 
 use common::Rng;
+use splineskin::subdiv::surface_weights::VolumeBbwOptions;
 use splineskin::subdiv::{
     affine3_about, compare_subdiv, farthest_point_sample, parse_obj, read_obj,
     render_comparison_png, rotation_axis_angle, Affine3, Cage, ComparisonPictureOptions,
@@ -72,13 +73,17 @@ fn bone_heat() -> SurfaceWeightSpec {
     SurfaceWeightSpec::BoneHeat(BoneHeatOptions::default())
 }
 
+fn bbw() -> SurfaceWeightSpec {
+    SurfaceWeightSpec::Bbw(VolumeBbwOptions::default())
+}
+
 const CUBE: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
                     f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
 
 #[test]
 fn subdiv_compare_identity_and_common_affine_are_exact() {
     let cage = parse_obj(CUBE, "cube.obj").unwrap();
-    for weights in [shepard(), bone_heat()] {
+    for weights in [shepard(), bone_heat(), bbw()] {
         let (scene, setup) = setup(&cage, 2, weights);
         let samples = ComparisonSamples::new(&setup, 2).unwrap();
         let c = compare_subdiv(&setup, &samples, &scene.pose(0).unwrap()).unwrap();
@@ -125,7 +130,11 @@ fn subdiv_compare_ours_beats_naive() {
     ] {
         let cage = read_obj(&root.join(format!("subdiv/shapes/{name}.obj"))).unwrap();
         let diag = cage.bounding_box_diagonal();
-        for (family, weights) in [("shepard", shepard()), ("bone_heat", bone_heat())] {
+        for (family, weights) in [
+            ("shepard", shepard()),
+            ("bone_heat", bone_heat()),
+            ("bbw", bbw()),
+        ] {
             let (scene, setup) = setup(&cage, n_handles, weights);
             let samples = ComparisonSamples::new(&setup, DEFAULT_COMPARE_LEVEL).unwrap();
             let pose: Vec<Affine3> = (0..n_handles)

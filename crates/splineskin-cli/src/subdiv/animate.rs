@@ -14,10 +14,8 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
-use splineskin::subdiv::handoff::{write_glb, write_usda, CageFrames, SurfaceFrames, UpAxis};
-use splineskin::subdiv::{
-    to_obj_string, Affine3, LimitMesh, Point3, SubdivScene, SubdivSetup, MAX_LIMIT_MESH_LEVEL,
-};
+use splineskin::subdiv::handoff::{FittedAnimation, UpAxis};
+use splineskin::subdiv::{to_obj_string, Point3, SubdivScene, SubdivSetup, MAX_LIMIT_MESH_LEVEL};
 
 use crate::frames_folder::{frame_name, replace_frames_folder, write_synced};
 use crate::output::{has_extension, write_atomic};
@@ -92,11 +90,10 @@ pub fn run(args: Args) -> Result<()> {
                 .with_context(|| format!("--fps {fps}"))?,
         );
     }
-    let frames = scene.animation_frames()?;
+    // A scene without a playable animation fails before the precompute.
+    scene.animation_frames()?;
     let setup = scene.setup()?;
-    let fps = scene.animation.as_ref().map_or(0.0, |a| a.fps());
-    let times: Vec<f64> = frames.iter().map(|f| f.0).collect();
-    let cages = fitted_cages(&scene, &setup, &frames)?;
+    let fitted = FittedAnimation::new(&scene, &setup)?;
     let up = match args.up {
         Up::Y => UpAxis::Y,
         Up::Z => UpAxis::Z,
@@ -108,89 +105,30 @@ pub fn run(args: Args) -> Result<()> {
         .unwrap_or_default();
     match output {
         Output::Usd => {
-            let text = write_usda(&CageFrames {
-                cage: &setup.cage,
-                times: &times,
-                positions: &cages,
-                fps,
-                name: &name,
-                up,
-            })
-            .with_context(|| format!("{}: writing USD", args.output.display()))?;
+            let text = fitted
+                .usda(&setup, &name, up)
+                .with_context(|| format!("{}: writing USD", args.output.display()))?;
             write_atomic(&args.output, text.as_bytes())?;
         }
         Output::Gltf => {
-            let glb = surface_glb(&scene, &setup, (&times, &cages), &name, up, args.level)
+            let glb = fitted
+                .glb(&setup, usize::from(args.level), &name, up)
                 .with_context(|| format!("{}: writing glTF", args.output.display()))?;
             write_atomic(&args.output, &glb)?;
         }
-        Output::ObjFolder => write_obj_frames(&args.output, &setup, &cages)?,
+        Output::ObjFolder => write_obj_frames(&args.output, &setup, &fitted.cages)?,
     }
+    let (fps, times) = (fitted.fps, &fitted.times);
     eprintln!(
         "{}: {} frames at {fps} fps ({} s), {} handles, a cage of {} vertices and {} faces",
         args.output.display(),
-        frames.len(),
+        times.len(),
         times[times.len() - 1],
         scene.handles.n_handles(),
         setup.cage.n_vertices(),
         setup.cage.n_faces()
     );
     Ok(())
-}
-
-/// The fitted cage of every frame: one rig update each.
-fn fitted_cages(
-    scene: &SubdivScene,
-    setup: &SubdivSetup,
-    frames: &[(f64, Vec<Affine3>)],
-) -> Result<Vec<Vec<Point3>>> {
-    frames
-        .iter()
-        .enumerate()
-        .map(|(f, (t, pose))| {
-            let mut out = vec![[0.0; 3]; setup.cage.n_vertices()];
-            setup
-                .rig
-                .update(pose, &mut out)
-                .with_context(|| format!("{}: frame {f} (t = {t} s)", scene.file))?;
-            Ok(out)
-        })
-        .collect()
-}
-
-/// The limit surface of every frame's cage, tessellated at `level`, as binary glTF.
-fn surface_glb(
-    scene: &SubdivScene,
-    setup: &SubdivSetup,
-    (times, cages): (&[f64], &[Vec<Point3>]),
-    name: &str,
-    up: UpAxis,
-    level: u8,
-) -> Result<Vec<u8>> {
-    let surface = setup
-        .full_surface()
-        .with_context(|| format!("{}: the limit surface", scene.file))?;
-    let mesh = LimitMesh::new(&setup.cage, &surface, usize::from(level))
-        .with_context(|| format!("{}: sampling the limit surface", scene.file))?;
-    let positions: Vec<Vec<Point3>> = cages
-        .iter()
-        .map(|cage| {
-            let mut out = vec![[0.0; 3]; mesh.n_vertices()];
-            mesh.positions(cage, &mut out);
-            out
-        })
-        .collect();
-    // The triangulation is the rest surface's, the same in every frame.
-    let mut rest = vec![[0.0; 3]; mesh.n_vertices()];
-    mesh.positions(setup.cage.positions(), &mut rest);
-    let triangles = mesh.triangles(&rest);
-    Ok(write_glb(&SurfaceFrames {
-        triangles: &triangles,
-        times,
-        positions: &positions,
-        name,
-        up,
-    })?)
 }
 
 /// `dir/frame-0000.obj`, …: every frame's cage (faces and tags of the input).

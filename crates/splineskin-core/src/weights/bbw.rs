@@ -67,6 +67,7 @@ use super::admm_start;
 use super::harmonic::{prepare, solve_unbounded};
 use super::reduced_cholesky::{EnergySystem, ReducedCholesky};
 use super::{DirichletData, VertexWeights, WeightsError};
+use crate::linalg::csc::Csc;
 use crate::mesh::TriMesh;
 use crate::stop::StopSignal;
 
@@ -252,13 +253,76 @@ pub fn bounded_biharmonic(
 ) -> Result<VertexWeights, WeightsError> {
     options.check()?;
     check_data_bounds(data)?;
-    let h = data.n_columns();
-    let system = prepare(mesh, data, 2)?;
-    let n = system.n();
-    let columns = solve_unbounded(&system, data)?;
+    solve_bounded(&prepare(mesh, data, 2)?, data, options)
+}
+
+/// The bounded minimiser of each column of `data` for any energy `Q` (symmetric positive
+/// semidefinite, full storage, its null space the constants on each connected part of its
+/// pattern): `minimise ½ wᵀ Q w subject to w[b] = bc, 0 ≤ w ≤ 1`, by the active-set method of
+/// [`bounded_biharmonic`], which is this with `Q = L M⁻¹ L` of a triangle mesh. For example the
+/// biharmonic energy of a volume's grid (Catmull–Clark cages' volumetric weights).
+///
+/// Errors: a fixed vertex out of range, a connected part of `Q`'s pattern with no fixed vertex
+/// ([`WeightsError::UnconstrainedComponent`]), and those of [`bounded_biharmonic`].
+///
+/// ```
+/// use splineskin_core::linalg::csc::Csc;
+/// use splineskin_core::weights::{bbw::{bounded_minimiser, BbwOptions}, DirichletData};
+/// // The path graph 0 – 1 – 2 – 3 – 4: its Laplacian L, and Q = L L (unit masses).
+/// let mut t = Vec::new();
+/// for i in 0..4 {
+///     t.extend([(i, i, 1.0), (i + 1, i + 1, 1.0), (i, i + 1, -1.0), (i + 1, i, -1.0)]);
+/// }
+/// let l = Csc::from_triplets(5, t);
+/// let q = l.times_diagonal_times(&[1.0; 5], &l);
+/// let w = bounded_minimiser(q, &DirichletData::handles(&[0, 4])?, &BbwOptions::default())?;
+/// assert_eq!(w.row(0), &[1.0, 0.0]);
+/// assert!((w.row(2)[0] - 0.5).abs() < 1e-12, "halfway along the path: {:?}", w.row(2));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn bounded_minimiser(
+    q: Csc,
+    data: &DirichletData,
+    options: &BbwOptions,
+) -> Result<VertexWeights, WeightsError> {
+    options.check()?;
+    check_data_bounds(data)?;
+    data.check_range(q.n)?;
+    check_pattern_components(&q, data)?;
+    solve_bounded(&EnergySystem::new(q)?, data, options)
+}
+
+/// Every connected part of `q`'s pattern (as a graph) holds a fixed vertex of `data`.
+fn check_pattern_components(q: &Csc, data: &DirichletData) -> Result<(), WeightsError> {
+    use crate::union_find::{labels, singletons, union};
+    let mut parent = singletons(q.n);
+    for j in 0..q.n {
+        for &i in q.column(j).0 {
+            union(&mut parent, i, j);
+        }
+    }
+    let (component, n_components) = labels(&mut parent);
+    let mut held = vec![false; n_components];
+    for &v in data.vertices() {
+        held[component[v]] = true;
+    }
+    match (0..q.n).find(|&v| !held[component[v]]) {
+        Some(vertex) => Err(WeightsError::UnconstrainedComponent { vertex }),
+        None => Ok(()),
+    }
+}
+
+/// The active-set solve of every column from the unbounded minimisers.
+fn solve_bounded(
+    system: &EnergySystem,
+    data: &DirichletData,
+    options: &BbwOptions,
+) -> Result<VertexWeights, WeightsError> {
+    let (n, h) = (system.n(), data.n_columns());
+    let columns = solve_unbounded(system, data)?;
     solve_columns(columns, n, h, options, |j, column| {
         let status = initial_status(n, data, None);
-        solve_column(&system, j, column, status, false, options)
+        solve_column(system, j, column, status, false, options)
     })
 }
 

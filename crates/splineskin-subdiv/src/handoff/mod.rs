@@ -3,7 +3,7 @@
 //! | format | what it holds | written by |
 //! |---|---|---|
 //! | USD (`.usda`, text) | the fitted cage as a Catmull–Clark `Mesh` (faces, creases, corners, holes) with time-sampled `points`: tools that subdivide (Blender, Houdini, Maya, usdview) rebuild our limit surface | [`write_usda`] |
-//! | glTF 2.0 (`.glb`) | the tessellated limit surface ([`LimitMesh`](super::LimitMesh), triangles), one morph target per frame and an animation that steps through them: glTF has no subdivision, so the surface itself travels | [`write_glb`] |
+//! | glTF 2.0 (`.glb`) | the tessellated limit surface ([`LimitMesh`], triangles), one morph target per frame and an animation that steps through them: glTF has no subdivision, so the surface itself travels | [`write_glb`] |
 //! | OBJ per frame | the fitted cage ([`to_obj_string`](super::to_obj_string)) | the CLI (`subdiv animate -o DIR`) |
 //!
 //! The fitted cage is not linear blend skinning of the rest cage (every vertex depends on
@@ -13,6 +13,9 @@
 //! largest coordinate.
 
 use super::cage::Point3;
+use super::error::SubdivError;
+use super::limit_mesh::LimitMesh;
+use super::scene::{SubdivScene, SubdivSceneError, SubdivSetup};
 
 mod gltf;
 mod usd;
@@ -32,7 +35,7 @@ pub enum UpAxis {
 }
 
 /// Why frames could not be written.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum HandoffError {
     /// No frames, or times and frames of different lengths, or times not increasing.
@@ -61,6 +64,9 @@ pub enum HandoffError {
         /// The coordinate.
         value: f64,
     },
+    /// Sampling the limit surface failed.
+    #[error(transparent)]
+    Subdiv(#[from] SubdivError),
     /// More frames than the format's writer takes.
     #[error("{n_frames} frames is more than the {max} a glTF morph animation holds here; lower the frame rate or write USD or OBJ frames")]
     TooManyFrames {
@@ -69,6 +75,102 @@ pub enum HandoffError {
         /// The limit.
         max: usize,
     },
+}
+
+/// A scene's animation fitted frame by frame: what the writers take.
+#[derive(Clone, Debug)]
+pub struct FittedAnimation {
+    /// Frames per second.
+    pub fps: f64,
+    /// Every frame's time, seconds ([`SubdivScene::animation_frames`]).
+    pub times: Vec<f64>,
+    /// Every frame's fitted cage (the rig's update of that frame's pose).
+    pub cages: Vec<Vec<Point3>>,
+}
+
+impl FittedAnimation {
+    /// Samples `scene`'s animation and fits every frame with `setup`'s rig.
+    ///
+    /// ```no_run
+    /// use splineskin_subdiv::handoff::{FittedAnimation, UpAxis};
+    /// use splineskin_subdiv::SubdivScene;
+    ///
+    /// let scene = SubdivScene::load("tube-scene.json".as_ref())?;
+    /// let setup = scene.setup()?;
+    /// let frames = FittedAnimation::new(&scene, &setup)?;
+    /// std::fs::write("tube.usda", frames.usda(&setup, "tube", UpAxis::Y)?)?;
+    /// std::fs::write("tube.glb", frames.glb(&setup, 3, "tube", UpAxis::Y)?)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn new(scene: &SubdivScene, setup: &SubdivSetup) -> Result<Self, SubdivSceneError> {
+        let frames = scene.animation_frames()?;
+        let mut cages = Vec::with_capacity(frames.len());
+        for (f, (t, pose)) in frames.iter().enumerate() {
+            let mut out = vec![[0.0; 3]; setup.cage.n_vertices()];
+            setup
+                .rig
+                .update(pose, &mut out)
+                .map_err(|source| SubdivSceneError::Invalid {
+                    file: scene.file.clone(),
+                    element: "animation".into(),
+                    message: format!("frame {f} (t = {t} s): {source}"),
+                })?;
+            cages.push(out);
+        }
+        Ok(FittedAnimation {
+            fps: scene.animation.as_ref().map_or(0.0, |a| a.fps()),
+            times: frames.into_iter().map(|f| f.0).collect(),
+            cages,
+        })
+    }
+
+    /// The frames as USD text ([`write_usda`]): the cage of `setup`, prim `name`.
+    pub fn usda(
+        &self,
+        setup: &SubdivSetup,
+        name: &str,
+        up: UpAxis,
+    ) -> Result<String, HandoffError> {
+        write_usda(&CageFrames {
+            cage: &setup.cage,
+            times: &self.times,
+            positions: &self.cages,
+            fps: self.fps,
+            name,
+            up,
+        })
+    }
+
+    /// The frames as binary glTF ([`write_glb`]): the limit surface tessellated at `level`
+    /// (the grid of [`LimitMesh`]), triangulated once at rest.
+    pub fn glb(
+        &self,
+        setup: &SubdivSetup,
+        level: usize,
+        name: &str,
+        up: UpAxis,
+    ) -> Result<Vec<u8>, HandoffError> {
+        let surface = setup.full_surface()?;
+        let mesh = LimitMesh::new(&setup.cage, &surface, level)?;
+        let positions: Vec<Vec<Point3>> = self
+            .cages
+            .iter()
+            .map(|cage| {
+                let mut out = vec![[0.0; 3]; mesh.n_vertices()];
+                mesh.positions(cage, &mut out);
+                out
+            })
+            .collect();
+        let mut rest = vec![[0.0; 3]; mesh.n_vertices()];
+        mesh.positions(setup.cage.positions(), &mut rest);
+        write_glb(&SurfaceFrames {
+            triangles: &mesh.triangles(&rest),
+            times: &self.times,
+            positions: &positions,
+            name,
+            up,
+        })
+    }
 }
 
 /// Checks frame times (finite, increasing, one per frame) and that every frame has `n`

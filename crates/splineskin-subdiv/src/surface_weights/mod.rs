@@ -6,6 +6,7 @@
 //! | Shepard (inverse distance; to a bone: to its segment) | [`Shepard3`] | points, bones | everywhere in space |
 //! | bone heat (Baran & Popović 2007) | [`BoneHeat`] | points, bones | on the limit surface (a [`LimitMesh`]) |
 //! | per cage vertex, from a file | [`CageVertexWeights`] | any | on the cage vertices, carried to the surface by the limit stencils |
+//! | bounded biharmonic (Jacobson et al. 2011) on the enclosed volume | [`VolumeBbw`] | points, bones | on a grid of the volume inside the limit surface |
 //!
 //! Every family implements [`SurfaceWeights`]: weights at a point of the surface (given by its
 //! location, position and limit stencil: each family uses what it needs) and at a cage vertex
@@ -17,6 +18,8 @@
 mod bone_heat;
 mod shepard;
 mod vertex_table;
+mod volume_bbw;
+mod volume_grid;
 
 pub use super::error::SurfaceWeightsError;
 pub use bone_heat::{
@@ -24,6 +27,9 @@ pub use bone_heat::{
 };
 pub use shepard::Shepard3;
 pub use vertex_table::{parse_weight_csv, read_weight_csv, CageVertexWeights};
+pub use volume_bbw::{
+    VolumeBbw, VolumeBbwOptions, DEFAULT_VOLUME_RESOLUTION, MAX_VOLUME_RESOLUTION,
+};
 
 use super::cage::{Cage, Point3};
 use super::limit::SurfaceLocation;
@@ -60,6 +66,36 @@ pub trait SurfaceWeights: Send + Sync {
         position: Point3,
         out: &mut [f64],
     ) -> Result<(), SurfaceWeightsError>;
+}
+
+/// Weights defined at every point of space (Shepard's, the volume's): a [`SurfaceWeights`]
+/// whose surface and cage-vertex weights are its values at their positions.
+pub(crate) trait SpatialWeights: Send + Sync {
+    /// Number of handles `h`.
+    fn n_spatial_handles(&self) -> usize;
+    /// The weights at `x`, into `out` (`h` long).
+    fn weights_at(&self, x: Point3, out: &mut [f64]);
+}
+
+impl<T: SpatialWeights> SurfaceWeights for T {
+    fn n_handles(&self) -> usize {
+        self.n_spatial_handles()
+    }
+
+    fn eval(&self, at: &SurfaceSample<'_>, out: &mut [f64]) -> Result<(), SurfaceWeightsError> {
+        self.weights_at(at.position, out);
+        Ok(())
+    }
+
+    fn eval_cage_vertex(
+        &self,
+        _vertex: u32,
+        position: Point3,
+        out: &mut [f64],
+    ) -> Result<(), SurfaceWeightsError> {
+        self.weights_at(position, out);
+        Ok(())
+    }
 }
 
 /// The weights of every node of `quadrature` (on `cage`), normalised, node-major

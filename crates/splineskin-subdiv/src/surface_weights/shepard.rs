@@ -14,7 +14,7 @@
 use super::super::cage::Point3;
 use super::super::error::SurfaceWeightsError;
 use super::super::handles::Handles3;
-use super::{SurfaceSample, SurfaceWeights};
+use super::SpatialWeights;
 use splineskin_core::weights::shepard::weights_from_squared_distances;
 use splineskin_core::weights::ShepardOptions;
 
@@ -74,24 +74,13 @@ impl Shepard3 {
     }
 }
 
-impl SurfaceWeights for Shepard3 {
-    fn n_handles(&self) -> usize {
+impl SpatialWeights for Shepard3 {
+    fn n_spatial_handles(&self) -> usize {
         self.handles.n_handles()
     }
 
-    fn eval(&self, at: &SurfaceSample<'_>, out: &mut [f64]) -> Result<(), SurfaceWeightsError> {
-        self.at(at.position, out);
-        Ok(())
-    }
-
-    fn eval_cage_vertex(
-        &self,
-        _vertex: u32,
-        position: Point3,
-        out: &mut [f64],
-    ) -> Result<(), SurfaceWeightsError> {
-        self.at(position, out);
-        Ok(())
+    fn weights_at(&self, x: Point3, out: &mut [f64]) {
+        self.at(x, out);
     }
 }
 
