@@ -1,16 +1,19 @@
 // `splineskin subdiv animate -o anim.glb` checked by Khronos' own glTF Validator (npm
 // `gltf-validator`): no errors; and every frame the file plays (the base mesh plus that frame's
 // morph target) is the limit surface `subdiv deform --frame N --limit-mesh` writes for the same
-// frame and tessellation level, to the rounding of the 32-bit floats glTF stores.
+// frame and tessellation level, to the rounding of the 32-bit floats glTF stores. Then three.js
+// (npm `three`, its GLTFLoader and AnimationMixer) plays the file in chromium: the morphed
+// vertices at a frame's time are that frame's surface, and screenshots of three frames are kept.
 
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
+import { cpSync, mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after } from 'node:test';
 
 import validator from 'gltf-validator';
 
-import { outputFolder, REPO, runSplineskin } from './harness.mjs';
+import { launchBrowser, outputFolder, REPO, runSplineskin, serveFolder } from './harness.mjs';
+import { compareImages, decodePng, inkFraction } from './png.mjs';
 
 const TUBE = join(REPO, 'crates', 'splineskin', 'assets', 'subdiv', 'tube-scene.json');
 const LEVEL = '2';
@@ -86,4 +89,91 @@ out.check('the glb validates with no errors and plays the limit surface of every
   // A control: frame 30 (the bend) is not frame 0.
   const moved = floats(glb, primitive.targets[29].POSITION).reduce((m, v) => Math.max(m, Math.abs(v)), 0);
   assert.ok(moved > 0.5, `frame 30 moves the surface by ${moved}`);
+});
+
+/** A page that loads `tube.glb` with three.js and shows it at any time of its animation. */
+const PLAYER = `<!doctype html>
+<html><head><style>html, body { margin: 0; background: #fff; }</style>
+<script type="importmap">{"imports": {"three": "./three/build/three.module.js"}}</script>
+</head><body>
+<script type="module">
+import * as THREE from 'three';
+import { GLTFLoader } from './three/examples/jsm/loaders/GLTFLoader.js';
+const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+renderer.setSize(640, 400);
+renderer.setClearColor(0xffffff);
+document.body.appendChild(renderer.domElement);
+const scene = new THREE.Scene();
+scene.add(new THREE.HemisphereLight(0xffffff, 0x445566, 2.0));
+const sun = new THREE.DirectionalLight(0xffffff, 2.0);
+sun.position.set(3, 5, 8);
+scene.add(sun);
+const camera = new THREE.PerspectiveCamera(35, 640 / 400, 0.1, 100);
+camera.position.set(4, 3, 14);
+camera.lookAt(4, 0, 0);
+const gltf = await new GLTFLoader().loadAsync('tube.glb');
+scene.add(gltf.scene);
+let mesh;
+gltf.scene.traverse((o) => { if (o.isMesh) mesh = o; });
+mesh.material = new THREE.MeshStandardMaterial({ color: 0x4477cc, roughness: 0.6 });
+const mixer = new THREE.AnimationMixer(gltf.scene);
+mixer.clipAction(gltf.animations[0]).play();
+// The mesh at time t: every vertex with the morph targets applied, and a render.
+window.showAt = (t) => {
+  mixer.setTime(t);
+  renderer.render(scene, camera);
+  const out = [];
+  const v = new THREE.Vector3();
+  const n = mesh.geometry.attributes.position.count;
+  for (let i = 0; i < n; i++) {
+    mesh.getVertexPosition(i, v);
+    out.push(v.x, v.y, v.z);
+  }
+  return out;
+};
+window.loaded = true;
+</script></body></html>`;
+
+out.check('three.js plays the glb: the morphed surface at a frame time is that frame', async () => {
+  const dir = join(out.path, 'player');
+  mkdirSync(dir, { recursive: true });
+  const three = join(REPO, 'browser-tests', 'node_modules', 'three');
+  cpSync(join(three, 'build'), join(dir, 'three', 'build'), { recursive: true });
+  cpSync(join(three, 'examples', 'jsm', 'loaders', 'GLTFLoader.js'), join(dir, 'three', 'examples', 'jsm', 'loaders', 'GLTFLoader.js'));
+  cpSync(join(three, 'examples', 'jsm', 'utils'), join(dir, 'three', 'examples', 'jsm', 'utils'), { recursive: true });
+  writeFileSync(join(dir, 'index.html'), PLAYER);
+  await runSplineskin(['subdiv', 'animate', TUBE, '-o', join(dir, 'tube.glb'), '--level', LEVEL]);
+  const server = await serveFolder(dir);
+  const browser = await launchBrowser({ viewport: { width: 640, height: 400 } });
+  try {
+    const page = await browser.context.newPage();
+    const problems = [];
+    page.on('pageerror', (e) => problems.push(String(e)));
+    await page.goto(server.url('index.html'));
+    await page.waitForFunction(() => window.loaded === true, null, { timeout: 30000 });
+    const shots = {};
+    for (const frame of [0, 24, 72]) {
+      const played = await page.evaluate((t) => window.showAt(t), frame / 24);
+      const meshPath = join(out.path, `three-frame${frame}-mesh.obj`);
+      await runSplineskin(['subdiv', 'deform', TUBE, '--frame', String(frame), '-o', join(out.path, `three-frame${frame}.obj`),
+        '--limit-mesh', meshPath, '--level', LEVEL]);
+      const want = objVertices(readFileSync(meshPath, 'utf8'));
+      assert.equal(played.length, want.length, `frame ${frame}: vertex count`);
+      const largest = want.reduce((m, v) => Math.max(m, Math.abs(v)), 0);
+      const worst = played.reduce((m, v, i) => Math.max(m, Math.abs(v - want[i])), 0);
+      // three.js adds the morph target in f32 on the CPU; a few ulps of the largest coordinate.
+      assert.ok(worst <= 1e-5 * largest, `frame ${frame}: three.js is ${worst} from our surface`);
+      const png = await page.screenshot();
+      writeFileSync(join(out.path, `three-frame${frame}.png`), png);
+      shots[frame] = decodePng(png);
+      assert.ok(inkFraction(shots[frame]) > 0.02, `frame ${frame}: the tube is drawn`);
+    }
+    assert.deepEqual(problems, []);
+    // A control: the bend (frame 24) and the twist (frame 72) look different from the rest pose.
+    assert.ok(compareImages(shots[0], shots[24]).mean > 1, 'the bend shows');
+    assert.ok(compareImages(shots[0], shots[72]).mean > 0.2, 'the twist shows');
+  } finally {
+    await browser.close();
+    await server.close();
+  }
 });
