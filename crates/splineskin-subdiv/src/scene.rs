@@ -703,9 +703,16 @@ mod tests {
         );
         assert!(nan.starts_with("scene.json: invalid scene JSON: "), "{nan}");
         let unknown = message(
-            r#"{"splineskin_subdiv_scene": 1, "obj": "a.obj", "weights": {"family": "bbw"}}"#,
+            r#"{"splineskin_subdiv_scene": 1, "obj": "a.obj", "weights": {"family": "tetgen"}}"#,
         );
-        assert!(unknown.contains("unknown variant `bbw`"), "{unknown}");
+        assert!(unknown.contains("unknown variant `tetgen`"), "{unknown}");
+        assert_eq!(
+            message(
+                r#"{"splineskin_subdiv_scene": 1, "obj": "a.obj", "handles": [{"position": [0, 0, 0]}],
+                "weights": {"family": "bbw", "resolution": 2}}"#
+            ),
+            "scene.json: weights.resolution: 2 cells; expected 4 ..= 128"
+        );
         assert!(message("{}").starts_with("scene.json: not a subdivision scene"));
     }
 }

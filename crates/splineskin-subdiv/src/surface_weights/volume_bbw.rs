@@ -322,3 +322,68 @@ fn energy_and_data(
         DirichletData::new(vertices, values, n_handles).map_err(|e| volume_error(e.to_string()))?;
     Ok((q, data))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{parse_obj, LimitOptions};
+
+    /// A 4 × 1 × 1 bar; without its top face when `open`.
+    fn bar(open: bool) -> Cage {
+        let mut text = String::from(
+            "v 0 0 0\nv 4 0 0\nv 4 1 0\nv 0 1 0\nv 0 0 1\nv 4 0 1\nv 4 1 1\nv 0 1 1\n\
+             f 1 4 3 2\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n",
+        );
+        if !open {
+            text.push_str("f 5 6 7 8\n");
+        }
+        parse_obj(&text, "bar.obj").unwrap()
+    }
+
+    fn weights(cage: &Cage) -> VolumeBbw {
+        let surface = LimitSurface::new(cage, &LimitOptions::default()).unwrap();
+        let handles = Handles3::new(vec![[0.8, 0.5, 0.5], [3.2, 0.5, 0.5]], vec![]).unwrap();
+        VolumeBbw::new(cage, &surface, &handles, &VolumeBbwOptions::default()).unwrap()
+    }
+
+    #[test]
+    fn the_weights_interpolate_the_handles_at_their_nodes() {
+        let w = weights(&bar(false));
+        let mut row = [0.0; 2];
+        for (i, p) in [[0.8, 0.5, 0.5], [3.2, 0.5, 0.5]].into_iter().enumerate() {
+            let node = nearest(&w.positions, p);
+            w.eval_at(w.positions[node], &mut row);
+            let mut want = [0.0; 2];
+            want[i] = 1.0;
+            assert_eq!(row, want, "handle {i} at its node");
+        }
+    }
+
+    #[test]
+    fn an_open_cage_still_has_a_volume_and_bounded_weights() {
+        // Without its top, the bar's inside reaches the outside through the opening: the
+        // winding number votes inside near the bottom, and the band keeps the walls.
+        let (open, closed) = (weights(&bar(true)), weights(&bar(false)));
+        assert!(open.n_nodes() > 0 && open.n_nodes() <= closed.n_nodes() + closed.n_nodes() / 2);
+        let mut row = [0.0; 2];
+        for x in [0.0, 1.0, 2.0, 3.0, 4.0] {
+            open.eval_at([x, 0.5, 0.1], &mut row);
+            assert!(row.iter().all(|w| (0.0..=1.0).contains(w)), "{row:?}");
+            assert!((row[0] + row[1] - 1.0).abs() < 1e-12);
+        }
+        open.eval_at([0.2, 0.5, 0.2], &mut row);
+        assert!(row[0] > 0.9, "{row:?}");
+    }
+
+    #[test]
+    fn a_resolution_out_of_range_is_refused() {
+        let cage = bar(false);
+        let surface = LimitSurface::new(&cage, &LimitOptions::default()).unwrap();
+        let handles = Handles3::new(vec![[0.8, 0.5, 0.5]], vec![]).unwrap();
+        let options = VolumeBbwOptions::default().with_resolution(2);
+        let e = VolumeBbw::new(&cage, &surface, &handles, &options)
+            .err()
+            .unwrap();
+        assert!(e.to_string().contains("volume resolution 2"), "{e}");
+    }
+}
