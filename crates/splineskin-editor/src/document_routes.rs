@@ -48,7 +48,7 @@ pub(crate) fn open(editor: &Editor, request: &Request) -> Result<Response, ApiEr
 
 /// Decodes `%XX` escapes (the page sends file names with `encodeURIComponent`); anything
 /// malformed is kept as it is.
-fn percent_decode(s: &str) -> String {
+pub(crate) fn percent_decode(s: &str) -> String {
     let bytes = s.as_bytes();
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;

@@ -35,6 +35,7 @@
 //! | `POST /api/documents/{id}/pins` | [`PinsRequest`](wire::PinsRequest) | `{"pins": [[x, y], …]}`: the page's pins first, then pins placed over the art as `splineskin rig` places them ([`place_pins`](splineskin::scene::place_pins)), at most [`MAX_AUTO_PINS`](crate::document_routes::MAX_AUTO_PINS) when the page has fewer |
 //! | `POST /api/documents/{id}/scene` | [`EditScene`](wire::EditScene) | the scene file (ours, drawing inline) |
 //! | `POST /api/documents/{id}/animation?format=svg\|gif\|apng[&viewbox=keep\|fit]` | [`EditScene`](wire::EditScene) with an `animation` | what `splineskin animate SCENE -o anim.svg\|anim.gif\|anim.png` writes of it (the animated SVG, or every frame rendered 480 pixels on its longer side into a GIF or APNG); header `x-splineskin-warning` when a build without fonts leaves text out |
+//! | `POST /api/subdiv/open?level=K` | an OBJ cage's text, `x-file-name` header | [`CageWire`](subdiv_routes::CageWire): the cage, its wireframe, and its limit surface at level `K` as triangles and limit stencils over the cage vertices (the Catmull–Clark page, `web/subdiv/`) |
 //! | `POST /api/documents/{id}/lottie` | [`EditScene`](wire::EditScene) with an `animation` | the Lottie animation `splineskin animate SCENE -o anim.json` writes of it; header `x-splineskin-lottie`: [`LottieReport`](crate::document_routes::LottieReport) JSON (keyframes and bytes written and with every frame, warnings) |
 //!
 //! Errors are JSON [`ErrorBody`](wire::ErrorBody) `{"error": "…"}` naming the file and element
@@ -73,6 +74,7 @@ pub mod request;
 pub mod rig_routes;
 pub mod routes;
 pub mod store;
+pub mod subdiv_routes;
 pub mod wire;
 
 pub use editor::Editor;

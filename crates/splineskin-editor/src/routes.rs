@@ -5,7 +5,7 @@
 use crate::editor::Editor;
 use crate::progress::Followed;
 use crate::request::{ApiError, Request, Response};
-use crate::{defop_routes, document_routes, rig_routes};
+use crate::{defop_routes, document_routes, rig_routes, subdiv_routes};
 
 impl Editor {
     /// Answers `request`, following its job ([`JOB_HEADER`](crate::progress::JOB_HEADER)) while
@@ -49,6 +49,7 @@ impl Editor {
             (["progress", job], true, _) => rig_routes::progress(self, job),
             (["progress", job, "stop"], _, true) => rig_routes::stop(self, job),
             (["defop"], _, true) => defop_routes::defop(self, request, followed),
+            (["subdiv", "open"], _, true) => subdiv_routes::open(request),
             (["defops", id, "deform"], _, true) => defop_routes::deform(self, id, request),
             (["defops", id, "follow"], _, true) => defop_routes::follow(self, id, request),
             (["documents", id, "export"], _, true) => document_routes::export(self, id, request),

@@ -88,11 +88,13 @@ pub fn error_element(e: &AnimationError) -> &'static str {
 ///
 /// ```
 /// use splineskin_core::animation::file::pose_named;
-/// let poses = [("a", 1), ("b", 2), ("b", 3)];
-/// let name_of = |p: &(&'static str, i32)| Some(p.0);
-/// assert_eq!(pose_named(&poses, "a", name_of), Ok(&("a", 1)));
-/// assert_eq!(pose_named(&poses, "c", name_of), Err("no pose is named 'c'".to_string()));
-/// assert!(pose_named(&poses, "b", name_of).unwrap_err().starts_with("several poses"));
+/// struct Pose { name: Option<String>, value: i32 }
+/// let pose = |name: &str, value| Pose { name: Some(name.into()), value };
+/// let poses = [pose("a", 1), pose("b", 2), pose("b", 3)];
+/// let named = |name| pose_named(&poses, name, |p| p.name.as_deref()).map(|p| p.value);
+/// assert_eq!(named("a"), Ok(1));
+/// assert_eq!(named("c"), Err("no pose is named 'c'".to_string()));
+/// assert!(named("b").unwrap_err().starts_with("several poses"));
 /// ```
 pub fn pose_named<'a, T>(
     poses: &'a [T],

@@ -431,7 +431,7 @@ impl SceneError {
     /// ```
     /// use splineskin::animation::{Animation, Keyframe};
     /// use splineskin::scene::SceneError;
-    /// let e = Animation::new(0.0, vec![Keyframe::new(0.0, vec![])]).unwrap_err();
+    /// let e = Animation::new(0.0, vec![Keyframe::<kurbo::Affine>::new(0.0, vec![])]).unwrap_err();
     /// assert!(SceneError::animation("walk.json", e).to_string().starts_with("walk.json: animation.fps: "));
     /// ```
     pub fn animation(origin: &str, e: crate::animation::AnimationError) -> SceneError {

@@ -1,0 +1,144 @@
+// The WebGL2 drawing of the page: the limit surface shaded (a light at the eye and a dim one
+// from above, two-sided) and, on demand, the cage as lines. Geometry is uploaded by `setMesh`
+// (topology) and `setPositions` (per frame); `draw` renders with a camera's matrix.
+
+const SURFACE_VERTEX = `#version 300 es
+uniform mat4 u_matrix;
+in vec3 a_position;
+in vec3 a_normal;
+out vec3 v_normal;
+out vec3 v_position;
+void main() {
+  v_normal = a_normal;
+  v_position = a_position;
+  gl_Position = u_matrix * vec4(a_position, 1.0);
+}`;
+
+const SURFACE_FRAGMENT = `#version 300 es
+precision highp float;
+uniform vec3 u_eye;
+in vec3 v_normal;
+in vec3 v_position;
+out vec4 colour;
+void main() {
+  vec3 n = normalize(v_normal);
+  vec3 toEye = normalize(u_eye - v_position);
+  float facing = abs(dot(n, toEye));
+  float sky = 0.5 + 0.5 * n.y;
+  vec3 base = gl_FrontFacing ? vec3(0.30, 0.48, 0.80) : vec3(0.75, 0.45, 0.30);
+  colour = vec4(base * (0.25 + 0.6 * facing + 0.2 * sky), 1.0);
+}`;
+
+const LINE_VERTEX = `#version 300 es
+uniform mat4 u_matrix;
+in vec3 a_position;
+void main() { gl_Position = u_matrix * vec4(a_position, 1.0); }`;
+
+const LINE_FRAGMENT = `#version 300 es
+precision highp float;
+out vec4 colour;
+void main() { colour = vec4(0.12, 0.12, 0.15, 1.0); }`;
+
+/** A view drawing into `canvas`; throws when the browser has no WebGL2. */
+export function createView(canvas) {
+  const gl = canvas.getContext('webgl2', { antialias: true, preserveDrawingBuffer: true });
+  if (!gl) {
+    throw new Error('this browser has no WebGL2, which the 3D view needs');
+  }
+  const surface = program(gl, SURFACE_VERTEX, SURFACE_FRAGMENT);
+  const lines = program(gl, LINE_VERTEX, LINE_FRAGMENT);
+  const buffers = {
+    position: gl.createBuffer(),
+    normal: gl.createBuffer(),
+    triangles: gl.createBuffer(),
+    cage: gl.createBuffer(),
+    edges: gl.createBuffer(),
+  };
+  const counts = { triangles: 0, edges: 0 };
+  return {
+    setMesh(triangles, edges) {
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, buffers.triangles);
+      gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, new Uint32Array(triangles), gl.STATIC_DRAW);
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, buffers.edges);
+      gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, new Uint32Array(edges), gl.STATIC_DRAW);
+      counts.triangles = triangles.length;
+      counts.edges = edges.length;
+    },
+    setPositions(surfacePositions, normals, cagePositions) {
+      upload(gl, buffers.position, surfacePositions);
+      upload(gl, buffers.normal, normals);
+      upload(gl, buffers.cage, cagePositions);
+    },
+    draw(matrix, eyePosition, { showCage }) {
+      resize(gl);
+      gl.clearColor(1, 1, 1, 1);
+      gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+      gl.enable(gl.DEPTH_TEST);
+      gl.useProgram(surface.program);
+      gl.uniformMatrix4fv(surface.uniform('u_matrix'), false, matrix);
+      gl.uniform3fv(surface.uniform('u_eye'), eyePosition);
+      attribute(gl, surface, 'a_position', buffers.position);
+      attribute(gl, surface, 'a_normal', buffers.normal);
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, buffers.triangles);
+      gl.drawElements(gl.TRIANGLES, counts.triangles, gl.UNSIGNED_INT, 0);
+      if (showCage) {
+        gl.disable(gl.DEPTH_TEST);
+        gl.useProgram(lines.program);
+        gl.uniformMatrix4fv(lines.uniform('u_matrix'), false, matrix);
+        gl.disableVertexAttribArray(surface.attribute('a_normal'));
+        attribute(gl, lines, 'a_position', buffers.cage);
+        gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, buffers.edges);
+        gl.drawElements(gl.LINES, counts.edges, gl.UNSIGNED_INT, 0);
+      }
+    },
+  };
+}
+
+function upload(gl, buffer, values) {
+  gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+  gl.bufferData(gl.ARRAY_BUFFER, values instanceof Float32Array ? values : new Float32Array(values), gl.DYNAMIC_DRAW);
+}
+
+function attribute(gl, { attribute: location }, name, buffer) {
+  const at = location(name);
+  gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+  gl.enableVertexAttribArray(at);
+  gl.vertexAttribPointer(at, 3, gl.FLOAT, false, 0, 0);
+}
+
+/** Matches the drawing buffer to the canvas's size on screen. */
+function resize(gl) {
+  const canvas = gl.canvas;
+  const ratio = window.devicePixelRatio || 1;
+  const width = Math.max(1, Math.round(canvas.clientWidth * ratio));
+  const height = Math.max(1, Math.round(canvas.clientHeight * ratio));
+  if (canvas.width !== width || canvas.height !== height) {
+    canvas.width = width;
+    canvas.height = height;
+  }
+  gl.viewport(0, 0, width, height);
+}
+
+function program(gl, vertexSource, fragmentSource) {
+  const shader = (type, source) => {
+    const s = gl.createShader(type);
+    gl.shaderSource(s, source);
+    gl.compileShader(s);
+    if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) {
+      throw new Error(`shader: ${gl.getShaderInfoLog(s)}`);
+    }
+    return s;
+  };
+  const p = gl.createProgram();
+  gl.attachShader(p, shader(gl.VERTEX_SHADER, vertexSource));
+  gl.attachShader(p, shader(gl.FRAGMENT_SHADER, fragmentSource));
+  gl.linkProgram(p);
+  if (!gl.getProgramParameter(p, gl.LINK_STATUS)) {
+    throw new Error(`program: ${gl.getProgramInfoLog(p)}`);
+  }
+  return {
+    program: p,
+    uniform: (name) => gl.getUniformLocation(p, name),
+    attribute: (name) => gl.getAttribLocation(p, name),
+  };
+}
