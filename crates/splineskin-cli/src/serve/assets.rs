@@ -72,14 +72,19 @@ pub const ISOLATION_HEADERS: [(&str, &str); 2] = [
     ("cross-origin-embedder-policy", "require-corp"),
 ];
 
+/// The folder of the pages only a server answers (left out of a static build).
+const SERVER_ONLY: &str = "subdiv/";
+
 /// The files of a static build of the editor: the page's files, its `index.html` marked to
 /// answer its requests in a worker (`data-backend="wasm"`, web/backend.js) and carrying the
 /// content security policy, the WebAssembly module `wasm` as [`STATIC_WASM_NAME`], and the
 /// bundled fish as `demo.svg` (for `example.html`, the JavaScript API's example); with
 /// `threaded`, the threaded module as [`STATIC_WASM_THREADS_NAME`]; and a `_headers` file asking
-/// the host for [`ISOLATION_HEADERS`].
+/// the host for [`ISOLATION_HEADERS`]. The Catmull–Clark page (`subdiv/`) is left out: it asks
+/// the server for its limit surfaces, which the WebAssembly backend does not answer yet.
 pub fn static_files(wasm: Vec<u8>, threaded: Option<Vec<u8>>) -> Vec<(String, Vec<u8>)> {
     let mut files: Vec<(String, Vec<u8>)> = Web::iter()
+        .filter(|name| !name.starts_with(SERVER_ONLY))
         .filter_map(|name| Some((name.to_string(), Web::get(&name)?.data.into_owned())))
         .collect();
     for (name, bytes) in &mut files {
@@ -129,5 +134,26 @@ fn content_type(path: &str) -> &'static str {
         "png" => "image/png",
         "wasm" => "application/wasm",
         _ => "application/octet-stream",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_static_build_is_one_flat_folder_without_the_server_only_page() {
+        let files = static_files(vec![0], None);
+        assert!(files.iter().any(|(name, _)| name == "index.html"));
+        for (name, _) in &files {
+            assert!(
+                !name.contains('/'),
+                "{name}: a static build writes no subfolder"
+            );
+        }
+        assert!(
+            Web::get("subdiv/index.html").is_some(),
+            "the server serves the page"
+        );
     }
 }
