@@ -88,3 +88,66 @@ check('a broken OBJ is refused with a message naming the file and line', async (
   assert.match(said, /broken\.obj:2/);
   assert.deepEqual(pageErrors, []);
 });
+
+/** Clicks the canvas where the world point `p` is drawn. */
+async function clickAt(p) {
+  const box = await page.locator('#view').boundingBox();
+  const [x, y] = await page.evaluate((q) => window.subdivProject(q), p);
+  await page.mouse.click(box.x + x, box.y + y);
+}
+
+check('clicking adds handles, the rig arrives, dragging a handle bends the surface near it only', async () => {
+  await page.setInputFiles('#open', TUBE);
+  await page.waitForFunction(() => document.getElementById('status').textContent.includes('Click the surface'), null, { timeout: WAIT });
+  await clickAt([0.8, 0, 0]);
+  await page.waitForFunction(() => window.subdivPageState().rigReady, null, { timeout: WAIT });
+  await clickAt([7.2, 0, 0]);
+  await page.waitForFunction(() => window.subdivPageState().rigReady && window.subdivPageState().handles.length === 2, null, { timeout: WAIT });
+  const rest = await page.evaluate(() => window.subdivPageState());
+  assert.equal(rest.selected, 1);
+  const before = await shot('two-handles');
+  // Drag the second handle 80 pixels up.
+  const box = await page.locator('#view').boundingBox();
+  const at = rest.handles[1].rest;
+  const [x, y] = await page.evaluate((q) => window.subdivProject(q), at);
+  await page.mouse.move(box.x + x, box.y + y);
+  await page.mouse.down();
+  await page.mouse.move(box.x + x, box.y + y - 80, { steps: 8 });
+  await page.mouse.up();
+  const moved = await page.evaluate(() => window.subdivPageState());
+  const offset = Math.hypot(...moved.handles[1].offset);
+  assert.ok(offset > 0.5, `the handle moved by ${offset}`);
+  assert.deepEqual(moved.handles[0].offset, [0, 0, 0]);
+  // The cage's vertices near the moved handle follow it, those near the other stay.
+  const shift = (v) => Math.hypot(...[0, 1, 2].map((k) => moved.fitted[3 * v + k] - rest.fitted[3 * v + k]));
+  const near = (end) => [...Array(72).keys()].filter((v) => Math.abs(rest.fitted[3 * v] - end) < 0.6);
+  const farMove = Math.max(...near(8).map(shift));
+  const stillMove = Math.max(...near(0).map(shift));
+  console.log(`the moved end's cage moved ${farMove.toFixed(3)}, the other end's ${stillMove.toFixed(3)}; frame ${moved.frameMs.toFixed(1)} ms`);
+  assert.ok(farMove > 0.5 * offset && stillMove < 0.25 * farMove, `${farMove} vs ${stillMove}`);
+  const after = await shot('dragged');
+  assert.ok(compareImages(before, after).mean > 0.5, 'the surface changed on screen');
+  // Paint the selected handle's weights: red where it pulls.
+  await page.check('#paint');
+  const painted = await shot('painted');
+  const red = countPixels(painted, ([r, g, b]) => r > 150 && g < 90 && b < 90);
+  assert.ok(red > 500, `${red} red pixels`);
+  // Another family: the rig is recomputed with it.
+  await page.selectOption('#family', 'bbw');
+  await page.waitForFunction(() => document.getElementById('status').textContent.includes('bbw weights: weights and rig in'), null, { timeout: WAIT });
+  const bbw = await shot('bbw');
+  assert.ok(countPixels(bbw, ([r, g, b]) => r > 150 && g < 90 && b < 90) > 500, 'painted with the new weights');
+  // The canvas kept its size whatever the status said.
+  assert.equal(bbw.width, painted.width);
+  assert.equal((await page.locator('#view').boundingBox()).width, 960);
+  assert.deepEqual(pageErrors, []);
+});
+
+/** Pixels of `image` for which `test([r, g, b])` holds. */
+function countPixels({ width, height, data }, test) {
+  let n = 0;
+  for (let i = 0; i < width * height; i++) {
+    if (test([data[4 * i], data[4 * i + 1], data[4 * i + 2]])) n++;
+  }
+  return n;
+}

@@ -36,6 +36,7 @@
 //! | `POST /api/documents/{id}/scene` | [`EditScene`](wire::EditScene) | the scene file (ours, drawing inline) |
 //! | `POST /api/documents/{id}/animation?format=svg\|gif\|apng[&viewbox=keep\|fit]` | [`EditScene`](wire::EditScene) with an `animation` | what `splineskin animate SCENE -o anim.svg\|anim.gif\|anim.png` writes of it (the animated SVG, or every frame rendered 480 pixels on its longer side into a GIF or APNG); header `x-splineskin-warning` when a build without fonts leaves text out |
 //! | `POST /api/subdiv/open?level=K` | an OBJ cage's text, `x-file-name` header | [`CageWire`](subdiv_routes::CageWire): the cage, its wireframe, and its limit surface at level `K` as triangles and limit stencils over the cage vertices (the Catmull–Clark page, `web/subdiv/`) |
+//! | `POST /api/subdiv/rig` | [`RigWireRequest`](subdiv_routes::RigWireRequest) `{"name", "obj", "level"?, "scene": {handles, bones, weights, …}}` | [`RigWire`](subdiv_routes::RigWire): the rig's factors `B_i[v]` (fitted cage `c'_v = Σ_i T_i · B_i[v]`) and every handle's weight at the surface vertices of the level |
 //! | `POST /api/documents/{id}/lottie` | [`EditScene`](wire::EditScene) with an `animation` | the Lottie animation `splineskin animate SCENE -o anim.json` writes of it; header `x-splineskin-lottie`: [`LottieReport`](crate::document_routes::LottieReport) JSON (keyframes and bytes written and with every frame, warnings) |
 //!
 //! Errors are JSON [`ErrorBody`](wire::ErrorBody) `{"error": "…"}` naming the file and element

@@ -50,6 +50,7 @@ impl Editor {
             (["progress", job, "stop"], _, true) => rig_routes::stop(self, job),
             (["defop"], _, true) => defop_routes::defop(self, request, followed),
             (["subdiv", "open"], _, true) => subdiv_routes::open(request),
+            (["subdiv", "rig"], _, true) => subdiv_routes::rig(request),
             (["defops", id, "deform"], _, true) => defop_routes::deform(self, id, request),
             (["defops", id, "follow"], _, true) => defop_routes::follow(self, id, request),
             (["documents", id, "export"], _, true) => document_routes::export(self, id, request),

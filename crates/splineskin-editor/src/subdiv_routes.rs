@@ -6,9 +6,18 @@
 //! cage quad) as triangles and **limit stencils**: each surface vertex `s_m = Σ_j w_mj c_j`, a
 //! sparse row over the cage vertices `c_j` (the page's per-frame tessellation is that sparse
 //! product, then the normals).
+//!
+//! `POST /api/subdiv/rig` ([`RigWireRequest`]: the OBJ text and the handles and weights of a
+//! subdivision scene) answers [`RigWire`]: the rig's factors `B_i[v]` (the fitted cage is
+//! `c'_v = Σ_i T_i · B_i[v]` for 3 × 4 maps `T_i`, [`SubdivRig`]), so the page's per-frame
+//! update is that small product, and every handle's weight at the surface vertices of level `K`
+//! (to paint them).
 
 use serde::{Deserialize, Serialize};
-use splineskin::subdiv::{parse_obj, LimitMesh, LimitOptions, LimitSurface, MAX_LIMIT_MESH_LEVEL};
+use splineskin::subdiv::surface_weights::sample_weights;
+use splineskin::subdiv::{
+    parse_obj, LimitMesh, LimitOptions, LimitSurface, SubdivRig, SubdivScene, MAX_LIMIT_MESH_LEVEL,
+};
 
 use crate::request::{ApiError, Request, Response};
 
@@ -62,16 +71,97 @@ pub struct SurfaceWire {
     pub weights: Vec<f64>,
 }
 
+/// `POST /api/subdiv/rig`: a cage, its handles and weights (module documentation).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigWireRequest {
+    /// The OBJ file's name (for messages).
+    pub name: String,
+    /// The OBJ text.
+    pub obj: String,
+    /// Level of the surface the weights are sampled at (as `POST /api/subdiv/open` was asked).
+    #[serde(default)]
+    pub level: Option<usize>,
+    /// A subdivision scene's `handles`, `bones`, `weights` and `quadrature`, as scene files
+    /// write them (`splineskin::subdiv::scene`), without `obj`.
+    pub scene: serde_json::Map<String, serde_json::Value>,
+}
+
+/// The answer of `POST /api/subdiv/rig` (module documentation).
+#[derive(Serialize, Deserialize, Debug)]
+pub struct RigWire {
+    /// Cage vertices.
+    pub n_vertices: usize,
+    /// Handles (points, then bones).
+    pub n_handles: usize,
+    /// `B_i[v]`, four numbers each, vertex-major then handle (`[(v · h + i) · 4 + c]`).
+    pub coefficients: Vec<f64>,
+    /// Every handle's weight at every surface vertex of the level, vertex-major
+    /// (`[m · h + i]`).
+    pub surface_weights: Vec<f64>,
+    /// Seconds the weights and the rig took.
+    pub seconds: f64,
+}
+
+/// `POST /api/subdiv/rig`.
+pub(crate) fn rig(request: &Request) -> Result<Response, ApiError> {
+    let body: RigWireRequest = serde_json::from_slice(request.upload()?)
+        .map_err(|e| ApiError::bad(format!("subdiv/rig: {e}")))?;
+    let level = check_level(body.level)?;
+    let name = body.name;
+    let cage = parse_obj(&body.obj, &name).map_err(|e| ApiError::new(400, e.to_string()))?;
+    let mut scene = body.scene;
+    scene.insert("splineskin_subdiv_scene".into(), 1.into());
+    scene.insert("obj".into(), name.clone().into());
+    let text = serde_json::Value::Object(scene).to_string();
+    let start = std::time::Instant::now();
+    let scene = SubdivScene::parse(&text, &format!("{name}: scene"), std::path::Path::new(""))
+        .map_err(|e| ApiError::new(400, e.to_string()))?;
+    let setup = scene
+        .setup_with(cage)
+        .map_err(|e| ApiError::new(400, e.to_string()))?;
+    let fail = |e: &dyn std::fmt::Display| ApiError::new(400, format!("{name}: {e}"));
+    let surface = setup.full_surface().map_err(|e| fail(&e))?;
+    let mesh = LimitMesh::new(&setup.cage, &surface, level).map_err(|e| fail(&e))?;
+    let surface_weights =
+        sample_weights(setup.weights.as_ref(), &setup.cage, &mesh).map_err(|e| fail(&e))?;
+    Response::json(&RigWire {
+        n_vertices: setup.rig.n_vertices(),
+        n_handles: setup.rig.n_handles(),
+        coefficients: coefficients(&setup.rig),
+        surface_weights,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// Every `B_i[v]`, vertex-major.
+fn coefficients(rig: &SubdivRig) -> Vec<f64> {
+    let mut out = Vec::with_capacity(4 * rig.n_vertices() * rig.n_handles());
+    for v in 0..rig.n_vertices() {
+        for i in 0..rig.n_handles() {
+            out.extend(rig.coefficients(v, i));
+        }
+    }
+    out
+}
+
+/// The level asked for, or the default; 400 outside 1 ..= [`MAX_LIMIT_MESH_LEVEL`].
+fn check_level(level: Option<usize>) -> Result<usize, ApiError> {
+    let level = level.unwrap_or(DEFAULT_PAGE_LEVEL);
+    if (1..=MAX_LIMIT_MESH_LEVEL).contains(&level) {
+        Ok(level)
+    } else {
+        Err(ApiError::new(
+            400,
+            format!("level {level}; expected 1 ..= {MAX_LIMIT_MESH_LEVEL}"),
+        ))
+    }
+}
+
 /// `POST /api/subdiv/open?level=K`: the body is the OBJ text, `x-file-name` its name.
 pub(crate) fn open(request: &Request) -> Result<Response, ApiError> {
     let query: OpenQuery = request.query("subdiv/open")?;
-    let level = query.level.unwrap_or(DEFAULT_PAGE_LEVEL);
-    if !(1..=MAX_LIMIT_MESH_LEVEL).contains(&level) {
-        return Err(ApiError::new(
-            400,
-            format!("level {level}; expected 1 ..= {MAX_LIMIT_MESH_LEVEL}"),
-        ));
-    }
+    let level = check_level(query.level)?;
     let name = request
         .header("x-file-name")
         .map(crate::document_routes::percent_decode)
@@ -187,6 +277,76 @@ mod tests {
                 assert!((got - w[k]).abs() < 1e-12, "vertex {m}: {got} vs {}", w[k]);
             }
         }
+    }
+
+    #[test]
+    fn the_rigs_factors_give_the_fitted_cage_and_the_weights_are_painted() {
+        let editor = Editor::new(None);
+        let body = serde_json::json!({
+            "name": "tube.obj",
+            "obj": TUBE,
+            "level": 2,
+            "scene": {
+                "handles": [{"position": [0.5, 0.0, 0.0]}, {"position": [7.5, 0.0, 0.0]}],
+                "weights": {"family": "bbw", "resolution": 16}
+            }
+        });
+        let answer = editor.handle(&Request::post("/api/subdiv/rig", body.to_string()));
+        assert_eq!(
+            answer.status,
+            200,
+            "{}",
+            String::from_utf8_lossy(&answer.body)
+        );
+        let wire: RigWire = serde_json::from_slice(&answer.body).unwrap();
+        assert_eq!((wire.n_vertices, wire.n_handles), (72, 2));
+        // The page's product against the library's rig for a pose.
+        let cage = parse_obj(TUBE, "tube.obj").unwrap();
+        let text = r#"{"splineskin_subdiv_scene": 1, "obj": "tube.obj",
+            "handles": [{"position": [0.5, 0.0, 0.0]}, {"position": [7.5, 0.0, 0.0]}],
+            "weights": {"family": "bbw", "resolution": 16}}"#;
+        let scene = SubdivScene::parse(text, "t", std::path::Path::new("")).unwrap();
+        let setup = scene.setup_with(cage).unwrap();
+        let turn = [
+            [0.0, -1.0, 0.0, 7.5],
+            [1.0, 0.0, 0.0, -7.5],
+            [0.0, 0.0, 1.0, 0.5],
+        ];
+        let pose = [splineskin::subdiv::AFFINE3_IDENTITY, turn];
+        let mut want = vec![[0.0; 3]; 72];
+        setup.rig.update(&pose, &mut want).unwrap();
+        for (v, w) in want.iter().enumerate() {
+            for k in 0..3 {
+                let got: f64 = (0..2)
+                    .map(|i| {
+                        let b = &wire.coefficients[(v * 2 + i) * 4..][..4];
+                        (0..4).map(|c| pose[i][k][c] * b[c]).sum::<f64>()
+                    })
+                    .sum();
+                assert!((got - w[k]).abs() < 1e-12, "vertex {v}: {got} vs {}", w[k]);
+            }
+        }
+        // Weights at every surface vertex of level 2, rows summing to 1, both handles present.
+        let n = wire.surface_weights.len() / 2;
+        assert_eq!(wire.surface_weights.len(), 2 * n);
+        for row in wire.surface_weights.chunks(2) {
+            assert!(
+                (row[0] + row[1] - 1.0).abs() < 1e-12
+                    && row.iter().all(|w| (0.0..=1.0).contains(w))
+            );
+        }
+        assert!(wire.surface_weights.chunks(2).any(|r| r[0] > 0.99));
+        assert!(wire.surface_weights.chunks(2).any(|r| r[1] > 0.99));
+        // A bad scene is refused naming the element.
+        let bad = serde_json::json!({"name": "tube.obj", "obj": TUBE,
+            "scene": {"handles": [{"position": [0.5, 0.0, 0.0]}], "weights": {"family": "bbw", "resolution": 1}}});
+        let answer = editor.handle(&Request::post("/api/subdiv/rig", bad.to_string()));
+        assert_eq!(answer.status, 400);
+        let message = String::from_utf8_lossy(&answer.body);
+        assert!(
+            message.contains("tube.obj: scene: weights.resolution"),
+            "{message}"
+        );
     }
 
     #[test]

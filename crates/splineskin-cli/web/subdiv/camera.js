@@ -41,6 +41,18 @@ export function pan(camera, dx, dy, height) {
   }
 }
 
+/**
+ * The move in the world, parallel to the view, of a point at `at` dragged by `dx, dy` pixels
+ * of a view `height` tall.
+ */
+export function dragInView(camera, at, dx, dy, height) {
+  const e = eye(camera);
+  const [right, up, forward] = viewAxes(camera);
+  const depth = Math.max(camera.near, at.reduce((s, v, k) => s + (v - e[k]) * forward[k], 0));
+  const perPixel = (2 * depth * Math.tan(FIELD_OF_VIEW / 2)) / height;
+  return [0, 1, 2].map((k) => (dx * right[k] - dy * up[k]) * perPixel);
+}
+
 /** Zooms by a wheel step (`deltaY` > 0 moves away). */
 export function zoom(camera, deltaY) {
   camera.distance *= Math.exp(deltaY * 0.001);

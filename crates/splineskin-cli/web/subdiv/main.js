@@ -1,26 +1,47 @@
-// The Catmull–Clark page: open an OBJ cage, see its limit surface shaded, turn it about. The
-// page's state is the one `page` object below; the modules it uses hold none.
+// The Catmull–Clark page: open an OBJ cage, see its limit surface shaded, turn it about; click
+// the surface to add point handles, drag a handle to move it, and the cage is fitted so that
+// its limit surface follows the skinned one. The page's state is the one `page` object below;
+// the modules it uses hold none.
 //
 //   surface.js   the limit surface from cage positions (stencils), normals, bounds
+//   rig.js       the fitted cage from the rig's factors and the handles' maps
 //   camera.js    the orbit camera and its matrices
+//   pick.js      what the pointer is over
 //   gl-view.js   the WebGL2 drawing
 
-import { eye, fitCamera, orbit, pan, viewProjection, zoom } from './camera.js';
+import { dragInView, eye, fitCamera, orbit, pan, viewProjection, zoom } from './camera.js';
 import { createView } from './gl-view.js';
+import { pickPoint, pickSurface, project } from './pick.js';
+import { fitCage, translation, weightColumn } from './rig.js';
 import { bounds, tessellate, vertexNormals } from './surface.js';
 
+/** Pixels a press may move and still be a click. */
+const CLICK_SLOP = 4;
+/** Pixels from a handle's dot that pick it. */
+const HANDLE_RADIUS = 10;
+
 const page = {
-  /** The opened cage ([`CageWire`] of POST /api/subdiv/open), or null. */
+  /** The opened cage ([`CageWire`] of POST /api/subdiv/open) and its OBJ text, or null. */
   cage: null,
-  /** Surface positions and normals (f32, drawn) and the cage's positions (f64). */
+  objText: '',
+  /** Surface positions and normals (f32, drawn) and the fitted cage (f64). */
   positions: null,
   normals: null,
+  fitted: null,
   camera: null,
   showCage: false,
-  /** The pointer drag in progress: `{x, y, panning}`, or null. */
+  paint: false,
+  family: 'shepard',
+  /** Point handles: `{ rest: [x, y, z], offset: [dx, dy, dz] }`. */
+  handles: [],
+  selected: null,
+  /** The rig of the handles ([`RigWire`] of POST /api/subdiv/rig), or null; `asked` counts requests. */
+  rig: null,
+  asked: 0,
+  /** The press in progress: `{x, y, startX, startY, handle, panning}`, or null. */
   drag: null,
-  /** Milliseconds of the last tessellation (stencil product and normals). */
-  tessellateMs: 0,
+  /** Milliseconds of the last frame's cage product and tessellation. */
+  frameMs: 0,
   view: null,
 };
 
@@ -38,85 +59,149 @@ try {
   say(error.message, { error: true });
 }
 
-/** Opens `file` (an OBJ cage): the server samples its limit surface. */
-async function open(file) {
-  say(`${file.name}: opening…`);
-  const response = await fetch('/api/subdiv/open', {
-    method: 'POST',
-    // The server answers POSTs that carry this header only (its guard against other sites).
-    headers: { 'x-splineskin': '1', 'x-file-name': encodeURIComponent(file.name) },
-    body: await file.arrayBuffer(),
-  });
+/** POSTs `body` to the server's `route`, answering its JSON or throwing its message. */
+async function post(route, body, headers = {}) {
+  // The server answers POSTs that carry this header only (its guard against other sites).
+  const response = await fetch(route, { method: 'POST', headers: { 'x-splineskin': '1', ...headers }, body });
+  const text = await response.text();
   if (!response.ok) {
-    const text = await response.text();
     let message = text;
     try {
       message = JSON.parse(text).error ?? text;
     } catch {
       // Not JSON: the text as it came.
     }
-    say(message, { error: true });
-    return;
+    throw new Error(message);
   }
-  const cage = await response.json();
-  page.cage = cage;
+  return JSON.parse(text);
+}
+
+/** Opens `file` (an OBJ cage): the server samples its limit surface. */
+async function open(file) {
+  say(`${file.name}: opening…`);
+  const text = await file.text();
+  const cage = await post('/api/subdiv/open', text, { 'x-file-name': encodeURIComponent(file.name) });
+  Object.assign(page, { cage, objText: text, handles: [], selected: null, rig: null });
   page.positions = new Float32Array(3 * cage.surface.n_vertices);
   page.normals = new Float32Array(3 * cage.surface.n_vertices);
+  page.fitted = Float64Array.from(cage.positions);
   page.view.setMesh(cage.surface.triangles, cage.edges);
-  update(cage.positions);
+  page.view.setHandles([]);
+  update();
   page.camera = fitCamera(bounds(page.positions));
   draw();
   const [creases, corners, holes] = cage.n_tags;
   say(`${cage.name}: ${cage.positions.length / 3} vertices, ${cage.face_sizes.length} faces, ` +
     `${creases} creases, ${corners} corners, ${holes} holes; limit surface level ${cage.surface.level}, ` +
-    `${cage.surface.triangles.length / 3} triangles, tessellated in ${page.tessellateMs.toFixed(1)} ms`);
+    `${cage.surface.triangles.length / 3} triangles, tessellated in ${page.frameMs.toFixed(1)} ms. ` +
+    'Click the surface to add handles.');
 }
 
-/** The surface of the cage at `cagePositions`, uploaded. */
-function update(cagePositions) {
+/** Asks for the rig of the current handles; a later request supersedes it. */
+async function rig() {
+  const asked = ++page.asked;
+  page.rig = null;
+  say(`${page.handles.length} handles: computing ${page.family} weights and the rig…`);
+  const scene = {
+    handles: page.handles.map((h) => ({ position: h.rest })),
+    weights: { family: page.family },
+  };
+  const body = JSON.stringify({ name: page.cage.name, obj: page.objText, level: page.cage.surface.level, scene });
+  const answer = await post('/api/subdiv/rig', body, { 'content-type': 'application/json' });
+  if (asked !== page.asked) return;
+  page.rig = answer;
+  update();
+  draw();
+  say(`${page.handles.length} handles, ${page.family} weights: weights and rig in ${answer.seconds.toFixed(2)} s; ` +
+    'drag a handle to move it.');
+}
+
+/** The fitted cage and its surface for the handles' offsets, uploaded. */
+function update() {
   const start = performance.now();
+  if (page.rig) {
+    fitCage(page.rig, page.handles.map((h) => translation(h.offset)), page.fitted);
+  } else {
+    page.fitted.set(page.cage.positions);
+  }
   const surface = page.cage.surface;
-  tessellate(surface, cagePositions, page.positions);
+  tessellate(surface, page.fitted, page.positions);
   vertexNormals(page.positions, surface.triangles, page.normals);
-  page.tessellateMs = performance.now() - start;
-  page.view.setPositions(page.positions, page.normals, cagePositions);
+  page.frameMs = performance.now() - start;
+  page.view.setPositions(page.positions, page.normals, page.fitted);
+  page.view.setHandles(handlePositions());
+  if (page.rig && page.selected != null) {
+    page.view.setWeights(weightColumn(page.rig.surface_weights, page.rig.n_handles, page.selected));
+  }
+}
+
+/** Where the handles are now (rest plus offset), x, y, z flat. */
+function handlePositions() {
+  return page.handles.flatMap((h) => h.rest.map((r, k) => r + h.offset[k]));
+}
+
+function matrix() {
+  return viewProjection(page.camera, canvas.clientWidth / Math.max(1, canvas.clientHeight));
 }
 
 function draw() {
   if (!page.cage) return;
-  const aspect = canvas.clientWidth / Math.max(1, canvas.clientHeight);
-  page.view.draw(viewProjection(page.camera, aspect), eye(page.camera), { showCage: page.showCage });
+  const paint = page.paint && page.rig != null && page.selected != null;
+  page.view.draw(matrix(), eye(page.camera), { showCage: page.showCage, paint, selected: page.selected });
 }
 
-document.getElementById('open').addEventListener('change', (event) => {
-  const [file] = event.target.files;
-  if (file) open(file).catch((e) => say(`${file.name}: ${e.message}`, { error: true }));
-});
-
-document.getElementById('show-cage').addEventListener('change', (event) => {
-  page.showCage = event.target.checked;
+/** A click at `at` (CSS pixels in the canvas): picks a handle, or adds one where the surface is. */
+function click(at) {
+  const size = { width: canvas.clientWidth, height: canvas.clientHeight };
+  const hit = pickPoint(matrix(), handlePositions(), at, { ...size, radius: HANDLE_RADIUS });
+  if (hit != null) {
+    page.selected = hit;
+    update();
+    draw();
+    return;
+  }
+  const point = pickSurface(matrix(), page.positions, page.cage.surface.triangles, at, size);
+  if (!point) return;
+  if (page.handles.some((h) => h.offset.some((d) => d !== 0))) {
+    say('Handles are added at rest: press Rest first.', { error: true });
+    return;
+  }
+  page.handles.push({ rest: point, offset: [0, 0, 0] });
+  page.selected = page.handles.length - 1;
+  update();
   draw();
-});
+  rig().catch((e) => say(e.message, { error: true }));
+}
 
-document.getElementById('reset-view').addEventListener('click', () => {
-  if (!page.cage) return;
-  page.camera = fitCamera(bounds(page.positions));
-  draw();
-});
+const local = (event) => {
+  const r = canvas.getBoundingClientRect();
+  return [event.clientX - r.left, event.clientY - r.top];
+};
 
 canvas.addEventListener('pointerdown', (event) => {
   if (!page.cage) return;
   canvas.setPointerCapture(event.pointerId);
-  page.drag = { x: event.clientX, y: event.clientY, panning: event.shiftKey || event.button === 2 };
+  const at = local(event);
+  const size = { width: canvas.clientWidth, height: canvas.clientHeight, radius: HANDLE_RADIUS };
+  const handle = page.rig ? pickPoint(matrix(), handlePositions(), at, size) : null;
+  if (handle != null) page.selected = handle;
+  page.drag = { x: at[0], y: at[1], startX: at[0], startY: at[1], handle, panning: event.shiftKey || event.button === 2 };
 });
 
 canvas.addEventListener('pointermove', (event) => {
   if (!page.drag) return;
-  const dx = event.clientX - page.drag.x;
-  const dy = event.clientY - page.drag.y;
-  page.drag.x = event.clientX;
-  page.drag.y = event.clientY;
-  if (page.drag.panning) {
+  const [x, y] = local(event);
+  const dx = x - page.drag.x;
+  const dy = y - page.drag.y;
+  page.drag.x = x;
+  page.drag.y = y;
+  if (page.drag.handle != null) {
+    const h = page.handles[page.drag.handle];
+    const at = h.rest.map((r, k) => r + h.offset[k]);
+    const move = dragInView(page.camera, at, dx, dy, canvas.clientHeight);
+    h.offset = h.offset.map((o, k) => o + move[k]);
+    update();
+  } else if (page.drag.panning) {
     pan(page.camera, dx, dy, canvas.clientHeight);
   } else {
     orbit(page.camera, dx, dy);
@@ -124,11 +209,22 @@ canvas.addEventListener('pointermove', (event) => {
   draw();
 });
 
-for (const end of ['pointerup', 'pointercancel']) {
-  canvas.addEventListener(end, () => {
-    page.drag = null;
-  });
-}
+canvas.addEventListener('pointerup', (event) => {
+  const drag = page.drag;
+  page.drag = null;
+  if (!drag) return;
+  const [x, y] = local(event);
+  const still = Math.hypot(x - drag.startX, y - drag.startY) < CLICK_SLOP;
+  if (drag.handle != null && !still) {
+    say(`handle ${drag.handle + 1} moved; frame (cage product and surface) ${page.frameMs.toFixed(1)} ms`);
+  } else if (still && !drag.panning) {
+    click([x, y]);
+  }
+});
+
+canvas.addEventListener('pointercancel', () => {
+  page.drag = null;
+});
 
 canvas.addEventListener('contextmenu', (event) => event.preventDefault());
 
@@ -141,10 +237,58 @@ canvas.addEventListener('wheel', (event) => {
 
 window.addEventListener('resize', draw);
 
+const openFile = (file) => open(file).catch((e) => say(`${file.name}: ${e.message}`, { error: true }));
+
+document.getElementById('open').addEventListener('change', (event) => {
+  const [file] = event.target.files;
+  if (file) openFile(file);
+});
+
 const stage = document.getElementById('stage');
 stage.addEventListener('dragover', (event) => event.preventDefault());
 stage.addEventListener('drop', (event) => {
   event.preventDefault();
   const [file] = event.dataTransfer.files;
-  if (file) open(file).catch((e) => say(`${file.name}: ${e.message}`, { error: true }));
+  if (file) openFile(file);
 });
+
+document.getElementById('show-cage').addEventListener('change', (event) => {
+  page.showCage = event.target.checked;
+  draw();
+});
+
+document.getElementById('paint').addEventListener('change', (event) => {
+  page.paint = event.target.checked;
+  update();
+  draw();
+});
+
+document.getElementById('family').addEventListener('change', (event) => {
+  page.family = event.target.value;
+  if (page.handles.length > 0) rig().catch((e) => say(e.message, { error: true }));
+});
+
+document.getElementById('rest').addEventListener('click', () => {
+  if (!page.cage) return;
+  for (const h of page.handles) h.offset = [0, 0, 0];
+  update();
+  draw();
+});
+
+document.getElementById('reset-view').addEventListener('click', () => {
+  if (!page.cage) return;
+  page.camera = fitCamera(bounds(page.positions));
+  draw();
+});
+
+/** What the page shows, for its tests: handles, the selection, whether the rig is ready, the last frame's time. */
+window.subdivPageState = () => ({
+  handles: page.handles.map((h) => ({ rest: [...h.rest], offset: [...h.offset] })),
+  selected: page.selected,
+  rigReady: page.rig != null,
+  frameMs: page.frameMs,
+  fitted: page.fitted ? Array.from(page.fitted) : null,
+});
+
+/** Where the world point `p` is drawn, CSS pixels in the canvas: `[x, y, depth]`, for the page's tests. */
+window.subdivProject = (p) => project(matrix(), p, canvas.clientWidth, canvas.clientHeight);
