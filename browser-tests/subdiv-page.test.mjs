@@ -143,6 +143,21 @@ check('clicking adds handles, the rig arrives, dragging a handle bends the surfa
   assert.deepEqual(pageErrors, []);
 });
 
+check('ours is closer to the skinned surface than naive, the distance coloured', async () => {
+  // The page keeps the two handles and the pose of the test before.
+  await page.check('#distance');
+  const ours = (await page.evaluate(() => window.subdivPageState())).error;
+  await shot('distance-ours');
+  await page.selectOption('#method', 'naive');
+  const naive = (await page.evaluate(() => window.subdivPageState())).error;
+  await shot('distance-naive');
+  console.log(`to the skinned surface: ours max ${ours.max.toFixed(4)} RMS ${ours.rms.toFixed(4)}; naive max ${naive.max.toFixed(4)} RMS ${naive.rms.toFixed(4)}`);
+  assert.ok(ours.max > 0 && ours.max < naive.max && ours.rms < naive.rms, JSON.stringify({ ours, naive }));
+  await page.selectOption('#method', 'ours');
+  await page.uncheck('#distance');
+  assert.deepEqual(pageErrors, []);
+});
+
 /** Pixels of `image` for which `test([r, g, b])` holds. */
 function countPixels({ width, height, data }, test) {
   let n = 0;

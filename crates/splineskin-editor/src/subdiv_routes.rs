@@ -10,11 +10,12 @@
 //! `POST /api/subdiv/rig` ([`RigWireRequest`]: the OBJ text and the handles and weights of a
 //! subdivision scene) answers [`RigWire`]: the rig's factors `B_i[v]` (the fitted cage is
 //! `c'_v = Σ_i T_i · B_i[v]` for 3 × 4 maps `T_i`, [`SubdivRig`]), so the page's per-frame
-//! update is that small product, and every handle's weight at the surface vertices of level `K`
-//! (to paint them).
+//! update is that small product, every handle's weight at the surface vertices of level `K`
+//! (to paint them, and for the skinned surface the fit is measured against) and at the cage
+//! vertices (the naive method skins them).
 
 use serde::{Deserialize, Serialize};
-use splineskin::subdiv::surface_weights::sample_weights;
+use splineskin::subdiv::surface_weights::{cage_weights, sample_weights};
 use splineskin::subdiv::{
     parse_obj, LimitMesh, LimitOptions, LimitSurface, SubdivRig, SubdivScene, MAX_LIMIT_MESH_LEVEL,
 };
@@ -99,6 +100,9 @@ pub struct RigWire {
     /// Every handle's weight at every surface vertex of the level, vertex-major
     /// (`[m · h + i]`).
     pub surface_weights: Vec<f64>,
+    /// Every handle's weight at every cage vertex, vertex-major: what the naive method (skin the
+    /// cage, then subdivide) skins each vertex with.
+    pub cage_weights: Vec<f64>,
     /// Seconds the weights and the rig took.
     pub seconds: f64,
 }
@@ -125,11 +129,13 @@ pub(crate) fn rig(request: &Request) -> Result<Response, ApiError> {
     let mesh = LimitMesh::new(&setup.cage, &surface, level).map_err(|e| fail(&e))?;
     let surface_weights =
         sample_weights(setup.weights.as_ref(), &setup.cage, &mesh).map_err(|e| fail(&e))?;
+    let cage_weights = cage_weights(setup.weights.as_ref(), &setup.cage).map_err(|e| fail(&e))?;
     Response::json(&RigWire {
         n_vertices: setup.rig.n_vertices(),
         n_handles: setup.rig.n_handles(),
         coefficients: coefficients(&setup.rig),
         surface_weights,
+        cage_weights,
         seconds: start.elapsed().as_secs_f64(),
     })
 }
@@ -337,6 +343,11 @@ mod tests {
         }
         assert!(wire.surface_weights.chunks(2).any(|r| r[0] > 0.99));
         assert!(wire.surface_weights.chunks(2).any(|r| r[1] > 0.99));
+        assert_eq!(wire.cage_weights.len(), 2 * 72);
+        assert!(wire
+            .cage_weights
+            .chunks(2)
+            .all(|r| (r[0] + r[1] - 1.0).abs() < 1e-12));
         // A bad scene is refused naming the element.
         let bad = serde_json::json!({"name": "tube.obj", "obj": TUBE,
             "scene": {"handles": [{"position": [0.5, 0.0, 0.0]}], "weights": {"family": "bbw", "resolution": 1}}});

@@ -4,7 +4,7 @@
 // the modules it uses hold none.
 //
 //   surface.js   the limit surface from cage positions (stencils), normals, bounds
-//   rig.js       the fitted cage from the rig's factors and the handles' maps
+//   rig.js       the fitted cage from the rig's factors and the handles' maps; skinning; distances
 //   camera.js    the orbit camera and its matrices
 //   pick.js      what the pointer is over
 //   gl-view.js   the WebGL2 drawing
@@ -12,13 +12,15 @@
 import { dragInView, eye, fitCamera, orbit, pan, viewProjection, zoom } from './camera.js';
 import { createView } from './gl-view.js';
 import { pickPoint, pickSurface, project } from './pick.js';
-import { fitCage, translation, weightColumn } from './rig.js';
+import { distances, fitCage, skin, translation, weightColumn } from './rig.js';
 import { bounds, tessellate, vertexNormals } from './surface.js';
 
 /** Pixels a press may move and still be a click. */
 const CLICK_SLOP = 4;
 /** Pixels from a handle's dot that pick it. */
 const HANDLE_RADIUS = 10;
+/** The distance to the skinned surface painted full red, a fraction of the cage's diagonal. */
+const DISTANCE_SCALE = 0.01;
 
 const page = {
   /** The opened cage ([`CageWire`] of POST /api/subdiv/open) and its OBJ text, or null. */
@@ -31,6 +33,16 @@ const page = {
   camera: null,
   showCage: false,
   paint: false,
+  /** `ours` (the fitted cage) or `naive` (the cage's vertices skinned, then subdivided). */
+  method: 'ours',
+  /** Colour the surface by its distance to the skinned surface. */
+  showDistance: false,
+  /** The rest surface (f64), the skinned surface and the distances, for `showDistance`. */
+  restSurface: null,
+  skinned: null,
+  distance: null,
+  /** The last frame's distance to the skinned surface: `{max, rms}` in the cage's units. */
+  error: null,
   family: 'shepard',
   /** Point handles: `{ rest: [x, y, z], offset: [dx, dy, dz] }`. */
   handles: [],
@@ -85,6 +97,9 @@ async function open(file) {
   page.positions = new Float32Array(3 * cage.surface.n_vertices);
   page.normals = new Float32Array(3 * cage.surface.n_vertices);
   page.fitted = Float64Array.from(cage.positions);
+  page.restSurface = tessellate(cage.surface, cage.positions, new Float64Array(3 * cage.surface.n_vertices));
+  page.skinned = new Float64Array(3 * cage.surface.n_vertices);
+  page.distance = new Float32Array(cage.surface.n_vertices);
   page.view.setMesh(cage.surface.triangles, cage.edges);
   page.view.setHandles([]);
   update();
@@ -116,13 +131,16 @@ async function rig() {
     'drag a handle to move it.');
 }
 
-/** The fitted cage and its surface for the handles' offsets, uploaded. */
+/** The cage (ours or naive) and its surface for the handles' offsets, uploaded. */
 function update() {
   const start = performance.now();
-  if (page.rig) {
-    fitCage(page.rig, page.handles.map((h) => translation(h.offset)), page.fitted);
-  } else {
+  const transforms = page.handles.map((h) => translation(h.offset));
+  if (!page.rig) {
     page.fitted.set(page.cage.positions);
+  } else if (page.method === 'naive') {
+    skin(page.cage.positions, page.rig.cage_weights, transforms, page.fitted);
+  } else {
+    fitCage(page.rig, transforms, page.fitted);
   }
   const surface = page.cage.surface;
   tessellate(surface, page.fitted, page.positions);
@@ -130,7 +148,13 @@ function update() {
   page.frameMs = performance.now() - start;
   page.view.setPositions(page.positions, page.normals, page.fitted);
   page.view.setHandles(handlePositions());
-  if (page.rig && page.selected != null) {
+  page.error = null;
+  if (page.rig && page.showDistance) {
+    skin(page.restSurface, page.rig.surface_weights, transforms, page.skinned);
+    page.error = distances(page.positions, page.skinned, page.distance);
+    const scale = page.cage.diagonal * DISTANCE_SCALE;
+    page.view.setWeights(page.distance.map((d) => d / scale));
+  } else if (page.rig && page.selected != null) {
     page.view.setWeights(weightColumn(page.rig.surface_weights, page.rig.n_handles, page.selected));
   }
 }
@@ -146,8 +170,15 @@ function matrix() {
 
 function draw() {
   if (!page.cage) return;
-  const paint = page.paint && page.rig != null && page.selected != null;
+  const paint = page.rig != null && (page.showDistance || (page.paint && page.selected != null));
   page.view.draw(matrix(), eye(page.camera), { showCage: page.showCage, paint, selected: page.selected });
+}
+
+/** The distance to the skinned surface, as the status says it, when it is shown. */
+function errorNote() {
+  if (!page.error) return '';
+  const percent = (d) => ((100 * d) / page.cage.diagonal).toFixed(3);
+  return `; ${page.method} to the skinned surface: max ${percent(page.error.max)} %, RMS ${percent(page.error.rms)} % of the diagonal (red: 1 %)`;
 }
 
 /** A click at `at` (CSS pixels in the canvas): picks a handle, or adds one where the surface is. */
@@ -216,7 +247,7 @@ canvas.addEventListener('pointerup', (event) => {
   const [x, y] = local(event);
   const still = Math.hypot(x - drag.startX, y - drag.startY) < CLICK_SLOP;
   if (drag.handle != null && !still) {
-    say(`handle ${drag.handle + 1} moved; frame (cage product and surface) ${page.frameMs.toFixed(1)} ms`);
+    say(`handle ${drag.handle + 1} moved; frame (cage product and surface) ${page.frameMs.toFixed(1)} ms${errorNote()}`);
   } else if (still && !drag.panning) {
     click([x, y]);
   }
@@ -263,6 +294,20 @@ document.getElementById('paint').addEventListener('change', (event) => {
   draw();
 });
 
+document.getElementById('method').addEventListener('change', (event) => {
+  page.method = event.target.value;
+  update();
+  draw();
+  if (page.rig) say(`showing ${page.method}${errorNote()}`);
+});
+
+document.getElementById('distance').addEventListener('change', (event) => {
+  page.showDistance = event.target.checked;
+  update();
+  draw();
+  if (page.rig) say(`showing ${page.method}${errorNote()}`);
+});
+
 document.getElementById('family').addEventListener('change', (event) => {
   page.family = event.target.value;
   if (page.handles.length > 0) rig().catch((e) => say(e.message, { error: true }));
@@ -287,6 +332,8 @@ window.subdivPageState = () => ({
   selected: page.selected,
   rigReady: page.rig != null,
   frameMs: page.frameMs,
+  method: page.method,
+  error: page.error && { ...page.error },
   fitted: page.fitted ? Array.from(page.fitted) : null,
 });
 
