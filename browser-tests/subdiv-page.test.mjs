@@ -158,6 +158,32 @@ check('ours is closer to the skinned surface than naive, the distance coloured',
   assert.deepEqual(pageErrors, []);
 });
 
+check('turning a handle turns the cage about it, rigidly', async () => {
+  await page.click('#rest');
+  await page.selectOption('#mode', 'turn');
+  const rest = await page.evaluate(() => window.subdivPageState());
+  const box = await page.locator('#view').boundingBox();
+  const [x, y] = await page.evaluate((q) => window.subdivProject(q), rest.handles[1].rest);
+  await page.mouse.move(box.x + x, box.y + y);
+  await page.mouse.down();
+  await page.mouse.move(box.x + x + 60, box.y + y, { steps: 6 });
+  await page.mouse.up();
+  const turned = await page.evaluate(() => window.subdivPageState());
+  const r = turned.handles[1].rotation;
+  // A rotation: orthonormal rows, determinant 1, and not the identity (60 px: 0.6 rad).
+  const det = r[0] * (r[4] * r[8] - r[5] * r[7]) - r[1] * (r[3] * r[8] - r[5] * r[6]) + r[2] * (r[3] * r[7] - r[4] * r[6]);
+  assert.ok(Math.abs(det - 1) < 1e-9, `det ${det}`);
+  const trace = r[0] + r[4] + r[8];
+  const angle = Math.acos((trace - 1) / 2);
+  assert.ok(Math.abs(angle - 0.6) < 1e-6, `turned ${angle} rad`);
+  assert.deepEqual(turned.handles[1].offset, [0, 0, 0], 'turning does not move the handle');
+  const moved = Math.max(...rest.fitted.map((v, i) => Math.abs(v - turned.fitted[i])));
+  assert.ok(moved > 0.3, `the cage turned (${moved})`);
+  await shot('turned');
+  await page.selectOption('#mode', 'move');
+  assert.deepEqual(pageErrors, []);
+});
+
 /** Pixels of `image` for which `test([r, g, b])` holds. */
 function countPixels({ width, height, data }, test) {
   let n = 0;

@@ -58,8 +58,8 @@ export function zoom(camera, deltaY) {
   camera.distance *= Math.exp(deltaY * 0.001);
 }
 
-/** The view's right and up directions in the world. */
-function viewAxes(camera) {
+/** The view's right, up and forward directions in the world. */
+export function viewAxes(camera) {
   const e = eye(camera);
   const f = normalise(camera.target.map((t, k) => t - e[k]));
   const right = normalise(cross(f, [0, 1, 0]));

@@ -9,16 +9,18 @@
 //   pick.js      what the pointer is over
 //   gl-view.js   the WebGL2 drawing
 
-import { dragInView, eye, fitCamera, orbit, pan, viewProjection, zoom } from './camera.js';
+import { dragInView, eye, fitCamera, orbit, pan, viewAxes, viewProjection, zoom } from './camera.js';
 import { createView } from './gl-view.js';
 import { pickPoint, pickSurface, project } from './pick.js';
-import { distances, fitCage, skin, translation, weightColumn } from './rig.js';
+import { IDENTITY_ROTATION, distances, fitCage, handleMap, skin, turned, weightColumn } from './rig.js';
 import { bounds, tessellate, vertexNormals } from './surface.js';
 
 /** Pixels a press may move and still be a click. */
 const CLICK_SLOP = 4;
 /** Pixels from a handle's dot that pick it. */
 const HANDLE_RADIUS = 10;
+/** Radians a handle turns per pixel dragged sideways. */
+const TURN_PER_PIXEL = 0.01;
 /** The distance to the skinned surface painted full red, a fraction of the cage's diagonal. */
 const DISTANCE_SCALE = 0.01;
 
@@ -44,8 +46,10 @@ const page = {
   /** The last frame's distance to the skinned surface: `{max, rms}` in the cage's units. */
   error: null,
   family: 'shepard',
-  /** Point handles: `{ rest: [x, y, z], offset: [dx, dy, dz] }`. */
+  /** Point handles: `{ rest: [x, y, z], offset: [dx, dy, dz], rotation: 3 × 3 rows flat }`. */
   handles: [],
+  /** What dragging a handle does: `move` it in the view's plane or `turn` it about the view's axis. */
+  mode: 'move',
   selected: null,
   /** The rig of the handles ([`RigWire`] of POST /api/subdiv/rig), or null; `asked` counts requests. */
   rig: null,
@@ -134,7 +138,7 @@ async function rig() {
 /** The cage (ours or naive) and its surface for the handles' offsets, uploaded. */
 function update() {
   const start = performance.now();
-  const transforms = page.handles.map((h) => translation(h.offset));
+  const transforms = page.handles.map(handleMap);
   if (!page.rig) {
     page.fitted.set(page.cage.positions);
   } else if (page.method === 'naive') {
@@ -157,6 +161,11 @@ function update() {
   } else if (page.rig && page.selected != null) {
     page.view.setWeights(weightColumn(page.rig.surface_weights, page.rig.n_handles, page.selected));
   }
+}
+
+/** Whether a handle is away from where it was placed. */
+function posed(h) {
+  return h.offset.some((d) => d !== 0) || h.rotation.some((v, k) => v !== IDENTITY_ROTATION[k]);
 }
 
 /** Where the handles are now (rest plus offset), x, y, z flat. */
@@ -193,11 +202,11 @@ function click(at) {
   }
   const point = pickSurface(matrix(), page.positions, page.cage.surface.triangles, at, size);
   if (!point) return;
-  if (page.handles.some((h) => h.offset.some((d) => d !== 0))) {
+  if (page.handles.some(posed)) {
     say('Handles are added at rest: press Rest first.', { error: true });
     return;
   }
-  page.handles.push({ rest: point, offset: [0, 0, 0] });
+  page.handles.push({ rest: point, offset: [0, 0, 0], rotation: [...IDENTITY_ROTATION] });
   page.selected = page.handles.length - 1;
   update();
   draw();
@@ -226,7 +235,11 @@ canvas.addEventListener('pointermove', (event) => {
   const dy = y - page.drag.y;
   page.drag.x = x;
   page.drag.y = y;
-  if (page.drag.handle != null) {
+  if (page.drag.handle != null && page.mode === 'turn') {
+    const h = page.handles[page.drag.handle];
+    h.rotation = turned(h.rotation, viewAxes(page.camera)[2], -TURN_PER_PIXEL * dx);
+    update();
+  } else if (page.drag.handle != null) {
     const h = page.handles[page.drag.handle];
     const at = h.rest.map((r, k) => r + h.offset[k]);
     const move = dragInView(page.camera, at, dx, dy, canvas.clientHeight);
@@ -247,7 +260,7 @@ canvas.addEventListener('pointerup', (event) => {
   const [x, y] = local(event);
   const still = Math.hypot(x - drag.startX, y - drag.startY) < CLICK_SLOP;
   if (drag.handle != null && !still) {
-    say(`handle ${drag.handle + 1} moved; frame (cage product and surface) ${page.frameMs.toFixed(1)} ms${errorNote()}`);
+    say(`handle ${drag.handle + 1} ${page.mode === 'turn' ? 'turned' : 'moved'}; frame (cage product and surface) ${page.frameMs.toFixed(1)} ms${errorNote()}`);
   } else if (still && !drag.panning) {
     click([x, y]);
   }
@@ -294,6 +307,10 @@ document.getElementById('paint').addEventListener('change', (event) => {
   draw();
 });
 
+document.getElementById('mode').addEventListener('change', (event) => {
+  page.mode = event.target.value;
+});
+
 document.getElementById('method').addEventListener('change', (event) => {
   page.method = event.target.value;
   update();
@@ -315,7 +332,10 @@ document.getElementById('family').addEventListener('change', (event) => {
 
 document.getElementById('rest').addEventListener('click', () => {
   if (!page.cage) return;
-  for (const h of page.handles) h.offset = [0, 0, 0];
+  for (const h of page.handles) {
+    h.offset = [0, 0, 0];
+    h.rotation = [...IDENTITY_ROTATION];
+  }
   update();
   draw();
 });
@@ -328,7 +348,7 @@ document.getElementById('reset-view').addEventListener('click', () => {
 
 /** What the page shows, for its tests: handles, the selection, whether the rig is ready, the last frame's time. */
 window.subdivPageState = () => ({
-  handles: page.handles.map((h) => ({ rest: [...h.rest], offset: [...h.offset] })),
+  handles: page.handles.map((h) => ({ rest: [...h.rest], offset: [...h.offset], rotation: [...h.rotation] })),
   selected: page.selected,
   rigReady: page.rig != null,
   frameMs: page.frameMs,

@@ -2,9 +2,36 @@
 // `T_i` a 3 × 4 map per handle (rows), `B_i[v]` four numbers (Liu, Jacobson & Gingold 2014 §3:
 // the fit is linear in the handles' maps, so the cage is a small product per frame).
 
-/** The 3 × 4 map (rows, flat) moving everything by `d`. */
-export function translation(d) {
-  return [1, 0, 0, d[0], 0, 1, 0, d[1], 0, 0, 1, d[2]];
+/** The identity rotation, rows flat. */
+export const IDENTITY_ROTATION = [1, 0, 0, 0, 1, 0, 0, 0, 1];
+
+/**
+ * The 3 × 4 map (rows, flat) of a handle placed at `rest`, turned by `rotation` (3 × 3 rows,
+ * flat) about it and moved by `offset`: `x ↦ rest + offset + R (x − rest)`.
+ */
+export function handleMap({ rest, offset, rotation: r }) {
+  const t = [0, 1, 2].map((k) => rest[k] + offset[k] - (r[3 * k] * rest[0] + r[3 * k + 1] * rest[1] + r[3 * k + 2] * rest[2]));
+  return [r[0], r[1], r[2], t[0], r[3], r[4], r[5], t[1], r[6], r[7], r[8], t[2]];
+}
+
+/** `Rot(axis, angle) · r`: `r` (3 × 3 rows, flat) turned by `angle` radians about the unit `axis`. */
+export function turned(r, axis, angle) {
+  const [x, y, z] = axis;
+  const c = Math.cos(angle);
+  const s = Math.sin(angle);
+  const k = 1 - c;
+  const q = [
+    c + x * x * k, x * y * k - z * s, x * z * k + y * s,
+    y * x * k + z * s, c + y * y * k, y * z * k - x * s,
+    z * x * k - y * s, z * y * k + x * s, c + z * z * k,
+  ];
+  const out = new Array(9);
+  for (let i = 0; i < 3; i++) {
+    for (let j = 0; j < 3; j++) {
+      out[3 * i + j] = q[3 * i] * r[j] + q[3 * i + 1] * r[3 + j] + q[3 * i + 2] * r[6 + j];
+    }
+  }
+  return out;
 }
 
 /**
