@@ -5,11 +5,11 @@
 // with BROWSER_TESTS_OUT).
 
 import assert from 'node:assert/strict';
-import { writeFileSync } from 'node:fs';
+import { copyFileSync, readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before } from 'node:test';
 
-import { launchBrowser, outputFolder, REPO, startEditor } from './harness.mjs';
+import { launchBrowser, outputFolder, REPO, runSplineskin, startEditor } from './harness.mjs';
 import { compareImages, decodePng, inkFraction } from './png.mjs';
 
 const TUBE = join(REPO, 'crates', 'splineskin', 'assets', 'subdiv', 'tube.obj');
@@ -181,6 +181,49 @@ check('turning a handle turns the cage about it, rigidly', async () => {
   assert.ok(moved > 0.3, `the cage turned (${moved})`);
   await shot('turned');
   await page.selectOption('#mode', 'move');
+  assert.deepEqual(pageErrors, []);
+});
+
+/** Chooses `format` in the export menu and saves the download into the outputs as `name`. */
+async function exported(format, name) {
+  const [download] = await Promise.all([page.waitForEvent('download'), page.selectOption('#export', format)]);
+  const path = join(out.path, name);
+  await download.saveAs(path);
+  return path;
+}
+
+const objVertices = (text) => text.split('\n').filter((l) => l.startsWith('v ')).flatMap((l) => l.split(/\s+/).slice(1, 4).map(Number));
+
+check('the pose exported from the page is the library\'s deform of the saved scene', async () => {
+  // The pose of the test before: handle 2 turned. Move handle 1 too.
+  const box = await page.locator('#view').boundingBox();
+  const state = await page.evaluate(() => window.subdivPageState());
+  const [x, y] = await page.evaluate((q) => window.subdivProject(q), state.handles[0].rest);
+  await page.mouse.move(box.x + x, box.y + y);
+  await page.mouse.down();
+  await page.mouse.move(box.x + x - 30, box.y + y + 40, { steps: 5 });
+  await page.mouse.up();
+  const posed = await page.evaluate(() => window.subdivPageState());
+  copyFileSync(TUBE, join(out.path, 'tube.obj'));
+  const scene = await exported('scene', 'tube.json');
+  const obj = await exported('obj', 'page.obj');
+  const usda = await exported('usda', 'page.usda');
+  await runSplineskin(['subdiv', 'deform', scene, '-o', join(out.path, 'cli.obj')]);
+  const cli = readFileSync(join(out.path, 'cli.obj'), 'utf8');
+  assert.equal(readFileSync(obj, 'utf8'), cli, 'the exported cage is the command line\'s, byte for byte');
+  const want = objVertices(cli);
+  const diagonal = 8.48528137423857;
+  const pageError = Math.max(...want.map((v, i) => Math.abs(v - posed.fitted[i])));
+  console.log(`the page's own fitted cage against subdiv deform: ${(pageError / diagonal).toExponential(2)} of the diagonal`);
+  assert.ok(pageError <= 1e-9 * diagonal, `${pageError}`);
+  // USD's points (its default value, the one frame) are the cage in f32.
+  const text = readFileSync(usda, 'utf8');
+  const points = /point3f\[\] points = \[(.*)\]\n/.exec(text)[1].match(/-?[\d.]+(?:e-?\d+)?/g).map(Number);
+  assert.equal(points.length, want.length);
+  const largest = Math.max(...want.map(Math.abs));
+  const usdError = Math.max(...want.map((v, i) => Math.abs(v - points[i])));
+  assert.ok(usdError <= 2 ** -23 * largest, `${usdError}`);
+  assert.ok(text.includes('subdivisionScheme = "catmullClark"'));
   assert.deepEqual(pageErrors, []);
 });
 

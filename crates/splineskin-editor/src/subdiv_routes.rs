@@ -13,11 +13,18 @@
 //! update is that small product, every handle's weight at the surface vertices of level `K`
 //! (to paint them, and for the skinned surface the fit is measured against) and at the cage
 //! vertices (the naive method skins them).
+//!
+//! `POST /api/subdiv/export?format=usda|glb|obj` takes the same body (with the scene's poses or
+//! animation) and answers the file `splineskin subdiv animate` (or, for one pose, `subdiv
+//! deform`) writes of it.
 
 use serde::{Deserialize, Serialize};
+use splineskin::animation::DEFAULT_FPS;
+use splineskin::subdiv::handoff::{FittedAnimation, UpAxis};
 use splineskin::subdiv::surface_weights::{cage_weights, sample_weights};
 use splineskin::subdiv::{
-    parse_obj, LimitMesh, LimitOptions, LimitSurface, SubdivRig, SubdivScene, MAX_LIMIT_MESH_LEVEL,
+    parse_obj, to_obj_string, LimitMesh, LimitOptions, LimitSurface, SubdivRig, SubdivScene,
+    SubdivSetup, MAX_LIMIT_MESH_LEVEL,
 };
 
 use crate::request::{ApiError, Request, Response};
@@ -109,24 +116,12 @@ pub struct RigWire {
 
 /// `POST /api/subdiv/rig`.
 pub(crate) fn rig(request: &Request) -> Result<Response, ApiError> {
-    let body: RigWireRequest = serde_json::from_slice(request.upload()?)
-        .map_err(|e| ApiError::bad(format!("subdiv/rig: {e}")))?;
-    let level = check_level(body.level)?;
-    let name = body.name;
-    let cage = parse_obj(&body.obj, &name).map_err(|e| ApiError::new(400, e.to_string()))?;
-    let mut scene = body.scene;
-    scene.insert("splineskin_subdiv_scene".into(), 1.into());
-    scene.insert("obj".into(), name.clone().into());
-    let text = serde_json::Value::Object(scene).to_string();
     let start = std::time::Instant::now();
-    let scene = SubdivScene::parse(&text, &format!("{name}: scene"), std::path::Path::new(""))
-        .map_err(|e| ApiError::new(400, e.to_string()))?;
-    let setup = scene
-        .setup_with(cage)
-        .map_err(|e| ApiError::new(400, e.to_string()))?;
+    let rigged = Rigged::of(request)?;
+    let (name, setup) = (&rigged.name, &rigged.setup);
     let fail = |e: &dyn std::fmt::Display| ApiError::new(400, format!("{name}: {e}"));
     let surface = setup.full_surface().map_err(|e| fail(&e))?;
-    let mesh = LimitMesh::new(&setup.cage, &surface, level).map_err(|e| fail(&e))?;
+    let mesh = LimitMesh::new(&setup.cage, &surface, rigged.level).map_err(|e| fail(&e))?;
     let surface_weights =
         sample_weights(setup.weights.as_ref(), &setup.cage, &mesh).map_err(|e| fail(&e))?;
     let cage_weights = cage_weights(setup.weights.as_ref(), &setup.cage).map_err(|e| fail(&e))?;
@@ -138,6 +133,108 @@ pub(crate) fn rig(request: &Request) -> Result<Response, ApiError> {
         cage_weights,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// The query of `POST /api/subdiv/export`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExportQuery {
+    /// `usda`, `glb` or `obj`.
+    pub format: String,
+    /// `y` (default) or `z`: the model's up axis.
+    #[serde(default)]
+    pub up: Option<String>,
+}
+
+/// `POST /api/subdiv/export?format=usda|glb|obj[&up=y|z]`: the body as `POST /api/subdiv/rig`
+/// takes it; the scene's animation as `splineskin subdiv animate` writes it, or without one its
+/// pose 0 as one frame (`obj`: the fitted cage of pose 0, as `subdiv deform` writes it).
+pub(crate) fn export(request: &Request) -> Result<Response, ApiError> {
+    let query: ExportQuery = request.query("subdiv/export")?;
+    let up = match query.up.as_deref() {
+        None | Some("y") => UpAxis::Y,
+        Some("z") => UpAxis::Z,
+        Some(other) => return Err(ApiError::bad(format!("up={other}; expected y or z"))),
+    };
+    let rigged = Rigged::of(request)?;
+    let (name, scene, setup) = (&rigged.name, &rigged.scene, &rigged.setup);
+    let fail = |e: &dyn std::fmt::Display| ApiError::new(400, format!("{name}: {e}"));
+    let fitted = match scene.animation {
+        Some(_) => FittedAnimation::new(scene, setup).map_err(|e| fail(&e))?,
+        None => {
+            let mut cage = vec![[0.0; 3]; setup.cage.n_vertices()];
+            let pose = scene.pose(0).map_err(|e| fail(&e))?;
+            setup.rig.update(&pose, &mut cage).map_err(|e| fail(&e))?;
+            FittedAnimation {
+                fps: DEFAULT_FPS,
+                times: vec![0.0],
+                cages: vec![cage],
+            }
+        }
+    };
+    let stem = name
+        .rsplit_once('.')
+        .map_or(name.as_str(), |(stem, _)| stem);
+    match query.format.as_str() {
+        "usda" => {
+            let text = fitted.usda(setup, stem, up).map_err(|e| fail(&e))?;
+            Ok(Response::ok("model/vnd.usda; charset=utf-8", text))
+        }
+        "glb" => {
+            let glb = fitted
+                .glb(setup, rigged.level, stem, up)
+                .map_err(|e| fail(&e))?;
+            Ok(Response::ok("model/gltf-binary", glb))
+        }
+        "obj" if fitted.cages.len() == 1 => {
+            let mut cage = setup.cage.clone();
+            cage.set_positions(fitted.cages[0].clone())
+                .map_err(|e| fail(&e))?;
+            Ok(Response::ok(
+                "text/plain; charset=utf-8",
+                to_obj_string(&cage),
+            ))
+        }
+        "obj" => Err(ApiError::bad(
+            "an OBJ file holds one pose; export an animation as usda or glb".to_string(),
+        )),
+        other => Err(ApiError::bad(format!(
+            "format={other}; expected usda, glb or obj"
+        ))),
+    }
+}
+
+/// A request's cage, scene and precomputed setup ([`RigWireRequest`]).
+struct Rigged {
+    name: String,
+    level: usize,
+    scene: SubdivScene,
+    setup: SubdivSetup,
+}
+
+impl Rigged {
+    fn of(request: &Request) -> Result<Rigged, ApiError> {
+        let body: RigWireRequest = serde_json::from_slice(request.upload()?)
+            .map_err(|e| ApiError::bad(format!("subdiv: {e}")))?;
+        let level = check_level(body.level)?;
+        let name = body.name;
+        let cage = parse_obj(&body.obj, &name).map_err(|e| ApiError::new(400, e.to_string()))?;
+        let mut scene = body.scene;
+        scene.insert("splineskin_subdiv_scene".into(), 1.into());
+        scene.insert("obj".into(), name.clone().into());
+        let text = serde_json::Value::Object(scene).to_string();
+        let scene = SubdivScene::parse(&text, &format!("{name}: scene"), std::path::Path::new(""))
+            .map_err(|e| ApiError::new(400, e.to_string()))?;
+        let setup = scene
+            .setup_with(cage)
+            .map_err(|e| ApiError::new(400, e.to_string()))?;
+        Ok(Rigged {
+            name,
+            level,
+            scene,
+            setup,
+        })
+    }
 }
 
 /// Every `B_i[v]`, vertex-major.
@@ -358,6 +455,65 @@ mod tests {
             message.contains("tube.obj: scene: weights.resolution"),
             "{message}"
         );
+    }
+
+    #[test]
+    fn the_export_is_what_the_command_line_writes_of_the_same_scene() {
+        let editor = Editor::new(None);
+        let turn = serde_json::json!({"matrix": [[0.0, -1.0, 0.0, 7.5], [1.0, 0.0, 0.0, -7.5], [0.0, 0.0, 1.0, 0.5]]});
+        let scene = serde_json::json!({
+            "handles": [{"position": [0.5, 0.0, 0.0]}, {"position": [7.5, 0.0, 0.0]}],
+            "poses": [{"transforms": [{}, turn]}]
+        });
+        let body = serde_json::json!({"name": "tube.obj", "obj": TUBE, "level": 1, "scene": scene});
+        let export = |format: &str| {
+            let answer = editor.handle(&Request::post(
+                &format!("/api/subdiv/export?format={format}"),
+                body.to_string(),
+            ));
+            assert_eq!(
+                answer.status,
+                200,
+                "{format}: {}",
+                String::from_utf8_lossy(&answer.body)
+            );
+            answer.body
+        };
+        // The library's deform of pose 0, written as the command line writes it.
+        let text = format!(
+            r#"{{"splineskin_subdiv_scene": 1, "obj": "tube.obj", "handles": {}, "poses": {}}}"#,
+            scene["handles"], scene["poses"]
+        );
+        let parsed = SubdivScene::parse(&text, "t", std::path::Path::new("")).unwrap();
+        let setup = parsed
+            .setup_with(parse_obj(TUBE, "tube.obj").unwrap())
+            .unwrap();
+        let mut cage = setup.cage.clone();
+        let mut fitted = vec![[0.0; 3]; 72];
+        setup
+            .rig
+            .update(&parsed.pose(0).unwrap(), &mut fitted)
+            .unwrap();
+        cage.set_positions(fitted.clone()).unwrap();
+        assert_eq!(
+            String::from_utf8(export("obj")).unwrap(),
+            to_obj_string(&cage)
+        );
+        let usda = String::from_utf8(export("usda")).unwrap();
+        assert!(usda.contains("defaultPrim = \"tube\"") && usda.contains("catmullClark"));
+        let frames = FittedAnimation {
+            fps: DEFAULT_FPS,
+            times: vec![0.0],
+            cages: vec![fitted],
+        };
+        assert_eq!(usda, frames.usda(&setup, "tube", UpAxis::Y).unwrap());
+        assert_eq!(&export("glb")[..4], b"glTF");
+        let bad = editor.handle(&Request::post(
+            "/api/subdiv/export?format=fbx",
+            body.to_string(),
+        ));
+        assert_eq!(bad.status, 400);
+        assert!(String::from_utf8_lossy(&bad.body).contains("expected usda, glb or obj"));
     }
 
     #[test]

@@ -7,9 +7,11 @@
 //   rig.js       the fitted cage from the rig's factors and the handles' maps; skinning; distances
 //   camera.js    the orbit camera and its matrices
 //   pick.js      what the pointer is over
+//   exports.js   the scene file and downloads
 //   gl-view.js   the WebGL2 drawing
 
 import { dragInView, eye, fitCamera, orbit, pan, viewAxes, viewProjection, zoom } from './camera.js';
+import { saveBlob, sceneFile, withExtension } from './exports.js';
 import { createView } from './gl-view.js';
 import { pickPoint, pickSurface, project } from './pick.js';
 import { IDENTITY_ROTATION, distances, fitCage, handleMap, skin, turned, weightColumn } from './rig.js';
@@ -75,12 +77,12 @@ try {
   say(error.message, { error: true });
 }
 
-/** POSTs `body` to the server's `route`, answering its JSON or throwing its message. */
-async function post(route, body, headers = {}) {
+/** POSTs `body` to the server's `route`, answering the response or throwing its message. */
+async function postRaw(route, body, headers = {}) {
   // The server answers POSTs that carry this header only (its guard against other sites).
   const response = await fetch(route, { method: 'POST', headers: { 'x-splineskin': '1', ...headers }, body });
-  const text = await response.text();
   if (!response.ok) {
+    const text = await response.text();
     let message = text;
     try {
       message = JSON.parse(text).error ?? text;
@@ -89,7 +91,12 @@ async function post(route, body, headers = {}) {
     }
     throw new Error(message);
   }
-  return JSON.parse(text);
+  return response;
+}
+
+/** POSTs `body` to `route`, answering its JSON. */
+async function post(route, body, headers = {}) {
+  return (await postRaw(route, body, headers)).json();
 }
 
 /** Opens `file` (an OBJ cage): the server samples its limit surface. */
@@ -338,6 +345,33 @@ document.getElementById('rest').addEventListener('click', () => {
   }
   update();
   draw();
+});
+
+/** Saves the scene (`scene`) or the server's export of it (`usda`, `glb`, `obj`). */
+async function exportAs(format) {
+  if (!page.cage || page.handles.length === 0) {
+    say('Add handles first: the export is the posed surface.', { error: true });
+    return;
+  }
+  const scene = sceneFile(page.cage.name, page.handles, page.family, page.handles.map(handleMap));
+  if (format === 'scene') {
+    saveBlob(withExtension(page.cage.name, 'json'), new Blob([JSON.stringify(scene, null, 1)], { type: 'application/json' }));
+    return;
+  }
+  delete scene.splineskin_subdiv_scene;
+  delete scene.obj;
+  const body = JSON.stringify({ name: page.cage.name, obj: page.objText, level: page.cage.surface.level, scene });
+  say(`exporting ${format}…`);
+  const response = await postRaw(`/api/subdiv/export?format=${format}`, body, { 'content-type': 'application/json' });
+  const name = withExtension(page.cage.name, format === 'obj' ? 'posed.obj' : format);
+  saveBlob(name, await response.blob());
+  say(`${name}: the ${format === 'glb' ? 'limit surface' : 'fitted cage'} of the current pose`);
+}
+
+document.getElementById('export').addEventListener('change', (event) => {
+  const format = event.target.value;
+  event.target.value = '';
+  if (format) exportAs(format).catch((e) => say(e.message, { error: true }));
 });
 
 document.getElementById('reset-view').addEventListener('click', () => {
