@@ -227,6 +227,38 @@ check('the pose exported from the page is the library\'s deform of the saved sce
   assert.deepEqual(pageErrors, []);
 });
 
+check('keys play on the page and export as the animation `subdiv animate` writes', async () => {
+  await page.click('#rest');
+  await page.fill('#key-time', '0');
+  await page.click('#add-key');
+  const box = await page.locator('#view').boundingBox();
+  const state = await page.evaluate(() => window.subdivPageState());
+  const [x, y] = await page.evaluate((q) => window.subdivProject(q), state.handles[1].rest);
+  await page.mouse.move(box.x + x, box.y + y);
+  await page.mouse.down();
+  await page.mouse.move(box.x + x, box.y + y - 60, { steps: 5 });
+  await page.mouse.up();
+  await page.click('#add-key');
+  const keyed = await page.evaluate(() => window.subdivPageState());
+  assert.deepEqual(keyed.keys, [0, 1]);
+  await page.click('#rest');
+  await page.click('#play');
+  await page.waitForFunction(() => document.getElementById('status').textContent.startsWith('played'), null, { timeout: WAIT });
+  const played = await page.evaluate(() => window.subdivPageState());
+  console.log(await status());
+  // Played to the end: the last key's pose.
+  played.handles[1].offset.forEach((v, k) => assert.ok(Math.abs(v - keyed.handles[1].offset[k]) < 1e-12));
+  const scene = await exported('scene', 'animated.json');
+  const usda = await exported('usda', 'animated.usda');
+  assert.ok(JSON.parse(readFileSync(scene, 'utf8')).animation.keyframes.length === 2);
+  await runSplineskin(['subdiv', 'animate', scene, '-o', join(out.path, 'cli-animated.usda')]);
+  assert.equal(readFileSync(usda, 'utf8'), readFileSync(join(out.path, 'cli-animated.usda'), 'utf8'),
+    'the page\'s animated USD is the command line\'s, byte for byte');
+  assert.match(readFileSync(usda, 'utf8'), /endTimeCode = 24\n/);
+  await shot('keyed');
+  assert.deepEqual(pageErrors, []);
+});
+
 /** Pixels of `image` for which `test([r, g, b])` holds. */
 function countPixels({ width, height, data }, test) {
   let n = 0;

@@ -8,16 +8,24 @@ function matrixOf(t) {
 
 /**
  * The scene of `cageName`'s handles (rest positions), weight `family` and the current pose
- * (`transforms`: one flat 3 × 4 map per handle), as a subdivision scene file holds it.
+ * (`transforms`: one flat 3 × 4 map per handle), as a subdivision scene file holds it; with
+ * `keyframes` (`{time, transforms}` each, two or more), its `animation` at `fps`.
  */
-export function sceneFile(cageName, handles, family, transforms) {
-  return {
+export function sceneFile(cageName, handles, family, transforms, { keyframes = [], fps = 24 } = {}) {
+  const scene = {
     splineskin_subdiv_scene: 1,
     obj: cageName,
     handles: handles.map((h) => ({ position: h.rest })),
     weights: { family },
     poses: [{ name: 'pose', transforms: transforms.map(matrixOf) }],
   };
+  if (keyframes.length >= 2) {
+    scene.animation = {
+      fps,
+      keyframes: keyframes.map((k) => ({ time: k.time, pose: k.transforms.map(matrixOf) })),
+    };
+  }
+  return scene;
 }
 
 /** Offers `blob` to the user as a download named `name`. */

@@ -7,12 +7,14 @@
 //   rig.js       the fitted cage from the rig's factors and the handles' maps; skinning; distances
 //   camera.js    the orbit camera and its matrices
 //   pick.js      what the pointer is over
+//   keys.js      keyframes of the handles' poses and their interpolation
 //   exports.js   the scene file and downloads
 //   gl-view.js   the WebGL2 drawing
 
 import { dragInView, eye, fitCamera, orbit, pan, viewAxes, viewProjection, zoom } from './camera.js';
 import { saveBlob, sceneFile, withExtension } from './exports.js';
 import { createView } from './gl-view.js';
+import { keyOf, poseAt, withKey } from './keys.js';
 import { pickPoint, pickSurface, project } from './pick.js';
 import { IDENTITY_ROTATION, distances, fitCage, handleMap, skin, turned, weightColumn } from './rig.js';
 import { bounds, tessellate, vertexNormals } from './surface.js';
@@ -21,6 +23,8 @@ import { bounds, tessellate, vertexNormals } from './surface.js';
 const CLICK_SLOP = 4;
 /** Pixels from a handle's dot that pick it. */
 const HANDLE_RADIUS = 10;
+/** Frames per second of exported animations. */
+const ANIMATION_FPS = 24;
 /** Radians a handle turns per pixel dragged sideways. */
 const TURN_PER_PIXEL = 0.01;
 /** The distance to the skinned surface painted full red, a fraction of the cage's diagonal. */
@@ -47,6 +51,9 @@ const page = {
   distance: null,
   /** The last frame's distance to the skinned surface: `{max, rms}` in the cage's units. */
   error: null,
+  /** Keyframes (keys.js), time order; the playback's animation frame request, or null. */
+  keys: [],
+  playing: null,
   family: 'shepard',
   /** Point handles: `{ rest: [x, y, z], offset: [dx, dy, dz], rotation: 3 × 3 rows flat }`. */
   handles: [],
@@ -214,6 +221,9 @@ function click(at) {
     return;
   }
   page.handles.push({ rest: point, offset: [0, 0, 0], rotation: [...IDENTITY_ROTATION] });
+  // Keys hold every handle's pose: a new handle starts a new animation.
+  page.keys = [];
+  showKeys();
   page.selected = page.handles.length - 1;
   update();
   draw();
@@ -353,7 +363,14 @@ async function exportAs(format) {
     say('Add handles first: the export is the posed surface.', { error: true });
     return;
   }
-  const scene = sceneFile(page.cage.name, page.handles, page.family, page.handles.map(handleMap));
+  const keyframes = page.keys.map((k) => ({
+    time: k.time,
+    transforms: k.poses.map((p, i) => handleMap({ rest: page.handles[i].rest, ...p })),
+  }));
+  const scene = sceneFile(page.cage.name, page.handles, page.family, page.handles.map(handleMap), {
+    keyframes,
+    fps: ANIMATION_FPS,
+  });
   if (format === 'scene') {
     saveBlob(withExtension(page.cage.name, 'json'), new Blob([JSON.stringify(scene, null, 1)], { type: 'application/json' }));
     return;
@@ -365,13 +382,59 @@ async function exportAs(format) {
   const response = await postRaw(`/api/subdiv/export?format=${format}`, body, { 'content-type': 'application/json' });
   const name = withExtension(page.cage.name, format === 'obj' ? 'posed.obj' : format);
   saveBlob(name, await response.blob());
-  say(`${name}: the ${format === 'glb' ? 'limit surface' : 'fitted cage'} of the current pose`);
+  const what = scene.animation ? `the animation (${page.keys.length} keys)` : 'the current pose';
+  say(`${name}: the ${format === 'glb' ? 'limit surface' : 'fitted cage'} of ${what}`);
 }
 
 document.getElementById('export').addEventListener('change', (event) => {
   const format = event.target.value;
   event.target.value = '';
   if (format) exportAs(format).catch((e) => say(e.message, { error: true }));
+});
+
+/** The keys' times in the toolbar. */
+function showKeys() {
+  const times = page.keys.map((k) => `${k.time} s`).join(', ');
+  document.getElementById('keys').textContent = page.keys.length ? `keys: ${times}` : 'no keys';
+}
+
+document.getElementById('add-key').addEventListener('click', () => {
+  if (!page.rig) {
+    say('Add handles first: a key holds their pose.', { error: true });
+    return;
+  }
+  const input = document.getElementById('key-time');
+  const time = Math.max(0, Number(input.value) || 0);
+  page.keys = withKey(page.keys, keyOf(time, page.handles));
+  input.value = String(time + 1);
+  showKeys();
+});
+
+document.getElementById('clear-keys').addEventListener('click', () => {
+  page.keys = [];
+  showKeys();
+});
+
+/** Plays the keys from 0 to the last, then leaves the last pose. */
+document.getElementById('play').addEventListener('click', () => {
+  if (page.keys.length < 2 || page.playing) return;
+  const end = page.keys[page.keys.length - 1].time;
+  const start = performance.now();
+  let worst = 0;
+  const frame = () => {
+    const t = Math.min(end, (performance.now() - start) / 1000);
+    poseAt(page.keys, t, page.handles);
+    update();
+    draw();
+    worst = Math.max(worst, page.frameMs);
+    if (t < end) {
+      page.playing = requestAnimationFrame(frame);
+    } else {
+      page.playing = null;
+      say(`played ${end} s; slowest frame (cage product and surface) ${worst.toFixed(1)} ms`);
+    }
+  };
+  page.playing = requestAnimationFrame(frame);
 });
 
 document.getElementById('reset-view').addEventListener('click', () => {
@@ -387,6 +450,8 @@ window.subdivPageState = () => ({
   rigReady: page.rig != null,
   frameMs: page.frameMs,
   method: page.method,
+  keys: page.keys.map((k) => k.time),
+  playing: page.playing != null,
   error: page.error && { ...page.error },
   fitted: page.fitted ? Array.from(page.fitted) : null,
 });
