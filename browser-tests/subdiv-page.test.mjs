@@ -256,6 +256,7 @@ check('keys play on the page and export as the animation `subdiv animate` writes
     'the page\'s animated USD is the command line\'s, byte for byte');
   assert.match(readFileSync(usda, 'utf8'), /endTimeCode = 24\n/);
   await shot('keyed');
+  writeFileSync(join(out.path, 'page.png'), await page.screenshot());
   assert.deepEqual(pageErrors, []);
 });
 
