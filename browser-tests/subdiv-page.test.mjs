@@ -260,6 +260,31 @@ check('keys play on the page and export as the animation `subdiv animate` writes
   assert.deepEqual(pageErrors, []);
 });
 
+check('undo and redo take back and restore a handle and a move', async () => {
+  await page.click('#rest');
+  const before = await page.evaluate(() => window.subdivPageState());
+  await clickAt([4, 0, 0]);
+  await page.waitForFunction((n) => window.subdivPageState().handles.length === n && window.subdivPageState().rigReady, before.handles.length + 1, { timeout: WAIT });
+  await page.click('#undo');
+  await page.waitForFunction((n) => window.subdivPageState().handles.length === n && window.subdivPageState().rigReady, before.handles.length, { timeout: WAIT });
+  assert.deepEqual((await page.evaluate(() => window.subdivPageState())).keys, before.keys, 'the keys are kept');
+  await page.keyboard.press('Control+Shift+Z');
+  await page.waitForFunction((n) => window.subdivPageState().handles.length === n && window.subdivPageState().rigReady, before.handles.length + 1, { timeout: WAIT });
+  // A move undone: the handle back where it was.
+  const box = await page.locator('#view').boundingBox();
+  const state = await page.evaluate(() => window.subdivPageState());
+  const h = state.handles[0];
+  const [x, y] = await page.evaluate((q) => window.subdivProject(q), h.rest.map((r, k) => r + h.offset[k]));
+  await page.mouse.move(box.x + x, box.y + y);
+  await page.mouse.down();
+  await page.mouse.move(box.x + x + 40, box.y + y, { steps: 4 });
+  await page.mouse.up();
+  assert.notDeepEqual((await page.evaluate(() => window.subdivPageState())).handles[0].offset, h.offset);
+  await page.keyboard.press('Control+Z');
+  assert.deepEqual((await page.evaluate(() => window.subdivPageState())).handles[0].offset, h.offset);
+  assert.deepEqual(pageErrors, []);
+});
+
 /** Pixels of `image` for which `test([r, g, b])` holds. */
 function countPixels({ width, height, data }, test) {
   let n = 0;

@@ -10,10 +10,12 @@
 //   keys.js      keyframes of the handles' poses and their interpolation
 //   exports.js   the scene file and downloads
 //   gl-view.js   the WebGL2 drawing
+//   ../history.js  undo and redo (the 2D editor's, on this page's snapshots)
 
 import { dragInView, eye, fitCamera, orbit, pan, viewAxes, viewProjection, zoom } from './camera.js';
 import { saveBlob, sceneFile, withExtension } from './exports.js';
 import { createView } from './gl-view.js';
+import { History } from '../history.js';
 import { keyOf, poseAt, withKey } from './keys.js';
 import { pickPoint, pickSurface, project } from './pick.js';
 import { IDENTITY_ROTATION, distances, fitCage, handleMap, skin, turned, weightColumn } from './rig.js';
@@ -54,6 +56,8 @@ const page = {
   /** Keyframes (keys.js), time order; the playback's animation frame request, or null. */
   keys: [],
   playing: null,
+  /** Undo and redo of the edits: snapshots of the handles, keys, selection and family. */
+  history: new History(),
   family: 'shepard',
   /** Point handles: `{ rest: [x, y, z], offset: [dx, dy, dz], rotation: 3 × 3 rows flat }`. */
   handles: [],
@@ -177,6 +181,44 @@ function update() {
   }
 }
 
+/** What undo restores: the handles, keys, selection and weight family. */
+function snapshot() {
+  return { handles: page.handles, keys: page.keys, selected: page.selected, family: page.family };
+}
+
+/** Records the state before an edit. */
+function beforeEdit() {
+  page.history.record(snapshot());
+}
+
+/** Goes back (`undo`) or forward (`redo`) one edit; a new set of handles or family asks for its rig. */
+function travel(direction) {
+  const target = direction === 'undo' ? page.history.undo(snapshot()) : page.history.redo(snapshot());
+  if (!target || !page.cage) return;
+  const sameRig =
+    target.family === page.family &&
+    target.handles.length === page.handles.length &&
+    target.handles.every((h, i) => h.rest.every((v, k) => v === page.handles[i].rest[k]));
+  Object.assign(page, structuredClone(target));
+  document.getElementById('family').value = page.family;
+  showKeys();
+  if (sameRig && page.rig) {
+    update();
+    draw();
+  } else if (page.handles.length > 0) {
+    // The old rig has other handles: the cage stays at rest until the new one arrives.
+    page.rig = null;
+    update();
+    draw();
+    rig().catch((e) => say(e.message, { error: true }));
+  } else {
+    page.rig = null;
+    update();
+    draw();
+  }
+  say(`${direction === 'undo' ? 'undone' : 'redone'}: ${page.handles.length} handles, ${page.keys.length} keys`);
+}
+
 /** Whether a handle is away from where it was placed. */
 function posed(h) {
   return h.offset.some((d) => d !== 0) || h.rotation.some((v, k) => v !== IDENTITY_ROTATION[k]);
@@ -220,11 +262,13 @@ function click(at) {
     say('Handles are added at rest: press Rest first.', { error: true });
     return;
   }
-  page.handles.push({ rest: point, offset: [0, 0, 0], rotation: [...IDENTITY_ROTATION] });
+  beforeEdit();
+  page.handles = [...page.handles, { rest: point, offset: [0, 0, 0], rotation: [...IDENTITY_ROTATION] }];
   // Keys hold every handle's pose: a new handle starts a new animation.
   page.keys = [];
   showKeys();
   page.selected = page.handles.length - 1;
+  page.rig = null;
   update();
   draw();
   rig().catch((e) => say(e.message, { error: true }));
@@ -241,7 +285,12 @@ canvas.addEventListener('pointerdown', (event) => {
   const at = local(event);
   const size = { width: canvas.clientWidth, height: canvas.clientHeight, radius: HANDLE_RADIUS };
   const handle = page.rig ? pickPoint(matrix(), handlePositions(), at, size) : null;
-  if (handle != null) page.selected = handle;
+  if (handle != null) {
+    beforeEdit();
+    page.selected = handle;
+    // Edits replace the handles rather than change them, so snapshots stay as they were.
+    page.handles = page.handles.map((h) => ({ ...h }));
+  }
   page.drag = { x: at[0], y: at[1], startX: at[0], startY: at[1], handle, panning: event.shiftKey || event.button === 2 };
 });
 
@@ -343,16 +392,15 @@ document.getElementById('distance').addEventListener('change', (event) => {
 });
 
 document.getElementById('family').addEventListener('change', (event) => {
+  beforeEdit();
   page.family = event.target.value;
   if (page.handles.length > 0) rig().catch((e) => say(e.message, { error: true }));
 });
 
 document.getElementById('rest').addEventListener('click', () => {
   if (!page.cage) return;
-  for (const h of page.handles) {
-    h.offset = [0, 0, 0];
-    h.rotation = [...IDENTITY_ROTATION];
-  }
+  beforeEdit();
+  page.handles = page.handles.map((h) => ({ ...h, offset: [0, 0, 0], rotation: [...IDENTITY_ROTATION] }));
   update();
   draw();
 });
@@ -405,12 +453,14 @@ document.getElementById('add-key').addEventListener('click', () => {
   }
   const input = document.getElementById('key-time');
   const time = Math.max(0, Number(input.value) || 0);
+  beforeEdit();
   page.keys = withKey(page.keys, keyOf(time, page.handles));
   input.value = String(time + 1);
   showKeys();
 });
 
 document.getElementById('clear-keys').addEventListener('click', () => {
+  beforeEdit();
   page.keys = [];
   showKeys();
 });
@@ -435,6 +485,15 @@ document.getElementById('play').addEventListener('click', () => {
     }
   };
   page.playing = requestAnimationFrame(frame);
+});
+
+document.getElementById('undo').addEventListener('click', () => travel('undo'));
+document.getElementById('redo').addEventListener('click', () => travel('redo'));
+window.addEventListener('keydown', (event) => {
+  if (!(event.ctrlKey || event.metaKey) || event.key.toLowerCase() !== 'z') return;
+  if (event.target instanceof HTMLInputElement) return;
+  event.preventDefault();
+  travel(event.shiftKey ? 'redo' : 'undo');
 });
 
 document.getElementById('reset-view').addEventListener('click', () => {
