@@ -1,5 +1,12 @@
 // What the page writes: the scene (the subdivision scene format `splineskin subdiv deform`
-// reads, the current pose as pose 0) and the server's exports of it, saved as downloads.
+// reads, the current pose as pose 0, the keys as its animation) and the server's exports of
+// it, saved as downloads.
+
+import { handleMap } from './rig.js';
+import { postRaw } from './server.js';
+
+/** Frames per second of exported animations. */
+const ANIMATION_FPS = 24;
 
 /** Matrices as scenes write them: `{"matrix": [[a, b, c, d], [e, f, g, h], [i, j, k, l]]}`. */
 function matrixOf(t) {
@@ -44,4 +51,36 @@ export function saveBlob(name, blob) {
 export function withExtension(cageName, ext) {
   const stem = cageName.replace(/\.[^.]*$/, '') || 'cage';
   return `${stem}.${ext}`;
+}
+
+/**
+ * Saves `page`'s scene (`scene`) or the server's export of it (`usda`, `glb`, `obj`): the
+ * current pose, or with two keys or more their animation; `say` reports.
+ */
+export async function exportAs(page, format, say) {
+  if (!page.cage || page.handles.length === 0) {
+    say('Add handles first: the export is the posed surface.', { error: true });
+    return;
+  }
+  const keyframes = page.keys.map((k) => ({
+    time: k.time,
+    transforms: k.poses.map((p, i) => handleMap({ rest: page.handles[i].rest, ...p })),
+  }));
+  const scene = sceneFile(page.cage.name, page.handles, page.family, page.handles.map(handleMap), {
+    keyframes,
+    fps: ANIMATION_FPS,
+  });
+  if (format === 'scene') {
+    saveBlob(withExtension(page.cage.name, 'json'), new Blob([JSON.stringify(scene, null, 1)], { type: 'application/json' }));
+    return;
+  }
+  delete scene.splineskin_subdiv_scene;
+  delete scene.obj;
+  const body = JSON.stringify({ name: page.cage.name, obj: page.objText, level: page.cage.surface.level, scene });
+  say(`exporting ${format}…`);
+  const response = await postRaw(`/api/subdiv/export?format=${format}`, body, { 'content-type': 'application/json' });
+  const name = withExtension(page.cage.name, format === 'obj' ? 'posed.obj' : format);
+  saveBlob(name, await response.blob());
+  const what = scene.animation ? `the animation (${page.keys.length} keys)` : 'the current pose';
+  say(`${name}: the ${format === 'glb' ? 'limit surface' : 'fitted cage'} of ${what}`);
 }

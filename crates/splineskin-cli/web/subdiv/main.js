@@ -8,25 +8,25 @@
 //   camera.js    the orbit camera and its matrices
 //   pick.js      what the pointer is over
 //   keys.js      keyframes of the handles' poses and their interpolation
-//   exports.js   the scene file and downloads
+//   exports.js   the scene file, the server's exports, downloads
+//   server.js    requests to the server
 //   gl-view.js   the WebGL2 drawing
 //   ../history.js  undo and redo (the 2D editor's, on this page's snapshots)
 
 import { dragInView, eye, fitCamera, orbit, pan, viewAxes, viewProjection, zoom } from './camera.js';
-import { saveBlob, sceneFile, withExtension } from './exports.js';
+import { exportAs } from './exports.js';
 import { createView } from './gl-view.js';
 import { History } from '../history.js';
 import { keyOf, poseAt, withKey } from './keys.js';
 import { pickPoint, pickSurface, project } from './pick.js';
 import { IDENTITY_ROTATION, distances, fitCage, handleMap, skin, turned, weightColumn } from './rig.js';
+import { post } from './server.js';
 import { bounds, tessellate, vertexNormals } from './surface.js';
 
 /** Pixels a press may move and still be a click. */
 const CLICK_SLOP = 4;
 /** Pixels from a handle's dot that pick it. */
 const HANDLE_RADIUS = 10;
-/** Frames per second of exported animations. */
-const ANIMATION_FPS = 24;
 /** Radians a handle turns per pixel dragged sideways. */
 const TURN_PER_PIXEL = 0.01;
 /** The distance to the skinned surface painted full red, a fraction of the cage's diagonal. */
@@ -86,28 +86,6 @@ try {
   page.view = createView(canvas);
 } catch (error) {
   say(error.message, { error: true });
-}
-
-/** POSTs `body` to the server's `route`, answering the response or throwing its message. */
-async function postRaw(route, body, headers = {}) {
-  // The server answers POSTs that carry this header only (its guard against other sites).
-  const response = await fetch(route, { method: 'POST', headers: { 'x-splineskin': '1', ...headers }, body });
-  if (!response.ok) {
-    const text = await response.text();
-    let message = text;
-    try {
-      message = JSON.parse(text).error ?? text;
-    } catch {
-      // Not JSON: the text as it came.
-    }
-    throw new Error(message);
-  }
-  return response;
-}
-
-/** POSTs `body` to `route`, answering its JSON. */
-async function post(route, body, headers = {}) {
-  return (await postRaw(route, body, headers)).json();
 }
 
 /** Opens `file` (an OBJ cage): the server samples its limit surface. */
@@ -405,39 +383,10 @@ document.getElementById('rest').addEventListener('click', () => {
   draw();
 });
 
-/** Saves the scene (`scene`) or the server's export of it (`usda`, `glb`, `obj`). */
-async function exportAs(format) {
-  if (!page.cage || page.handles.length === 0) {
-    say('Add handles first: the export is the posed surface.', { error: true });
-    return;
-  }
-  const keyframes = page.keys.map((k) => ({
-    time: k.time,
-    transforms: k.poses.map((p, i) => handleMap({ rest: page.handles[i].rest, ...p })),
-  }));
-  const scene = sceneFile(page.cage.name, page.handles, page.family, page.handles.map(handleMap), {
-    keyframes,
-    fps: ANIMATION_FPS,
-  });
-  if (format === 'scene') {
-    saveBlob(withExtension(page.cage.name, 'json'), new Blob([JSON.stringify(scene, null, 1)], { type: 'application/json' }));
-    return;
-  }
-  delete scene.splineskin_subdiv_scene;
-  delete scene.obj;
-  const body = JSON.stringify({ name: page.cage.name, obj: page.objText, level: page.cage.surface.level, scene });
-  say(`exporting ${format}…`);
-  const response = await postRaw(`/api/subdiv/export?format=${format}`, body, { 'content-type': 'application/json' });
-  const name = withExtension(page.cage.name, format === 'obj' ? 'posed.obj' : format);
-  saveBlob(name, await response.blob());
-  const what = scene.animation ? `the animation (${page.keys.length} keys)` : 'the current pose';
-  say(`${name}: the ${format === 'glb' ? 'limit surface' : 'fitted cage'} of ${what}`);
-}
-
 document.getElementById('export').addEventListener('change', (event) => {
   const format = event.target.value;
   event.target.value = '';
-  if (format) exportAs(format).catch((e) => say(e.message, { error: true }));
+  if (format) exportAs(page, format, say).catch((e) => say(e.message, { error: true }));
 });
 
 /** The keys' times in the toolbar. */
