@@ -6,21 +6,10 @@ import { settleBlend } from './frames.js';
 import { progress, say, showError, showNotice } from './messages.js';
 import { pause } from './playback.js';
 import { precompute } from './precompute.js';
+import { download } from './save-file.js';
 import { DEFAULT_DEFOP_SAMPLES, DEFOP_ENERGIES, baseName, editor, isDefop, rigReady } from './store.js';
 
 const $ = (id) => document.getElementById(id);
-
-/** Hands `data` (text or a Blob) to the browser as a download named `name`, of MIME type `type`. */
-function download(data, name, type) {
-  const url = URL.createObjectURL(data instanceof Blob ? data : new Blob([data], { type }));
-  const a = document.createElement('a');
-  a.href = url;
-  a.download = name;
-  document.body.append(a);
-  a.click();
-  a.remove();
-  setTimeout(() => URL.revokeObjectURL(url), 10_000);
-}
 
 /**
  * What deformed the drawing as shown, for the export (api.exportSvg): the rig and pose, or the

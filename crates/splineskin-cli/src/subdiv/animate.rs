@@ -90,10 +90,10 @@ pub fn run(args: Args) -> Result<()> {
                 .with_context(|| format!("--fps {fps}"))?,
         );
     }
-    // A scene without a playable animation fails before the precompute.
-    scene.animation_frames()?;
+    // Sampled before the precompute: a scene without a playable animation fails at once.
+    let frames = scene.animation_frames()?;
     let setup = scene.setup()?;
-    let fitted = FittedAnimation::new(&scene, &setup)?;
+    let fitted = FittedAnimation::of_frames(&scene, frames, &setup)?;
     let up = match args.up {
         Up::Y => UpAxis::Y,
         Up::Z => UpAxis::Z,

@@ -1,7 +1,8 @@
 // What the page writes: the scene (the subdivision scene format `splineskin subdiv deform`
 // reads, the current pose as pose 0, the keys as its animation) and the server's exports of
-// it, saved as downloads.
+// it, saved as downloads (../save-file.js).
 
+import { download } from '../save-file.js';
 import { handleMap } from './rig.js';
 import { postRaw } from './server.js';
 
@@ -35,18 +36,6 @@ export function sceneFile(cageName, handles, family, transforms, { keyframes = [
   return scene;
 }
 
-/** Offers `blob` to the user as a download named `name`. */
-export function saveBlob(name, blob) {
-  const url = URL.createObjectURL(blob);
-  const link = document.createElement('a');
-  link.href = url;
-  link.download = name;
-  document.body.append(link);
-  link.click();
-  link.remove();
-  setTimeout(() => URL.revokeObjectURL(url), 0);
-}
-
 /** The file name of `cageName` with extension `ext` (`tube.obj` → `tube.usda`). */
 export function withExtension(cageName, ext) {
   const stem = cageName.replace(/\.[^.]*$/, '') || 'cage';
@@ -71,7 +60,7 @@ export async function exportAs(page, format, say) {
     fps: ANIMATION_FPS,
   });
   if (format === 'scene') {
-    saveBlob(withExtension(page.cage.name, 'json'), new Blob([JSON.stringify(scene, null, 1)], { type: 'application/json' }));
+    download(JSON.stringify(scene, null, 1), withExtension(page.cage.name, 'json'), 'application/json');
     return;
   }
   delete scene.splineskin_subdiv_scene;
@@ -80,7 +69,7 @@ export async function exportAs(page, format, say) {
   say(`exporting ${format}…`);
   const response = await postRaw(`/api/subdiv/export?format=${format}`, body, { 'content-type': 'application/json' });
   const name = withExtension(page.cage.name, format === 'obj' ? 'posed.obj' : format);
-  saveBlob(name, await response.blob());
+  download(await response.blob(), name);
   const what = scene.animation ? `the animation (${page.keys.length} keys)` : 'the current pose';
   say(`${name}: the ${format === 'glb' ? 'limit surface' : 'fitted cage'} of ${what}`);
 }

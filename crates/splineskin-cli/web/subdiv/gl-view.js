@@ -151,9 +151,21 @@ export function createView(canvas) {
   };
 }
 
+/** f32 copies of the values uploaded as something else (the cage's f64), kept per buffer. */
+const scratch = new WeakMap();
+
 function upload(gl, buffer, values) {
+  let data = values;
+  if (!(values instanceof Float32Array)) {
+    data = scratch.get(buffer);
+    if (!data || data.length !== values.length) {
+      data = new Float32Array(values.length);
+      scratch.set(buffer, data);
+    }
+    data.set(values);
+  }
   gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
-  gl.bufferData(gl.ARRAY_BUFFER, values instanceof Float32Array ? values : new Float32Array(values), gl.DYNAMIC_DRAW);
+  gl.bufferData(gl.ARRAY_BUFFER, data, gl.DYNAMIC_DRAW);
 }
 
 function attribute(gl, { attribute: location }, name, buffer) {

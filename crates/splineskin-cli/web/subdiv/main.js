@@ -47,10 +47,12 @@ const page = {
   method: 'ours',
   /** Colour the surface by its distance to the skinned surface. */
   showDistance: false,
-  /** The rest surface (f64), the skinned surface and the distances, for `showDistance`. */
+  /** The rest surface (f64) and the skinned surface, for `showDistance`. */
   restSurface: null,
   skinned: null,
-  distance: null,
+  /** The values painted on the surface (weights or distances) and what they are of. */
+  painted: null,
+  paintedFor: null,
   /** The last frame's distance to the skinned surface: `{max, rms}` in the cage's units. */
   error: null,
   /** Keyframes (keys.js), time order; the playback's animation frame request, or null. */
@@ -99,7 +101,8 @@ async function open(file) {
   page.fitted = Float64Array.from(cage.positions);
   page.restSurface = tessellate(cage.surface, cage.positions, new Float64Array(3 * cage.surface.n_vertices));
   page.skinned = new Float64Array(3 * cage.surface.n_vertices);
-  page.distance = new Float32Array(cage.surface.n_vertices);
+  page.painted = new Float32Array(cage.surface.n_vertices);
+  page.paintedFor = null;
   page.view.setMesh(cage.surface.triangles, cage.edges);
   page.view.setHandles([]);
   update();
@@ -148,15 +151,30 @@ function update() {
   page.frameMs = performance.now() - start;
   page.view.setPositions(page.positions, page.normals, page.fitted);
   page.view.setHandles(handlePositions());
+  paint(transforms);
+}
+
+/**
+ * The values painted on the surface, uploaded: the distance to the skinned surface (every
+ * frame), or the selected handle's weight (only when the rig or the selection changed).
+ */
+function paint(transforms) {
   page.error = null;
   if (page.rig && page.showDistance) {
     skin(page.restSurface, page.rig.surface_weights, transforms, page.skinned);
-    page.error = distances(page.positions, page.skinned, page.distance);
+    page.error = distances(page.positions, page.skinned, page.painted);
     const scale = page.cage.diagonal * DISTANCE_SCALE;
-    page.view.setWeights(page.distance.map((d) => d / scale));
+    for (let m = 0; m < page.painted.length; m++) page.painted[m] /= scale;
+    page.paintedFor = 'distance';
   } else if (page.rig && page.selected != null) {
-    page.view.setWeights(weightColumn(page.rig.surface_weights, page.rig.n_handles, page.selected));
+    const key = `weights ${page.asked} ${page.selected}`;
+    if (page.paintedFor === key) return;
+    weightColumn(page.rig.surface_weights, page.rig.n_handles, page.selected, page.painted);
+    page.paintedFor = key;
+  } else {
+    return;
   }
+  page.view.setWeights(page.painted);
 }
 
 /** What undo restores: the handles, keys, selection and weight family. */

@@ -58,18 +58,17 @@ export function fitCage(rig, transforms, out) {
   return out;
 }
 
-/** Column `i` of `weights` (`h` numbers per vertex), as f32 for drawing. */
-export function weightColumn(weights, h, i) {
-  const out = new Float32Array(weights.length / h);
+/** Writes column `i` of `weights` (`h` numbers per vertex) into `out`. */
+export function weightColumn(weights, h, i, out) {
   for (let m = 0; m < out.length; m++) out[m] = weights[m * h + i];
   return out;
 }
 
-/** `T · p` for a flat 3 × 4 map `T`, added `w` times into `out` at `o`. */
-function addMapped(t, p, w, out, o) {
-  out[o] += w * (t[0] * p[0] + t[1] * p[1] + t[2] * p[2] + t[3]);
-  out[o + 1] += w * (t[4] * p[0] + t[5] * p[1] + t[6] * p[2] + t[7]);
-  out[o + 2] += w * (t[8] * p[0] + t[9] * p[1] + t[10] * p[2] + t[11]);
+/** `T · (x, y, z)` for a flat 3 × 4 map `T`, added `w` times into `out` at `o`. */
+function addMapped(t, x, y, z, w, out, o) {
+  out[o] += w * (t[0] * x + t[1] * y + t[2] * z + t[3]);
+  out[o + 1] += w * (t[4] * x + t[5] * y + t[6] * z + t[7]);
+  out[o + 2] += w * (t[8] * x + t[9] * y + t[10] * z + t[11]);
 }
 
 /**
@@ -81,10 +80,12 @@ export function skin(points, weights, transforms, out) {
   const h = transforms.length;
   out.fill(0);
   for (let v = 0; v < points.length / 3; v++) {
-    const p = [points[3 * v], points[3 * v + 1], points[3 * v + 2]];
+    const x = points[3 * v];
+    const y = points[3 * v + 1];
+    const z = points[3 * v + 2];
     for (let i = 0; i < h; i++) {
       const w = weights[v * h + i];
-      if (w !== 0) addMapped(transforms[i], p, w, out, 3 * v);
+      if (w !== 0) addMapped(transforms[i], x, y, z, w, out, 3 * v);
     }
   }
   return out;

@@ -43,11 +43,9 @@ export function vertexNormals(positions, triangles, out) {
     const nx = uy * vz - uz * vy;
     const ny = uz * vx - ux * vz;
     const nz = ux * vy - uy * vx;
-    for (const v of [a, b, c]) {
-      out[v] += nx;
-      out[v + 1] += ny;
-      out[v + 2] += nz;
-    }
+    addTo(out, a, nx, ny, nz);
+    addTo(out, b, nx, ny, nz);
+    addTo(out, c, nx, ny, nz);
   }
   for (let v = 0; v < out.length; v += 3) {
     const length = Math.hypot(out[v], out[v + 1], out[v + 2]) || 1;
@@ -56,6 +54,12 @@ export function vertexNormals(positions, triangles, out) {
     out[v + 2] /= length;
   }
   return out;
+}
+
+function addTo(out, v, x, y, z) {
+  out[v] += x;
+  out[v + 1] += y;
+  out[v + 2] += z;
 }
 
 /** The centre and radius of the bounding sphere of the box around `positions`. */

@@ -165,7 +165,7 @@ impl Document {
 
     /// A VEC3 float accessor of `values` (with min and max, as positions need).
     fn vec3(&mut self, values: &[[f32; 3]]) -> json::Index<json::Accessor> {
-        let (lo, hi) = bounds3(values);
+        let (lo, hi) = extent_f32(values.iter().copied());
         let bytes: Vec<u8> = values
             .iter()
             .flatten()
@@ -334,11 +334,6 @@ impl Document {
         out.extend_from_slice(&self.bin);
         out
     }
-}
-
-fn bounds3(values: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
-    let as64: Vec<Point3> = values.iter().map(|v| v.map(f64::from)).collect();
-    extent_f32(&as64)
 }
 
 fn difference(a: &[[f32; 3]], b: &[[f32; 3]]) -> Vec<[f32; 3]> {

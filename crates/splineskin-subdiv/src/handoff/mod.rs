@@ -12,6 +12,7 @@
 //! accessors), so a written point is the `f64` one rounded to `f32`: within `2⁻²⁴` of its
 //! largest coordinate.
 
+use super::affine3::Affine3;
 use super::cage::Point3;
 use super::error::SubdivError;
 use super::limit_mesh::LimitMesh;
@@ -103,7 +104,16 @@ impl FittedAnimation {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn new(scene: &SubdivScene, setup: &SubdivSetup) -> Result<Self, SubdivSceneError> {
-        let frames = scene.animation_frames()?;
+        Self::of_frames(scene, scene.animation_frames()?, setup)
+    }
+
+    /// [`FittedAnimation::new`] of the frames `scene.animation_frames()` gave (for a caller that
+    /// sampled them before the precompute, to fail early).
+    pub fn of_frames(
+        scene: &SubdivScene,
+        frames: Vec<(f64, Vec<Affine3>)>,
+        setup: &SubdivSetup,
+    ) -> Result<Self, SubdivSceneError> {
         let mut cages = Vec::with_capacity(frames.len());
         for (f, (t, pose)) in frames.iter().enumerate() {
             let mut out = vec![[0.0; 3]; setup.cage.n_vertices()];
@@ -216,15 +226,14 @@ fn check_frames(times: &[f64], frames: &[Vec<Point3>], n: usize) -> Result<(), H
     Ok(())
 }
 
-/// The smallest box holding `points`: `(min, max)` per axis, in `f32` (as written).
-fn extent_f32(points: &[Point3]) -> ([f32; 3], [f32; 3]) {
+/// The smallest box holding `points` (as written, in `f32`): `(min, max)` per axis.
+fn extent_f32(points: impl IntoIterator<Item = [f32; 3]>) -> ([f32; 3], [f32; 3]) {
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
     for p in points {
         for k in 0..3 {
-            let c = p[k] as f32;
-            lo[k] = lo[k].min(c);
-            hi[k] = hi[k].max(c);
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
         }
     }
     (lo, hi)

@@ -81,7 +81,7 @@ pub fn write_usda(frames: &CageFrames) -> Result<String, HandoffError> {
         points,
     );
     write_samples(&mut out, "float3[] extent", &codes, frames.positions, |p| {
-        let (lo, hi) = extent_f32(p);
+        let (lo, hi) = extent_f32(p.iter().map(|q| q.map(|c| c as f32)));
         format!("[{}, {}]", tuple(lo), tuple(hi))
     });
     write_tags(&mut out, cage);
