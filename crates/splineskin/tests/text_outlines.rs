@@ -30,7 +30,7 @@ use splineskin::weights::WeightField;
 const FISH: &str = include_str!("../assets/demo.svg");
 
 /// The fish's label plate (`rect#plate`), in its user units (= pixels at [`FISH_SIZE`]).
-const PLATE: Rect = Rect::new(210.0, 354.0, 390.0, 388.0);
+const PLATE: Rect = Rect::new(210.0, 350.0, 390.0, 380.0);
 
 /// Render size of the fish: its viewport is 600 × 400, so one pixel per user unit.
 const FISH_SIZE: u32 = 600;
