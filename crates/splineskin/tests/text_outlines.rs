@@ -127,10 +127,10 @@ fn png_renders_draw_the_fish_label_inside_its_plate() {
             .count()
     };
     let crop = |p: &tiny_skia::Pixmap| {
-        let mut c = tiny_skia::Pixmap::new(150, 24).unwrap();
+        let mut c = tiny_skia::Pixmap::new(150, 22).unwrap();
         c.draw_pixmap(
             -225,
-            -360,
+            -354,
             p.as_ref(),
             &tiny_skia::PixmapPaint::default(),
             tiny_skia::Transform::identity(),
