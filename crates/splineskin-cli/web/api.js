@@ -83,9 +83,12 @@ export async function autoPins(id, handles) {
   return (await postJson(`/api/documents/${encodeURIComponent(id)}/pins`, { handles })).json();
 }
 
-/** The carry operator of rig `rig` (its text and images' best-fit maps per pose): Float64Array. */
-export async function rigCarry(rig) {
-  const response = await call(`/api/rigs/${encodeURIComponent(rig)}/carry`);
+/**
+ * The carry operator of a rig (`defop` false: rig `id`'s text and images' best-fit maps per pose)
+ * or of an operator (`defop` true: per configuration's handle functions ψ(Q)): Float64Array.
+ */
+export async function rigCarry(id, defop = false) {
+  const response = await call(`/api/${defop ? 'defops' : 'rigs'}/${encodeURIComponent(id)}/carry`);
   return new Float64Array(await response.arrayBuffer());
 }
 

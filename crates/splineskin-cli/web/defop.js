@@ -73,8 +73,14 @@ export class DefOpLiveRig {
     this.nCentres = info.n_centres;
     this.rest = Float64Array.from(info.rest.flat());
     this.handles = Float64Array.from(handles.flat());
-    /** ψ(Q), |Ψ| values; ψ[1 + a] = z_a. */
-    this.psi = new Float64Array(nPsi);
+    /** ψ(Q), then a 1 (the carry operator's constant column). */
+    this.psiAndOne = new Float64Array(nPsi + 1);
+    this.psiAndOne[nPsi] = 1;
+    /** ψ(Q), |Ψ| values (a view of the same numbers); ψ[1 + a] = z_a. */
+    this.psi = this.psiAndOne.subarray(0, nPsi);
+    /** The carry operator (setCarry), and the maps it gives (carryMaps). */
+    this.carry = null;
+    this.carryOut = null;
     /** The last configuration Q, x0, y0, x1, … (the rest until the first frame). */
     this.q = Float64Array.from(this.rest);
   }
@@ -121,6 +127,29 @@ export class DefOpLiveRig {
         psi[next++] = r2 > 0 ? 0.5 * r2 * Math.log(r2) : 0;
       }
     }
+  }
+
+  /**
+   * Takes the operator's carry operator (GET /api/defops/{id}/carry): per carried text or image,
+   * then per painted element, six rows of |Ψ| + 1 coefficients (ψ(Q), then a constant), `nMaps`
+   * maps in all. Ignored when its size does not fit.
+   */
+  setCarry(carry, nMaps) {
+    if (nMaps === 0 || carry.length !== nMaps * 6 * this.psiAndOne.length) return;
+    this.carry = carry;
+    this.carryOut = new Float64Array(6 * nMaps);
+  }
+
+  /**
+   * The carried elements' best-fit maps at `pose` (six numbers each, root user space): the
+   * carry operator's product with [ψ(Q), 1]; null until the operator is known.
+   */
+  carryMaps(pose) {
+    if (!this.carry) return null;
+    this.configuration(pose);
+    this.evalPsi();
+    matVec(this.carry, this.psiAndOne, this.carryOut.length, this.carryOut);
+    return this.carryOut;
   }
 
   /** Writes the deformed chain points x0, y0, x1, y1, … for `pose`: G_spline · ψ(Q). */

@@ -88,6 +88,8 @@ const follower = new OperatorFollower({
   swap(old, info, data) {
     const rig = new DefOpLiveRig(info, data, editor.view.nPoints, editor.scene.handles);
     rig.configuration(editor.scene.pose); // where the handles are, before its first frame
+    if (old.carry) rig.setCarry(old.carry, old.carryOut.length / 6); // until its own arrives
+    fetchCarry(rig);
     blendIn(rig, old);
     editor.rig = rig;
     const [, solve, join] = info.seconds;
@@ -168,5 +170,23 @@ export async function flexibleSolve() {
     } else {
       showError(e);
     }
+  }
+}
+
+/**
+ * Asks for `rig`'s carry operator (a LiveRig's or a DefOpLiveRig's) when the document has text, images or user-space paint
+ * (they then move with the art on the canvas as Export SVG moves them), and draws again once it is there
+ * (`body[data-carry]` names the rig, for the tests).
+ */
+export async function fetchCarry(rig) {
+  const n = editor.info.carried.length + editor.info.painted.length;
+  if (!n) return;
+  try {
+    rig.setCarry(await api.rigCarry(rig.id, rig instanceof DefOpLiveRig), n);
+    if (editor.rig !== rig) return;
+    document.body.dataset.carry = rig.id;
+    render();
+  } catch (e) {
+    if (editor.rig === rig) showError(`${shortName()}: moving its text and images with the art: ${e.message}`);
   }
 }

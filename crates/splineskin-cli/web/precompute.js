@@ -8,7 +8,7 @@ import * as api from './api.js';
 import { isStatic } from './backend.js';
 import { DefOpLiveRig } from './defop.js';
 import { blendIn } from './follow.js';
-import { blendFrames, flexibleSolve, render } from './frames.js';
+import { blendFrames, fetchCarry, flexibleSolve, render } from './frames.js';
 import { clearError, plural, progress, say, showError } from './messages.js';
 import { updateMesh, updateWeights } from './overlays.js';
 import { updateOnion } from './playback.js';
@@ -49,6 +49,7 @@ export async function precompute() {
       const { info, data } = await api.trainOperator(editor.info.id, scene, abort.signal, job);
       if (seq !== editor.precomputeSeq) return;
       editor.rig = new DefOpLiveRig(info, data, editor.view.nPoints, scene.handles);
+      fetchCarry(editor.rig);
       bytes = data.byteLength;
     } else {
       editor.previewSeconds = null;
@@ -144,24 +145,6 @@ async function preview(scene, key, seq, signal, started) {
     updateWeights();
   } catch {
     // The real rig's request reports what went wrong.
-  }
-}
-
-/**
- * Asks for `rig`'s carry operator when the document has text, images or user-space paint
- * (they then move with the art on the canvas as Export SVG moves them), and draws again once it is there
- * (`body[data-carry]` names the rig, for the tests).
- */
-async function fetchCarry(rig) {
-  const n = editor.info.carried.length + editor.info.painted.length;
-  if (!n) return;
-  try {
-    rig.setCarry(await api.rigCarry(rig.id), n);
-    if (editor.rig !== rig) return;
-    document.body.dataset.carry = rig.id;
-    render();
-  } catch (e) {
-    if (editor.rig === rig) showError(`${shortName()}: moving its text and images with the art: ${e.message}`);
   }
 }
 

@@ -99,7 +99,7 @@ pub use file::{
 pub use fit::{DefOpOptions, DEFAULT_RANK_TOLERANCE};
 pub use handle_basis::{HandleBasis, HandleBasisKind};
 pub use laplacian_eigen::{EigenOperator, SHIFT_FRACTION};
-pub use mesh_map::MeshMap;
+pub use mesh_map::{FunctionMaps, MeshMap};
 pub use operator::{DefOp, DefOpEvaluator};
 pub use orientation::flipped_triangles;
 pub use pin_holding::PIN_SNAP_FRACTION;

@@ -87,6 +87,75 @@ impl MeshMap {
     }
 }
 
+/// The operator's map as a linear function of its handle functions:
+/// `D(x, Q) = Σ_j ψ_j(Q) D_j(x)` with `D_j(x) = Σ_v λ_v(x) U_vj` ([`DefOp::function_positions`]).
+/// What is linear in the deformed points (the best-fit maps of carried text, images and
+/// paint) is then linear in `ψ(Q)`, and a live view updates it with one small product per frame
+/// instead of sampling the map again.
+///
+/// ```
+/// use kurbo::{Point, Rect};
+/// use splineskin_defop::{DefOp, DefOpOptions, FunctionMaps, HandleBasisKind, MeshMap, SpatialBasis};
+/// use splineskin_core::mesh::TriMesh;
+/// let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 8, 2)?;
+/// let handles = [9, 17];
+/// let configurations: Vec<Vec<Point>> = (0..6)
+///     .map(|k| vec![Point::new(0., 0.5 + 0.1 * k as f64), Point::new(4., 0.5)])
+///     .collect();
+/// let solutions: Vec<Vec<Point>> = (0..6)
+///     .map(|k| mesh.vertices.iter().map(|&p| Point::new(p.x, p.y + 0.1 * k as f64 * (1. - p.x / 4.))).collect())
+///     .collect();
+/// let spatial = SpatialBasis::hats(&mesh)?;
+/// let options = DefOpOptions::default().with_handle_basis(HandleBasisKind::Linear);
+/// let op = DefOp::fit(&mesh, &handles, &spatial, &configurations, &solutions, &options)?;
+/// let maps = FunctionMaps::new(&mesh, &op)?;
+/// // Σ_j ψ_j(Q) D_j(x) is the operator's map at Q.
+/// let q = [Point::new(0.1, 0.8), Point::new(4.0, 0.4)];
+/// let mut psi = vec![0.0; maps.n_functions()];
+/// op.handle_basis().eval(&q, &mut psi)?;
+/// let mut d = vec![0.0; 2 * maps.n_functions()];
+/// let x = Point::new(1.3, 0.6);
+/// maps.eval(x, &mut d);
+/// let (sx, sy) = psi.iter().enumerate().fold((0., 0.), |(sx, sy), (j, p)| (sx + p * d[2 * j], sy + p * d[2 * j + 1]));
+/// let direct = MeshMap::from_operator(&mesh, &op, &q)?.apply(x);
+/// assert!((Point::new(sx, sy) - direct).hypot() < 1e-9);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct FunctionMaps {
+    /// `D_j`'s x and y for every `j`, as a `2|Ψ|`-"handle" field.
+    field: MeshWeights,
+}
+
+impl FunctionMaps {
+    /// The maps `D_j` of operator `op` (trained or fitted on `mesh`).
+    ///
+    /// Errors: a mesh of another vertex count than the operator's
+    /// ([`DefOpError::BasisMismatch`]) or an invalid mesh.
+    pub fn new(mesh: &TriMesh, op: &DefOp) -> Result<FunctionMaps, DefOpError> {
+        if op.n_vertices() != mesh.n_vertices() {
+            return Err(DefOpError::BasisMismatch {
+                basis_vertices: op.n_vertices(),
+                n_vertices: mesh.n_vertices(),
+            });
+        }
+        let n_channels = 2 * op.handle_basis().n_functions();
+        Ok(FunctionMaps {
+            field: MeshWeights::new(mesh, op.function_positions(), n_channels)?,
+        })
+    }
+
+    /// Number of handle functions `|Ψ|`.
+    pub fn n_functions(&self) -> usize {
+        self.field.n_handles() / 2
+    }
+
+    /// Writes `D_j(x)` into `out[2j]` (x) and `out[2j + 1]` (y), `2|Ψ|` values.
+    pub fn eval(&self, x: Point, out: &mut [f64]) {
+        self.field.eval(x, out);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

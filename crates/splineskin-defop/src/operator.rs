@@ -72,6 +72,59 @@ impl DefOp {
         &self.coefficients
     }
 
+    /// The vertex positions each handle function contributes: `u_v(Q) = Σ_j ψ_j(Q) U_vj` with
+    /// `U = Dᵀ G` (module doc), returned row-major `n_vertices × 2|Ψ|`: entry `v · 2|Ψ| + 2j`
+    /// is the x of `U_vj`, the next its y. An evaluation is this matrix times `ψ(Q)`, so
+    /// anything linear in the deformed vertices is linear in `ψ` through it.
+    ///
+    /// ```
+    /// use kurbo::{Point, Rect};
+    /// use splineskin_defop::{DefOp, DefOpOptions, HandleBasisKind, SpatialBasis};
+    /// use splineskin_core::mesh::TriMesh;
+    /// let mesh = TriMesh::grid(Rect::new(0., 0., 4., 1.), 8, 2)?;
+    /// let handles = [9, 17];
+    /// let shift = |k: usize| kurbo::Vec2::new(0.1 * k as f64, 0.);
+    /// let configurations: Vec<Vec<Point>> =
+    ///     (0..6).map(|k| vec![Point::new(0., 0.5) + shift(k), Point::new(4., 0.5) + shift(k)]).collect();
+    /// let solutions: Vec<Vec<Point>> =
+    ///     (0..6).map(|k| mesh.vertices.iter().map(|&p| p + shift(k)).collect()).collect();
+    /// let spatial = SpatialBasis::hats(&mesh)?;
+    /// let options = DefOpOptions::default().with_handle_basis(HandleBasisKind::Linear);
+    /// let op = DefOp::fit(&mesh, &handles, &spatial, &configurations, &solutions, &options)?;
+    /// let u = op.function_positions();
+    /// let n_psi = op.handle_basis().n_functions();
+    /// // ψ₀ = 1 is the constant function: at the rest configuration only it is on, and its
+    /// // column holds the rest mesh.
+    /// let v = 5;
+    /// let rest = mesh.vertices[v];
+    /// assert!((u[v * 2 * n_psi] - rest.x).abs() < 1e-9 && (u[v * 2 * n_psi + 1] - rest.y).abs() < 1e-9);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn function_positions(&self) -> Vec<f64> {
+        let n_vertices = self.n_vertices();
+        let n_phi = self.spatial.n_functions();
+        let n_psi = self.handle_basis.n_functions();
+        let mut out = vec![0.0; n_vertices * 2 * n_psi];
+        for (j, column) in self.coefficients.chunks_exact(2 * n_phi).enumerate() {
+            let (cx, cy) = column.split_at(n_phi);
+            if self.spatial.is_hats() {
+                for (v, (&x, &y)) in cx.iter().zip(cy).enumerate() {
+                    out[v * 2 * n_psi + 2 * j] = x;
+                    out[v * 2 * n_psi + 2 * j + 1] = y;
+                }
+                continue;
+            }
+            for (i, values) in self.vertex_values.chunks_exact(n_vertices).enumerate() {
+                let (a, b) = (cx[i], cy[i]);
+                for (v, &d) in values.iter().enumerate() {
+                    out[v * 2 * n_psi + 2 * j] += a * d;
+                    out[v * 2 * n_psi + 2 * j + 1] += b * d;
+                }
+            }
+        }
+        out
+    }
+
     /// A worker for evaluations, owning its scratch (one per thread).
     pub fn evaluator(&self) -> DefOpEvaluator<'_> {
         DefOpEvaluator {

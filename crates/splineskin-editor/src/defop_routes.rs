@@ -14,11 +14,14 @@
 //! scaling a handle about itself moves nothing. Flexible G¹ does not apply (the join keeps the
 //! drawing's junction constraints as they are); a scene asking for it is refused.
 
-use kurbo::Point;
+use kurbo::{Point, Vec2};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-use splineskin::defop::{extend, train, trained_distance, DefOpError, Progress, SplineJoin};
+use splineskin::defop::{
+    extend, train, trained_distance, DefOpError, FunctionMaps, Progress, SplineJoin,
+};
+use splineskin::drawing::carry::CarryOperator;
 use splineskin::scene::Compat;
 
 use crate::document_routes::gone_operator;
@@ -332,6 +335,35 @@ pub(crate) fn deform(editor: &Editor, id: &str, request: &Request) -> Result<Res
         let flat: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y]).collect();
         Ok(Response::f64s(&flat))
     }
+}
+
+/// `GET /api/defops/{id}/carry`: the operator's carry operator, laid out as a rig's
+/// ([`crate::rig_routes::carry`]) with the `|Ψ|` handle functions in place of the pose: the
+/// operator's map is `D(x, Q) = Σ_j ψ_j(Q) D_j(x)` ([`FunctionMaps`]), linear in `ψ(Q)`, so the
+/// best-fit maps of the carried text, images and paint are too
+/// ([`splineskin::drawing::carry::CarryOperator`]), and equal those Export SVG writes for the
+/// same configuration. Empty when the document has no such element.
+pub(crate) fn carry(editor: &Editor, id: &str) -> Result<Response, ApiError> {
+    let rig = editor.store().defop(id).ok_or_else(|| gone_operator(id))?;
+    let document = editor.document(&rig.document)?;
+    if document.info.carried.is_empty() && document.info.painted.is_empty() {
+        return Ok(Response::f64s(&[]));
+    }
+    let bad = |e: &dyn std::fmt::Display| ApiError::bad(format!("{}: {e}", document.name));
+    let maps = FunctionMaps::new(&rig.base.mesh, &rig.training.op).map_err(|e| bad(&e))?;
+    let n = maps.n_functions();
+    let mut xy = vec![0.0; 2 * n];
+    let painted = &document.info.painted;
+    let carry = CarryOperator::with_elements(&document.drawing, painted, n, &mut |p, d| {
+        maps.eval(p, &mut xy);
+        for (d, xy) in d.iter_mut().zip(xy.chunks_exact(2)) {
+            *d = Vec2::new(xy[0], xy[1]);
+        }
+        // The map has no part free of ψ (ψ₀ = 1 is one of the inputs).
+        d[n] = Vec2::ZERO;
+    })
+    .map_err(|e| bad(&e))?;
+    Ok(Response::f64s(carry.coefficients()))
 }
 
 /// Most samples following the user adds to one training (about 4 s of symmetric-ARAP solves

@@ -52,6 +52,7 @@ impl Editor {
             (["subdiv", "open"], _, true) => subdiv_routes::open(request),
             (["subdiv", "rig"], _, true) => subdiv_routes::rig(request),
             (["subdiv", "export"], _, true) => subdiv_routes::export(request),
+            (["defops", id, "carry"], true, _) => defop_routes::carry(self, id),
             (["defops", id, "deform"], _, true) => defop_routes::deform(self, id, request),
             (["defops", id, "follow"], _, true) => defop_routes::follow(self, id, request),
             (["documents", id, "export"], _, true) => document_routes::export(self, id, request),

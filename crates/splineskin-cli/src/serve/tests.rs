@@ -912,9 +912,9 @@ fn operator_scene(document: &str, family: &str, samples: usize) -> serde_json::V
     scene
 }
 
-/// The page's evaluation restated from the route's documented layout (api.rs): `ψ(Q)` from the
-/// header, then the row-major product with `G_spline`.
-fn operator_points(info: &serde_json::Value, data: &[f64], q: &[[f64; 2]]) -> Vec<f64> {
+/// The handle functions `ψ(Q)` restated from the route's documented layout (api.rs): from the
+/// header, and the thin-plate centres after `G_spline` in the body.
+fn operator_psi(info: &serde_json::Value, data: &[f64], q: &[[f64; 2]]) -> Vec<f64> {
     let n_psi = info["n_functions"].as_u64().expect("n_functions") as usize;
     let n_centres = info["n_centres"].as_u64().expect("n_centres") as usize;
     let rows = 2 * info["n_points"].as_u64().expect("n_points") as usize;
@@ -933,6 +933,15 @@ fn operator_points(info: &serde_json::Value, data: &[f64], q: &[[f64; 2]]) -> Ve
         psi.push(if r2 > 0.0 { 0.5 * r2 * r2.ln() } else { 0.0 });
     }
     assert_eq!(psi.len(), n_psi);
+    psi
+}
+
+/// The page's evaluation restated from the route's documented layout: `ψ(Q)`
+/// ([`operator_psi`]), then the row-major product with `G_spline`.
+fn operator_points(info: &serde_json::Value, data: &[f64], q: &[[f64; 2]]) -> Vec<f64> {
+    let psi = operator_psi(info, data, q);
+    let n_psi = psi.len();
+    let rows = 2 * info["n_points"].as_u64().expect("n_points") as usize;
     (0..rows)
         .map(|r| (0..n_psi).map(|c| data[r * n_psi + c] * psi[c]).sum())
         .collect()
@@ -1566,6 +1575,61 @@ async fn serve_export_carries_text_with_the_operator() {
     }
     assert!(at_rest > 4.0, "the rotation moves the label: {at_rest}");
     assert!(worst < 0.5, "the label is {worst} from the rotation");
+}
+
+/// The operator's carry operator (`GET /api/defops/{id}/carry`) gives, at a bend of the
+/// labelled plate, the map Export SVG with `defop=` writes on the label (`P⁻¹ A P`), to
+/// rounding: the page moves text with the operator's art as the export does.
+#[tokio::test]
+async fn serve_operator_carry_gives_the_exported_label_map() {
+    let app = app();
+    let info = open_file(&app, "labelled.svg", LABELLED_PLATE_SVG).await;
+    let id = info["id"].as_str().expect("id");
+    let parent = kurbo::Affine::translate((10.0, 5.0)) * kurbo::Affine::rotate(10f64.to_radians());
+    let scene = serde_json::json!({
+        "document": id,
+        "scene": {
+            "handles": PLATE_HANDLES,
+            "pose": vec![[1.0, 0.0, 0.0, 1.0, 0.0, 0.0]; 3],
+            "weights": {"family": "defop-arap", "samples": 20},
+            "junctions": [],
+            "flexible": false
+        }
+    });
+    let (op_info, op_body) = train(&app, &scene).await;
+    let op = op_info["id"].as_str().expect("id");
+    let q = [
+        [PLATE_HANDLES[0][0], PLATE_HANDLES[0][1]],
+        [PLATE_HANDLES[1][0] + 6.0, PLATE_HANDLES[1][1] - 9.0],
+        [PLATE_HANDLES[2][0], PLATE_HANDLES[2][1] + 7.0],
+    ];
+    let psi = operator_psi(&op_info, &f64s(&op_body), &q);
+    let (_, body) = send_ok(&app, get(&format!("/api/defops/{op}/carry"))).await;
+    let carry = f64s(&body);
+    let width = psi.len() + 1;
+    assert_eq!(carry.len(), 6 * width, "one carried label");
+    let x: Vec<f64> = psi.iter().copied().chain([1.0]).collect();
+    let a = kurbo::Affine::new(std::array::from_fn(|r| {
+        (0..width).map(|c| carry[r * width + c] * x[c]).sum::<f64>()
+    }));
+    let expected = parent.inverse() * a * parent;
+    let (_, points) = send_ok(&app, operator_deform(op, &q)).await;
+    let body = [points, le_bytes(q.iter().flatten().copied())].concat();
+    let request = post(&format!("/api/documents/{id}/export?defop={op}"))
+        .body(Body::from(body))
+        .expect("a request");
+    let (_, body) = send_ok(&app, request).await;
+    let svg = String::from_utf8(body).expect("text");
+    let written = matrix_in(&svg, "<text", "transform").expect("the label carries a transform");
+    for (got, want) in written.as_coeffs().iter().zip(expected.as_coeffs()) {
+        assert!(
+            (got - want).abs() <= 1e-9 * 200.0,
+            "{written:?} vs {expected:?}"
+        );
+    }
+    // The label does move under the bend (a map left at rest would not pass the above).
+    let moved = (a * Point::new(60.0, 40.0) - Point::new(60.0, 40.0)).hypot();
+    assert!(moved > 1.0, "{a:?}");
 }
 
 /// The page's `scene` on document `id` as "Save scene" writes it, read back by the library.
