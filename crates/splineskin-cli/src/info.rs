@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use splineskin::domain::Domain;
-use splineskin::drawing::{read_svg_file, Drawing, ImportOptions, JointKind};
+use splineskin::drawing::{import_warnings, read_svg_file, Drawing, ImportOptions, JointKind};
 use splineskin::scene::{Compat, Scene};
 
 use crate::output::has_extension;
@@ -60,7 +60,9 @@ pub fn run(args: Args) -> Result<()> {
         );
         drawing
     } else {
-        read_svg_file(&args.file, &ImportOptions::default())?
+        let drawing = read_svg_file(&args.file, &ImportOptions::default())?;
+        warn_import(&drawing);
+        drawing
     };
     print!("{}", describe(&drawing));
     Ok(())
@@ -164,4 +166,14 @@ fn describe(drawing: &Drawing) -> String {
         drawing.n_curves(),
         summary.join(", ")
     )
+}
+
+/// Prints on stderr what the import of `drawing` drew other than written (path data drawn up
+/// to its first error, as browsers draw it).
+pub fn warn_import(drawing: &Drawing) {
+    if let Some(source) = &drawing.source {
+        for w in import_warnings(&source.text, &source.origin) {
+            eprintln!("warning: {w}");
+        }
+    }
 }

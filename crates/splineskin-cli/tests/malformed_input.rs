@@ -313,15 +313,21 @@ fn malformed_deform_scene_of_ours() {
             &[
                 "drawing.svg",
                 "path#p",
-                "attribute d=",
-                "expected SVG path data",
+                "no paths",
+                "path data d=",
+                "drawn up to its first error",
             ],
         ),
         deform(
             "inf-in-path-data",
             vec![file("scene.json", ours("")), file("drawing.svg", inf)],
             &[],
-            &["drawing.svg", "path#p", "expected SVG path data"],
+            &[
+                "drawing.svg",
+                "path#p",
+                "no paths",
+                "drawn up to its first error",
+            ],
         ),
         deform(
             "huge-path-data",

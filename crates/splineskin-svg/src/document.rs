@@ -99,11 +99,15 @@ pub enum SvgError {
     /// No path or shape of the document is rendered, or every one is degenerate.
     #[error(
         "{file}: no paths: expected at least one rendered path, rect, circle, ellipse, line, \
-         polyline or polygon with at least one segment"
+         polyline or polygon with at least one segment{}",
+        why.iter().map(|w| format!("; {w}")).collect::<String>()
     )]
     NoPaths {
         /// The file.
         file: String,
+        /// What left the document without a path, when known: path data drawn up to its
+        /// first error, where nothing comes before it.
+        why: Vec<String>,
     },
     /// usvg refused the document (e.g. no valid size).
     #[error("{file}: usvg cannot read the document: {message}")]

@@ -11,7 +11,7 @@
 
 pub use splineskin_core::drawing::*;
 pub use splineskin_svg::svg_in::{
-    read_svg, read_svg_file, read_svg_named, ImportOptions, SvgError, TextMode,
+    import_warnings, read_svg, read_svg_file, read_svg_named, ImportOptions, SvgError, TextMode,
 };
 pub use splineskin_svg::{
     animated_image, authors_svg, carry, follow, lottie, smil, svg_animate, svg_in, svg_out,

@@ -381,9 +381,8 @@ fn svg_import_errors_name_file_element_and_expectation() {
         other => panic!("{other:?}"),
     }
     let cases = [
-        ("<path id='p' d='M0 0 L nan 1'/>", "path#p (line 1)", "d"),
-        ("<path d='M0 0 L1e999 1'/>", "path (line 1)", "d"),
-        ("<path d='M0 0 L1 1 X 3'/>", "path (line 1)", "d"),
+        ("<path d='M0 0 L1e300 1'/>", "path (line 1)", "d"),
+        ("<path d='M0 0 L1 1 L1e300 3 X'/>", "path (line 1)", "d"),
         (
             "<g transform='scale(1e400)'><path d='M0 0 L1 1'/></g>",
             "g (line 1)",
@@ -431,6 +430,72 @@ fn svg_import_errors_name_file_element_and_expectation() {
             assert_eq!(element, "path#far (line 1)");
             // The first point past the limit: the line's first control, 1/3 of the way.
             assert!((value - 1e10 / 3.0).abs() < 1.0, "{value}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+/// Path data with an error is drawn up to it, as browsers draw it (SVG 2 §9.5.4): the same
+/// curves as the data cut at the error, a warning naming the element and the byte; a file
+/// whose only path stops before its first segment has nothing drawn and says why.
+#[test]
+fn svg_import_draws_path_data_up_to_its_first_error_as_browsers_do() {
+    let svg = |d: &str| {
+        format!(
+            "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 100 100'>\
+             <path id='ok' d='M10 10 L90 10 L90 40 Z'/><path id='cut' d='{d}'/></svg>"
+        )
+    };
+    let opts = ImportOptions::default();
+    // Each with the data cut before the segment in error, and where the error is: its bad
+    // token ("" for the end of the data).
+    for (bad, good, error) in [
+        (
+            "M10 50 L90 50 L90 90 L 40 x 5 Z",
+            "M10 50 L90 50 L90 90",
+            "x",
+        ),
+        (
+            "M10 50 C20 60 30 60 40 50 S 60 40 70 nope",
+            "M10 50 C20 60 30 60 40 50",
+            "nope",
+        ),
+        (
+            "M10 50 L90 50 L90 90 Z M 5 5 L",
+            "M10 50 L90 50 L90 90 Z M 5 5",
+            "",
+        ),
+        ("m10 50 h80 v40 h-20 #", "m10 50 h80 v40 h-20", "#"),
+    ] {
+        let read = read_svg(&svg(bad), &opts).unwrap_or_else(|e| panic!("{bad}: {e}"));
+        let cut = read_svg(&svg(good), &opts).expect("the cut data reads");
+        assert_eq!(read.paths, cut.paths, "{bad}");
+        let warnings = splineskin::drawing::import_warnings(&svg(bad), "cut.svg");
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        let at = if error.is_empty() {
+            bad.len()
+        } else {
+            bad.find(error).expect("the error")
+        };
+        assert!(
+            warnings[0].starts_with("cut.svg: path#cut (line 1): path data"),
+            "{}",
+            warnings[0]
+        );
+        assert!(
+            warnings[0].contains(&format!("byte {at} ")),
+            "{bad}: {}",
+            warnings[0]
+        );
+    }
+    assert!(splineskin::drawing::import_warnings(&svg("M1 1 L2 2"), "f.svg").is_empty());
+    let nothing = "<svg xmlns='http://www.w3.org/2000/svg'><path id='p' d='M0 0 L nan 1'/></svg>";
+    match read_svg(nothing, &opts) {
+        Err(e @ SvgError::NoPaths { .. }) => {
+            let message = e.to_string();
+            assert!(message.contains("no paths"), "{message}");
+            assert!(message.contains("path#p (line 1): path data"), "{message}");
+            assert!(message.contains("at byte 7"), "{message}");
         }
         other => panic!("{other:?}"),
     }

@@ -277,6 +277,7 @@ impl<'d, 'i> Importer<'d, 'i> {
         if self.paths.is_empty() {
             return Err(SvgError::NoPaths {
                 file: self.origin.to_string(),
+                why: Vec::new(),
             });
         }
         let mut remap = vec![usize::MAX; self.elements.len()];

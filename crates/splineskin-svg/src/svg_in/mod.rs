@@ -350,7 +350,7 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
             return read_svg_impl(&converted, &rest, origin);
         }
     }
-    let doc = parse_svg_document(text, origin)?;
+    let (doc, warnings) = parse_svg_document(text, origin)?;
     let Prepared {
         text: prepared,
         ids,
@@ -399,15 +399,43 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
         .and_then(|v| svgtypes::ViewBox::from_str(v).ok())
         .map(|vb| Rect::new(vb.x, vb.y, vb.x + vb.w, vb.y + vb.h))
         .unwrap_or_else(|| Rect::from_origin_size(Point::ORIGIN, size));
-    importer.finish(text, size, view_box)
+    importer.finish(text, size, view_box).map_err(|e| match e {
+        // Nothing drawn because the path data stops before its first segment: say so.
+        SvgError::NoPaths { file, .. } => SvgError::NoPaths {
+            file,
+            why: warnings,
+        },
+        e => e,
+    })
+}
+
+/// The warnings reading `text` (from `origin`) gives of what is drawn other than written, as
+/// sentences naming the file and element: path data drawn up to its first error, as browsers
+/// draw it. Empty for a document without any, and for one the import refuses (its error says
+/// why).
+///
+/// ```
+/// use splineskin_svg::svg_in::import_warnings;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <path id="cut" d="M1 1 L9 1 L9 9 L x 5"/></svg>"#;
+/// let warnings = import_warnings(svg, "cut.svg");
+/// assert_eq!(warnings.len(), 1);
+/// assert!(warnings[0].starts_with("cut.svg: path#cut"), "{}", warnings[0]);
+/// assert!(warnings[0].contains("byte 17"), "{}", warnings[0]); // the `x`
+/// ```
+pub fn import_warnings(text: &str, origin: &str) -> Vec<String> {
+    parse_xml(text, origin)
+        .ok()
+        .and_then(|doc| validate_document(&doc, origin).ok())
+        .unwrap_or_default()
 }
 
 /// `text` parsed, its root checked to be an SVG `<svg>` and the document validated (sizes,
-/// coordinates, what is unsupported: [`validate_document`]).
+/// coordinates, what is unsupported: [`validate_document`]), with the validation's warnings.
 fn parse_svg_document<'i>(
     text: &'i str,
     origin: &str,
-) -> Result<roxmltree::Document<'i>, SvgError> {
+) -> Result<(roxmltree::Document<'i>, Vec<String>), SvgError> {
     check_size(origin, text.len() as u64)?;
     if text.trim().is_empty() {
         return Err(SvgError::Empty {
@@ -426,8 +454,8 @@ fn parse_svg_document<'i>(
             found,
         });
     }
-    validate_document(&doc, origin)?;
-    Ok(doc)
+    let warnings = validate_document(&doc, origin)?;
+    Ok((doc, warnings))
 }
 
 /// The paths of `tree` inside the group `wrapper_id` (the root's content), in drawing order,

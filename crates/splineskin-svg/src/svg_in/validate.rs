@@ -1,6 +1,11 @@
 //! Validation of the raw attributes before usvg sees them: usvg and svgtypes silently truncate
-//! bad numbers, transforms, path data, points, viewBoxes and lengths; here they are errors
-//! naming the element, the attribute and what was expected.
+//! bad numbers, transforms, points, viewBoxes and lengths; here they are errors naming the
+//! element, the attribute and what was expected.
+//!
+//! Path data is the exception: browsers draw a `d` up to its first error (SVG 2, §9.5.4
+//! "Error handling in path data"), and so do usvg and svgtypes. A `d` with an error is then
+//! drawn up to it as they draw it, with a warning naming the element and the error's offset
+//! ([`validate_document`]'s answer), rather than refusing the whole file.
 
 use std::str::FromStr;
 
@@ -20,8 +25,13 @@ pub(super) fn length_attributes(tag: &str) -> &'static [&'static str] {
 }
 
 /// Checks every geometry-relevant attribute of every SVG element: `transform`, `d`, `points`,
-/// shape and `use` lengths, `viewBox` and `preserveAspectRatio`.
-pub(super) fn validate_document(doc: &roxmltree::Document, origin: &str) -> Result<(), SvgError> {
+/// shape and `use` lengths, `viewBox` and `preserveAspectRatio`. Answers the warnings of what
+/// is drawn other than written: path data drawn up to its first error (module doc).
+pub(super) fn validate_document(
+    doc: &roxmltree::Document,
+    origin: &str,
+) -> Result<Vec<String>, SvgError> {
+    let mut warnings = Vec::new();
     for node in doc
         .descendants()
         .filter(|n| crate::document::is_svg_element(*n))
@@ -38,7 +48,16 @@ pub(super) fn validate_document(doc: &roxmltree::Document, origin: &str) -> Resu
             let (name, value) = (attr.name(), attr.value());
             let result = match name {
                 "transform" => check_transform(value),
-                "d" if tag == "path" => check_path_data(value),
+                "d" if tag == "path" => check_path_data(value).map(|stop| {
+                    if let Some((offset, error)) = stop {
+                        warnings.push(format!(
+                            "{origin}: {}: path data d=\"{}\" drawn up to its first error, at \
+                             byte {offset} ({error}), as browsers draw it",
+                            node_label(doc, node),
+                            shorten(value)
+                        ));
+                    }
+                }),
                 "points" if tag == "polyline" || tag == "polygon" => check_points(value),
                 "viewBox" if matches!(tag, "svg" | "symbol" | "marker" | "pattern" | "view") => {
                     check_view_box(value)
@@ -54,7 +73,10 @@ pub(super) fn validate_document(doc: &roxmltree::Document, origin: &str) -> Resu
             result.map_err(|expected| fail(name, value, expected))?;
         }
     }
-    Ok(())
+    for warning in &warnings {
+        tracing::warn!("{warning}");
+    }
+    Ok(warnings)
 }
 
 pub(super) fn shorten(value: &str) -> String {
@@ -109,11 +131,17 @@ pub(super) fn check_transform(value: &str) -> Result<(), String> {
     }
 }
 
-pub(super) fn check_path_data(value: &str) -> Result<(), String> {
+/// Checks the numbers of path data up to its first error, if any, and answers where that error
+/// is (byte offset) and what it is: `Ok(None)` when the whole of it is valid. Browsers, usvg
+/// and svgtypes draw the segments before the error (module doc).
+pub(super) fn check_path_data(value: &str) -> Result<Option<(usize, String)>, String> {
     const WHAT: &str = "path data";
     for segment in svgtypes::PathParser::from(value) {
         use svgtypes::PathSegment as S;
-        let segment = segment.map_err(|e| format!("SVG path data ({e})"))?;
+        let segment = match segment {
+            Ok(segment) => segment,
+            Err(e) => return Ok(Some((error_offset(&e, value), e.to_string()))),
+        };
         let numbers: &[f64] = match &segment {
             S::MoveTo { x, y, .. } | S::LineTo { x, y, .. } | S::SmoothQuadratic { x, y, .. } => {
                 &[*x, *y]
@@ -145,7 +173,23 @@ pub(super) fn check_path_data(value: &str) -> Result<(), String> {
             check_number(v, WHAT)?;
         }
     }
-    Ok(())
+    Ok(None)
+}
+
+/// The byte offset in `value` an svgtypes error points at (its positions count characters
+/// from 1); the end of `value` when it names none.
+fn error_offset(error: &svgtypes::Error, value: &str) -> usize {
+    use svgtypes::Error as E;
+    match *error {
+        E::UnexpectedData(p)
+        | E::InvalidNumber(p)
+        | E::InvalidChar(_, p)
+        | E::InvalidString(_, p) => value
+            .char_indices()
+            .nth(p.saturating_sub(1))
+            .map_or(value.len(), |(at, _)| at),
+        _ => value.len(),
+    }
 }
 
 pub(super) fn check_points(value: &str) -> Result<(), String> {

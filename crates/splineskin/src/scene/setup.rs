@@ -125,8 +125,14 @@ impl Scene {
         &self,
         compat: Compat,
     ) -> Result<(Drawing, Vec<String>), SceneError> {
-        let mut warnings = Vec::new();
         let mut drawing = self.drawing(compat)?;
+        // What the import drew other than written (path data up to its first error).
+        let mut warnings = match (&drawing.source, compat) {
+            (Some(source), Compat::None) => {
+                crate::drawing::import_warnings(&source.text, &source.origin)
+            }
+            _ => Vec::new(),
+        };
         if let Some(kinds) = &self.authors_joints {
             if let Some(w) = apply_authors_joints(&mut drawing, kinds, &self.svg_text, compat) {
                 warnings.push(format!("{}: {w}", self.origin));
