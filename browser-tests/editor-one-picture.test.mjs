@@ -202,3 +202,35 @@ check('a fixed-orientation marker turns on the canvas as Export SVG turns it', a
   assert.ok(Math.abs(shown) > 5, `the head turns on the canvas: ${shown}°`);
   assert.ok(Math.abs(shown - written) < 1e-6, `canvas ${shown}° vs export ${written}°`);
 });
+
+check('a path whose data has an error is drawn up to it, as chromium draws the file, with a notice', async () => {
+  const svg =
+    '<svg xmlns="http://www.w3.org/2000/svg" width="400" height="400" viewBox="0 0 100 100">' +
+    '<path id="whole" d="M10 10 L90 10 L90 40 Z" fill="#468"/>' +
+    '<path id="cut" d="M10 50 C30 40 60 60 90 50 L90 90 L 40 x 5 Z" fill="#c33"/></svg>';
+  const file = join(out.path, 'cut-path-data.svg');
+  writeFileSync(file, svg);
+  await openThroughPicker(page, file);
+  const notice = await page.textContent('#notice');
+  assert.match(notice, /path#cut \(line 1\): path data .* drawn up to its first error, at byte 38/);
+  // The element on the canvas (our curves) and chromium's own reading of the file: the same box.
+  const [ours, chromium] = await page.evaluate((svg) => {
+    const canvas = document.getElementById('canvas').shadowRoot;
+    const shown = canvas.querySelector('#cut[data-splineskin-element]');
+    const probe = new DOMParser().parseFromString(svg, 'image/svg+xml').documentElement;
+    probe.style.position = 'fixed';
+    document.body.append(probe);
+    const box = (e) => {
+      const b = e.getBBox();
+      return [b.x, b.y, b.width, b.height];
+    };
+    const answer = [box(shown), box(probe.querySelector('#cut'))];
+    probe.remove();
+    return answer;
+  }, svg);
+  console.log(`cut path data: canvas box ${ours.map((v) => v.toFixed(3))}, chromium's ${chromium.map((v) => v.toFixed(3))}`);
+  ours.forEach((v, k) => assert.ok(Math.abs(v - chromium[k]) < 1e-3 * 100, `box ${ours} vs chromium's ${chromium}`));
+  assert.ok(chromium[3] > 30, 'chromium draws the part before the error');
+  await page.screenshot({ path: join(out.path, 'cut-path-data.png') });
+});
+
