@@ -227,9 +227,19 @@ check('the pose exported from the page is the library\'s deform of the saved sce
   assert.deepEqual(pageErrors, []);
 });
 
+/**
+ * Clicks the timeline's ruler at time `t` (s) when it shows `span` seconds (../timeline.js: 8
+ * pixels inset at each end).
+ */
+async function rulerClick(t, span) {
+  const b = await page.locator('#ruler').boundingBox();
+  await page.mouse.click(b.x + 8 + (t / span) * (b.width - 16), b.y + b.height / 2);
+}
+
 check('keys play on the page and export as the animation `subdiv animate` writes', async () => {
   await page.click('#rest');
-  await page.fill('#key-time', '0');
+  await rulerClick(0, 2);
+  assert.equal((await page.evaluate(() => window.subdivPageState())).time, 0);
   await page.click('#add-key');
   const box = await page.locator('#view').boundingBox();
   const state = await page.evaluate(() => window.subdivPageState());
@@ -238,9 +248,30 @@ check('keys play on the page and export as the animation `subdiv animate` writes
   await page.mouse.down();
   await page.mouse.move(box.x + x, box.y + y - 60, { steps: 5 });
   await page.mouse.up();
+  // The ruler shows 2 s with one key at 0: a click at its middle is 1 s.
+  const posedNow = await page.evaluate(() => window.subdivPageState());
+  await rulerClick(1, 2);
+  const sought = await page.evaluate(() => window.subdivPageState());
+  assert.equal(sought.time, 1);
+  assert.deepEqual(sought.handles[1].offset, [0, 0, 0], 'one key holds the pose at rest everywhere');
+  // The drag again (going to a time took the keys' pose), then keyed there.
+  await page.mouse.move(box.x + x, box.y + y);
+  await page.mouse.down();
+  await page.mouse.move(box.x + x, box.y + y - 60, { steps: 5 });
+  await page.mouse.up();
   await page.click('#add-key');
   const keyed = await page.evaluate(() => window.subdivPageState());
   assert.deepEqual(keyed.keys, [0, 1]);
+  keyed.handles[1].offset.forEach((v, k) => assert.ok(Math.abs(v - posedNow.handles[1].offset[k]) < 1e-9));
+  // Ease in and out from the first key: at a quarter of the way the handle has come
+  // e(¼) = ¼² (3 − ½) = 0.15625 of it, not ¼.
+  await rulerClick(0, 2);
+  await page.selectOption('#easing', 'ease-in-out');
+  await rulerClick(0.25, 2); // the keys end at 1 s: the ruler still shows 2 s
+  const eased = await page.evaluate(() => window.subdivPageState());
+  assert.equal(eased.time, 0.25);
+  assert.deepEqual(eased.easings, ['ease-in-out', 'linear']);
+  eased.handles[1].offset.forEach((v, k) => assert.ok(Math.abs(v - 0.15625 * keyed.handles[1].offset[k]) < 1e-9, `${v} vs ${keyed.handles[1].offset[k]}`));
   await page.click('#rest');
   await page.click('#play');
   await page.waitForFunction(() => document.getElementById('status').textContent.startsWith('played'), null, { timeout: WAIT });
@@ -250,7 +281,9 @@ check('keys play on the page and export as the animation `subdiv animate` writes
   played.handles[1].offset.forEach((v, k) => assert.ok(Math.abs(v - keyed.handles[1].offset[k]) < 1e-12));
   const scene = await exported('scene', 'animated.json');
   const usda = await exported('usda', 'animated.usda');
-  assert.ok(JSON.parse(readFileSync(scene, 'utf8')).animation.keyframes.length === 2);
+  const keyframes = JSON.parse(readFileSync(scene, 'utf8')).animation.keyframes;
+  assert.equal(keyframes.length, 2);
+  assert.equal(keyframes[0].easing, 'ease-in-out', 'the easing is in the scene, for the command line');
   await runSplineskin(['subdiv', 'animate', scene, '-o', join(out.path, 'cli-animated.usda')]);
   assert.equal(readFileSync(usda, 'utf8'), readFileSync(join(out.path, 'cli-animated.usda'), 'utf8'),
     'the page\'s animated USD is the command line\'s, byte for byte');
@@ -282,6 +315,131 @@ check('undo and redo take back and restore a handle and a move', async () => {
   assert.notDeepEqual((await page.evaluate(() => window.subdivPageState())).handles[0].offset, h.offset);
   await page.keyboard.press('Control+Z');
   assert.deepEqual((await page.evaluate(() => window.subdivPageState())).handles[0].offset, h.offset);
+  assert.deepEqual(pageErrors, []);
+});
+
+/**
+ * A point of the selected handle's gizmo ring about axis `k` (world) far on screen from the other
+ * parts, and one `turn` radians further along it: [from, to] in canvas pixels.
+ */
+function ringPoints(k, turn) {
+  return page.evaluate(({ k, turn }) => {
+    const s = window.subdivPageState();
+    const h = s.handles[s.selected];
+    const centre = h.rest.map((r, i) => r + h.offset[i]);
+    const r = 0.8 * s.gizmoSize;
+    const on = (axis, t) => {
+      const p = [...centre];
+      p[(axis + 1) % 3] += r * Math.cos(t);
+      p[(axis + 2) % 3] += r * Math.sin(t);
+      return window.subdivProject(p);
+    };
+    const others = [];
+    for (let a = 0; a < 3; a++) {
+      if (a !== k) for (let t = 0; t < 64; t++) others.push(on(a, (2 * Math.PI * t) / 64));
+      const tip = [...centre];
+      tip[a] += s.gizmoSize;
+      others.push(window.subdivProject(centre), window.subdivProject(tip));
+    }
+    let best = null;
+    for (let t = 0; t < 64; t++) {
+      const angle = (2 * Math.PI * t) / 64;
+      const p = on(k, angle);
+      const clear = Math.min(...others.map((o) => Math.hypot(o[0] - p[0], o[1] - p[1])));
+      if (!best || clear > best.clear) best = { angle, clear };
+    }
+    return [on(k, best.angle), on(k, best.angle + turn)];
+  }, { k, turn });
+}
+
+check('three handles, one a bone drawn by Alt-drag, the bone turned with the gizmo: the page, the USD and subdiv deform agree', async () => {
+  await page.setInputFiles('#open', TUBE);
+  await page.waitForFunction(() => document.getElementById('status').textContent.includes('Click the surface'), null, { timeout: WAIT });
+  await clickAt([0.8, 0, 0]);
+  await page.waitForFunction(() => window.subdivPageState().rigReady, null, { timeout: WAIT });
+  await clickAt([4, 0, 0]);
+  await page.waitForFunction(() => window.subdivPageState().rigReady && window.subdivPageState().handles.length === 2, null, { timeout: WAIT });
+  // The bone: Alt-drag from one point of the surface to another.
+  const box = await page.locator('#view').boundingBox();
+  const [a, b] = await page.evaluate(() => [window.subdivProject([5.6, 0, 0]), window.subdivProject([7.6, 0, 0])]);
+  await page.keyboard.down('Alt');
+  await page.mouse.move(box.x + a[0], box.y + a[1]);
+  await page.mouse.down();
+  await page.mouse.move(box.x + b[0], box.y + b[1], { steps: 6 });
+  await page.mouse.up();
+  await page.keyboard.up('Alt');
+  await page.waitForFunction(() => window.subdivPageState().rigReady && window.subdivPageState().handles.length === 3, null, { timeout: WAIT });
+  const rigged = await page.evaluate(() => window.subdivPageState());
+  assert.deepEqual(rigged.handles.map((h) => h.kind), ['point', 'point', 'bone']);
+  assert.equal(rigged.selected, 2, 'the new bone is selected');
+  const bone = rigged.handles[2];
+  assert.ok(Math.hypot(...bone.rest.map((v, k) => v - bone.end[k])) > 1, `a bone from ${bone.rest} to ${bone.end}`);
+  assert.match(await status(), /2 handles and 1 bone, \w+ weights: weights and rig in/);
+  await shot('bone');
+  // Turn the bone about z with the gizmo's blue ring: 50° swept on screen.
+  const [from, to] = await ringPoints(2, (50 * Math.PI) / 180);
+  await page.mouse.move(box.x + from[0], box.y + from[1]);
+  await page.mouse.down();
+  await page.mouse.move(box.x + to[0], box.y + to[1], { steps: 10 });
+  await page.mouse.up();
+  const turned = await page.evaluate(() => window.subdivPageState());
+  const r = turned.handles[2].rotation;
+  const angle = Math.atan2(r[3], r[0]);
+  console.log(`the gizmo's ring turned the bone ${(angle * 180 / Math.PI).toFixed(1)}° about z; frame ${turned.frameMs.toFixed(2)} ms`);
+  assert.ok(Math.abs(r[8] - 1) < 1e-12 && Math.abs(r[2]) < 1e-12 && Math.abs(r[5]) < 1e-12, `about z: ${r}`);
+  assert.ok(Math.abs(angle) > (10 * Math.PI) / 180 && Math.abs(angle) < (90 * Math.PI) / 180, `${angle} rad`);
+  assert.deepEqual(turned.handles[2].offset, [0, 0, 0], 'turning does not move the pivot');
+  // Move the first handle up along y with the gizmo's green arrow.
+  await clickAt(turned.handles[0].rest);
+  const arrow = await page.evaluate(() => {
+    const s = window.subdivPageState();
+    const h = s.handles[0].rest;
+    return [window.subdivProject([h[0], h[1] + 0.6 * s.gizmoSize, h[2]]), window.subdivProject([h[0], h[1] + s.gizmoSize, h[2]])];
+  });
+  await page.mouse.move(box.x + arrow[0][0], box.y + arrow[0][1]);
+  await page.mouse.down();
+  await page.mouse.move(box.x + arrow[1][0], box.y + arrow[1][1], { steps: 5 });
+  await page.mouse.up();
+  const posed = await page.evaluate(() => window.subdivPageState());
+  const [dx, dy, dz] = posed.handles[0].offset;
+  assert.ok(dx === 0 && dz === 0 && dy > 0.1, `moved along y only: ${posed.handles[0].offset}`);
+  await shot('bone-turned');
+  writeFileSync(join(out.path, 'bone-page.png'), await page.screenshot());
+  // The library's deform of the saved scene, and the exported USD, against the page's cage.
+  copyFileSync(TUBE, join(out.path, 'tube.obj'));
+  const scene = await exported('scene', 'bone.json');
+  assert.deepEqual(JSON.parse(readFileSync(scene, 'utf8')).bones, [{ ends: [bone.rest, bone.end] }]);
+  const usda = await exported('usda', 'bone.usda');
+  await runSplineskin(['subdiv', 'deform', scene, '-o', join(out.path, 'bone-cli.obj')]);
+  const want = objVertices(readFileSync(join(out.path, 'bone-cli.obj'), 'utf8'));
+  const diagonal = 8.48528137423857;
+  const pageError = Math.max(...want.map((v, i) => Math.abs(v - posed.fitted[i])));
+  console.log(`bone scene: the page's fitted cage against subdiv deform ${(pageError / diagonal).toExponential(2)} of the diagonal`);
+  assert.ok(pageError <= 1e-9 * diagonal, `${pageError}`);
+  const points = /point3f\[\] points = \[(.*)\]\n/.exec(readFileSync(usda, 'utf8'))[1].match(/-?[\d.]+(?:e-?\d+)?/g).map(Number);
+  const largest = Math.max(...want.map(Math.abs));
+  const usdError = Math.max(...want.map((v, i) => Math.abs(v - points[i])));
+  console.log(`bone scene: USD points against subdiv deform ${(usdError / diagonal).toExponential(2)} of the diagonal (f32)`);
+  assert.ok(usdError <= 2 ** -23 * largest, `${usdError}`);
+  assert.deepEqual(pageErrors, []);
+});
+
+check('the session is autosaved and comes back after a reload', async () => {
+  const before = await page.evaluate(() => window.subdivPageState());
+  await page.waitForFunction(() => document.body.dataset.autosaved, null, { timeout: WAIT });
+  // Let the last edit's save land (saves wait 150 ms for the next edit).
+  await page.waitForTimeout(400);
+  await page.reload();
+  await page.waitForSelector('body[data-restored]', { timeout: WAIT });
+  await page.waitForFunction(() => window.subdivPageState().rigReady, null, { timeout: WAIT });
+  const after = await page.evaluate(() => window.subdivPageState());
+  assert.deepEqual(after.handles, before.handles);
+  assert.deepEqual(after.keys, before.keys);
+  assert.equal(after.family, before.family);
+  const off = Math.max(...after.fitted.map((v, i) => Math.abs(v - before.fitted[i])));
+  assert.ok(off < 1e-12, `the restored cage is the same to ${off}`);
+  console.log(await status());
+  assert.match(await status(), /tube\.obj: the session autosaved .* is back \(2 handles and 1 bone, 0 keys\)/);
   assert.deepEqual(pageErrors, []);
 });
 

@@ -6,6 +6,7 @@
 // to store (no IndexedDB, storage full, a private window's limits), the page says so once in
 // the notice box instead of losing the session without a word.
 
+import { openDatabase as openStore, transact as transactIn } from './idb.js';
 import { editor, sceneOfOriginal } from './store.js';
 import { showNotice } from './messages.js';
 
@@ -105,27 +106,7 @@ function legacySession() {
 }
 
 /** Opens (creating on first use) the editor's database. */
-function openDatabase() {
-  return new Promise((resolve, reject) => {
-    if (typeof indexedDB === 'undefined') throw new Error('this browser has no IndexedDB');
-    const request = indexedDB.open(DB.name, DB.version);
-    request.onupgradeneeded = () => request.result.createObjectStore(DB.store);
-    request.onsuccess = () => resolve(request.result);
-    request.onerror = () => reject(request.error);
-    request.onblocked = () => reject(new Error('the storage is held by another tab'));
-  });
-}
+const openDatabase = () => openStore(DB);
 
-/**
- * Runs `body(store)` in one transaction of `mode`; resolves, once the transaction completes,
- * to the results of the requests `body` returns (an array of them, or nothing).
- */
-function transact(db, mode, body) {
-  return new Promise((resolve, reject) => {
-    const tx = db.transaction(DB.store, mode);
-    const requests = body(tx.objectStore(DB.store)) ?? [];
-    tx.oncomplete = () => resolve(requests.map((r) => r.result));
-    tx.onerror = () => reject(tx.error);
-    tx.onabort = () => reject(tx.error ?? new Error('the browser aborted the write'));
-  });
-}
+/** One transaction on the editor's store (idb.js `transact`). */
+const transact = (db, mode, body) => transactIn(db, DB.store, mode, body);

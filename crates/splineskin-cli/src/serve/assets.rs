@@ -72,23 +72,23 @@ pub const ISOLATION_HEADERS: [(&str, &str); 2] = [
     ("cross-origin-embedder-policy", "require-corp"),
 ];
 
-/// The folder of the pages only a server answers (left out of a static build).
-const SERVER_ONLY: &str = "subdiv/";
+/// The pages of a static build (the editor and the Catmull–Clark page): each is marked to
+/// answer its requests in a worker and carries the content security policy.
+const STATIC_PAGES: [&str; 2] = ["index.html", "subdiv/index.html"];
 
-/// The files of a static build of the editor: the page's files, its `index.html` marked to
-/// answer its requests in a worker (`data-backend="wasm"`, web/backend.js) and carrying the
-/// content security policy, the WebAssembly module `wasm` as [`STATIC_WASM_NAME`], and the
+/// The files of a static build of the editor: the page's files, its pages ([`STATIC_PAGES`])
+/// marked to answer their requests in a worker (`data-backend="wasm"`, web/backend.js) and
+/// carrying the content security policy, the WebAssembly module `wasm` as [`STATIC_WASM_NAME`], and the
 /// bundled fish as `demo.svg` (for `example.html`, the JavaScript API's example); with
 /// `threaded`, the threaded module as [`STATIC_WASM_THREADS_NAME`]; and a `_headers` file asking
-/// the host for [`ISOLATION_HEADERS`]. The Catmull–Clark page (`subdiv/`) is left out: it asks
-/// the server for its limit surfaces, which the WebAssembly backend does not answer yet.
+/// the host for [`ISOLATION_HEADERS`]. The Catmull–Clark page's routes (limit surfaces, rigs,
+/// exports) are answered by the same module.
 pub fn static_files(wasm: Vec<u8>, threaded: Option<Vec<u8>>) -> Vec<(String, Vec<u8>)> {
     let mut files: Vec<(String, Vec<u8>)> = Web::iter()
-        .filter(|name| !name.starts_with(SERVER_ONLY))
         .filter_map(|name| Some((name.to_string(), Web::get(&name)?.data.into_owned())))
         .collect();
     for (name, bytes) in &mut files {
-        if name == "index.html" {
+        if STATIC_PAGES.contains(&name.as_str()) {
             let html = String::from_utf8_lossy(bytes)
                 .replacen(
                     "<html lang=\"en\">",
@@ -142,18 +142,21 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_static_build_is_one_flat_folder_without_the_server_only_page() {
+    fn a_static_build_marks_both_pages_for_the_worker_with_the_policy() {
         let files = static_files(vec![0], None);
-        assert!(files.iter().any(|(name, _)| name == "index.html"));
-        for (name, _) in &files {
+        for page in STATIC_PAGES {
+            let (_, bytes) = files
+                .iter()
+                .find(|(name, _)| name == page)
+                .unwrap_or_else(|| panic!("{page} missing"));
+            let html = String::from_utf8_lossy(bytes);
+            assert!(html.contains("data-backend=\"wasm\""), "{page}");
             assert!(
-                !name.contains('/'),
-                "{name}: a static build writes no subfolder"
+                html.contains(STATIC_CONTENT_SECURITY_POLICY),
+                "{page}: the policy"
             );
         }
-        assert!(
-            Web::get("subdiv/index.html").is_some(),
-            "the server serves the page"
-        );
+        assert!(files.iter().any(|(name, _)| name == "subdiv/main.js"));
+        assert!(files.iter().any(|(name, _)| name == STATIC_WASM_NAME));
     }
 }

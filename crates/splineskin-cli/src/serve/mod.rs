@@ -117,6 +117,15 @@ fn write_static(
         .with_context(|| format!("{}: cannot create the folder", dir.display()))?;
     let files = assets::static_files(wasm, threaded);
     let paths: Vec<PathBuf> = files.iter().map(|(name, _)| dir.join(name)).collect();
+    // The Catmull–Clark page's folder (`subdiv/`).
+    for folder in paths
+        .iter()
+        .filter_map(|p| p.parent())
+        .filter(|p| *p != dir)
+    {
+        std::fs::create_dir_all(folder)
+            .with_context(|| format!("{}: cannot create the folder", folder.display()))?;
+    }
     let writes: Vec<(&std::path::Path, &[u8])> = paths
         .iter()
         .zip(&files)

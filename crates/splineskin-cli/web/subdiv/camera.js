@@ -41,15 +41,21 @@ export function pan(camera, dx, dy, height) {
   }
 }
 
+/** The world length of one pixel, of a view `height` tall, at the depth of the point `at`. */
+export function pixelSize(camera, at, height) {
+  const e = eye(camera);
+  const forward = viewAxes(camera)[2];
+  const depth = Math.max(camera.near, at.reduce((s, v, k) => s + (v - e[k]) * forward[k], 0));
+  return (2 * depth * Math.tan(FIELD_OF_VIEW / 2)) / height;
+}
+
 /**
  * The move in the world, parallel to the view, of a point at `at` dragged by `dx, dy` pixels
  * of a view `height` tall.
  */
 export function dragInView(camera, at, dx, dy, height) {
-  const e = eye(camera);
-  const [right, up, forward] = viewAxes(camera);
-  const depth = Math.max(camera.near, at.reduce((s, v, k) => s + (v - e[k]) * forward[k], 0));
-  const perPixel = (2 * depth * Math.tan(FIELD_OF_VIEW / 2)) / height;
+  const [right, up] = viewAxes(camera);
+  const perPixel = pixelSize(camera, at, height);
   return [0, 1, 2].map((k) => (dx * right[k] - dy * up[k]) * perPixel);
 }
 

@@ -3,11 +3,12 @@
 // it, saved as downloads (../save-file.js).
 
 import { download } from '../save-file.js';
+import { sceneHandles } from './handles.js';
 import { handleMap } from './rig.js';
 import { postRaw } from './server.js';
 
-/** Frames per second of exported animations. */
-const ANIMATION_FPS = 24;
+/** Frames per second of exported animations (and the ruler's frames). */
+export const ANIMATION_FPS = 24;
 
 /** Matrices as scenes write them: `{"matrix": [[a, b, c, d], [e, f, g, h], [i, j, k, l]]}`. */
 function matrixOf(t) {
@@ -15,22 +16,29 @@ function matrixOf(t) {
 }
 
 /**
- * The scene of `cageName`'s handles (rest positions), weight `family` and the current pose
- * (`transforms`: one flat 3 × 4 map per handle), as a subdivision scene file holds it; with
- * `keyframes` (`{time, transforms}` each, two or more), its `animation` at `fps`.
+ * The scene of `cageName`'s handles (handles.js: point handles and bones, rest positions),
+ * weight `family` and the current pose (`transforms`: one flat 3 × 4 map per handle), as a
+ * subdivision scene file holds it; with `keyframes` (`{time, transforms, easing}` each, two or
+ * more), its `animation` at `fps`.
  */
 export function sceneFile(cageName, handles, family, transforms, { keyframes = [], fps = 24 } = {}) {
+  const { handles: points, bones } = sceneHandles(handles);
   const scene = {
     splineskin_subdiv_scene: 1,
     obj: cageName,
-    handles: handles.map((h) => ({ position: h.rest })),
+    handles: points,
+    ...(bones.length ? { bones } : {}),
     weights: { family },
     poses: [{ name: 'pose', transforms: transforms.map(matrixOf) }],
   };
   if (keyframes.length >= 2) {
     scene.animation = {
       fps,
-      keyframes: keyframes.map((k) => ({ time: k.time, pose: k.transforms.map(matrixOf) })),
+      keyframes: keyframes.map((k) => ({
+        time: k.time,
+        pose: k.transforms.map(matrixOf),
+        ...(k.easing && k.easing !== 'linear' ? { easing: k.easing } : {}),
+      })),
     };
   }
   return scene;
@@ -53,6 +61,7 @@ export async function exportAs(page, format, say) {
   }
   const keyframes = page.keys.map((k) => ({
     time: k.time,
+    easing: k.easing,
     transforms: k.poses.map((p, i) => handleMap({ rest: page.handles[i].rest, ...p })),
   }));
   const scene = sceneFile(page.cage.name, page.handles, page.family, page.handles.map(handleMap), {

@@ -1,7 +1,10 @@
 // The WebGL2 drawing of the page: the limit surface shaded (a light at the eye and a dim one
 // from above, two-sided), painted by one handle's weight on demand, the cage as lines on
-// demand, and the handles as dots. Geometry is uploaded by `setMesh` (topology),
-// `setPositions` (per frame) and `setWeights`; `draw` renders with a camera's matrix.
+// demand, the handles as dots, the bones as segments and the selected handle's gizmo
+// (gizmo.js). Geometry is uploaded by `setMesh` (topology), `setPositions` (per frame),
+// `setWeights`, `setHandles`, `setBones` and `setGizmo`; `draw` renders with a camera's matrix.
+
+import { GIZMO_PARTS } from './gizmo.js';
 
 const SURFACE_VERTEX = `#version 300 es
 uniform mat4 u_matrix;
@@ -79,8 +82,10 @@ export function createView(canvas) {
     cage: gl.createBuffer(),
     edges: gl.createBuffer(),
     handles: gl.createBuffer(),
+    bones: gl.createBuffer(),
+    gizmo: gl.createBuffer(),
   };
-  const counts = { triangles: 0, edges: 0, handles: 0 };
+  const counts = { triangles: 0, edges: 0, handles: 0, bones: 0, gizmo: false };
   return {
     setMesh(triangles, edges) {
       gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, buffers.triangles);
@@ -104,7 +109,18 @@ export function createView(canvas) {
       upload(gl, buffers.handles, positions);
       counts.handles = positions.length / 3;
     },
-    draw(matrix, eyePosition, { showCage, paint, selected }) {
+    /** The bones' segments now, x, y, z flat (boneSegments: six numbers per bone). */
+    setBones(segments) {
+      upload(gl, buffers.bones, segments);
+      counts.bones = segments.length / 6;
+    },
+    /** The gizmo's segments (gizmoLines), or null for none. */
+    setGizmo(lines) {
+      counts.gizmo = lines != null;
+      if (lines) upload(gl, buffers.gizmo, lines);
+    },
+    /** `selectedBone`: the index among the bones of the selected one, if a bone is selected. */
+    draw(matrix, eyePosition, { showCage, paint, selected, selectedBone = null }) {
       resize(gl);
       gl.clearColor(1, 1, 1, 1);
       gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
@@ -135,6 +151,26 @@ export function createView(canvas) {
         attribute(gl, lines, 'a_position', buffers.cage);
         gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, buffers.edges);
         gl.drawElements(gl.LINES, counts.edges, gl.UNSIGNED_INT, 0);
+      }
+      if (counts.bones > 0 || counts.gizmo) {
+        gl.useProgram(lines.program);
+        gl.uniformMatrix4fv(lines.uniform('u_matrix'), false, matrix);
+      }
+      if (counts.bones > 0) {
+        attribute(gl, lines, 'a_position', buffers.bones);
+        gl.uniform3fv(lines.uniform('u_colour'), HANDLE_COLOUR);
+        gl.drawArrays(gl.LINES, 0, 2 * counts.bones);
+        if (selectedBone != null && selectedBone < counts.bones) {
+          gl.uniform3fv(lines.uniform('u_colour'), SELECTED_COLOUR);
+          gl.drawArrays(gl.LINES, 2 * selectedBone, 2);
+        }
+      }
+      if (counts.gizmo) {
+        attribute(gl, lines, 'a_position', buffers.gizmo);
+        for (const part of GIZMO_PARTS) {
+          gl.uniform3fv(lines.uniform('u_colour'), part.colour);
+          gl.drawArrays(gl.LINES, part.first, part.count);
+        }
       }
       if (counts.handles > 0) {
         gl.useProgram(points.program);

@@ -1,12 +1,23 @@
-// Keyframes of the handles' poses: each key holds every handle's offset and rotation at a time.
-// Between keys a handle's pivot (where it was placed) moves linearly and its rotation turns along
-// the shorter arc (quaternion slerp): for these rigid maps, what the library's keyframe
-// interpolation does (`splineskin::animation`, SpaceParts: pivot image linear, polar rotation
-// slerped, stretch the identity).
+// Keyframes of the handles' poses: each key holds every handle's offset and rotation at a time,
+// and the easing of the motion to the next key. Between keys, at the eased fraction
+// e(u) (../animation.js `ease`, the library's `Easing`), a handle's pivot (where it was placed)
+// moves linearly and its rotation turns along the shorter arc (quaternion slerp): for these
+// rigid maps, what the library's keyframe interpolation does (`splineskin::animation`,
+// SpaceParts: pivot image linear, polar rotation slerped, stretch the identity).
 
-/** A key at `time` of the handles' current offsets and rotations. */
-export function keyOf(time, handles) {
-  return { time, poses: handles.map((h) => ({ offset: [...h.offset], rotation: [...h.rotation] })) };
+import { ease } from '../animation.js';
+
+/**
+ * A key at `time` of the handles' current offsets and rotations, with `easing` (an easing's
+ * name, ../animation.js) the motion to the next key takes.
+ */
+export function keyOf(time, handles, easing = 'linear') {
+  return { time, easing, poses: handles.map((h) => ({ offset: [...h.offset], rotation: [...h.rotation] })) };
+}
+
+/** The time of the last key (0 without keys). */
+export function lastTime(keys) {
+  return keys.length ? keys[keys.length - 1].time : 0;
 }
 
 /** `keys` with `key` in time order, replacing one at the same time. */
@@ -27,7 +38,7 @@ export function poseAt(keys, time, handles) {
       h.rotation = [...p.rotation];
       return;
     }
-    const u = (time - a.time) / (b.time - a.time);
+    const u = ease(a.easing ?? 'linear', (time - a.time) / (b.time - a.time));
     const q = b.poses[i];
     h.offset = p.offset.map((o, k) => o + u * (q.offset[k] - o));
     h.rotation = matrixOf(slerp(quaternionOf(p.rotation), quaternionOf(q.rotation), u));

@@ -1,34 +1,38 @@
 // The Catmull–Clark page: open an OBJ cage, see its limit surface shaded, turn it about; click
-// the surface to add point handles, drag a handle to move it, and the cage is fitted so that
-// its limit surface follows the skinned one. The page's state is the one `page` object below;
-// the modules it uses hold none.
+// the surface to add point handles, Alt-drag for bones, move and turn them with the mouse or
+// the gizmo, and the cage is fitted so that its limit surface follows the skinned one; key
+// poses on the timeline and play them; every edit is autosaved. The page's state is the one
+// `page` object below; the modules it uses hold none.
 //
-//   surface.js   the limit surface from cage positions (stencils), normals, bounds
-//   rig.js       the fitted cage from the rig's factors and the handles' maps; skinning; distances
-//   camera.js    the orbit camera and its matrices
-//   pick.js      what the pointer is over
-//   keys.js      keyframes of the handles' poses and their interpolation
-//   exports.js   the scene file, the server's exports, downloads
-//   server.js    requests to the server
-//   gl-view.js   the WebGL2 drawing
-//   ../history.js  undo and redo (the 2D editor's, on this page's snapshots)
+//   surface.js       the limit surface from cage positions (stencils), normals, bounds
+//   rig.js           the fitted cage from the rig's factors and the handles' maps; skinning; distances
+//   handles.js       point handles and bones, in the scene's order
+//   camera.js        the orbit camera and its matrices
+//   pick.js          what the pointer is over
+//   gizmo.js         the selected handle's arrows and rings
+//   gestures.js      what the pointer does on the view
+//   keys.js          keyframes of the handles' poses and their interpolation
+//   timeline-row.js  the ruler, the keys' buttons, playback
+//   exports.js       the scene file, the server's exports, downloads
+//   autosave.js      the session in IndexedDB
+//   server.js        requests to the server (or the WebAssembly worker of a static build)
+//   gl-view.js       the WebGL2 drawing
+//   ../history.js    undo and redo (the 2D editor's, on this page's snapshots)
 
-import { dragInView, eye, fitCamera, orbit, pan, viewAxes, viewProjection, zoom } from './camera.js';
+import { eye, fitCamera, pixelSize, viewProjection } from './camera.js';
+import { autosave, savedSession } from './autosave.js';
 import { exportAs } from './exports.js';
+import { installGestures } from './gestures.js';
+import { GIZMO_PIXELS, GIZMO_VERTICES, gizmoLines } from './gizmo.js';
 import { createView } from './gl-view.js';
+import { boneCount, boneHandle, boneSegments, pivots, pointHandle, sceneHandles, withHandle } from './handles.js';
 import { History } from '../history.js';
-import { keyOf, poseAt, withKey } from './keys.js';
-import { pickPoint, pickSurface, project } from './pick.js';
-import { IDENTITY_ROTATION, distances, fitCage, handleMap, skin, turned, weightColumn } from './rig.js';
+import { project } from './pick.js';
+import { IDENTITY_ROTATION, distances, fitCage, handleMap, skin, weightColumn } from './rig.js';
 import { post } from './server.js';
 import { bounds, tessellate, vertexNormals } from './surface.js';
+import { installTimeline } from './timeline-row.js';
 
-/** Pixels a press may move and still be a click. */
-const CLICK_SLOP = 4;
-/** Pixels from a handle's dot that pick it. */
-const HANDLE_RADIUS = 10;
-/** Radians a handle turns per pixel dragged sideways. */
-const TURN_PER_PIXEL = 0.01;
 /** The distance to the skinned surface painted full red, a fraction of the cage's diagonal. */
 const DISTANCE_SCALE = 0.01;
 
@@ -55,21 +59,28 @@ const page = {
   paintedFor: null,
   /** The last frame's distance to the skinned surface: `{max, rms}` in the cage's units. */
   error: null,
-  /** Keyframes (keys.js), time order; the playback's animation frame request, or null. */
+  /** Keyframes (keys.js), time order; the playhead (s); the selected key; the playback's frame request. */
   keys: [],
+  time: 0,
+  selectedKey: null,
   playing: null,
   /** Undo and redo of the edits: snapshots of the handles, keys, selection and family. */
   history: new History(),
   family: 'shepard',
-  /** Point handles: `{ rest: [x, y, z], offset: [dx, dy, dz], rotation: 3 × 3 rows flat }`. */
+  /** Point handles, then bones (handles.js). */
   handles: [],
-  /** What dragging a handle does: `move` it in the view's plane or `turn` it about the view's axis. */
+  /** The bones' segments now (six numbers each), drawn. */
+  boneLines: new Float32Array(0),
+  /** What dragging a handle's dot does: `move` it in the view's plane or `turn` it about the view's axis. */
   mode: 'move',
   selected: null,
+  /** The selected handle's gizmo (gizmoLines) and its arrows' world length, or null. */
+  gizmo: null,
+  gizmoSize: 0,
   /** The rig of the handles ([`RigWire`] of POST /api/subdiv/rig), or null; `asked` counts requests. */
   rig: null,
   asked: 0,
-  /** The press in progress: `{x, y, startX, startY, handle, panning}`, or null. */
+  /** The press in progress (gestures.js), or null. */
   drag: null,
   /** Milliseconds of the last frame's cage product and tessellation. */
   frameMs: 0,
@@ -90,12 +101,12 @@ try {
   say(error.message, { error: true });
 }
 
-/** Opens `file` (an OBJ cage): the server samples its limit surface. */
-async function open(file) {
-  say(`${file.name}: opening…`);
-  const text = await file.text();
-  const cage = await post('/api/subdiv/open', text, { 'x-file-name': encodeURIComponent(file.name) });
-  Object.assign(page, { cage, objText: text, handles: [], selected: null, rig: null });
+/** Opens the OBJ cage `text` named `name`: the server samples its limit surface. */
+async function openCage(name, text) {
+  say(`${name}: opening…`);
+  const cage = await post('/api/subdiv/open', text, { 'x-file-name': encodeURIComponent(name) });
+  Object.assign(page, { cage, objText: text, handles: [], selected: null, rig: null, keys: [], time: 0, selectedKey: null });
+  page.history.clear();
   page.positions = new Float32Array(3 * cage.surface.n_vertices);
   page.normals = new Float32Array(3 * cage.surface.n_vertices);
   page.fitted = Float64Array.from(cage.positions);
@@ -108,6 +119,7 @@ async function open(file) {
   update();
   page.camera = fitCamera(bounds(page.positions));
   draw();
+  timeline.show();
   const [creases, corners, holes] = cage.n_tags;
   say(`${cage.name}: ${cage.positions.length / 3} vertices, ${cage.face_sizes.length} faces, ` +
     `${creases} creases, ${corners} corners, ${holes} holes; limit surface level ${cage.surface.level}, ` +
@@ -119,22 +131,28 @@ async function open(file) {
 async function rig() {
   const asked = ++page.asked;
   page.rig = null;
-  say(`${page.handles.length} handles: computing ${page.family} weights and the rig…`);
-  const scene = {
-    handles: page.handles.map((h) => ({ position: h.rest })),
-    weights: { family: page.family },
-  };
+  const what = describeHandles();
+  say(`${what}: computing ${page.family} weights and the rig…`);
+  const scene = { ...sceneHandles(page.handles), weights: { family: page.family } };
   const body = JSON.stringify({ name: page.cage.name, obj: page.objText, level: page.cage.surface.level, scene });
   const answer = await post('/api/subdiv/rig', body, { 'content-type': 'application/json' });
   if (asked !== page.asked) return;
   page.rig = answer;
   update();
   draw();
-  say(`${page.handles.length} handles, ${page.family} weights: weights and rig in ${answer.seconds.toFixed(2)} s; ` +
-    'drag a handle to move it.');
+  say(`${what}, ${page.family} weights: weights and rig in ${answer.seconds.toFixed(2)} s; ` +
+    'drag a handle, or its gizmo, to move or turn it.');
 }
 
-/** The cage (ours or naive) and its surface for the handles' offsets, uploaded. */
+/** "3 handles and 1 bone". */
+function describeHandles() {
+  const bones = boneCount(page.handles);
+  const points = page.handles.length - bones;
+  const plural = (n, word) => `${n} ${word}${n === 1 ? '' : 's'}`;
+  return bones ? `${plural(points, 'handle')} and ${plural(bones, 'bone')}` : plural(points, 'handle');
+}
+
+/** The cage (ours or naive) and its surface for the handles' poses, uploaded. */
 function update() {
   const start = performance.now();
   const transforms = page.handles.map(handleMap);
@@ -150,7 +168,10 @@ function update() {
   vertexNormals(page.positions, surface.triangles, page.normals);
   page.frameMs = performance.now() - start;
   page.view.setPositions(page.positions, page.normals, page.fitted);
-  page.view.setHandles(handlePositions());
+  page.view.setHandles(pivots(page.handles));
+  const bones = boneCount(page.handles);
+  if (page.boneLines.length !== 6 * bones) page.boneLines = new Float32Array(6 * bones);
+  page.view.setBones(boneSegments(page.handles, page.boneLines));
   paint(transforms);
 }
 
@@ -187,32 +208,31 @@ function beforeEdit() {
   page.history.record(snapshot());
 }
 
+/** After an edit: said, and the session autosaved. */
+function edited(message) {
+  if (message) say(message);
+  autosave(page, (text) => say(text, { error: true }));
+}
+
+/** Whether `a` and `b` are the same handles where they were placed (the same rig). */
+function sameRest(a, b) {
+  return a.length === b.length && a.every((h, i) => h.kind === b[i].kind && h.rest.every((v, k) => v === b[i].rest[k]) &&
+    (h.end ?? []).every((v, k) => v === b[i].end[k]));
+}
+
 /** Goes back (`undo`) or forward (`redo`) one edit; a new set of handles or family asks for its rig. */
 function travel(direction) {
   const target = direction === 'undo' ? page.history.undo(snapshot()) : page.history.redo(snapshot());
   if (!target || !page.cage) return;
-  const sameRig =
-    target.family === page.family &&
-    target.handles.length === page.handles.length &&
-    target.handles.every((h, i) => h.rest.every((v, k) => v === page.handles[i].rest[k]));
+  const sameRig = target.family === page.family && sameRest(target.handles, page.handles);
   Object.assign(page, structuredClone(target));
+  page.selectedKey = null;
   document.getElementById('family').value = page.family;
-  showKeys();
-  if (sameRig && page.rig) {
-    update();
-    draw();
-  } else if (page.handles.length > 0) {
-    // The old rig has other handles: the cage stays at rest until the new one arrives.
-    page.rig = null;
-    update();
-    draw();
-    rig().catch((e) => say(e.message, { error: true }));
-  } else {
-    page.rig = null;
-    update();
-    draw();
-  }
-  say(`${direction === 'undo' ? 'undone' : 'redone'}: ${page.handles.length} handles, ${page.keys.length} keys`);
+  timeline.show();
+  if (!sameRig) page.rig = null;
+  frame();
+  if (!sameRig && page.handles.length > 0) rig().catch((e) => say(e.message, { error: true }));
+  edited(`${direction === 'undo' ? 'undone' : 'redone'}: ${describeHandles()}, ${page.keys.length} keys`);
 }
 
 /** Whether a handle is away from where it was placed. */
@@ -220,19 +240,38 @@ function posed(h) {
   return h.offset.some((d) => d !== 0) || h.rotation.some((v, k) => v !== IDENTITY_ROTATION[k]);
 }
 
-/** Where the handles are now (rest plus offset), x, y, z flat. */
-function handlePositions() {
-  return page.handles.flatMap((h) => h.rest.map((r, k) => r + h.offset[k]));
-}
-
 function matrix() {
   return viewProjection(page.camera, canvas.clientWidth / Math.max(1, canvas.clientHeight));
 }
 
+/** Draws the view; the selected handle's gizmo follows it. */
 function draw() {
   if (!page.cage) return;
+  placeGizmo();
   const paint = page.rig != null && (page.showDistance || (page.paint && page.selected != null));
-  page.view.draw(matrix(), eye(page.camera), { showCage: page.showCage, paint, selected: page.selected });
+  const nPoints = page.handles.length - boneCount(page.handles);
+  const selectedBone = page.selected != null && page.selected >= nPoints ? page.selected - nPoints : null;
+  page.view.draw(matrix(), eye(page.camera), { showCage: page.showCage, paint, selected: page.selected, selectedBone });
+}
+
+/** The gizmo at the selected handle (GIZMO_PIXELS long on screen), or none. */
+function placeGizmo() {
+  const h = page.selected != null && page.rig ? page.handles[page.selected] : null;
+  if (!h) {
+    page.gizmo = null;
+    page.view.setGizmo(null);
+    return;
+  }
+  const centre = h.rest.map((r, k) => r + h.offset[k]);
+  page.gizmoSize = GIZMO_PIXELS * pixelSize(page.camera, centre, canvas.clientHeight);
+  page.gizmo = gizmoLines(centre, page.gizmoSize, page.gizmo ?? new Float32Array(3 * GIZMO_VERTICES));
+  page.view.setGizmo(page.gizmo);
+}
+
+/** The cage and surface for the handles now, drawn. */
+function frame() {
+  update();
+  draw();
 }
 
 /** The distance to the skinned surface, as the status says it, when it is shown. */
@@ -242,111 +281,58 @@ function errorNote() {
   return `; ${page.method} to the skinned surface: max ${percent(page.error.max)} %, RMS ${percent(page.error.rms)} % of the diagonal (red: 1 %)`;
 }
 
-/** A click at `at` (CSS pixels in the canvas): picks a handle, or adds one where the surface is. */
-function click(at) {
-  const size = { width: canvas.clientWidth, height: canvas.clientHeight };
-  const hit = pickPoint(matrix(), handlePositions(), at, { ...size, radius: HANDLE_RADIUS });
-  if (hit != null) {
-    page.selected = hit;
-    update();
-    draw();
-    return;
-  }
-  const point = pickSurface(matrix(), page.positions, page.cage.surface.triangles, at, size);
-  if (!point) return;
+/** Adds `h` (a point handle or a bone) at rest, selected; keys start again; the rig is asked for. */
+function addHandle(h) {
   if (page.handles.some(posed)) {
     say('Handles are added at rest: press Rest first.', { error: true });
     return;
   }
   beforeEdit();
-  page.handles = [...page.handles, { rest: point, offset: [0, 0, 0], rotation: [...IDENTITY_ROTATION] }];
+  const [handles, at] = withHandle(page.handles, h);
+  page.handles = handles;
   // Keys hold every handle's pose: a new handle starts a new animation.
   page.keys = [];
-  showKeys();
-  page.selected = page.handles.length - 1;
+  page.selectedKey = null;
+  timeline.show();
+  page.selected = at;
   page.rig = null;
-  update();
-  draw();
-  rig().catch((e) => say(e.message, { error: true }));
+  frame();
+  rig().then(() => edited()).catch((e) => say(e.message, { error: true }));
 }
 
-const local = (event) => {
-  const r = canvas.getBoundingClientRect();
-  return [event.clientX - r.left, event.clientY - r.top];
-};
-
-canvas.addEventListener('pointerdown', (event) => {
-  if (!page.cage) return;
-  canvas.setPointerCapture(event.pointerId);
-  const at = local(event);
-  const size = { width: canvas.clientWidth, height: canvas.clientHeight, radius: HANDLE_RADIUS };
-  const handle = page.rig ? pickPoint(matrix(), handlePositions(), at, size) : null;
-  if (handle != null) {
-    beforeEdit();
-    page.selected = handle;
-    // Edits replace the handles rather than change them, so snapshots stay as they were.
-    page.handles = page.handles.map((h) => ({ ...h }));
-  }
-  page.drag = { x: at[0], y: at[1], startX: at[0], startY: at[1], handle, panning: event.shiftKey || event.button === 2 };
+installGestures(canvas, page, {
+  matrix,
+  size: () => ({ width: canvas.clientWidth, height: canvas.clientHeight }),
+  frame,
+  draw,
+  beforeEdit,
+  say,
+  select(i) {
+    page.selected = i;
+    frame();
+  },
+  addPoint: (p) => addHandle(pointHandle(p)),
+  addBone(a, b) {
+    if (Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]) < 1e-6 * page.cage.diagonal) {
+      say('A bone needs two distinct ends: drag from one point of the surface to another.', { error: true });
+      return;
+    }
+    addHandle(boneHandle(a, b));
+  },
+  edited: (what) => edited(`${what}; frame (cage product and surface) ${page.frameMs.toFixed(1)} ms${errorNote()}`),
 });
 
-canvas.addEventListener('pointermove', (event) => {
-  if (!page.drag) return;
-  const [x, y] = local(event);
-  const dx = x - page.drag.x;
-  const dy = y - page.drag.y;
-  page.drag.x = x;
-  page.drag.y = y;
-  if (page.drag.handle != null && page.mode === 'turn') {
-    const h = page.handles[page.drag.handle];
-    h.rotation = turned(h.rotation, viewAxes(page.camera)[2], -TURN_PER_PIXEL * dx);
-    update();
-  } else if (page.drag.handle != null) {
-    const h = page.handles[page.drag.handle];
-    const at = h.rest.map((r, k) => r + h.offset[k]);
-    const move = dragInView(page.camera, at, dx, dy, canvas.clientHeight);
-    h.offset = h.offset.map((o, k) => o + move[k]);
-    update();
-  } else if (page.drag.panning) {
-    pan(page.camera, dx, dy, canvas.clientHeight);
-  } else {
-    orbit(page.camera, dx, dy);
-  }
-  draw();
-});
-
-canvas.addEventListener('pointerup', (event) => {
-  const drag = page.drag;
-  page.drag = null;
-  if (!drag) return;
-  const [x, y] = local(event);
-  const still = Math.hypot(x - drag.startX, y - drag.startY) < CLICK_SLOP;
-  if (drag.handle != null && !still) {
-    say(`handle ${drag.handle + 1} ${page.mode === 'turn' ? 'turned' : 'moved'}; frame (cage product and surface) ${page.frameMs.toFixed(1)} ms${errorNote()}`);
-  } else if (still && !drag.panning) {
-    click([x, y]);
-  }
-});
-
-canvas.addEventListener('pointercancel', () => {
-  page.drag = null;
-});
-
-canvas.addEventListener('contextmenu', (event) => event.preventDefault());
-
-canvas.addEventListener('wheel', (event) => {
-  if (!page.cage) return;
-  event.preventDefault();
-  zoom(page.camera, event.deltaY);
-  draw();
-}, { passive: false });
+const timeline = installTimeline(page, { frame, beforeEdit, edited, say });
 
 window.addEventListener('resize', draw);
 
-const openFile = (file) => open(file).catch((e) => say(`${file.name}: ${e.message}`, { error: true }));
+const openFile = (file) =>
+  file.text().then((text) => openCage(file.name, text)).then(() => edited()).catch((e) => say(`${file.name}: ${e.message}`, { error: true }));
 
 document.getElementById('open').addEventListener('change', (event) => {
   const [file] = event.target.files;
+  // Emptied, so that choosing the same file again opens it again.
+  event.target.value = '';
   if (file) openFile(file);
 });
 
@@ -365,8 +351,7 @@ document.getElementById('show-cage').addEventListener('change', (event) => {
 
 document.getElementById('paint').addEventListener('change', (event) => {
   page.paint = event.target.checked;
-  update();
-  draw();
+  frame();
 });
 
 document.getElementById('mode').addEventListener('change', (event) => {
@@ -375,83 +360,36 @@ document.getElementById('mode').addEventListener('change', (event) => {
 
 document.getElementById('method').addEventListener('change', (event) => {
   page.method = event.target.value;
-  update();
-  draw();
+  frame();
   if (page.rig) say(`showing ${page.method}${errorNote()}`);
+  edited();
 });
 
 document.getElementById('distance').addEventListener('change', (event) => {
   page.showDistance = event.target.checked;
-  update();
-  draw();
+  frame();
   if (page.rig) say(`showing ${page.method}${errorNote()}`);
 });
 
 document.getElementById('family').addEventListener('change', (event) => {
   beforeEdit();
   page.family = event.target.value;
-  if (page.handles.length > 0) rig().catch((e) => say(e.message, { error: true }));
+  event.target.blur();
+  if (page.handles.length > 0) rig().then(() => edited()).catch((e) => say(e.message, { error: true }));
 });
 
 document.getElementById('rest').addEventListener('click', () => {
   if (!page.cage) return;
   beforeEdit();
   page.handles = page.handles.map((h) => ({ ...h, offset: [0, 0, 0], rotation: [...IDENTITY_ROTATION] }));
-  update();
-  draw();
+  frame();
+  edited('every handle at rest');
 });
 
 document.getElementById('export').addEventListener('change', (event) => {
   const format = event.target.value;
   event.target.value = '';
   if (format) exportAs(page, format, say).catch((e) => say(e.message, { error: true }));
-});
-
-/** The keys' times in the toolbar. */
-function showKeys() {
-  const times = page.keys.map((k) => `${k.time} s`).join(', ');
-  document.getElementById('keys').textContent = page.keys.length ? `keys: ${times}` : 'no keys';
-}
-
-document.getElementById('add-key').addEventListener('click', () => {
-  if (!page.rig) {
-    say('Add handles first: a key holds their pose.', { error: true });
-    return;
-  }
-  const input = document.getElementById('key-time');
-  const time = Math.max(0, Number(input.value) || 0);
-  beforeEdit();
-  page.keys = withKey(page.keys, keyOf(time, page.handles));
-  input.value = String(time + 1);
-  showKeys();
-});
-
-document.getElementById('clear-keys').addEventListener('click', () => {
-  beforeEdit();
-  page.keys = [];
-  showKeys();
-});
-
-/** Plays the keys from 0 to the last, then leaves the last pose. */
-document.getElementById('play').addEventListener('click', () => {
-  if (page.keys.length < 2 || page.playing) return;
-  const end = page.keys[page.keys.length - 1].time;
-  const start = performance.now();
-  let worst = 0;
-  const frame = () => {
-    const t = Math.min(end, (performance.now() - start) / 1000);
-    poseAt(page.keys, t, page.handles);
-    update();
-    draw();
-    worst = Math.max(worst, page.frameMs);
-    if (t < end) {
-      page.playing = requestAnimationFrame(frame);
-    } else {
-      page.playing = null;
-      say(`played ${end} s; slowest frame (cage product and surface) ${worst.toFixed(1)} ms`);
-    }
-  };
-  page.playing = requestAnimationFrame(frame);
 });
 
 document.getElementById('undo').addEventListener('click', () => travel('undo'));
@@ -469,17 +407,48 @@ document.getElementById('reset-view').addEventListener('click', () => {
   draw();
 });
 
+/** Offers back the autosaved session, if any: the cage opened again, its handles, keys and family. */
+async function restore() {
+  const saved = await savedSession();
+  if (!saved || page.cage) return;
+  try {
+    await openCage(saved.name, saved.obj);
+    Object.assign(page, {
+      handles: saved.handles,
+      keys: saved.keys,
+      family: saved.family,
+      method: saved.method,
+      selected: saved.selected,
+      time: saved.time,
+    });
+    document.getElementById('family').value = page.family;
+    document.getElementById('method').value = page.method;
+    timeline.show();
+    frame();
+    if (page.handles.length > 0) await rig();
+    say(`${saved.name}: the session autosaved ${new Date(saved.savedAt).toLocaleString()} is back (${describeHandles()}, ${page.keys.length} keys)`);
+  } catch (e) {
+    say(`the autosaved session of ${saved.name} could not be restored: ${e.message}`, { error: true });
+  }
+  document.body.dataset.restored = '1';
+}
+restore();
+
 /** What the page shows, for its tests: handles, the selection, whether the rig is ready, the last frame's time. */
 window.subdivPageState = () => ({
-  handles: page.handles.map((h) => ({ rest: [...h.rest], offset: [...h.offset], rotation: [...h.rotation] })),
+  handles: page.handles.map((h) => ({ kind: h.kind, rest: [...h.rest], end: h.end && [...h.end], offset: [...h.offset], rotation: [...h.rotation] })),
   selected: page.selected,
   rigReady: page.rig != null,
   frameMs: page.frameMs,
   method: page.method,
+  family: page.family,
   keys: page.keys.map((k) => k.time),
+  easings: page.keys.map((k) => k.easing),
+  time: page.time,
   playing: page.playing != null,
   error: page.error && { ...page.error },
   fitted: page.fitted ? Array.from(page.fitted) : null,
+  gizmoSize: page.gizmoSize,
 });
 
 /** Where the world point `p` is drawn, CSS pixels in the canvas: `[x, y, depth]`, for the page's tests. */
