@@ -426,6 +426,54 @@ check('served cross-origin isolated (the static build\'s _headers), exact rigs r
   }
 });
 
+check('the Catmull-Clark page in the static folder: the tube opened, a handle clicked and dragged, the cage the library\'s deform', { skip: MISSING }, async () => {
+  const html = readFileSync(join(out.path, 'site', 'subdiv', 'index.html'), 'utf8');
+  assert.match(html, /data-backend="wasm"/);
+  assert.match(html, /Content-Security-Policy/);
+  const p = await browser.context.newPage();
+  const errors = [];
+  p.on('pageerror', (e) => errors.push(e.message));
+  try {
+    await p.goto(site.url('subdiv/index.html'));
+    const tube = join(REPO, 'crates', 'splineskin', 'assets', 'subdiv', 'tube.obj');
+    await p.setInputFiles('#open', tube);
+    await p.waitForFunction(() => document.getElementById('status').textContent.includes('Click the surface'), null, { timeout: WAIT });
+    const box = await p.locator('#view').boundingBox();
+    const clickAt = async (q) => {
+      const [x, y] = await p.evaluate((q) => window.subdivProject(q), q);
+      await p.mouse.click(box.x + x, box.y + y);
+    };
+    let started = performance.now();
+    await clickAt([0.8, 0, 0]);
+    await p.waitForFunction(() => window.subdivPageState().rigReady, null, { timeout: WAIT });
+    await clickAt([7.2, 0, 0]);
+    await p.waitForFunction(() => window.subdivPageState().rigReady && window.subdivPageState().handles.length === 2, null, { timeout: WAIT });
+    const rigSeconds = (performance.now() - started) / 1000;
+    const rest = await p.evaluate(() => window.subdivPageState());
+    const [x, y] = await p.evaluate((q) => window.subdivProject(q), rest.handles[1].rest);
+    await p.mouse.move(box.x + x, box.y + y);
+    await p.mouse.down();
+    await p.mouse.move(box.x + x, box.y + y - 80, { steps: 8 });
+    await p.mouse.up();
+    const posed = await p.evaluate(() => window.subdivPageState());
+    assert.ok(Math.hypot(...posed.handles[1].offset) > 0.5, 'the handle moved');
+    const [file] = await Promise.all([p.waitForEvent('download', { timeout: WAIT }), p.selectOption('#export', 'scene')]);
+    const scene = join(out.path, 'subdiv-static.json');
+    await file.saveAs(scene);
+    writeFileSync(join(out.path, 'tube.obj'), readFileSync(tube));
+    await runSplineskin(['subdiv', 'deform', scene, '-o', join(out.path, 'subdiv-static-cli.obj')]);
+    const want = readFileSync(join(out.path, 'subdiv-static-cli.obj'), 'utf8').split('\n').filter((l) => l.startsWith('v ')).flatMap((l) => l.split(/\s+/).slice(1, 4).map(Number));
+    const diagonal = 8.48528137423857;
+    const off = Math.max(...want.map((v, i) => Math.abs(v - posed.fitted[i])));
+    console.log(`static Catmull-Clark page: two handles' rig (Shepard) in ${rigSeconds.toFixed(2)} s in the worker; frame ${posed.frameMs.toFixed(2)} ms; the cage against subdiv deform ${(off / diagonal).toExponential(2)} of the diagonal`);
+    await p.screenshot({ path: join(out.path, 'subdiv-static.png') });
+    assert.ok(off <= SAME * diagonal, `${off}`);
+    assert.deepEqual(errors, []);
+  } finally {
+    await p.close();
+  }
+});
+
 check('the same with splineskin serve, for the native figures beside them (printed)', { skip: MISSING }, async () => {
   const server = await startEditor([]);
   const p = await browser.context.newPage();

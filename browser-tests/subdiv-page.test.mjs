@@ -5,7 +5,7 @@
 // with BROWSER_TESTS_OUT).
 
 import assert from 'node:assert/strict';
-import { copyFileSync, readFileSync, writeFileSync } from 'node:fs';
+import { copyFileSync, existsSync, readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before } from 'node:test';
 
@@ -13,6 +13,10 @@ import { launchBrowser, outputFolder, REPO, runSplineskin, startEditor } from '.
 import { compareImages, decodePng, inkFraction } from './png.mjs';
 
 const TUBE = join(REPO, 'crates', 'splineskin', 'assets', 'subdiv', 'tube.obj');
+/** OpenSubdiv's regression shapes (the external data, ../shared/data). */
+const SHAPES = join(REPO, '..', 'shared', 'data', 'subdiv', 'shapes');
+const NO_SHAPES = !existsSync(SHAPES) && `${SHAPES} missing (the external data)`;
+if (NO_SHAPES && process.env.CI) throw new Error(`${SHAPES} is missing; CI has the external data`);
 const WAIT = 60_000;
 
 const out = outputFolder('subdiv-page');
@@ -440,6 +444,45 @@ check('the session is autosaved and comes back after a reload', async () => {
   assert.ok(off < 1e-12, `the restored cage is the same to ${off}`);
   console.log(await status());
   assert.match(await status(), /tube\.obj: the session autosaved .* is back \(2 handles and 1 bone, 0 keys\)/);
+  assert.deepEqual(pageErrors, []);
+});
+
+check('regression shapes refined once: four handles clicked, a drag, the frame time printed', { skip: NO_SHAPES }, async () => {
+  await page.selectOption('#family', 'shepard');
+  for (const shape of ['catmark_car', 'catmark_bishop', 'catmark_rook']) {
+    const refined = join(out.path, `${shape}-refined.obj`);
+    await runSplineskin(['subdiv', 'refine', join(SHAPES, `${shape}.obj`), '--levels', '1', '-o', refined]);
+    await page.setInputFiles('#open', refined);
+    await page.waitForFunction(() => document.getElementById('status').textContent.includes('Click the surface'), null, { timeout: WAIT });
+    const opened = await status();
+    // Four handles: clicks over the middle of the view until four land on the surface.
+    const box = await page.locator('#view').boundingBox();
+    for (let k = 0; k < 40; k++) {
+      const n = (await page.evaluate(() => window.subdivPageState())).handles.length;
+      if (n === 4) break;
+      const [fx, fy] = [0.3 + 0.4 * ((k * 0.37) % 1), 0.35 + 0.3 * ((k * 0.61) % 1)];
+      await page.mouse.click(box.x + fx * box.width, box.y + fy * box.height);
+    }
+    await page.waitForFunction(() => window.subdivPageState().rigReady && window.subdivPageState().handles.length === 4, null, { timeout: WAIT });
+    const rigged = await page.evaluate(() => window.subdivPageState());
+    const h = rigged.handles[0].rest;
+    const [x, y] = await page.evaluate((q) => window.subdivProject(q), h);
+    await page.mouse.move(box.x + x, box.y + y);
+    await page.mouse.down();
+    const times = [];
+    for (let step = 1; step <= 30; step++) {
+      await page.mouse.move(box.x + x + 2 * step, box.y + y - 3 * step);
+      times.push((await page.evaluate(() => window.subdivPageState())).frameMs);
+    }
+    await page.mouse.up();
+    const moved = await page.evaluate(() => window.subdivPageState());
+    assert.ok(Math.hypot(...moved.handles[0].offset) > 0, `${shape}: the handle moved`);
+    times.sort((a, b) => a - b);
+    const vertices = /(\d+) vertices/.exec(opened)[1];
+    const triangles = /(\d+) triangles/.exec(opened)[1];
+    console.log(`${shape} refined once: ${vertices} cage vertices, ${triangles} triangles (${opened.match(/level \d+/)[0]}); 4 handles; drag frame (cage product, surface, normals) median ${times[15].toFixed(1)} ms, slowest ${times[29].toFixed(1)} ms (60 fps: 16.7 ms)`);
+    await shot(`${shape}-refined`);
+  }
   assert.deepEqual(pageErrors, []);
 });
 
