@@ -50,7 +50,7 @@ impl Editor {
             (["progress", job, "stop"], _, true) => rig_routes::stop(self, job),
             (["defop"], _, true) => defop_routes::defop(self, request, followed),
             (["subdiv", "open"], _, true) => subdiv_routes::open(request),
-            (["subdiv", "rig"], _, true) => subdiv_routes::rig(request),
+            (["subdiv", "rig"], _, true) => subdiv_routes::rig(self, request),
             (["subdiv", "export"], _, true) => subdiv_routes::export(request),
             (["defops", id, "carry"], true, _) => defop_routes::carry(self, id),
             (["defops", id, "deform"], _, true) => defop_routes::deform(self, id, request),

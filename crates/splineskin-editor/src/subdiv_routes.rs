@@ -27,6 +27,7 @@ use splineskin::subdiv::{
     SubdivSetup, MAX_LIMIT_MESH_LEVEL,
 };
 
+use crate::editor::Editor;
 use crate::request::{ApiError, Request, Response};
 
 /// Tessellation level when the page does not say, at most: 3 (64 quads per cage quad).
@@ -139,9 +140,11 @@ pub struct RigWire {
     pub seconds: f64,
 }
 
-/// `POST /api/subdiv/rig`.
-pub(crate) fn rig(request: &Request) -> Result<Response, ApiError> {
-    let start = std::time::Instant::now();
+/// `POST /api/subdiv/rig`. Timed with the editor's clock (WebAssembly has no
+/// `std::time::Instant`).
+pub(crate) fn rig(editor: &Editor, request: &Request) -> Result<Response, ApiError> {
+    let clock = editor.progress.clock();
+    let start = clock();
     let rigged = Rigged::of(request)?;
     let (name, setup) = (&rigged.name, &rigged.setup);
     let fail = |e: &dyn std::fmt::Display| ApiError::new(400, format!("{name}: {e}"));
@@ -156,7 +159,7 @@ pub(crate) fn rig(request: &Request) -> Result<Response, ApiError> {
         coefficients: coefficients(&setup.rig),
         surface_weights,
         cage_weights,
-        seconds: start.elapsed().as_secs_f64(),
+        seconds: clock() - start,
     })
 }
 
