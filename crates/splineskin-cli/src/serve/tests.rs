@@ -1522,15 +1522,9 @@ async fn serve_export_carries_gradients_and_text_with_the_rig_pose() {
     );
 }
 
-/// The plate through a trained operator (ARAP, few samples), every handle turned by 10°
-/// about its centre: the export with `defop=` and the configuration `Q` carries the label by
-/// the operator's deformation, which reproduces that rigid motion to its training error.
-#[tokio::test]
-async fn serve_export_carries_text_with_the_operator() {
-    let app = app();
-    let info = open_plate(&app).await;
-    let id = info["id"].as_str().expect("id");
-    let scene = serde_json::json!({
+/// The scene that trains an ARAP operator (20 samples) for the plate's handles on document `id`.
+fn plate_operator_scene(id: &str) -> serde_json::Value {
+    serde_json::json!({
         "document": id,
         "scene": {
             "handles": PLATE_HANDLES,
@@ -1539,8 +1533,18 @@ async fn serve_export_carries_text_with_the_operator() {
             "junctions": [],
             "flexible": false
         }
-    });
-    let (defop_info, _) = train(&app, &scene).await;
+    })
+}
+
+/// The plate through a trained operator (ARAP, few samples), every handle turned by 10°
+/// about its centre: the export with `defop=` and the configuration `Q` carries the label by
+/// the operator's deformation, which reproduces that rigid motion to its training error.
+#[tokio::test]
+async fn serve_export_carries_text_with_the_operator() {
+    let app = app();
+    let info = open_plate(&app).await;
+    let id = info["id"].as_str().expect("id");
+    let (defop_info, _) = train(&app, &plate_operator_scene(id)).await;
     let op = defop_info["id"].as_str().expect("id");
     let turn = kurbo::Affine::translate((100.0, 50.0))
         * kurbo::Affine::rotate(10f64.to_radians())
@@ -1586,17 +1590,7 @@ async fn serve_operator_carry_gives_the_exported_label_map() {
     let info = open_file(&app, "labelled.svg", LABELLED_PLATE_SVG).await;
     let id = info["id"].as_str().expect("id");
     let parent = kurbo::Affine::translate((10.0, 5.0)) * kurbo::Affine::rotate(10f64.to_radians());
-    let scene = serde_json::json!({
-        "document": id,
-        "scene": {
-            "handles": PLATE_HANDLES,
-            "pose": vec![[1.0, 0.0, 0.0, 1.0, 0.0, 0.0]; 3],
-            "weights": {"family": "defop-arap", "samples": 20},
-            "junctions": [],
-            "flexible": false
-        }
-    });
-    let (op_info, op_body) = train(&app, &scene).await;
+    let (op_info, op_body) = train(&app, &plate_operator_scene(id)).await;
     let op = op_info["id"].as_str().expect("id");
     let q = [
         [PLATE_HANDLES[0][0], PLATE_HANDLES[0][1]],
