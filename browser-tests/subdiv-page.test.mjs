@@ -356,13 +356,15 @@ function ringPoints(k, turn) {
   }, { k, turn });
 }
 
-check('three handles, one a bone drawn by Alt-drag, the bone turned with the gizmo: the page, the USD and subdiv deform agree', async () => {
+check('three handles clicked and a bone drawn by Alt-drag, the bone turned with the gizmo: the page, the USD and subdiv deform agree', async () => {
   await page.setInputFiles('#open', TUBE);
   await page.waitForFunction(() => document.getElementById('status').textContent.includes('Click the surface'), null, { timeout: WAIT });
   await clickAt([0.8, 0, 0]);
   await page.waitForFunction(() => window.subdivPageState().rigReady, null, { timeout: WAIT });
   await clickAt([4, 0, 0]);
   await page.waitForFunction(() => window.subdivPageState().rigReady && window.subdivPageState().handles.length === 2, null, { timeout: WAIT });
+  await clickAt([2.4, 0, 0]);
+  await page.waitForFunction(() => window.subdivPageState().rigReady && window.subdivPageState().handles.length === 3, null, { timeout: WAIT });
   // The bone: Alt-drag from one point of the surface to another.
   const box = await page.locator('#view').boundingBox();
   const [a, b] = await page.evaluate(() => [window.subdivProject([5.6, 0, 0]), window.subdivProject([7.6, 0, 0])]);
@@ -372,13 +374,13 @@ check('three handles, one a bone drawn by Alt-drag, the bone turned with the giz
   await page.mouse.move(box.x + b[0], box.y + b[1], { steps: 6 });
   await page.mouse.up();
   await page.keyboard.up('Alt');
-  await page.waitForFunction(() => window.subdivPageState().rigReady && window.subdivPageState().handles.length === 3, null, { timeout: WAIT });
+  await page.waitForFunction(() => window.subdivPageState().rigReady && window.subdivPageState().handles.length === 4, null, { timeout: WAIT });
   const rigged = await page.evaluate(() => window.subdivPageState());
-  assert.deepEqual(rigged.handles.map((h) => h.kind), ['point', 'point', 'bone']);
-  assert.equal(rigged.selected, 2, 'the new bone is selected');
-  const bone = rigged.handles[2];
+  assert.deepEqual(rigged.handles.map((h) => h.kind), ['point', 'point', 'point', 'bone']);
+  assert.equal(rigged.selected, 3, 'the new bone is selected');
+  const bone = rigged.handles[3];
   assert.ok(Math.hypot(...bone.rest.map((v, k) => v - bone.end[k])) > 1, `a bone from ${bone.rest} to ${bone.end}`);
-  assert.match(await status(), /2 handles and 1 bone, \w+ weights: weights and rig in/);
+  assert.match(await status(), /3 handles and 1 bone, \w+ weights: weights and rig in/);
   await shot('bone');
   // Turn the bone about z with the gizmo's blue ring: 50° swept on screen.
   const [from, to] = await ringPoints(2, (50 * Math.PI) / 180);
@@ -387,12 +389,12 @@ check('three handles, one a bone drawn by Alt-drag, the bone turned with the giz
   await page.mouse.move(box.x + to[0], box.y + to[1], { steps: 10 });
   await page.mouse.up();
   const turned = await page.evaluate(() => window.subdivPageState());
-  const r = turned.handles[2].rotation;
+  const r = turned.handles[3].rotation;
   const angle = Math.atan2(r[3], r[0]);
   console.log(`the gizmo's ring turned the bone ${(angle * 180 / Math.PI).toFixed(1)}° about z; frame ${turned.frameMs.toFixed(2)} ms`);
   assert.ok(Math.abs(r[8] - 1) < 1e-12 && Math.abs(r[2]) < 1e-12 && Math.abs(r[5]) < 1e-12, `about z: ${r}`);
   assert.ok(Math.abs(angle) > (10 * Math.PI) / 180 && Math.abs(angle) < (90 * Math.PI) / 180, `${angle} rad`);
-  assert.deepEqual(turned.handles[2].offset, [0, 0, 0], 'turning does not move the pivot');
+  assert.deepEqual(turned.handles[3].offset, [0, 0, 0], 'turning does not move the pivot');
   // Move the first handle up along y with the gizmo's green arrow.
   await clickAt(turned.handles[0].rest);
   const arrow = await page.evaluate(() => {
@@ -443,7 +445,7 @@ check('the session is autosaved and comes back after a reload', async () => {
   const off = Math.max(...after.fitted.map((v, i) => Math.abs(v - before.fitted[i])));
   assert.ok(off < 1e-12, `the restored cage is the same to ${off}`);
   console.log(await status());
-  assert.match(await status(), /tube\.obj: the session autosaved .* is back \(2 handles and 1 bone, 0 keys\)/);
+  assert.match(await status(), /tube\.obj: the session autosaved .* is back \(3 handles and 1 bone, 0 keys\)/);
   assert.deepEqual(pageErrors, []);
 });
 
