@@ -28,9 +28,8 @@ const CLIPPED_FLAG = join(REPO, 'test-art', 'node_modules', 'flag-icons', 'flags
 // Google's Noto emoji, as the Iconify package carries them (an icon's body, 128 × 128 units).
 const NOTO = join(REPO, 'test-art', 'node_modules', '@iconify-json', 'noto', 'icons.json');
 
-// The export's tolerance (a fraction of the drawing's diagonal, the command's default), and
-// what lottie-web's path data adds to it: it writes coordinates with 3 decimals.
-const TOLERANCE = 1e-3;
+// What lottie-web's path data adds to the export's tolerance (which its report states, in the
+// drawing's units): it writes coordinates with 3 decimals.
 const PRINT_ROUNDING = 5e-4;
 // Mean absolute difference per channel (0–255) between lottie-web's frame and chromium's
 // rendering of the SVG frame. Between keyframes the shapes may be off by the tolerance (0.6–0.8
@@ -152,12 +151,11 @@ async function pathPoints(page, selector) {
  * The diagonal of the drawing's bounding box, from the SVG frame's geometry, in pixels of the
  * root's viewport (as pathPoints gives coordinates).
  */
-async function diagonal(page) {
+/** CSS pixels per user unit of the frame shown on `page`. */
+async function pixelsPerUnit(page) {
   return page.evaluate(() => {
-    const root = document.documentElement;
-    const box = root.getBBox();
-    const m = root.getScreenCTM();
-    return Math.hypot(box.width, box.height) * Math.sqrt(Math.abs(m.a * m.d - m.b * m.c));
+    const m = document.documentElement.getScreenCTM();
+    return Math.sqrt(Math.abs(m.a * m.d - m.b * m.c));
   });
 }
 
@@ -198,6 +196,9 @@ function pairSubpaths(played, truth, what) {
 async function playAndCompare(t, name, args, { minElements }) {
   const { dir, report, lottie, frames } = await exportBoth(name, args);
   t.diagnostic(`${name}: ${report.trim().split('\n').filter((l) => l.includes('keyframes')).join(' ')}`);
+  // The export's own tolerance, in the drawing's units, as its report gives it.
+  const units = Number(/of the diagonal \(([\d.e+-]+) units\)/.exec(report)?.[1]);
+  assert.ok(units > 0, `${name}: the report states the tolerance in units: ${report}`);
   // Valid against the specification's schema.
   const valid = ajv(lottie);
   assert.ok(valid, `${name}: ${JSON.stringify(ajv.errors?.slice(0, 5))}`);
@@ -217,7 +218,7 @@ async function playAndCompare(t, name, args, { minElements }) {
       await new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)));
     }, at);
     await framePage.goto(server.url(`${name}/frames/${file}`));
-    const tolerance = TOLERANCE * (await diagonal(framePage)) + PRINT_ROUNDING;
+    const tolerance = units * (await pixelsPerUnit(framePage)) + PRINT_ROUNDING;
     const played = await pathPoints(player, '#anim g[id]');
     const truth = await pathPoints(framePage, 'path[id], rect[id], circle[id], ellipse[id], line[id], polyline[id], polygon[id]');
     const ids = Object.keys(played).filter((id) => id in truth);

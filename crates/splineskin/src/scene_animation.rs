@@ -46,19 +46,23 @@ pub struct SceneLottie {
     pub n_paths: usize,
     /// Frames sampled.
     pub n_frames: usize,
+    /// The drawing's diagonal ([`crate::drawing::Drawing::diagonal`]), which the tolerance
+    /// is a fraction of.
+    pub diagonal: f64,
 }
 
 impl SceneLottie {
-    /// `K path keyframes of N (P paths × F frames) within T of the diagonal; B bytes (E with
-    /// every frame)`.
+    /// `K path keyframes of N (P paths × F frames) within T of the diagonal (D units); B bytes
+    /// (E with every frame)`, `D` the tolerance in the drawing's units.
     pub fn summary(&self, options: &LottieOptions) -> String {
         format!(
-            "{} path keyframes of {} ({} paths × {} frames) within {} of the diagonal; {} bytes ({} with every frame)",
+            "{} path keyframes of {} ({} paths × {} frames) within {} of the diagonal ({:.6} units); {} bytes ({} with every frame)",
             self.lottie.keyframes,
             self.lottie.every_frame_keyframes,
             self.n_paths,
             self.n_frames,
             options.tolerance,
+            options.tolerance * self.diagonal,
             self.lottie.json.len(),
             self.every_frame_bytes
         )
@@ -221,6 +225,7 @@ pub fn lottie_of_scene(
         rig_warnings: rig.posed.warnings(),
         n_paths: drawing.paths.len(),
         n_frames: times.len(),
+        diagonal: drawing.diagonal(),
     })
 }
 

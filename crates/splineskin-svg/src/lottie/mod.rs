@@ -238,9 +238,9 @@ pub fn write_lottie(
                 "ks": ks,
                 "ao": 0,
                 "shapes": run.shapes,
-                "ip": 0.0,
-                "op": last_frame,
-                "st": 0.0,
+                "ip": 0,
+                "op": frame_number(last_frame),
+                "st": 0,
                 "bm": 0
             });
             if !run.masks.is_empty() {
@@ -253,18 +253,17 @@ pub fn write_lottie(
     let document = json!({
         "v": "5.12.0",
         "nm": options.name,
-        "fr": fps,
-        "ip": 0.0,
-        "op": last_frame,
-        "w": w,
-        "h": h,
+        "fr": frame_number(fps),
+        "ip": 0,
+        "op": frame_number(last_frame),
+        // Whole pixels: rlottie refuses a size written as a float (600.0).
+        "w": w as u64,
+        "h": h as u64,
         "ddd": 0,
         "assets": [],
         "layers": layers
     });
-    let json = serde_json::to_string(&document).map_err(|e| LottieError::Invalid {
-        what: format!("serialising the document: {e}"),
-    })?;
+    let json = players_json(&document);
     Ok(LottieExport {
         json,
         warnings: writer.warnings.0,
@@ -327,6 +326,57 @@ fn check(
 }
 
 /// The document's size in whole pixels and the layer transform mapping the root viewBox onto
+
+/// A frame number or rate as the players read it: an integer when it is whole (`96`, not
+/// `96.0`: rlottie and Skottie read the composition's fields as integers), else the number.
+fn frame_number(x: f64) -> Value {
+    if x.fract() == 0.0 && x.abs() < 1e15 {
+        json!(x as i64)
+    } else {
+        json!(x)
+    }
+}
+
+/// `document` as JSON text with each object's `"ty"` first and its other keys after it, in
+/// order. rlottie reads a shape's type from the keys before the others and skips what it
+/// does not yet know the type of: with `"ty"` last (the order of a sorted map) it draws
+/// nothing. Every other player reads the keys in any order.
+fn players_json(document: &Value) -> String {
+    let mut out = String::new();
+    write_ty_first(document, &mut out);
+    out
+}
+
+fn write_ty_first(value: &Value, out: &mut String) {
+    match value {
+        Value::Object(map) => {
+            out.push('{');
+            let ty = map.get_key_value("ty");
+            let rest = map.iter().filter(|(k, _)| k.as_str() != "ty");
+            for (n, (key, v)) in ty.into_iter().chain(rest).enumerate() {
+                if n > 0 {
+                    out.push(',');
+                }
+                out.push_str(&Value::String(key.clone()).to_string());
+                out.push(':');
+                write_ty_first(v, out);
+            }
+            out.push('}');
+        }
+        Value::Array(items) => {
+            out.push('[');
+            for (n, v) in items.iter().enumerate() {
+                if n > 0 {
+                    out.push(',');
+                }
+                write_ty_first(v, out);
+            }
+            out.push(']');
+        }
+        scalar => out.push_str(&scalar.to_string()),
+    }
+}
+
 /// it (`preserveAspectRatio` `xMidYMid meet`, SVG's default).
 fn root_transform(source: &SvgSource) -> (f64, f64, Value) {
     let w = source.size.width.round().max(1.0);
