@@ -325,8 +325,6 @@ fn check(
     Ok(())
 }
 
-/// The document's size in whole pixels and the layer transform mapping the root viewBox onto
-
 /// A frame number or rate as the players read it: an integer when it is whole (`96`, not
 /// `96.0`: rlottie and Skottie read the composition's fields as integers), else the number.
 fn frame_number(x: f64) -> Value {
@@ -377,6 +375,7 @@ fn write_ty_first(value: &Value, out: &mut String) {
     }
 }
 
+/// The document's size in whole pixels and the layer transform mapping the root viewBox onto
 /// it (`preserveAspectRatio` `xMidYMid meet`, SVG's default).
 fn root_transform(source: &SvgSource) -> (f64, f64, Value) {
     let w = source.size.width.round().max(1.0);
