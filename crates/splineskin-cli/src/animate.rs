@@ -15,7 +15,8 @@
 //!   path, keyframed only where the player's linear interpolation would stray from the
 //!   deformation by more than `--lottie-tolerance` of the drawing's diagonal; paint from the
 //!   document, and a warning for each thing Lottie cannot express. Prints the keyframe count
-//!   and the file's size against keeping every frame.
+//!   and the file's size against keeping every frame. `-o NAME.lottie`: the same animation in
+//!   a dotLottie archive ([`crate::dotlottie`]).
 //! * `-o NAME.png` / `-o NAME.gif`: an animated PNG (APNG) or GIF preview that any viewer
 //!   plays ([`splineskin::drawing::animated_image`]): each frame rendered as `--png` renders it,
 //!   `--image-size` pixels on the longer side, shown until the next frame's time (the last for
@@ -64,7 +65,8 @@ pub struct Args {
     #[arg(value_name = "SCENE|SVG")]
     scene: PathBuf,
     /// `NAME.svg`: an animated SVG (SMIL, plays in browsers). `NAME.json`: a Lottie animation
-    /// (path keyframes; plays in Lottie players). `NAME.png` / `NAME.gif`: an animated PNG
+    /// (path keyframes; plays in Lottie players). `NAME.lottie`: the same in a dotLottie
+    /// archive (the dotLottie players). `NAME.png` / `NAME.gif`: an animated PNG
     /// (APNG) or GIF that any viewer plays. Any other name: a folder of numbered frames
     /// `frame-0000.svg`, … (replaced if it holds only an earlier run's frames).
     #[arg(short, long)]
@@ -165,7 +167,7 @@ pub fn run(args: Args) -> Result<()> {
 
 /// The kind of output `-o` names, its flags checked against it.
 fn output_kind(args: &Args) -> Result<Output> {
-    let output = if has_extension(&args.output, "json") {
+    let output = if has_extension(&args.output, "json") || has_extension(&args.output, "lottie") {
         Output::Lottie
     } else if has_extension(&args.output, "png") {
         Output::Image(AnimatedFormat::Apng)
@@ -183,8 +185,8 @@ fn output_kind(args: &Args) -> Result<Output> {
         .filter(|e| FILE_EXTENSIONS.iter().any(|f| e.eq_ignore_ascii_case(f)))
     {
         bail!(
-            "{}: an animation is written as an animated .svg file, a Lottie .json file, an \
-             animated .png or .gif, or a folder of frames (expected one of those extensions, or \
+            "{}: an animation is written as an animated .svg file, a Lottie .json or .lottie \
+             file, an animated .png or .gif, or a folder of frames (expected one of those extensions, or \
              a folder name without a .{ext} extension)",
             args.output.display()
         );
@@ -281,8 +283,19 @@ fn write_lottie(args: &Args, scene: &Scene, animation: &Animation, scene_name: &
     for w in &made.lottie.warnings {
         eprintln!("warning: {}: {w}", args.output.display());
     }
-    write_atomic(&args.output, made.lottie.json.as_bytes())?;
-    eprintln!("{}: {}", args.output.display(), made.summary(&options));
+    if has_extension(&args.output, "lottie") {
+        let archive = crate::dotlottie::dotlottie(&made.lottie.json, &options.name)?;
+        write_atomic(&args.output, &archive)?;
+        eprintln!(
+            "{}: {}; {} bytes as .lottie",
+            args.output.display(),
+            made.summary(&options),
+            archive.len()
+        );
+    } else {
+        write_atomic(&args.output, made.lottie.json.as_bytes())?;
+        eprintln!("{}: {}", args.output.display(), made.summary(&options));
+    }
     Ok(())
 }
 

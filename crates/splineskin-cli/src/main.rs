@@ -9,6 +9,7 @@ mod compare;
 mod defop;
 mod deform;
 mod demo;
+mod dotlottie;
 mod drawing_input;
 mod frames_folder;
 mod info;
