@@ -30,7 +30,7 @@ use splineskin::weights::WeightField;
 const FISH: &str = include_str!("../assets/demo.svg");
 
 /// The fish's label plate (`rect#plate`), in its user units (= pixels at [`FISH_SIZE`]).
-const PLATE: Rect = Rect::new(210.0, 350.0, 390.0, 380.0);
+const PLATE: Rect = Rect::new(210.0, 354.0, 390.0, 388.0);
 
 /// Render size of the fish: its viewport is 600 × 400, so one pixel per user unit.
 const FISH_SIZE: u32 = 600;
@@ -127,10 +127,10 @@ fn png_renders_draw_the_fish_label_inside_its_plate() {
             .count()
     };
     let crop = |p: &tiny_skia::Pixmap| {
-        let mut c = tiny_skia::Pixmap::new(150, 22).unwrap();
+        let mut c = tiny_skia::Pixmap::new(150, 24).unwrap();
         c.draw_pixmap(
             -225,
-            -354,
+            -360,
             p.as_ref(),
             &tiny_skia::PixmapPaint::default(),
             tiny_skia::Transform::identity(),
