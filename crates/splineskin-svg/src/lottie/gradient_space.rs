@@ -110,7 +110,7 @@ impl Writer<'_> {
             let closed = path.closed && !self.source.closed_without_z[pi];
             let len = range.len();
             let ks = property(&kept, numbers, Kind::Shape, |f| {
-                bezier(path, &local[f][start..start + len], closed)
+                bezier(path, &local[f][start..start + len], closed, None)
             });
             items.push(json!({"ty": "sh", "nm": format!("path {pi} in gradient space"), "ks": ks}));
             start += len;

@@ -41,6 +41,15 @@
 //! back by it; its keyframes are kept where the player's interpolation of the two, composed,
 //! would stray from the deformation by more than the tolerance.
 //!
+//! **Size.** The tolerance is shared: nine tenths for the keyframes, one tenth for rounding
+//! the paths' coordinates to the fewest decimals that keep every curve point within it
+//! ([`quantum_digits`]: 2 decimals for the bundled fish). Whole numbers are written without
+//! their `.0`. The fish's animation: 123 kB before, 79 kB after (143 keyframes for 140).
+//!
+//! **Players.** Whole numbers where players read integers (`w`, `h`, `ip`, `op`, `fr`), and
+//! each object's `"ty"` first: rlottie reads a shape's keys in order and skips those before
+//! its type ([`players_json`]).
+//!
 //! The JSON is built with `serde_json` values rather than `velato`'s schema types: we write
 //! a dozen object kinds, velato's types have no defaults (every optional field spelled out at
 //! each use), and the output is checked against the Lottie community's JSON schema by the
@@ -181,7 +190,10 @@ pub fn write_lottie(
         });
     }
     let source = drawing.source.as_deref().ok_or(LottieError::NoSource)?;
-    let tolerance = options.tolerance * drawing.diagonal();
+    let total = options.tolerance * drawing.diagonal();
+    // The tolerance is shared: most of it for the keyframes, the rest for the coordinates'
+    // rounding (module doc, "Size").
+    let tolerance = (1.0 - QUANTUM_SHARE) * total;
     let offsets: Vec<usize> = drawing.path_ranges().map(|r| r.start).collect();
     let mut writer = Writer {
         drawing,
@@ -191,6 +203,7 @@ pub fn write_lottie(
         maps,
         offsets,
         tolerance,
+        digits: quantum_digits(QUANTUM_SHARE * total),
         warnings: Warnings::default(),
         keyframes: 0,
         bbox_servers: std::collections::HashSet::new(),
@@ -336,7 +349,7 @@ fn frame_number(x: f64) -> Value {
 }
 
 /// `document` as JSON text with each object's `"ty"` first and its other keys after it, in
-/// order. rlottie reads a shape's type from the keys before the others and skips what it
+/// order, and whole numbers written as integers. rlottie reads a shape's type from the keys before the others and skips what it
 /// does not yet know the type of: with `"ty"` last (the order of a sorted map) it draws
 /// nothing. Every other player reads the keys in any order.
 fn players_json(document: &Value) -> String {
@@ -371,6 +384,13 @@ fn write_ty_first(value: &Value, out: &mut String) {
             }
             out.push(']');
         }
+        // Whole numbers without their `.0` (and `-0` as `0`): a fifth of a path's text.
+        Value::Number(n) => match n.as_f64() {
+            Some(x) if n.is_f64() && x.fract() == 0.0 && x.abs() < 1e15 => {
+                out.push_str(&(x as i64).to_string())
+            }
+            _ => out.push_str(&n.to_string()),
+        },
         scalar => out.push_str(&scalar.to_string()),
     }
 }
@@ -409,8 +429,11 @@ struct Writer<'a> {
     maps: Option<&'a [ElementMaps]>,
     /// First point of each path in a frame.
     offsets: Vec<usize>,
-    /// In drawing units.
+    /// Of the keyframes, in drawing units.
     tolerance: f64,
+    /// Decimal digits the paths' coordinates are rounded to ([`quantum_digits`]), or `None`
+    /// to write them as computed.
+    digits: Option<i32>,
     warnings: Warnings,
     keyframes: usize,
     /// Ids of the document's gradients in `objectBoundingBox` units: they follow the deformed
@@ -629,7 +652,7 @@ impl Writer<'_> {
         let kept = keyframes(&per_frame, &self.frame_numbers, self.tolerance);
         self.keyframes += kept.len();
         let value = property(&kept, &self.frame_numbers, Kind::Shape, |f| {
-            bezier(path, per_frame[f], closed)
+            bezier(path, per_frame[f], closed, self.digits)
         });
         json!({"ty": "sh", "nm": format!("path {pi}"), "ks": value})
     }
@@ -723,14 +746,51 @@ fn group_transform(opacity: f64) -> Value {
     })
 }
 
+/// Share of the export's tolerance given to rounding the paths' coordinates (the rest goes to
+/// the keyframes): 0.1.
+const QUANTUM_SHARE: f64 = 0.1;
+
+/// The decimal digits to round coordinates to so that no point of a curve moves by more than
+/// `budget`: a vertex and a tangent (relative to it) are each rounded by at most half a unit
+/// of the last digit `g` per coordinate, so a control point by at most `√2 g`, and a curve
+/// point (a convex combination of control points) too; `g` is the largest power of ten with
+/// `√2 g ≤ budget`. Negative digits round to tens, hundreds…; `None` when nothing is to be
+/// rounded (a zero budget: every frame kept exactly) or the digits would exceed what an `f64`
+/// holds.
+///
+/// ```text
+/// budget 0.058 (the fish: 0.1 of 1e-3 of its 583-unit diagonal)   → 2 digits (g = 0.01)
+/// ```
+fn quantum_digits(budget: f64) -> Option<i32> {
+    if !(budget > 0.0 && budget.is_finite()) {
+        return None;
+    }
+    let digits = (-(budget / std::f64::consts::SQRT_2).log10()).ceil() as i32;
+    (digits <= 17).then_some(digits)
+}
+
+/// `x` rounded to `digits` decimal digits (module doc, "Size"), as the shortest number that
+/// reads back to the rounded decimal.
+fn rounded(x: f64, digits: Option<i32>) -> f64 {
+    match digits {
+        None => x,
+        Some(d) if d >= 0 => format!("{x:.*}", d as usize).parse().unwrap_or(x),
+        Some(d) => {
+            let unit = 10f64.powi(-d);
+            (x / unit).round() * unit
+        }
+    }
+}
+
 /// A Lottie bezier (`{c, v, i, o}`) of a chain with control points `points` (module
-/// documentation). `closed`: the chain's last point repeats its first and is dropped.
-fn bezier(path: &Path, points: &[Point], closed: bool) -> Value {
+/// documentation), its coordinates rounded to `digits` ([`rounded`]). `closed`: the chain's
+/// last point repeats its first and is dropped.
+fn bezier(path: &Path, points: &[Point], closed: bool, digits: Option<i32>) -> Value {
     debug_assert_eq!(points.len(), path.points.len());
     let n_curves = (points.len() - 1) / 3;
     let n_vertices = if closed { n_curves } else { n_curves + 1 };
-    let xy = |p: Point| [p.x, p.y];
-    let rel = |c: Point, p: Point| [c.x - p.x, c.y - p.y];
+    let xy = |p: Point| [rounded(p.x, digits), rounded(p.y, digits)];
+    let rel = |c: Point, p: Point| [rounded(c.x - p.x, digits), rounded(c.y - p.y, digits)];
     let mut v = Vec::with_capacity(n_vertices);
     let mut i = Vec::with_capacity(n_vertices);
     let mut o = Vec::with_capacity(n_vertices);

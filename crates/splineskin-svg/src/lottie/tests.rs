@@ -71,6 +71,15 @@ fn written(
 }
 
 /// Every shape item (`"ty": "sh"`) of the document, in document order (depth first).
+/// The numbers of a JSON array (whole numbers are written as integers).
+fn numbers(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .expect("an array")
+        .iter()
+        .map(|x| x.as_f64().expect("a number"))
+        .collect()
+}
+
 fn shapes(v: &Value, out: &mut Vec<Value>) {
     match v {
         Value::Object(o) => {
@@ -212,8 +221,8 @@ fn lottie_paint_is_the_documents() {
     let stroke = &wave[1];
     assert_eq!(stroke["ty"], "st");
     assert_eq!(
-        stroke["c"]["k"],
-        serde_json::json!([16.0 / 255.0, 32.0 / 255.0, 48.0 / 255.0, 1.0])
+        numbers(&stroke["c"]["k"]),
+        [16.0 / 255.0, 32.0 / 255.0, 48.0 / 255.0, 1.0]
     );
     assert_eq!(
         (
@@ -255,11 +264,11 @@ fn lottie_paint_is_the_documents() {
         (rect_fill["ty"].as_str(), rect_fill["r"].as_i64()),
         (Some("gf"), Some(2))
     );
-    assert_eq!(rect_fill["e"]["k"], serde_json::json!([20.0, 0.0]));
+    assert_eq!(numbers(&rect_fill["e"]["k"]), [20.0, 0.0]);
     assert_eq!(rect_fill["g"]["p"], 2);
     assert_eq!(
-        rect_fill["g"]["k"]["k"],
-        serde_json::json!([0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.5])
+        numbers(&rect_fill["g"]["k"]["k"]),
+        [0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.5]
     );
     let circle = items[0]["it"].as_array().unwrap();
     assert_eq!(
@@ -450,8 +459,8 @@ fn lottie_elliptical_gradient_fill_is_drawn_in_its_own_space() {
     let (shape, fill, transform) = (&items[0], &items[1], &items[2]);
     assert_eq!(fill["ty"], "gf");
     // In gradient units: the centre at the origin, the end on the unit circle of radius 10.
-    assert_eq!(fill["s"]["k"], serde_json::json!([0.0, 0.0]));
-    assert_eq!(fill["e"]["k"], serde_json::json!([10.0, 0.0]));
+    assert_eq!(numbers(&fill["s"]["k"]), [0.0, 0.0]);
+    assert_eq!(numbers(&fill["e"]["k"]), [10.0, 0.0]);
     // At every frame (most between keyframes), the group transform the player interpolates
     // applied to the vertices it interpolates is the deformed path within the tolerance, and the
     // gradient's ellipse is where the frame's map puts it.
@@ -627,7 +636,7 @@ fn lottie_bounding_box_gradients_follow_the_deformed_box() {
         "{p:?}"
     );
     // Control: the element's own map (none here) would have left it round at rest size.
-    assert_eq!(keys[0]["s"], serde_json::json!([4000.0, 4000.0]));
+    assert_eq!(numbers(&keys[0]["s"]), [4000.0, 4000.0]);
 }
 
 #[test]
@@ -648,4 +657,39 @@ fn lottie_names_every_text_it_leaves_out() {
         .collect();
     assert_eq!(texts.len(), 2, "{:?}", out.warnings);
     assert!(texts[0].starts_with("text label: not written"), "{texts:?}");
+}
+
+/// The coordinates' rounding stays within its share of the tolerance: a power of ten `g` with
+/// `√2 g` at most the budget, to the nearest such, at any scale.
+#[test]
+fn lottie_coordinates_round_within_their_budget_at_any_scale() {
+    assert_eq!(super::quantum_digits(0.0583), Some(2));
+    assert_eq!(super::quantum_digits(0.0), None);
+    assert_eq!(super::quantum_digits(f64::NAN), None);
+    for scale in [1e-6, 1e-3, 1.0, 1e3, 1e6] {
+        let budget = 0.0583 * scale;
+        let digits = super::quantum_digits(budget).expect("digits");
+        let g = 10f64.powi(-digits);
+        assert!(std::f64::consts::SQRT_2 * g <= budget, "{scale}: {g}");
+        assert!(
+            std::f64::consts::SQRT_2 * 10.0 * g > budget,
+            "{scale}: {g} is not the largest"
+        );
+        for x in [
+            219.99999999999997,
+            -5.522842407226534,
+            1234.5678,
+            1e6 + 0.123456,
+        ] {
+            let x = x * scale;
+            let r = super::rounded(x, Some(digits));
+            assert!(
+                (r - x).abs() <= 0.5 * g * (1.0 + 1e-9),
+                "{x} -> {r} (unit {g})"
+            );
+        }
+    }
+    assert_eq!(super::rounded(219.99999999999997, Some(2)), 220.0);
+    assert_eq!(super::rounded(1234.5, Some(-2)), 1200.0);
+    assert_eq!(super::rounded(0.1 + 0.2, None), 0.1 + 0.2);
 }
