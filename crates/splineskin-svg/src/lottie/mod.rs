@@ -43,12 +43,12 @@
 //!
 //! **Size.** The tolerance is shared: nine tenths for the keyframes, one tenth for rounding
 //! the paths' coordinates to the fewest decimals that keep every curve point within it
-//! ([`quantum_digits`]: 2 decimals for the bundled fish). Whole numbers are written without
+//! (`quantum_digits`: 2 decimals for the bundled fish). Whole numbers are written without
 //! their `.0`. The fish's animation: 123 kB before, 79 kB after (143 keyframes for 140).
 //!
 //! **Players.** Whole numbers where players read integers (`w`, `h`, `ip`, `op`, `fr`), and
 //! each object's `"ty"` first: rlottie reads a shape's keys in order and skips those before
-//! its type ([`players_json`]).
+//! its type (`players_json`).
 //!
 //! The JSON is built with `serde_json` values rather than `velato`'s schema types: we write
 //! a dozen object kinds, velato's types have no defaults (every optional field spelled out at
