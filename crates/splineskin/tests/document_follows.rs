@@ -758,12 +758,10 @@ fn the_fish_label_follows_its_plate_in_every_pose() {
             "{:?}: label corners {gap:.3} units from the deformation (left at rest: {at_rest:.3})",
             pose.name
         );
-        assert!(
-            gap <= LABEL_FOLLOWS * 90f64.hypot(18.0),
-            "{:?}: {gap}",
-            pose.name
-        );
-        assert!(at_rest > 18.0, "{:?}: {at_rest}", pose.name);
+        let allowed = LABEL_FOLLOWS * 90f64.hypot(18.0);
+        assert!(gap <= allowed, "{:?}: {gap}", pose.name);
+        // Control: a label left at rest would be three times as far off, or more.
+        assert!(at_rest > 3.0 * allowed, "{:?}: {at_rest}", pose.name);
     }
 }
 
