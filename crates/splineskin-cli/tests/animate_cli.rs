@@ -147,7 +147,13 @@ fn animate_cli_writes_lottie() {
         assert_eq!(items[0]["ty"], "sh");
         assert_eq!(items[0]["ks"]["a"], 1, "the shapes move");
         assert_eq!(items[1]["ty"], "fl");
-        assert_eq!(items[1]["c"]["k"], serde_json::json!([0.0, 0.0, 0.0, 1.0]));
+        let colour: Vec<f64> = items[1]["c"]["k"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        assert_eq!(colour, [0.0, 0.0, 0.0, 1.0]);
     }
     assert!(
         stderr.contains("path keyframes of 22 (2 paths × 11 frames) within 0.001"),
