@@ -597,8 +597,12 @@ check('defop: a followed operator is blended in from the one before, without a j
   const start = performance.now();
   blendIn(rig, old, start);
   rig.deform(null, out);
-  // At the swap the drawing is where the old operator had it (a few µs of blend at most).
-  assert.ok(Math.abs(out[0]) < 1e-3 && Math.abs(out[1]) < 2e-3, `at the swap: ${out}`);
+  const elapsed = (performance.now() - start) / BLEND_MS;
+  // At the swap the drawing is where the old operator had it, but for the blend's progress in
+  // the time the call took (smoothstep of it: well under 1e-3 on an idle machine; a loaded one
+  // can take a millisecond).
+  const progress = elapsed * elapsed * (3 - 2 * elapsed);
+  assert.ok(elapsed < 0.05 && out[0] <= 10 * progress + 1e-12 && out[1] <= 20 * progress + 1e-12, `at the swap: ${out} (${elapsed} of the blend)`);
   let last = [...out];
   let steps = 0;
   while (rig.blendingUntil) {
