@@ -44,6 +44,21 @@ function labelledFlamingo() {
   return file;
 }
 
+/**
+ * Opens the labelled flamingo and pins it on the head, the body and the standing leg, as
+ * Puppet Warp users place them (Alt: a pin anywhere); waits for the rig.
+ */
+async function pinnedFlamingo() {
+  await openThroughPicker(page, labelledFlamingo());
+  for (const p of [[45, 12], [80, 60], [68, 110]]) {
+    const [x, y] = await clientPoint(page, p);
+    await page.keyboard.down('Alt');
+    await page.mouse.click(x, y);
+    await page.keyboard.up('Alt');
+  }
+  await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+}
+
 /** The label's box on screen in the page's canvas (CSS pixels): [left, top, right, bottom]. */
 const canvasLabelBox = () =>
   page.evaluate(() => {
@@ -75,15 +90,7 @@ const exportedLabelBox = (svg) =>
   }, svg);
 
 check('a label moves with the flamingo during a far drag, where Export SVG puts it', { skip: MISSING }, async () => {
-  await openThroughPicker(page, labelledFlamingo());
-  // Pins on the head, the body and the standing leg, as Puppet Warp users place them.
-  for (const p of [[45, 12], [80, 60], [68, 110]]) {
-    const [x, y] = await clientPoint(page, p);
-    await page.keyboard.down('Alt');
-    await page.mouse.click(x, y);
-    await page.keyboard.up('Alt');
-  }
-  await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  await pinnedFlamingo();
   const atRest = await canvasLabelBox();
   // A far drag of the leg pin: half the drawing to the right and up.
   await drag(page, [68, 110], [60, -30], 10);
@@ -125,14 +132,7 @@ check('a label moves with the flamingo during a far drag, where Export SVG puts 
 });
 
 check('with a trained operator (Rigid ARAP) the label follows the art as Export SVG puts it', { skip: MISSING }, async () => {
-  await openThroughPicker(page, labelledFlamingo());
-  for (const p of [[45, 12], [80, 60], [68, 110]]) {
-    const [x, y] = await clientPoint(page, p);
-    await page.keyboard.down('Alt');
-    await page.mouse.click(x, y);
-    await page.keyboard.up('Alt');
-  }
-  await page.waitForSelector('body[data-rig="ready"]', { timeout: WAIT });
+  await pinnedFlamingo();
   const atRest = await canvasLabelBox();
   await page.selectOption('#family', 'defop-arap');
   await page.fill('#defop-samples', '20');

@@ -81,6 +81,8 @@ export class DefOpLiveRig {
     /** The carry operator (setCarry), and the maps it gives (carryMaps). */
     this.carry = null;
     this.carryOut = null;
+    /** The rig whose maps stand in until this one's carry operator arrives (followsFrom). */
+    this.carryFallback = null;
     /** The last configuration Q, x0, y0, x1, … (the rest until the first frame). */
     this.q = Float64Array.from(this.rest);
   }
@@ -138,6 +140,16 @@ export class DefOpLiveRig {
     if (nMaps === 0 || carry.length !== nMaps * 6 * this.psiAndOne.length) return;
     this.carry = carry;
     this.carryOut = new Float64Array(6 * nMaps);
+    this.carryFallback = null;
+  }
+
+  /**
+   * Until its own carry operator arrives, this rig (an operator that followed a drag) carries
+   * text and paint by `old`'s maps, the rig it is blended in from, rather than leaving them at
+   * rest for a moment (its ψ may have other functions: a thin-plate basis gains centres).
+   */
+  followsFrom(old) {
+    this.carryFallback = old;
   }
 
   /**
@@ -145,7 +157,7 @@ export class DefOpLiveRig {
    * carry operator's product with [ψ(Q), 1]; null until the operator is known.
    */
   carryMaps(pose) {
-    if (!this.carry) return null;
+    if (!this.carry) return this.carryFallback?.carryMaps(pose) ?? null;
     this.configuration(pose);
     this.evalPsi();
     matVec(this.carry, this.psiAndOne, this.carryOut.length, this.carryOut);

@@ -88,7 +88,7 @@ const follower = new OperatorFollower({
   swap(old, info, data) {
     const rig = new DefOpLiveRig(info, data, editor.view.nPoints, editor.scene.handles);
     rig.configuration(editor.scene.pose); // where the handles are, before its first frame
-    if (old.carry) rig.setCarry(old.carry, old.carryOut.length / 6); // until its own arrives
+    rig.followsFrom(old); // carries text and paint until its own carry operator arrives
     fetchCarry(rig);
     blendIn(rig, old);
     editor.rig = rig;

@@ -1536,6 +1536,24 @@ fn plate_operator_scene(id: &str) -> serde_json::Value {
     })
 }
 
+/// The label's `transform` in document `id` exported with operator `op` at the configuration
+/// `q` (the points the server's own deformation there, which the page's product equals).
+async fn operator_label_transform(
+    app: &Router,
+    id: &str,
+    op: &str,
+    q: &[[f64; 2]],
+) -> kurbo::Affine {
+    let (_, points) = send_ok(app, operator_deform(op, q)).await;
+    let body = [points, le_bytes(q.iter().flatten().copied())].concat();
+    let request = post(&format!("/api/documents/{id}/export?defop={op}"))
+        .body(Body::from(body))
+        .expect("a request");
+    let (_, body) = send_ok(app, request).await;
+    let svg = String::from_utf8(body).expect("text");
+    matrix_in(&svg, "<text", "transform").expect("the label carries a transform")
+}
+
 /// The plate through a trained operator (ARAP, few samples), every handle turned by 10°
 /// about its centre: the export with `defop=` and the configuration `Q` carries the label by
 /// the operator's deformation, which reproduces that rigid motion to its training error.
@@ -1557,15 +1575,7 @@ async fn serve_export_carries_text_with_the_operator() {
         })
         .collect();
     // The points: the server's own deformation at Q (the page's product equals it).
-    let (status, _, points) = send(&app, operator_deform(op, &q)).await;
-    assert_eq!(status, StatusCode::OK);
-    let body = [points, le_bytes(q.iter().flatten().copied())].concat();
-    let request = post(&format!("/api/documents/{id}/export?defop={op}"))
-        .body(Body::from(body))
-        .expect("a request");
-    let (_, body) = send_ok(&app, request).await;
-    let svg = String::from_utf8(body).expect("text");
-    let text = matrix_in(&svg, "<text", "transform").expect("the label carries a transform");
+    let text = operator_label_transform(&app, id, op, &q).await;
     // Over the label (x 70–125, y 44–64): within 0.5 units of the rotation (a quarter of a
     // percent of the plate's diagonal; measured 0.19); left at rest it would be up to 5.8
     // units off.
@@ -1607,14 +1617,7 @@ async fn serve_operator_carry_gives_the_exported_label_map() {
         (0..width).map(|c| carry[r * width + c] * x[c]).sum::<f64>()
     }));
     let expected = parent.inverse() * a * parent;
-    let (_, points) = send_ok(&app, operator_deform(op, &q)).await;
-    let body = [points, le_bytes(q.iter().flatten().copied())].concat();
-    let request = post(&format!("/api/documents/{id}/export?defop={op}"))
-        .body(Body::from(body))
-        .expect("a request");
-    let (_, body) = send_ok(&app, request).await;
-    let svg = String::from_utf8(body).expect("text");
-    let written = matrix_in(&svg, "<text", "transform").expect("the label carries a transform");
+    let written = operator_label_transform(&app, id, op, &q).await;
     for (got, want) in written.as_coeffs().iter().zip(expected.as_coeffs()) {
         assert!(
             (got - want).abs() <= 1e-9 * 200.0,
