@@ -9,7 +9,7 @@
 // (tools/build-wasm). Without it these tests skip, saying so, unless CI is set.
 
 import assert from 'node:assert/strict';
-import { existsSync, readFileSync, writeFileSync } from 'node:fs';
+import { existsSync, mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after } from 'node:test';
 
@@ -142,8 +142,13 @@ check('in chromium: the example page (example.html of the static build) runs, an
   }
 });
 
-check('the Node example (example-node.mjs of the static build) writes the native deformation', { skip: MISSING }, async () => {
-  const folder = join(out.path, 'node-site');
+check('the Node example (example-node.mjs of the static build), inside a CommonJS npm project, writes the native deformation', { skip: MISSING }, async () => {
+  // The static build inside a project whose package.json says CommonJS, as `npm init -y`
+  // writes it: the build's own package.json keeps its scripts ES modules.
+  const project = join(out.path, 'cjs-project');
+  mkdirSync(project, { recursive: true });
+  writeFileSync(join(project, 'package.json'), JSON.stringify({ name: 'cjs-project', version: '1.0.0', type: 'commonjs' }));
+  const folder = join(project, 'node-site');
   await runSplineskin(['serve', '--static-out', folder, '--wasm', WASM]);
   const { execFileSync } = await import('node:child_process');
   const file = join(out.path, 'node-example.svg');

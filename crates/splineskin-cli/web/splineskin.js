@@ -30,12 +30,13 @@ export class SplineskinError extends Error {
 
 /**
  * Loads splineskin. `source`: the module's URL, a fetch Response, or its bytes (ArrayBuffer or
- * typed array); default `splineskin.wasm` next to this file. `threads`: with the threaded module
+ * typed array); default `splineskin.wasm` next to this file (read from disk under Node; a
+ * bundler such as Vite copies it into the build). `threads`: with the threaded module
  * (`splineskin-threads.wasm`), how many threads to compute on, started as worker threads under
  * Node or Web Workers in a worker of a cross-origin-isolated page (not on a page's main thread,
  * which may not wait); the one-thread module ignores it. `splineskin.threads` says how many run.
  */
-export async function load(source = new URL('splineskin.wasm', import.meta.url), { threads = 1 } = {}) {
+export async function load(source = new URL('./splineskin.wasm', import.meta.url), { threads = 1 } = {}) {
   return new Splineskin(await loadEditor(source, { threads }));
 }
 

@@ -91,9 +91,24 @@ export async function loadEditor(source, { onProgress, threads = 1, startThread 
 }
 
 /** `source` compiled: a WebAssembly.Module as given, or fetched, or from its bytes. */
+/**
+ * Node's built-in module `name`, imported where Node runs it. The name is not written in the
+ * import, so that bundlers building for the browser (Vite, webpack) leave it alone rather than
+ * stubbing it with a warning or failing on the `node:` scheme.
+ */
+export function nodeModule(name) {
+  return import(/* @vite-ignore */ /* webpackIgnore: true */ name);
+}
+
 async function compile(source) {
   if (source instanceof WebAssembly.Module) return source;
   if (source instanceof ArrayBuffer || ArrayBuffer.isView(source)) return WebAssembly.compile(source);
+  // Node's fetch does not read files: a file: URL (the default beside the module, under Node)
+  // is read from disk.
+  if (String(source).startsWith('file:')) {
+    const { readFile } = await nodeModule('node:fs/promises');
+    return WebAssembly.compile(await readFile(new URL(source)));
+  }
   const response = source instanceof Response ? source : await fetch(source);
   if (!response.ok) throw new Error(`${response.url}: ${response.status} ${response.statusText}`);
   if (WebAssembly.compileStreaming && /wasm/.test(response.headers.get('content-type') ?? '')) {
@@ -146,7 +161,7 @@ const THREAD_START_MS = 10000;
  */
 export async function threadStarter() {
   const url = new URL('wasm-thread.js', import.meta.url);
-  const node = typeof Worker === 'undefined' ? await import('node:worker_threads') : null;
+  const node = typeof Worker === 'undefined' ? await nodeModule('node:worker_threads') : null;
   return (message) => new Promise((resolve) => {
     const thread = node ? new node.Worker(url) : new Worker(url, { type: 'module' });
     const done = (failure) => {

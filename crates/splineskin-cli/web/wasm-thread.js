@@ -4,10 +4,10 @@
 //   creator → thread  { module, memory, builder, stackTop, tls }   (once)
 //   thread → creator  { started: true } once it works for the pool | { failed: message }
 
-import { runThread } from './wasm-editor.js';
+import { nodeModule, runThread } from './wasm-editor.js';
 
 /** Where messages come from: the worker's global scope, or Node's parent port. */
-const port = globalThis.self ?? (await import('node:worker_threads')).parentPort;
+const port = globalThis.self ?? (await nodeModule('node:worker_threads')).parentPort;
 
 port.addEventListener('message', ({ data }) => {
   runThread(data, () => port.postMessage({ started: true }))

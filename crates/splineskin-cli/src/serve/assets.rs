@@ -72,6 +72,9 @@ pub const ISOLATION_HEADERS: [(&str, &str); 2] = [
     ("cross-origin-embedder-policy", "require-corp"),
 ];
 
+/// The `package.json` of a static build: its scripts are ES modules wherever the folder sits.
+pub const STATIC_PACKAGE_JSON: &str = "{\n  \"private\": true,\n  \"type\": \"module\"\n}\n";
+
 /// The pages of a static build (the editor and the Catmull–Clark page): each is marked to
 /// answer its requests in a worker and carries the content security policy.
 const STATIC_PAGES: [&str; 2] = ["index.html", "subdiv/index.html"];
@@ -79,7 +82,8 @@ const STATIC_PAGES: [&str; 2] = ["index.html", "subdiv/index.html"];
 /// The files of a static build of the editor: the page's files, its pages ([`STATIC_PAGES`])
 /// marked to answer their requests in a worker (`data-backend="wasm"`, web/backend.js) and
 /// carrying the content security policy, the WebAssembly module `wasm` as [`STATIC_WASM_NAME`], and the
-/// bundled fish as `demo.svg` (for `example.html`, the JavaScript API's example); with
+/// bundled fish as `demo.svg` (for `example.html`, the JavaScript API's example), a
+/// `package.json` saying its scripts are ES modules ([`STATIC_PACKAGE_JSON`]); with
 /// `threaded`, the threaded module as [`STATIC_WASM_THREADS_NAME`]; and a `_headers` file asking
 /// the host for [`ISOLATION_HEADERS`]. The Catmull–Clark page's routes (limit surfaces, rigs,
 /// exports) are answered by the same module.
@@ -115,6 +119,12 @@ pub fn static_files(wasm: Vec<u8>, threaded: Option<Vec<u8>>) -> Vec<(String, Ve
         headers.push_str(&format!("  {name}: {value}\n"));
     }
     files.push(("_headers".to_string(), headers.into_bytes()));
+    // Its scripts are ES modules: so says a package.json, for Node, which would otherwise read
+    // them as CommonJS inside a project whose own package.json says so (as `npm init` writes).
+    files.push((
+        "package.json".to_string(),
+        STATIC_PACKAGE_JSON.as_bytes().to_vec(),
+    ));
     // The bundled fish, which the JavaScript API's example (example.html) opens.
     files.push((
         "demo.svg".to_string(),
