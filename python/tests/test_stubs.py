@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import ast
 import inspect
+import sys
 from pathlib import Path
 
 import splineskin
@@ -43,7 +44,10 @@ def test_every_class_and_member_is_in_the_stubs_and_the_stubs_name_nothing_else(
         assert set(members) - {"__init__"} == public, name
         for member, params in members.items():
             if member == "__init__":
-                assert runtime_parameters(cls) == [p for p in params if p != "self"], f"{name}()"
+                # Under the stable ABI (the abi3 wheel), Python reads a class's constructor
+                # signature only from 3.10 on; its methods' signatures it reads on every version.
+                if sys.version_info >= (3, 10):
+                    assert runtime_parameters(cls) == [p for p in params if p != "self"], f"{name}()"
                 continue
             attribute = inspect.getattr_static(cls, member)
             if isinstance(attribute, (staticmethod, classmethod)):
