@@ -96,6 +96,7 @@ class SplineRig:
         junctions: Optional[Sequence[tuple[int, int, str]]] = None,
         flexible: bool = False,
         engine: str = "ours",
+        margin: Optional[float] = None,
     ) -> None: ...
     @staticmethod
     def from_scene(
@@ -117,6 +118,15 @@ class SplineRig:
         points: Optional[npt.NDArray[np.float64]] = None,
     ) -> dict[str, Any]:
         """Energy, max and RMS distance (/ diagonal) of ``points`` from the skinned target."""
+    def to_svg(
+        self,
+        transforms: npt.NDArray[np.float64],
+        *,
+        viewbox: str = "keep",
+        scale_strokes: bool = False,
+    ) -> str:
+        """The SVG document deformed by ``transforms`` as ``splineskin deform`` writes it: ids,
+        styles and structure kept; gradients, text and images carried by the deformation."""
     def weights_at(self, points: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]: ...
     @property
     def flexible(self) -> bool: ...

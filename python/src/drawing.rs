@@ -186,15 +186,7 @@ impl PyDrawing {
         points: PyReadonlyArray2<'_, f64>,
         viewbox: &str,
     ) -> PyResult<String> {
-        let rule = match viewbox {
-            "keep" => ViewBoxRule::Keep,
-            "fit" => ViewBoxRule::Fit,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "viewbox={other:?}: expected \"keep\" or \"fit\""
-                )))
-            }
-        };
+        let rule = view_box_rule(viewbox)?;
         let data = matrix(&points, "points", Some(self.drawing.n_points()), 2)?;
         let points: Vec<kurbo::Point> = data
             .chunks_exact(2)
@@ -278,5 +270,16 @@ impl PyDrawing {
             self.drawing.n_curves(),
             self.drawing.paths.len()
         )
+    }
+}
+
+/// The viewBox rule a `viewbox=` argument names: `"keep"` or `"fit"`.
+pub(crate) fn view_box_rule(viewbox: &str) -> PyResult<ViewBoxRule> {
+    match viewbox {
+        "keep" => Ok(ViewBoxRule::Keep),
+        "fit" => Ok(ViewBoxRule::Fit),
+        other => Err(PyValueError::new_err(format!(
+            "viewbox={other:?}: expected \"keep\" or \"fit\""
+        ))),
     }
 }

@@ -8,6 +8,8 @@ use kurbo::{Affine, Point};
 use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3, PyReadwriteArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use splineskin::drawing::follow::FollowOptions;
+use splineskin::drawing::svg_out::{write_svg_with, SvgOptions};
 use splineskin::drawing::JointKind;
 use splineskin::metrics::{chain_metrics, MetricsOptions};
 use splineskin::scene::{
@@ -15,7 +17,7 @@ use splineskin::scene::{
 };
 
 use crate::arrays::{affines_into, matrix, matrix_array, output, points};
-use crate::drawing::PyDrawing;
+use crate::drawing::{view_box_rule, PyDrawing};
 use crate::library_error;
 use crate::scene::{compat_of, PyScene};
 
@@ -114,9 +116,11 @@ impl PySplineRig {
     /// pose, started from the fixed-ratio fit); `engine` `"ours"` (the fit) or one of the
     /// paper's naive baselines, `"fourcontrols"` (skin every control point),
     /// `"twoendpoints"` (skin the anchors, handles follow) or `"jacobian"` (handles by the
-    /// skinning map's Jacobian; inverse-distance weights only).
+    /// skinning map's Jacobian; inverse-distance weights only); `margin` how far the mesh
+    /// families' domain reaches beyond the art, a fraction of the diagonal (default 0.01,
+    /// Puppet Warp's "expansion", `splineskin deform --margin`).
     #[new]
-    #[pyo3(signature = (drawing, handles, *, weights = "bbw", exponent = 2.0, junctions = None, flexible = false, engine = "ours"))]
+    #[pyo3(signature = (drawing, handles, *, weights = "bbw", exponent = 2.0, junctions = None, flexible = false, engine = "ours", margin = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -127,9 +131,23 @@ impl PySplineRig {
         junctions: Option<Vec<(usize, usize, String)>>,
         flexible: bool,
         engine: &str,
+        margin: Option<f64>,
     ) -> PyResult<PySplineRig> {
         let handles: Vec<Point> = points(&handles, "handles", None)?;
         let spec = weight_spec(weights, exponent)?;
+        if let Some(m) = margin {
+            if !(0.0..=splineskin::domain::MAX_MARGIN).contains(&m) {
+                return Err(PyValueError::new_err(format!(
+                    "margin={m}: expected a fraction of the drawing's diagonal, 0 to {}",
+                    splineskin::domain::MAX_MARGIN
+                )));
+            }
+            if matches!(spec, WeightSpec::Shepard { .. }) {
+                return Err(PyValueError::new_err(
+                    "margin: the shepard weights have no domain (expected weights \"bbw\", \"harmonic\" or \"biharmonic\" with a margin)",
+                ));
+            }
+        }
         let minimal = serde_json::json!({
             "splineskin_scene": splineskin::scene::ours::SCENE_VERSION,
             "svg_text": &*drawing.svg_text,
@@ -139,6 +157,9 @@ impl PySplineRig {
         scene.svg_origin = drawing.name.clone();
         scene.handles = handles;
         scene.weights = spec;
+        if let Some(m) = margin {
+            scene.domain = scene.domain.clone().with_margin(m);
+        }
         scene.junctions = junction_overrides(junctions.unwrap_or_default())?;
         scene.engine = match engine {
             "ours" => Engine::Ours,
@@ -282,6 +303,40 @@ impl PySplineRig {
             .collect();
         dict.set_item("per_curve", matrix_array(py, per, 3))?;
         Ok(dict)
+    }
+
+    /// The SVG document deformed by `transforms` (one affine map per handle, as `update`
+    /// takes them), as `splineskin deform` writes it: the input document with every element's
+    /// control points moved, ids, styles and structure kept, and gradients, patterns,
+    /// markers, text and images carried by the deformation's best-fit map over each element
+    /// (stroke widths scaled by it with `scale_strokes`). `viewbox`: `"keep"` the input's, or
+    /// `"fit"` it to the deformed art.
+    #[pyo3(signature = (transforms, *, viewbox = "keep", scale_strokes = false))]
+    fn to_svg(
+        &self,
+        py: Python<'_>,
+        transforms: PyReadonlyArray3<'_, f64>,
+        viewbox: &str,
+        scale_strokes: bool,
+    ) -> PyResult<String> {
+        let rule = view_box_rule(viewbox)?;
+        let mut pose = Vec::with_capacity(self.posed.n_handles());
+        affines_into(&transforms, "transforms", self.posed.n_handles(), &mut pose)?;
+        let (posed, pose) = (&self.posed, &pose);
+        py.detach(|| -> Result<String, String> {
+            let mut points = vec![Point::ZERO; posed.n_points()];
+            posed.update(pose, &mut points).map_err(|e| e.to_string())?;
+            let follow = FollowOptions::default().with_scale_strokes(scale_strokes);
+            let maps = posed
+                .setup()
+                .element_maps(pose, &follow)
+                .map_err(|e| e.to_string())?;
+            let options = SvgOptions::default()
+                .with_view_box(rule)
+                .with_follow(maps.as_ref());
+            write_svg_with(posed.drawing(), &points, &options).map_err(|e| e.to_string())
+        })
+        .map_err(library_error)
     }
 
     /// The weights of every handle at `points` (`m × 2`): `m × n_handles`.

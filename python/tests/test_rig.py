@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -159,3 +160,38 @@ def test_the_fit_beats_the_naive_baselines_on_the_fish(fish_rig):
     assert still["max"] <= 1e-12
     with pytest.raises(ValueError, match="engine"):
         splineskin.SplineRig(fish_rig.drawing, scene.handles, engine="best")
+
+
+def test_to_svg_is_the_document_splineskin_deform_writes(tmp_path):
+    """Pins on the fish (its text label and gradients carried), one moved and one turned:
+    the document, byte for byte, with the domain's margin given as `deform --margin` takes it."""
+    pins = [(150.0, 200.0), (300.0, 160.0), (450.0, 220.0)]
+    rig = splineskin.SplineRig(splineskin.Drawing.from_svg(ASSETS / "demo.svg"), np.array(pins),
+                               weights="bbw", margin=0.02)
+    turn = np.radians(20.0)
+    c, s = np.cos(turn), np.sin(turn)
+    px, py = pins[1]
+    transforms = np.array([[[1, 0, 12], [0, 1, -30]],
+                           [[c, -s, px - c * px + s * py], [s, c, py - s * px - c * py]],
+                           [[1, 0, 0], [0, 1, 0]]], dtype=np.float64)
+    out = tmp_path / "native.svg"
+    run_cli("deform", str(ASSETS / "demo.svg"), *[f for p in pins for f in ("--pin", f"{p[0]},{p[1]}")],
+            "--weights", "bbw", "--margin", "0.02", "--move", "0:12,-30", "--rotate", "1:20", "-o", str(out))
+    ours, native = rig.to_svg(transforms), out.read_text()
+    assert 'id="label"' in ours and "transform=" in ours
+    number = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+    # The same document, its numbers to rounding (the turn's matrix computed here, not there).
+    assert re.sub(number, "#", ours) == re.sub(number, "#", native)
+    a, b = (np.array([float(v) for v in re.findall(number, t)]) for t in (ours, native))
+    assert np.abs(a - b).max() <= 1e-9 * rig.drawing.diagonal
+    # A control: the identity pose writes other numbers.
+    rest = np.array([float(v) for v in re.findall(number, rig.to_svg(np.tile(np.eye(3)[:2], (3, 1, 1))))])
+    assert np.abs(rest - b).max() > 1e-3 * rig.drawing.diagonal
+
+
+def test_a_margin_out_of_range_or_without_a_domain_is_refused():
+    drawing = splineskin.Drawing.from_svg(ASSETS / "demo.svg")
+    with pytest.raises(ValueError, match="margin=2: expected a fraction"):
+        splineskin.SplineRig(drawing, np.array([[100.0, 100.0]]), margin=2.0)
+    with pytest.raises(ValueError, match="shepard weights have no domain"):
+        splineskin.SplineRig(drawing, np.array([[100.0, 100.0]]), weights="shepard", margin=0.1)
