@@ -281,6 +281,16 @@ check('the fish plays in lottie-web as the deformation', async (t) => {
   await playAndCompare(t, 'fish', ['fish-scene.json'], { minElements: 10 });
 });
 
+check('dashed strokes (two dash pairs, an offset) play in lottie-web as the deformation', async (t) => {
+  // lottie-web drew nothing of a layer whose stroke dashes shared a name ("dash" twice).
+  const svg = join(out.path, 'dashes.svg');
+  writeFileSync(svg, `<svg xmlns="http://www.w3.org/2000/svg" width="300" height="300" viewBox="0 0 100 100">
+  <path id="curve" d="M10 25 C35 0 65 50 90 25" stroke="#222" stroke-width="5" fill="none" stroke-dasharray="10 5 3 5" stroke-dashoffset="6"/>
+  <circle id="ring" cx="50" cy="68" r="24" stroke="#c33" stroke-width="6" fill="#fd8" stroke-dasharray="12 6" stroke-dashoffset="3"/>
+</svg>`);
+  await playAndCompare(t, 'dashes', [svg, '--pin', '25,50', '--pin', '75,50', '--pin', '50,15', '--move', '1:6,-5', '--rotate', '1:15', '--duration', '1'], { minElements: 2 });
+});
+
 check('the octopus plays in lottie-web as the deformation', async (t) => {
   const scene = JSON.parse(readFileSync(join(ASSETS, 'octopus-scene.json'), 'utf8'));
   scene.svg = withIds(join(ASSETS, scene.svg), 'octopus');

@@ -283,6 +283,9 @@ fn write_lottie(args: &Args, scene: &Scene, animation: &Animation, scene_name: &
     for w in &made.lottie.warnings {
         eprintln!("warning: {}: {w}", args.output.display());
     }
+    for n in &made.lottie.player_notes {
+        eprintln!("note: {}: {n}", args.output.display());
+    }
     if has_extension(&args.output, "lottie") {
         let archive = crate::dotlottie::dotlottie(&made.lottie.json, &options.name)?;
         write_atomic(&args.output, &archive)?;

@@ -387,6 +387,7 @@ pub(crate) fn lottie(editor: &Editor, id: &str, request: &Request) -> Result<Res
         .map_err(anyhow::Error::from)?;
         let mut warnings = made.rig_warnings.clone();
         warnings.extend(made.lottie.warnings.iter().map(|w| w.to_string()));
+        warnings.extend(made.lottie.player_notes.iter().cloned());
         let report = LottieReport {
             keyframes: made.lottie.keyframes,
             every_frame_keyframes: made.lottie.every_frame_keyframes,

@@ -121,6 +121,14 @@ impl Writer<'_> {
         transform["s"] = property(&kept, numbers, Kind::Vector, |f| json!(parts[f].scale));
         transform["r"] = property(&kept, numbers, Kind::Scalar, |f| json!(parts[f].rotation));
         transform["sk"] = property(&kept, numbers, Kind::Scalar, |f| json!(parts[f].skew));
+        if parts.iter().any(|p| p.skew.abs() > 1e-9) {
+            let label = &self.source.elements[element].label;
+            self.warnings.player(format!(
+                "{label}: rlottie (1.3.8) ignores the skew (`sk`) of the group that draws its fill \
+                 gradient in the gradient's own space: the shape and its gradient are drawn \
+                 sheared otherwise"
+            ));
+        }
         items.push(transform);
         Some(json!({"ty": "gr", "nm": "fill in gradient space", "it": items}))
     }

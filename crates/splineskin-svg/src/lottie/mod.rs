@@ -48,7 +48,9 @@
 //!
 //! **Players.** Whole numbers where players read integers (`w`, `h`, `ip`, `op`, `fr`), and
 //! each object's `"ty"` first: rlottie reads a shape's keys in order and skips those before
-//! its type (`players_json`).
+//! its type (`players_json`). Each dash of a stroke has its own name: lottie-web draws
+//! nothing of a layer whose dashes share one. What some players draw otherwise than browsers
+//! (measured) is named in [`LottieExport::player_notes`].
 //!
 //! The JSON is built with `serde_json` values rather than `velato`'s schema types: we write
 //! a dozen object kinds, velato's types have no defaults (every optional field spelled out at
@@ -116,6 +118,13 @@ pub struct LottieExport {
     pub json: String,
     /// What the document does not express (one line each, naming the element).
     pub warnings: Vec<String>,
+    /// What the document expresses but some players draw otherwise (one line each, naming the
+    /// element and the players), as measured against browsers' drawing of the SVG frames:
+    /// rlottie 1.3.8 places dashes elsewhere, blends gradient stop opacities otherwise and
+    /// ignores a group's skew (`sk`, which fill gradients drawn in their own space use);
+    /// rlottie and ThorVG apply a group's opacity to each of its shapes. lottie-web, Skottie
+    /// and the dotLottie player (ThorVG) draw everything else written here as browsers do.
+    pub player_notes: Vec<String>,
     /// Path keyframes written, over all paths.
     pub keyframes: usize,
     /// Path keyframes if every frame were kept (paths × frames).
@@ -280,6 +289,7 @@ pub fn write_lottie(
     Ok(LottieExport {
         json,
         warnings: writer.warnings.0,
+        player_notes: writer.warnings.1,
         keyframes: writer.keyframes,
         every_frame_keyframes: drawing.paths.len() * frames.len(),
     })
@@ -534,6 +544,13 @@ impl Writer<'_> {
                     if opacity < 1.0 {
                         let mut items = Vec::new();
                         self.group_items(g, lookup, &mut items);
+                        if items.len() > 1 {
+                            self.warnings.player(format!(
+                                "{label}: rlottie (1.3.8) and ThorVG (1.1.3) apply the group's \
+                                 opacity to each of its shapes, so where they overlap the group \
+                                 is more opaque than in browsers"
+                            ));
+                        }
                         items.push(group_transform(opacity));
                         out.push(json!({"ty": "gr", "nm": label, "it": items}));
                     } else {
@@ -658,15 +675,24 @@ impl Writer<'_> {
     }
 }
 
-/// The warnings of one export, each once.
+/// The warnings of one export, each once: what the document does not express, and what it
+/// expresses that some players draw otherwise ([`LottieExport::player_notes`]).
 #[derive(Debug, Default)]
-pub(super) struct Warnings(Vec<String>);
+pub(super) struct Warnings(Vec<String>, Vec<String>);
 
 impl Warnings {
     /// Adds `warning` unless it was given already.
     pub(super) fn add(&mut self, warning: String) {
         if !self.0.contains(&warning) {
             self.0.push(warning);
+        }
+    }
+
+    /// Adds `note`, about a player that draws what is written otherwise, unless it was given
+    /// already.
+    pub(super) fn player(&mut self, note: String) {
+        if !self.1.contains(&note) {
+            self.1.push(note);
         }
     }
 

@@ -149,10 +149,12 @@ pub(super) fn stroke(
             .iter()
             .enumerate()
             .map(|(k, &len)| {
+                // Names unique within the stroke: lottie-web makes a property of each name
+                // and draws nothing of the layer when two dashes share one.
                 let (n, nm) = if k % 2 == 0 {
-                    ("d", "dash")
+                    ("d", format!("dash {}", k / 2))
                 } else {
-                    ("g", "gap")
+                    ("g", format!("gap {}", k / 2))
                 };
                 json!({"n": n, "nm": nm, "v": {"a": 0, "k": scale * f64::from(len)}})
             })
@@ -163,6 +165,10 @@ pub(super) fn stroke(
             "v": {"a": 0, "k": scale * f64::from(stroke.dashoffset())}
         }));
         value["d"] = json!(d);
+        warnings.player(format!(
+            "{label}: rlottie (1.3.8) places its stroke's dashes elsewhere along the path than \
+             browsers and the other players do"
+        ));
     }
     Some(style)
 }
@@ -286,6 +292,10 @@ fn gradient(
         colours.extend(color(s.color()).into_iter().take(3));
     }
     if stops.iter().any(|s| s.opacity().get() < 1.0) {
+        warnings.player(format!(
+            "{label}: rlottie (1.3.8) blends its {what} gradient's stop opacities otherwise than \
+             browsers and the other players: the colours between stops differ"
+        ));
         for s in stops {
             colours.push(f64::from(s.offset().get()));
             colours.push(f64::from(s.opacity().get()));

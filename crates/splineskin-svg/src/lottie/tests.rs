@@ -247,6 +247,14 @@ fn lottie_paint_is_the_documents() {
         dashes,
         [("d".into(), 3.0), ("g".into(), 1.0), ("o".into(), 0.0)]
     );
+    // Each dash's own name: lottie-web draws nothing of a layer whose dashes share one.
+    let names: Vec<&str> = stroke["d"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["nm"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["dash 0", "gap 0", "offset"]);
     assert_eq!(
         wave.as_array().unwrap().len(),
         3,
@@ -278,6 +286,20 @@ fn lottie_paint_is_the_documents() {
     );
     let warned = |needle: &str| out.warnings.iter().any(|w| w.contains(needle));
     assert!(warned("pattern (dots)"), "{:?}", out.warnings);
+    // Written, but drawn otherwise by rlottie: the wave's dashes, the box's stop opacity. The
+    // half-opaque group holds one shape: no overlap to draw otherwise.
+    let noted = |needle: &str| out.player_notes.iter().any(|n| n.contains(needle));
+    assert!(
+        noted("path#wave (line 8): rlottie (1.3.8) places its stroke's dashes"),
+        "{:?}",
+        out.player_notes
+    );
+    assert!(
+        noted("rect#box (line 11): rlottie (1.3.8) blends its fill gradient's stop opacities"),
+        "{:?}",
+        out.player_notes
+    );
+    assert_eq!(out.player_notes.len(), 2, "{:?}", out.player_notes);
     assert!(
         warned("gradient is written at rest (no element maps"),
         "{:?}",
@@ -692,4 +714,39 @@ fn lottie_coordinates_round_within_their_budget_at_any_scale() {
     assert_eq!(super::rounded(219.99999999999997, Some(2)), 220.0);
     assert_eq!(super::rounded(1234.5, Some(-2)), 1200.0);
     assert_eq!(super::rounded(0.1 + 0.2, None), 0.1 + 0.2);
+}
+
+#[test]
+fn lottie_notes_what_some_players_draw_otherwise() {
+    // A half-opaque group of two overlapping shapes, and a fill gradient sheared by its
+    // transform (drawn in its own space through a skewed group).
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100">
+      <defs><linearGradient id="g" x1="0" y1="0" x2="1" y2="0" gradientTransform="skewX(30)">
+        <stop offset="0" stop-color="#f00"/><stop offset="1" stop-color="#00f"/></linearGradient></defs>
+      <g id="pair" opacity="0.5"><rect x="10" y="10" width="40" height="40" fill="#00f"/>
+        <rect x="30" y="30" width="40" height="40" fill="#f00"/></g>
+      <rect id="sheared" x="10" y="70" width="80" height="20" fill="url(#g)"/></svg>"##;
+    let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+    let frames = moved(&drawing, 3, |k| Affine::translate((k as f64, 0.0)));
+    let maps = following(&drawing, 3, |k| Affine::translate((k as f64, 0.0)));
+    let out = written(&drawing, &frames, 24.0, Some(&maps));
+    let noted = |needle: &str| out.player_notes.iter().any(|n| n.contains(needle));
+    assert!(
+        noted("pair: rlottie (1.3.8) and ThorVG (1.1.3) apply the group's opacity"),
+        "{:?}",
+        out.player_notes
+    );
+    assert!(
+        noted("rect#sheared (line 6): rlottie (1.3.8) ignores the skew"),
+        "{:?}",
+        out.player_notes
+    );
+    // A control: the same shapes, opaque and with a plain gradient, need no note.
+    let plain = svg
+        .replace(r#" opacity="0.5""#, "")
+        .replace(r#" gradientTransform="skewX(30)""#, "");
+    let drawing = read_svg(&plain, &ImportOptions::default()).unwrap();
+    let maps = following(&drawing, 3, |k| Affine::translate((k as f64, 0.0)));
+    let out = written(&drawing, &frames, 24.0, Some(&maps));
+    assert!(out.player_notes.is_empty(), "{:?}", out.player_notes);
 }
