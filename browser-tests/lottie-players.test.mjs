@@ -26,8 +26,11 @@ const TURTLE = join(ART, 'openmoji', 'color', 'svg', '1F422.svg');
 const NO_ART = !(existsSync(NOTO) && existsSync(TURTLE)) && `${ART}: the art packages are missing (npm ci in test-art)`;
 if (NO_ART && process.env.CI) throw new Error(NO_ART);
 
-/** Mean difference per channel (of 255) within which a player's frame is ours (measured: at most 0.7). */
-const SAME = 3;
+/**
+ * Mean difference per channel (of 255) within which a player's frame is ours (measured over
+ * every frame: Skottie at most 1.03, the dotLottie player 1.40, both on the fish).
+ */
+const SAME = 2.5;
 /** How much more a frame of ours posed otherwise must differ. */
 const CONTROL_RATIO = 3;
 
@@ -94,24 +97,30 @@ function meanDifference(a, b) {
 }
 
 /**
- * Compares `played(f, width, height)` (a flattened picture) with our frames of `name` at the
- * rest, a quarter of the way, the pose and five sixths of the way; returns the report.
+ * Compares `played(f, width, height)` (a flattened picture) with our frame of `name` at every
+ * frame; at the rest, the pose and five sixths of the way also against a control, the frame
+ * farthest from it in pose. Returns the report.
  */
 async function compareFrames(name, player, played) {
   const frames = made[name].frames;
   const n = frames.length;
   const ours = (f) => decodePng(readFileSync(frames[f]));
+  const controlled = [0, Math.floor(n / 2), Math.floor((5 * n) / 6)];
   const report = [];
-  for (const f of [0, Math.floor(n / 4), Math.floor(n / 2), Math.floor((5 * n) / 6)]) {
+  let worst = 0;
+  for (let f = 0; f < n; f++) {
     const expected = ours(f);
     const got = await played(f, expected.width, expected.height);
     const same = meanDifference(got, flattened(expected));
-    const control = meanDifference(got, flattened(ours(f === 0 ? Math.floor(n / 2) : 0)));
-    report.push(`frame ${f}: ${same.toFixed(2)} (control ${control.toFixed(2)})`);
+    worst = Math.max(worst, same);
     assert.ok(same <= SAME, `${name}, ${player}, frame ${f}: ${same.toFixed(2)}/255 from ours`);
-    if (f !== Math.floor(n / 4)) assert.ok(control >= CONTROL_RATIO * same, `${name}, ${player}, frame ${f}: the control differs by only ${control.toFixed(2)}`);
+    if (controlled.includes(f)) {
+      const control = meanDifference(got, flattened(ours(f === 0 ? Math.floor(n / 2) : 0)));
+      report.push(`frame ${f}: ${same.toFixed(2)} (control ${control.toFixed(2)})`);
+      assert.ok(control >= CONTROL_RATIO * same, `${name}, ${player}, frame ${f}: the control differs by only ${control.toFixed(2)}`);
+    }
   }
-  return `${name} in ${player}: ${report.join('; ')}`;
+  return `${name} in ${player}: ${n} frames, largest ${worst.toFixed(2)}; ${report.join('; ')}`;
 }
 
 check('Skottie (canvaskit-wasm) plays our Lottie as we draw it', async () => {

@@ -33,7 +33,7 @@ NOTO = ART / "@iconify-json" / "noto" / "icons.json"
 TURTLE = ART / "openmoji" / "color" / "svg" / "1F422.svg"
 
 #: Mean difference per channel (of 255) within which a player's frame is ours. Measured: at
-#: most 1.73 (rlottie, the fish's gradients), 0.97 (ThorVG); the text label the fish carries is
+#: most 2.13 (rlottie, the fish's gradients), 1.40 (ThorVG), over every frame; the fish's text label is
 #: not written to Lottie, and players anti-alias differently.
 SAME = 2.5
 #: How much more a control frame (the art posed otherwise) must differ.
@@ -105,10 +105,12 @@ def test_rlottie_and_thorvg_play_our_lottie_as_we_draw_it(name: str, tmp_path: P
     rlottie = LottieAnimation.from_file(str(lottie))
     assert rlottie.lottie_animation_get_totalframe() == n
     thorvg = ThorVG(lottie)
-    # The rest, a quarter of the way, the pose, a third of the way back; each against the
+    # Every frame; the rest, the pose and a third of the way back also against a control, the
     # frame farthest from it in pose (the pose for the ends, the rest for the middle).
     report = []
-    for f in [0, n // 4, n // 2, (5 * n) // 6]:
+    controlled = [0, n // 2, (5 * n) // 6]
+    worst = {"rlottie": 0.0, "ThorVG": 0.0}
+    for f in range(n):
         control = flattened(ours(n // 2 if f in (0, n - 1) else 0))
         image = ours(f)
         expected = flattened(image)
@@ -119,9 +121,10 @@ def test_rlottie_and_thorvg_play_our_lottie_as_we_draw_it(name: str, tmp_path: P
         for player, picture in played.items():
             got = flattened(picture, premultiplied=True)
             same = np.abs(got - expected).mean()
-            other = np.abs(got - control).mean()
-            report.append(f"{player} frame {f}: {same:.2f} (control {other:.2f})")
+            worst[player] = max(worst[player], same)
             assert same <= SAME, f"{name}, {player}, frame {f}: {same:.2f}/255 from ours"
-            if f != n // 4:  # a quarter of the way: between the two, no control
+            if f in controlled:
+                other = np.abs(got - control).mean()
+                report.append(f"{player} frame {f}: {same:.2f} (control {other:.2f})")
                 assert other >= CONTROL_RATIO * same, f"{name}, {player}, frame {f}: the control differs by only {other:.2f}"
-    print(f"{name}: " + "; ".join(report))
+    print(f"{name}: {n} frames, largest rlottie {worst['rlottie']:.2f}, ThorVG {worst['ThorVG']:.2f}; " + "; ".join(report))
