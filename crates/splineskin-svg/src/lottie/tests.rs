@@ -750,3 +750,39 @@ fn lottie_notes_what_some_players_draw_otherwise() {
     let out = written(&drawing, &frames, 24.0, Some(&maps));
     assert!(out.player_notes.is_empty(), "{:?}", out.player_notes);
 }
+
+#[test]
+fn lottie_writes_a_path_that_stays_put_once() {
+    // Two paths; only the first moves. The second is one static value (`"a": 0`), not a
+    // keyframe per frame, and counts one keyframe in the total.
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100">
+      <path id="moving" d="M10 10 C20 0 30 20 40 10" stroke="#000" fill="none"/>
+      <path id="still" d="M10 60 C20 50 30 70 40 60" stroke="#000" fill="none"/></svg>"##;
+    let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+    let rest = drawing.flat_points();
+    let n_first = drawing.paths[0].points.len();
+    let frames: Vec<Vec<Point>> = (0..10)
+        .map(|k| {
+            let turn = Affine::rotate_about(0.05 * k as f64, Point::new(25.0, 10.0));
+            rest.iter()
+                .enumerate()
+                .map(|(i, &p)| if i < n_first { turn * p } else { p })
+                .collect()
+        })
+        .collect();
+    let out = written(&drawing, &frames, 24.0, None);
+    let doc: Value = serde_json::from_str(&out.json).unwrap();
+    let mut found = Vec::new();
+    shapes(&doc, &mut found);
+    assert_eq!(found.len(), 2);
+    let by_name = |name: &str| found.iter().find(|s| s["nm"] == name).unwrap().clone();
+    let (moving, still) = (by_name("path 0"), by_name("path 1"));
+    assert_eq!(still["ks"]["a"], 0, "the still path is written once");
+    assert_eq!(moving["ks"]["a"], 1, "the moving one is keyframed");
+    let moving_keys = moving["ks"]["k"].as_array().unwrap().len();
+    assert_eq!(out.keyframes, moving_keys + 1);
+    assert_eq!(out.every_frame_keyframes, 20);
+    // And it is drawn where it is at every frame.
+    let at_rest: Vec<Point> = played(&still, 0.0);
+    assert_eq!(at_rest, played(&still, 9.0));
+}
