@@ -229,7 +229,8 @@ class PuppetWarp(inkex.EffectExtension):
             )
         selected = [e.get_id() for e in self.art_selection()]
         kept = self.restore_rest()
-        warped = list(dict.fromkeys(kept + selected))
+        # Warped before and selected now; not what the user has deleted since.
+        warped = [e for e in dict.fromkeys(kept + selected) if self.svg.getElementById(e) is not None]
         if not warped:
             raise inkex.AbortExtension("Puppet Warp: select the art to warp")
         for eid in warped:

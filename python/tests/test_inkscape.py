@@ -209,6 +209,14 @@ def test_mistakes_are_said_in_inkscapes_message_box(tmp_path):
     pinned = add_pins(tmp_path, source, [(100.0, 100.0)])
     unselected = extension(tmp_path, pinned, "--action=apply", name="z.svg")
     assert unselected.returncode != 0 and "select the art to warp" in unselected.stderr
+    # Art warped, then deleted by the user: applying again warps what is left.
+    applied = run_ok(tmp_path, pinned, "--action=apply", f"--id={ids[0]}", f"--id={ids[1]}", name="a.svg")
+    tree = etree.parse(str(applied))
+    gone = tree.getroot().find(f".//*[@id='{ids[1]}']")
+    gone.getparent().remove(gone)
+    tree.write(str(tmp_path / "deleted.svg"))
+    again = run_ok(tmp_path, tmp_path / "deleted.svg", "--action=apply", name="b.svg")
+    assert etree.parse(str(again)).getroot().find(f".//*[@id='{ids[0]}']") is not None
     restore = extension(tmp_path, source, "--action=restore", name="w.svg")
     assert restore.returncode != 0 and "nothing was warped" in restore.stderr
     # None of them wrote a document.
