@@ -29,7 +29,7 @@
 //! The price is that a strongly sheared bend also shears text; a user who wants rigid labels
 //! can keep them outside the deformed region.
 //!
-//! When the samples lie on one line (`det C ≤` [`FLAT_REGION`] `· (tr C)²`: a straight
+//! When the samples lie on one line, or nearly (`det C ≤` [`FLAT_REGION`] `· (tr C)²`: a straight
 //! stroke), `C` cannot be inverted: the fit along the line is kept (`M u = X u / λ`, `u` the
 //! line's direction, `λ` its variance) and completed conformally across it
 //! (`M n = R₉₀ M u`, `n = R₉₀ u`). A region of a single point keeps only the translation.
@@ -78,13 +78,30 @@
 //!   points and leaves stroke weights as they are (Illustrator scales strokes only in its
 //!   transform tools, with the "Scale Strokes & Effects" preference). Carried text scales its
 //!   stroke with its transform in either case.
+//! - a stroked element whose local → root map `L` is not a similarity (a non-uniform scale or
+//!   a shear, e.g. `scale(128 160)` around a `stroke-width=".6"` saltire): its stroke is drawn
+//!   in that stretched frame, so turning only its path data inside `L` would draw the stroke in
+//!   another frame (a quarter turn swaps the stroke's horizontal and vertical widths). Such an
+//!   element is given a **stroke frame** `F` (root user space) and drawn as `F L`: its new
+//!   `transform` is `T L⁻¹ F L` (`T` its own) and its path data are the deformed points mapped
+//!   by `(F L)⁻¹`. `F = A` with [`FollowOptions::scale_strokes`] (the stroke follows `A`
+//!   exactly; its width is not scaled again), else the orthogonal factor `Q` of `A` (the closest
+//!   rotation, or reflection when `A` mirrors: `Q = [[cos θ, −sin θ], [sin θ, cos θ]]` with
+//!   `θ = atan2(m₂₁ − m₁₂, m₁₁ + m₂₂)`, resp. `[[cos θ, sin θ], [sin θ, −cos θ]]` with
+//!   `θ = atan2(m₂₁ + m₁₂, m₁₁ − m₂₂)`), placed so that `F p̄ = A p̄` at the mean `p̄` of the
+//!   element's region. A rigid map on every pin thus draws the element exactly as the input
+//!   under that map; under a bend its stroke keeps its rest shape, turned with the element. Its
+//!   paint servers and markers are then carried by `(F L)⁻¹ A L` instead of `L⁻¹ A L`. Still
+//!   documents only: an animated document keeps `L` (a SMIL `transform` animation interpolates
+//!   separately from the path's).
 
 use std::str::FromStr;
 
 use kurbo::{Affine, BezPath, Point, Rect, Shape, Vec2};
 
 use crate::document::SvgError;
-use splineskin_core::drawing::{Drawing, SvgSource};
+use splineskin_core::drawing::source::ImportedElement;
+use splineskin_core::drawing::{Drawing, PathRole, SvgSource};
 
 /// Cells per side of the grid sampling an element's region: 16 (256 samples; the best-fit map
 /// of a smooth deformation changes by well under 1 % of its size from 8 to 32).
@@ -100,9 +117,12 @@ pub const TEXT_ADVANCE: f64 = 0.55;
 /// Default `font-size` of a `<text>` in user units: 16 (CSS `medium`).
 const DEFAULT_FONT_SIZE: f64 = 16.0;
 
-/// Samples on one line: `det C ≤ FLAT_REGION · (tr C)²`, i.e. the smaller principal variance
-/// below about 1e-12 of the larger (relative, so scale-free).
-pub const FLAT_REGION: f64 = 1e-12;
+/// Samples on one line, or nearly: `det C ≤ FLAT_REGION · (tr C)²`, i.e. the smaller principal
+/// variance below about 1e-4 of the larger (a region thinner than about 1 : 100, relative, so
+/// scale-free). Across so thin a region the least-squares fit is ill-conditioned: a stroke
+/// that is almost straight (a gentle curve 64 units long bowing 0.6 units) got a map that
+/// mirrors it under a mild bend; it is completed conformally instead, as a straight one.
+pub const FLAT_REGION: f64 = 1e-4;
 
 /// Two maps of one element agree (share a copy of its paint server or marker) when they differ
 /// by at most 1e-9 of the element's size (relative, so scale-free; far above rounding, far
@@ -264,6 +284,9 @@ pub struct ElementMaps {
     pub(crate) elements: Vec<Affine>,
     /// Texts and images.
     pub(crate) carried: Vec<Carried>,
+    /// One per element: its stroke frame `F` (module doc), `None` when it is drawn in its own
+    /// frame `L` (not stroked, or `L` a similarity).
+    pub(crate) stroke_frames: Vec<Option<Affine>>,
     /// The options they were computed with.
     pub(crate) options: FollowOptions,
     /// The number of paths of the drawing they were computed for (a consistency check).
@@ -294,6 +317,7 @@ impl ElementMaps {
             })
         };
         let mut elements = Vec::new();
+        let mut stroke_frames = Vec::new();
         let mut carried = Vec::new();
         let n_elements = drawing
             .source
@@ -301,7 +325,10 @@ impl ElementMaps {
             .map_or(drawing.paths.len(), |s| s.elements.len());
         for k in 0..n_elements {
             let (s, w) = element_region(drawing, k);
-            elements.push(fit(&|| element_label(drawing, k), &s, &w)?);
+            let a = fit(&|| element_label(drawing, k), &s, &w)?;
+            elements.push(a);
+            let element = drawing.source.as_ref().map(|source| &source.elements[k]);
+            stroke_frames.push(element.and_then(|e| stroke_frame(e, a, &s, &w, options)));
         }
         if let Some(source) = &drawing.source {
             for region in carried_regions(source)? {
@@ -316,6 +343,7 @@ impl ElementMaps {
         }
         Ok(ElementMaps {
             elements,
+            stroke_frames,
             carried,
             options: *options,
             n_paths: drawing.paths.len(),
@@ -326,6 +354,12 @@ impl ElementMaps {
     /// ([`splineskin_core::drawing::SvgSource::n_elements`] order; path `element` for a drawing without a source).
     pub fn element_map(&self, element: usize) -> Option<Affine> {
         self.elements.get(element).copied()
+    }
+
+    /// The stroke frame `F` (root user space) of element `element` (module doc): `Some` when
+    /// it is stroked inside a non-similar local map and is drawn as `F L` on export.
+    pub fn stroke_frame(&self, element: usize) -> Option<Affine> {
+        self.stroke_frames.get(element).copied().flatten()
     }
 
     /// Number of `<text>` and `<image>` elements carried.
@@ -352,6 +386,70 @@ impl ElementMaps {
     pub fn options(&self) -> FollowOptions {
         self.options
     }
+}
+
+/// Two linear parts agree when they differ by at most 1e-9 of their size (relative).
+const SIMILAR: f64 = 1e-9;
+
+/// Whether the linear part of `l` is a similarity (rotation or reflection times a uniform
+/// scale): `a = d, b = −c` or `a = −d, b = c` in `Affine`'s `(a, b, c, d)`, within [`SIMILAR`].
+pub fn is_similarity(l: Affine) -> bool {
+    let [a, b, c, d, _, _] = l.as_coeffs();
+    let size = a.abs() + b.abs() + c.abs() + d.abs();
+    let tolerance = SIMILAR * size;
+    ((a - d).abs() + (b + c).abs() <= tolerance) || ((a + d).abs() + (b - c).abs() <= tolerance)
+}
+
+/// The orthogonal factor of the linear part of `m` (module doc, stroke frames): the rotation
+/// closest to it, or the reflection closest to it when `m` mirrors (`det < 0`).
+///
+/// ```
+/// use kurbo::Affine;
+/// use splineskin_svg::follow::orthogonal_factor;
+/// let m = Affine::rotate(0.3) * Affine::scale_non_uniform(2.0, -0.5);
+/// let q = orthogonal_factor(m);
+/// let e = Affine::rotate(0.3) * Affine::scale_non_uniform(1.0, -1.0);
+/// assert!(q.as_coeffs().iter().zip(e.as_coeffs()).all(|(x, y)| (x - y).abs() < 1e-12));
+/// ```
+pub fn orthogonal_factor(m: Affine) -> Affine {
+    let [a, b, c, d, _, _] = m.as_coeffs();
+    if m.determinant() >= 0.0 {
+        Affine::rotate((b - c).atan2(a + d))
+    } else {
+        let (sin, cos) = (b + c).atan2(a - d).sin_cos();
+        Affine::new([cos, sin, sin, -cos, 0.0, 0.0])
+    }
+}
+
+/// The stroke frame of element `e` whose best-fit map is `a` over `samples` (weights
+/// `weights`) (module doc): `None` unless it is stroked (and not clip geometry) inside a local
+/// map that is not a similarity.
+fn stroke_frame(
+    e: &ImportedElement,
+    a: Affine,
+    samples: &[Point],
+    weights: &[f64],
+    options: &FollowOptions,
+) -> Option<Affine> {
+    if e.paint.stroke_width.is_none()
+        || e.role == PathRole::ClipPath
+        || is_similarity(e.local_to_root)
+    {
+        return None;
+    }
+    if options.scale_strokes {
+        return Some(a);
+    }
+    let total: f64 = weights.iter().sum();
+    let mean = samples
+        .iter()
+        .zip(weights)
+        .fold(Vec2::ZERO, |m, (p, &w)| m + w * p.to_vec2())
+        / total;
+    let q = orthogonal_factor(a);
+    let centre = mean.to_point();
+    let frame = Affine::translate(a * centre - q * centre) * q;
+    frame.is_finite().then_some(frame)
 }
 
 /// Where the best-fit map of element `k` of `drawing`'s document is sampled (module doc; path

@@ -315,7 +315,8 @@ pub fn write_animated_svg_with(
     );
     match &drawing.source {
         Some(source) => {
-            let first = element_path_data(drawing, &frames[0], &offsets, source).map_err(at(0))?;
+            let first =
+                element_path_data(drawing, &frames[0], &offsets, source, &[]).map_err(at(0))?;
             let mut children: Vec<String> = first
                 .iter()
                 .map(|d| {
@@ -325,7 +326,8 @@ pub fn write_animated_svg_with(
                 })
                 .collect();
             for (f, points) in frames.iter().enumerate().skip(1) {
-                let data = element_path_data(drawing, points, &offsets, source).map_err(at(f))?;
+                let data =
+                    element_path_data(drawing, points, &offsets, source, &[]).map_err(at(f))?;
                 for (c, d) in children.iter_mut().zip(&data) {
                     c.push(';');
                     c.push_str(d);

@@ -875,3 +875,153 @@ fn the_carry_operator_gives_the_element_maps_at_every_pose_and_scale() {
         check_carry(&drawing, &field, &poses, what);
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Strokes drawn inside a non-uniform (or sheared) element transform.
+
+/// A saltire of thin strokes inside `scale(4 1)` (its strokes 4 times wider across its
+/// vertical than across its horizontal directions, as on flags drawn at unit size and scaled),
+/// a stroked ellipse under a shear with a dash pattern, and a uniform control.
+const STRETCHED_STROKES: &str = "<g transform='scale(4 1)'>\
+      <path d='M4 18 L21 82 M4 82 L21 18' fill='none' stroke='navy' stroke-width='2.5' \
+        stroke-linecap='square'/></g>\
+    <g transform='translate(50 50) skewX(30) scale(1 0.6)'>\
+      <ellipse rx='12' ry='20' fill='gold' stroke='crimson' stroke-width='3' \
+        stroke-dasharray='6 3'/></g>\
+    <circle cx='80' cy='20' r='8' fill='none' stroke='teal' stroke-width='3'/>";
+
+/// Largest channel difference (of 255) between two renders, and the number of pixels that
+/// differ by more than `level`.
+fn largest_difference(a: &str, b: &str, level: u8) -> (u8, usize) {
+    let (pa, pb) = (pixels(a), pixels(b));
+    let mut largest = 0;
+    let mut count = 0;
+    for (x, y) in pa.pixels().iter().zip(pb.pixels()) {
+        let d = [
+            x.red().abs_diff(y.red()),
+            x.green().abs_diff(y.green()),
+            x.blue().abs_diff(y.blue()),
+            x.alpha().abs_diff(y.alpha()),
+        ];
+        let m = d.into_iter().max().unwrap_or(0);
+        largest = largest.max(m);
+        count += usize::from(m > level);
+    }
+    (largest, count)
+}
+
+/// Largest channel difference allowed for "pixel-equal": 2 of 255 (the same picture drawn
+/// through transforms that agree to rounding; an edge rounded the other way moves
+/// anti-aliasing coverage by a level or two).
+const PIXEL_EQUAL: u8 = 2;
+
+/// Pixels allowed beyond [`PIXEL_EQUAL`] in "pixel-equal" renders: 3 of the 57 600 (an edge
+/// pixel whose coverage falls the other side of a sample when a coordinate is written
+/// `3.9999999999999996` instead of `4`).
+const MAX_STRAY_PIXELS: usize = 3;
+
+#[test]
+fn strokes_in_a_stretched_frame_turn_with_every_pin() {
+    let quarter = Affine::rotate_about(std::f64::consts::FRAC_PI_2, Point::new(50.0, 50.0));
+    for (name, options) in [
+        ("stretched-strokes", FollowOptions::default()),
+        (
+            "stretched-strokes-scaled",
+            FollowOptions::default().with_scale_strokes(true),
+        ),
+    ] {
+        let doc = svg(STRETCHED_STROKES);
+        let (drawing, out) = check_carried(name, &doc, quarter, &options);
+        let expected = wrapped(&doc, quarter);
+        let (largest, count) = largest_difference(&expected, &out, PIXEL_EQUAL);
+        let plain = write_svg(&drawing, &deform(&drawing, quarter)).unwrap();
+        let (_, count_plain) = largest_difference(&expected, &plain, PIXEL_EQUAL);
+        eprintln!(
+            "{name}: {count} pixels differ by more than {PIXEL_EQUAL} (largest {largest}); \
+             {count_plain} drawn in the element's own frame"
+        );
+        assert!(count <= MAX_STRAY_PIXELS, "{name}: {count}\n{out}");
+        assert!(count_plain > 100 * MAX_STRAY_PIXELS, "the test cannot tell");
+        // The saltire and the ellipse are drawn in a frame of their own; the circle is not.
+        let element_maps = maps(&drawing, &[quarter; 3], &options);
+        let framed: Vec<bool> = (0..3)
+            .map(|k| element_maps.stroke_frame(k).is_some())
+            .collect();
+        assert_eq!(framed, [true, true, false]);
+    }
+}
+
+#[test]
+fn a_stretched_stroke_keeps_its_rest_path_data_under_a_rigid_pose() {
+    // Drawn as F L with F the rigid map itself, the element's path data are its rest ones.
+    let doc = svg(
+        "<g transform='scale(4 1)'><path d='M4 18 L21 82' fill='none' \
+        stroke='navy' stroke-width='2.5'/></g>",
+    );
+    let drawing = read_svg(&doc, &ImportOptions::default()).unwrap();
+    let pose = rigid();
+    let points = deform(&drawing, pose);
+    let element_maps = maps(&drawing, &[pose; 3], &FollowOptions::default());
+    let out = write_svg_following(&drawing, &points, &element_maps, ViewBoxRule::Keep).unwrap();
+    let again = read_svg(&out, &ImportOptions::default()).unwrap();
+    let d_of = |text: &str| {
+        let at = text.find(" d=").expect("a path") + 3;
+        let quote = text[at..].chars().next().unwrap();
+        let value = &text[at + 1..];
+        value[..value.find(quote).unwrap()].to_string()
+    };
+    let numbers = |d: String| -> Vec<f64> {
+        d.split(|c: char| c.is_ascii_alphabetic() || c.is_whitespace())
+            .filter_map(|v| v.parse().ok())
+            .collect()
+    };
+    let d = numbers(d_of(&out));
+    let ends = [d[0], d[1], d[d.len() - 2], d[d.len() - 1]];
+    for (x, y) in ends.iter().zip([4.0, 18.0, 21.0, 82.0]) {
+        assert!((x - y).abs() < 1e-9, "{out}");
+    }
+    // Read back (in single precision), it is where the pose put it.
+    for (p, q) in again.flat_points().iter().zip(&points) {
+        assert!((*p - *q).hypot() < 1e-5 * 100.0, "{p:?} vs {q:?}");
+    }
+}
+
+#[test]
+fn a_stretched_stroke_under_a_bend_keeps_its_rest_shape_turned() {
+    // A bend: the stroke frame is the orthogonal factor of the element's map, placed at its
+    // region's mean; the written transform is T L⁻¹ F L and the path lands on the deformed
+    // points.
+    let doc = svg(
+        "<g transform='scale(4 1)'><path d='M4 18 C10 40 15 60 21 82' \
+        fill='none' stroke='navy' stroke-width='2.5'/></g>",
+    );
+    let drawing = read_svg(&doc, &ImportOptions::default()).unwrap();
+    let pose = [
+        Affine::IDENTITY,
+        Affine::rotate_about(0.6, Point::new(80.0, 40.0)),
+        Affine::translate((10.0, -5.0)),
+    ];
+    let points = deform_pose(&drawing, &pose);
+    let element_maps = maps(&drawing, &pose, &FollowOptions::default());
+    let a = element_maps.element_map(0).unwrap();
+    let f = element_maps.stroke_frame(0).expect("a stroke frame");
+    let [fa, fb, fc, fd, _, _] = f.as_coeffs();
+    // A rotation, by the angle of the rotation closest to the element's map.
+    assert!(
+        (fa * fd - fb * fc - 1.0).abs() < 1e-12 && (fa - fd).abs() < 1e-12,
+        "{f:?} of {a:?}"
+    );
+    let angle = fb.atan2(fa);
+    assert!(
+        (fb + fc).abs() < 1e-12 && angle.abs() > 0.02,
+        "{f:?} of {a:?}"
+    );
+    assert!((angle - splineskin::drawing::follow::rotation_angle(a)).abs() < 1e-12);
+    let out = write_svg_following(&drawing, &points, &element_maps, ViewBoxRule::Keep).unwrap();
+    let again = read_svg(&out, &ImportOptions::default()).unwrap();
+    let size = 100.0;
+    for (p, q) in again.flat_points().iter().zip(&points) {
+        assert!((*p - *q).hypot() < 1e-5 * size, "{p:?} vs {q:?}");
+    }
+    assert!(out.contains("<path transform=\"matrix(") || out.contains(" transform=\"matrix("));
+}

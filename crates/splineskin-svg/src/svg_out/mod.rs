@@ -209,7 +209,11 @@ pub fn write_svg_with(
     let Some(source) = &drawing.source else {
         return Ok(write_standalone(drawing, points, &offsets, &[]));
     };
-    let data = element_path_data(drawing, points, &offsets, source)?;
+    let frames = options
+        .follow
+        .map(|maps| maps.stroke_frames.clone())
+        .unwrap_or_default();
+    let data = element_path_data(drawing, points, &offsets, source, &frames)?;
     let root = root_attributes(drawing, points, &offsets, source, options.view_box)?;
     let follow = options.follow.map(|maps| Follow {
         drawing,
@@ -235,7 +239,10 @@ pub fn write_svg_with(
         },
         root,
         follow,
-        attributes,
+        ElementAttributes {
+            inserted: attributes,
+            frames,
+        },
     )
 }
 
@@ -491,6 +498,18 @@ struct ExportPolicy<'e> {
     follow: FollowEdits,
     /// Per imported element, attributes to set (empty: none; e.g. [`INSERTED_ATTRIBUTE`]).
     attributes: Vec<Vec<(&'static str, String)>>,
+    /// Per imported element, its stroke frame `F` ([`crate::follow`]; empty: none): it gets the
+    /// `transform` `T L⁻¹ F L`.
+    frames: Vec<Option<Affine>>,
+}
+
+/// Attributes set on imported elements besides their geometry.
+#[derive(Default)]
+struct ElementAttributes {
+    /// Per element, attributes to set (empty: none; e.g. [`INSERTED_ATTRIBUTE`]).
+    inserted: Vec<Vec<(&'static str, String)>>,
+    /// Per element, its stroke frame ([`crate::follow`]; empty: none).
+    frames: Vec<Option<Affine>>,
 }
 
 /// The edits that carry what is not a curve ([`crate::follow`]); in an animated document
@@ -555,6 +574,11 @@ impl RewritePolicy for ExportPolicy<'_> {
             .collect();
         if let Some(attributes) = self.attributes.get_mut(i) {
             set.append(attributes);
+        }
+        if let Some(frame) = self.frames.get(i).copied().flatten() {
+            let l = self.source.elements[i].local_to_root;
+            let own = crate::follow::own_transform(node);
+            set.push(("transform", matrix(own * l.inverse() * frame * l)));
         }
         let mut decls: Vec<(String, String)> =
             self.follow.styles.get(i).cloned().unwrap_or_default();
@@ -628,8 +652,9 @@ impl RewritePolicy for ExportPolicy<'_> {
 }
 
 /// The new `d` of every imported element of `source` (in [`SvgSource::elements`] order): its
-/// subpaths' deformed points mapped back to the element's local coordinates. `offsets` from
-/// [`chain_offsets`].
+/// subpaths' deformed points mapped back to the element's local coordinates, or to those of
+/// its stroke frame `F L` where `frames` has one ([`crate::follow`]; `frames` may be empty).
+/// `offsets` from [`chain_offsets`].
 ///
 /// Errors: [`SvgError::SourceMismatch`], [`SvgError::SingularTransform`].
 pub(crate) fn element_path_data(
@@ -637,6 +662,7 @@ pub(crate) fn element_path_data(
     points: &[Point],
     offsets: &[usize],
     source: &SvgSource,
+    frames: &[Option<Affine>],
 ) -> Result<Vec<String>, SvgError> {
     let origin = source.origin.as_str();
     let mismatch = |what: String| SvgError::SourceMismatch {
@@ -651,8 +677,9 @@ pub(crate) fn element_path_data(
         )));
     }
     let mut data = Vec::with_capacity(source.elements.len());
-    for element in &source.elements {
-        let t = element.local_to_root;
+    for (k, element) in source.elements.iter().enumerate() {
+        let frame = frames.get(k).copied().flatten();
+        let t = frame.map_or(element.local_to_root, |f| f * element.local_to_root);
         let [a, b, c, d, _, _] = t.as_coeffs();
         let det = a * d - b * c;
         let scale = (a.abs() + b.abs()) * (c.abs() + d.abs());
@@ -698,7 +725,15 @@ pub(crate) fn export_geometry_root(
         elements: marker,
         carried: None,
     };
-    export_geometry_follow(source, data, children, marks, root, None, Vec::new())
+    export_geometry_follow(
+        source,
+        data,
+        children,
+        marks,
+        root,
+        None,
+        ElementAttributes::default(),
+    )
 }
 
 /// [`export_geometry_root`] for an animated document: what is not a curve follows each frame's
@@ -718,7 +753,7 @@ pub(crate) fn export_geometry_animated(
         marks,
         root,
         Some(follow),
-        Vec::new(),
+        ElementAttributes::default(),
     )
 }
 
@@ -731,7 +766,7 @@ fn export_geometry_follow(
     marks: Marks,
     root: Vec<(&'static str, String)>,
     follow: Option<Follow>,
-    attributes: Vec<Vec<(&'static str, String)>>,
+    attributes: ElementAttributes,
 ) -> Result<String, SvgError> {
     let origin = source.origin.as_str();
     let doc = crate::document::parse_xml(&source.text, origin)?;
@@ -758,7 +793,8 @@ fn export_geometry_follow(
         carried_marks: marks.carried,
         root,
         follow,
-        attributes,
+        attributes: attributes.inserted,
+        frames: attributes.frames,
     };
     let viewport = source.view_box.size();
     rewrite_document(&source.text, &doc, &mut policy, origin, None, viewport)

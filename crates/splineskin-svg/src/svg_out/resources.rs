@@ -251,10 +251,15 @@ impl<'a, 'i> EditMaker<'a, 'i> {
         let mut decls = Vec::new();
         let mut animations = String::new();
         let l = e.local_to_root;
+        // The element's local map per frame: `L⁻¹ A L`, or `(F L)⁻¹ A L` when a still
+        // document draws it in its stroke frame `F` (crate::follow).
         let ms: Vec<Affine> = follow
             .frames
             .iter()
-            .map(|maps| l.inverse() * maps.elements[i] * l)
+            .map(|maps| {
+                let frame = maps.stroke_frame(i).filter(|_| follow.timing.is_none());
+                (frame.unwrap_or(Affine::IDENTITY) * l).inverse() * maps.elements[i] * l
+            })
             .collect();
         if let Some(&node) = self.nodes.get(&e.range.start) {
             let diagonal = follow.drawing.paths[e.paths.clone()]
