@@ -18,7 +18,10 @@
 //! with a direct least-squares solve over the same samples; the bundled fish's label is
 //! checked against the deformation at the corners of its box in each of the scene's poses.
 
-use kurbo::{Affine, Point, Vec2};
+mod common;
+
+use common::external_data;
+use kurbo::{Affine, Point, Rect, Vec2};
 use splineskin::drawing::follow::{best_fit_affine, ElementMaps, FollowOptions, REGION_GRID};
 use splineskin::drawing::svg_out::{write_svg, write_svg_following, ViewBoxRule};
 use splineskin::drawing::{read_svg, Drawing, ImportOptions, PathRole};
@@ -1024,4 +1027,88 @@ fn a_stretched_stroke_under_a_bend_keeps_its_rest_shape_turned() {
         assert!((*p - *q).hypot() < 1e-5 * size, "{p:?} vs {q:?}");
     }
     assert!(out.contains("<path transform=\"matrix(") || out.contains(" transform=\"matrix("));
+}
+
+/// Every flag of the `flag-icons` package (test-art) with a stroke inside a non-uniform
+/// transform (45 of its 542; Scotland's saltire is `stroke-width=".6"` inside
+/// `scale(128 160)`), turned a quarter by every pin through a rig: rendered as the input turned
+/// ([`assert_same_render`]: fine detail such as a palm's hairline fronds re-rasterises a little
+/// differently), and Scotland's pixel-equal (drawn in its own frame it is not: its stroke
+/// widths swap).
+#[test]
+fn real_flags_with_stretched_strokes_turn_with_their_pins() {
+    let Some(art) = external_data::test_art() else {
+        return;
+    };
+    let mut files: Vec<_> = ["4x3", "1x1"]
+        .iter()
+        .flat_map(|f| std::fs::read_dir(art.join("flag-icons/flags").join(f)).unwrap())
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    assert!(files.len() > 500, "flag-icons has {} flags", files.len());
+    let mut framed = 0;
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        let Ok(drawing) = read_svg(&text, &ImportOptions::default()) else {
+            continue;
+        };
+        let source = drawing.source.as_ref().unwrap();
+        let centre = source.view_box().center();
+        let quarter = Affine::rotate_about(std::f64::consts::FRAC_PI_2, centre);
+        let element_maps = maps_with_handles(&drawing, quarter);
+        let n = source.elements.len();
+        if !(0..n).any(|k| element_maps.stroke_frame(k).is_some()) {
+            continue;
+        }
+        framed += 1;
+        let points = deform_with_handles(&drawing, quarter);
+        let out = write_svg_following(&drawing, &points, &element_maps, ViewBoxRule::Keep).unwrap();
+        let name = file.strip_prefix(&art).unwrap().display().to_string();
+        let expected = wrapped(&text, quarter);
+        let (diff, ink) = difference(&name.replace('/', "-"), &expected, &out);
+        eprintln!("{name}: {:.3} % of pixels differ", 100.0 * diff);
+        assert_same_render(&name, diff, ink, &out);
+        if name.ends_with("4x3/gb-sct.svg") {
+            let (largest, count) = largest_difference(&expected, &out, PIXEL_EQUAL);
+            let plain = write_svg(&drawing, &points).unwrap();
+            let (_, count_plain) = largest_difference(&expected, &plain, PIXEL_EQUAL);
+            eprintln!("{name}: {count} pixels differ (largest {largest}); {count_plain} unframed");
+            assert!(count <= MAX_STRAY_PIXELS, "{name}: {count} pixels differ");
+            assert!(count_plain > 100 * MAX_STRAY_PIXELS, "the test cannot tell");
+        }
+    }
+    eprintln!(
+        "{framed} of {} flags have a stroke in a stretched frame",
+        files.len()
+    );
+    assert!(framed >= 40, "{framed} flags with a stroke frame");
+}
+
+/// Shepard handles at the corners and centre of `drawing`'s viewBox.
+fn handles_over(drawing: &Drawing) -> Shepard {
+    let b: Rect = drawing.source.as_ref().unwrap().view_box();
+    let handles = [(b.x0, b.y0), (b.x1, b.y0), (b.x0, b.y1), (b.x1, b.y1)]
+        .map(Point::from)
+        .into_iter()
+        .chain([b.center()])
+        .collect::<Vec<_>>();
+    Shepard::new(&handles, ShepardOptions::default())
+}
+
+/// `drawing` deformed through a rig on [`handles_over`] with `pose` on every handle.
+fn deform_with_handles(drawing: &Drawing, pose: Affine) -> Vec<Point> {
+    let field = handles_over(drawing);
+    let rig = SplineRig::precompute(drawing, &field, &FitOptions::default()).expect("precompute");
+    let mut out = vec![Point::ZERO; rig.n_points()];
+    rig.update(&[pose; 5], &mut out).expect("update");
+    out
+}
+
+/// The element maps of the skinning map of [`handles_over`] with `pose` on every handle.
+fn maps_with_handles(drawing: &Drawing, pose: Affine) -> ElementMaps {
+    let field = handles_over(drawing);
+    let mut w = [0.0; 5];
+    let mut f = |p| skin_point(&field, &[pose; 5], p, &mut w);
+    ElementMaps::from_map(drawing, &mut f, &FollowOptions::default()).expect("element maps")
 }
