@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use splineskin::domain::Domain;
-use splineskin::drawing::{import_warnings, read_svg_file, Drawing, ImportOptions, JointKind};
+use splineskin::drawing::{read_svg_file, Drawing, ImportOptions, JointKind};
 use splineskin::scene::{Compat, Scene};
 
 use crate::output::has_extension;
@@ -172,7 +172,7 @@ fn describe(drawing: &Drawing) -> String {
 /// to its first error, as browsers draw it).
 pub fn warn_import(drawing: &Drawing) {
     if let Some(source) = &drawing.source {
-        for w in import_warnings(&source.text, &source.origin) {
+        for w in &source.warnings {
             eprintln!("warning: {w}");
         }
     }

@@ -522,6 +522,19 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
                 child: None,
             };
             self.write_with(target, &spec, &inner, None)?;
+        } else if target_tag == "svg" {
+            // A use of an <svg>: its copy is a nested viewport, sized by the use's width and
+            // height where it has them (SVG 2, §5.6.1 "The 'use' element").
+            let set = ["width", "height"]
+                .into_iter()
+                .filter_map(|name| Some((name, node.attribute(name)?.to_string())))
+                .collect();
+            let spec = TagSpec {
+                strip_ids: true,
+                set,
+                ..TagSpec::default()
+            };
+            self.write_with(target, &spec, &inner, None)?;
         } else {
             self.write_element(target, &inner)?;
         }
@@ -531,8 +544,8 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
 
     /// The element `use` element `node` references and the `use` chain of its copy, when the
     /// copy is written (a graphic element, not recursive, which the policy expands); `None`
-    /// to write the `use` as it is. Errors for what cannot be expanded: a use of an `<svg>`,
-    /// uses nested past [`MAX_USE_DEPTH`], `transform-origin`.
+    /// to write the `use` as it is. Errors for what cannot be expanded: uses nested past
+    /// [`MAX_USE_DEPTH`], `transform-origin`.
     fn expanded_use(
         &mut self,
         node: roxmltree::Node<'a, 'i>,
@@ -581,9 +594,6 @@ impl<'a, 'i, P: RewritePolicy> Rewriter<'a, 'i, P> {
         instance.push(node.range().start);
         if !self.policy.expand_use(&instance) {
             return Ok(None);
-        }
-        if target_tag == "svg" {
-            return Err(self.unsupported(node, "a use that references an <svg> element"));
         }
         if ctx.uses.len() >= MAX_USE_DEPTH {
             return Err(self.unsupported(

@@ -321,15 +321,31 @@ fn svg_export_errors() {
 }
 
 #[test]
-fn svg_export_use_of_svg_element_is_unsupported() {
-    let text = "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 10 10'>\
-                <defs><svg id='inner' width='5' height='5'><path d='M0 0 L1 1'/></svg></defs>\
-                <use href='#inner'/><path d='M0 0 L2 2'/></svg>";
-    match read_svg(text, &ImportOptions::default()) {
-        Err(e @ SvgError::Unsupported { .. }) => {
-            assert!(e.to_string().contains("use (line 1)"), "{e}")
-        }
-        other => panic!("{other:?}"),
+fn svg_export_expands_a_use_of_an_svg_element() {
+    // The use's x/y translate the copy; its width/height size the nested viewport, whose
+    // viewBox maps 0..10 onto it (SVG 2, §5.6.1).
+    let text = "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 100 100'>\
+                <defs><svg id='inner' viewBox='0 0 10 10' width='50' height='50'>\
+                <path d='M0 0 L10 10'/></svg></defs>\
+                <use href='#inner' x='20' y='30' width='20' height='20'/><path d='M0 0 L2 2'/></svg>";
+    let drawing = read_svg(text, &ImportOptions::default()).unwrap();
+    assert_eq!(drawing.paths.len(), 2);
+    let ends = |i: usize| {
+        let p = &drawing.paths[i].points;
+        (p[0], p[p.len() - 1])
+    };
+    let (a, b) = ends(0);
+    assert!((a - Point::new(20.0, 30.0)).hypot() < 1e-9, "{a:?}");
+    assert!((b - Point::new(40.0, 50.0)).hypot() < 1e-9, "{b:?}");
+    let moved: Vec<Point> = drawing
+        .flat_points()
+        .iter()
+        .map(|&p| p + Vec2::new(3.0, -1.0))
+        .collect();
+    let out = write_svg(&drawing, &moved).unwrap();
+    let again = reimport(&out, "use-of-svg");
+    for (p, q) in again.flat_points().iter().zip(&moved) {
+        assert!((*p - *q).hypot() < 1e-4, "{p:?} vs {q:?}\n{out}");
     }
 }
 

@@ -139,7 +139,8 @@ pub struct ElementKey {
 pub struct SvgSource {
     /// The file name (or `"<svg text>"`), for messages.
     pub origin: String,
-    /// The original text, as given (not the id-injected one usvg saw).
+    /// The text, as given, or as a browser reads it where the import rewrote what usvg would
+    /// read otherwise ([`SvgSource::warnings`] says what); not the id-injected one usvg saw.
     pub text: String,
     /// Imported elements, in the order of their first path.
     pub elements: Vec<ImportedElement>,
@@ -158,6 +159,11 @@ pub struct SvgSource {
     /// `userSpaceOnUse` units with that map as their `transform`, so that the deformed
     /// geometry does not move again with the deformed element's bounding box.
     pub bbox_clips: Vec<(usize, Affine)>,
+    /// What the import read other than written, as sentences naming the file and element:
+    /// invalid attribute values ignored and CSS units resolved as browsers do, entities
+    /// expanded, path data and `points` drawn up to their first error. `text` is the document
+    /// as read (entities expanded, those values rewritten), so it draws the same everywhere.
+    pub warnings: Vec<String>,
 }
 
 impl SvgSource {

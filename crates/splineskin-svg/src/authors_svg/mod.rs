@@ -372,6 +372,7 @@ fn authors_source(
         size,
         view_box,
         bbox_clips: Vec::new(),
+        warnings: Vec::new(),
     })
 }
 

@@ -265,6 +265,7 @@ impl<'d, 'i> Importer<'d, 'i> {
         text: &str,
         size: Size,
         view_box: Rect,
+        warnings: Vec<String>,
     ) -> Result<Drawing, SvgError> {
         if self.n_unmapped > 0 {
             tracing::warn!(
@@ -298,6 +299,7 @@ impl<'d, 'i> Importer<'d, 'i> {
             size,
             view_box,
             bbox_clips: self.bbox_clips,
+            warnings,
         };
         Ok(Drawing {
             paths: self.paths,

@@ -108,6 +108,7 @@ use kurbo::{Affine, Point, Rect, Size};
 
 use crate::document::{check_size, node_label, parse_xml, unique_prefix, SHOW_HIDDEN_CSS};
 mod import_paths;
+pub mod lenient;
 mod segments;
 mod validate;
 
@@ -341,6 +342,10 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
     // The one place a document is read: `RUST_LOG=splineskin_svg=debug` shows every reading
     // (and a test counts them).
     tracing::debug!(origin, bytes = text.len(), "reading an SVG document");
+    check_size(origin, text.len() as u64)?;
+    // What a browser would draw differently from what usvg reads is rewritten first (lenient).
+    let (text, lenient_warnings) = lenient::browser_reading(text, origin)?;
+    let text: &str = &text;
     if options.text == TextMode::Outlines {
         if let Some(converted) = crate::text_outlines::outline_text(text, origin)? {
             let rest = ImportOptions {
@@ -350,7 +355,8 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
             return read_svg_impl(&converted, &rest, origin);
         }
     }
-    let (doc, warnings) = parse_svg_document(text, origin)?;
+    let (doc, mut warnings) = parse_svg_document(text, origin)?;
+    warnings.splice(0..0, lenient_warnings);
     let Prepared {
         text: prepared,
         ids,
@@ -399,14 +405,16 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
         .and_then(|v| svgtypes::ViewBox::from_str(v).ok())
         .map(|vb| Rect::new(vb.x, vb.y, vb.x + vb.w, vb.y + vb.h))
         .unwrap_or_else(|| Rect::from_origin_size(Point::ORIGIN, size));
-    importer.finish(text, size, view_box).map_err(|e| match e {
-        // Nothing drawn because the path data stops before its first segment: say so.
-        SvgError::NoPaths { file, .. } => SvgError::NoPaths {
-            file,
-            why: warnings,
-        },
-        e => e,
-    })
+    importer
+        .finish(text, size, view_box, warnings.clone())
+        .map_err(|e| match e {
+            // Nothing drawn because the path data stops before its first segment: say so.
+            SvgError::NoPaths { file, .. } => SvgError::NoPaths {
+                file,
+                why: warnings,
+            },
+            e => e,
+        })
 }
 
 /// The warnings reading `text` (from `origin`) gives of what is drawn other than written, as
@@ -424,10 +432,19 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
 /// assert!(warnings[0].contains("byte 17"), "{}", warnings[0]); // the `x`
 /// ```
 pub fn import_warnings(text: &str, origin: &str) -> Vec<String> {
-    parse_xml(text, origin)
+    let Ok((text, mut warnings)) = lenient::browser_reading(text, origin) else {
+        return Vec::new();
+    };
+    let validated = parse_xml(&text, origin)
         .ok()
-        .and_then(|doc| validate_document(&doc, origin).ok())
-        .unwrap_or_default()
+        .and_then(|doc| validate_document(&doc, origin).ok());
+    match validated {
+        Some(more) => {
+            warnings.extend(more);
+            warnings
+        }
+        None => Vec::new(),
+    }
 }
 
 /// `text` parsed, its root checked to be an SVG `<svg>` and the document validated (sizes,

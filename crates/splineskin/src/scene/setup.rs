@@ -128,9 +128,7 @@ impl Scene {
         let mut drawing = self.drawing(compat)?;
         // What the import drew other than written (path data up to its first error).
         let mut warnings = match (&drawing.source, compat) {
-            (Some(source), Compat::None) => {
-                crate::drawing::import_warnings(&source.text, &source.origin)
-            }
+            (Some(source), Compat::None) => source.warnings.clone(),
             _ => Vec::new(),
         };
         if let Some(kinds) = &self.authors_joints {
