@@ -250,6 +250,35 @@ check('flexible G¹: the server solves each pose on mouse-up and the page shows 
   assert.ok(finite);
 });
 
+check('a flexible solve stays when the carry maps of the text arrive after it', async () => {
+  // The rig's carry operator (the label's best-fit maps) held back until its solve is done:
+  // its arrival moves the text and must not draw the rig's plain product over the solve.
+  let release;
+  const held = new Promise((ok) => (release = ok));
+  await page.route('**/api/rigs/*/carry', async (route) => {
+    await held;
+    await route.continue();
+  });
+  try {
+    await page.uncheck('#flexible');
+    await waitRig();
+    await page.check('#flexible');
+    await page.waitForFunction(() => {
+      const e = window.splineskinEditor;
+      return e.rigState === 'ready' && !e.rigPreview && JSON.parse(e.rigKey)[3] === true && document.body.dataset.solve === 'done';
+    }, null, { timeout: WAIT });
+    const solved = await page.evaluate(() => [...window.splineskinEditor.points]);
+    const rigId = await page.evaluate(() => window.splineskinEditor.rig.id);
+    release();
+    await page.waitForFunction((id) => document.body.dataset.carry === id, rigId, { timeout: WAIT });
+    const after = await page.evaluate(() => [...window.splineskinEditor.points]);
+    assert.deepEqual(after, solved, 'the carry maps redrew the points');
+  } finally {
+    release();
+    await page.unroute('**/api/rigs/*/carry');
+  }
+});
+
 check('a saved scene reopens by drag and drop as it was', async () => {
   const saved = await scene();
   const [download] = await Promise.all([page.waitForEvent('download'), page.click('#save-scene')]);
@@ -404,8 +433,11 @@ check('an operator family moves pins only: no rotate or scale widgets, no hidden
   await page.click('#undo');
   await waitRig();
   assert.deepEqual((await scene()).pose[1], turned);
-  // Back on a family that turns pins: the notice that they were set aside is gone.
-  assert.ok(await page.isHidden('#notice'), `the notice went: ${await page.textContent('#notice')}`);
+  // Back on a family that turns pins: the notice that they were set aside is gone. (Another
+  // may show: on a loaded machine a drag's frames can run past their budget, and the page then
+  // says that big drawings redraw the parts that move most first.)
+  const notice = (await page.isHidden('#notice')) ? '' : await page.textContent('#notice');
+  assert.doesNotMatch(notice, /set aside/, `the notice went: ${notice}`);
 });
 
 check('the toolbar fits one row at 1280 px, with the mesh families\' margin field or the operators\' samples field', async () => {

@@ -185,7 +185,10 @@ export async function fetchCarry(rig) {
     rig.setCarry(await api.rigCarry(rig.id, rig instanceof DefOpLiveRig), n);
     if (editor.rig !== rig) return;
     document.body.dataset.carry = rig.id;
-    render();
+    // Only what the carry maps move: a full render would draw the rig's product over the
+    // points of a flexible G¹ solve that came first, and Export would send those.
+    const { scene } = editor;
+    editor.view.writeCarried(scene.handles.length && rigReady() ? rig.carryMaps(scene.pose) : null);
   } catch (e) {
     if (editor.rig === rig) showError(`${shortName()}: moving its text and images with the art: ${e.message}`);
   }
