@@ -389,7 +389,7 @@ impl ElementMaps {
 }
 
 /// Two linear parts agree when they differ by at most 1e-9 of their size (relative).
-const SIMILAR: f64 = 1e-9;
+pub const SIMILAR: f64 = 1e-9;
 
 /// Whether the linear part of `l` is a similarity (rotation or reflection times a uniform
 /// scale): `a = d, b = −c` or `a = −d, b = c` in `Affine`'s `(a, b, c, d)`, within [`SIMILAR`].
