@@ -4,7 +4,11 @@
 //!
 //! # What is read
 //!
-//! The text is checked ([`MAX_SVG_BYTES`], well-formed XML, an `<svg>` root, every `d`,
+//! The text is first read as a browser reads it ([`lenient`]: internal DTD entities expanded,
+//! CSS units such as `rem` and `vw` resolved, attribute values that do not parse ignored,
+//! `points` lists in error handled as chromium handles them, each with a warning kept in
+//! [`SvgSource::warnings`](splineskin_core::drawing::SvgSource::warnings)). It is then checked
+//! ([`MAX_SVG_BYTES`], well-formed XML, an `<svg>` root, every `d`,
 //! `points`, `transform`, `viewBox` and shape/`use` length attribute parsed with `svgtypes` and
 //! required to be finite and within [`MAX_COORDINATE`]), then handed to usvg, which resolves
 //! styles, nested transforms, nested `svg` viewports and turns every path command (M, L, H, V,
