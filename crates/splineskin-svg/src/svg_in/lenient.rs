@@ -196,16 +196,10 @@ struct Units {
 
 impl Units {
     fn of(root: roxmltree::Node) -> Units {
-        let font_size = root
-            .attribute("font-size")
-            .or_else(|| style_property(root.attribute("style")?, "font-size"))
-            .and_then(|v| svgtypes::Length::from_str(v).ok())
-            .filter(|l| l.unit == svgtypes::LengthUnit::None || l.unit == svgtypes::LengthUnit::Px)
-            .map(|l| l.number)
-            .filter(|v| v.is_finite() && *v > 0.0);
-        let length = |name: &str| {
-            root.attribute(name)
-                .and_then(|v| svgtypes::Length::from_str(v).ok())
+        // A length in user units (unitless or px), positive.
+        let user = |v: &str| {
+            svgtypes::Length::from_str(v)
+                .ok()
                 .filter(|l| {
                     matches!(
                         l.unit,
@@ -215,6 +209,11 @@ impl Units {
                 .map(|l| l.number)
                 .filter(|v| v.is_finite() && *v > 0.0)
         };
+        let font_size = root
+            .attribute("font-size")
+            .or_else(|| style_property(root.attribute("style")?, "font-size"))
+            .and_then(user);
+        let length = |name: &str| root.attribute(name).and_then(user);
         let view_box = root
             .attribute("viewBox")
             .and_then(|v| svgtypes::ViewBox::from_str(v).ok())
@@ -469,14 +468,13 @@ impl Expander<'_> {
                     return Ok(i + 1);
                 }
                 _ => {
-                    let next = rest[i..]
+                    // Up to the next delimiter (all ASCII, so the cut is a char boundary);
+                    // past this one when it is a delimiter copied as text (a quote of the
+                    // other kind, `>` in a value, `&` outside one).
+                    let from = if c.is_ascii() { i + 1 } else { i };
+                    let next = rest[from..]
                         .find(['"', '\'', '&', '>'])
-                        .map_or(rest.len(), |n| i + n)
-                        .max(i + 1);
-                    let next = (i + 1..=next.min(rest.len()))
-                        .rev()
-                        .find(|&k| rest.is_char_boundary(k))
-                        .unwrap_or(rest.len());
+                        .map_or(rest.len(), |n| from + n);
                     self.out.push_str(&rest[i..next]);
                     i = next;
                 }

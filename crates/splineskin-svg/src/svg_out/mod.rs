@@ -211,9 +211,8 @@ pub fn write_svg_with(
     };
     let frames = options
         .follow
-        .map(|maps| maps.stroke_frames.clone())
-        .unwrap_or_default();
-    let data = element_path_data(drawing, points, &offsets, source, &frames)?;
+        .map_or(&[][..], |maps| &maps.stroke_frames[..]);
+    let data = element_path_data(drawing, points, &offsets, source, frames)?;
     let root = root_attributes(drawing, points, &offsets, source, options.view_box)?;
     let follow = options.follow.map(|maps| Follow {
         drawing,
@@ -500,16 +499,16 @@ struct ExportPolicy<'e> {
     attributes: Vec<Vec<(&'static str, String)>>,
     /// Per imported element, its stroke frame `F` ([`crate::follow`]; empty: none): it gets the
     /// `transform` `T L⁻¹ F L`.
-    frames: Vec<Option<Affine>>,
+    frames: &'e [Option<Affine>],
 }
 
 /// Attributes set on imported elements besides their geometry.
 #[derive(Default)]
-struct ElementAttributes {
+struct ElementAttributes<'a> {
     /// Per element, attributes to set (empty: none; e.g. [`INSERTED_ATTRIBUTE`]).
     inserted: Vec<Vec<(&'static str, String)>>,
     /// Per element, its stroke frame ([`crate::follow`]; empty: none).
-    frames: Vec<Option<Affine>>,
+    frames: &'a [Option<Affine>],
 }
 
 /// The edits that carry what is not a curve ([`crate::follow`]); in an animated document
@@ -766,7 +765,7 @@ fn export_geometry_follow(
     marks: Marks,
     root: Vec<(&'static str, String)>,
     follow: Option<Follow>,
-    attributes: ElementAttributes,
+    attributes: ElementAttributes<'_>,
 ) -> Result<String, SvgError> {
     let origin = source.origin.as_str();
     let doc = crate::document::parse_xml(&source.text, origin)?;
