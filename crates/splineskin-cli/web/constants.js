@@ -45,3 +45,6 @@ export const CARRIED_MARKER = 'data-splineskin-carried';
 
 /** The attribute marking each element's own copy of a user-space paint server (PAINT_MARKER). */
 export const PAINT_MARKER = 'data-splineskin-paint';
+
+/** How much better a reflection must fit an element's region than a rotation to be its stroke frame (splineskin::drawing::follow::REFLECTION_MARGIN). */
+export const REFLECTION_MARGIN = 1.25;

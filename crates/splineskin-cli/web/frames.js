@@ -42,6 +42,10 @@ export function render({ timed = false } = {}) {
     if (timed && editor.rig instanceof DefOpLiveRig) follower.moved();
   }
   const t1 = performance.now();
+  // Text, images, paint copies and the stroke frames of elements stroked in stretched frames
+  // by their best-fit maps, as Export SVG writes them (null: where the document has them).
+  const maps = scene.handles.length && rigReady() && editor.rig.carryMaps ? editor.rig.carryMaps(scene.pose) : null;
+  view.setFrames(maps);
   // A drag's frames write what FRAME_BUDGET_MS allows, the most moved first; the rest follow
   // in the next frames (drawn without waiting for the pointer), the release writes everything.
   if (view.writePaths(editor.points, timed ? FRAME_BUDGET_MS : Infinity)) {
@@ -54,9 +58,7 @@ export function render({ timed = false } = {}) {
       );
     }
   }
-  // Text and images by their best-fit maps, as Export SVG writes them (skinning rigs; an
-  // operator's stand where the document has them).
-  view.writeCarried(scene.handles.length && rigReady() && editor.rig.carryMaps ? editor.rig.carryMaps(scene.pose) : null);
+  view.writeCarried(maps);
   const t2 = performance.now();
   drawOverlay();
   // While dragging, once on mouse-up (dragged → sceneChanged → render). The fold rings
@@ -174,7 +176,7 @@ export async function flexibleSolve() {
 }
 
 /**
- * Asks for `rig`'s carry operator (a LiveRig's or a DefOpLiveRig's) when the document has text, images or user-space paint
+ * Asks for `rig`'s carry operator (a LiveRig's or a DefOpLiveRig's) when the document has text, images, user-space paint or strokes in stretched frames
  * (they then move with the art on the canvas as Export SVG moves them), and draws again once it is there
  * (`body[data-carry]` names the rig, for the tests).
  */
@@ -187,8 +189,11 @@ export async function fetchCarry(rig) {
     document.body.dataset.carry = rig.id;
     // Only what the carry maps move: a full render would draw the rig's product over the
     // points of a flexible G¹ solve that came first, and Export would send those.
-    const { scene } = editor;
-    editor.view.writeCarried(scene.handles.length && rigReady() ? rig.carryMaps(scene.pose) : null);
+    // The points shown are written again only where a stroke frame turned.
+    const { scene, view } = editor;
+    const maps = scene.handles.length && rigReady() ? rig.carryMaps(scene.pose) : null;
+    if (view.setFrames(maps)) view.writePaths(editor.points);
+    view.writeCarried(maps);
   } catch (e) {
     if (editor.rig === rig) showError(`${shortName()}: moving its text and images with the art: ${e.message}`);
   }

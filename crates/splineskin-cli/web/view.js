@@ -2,11 +2,37 @@
 // the `d` of its imported elements rewritten from deformed chain points, and an overlay in the
 // same user space with the handles, the junction markers and the weight field.
 
-import { apply, compose, inverse, isIdentity } from './affine.js';
-import { CARRIED_MARKER, ELEMENT_MARKER as MARKER, JUNCTION_KINDS, PAINT_MARKER } from './constants.js';
+import { apply, compose, IDENTITY, inverse, isIdentity } from './affine.js';
+import { CARRIED_MARKER, ELEMENT_MARKER as MARKER, JUNCTION_KINDS, PAINT_MARKER, REFLECTION_MARGIN } from './constants.js';
 import { pathOffsets, writePaths } from './pathdata.js';
 
 const SVG_NS = 'http://www.w3.org/2000/svg';
+
+/**
+ * The stroke frame F of an element whose best-fit map is A, fitted on its region `region`
+ * ({ centre: p̄, covariance: [cxx, cxy, cyy] }, DocumentInfo's ElementInfo.stroke_frame): the
+ * best-fit rotation of the cross-covariance X = A C, or reflection where it fits better by
+ * REFLECTION_MARGIN, moved so that F p̄ = A p̄ (splineskin_svg::follow::StrokeFrameRegion::frame).
+ * Rotation: θ = atan2(x₂₁ − x₁₂, x₁₁ + x₂₂); reflection: θ = atan2(x₂₁ + x₁₂, x₁₁ − x₂₂),
+ * Q = [cos, sin, sin, −cos].
+ */
+function strokeFrame(A, { centre, covariance: [cxx, cxy, cyy] }) {
+  const X = [A[0] * cxx + A[2] * cxy, A[1] * cxx + A[3] * cxy, A[0] * cxy + A[2] * cyy, A[1] * cxy + A[3] * cyy];
+  const [a, b, c, d] = X;
+  let Q;
+  if (Math.hypot(a - d, b + c) > REFLECTION_MARGIN * Math.hypot(a + d, b - c)) {
+    const t = Math.atan2(b + c, a - d);
+    Q = [Math.cos(t), Math.sin(t), Math.sin(t), -Math.cos(t), 0, 0];
+  } else {
+    const t = Math.atan2(b - c, a + d);
+    Q = [Math.cos(t), Math.sin(t), -Math.sin(t), Math.cos(t), 0, 0];
+  }
+  const [ax, ay] = apply(A, centre);
+  const [qx, qy] = apply(Q, centre);
+  Q[4] = ax - qx;
+  Q[5] = ay - qy;
+  return Q;
+}
 
 /** Sizes of the overlay, in CSS pixels. */
 export const HANDLE_RADIUS = 7;
@@ -93,7 +119,7 @@ export class DrawingView {
       const j = info.painted.indexOf(k);
       const toLocal = info.elements[k]?.to_local;
       if (j < 0 || !toLocal) return [];
-      const place = { node, j, toLocal, toRoot: inverse(toLocal) };
+      const place = { node, k, j, toLocal, toRoot: inverse(toLocal) };
       if (node.localName === 'marker') {
         const orient = Number(node.getAttribute('orient'));
         return Number.isFinite(orient) ? [{ ...place, name: 'orient', orient }] : [];
@@ -112,7 +138,30 @@ export class DrawingView {
     const diagonal = Math.hypot(w, h) || 1;
     this.digits = Math.min(8, Math.max(0, Math.ceil(5 - Math.log10(diagonal))));
     this.format = fixedFormatter(this.digits);
+    // Per element, decimals for the same precision in its own units (`d` is written in them): a
+    // flag's saltire drawn inside scale(128 160) needs two more than root units do.
+    const formatters = new Map();
+    this.formats = info.elements.map(({ to_local: T }) => {
+      const toRoot = inverse(T);
+      const scale = toRoot ? Math.max(Math.hypot(toRoot[0], toRoot[1]), Math.hypot(toRoot[2], toRoot[3])) : 1;
+      const digits = Math.min(8, Math.max(0, Math.ceil(5 - Math.log10(diagonal / scale))));
+      if (!formatters.has(digits)) formatters.set(digits, fixedFormatter(digits));
+      return formatters.get(digits);
+    });
     this.localMaps = info.elements.map((e) => (isIdentity(e.to_local) ? null : e.to_local));
+    // The elements stroked inside a stretched local map L (ElementInfo.stroke_frame),
+    // drawn as Export SVG draws them: in the frame F L (setFrames), F from their best-fit map.
+    this.framed = new Map();
+    info.painted.forEach((k, j) => {
+      const region = info.elements[k]?.stroke_frame;
+      const node = this.elements[k];
+      if (!region || !node) return;
+      const toLocal = info.elements[k].to_local;
+      const toRoot = inverse(toLocal);
+      if (!toRoot) return;
+      const own = node.getAttribute('transform') ?? '';
+      this.framed.set(k, { j, region, toLocal, toRoot, own, F: IDENTITY, inverseF: IDENTITY, transform: own, stale: false });
+    });
 
     // The overlay is an <svg> of its own over the drawing's, its user space the drawing's less
     // an origin in the middle of the drawing's frame: far from 0 (say 3e7 units) the browser
@@ -312,10 +361,16 @@ export class DrawingView {
    * element is written.
    */
   writePaths(points, budgetMs = Infinity) {
-    const { info, offsets, format } = this;
+    const { info, offsets, formats } = this;
     const write = (k) => {
       const { first_path: first, end_path: end } = info.elements[k];
-      this.elements[k].setAttribute('d', writePaths(info.paths, offsets, first, end, points, format, this.localMaps[k]));
+      this.elements[k].setAttribute('d', writePaths(info.paths, offsets, first, end, points, formats[k], this.localMaps[k]));
+      const framed = this.framed.get(k);
+      if (framed?.stale) {
+        if (framed.transform) this.elements[k].setAttribute('transform', framed.transform);
+        else this.elements[k].removeAttribute('transform');
+        framed.stale = false;
+      }
       const [a, b] = this.pointRanges[k];
       this.written.set(points.subarray(2 * a, 2 * b), 2 * a);
     };
@@ -333,6 +388,8 @@ export class DrawingView {
       const [a, b] = this.pointRanges[k];
       let most = 0;
       for (let i = 2 * a; i < 2 * b; i++) most = Math.max(most, Math.abs(points[i] - this.written[i]));
+      // An element whose stroke frame turned is written again even if its points stand.
+      if (most === 0 && this.framed.get(k)?.stale) most = Number.MIN_VALUE;
       moves[k] = most;
       if (most > 0) order[nMoved++] = k;
     }
@@ -344,17 +401,46 @@ export class DrawingView {
   }
 
   /**
+   * Sets the stroke frame of each element stroked inside a stretched local map `L` from `maps`
+   * (as writeCarried reads them; null: every frame the identity): `F` the best-fit rotation of
+   * its region under its best-fit map `A` (strokeFrame), moved so that `F p̄ = A p̄`. The next
+   * writePaths writes its path data mapped by `(F L)⁻¹` and its `transform` as its own then
+   * `L⁻¹ F L`, as Export SVG does (splineskin_svg::follow, stroke frames). Returns whether a
+   * frame changed (its element is to be written again).
+   */
+  setFrames(maps) {
+    const n = this.carried.length;
+    let changed = false;
+    for (const [k, framed] of this.framed) {
+      const { j, region, toLocal, toRoot, own } = framed;
+      const F = maps ? strokeFrame(maps.subarray(6 * (n + j), 6 * (n + j) + 6), region) : IDENTITY;
+      const inverseF = inverse(F);
+      if (!inverseF || F.every((v, i) => v === framed.F[i])) continue;
+      Object.assign(framed, { F, inverseF, stale: true });
+      framed.transform = maps ? `${own} matrix(${compose(toLocal, compose(F, toRoot)).join(' ')})`.trim() : own;
+      // Root user space → the element's path data: (F L)⁻¹ = L⁻¹ F⁻¹.
+      const T = compose(toLocal, inverseF);
+      this.localMaps[k] = isIdentity(T) ? null : T;
+      changed = true;
+    }
+    return changed;
+  }
+
+  /**
    * Carries each text and image, and each element's own user-space gradients and patterns, by
    * its best-fit map: `maps` holds six numbers per carried element, then per painted element,
    * root user space (the rig's carry operator, LiveRig.carryMaps), or is null for none (they
    * stand as the document has them). A text's or image's `transform` becomes `P⁻¹ A P` before
    * its own, a paint copy's transform `L⁻¹ A L · G`, a marker copy's orient its own plus the
-   * rotation of `L⁻¹ A L`, as Export SVG writes them.
+   * rotation of `L⁻¹ A L` (`(F L)⁻¹ A L` for an element in a stroke frame `F`, setFrames), as
+   * Export SVG writes them.
    */
   writeCarried(maps) {
     const n = this.carried.length;
-    for (const { node, name, G, orient, j, toLocal, toRoot } of this.paints) {
-      const M = maps ? compose(toLocal, compose(maps.subarray(6 * (n + j), 6 * (n + j) + 6), toRoot)) : [1, 0, 0, 1, 0, 0];
+    for (const { node, name, G, orient, k, j, toLocal, toRoot } of this.paints) {
+      // L⁻¹ A L, or (F L)⁻¹ A L for an element drawn in its stroke frame F (setFrames).
+      const inverseF = this.framed.get(k)?.inverseF ?? IDENTITY;
+      const M = maps ? compose(toLocal, compose(inverseF, compose(maps.subarray(6 * (n + j), 6 * (n + j) + 6), toRoot))) : [1, 0, 0, 1, 0, 0];
       if (name === 'orient') {
         node.setAttribute('orient', String(orient + (Math.atan2(M[1] - M[2], M[0] + M[3]) * 180) / Math.PI));
       } else {

@@ -3,7 +3,7 @@
 
 use anyhow::{bail, Context, Result};
 use splineskin::drawing::carry::carried_parents;
-use splineskin::drawing::follow::{ElementMaps, FollowOptions};
+use splineskin::drawing::follow::{stroke_frame_region, ElementMaps, FollowOptions};
 use splineskin::drawing::svg_in::MAX_SVG_BYTES;
 use splineskin::drawing::svg_out::{
     write_svg_with, write_svg_with_inserted, SvgOptions, ViewBoxRule,
@@ -18,7 +18,8 @@ use splineskin::spline_fit::Measure;
 
 use crate::page_scene::{defop_family, scene_of_page, SceneExtras};
 use crate::wire::{
-    AnimationWire, DocumentInfo, EditScene, ElementInfo, OperatorInfo, PathInfo, WeightsWire,
+    AnimationWire, DocumentInfo, EditScene, ElementInfo, OperatorInfo, PathInfo, StrokeFrameInfo,
+    WeightsWire,
 };
 
 /// The attribute that marks each imported element in the shown document with its index
@@ -167,13 +168,19 @@ impl Document {
             .with_paint_marker(PAINT_MARKER);
         let svg = write_svg_with(&drawing, &rest, &marks)
             .with_context(|| format!("{name}: preparing the drawing for display"))?;
-        let painted = marked_indices(&svg, PAINT_MARKER);
-        let carried = carried_parents(&drawing)
-            .with_context(|| format!("{name}: finding its text and images"))?;
         let source = drawing
             .source
             .as_ref()
             .context("an imported drawing has its source")?;
+        let elements = element_infos(&drawing, source);
+        let mut painted = marked_indices(&svg, PAINT_MARKER);
+        painted.extend(
+            (elements.iter().enumerate()).filter_map(|(k, e)| e.stroke_frame.as_ref().map(|_| k)),
+        );
+        painted.sort_unstable();
+        painted.dedup();
+        let carried = carried_parents(&drawing)
+            .with_context(|| format!("{name}: finding its text and images"))?;
         let info = DocumentInfo {
             id: String::new(),
             name: name.to_string(),
@@ -183,7 +190,7 @@ impl Document {
                 [b.x0, b.y0, b.width(), b.height()]
             },
             paths: path_infos(&drawing, source),
-            elements: element_infos(source),
+            elements,
             carried: carried.iter().map(|p| p.as_coeffs()).collect(),
             painted,
             rest: rest.iter().flat_map(|p| [p.x, p.y]).collect(),
@@ -421,7 +428,7 @@ fn page_defop(
 }
 
 /// Each imported element's paths and root → local map, for the page.
-fn element_infos(source: &SvgSource) -> Vec<ElementInfo> {
+fn element_infos(drawing: &Drawing, source: &SvgSource) -> Vec<ElementInfo> {
     (0..source.n_elements())
         .map(|e| {
             let paths = source.element_paths(e).unwrap_or(0..0);
@@ -433,6 +440,10 @@ fn element_infos(source: &SvgSource) -> Vec<ElementInfo> {
                 first_path: paths.start,
                 end_path: paths.end,
                 to_local,
+                stroke_frame: stroke_frame_region(drawing, e).map(|r| StrokeFrameInfo {
+                    centre: [r.centre.x, r.centre.y],
+                    covariance: r.covariance,
+                }),
             }
         })
         .collect()

@@ -3,7 +3,8 @@
 //! them by hand: the weight families, operator families and their sample limits, the junction
 //! kinds a click cycles through, the easings and frame rates of the timeline, the handle bases
 //! of an operator, the domain's margin, the most poses one refinement measures and the
-//! attributes that mark the shown document's elements.
+//! attributes that mark the shown document's elements, and the margin by which a stroke frame
+//! is a reflection.
 //!
 //! The file is generated: `SPLINESKIN_WRITE_CONSTANTS=1 cargo test -p splineskin-cli
 //! page_constants` writes it again, and the same test without the variable fails while the
@@ -14,6 +15,7 @@ use std::fmt::Write;
 use splineskin::animation::{Easing, DEFAULT_FPS, MAX_FPS};
 use splineskin::defop::HandleBasisKind;
 use splineskin::domain::{DEFAULT_MARGIN, MAX_MARGIN};
+use splineskin::drawing::follow::REFLECTION_MARGIN;
 use splineskin::drawing::JointKind;
 use splineskin::scene::MeshFamily;
 
@@ -128,6 +130,11 @@ pub fn javascript() -> String {
         "The attribute marking each element's own copy of a user-space paint server (PAINT_MARKER).",
         "PAINT_MARKER",
         format!("'{PAINT_MARKER}'"),
+    );
+    constant(
+        "How much better a reflection must fit an element's region than a rotation to be its stroke frame (splineskin::drawing::follow::REFLECTION_MARGIN).",
+        "REFLECTION_MARGIN",
+        REFLECTION_MARGIN.to_string(),
     );
     js
 }

@@ -191,7 +191,7 @@ pub(crate) fn operator(editor: &Editor, id: &str) -> Result<Response, ApiError> 
 /// ([`splineskin::drawing::carry::CarryOperator`] of its skinning map in the pose), as f64s:
 /// per carried `<text>` and `<image>` of its document (in
 /// [`crate::wire::DocumentInfo::carried`] order), then per element with its own paint copies
-/// ([`crate::wire::DocumentInfo::painted`]), the six coefficients of its best-fit map as rows
+/// or a stroke frame ([`crate::wire::DocumentInfo::painted`]), the six coefficients of its best-fit map as rows
 /// of `6h + 1` numbers (the pose's `6h` coefficients, handle by handle, then the constant).
 /// Empty when the document has none of either; the page then asks no more.
 pub(crate) fn carry(editor: &Editor, id: &str) -> Result<Response, ApiError> {

@@ -214,9 +214,11 @@ pub struct DocumentInfo {
     /// `P`, `[a, b, c, d, e, f]`: its shown `transform` is `P⁻¹ A P` before its own, `A` its
     /// best-fit map.
     pub carried: Vec<[f64; 6]>,
-    /// The elements (indices, ascending) that have their own copies of user-space paint servers
-    /// in the shown document (marked [`crate::document::PAINT_MARKER`]`="k"`): the carry
-    /// operator gives their maps after the carried ones'.
+    /// The elements (indices, ascending) whose best-fit maps the page needs: those with their
+    /// own copies of user-space paint servers in the shown document (marked
+    /// [`crate::document::PAINT_MARKER`]`="k"`) and those drawn in a stroke frame
+    /// ([`ElementInfo::stroke_frame`]). The carry operator gives their maps after the
+    /// carried ones'.
     pub painted: Vec<usize>,
     /// Rest chain points of all paths, concatenated: `x0, y0, x1, y1, …` (root user units).
     pub rest: Vec<f64>,
@@ -266,6 +268,23 @@ pub struct ElementInfo {
     pub end_path: usize,
     /// Root user space → local coordinates, `[a, b, c, d, e, f]`.
     pub to_local: [f64; 6],
+    /// For an element stroked inside a local map `L` that is not a similarity: where its
+    /// stroke frame is fitted ([`splineskin::drawing::follow::stroke_frame_region`]); `null`
+    /// for any other. The page draws it as export does: with `A` its best-fit map (it is in
+    /// [`DocumentInfo::painted`]) and `F` the frame
+    /// ([`splineskin::drawing::follow::StrokeFrameRegion::frame`]), its `transform` is its own
+    /// then `L⁻¹ F L`, its path data the points mapped by `(F L)⁻¹`, its paint copies'
+    /// transforms `(F L)⁻¹ A L · G`.
+    pub stroke_frame: Option<StrokeFrameInfo>,
+}
+
+/// Where an element's stroke frame is fitted ([`ElementInfo::stroke_frame`]), root user units.
+#[derive(Clone, Debug, Serialize)]
+pub struct StrokeFrameInfo {
+    /// The mean `p̄` of the element's region, `[x, y]`.
+    pub centre: [f64; 2],
+    /// The covariance `C` of its region, `[c_xx, c_xy, c_yy]`.
+    pub covariance: [f64; 3],
 }
 
 /// The query of `POST /api/documents/{id}/animation`.

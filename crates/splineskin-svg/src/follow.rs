@@ -85,10 +85,16 @@
 //!   element is given a **stroke frame** `F` (root user space) and drawn as `F L`: its new
 //!   `transform` is `T L⁻¹ F L` (`T` its own) and its path data are the deformed points mapped
 //!   by `(F L)⁻¹`. `F = A` with [`FollowOptions::scale_strokes`] (the stroke follows `A`
-//!   exactly; its width is not scaled again), else the orthogonal factor `Q` of `A` (the closest
-//!   rotation, or reflection when `A` mirrors: `Q = [[cos θ, −sin θ], [sin θ, cos θ]]` with
-//!   `θ = atan2(m₂₁ − m₁₂, m₁₁ + m₂₂)`, resp. `[[cos θ, sin θ], [sin θ, −cos θ]]` with
-//!   `θ = atan2(m₂₁ + m₁₂, m₁₁ − m₂₂)`), placed so that `F p̄ = A p̄` at the mean `p̄` of the
+//!   exactly; its width is not scaled again), else the best-fit rotation of the element's
+//!   region (Procrustes: the orthogonal factor of the cross-covariance
+//!   `X = Σ ω (q − q̄)(p − p̄)ᵀ = A C`, `C` the region's covariance — not of `A` itself, whose
+//!   part across a thin region, a stroke along a line, is ill-conditioned: pinned along such a
+//!   line and pulled at one end, `A` can shear and even mirror while the line only turns):
+//!   `Q = [[cos θ, −sin θ], [sin θ, cos θ]]` with `θ = atan2(x₂₁ − x₁₂, x₁₁ + x₂₂)`, or the
+//!   reflection `[[cos θ, sin θ], [sin θ, −cos θ]]` with `θ = atan2(x₂₁ + x₁₂, x₁₁ − x₂₂)`
+//!   when it fits the samples better than any rotation by [`REFLECTION_MARGIN`] (a thin
+//!   region cannot tell a mirror from a turn and keeps the rotation); placed so that
+//!   `F p̄ = A p̄` at the mean `p̄` of the
 //!   element's region. A rigid map on every pin thus draws the element exactly as the input
 //!   under that map; under a bend its stroke keeps its rest shape, turned with the element. Its
 //!   paint servers and markers are then carried by `(F L)⁻¹ A L` instead of `L⁻¹ A L`. Still
@@ -400,24 +406,93 @@ pub fn is_similarity(l: Affine) -> bool {
     ((a - d).abs() + (b + c).abs() <= tolerance) || ((a + d).abs() + (b - c).abs() <= tolerance)
 }
 
-/// The orthogonal factor of the linear part of `m` (module doc, stroke frames): the rotation
-/// closest to it, or the reflection closest to it when `m` mirrors (`det < 0`).
-///
-/// ```
-/// use kurbo::Affine;
-/// use splineskin_svg::follow::orthogonal_factor;
-/// let m = Affine::rotate(0.3) * Affine::scale_non_uniform(2.0, -0.5);
-/// let q = orthogonal_factor(m);
-/// let e = Affine::rotate(0.3) * Affine::scale_non_uniform(1.0, -1.0);
-/// assert!(q.as_coeffs().iter().zip(e.as_coeffs()).all(|(x, y)| (x - y).abs() < 1e-12));
-/// ```
-pub fn orthogonal_factor(m: Affine) -> Affine {
-    let [a, b, c, d, _, _] = m.as_coeffs();
-    if m.determinant() >= 0.0 {
-        Affine::rotate((b - c).atan2(a + d))
-    } else {
+/// A stroke frame is a reflection only when the best-fit reflection of its region fits the
+/// samples better than the best-fit rotation by this factor (the correlations
+/// `|(x₁₁ − x₂₂, x₂₁ + x₁₂)| > 1.25 |(x₁₁ + x₂₂, x₂₁ − x₁₂)|` of the module doc): a mirror of
+/// a region whose width is at least a ninth of its length.
+pub const REFLECTION_MARGIN: f64 = 1.25;
+
+/// Where an element's stroke frame is fitted (module doc, stroke frames): the weighted mean
+/// `p̄` of its region's samples and their weighted covariance `C = Σ ω (p − p̄)(p − p̄)ᵀ / Σ ω`,
+/// root user space. With the element's best-fit map `A`, [`StrokeFrameRegion::frame`] gives
+/// its stroke frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrokeFrameRegion {
+    /// `p̄`.
+    pub centre: Point,
+    /// `C` as `[c_xx, c_xy, c_yy]`.
+    pub covariance: [f64; 3],
+}
+
+impl StrokeFrameRegion {
+    /// The mean and covariance of `samples` weighted by `weights`; `None` without a positive
+    /// total weight or for a non-finite value.
+    pub fn of_samples(samples: &[Point], weights: &[f64]) -> Option<StrokeFrameRegion> {
+        let total: f64 = weights.iter().sum();
+        if total.is_nan() || total <= 0.0 || samples.len() != weights.len() {
+            return None;
+        }
+        let sum = samples
+            .iter()
+            .zip(weights)
+            .fold(Vec2::ZERO, |m, (p, &w)| m + w * p.to_vec2());
+        let centre = (sum / total).to_point();
+        let mut covariance = [0.0; 3];
+        for (p, &w) in samples.iter().zip(weights) {
+            let d = *p - centre;
+            covariance[0] += w * d.x * d.x / total;
+            covariance[1] += w * d.x * d.y / total;
+            covariance[2] += w * d.y * d.y / total;
+        }
+        let region = StrokeFrameRegion { centre, covariance };
+        (centre.is_finite() && covariance.iter().all(|c| c.is_finite())).then_some(region)
+    }
+
+    /// The stroke frame `F` of an element of this region whose best-fit map is `a` (without
+    /// [`FollowOptions::scale_strokes`]): the best-fit rotation (or reflection, past
+    /// [`REFLECTION_MARGIN`]) of the cross-covariance `X = A C`, moved so that `F p̄ = A p̄`.
+    ///
+    /// ```
+    /// use kurbo::{Affine, Point};
+    /// use splineskin_svg::follow::StrokeFrameRegion;
+    /// let samples = [(0.0, 0.0), (4.0, 0.0), (0.0, 2.0), (4.0, 2.0)].map(Point::from);
+    /// let region = StrokeFrameRegion::of_samples(&samples, &[1.0; 4]).unwrap();
+    /// // A rigid map is its own frame; a scale about the centre leaves the frame the identity.
+    /// let rigid = Affine::translate((3.0, -1.0)) * Affine::rotate(0.7);
+    /// let f = region.frame(rigid);
+    /// assert!(f.as_coeffs().iter().zip(rigid.as_coeffs()).all(|(x, y)| (x - y).abs() < 1e-12));
+    /// let scale = Affine::scale_about(3.0, region.centre);
+    /// assert!(region.frame(scale).as_coeffs().iter().zip(Affine::IDENTITY.as_coeffs()).all(|(x, y)| (x - y).abs() < 1e-12));
+    /// ```
+    pub fn frame(&self, a: Affine) -> Affine {
+        let [cxx, cxy, cyy] = self.covariance;
+        let [a0, a1, a2, a3, _, _] = a.as_coeffs();
+        // X = A C (both as Affine's column-major (a, b, c, d)).
+        let x = Affine::new([
+            a0 * cxx + a2 * cxy,
+            a1 * cxx + a3 * cxy,
+            a0 * cxy + a2 * cyy,
+            a1 * cxy + a3 * cyy,
+            0.0,
+            0.0,
+        ]);
+        let q = best_fit_orthogonal(x);
+        let c = self.centre;
+        Affine::translate(a * c - q * c) * q
+    }
+}
+
+/// The orthogonal map `Q` (rotation, or reflection past [`REFLECTION_MARGIN`]) maximising
+/// `tr(Qᵀ X)` for the cross-covariance `X` (module doc, stroke frames).
+fn best_fit_orthogonal(x: Affine) -> Affine {
+    let [a, b, c, d, _, _] = x.as_coeffs();
+    let turn = (a + d).hypot(b - c);
+    let mirror = (a - d).hypot(b + c);
+    if mirror > REFLECTION_MARGIN * turn {
         let (sin, cos) = (b + c).atan2(a - d).sin_cos();
         Affine::new([cos, sin, sin, -cos, 0.0, 0.0])
+    } else {
+        Affine::rotate((b - c).atan2(a + d))
     }
 }
 
@@ -431,25 +506,48 @@ fn stroke_frame(
     weights: &[f64],
     options: &FollowOptions,
 ) -> Option<Affine> {
-    if e.paint.stroke_width.is_none()
-        || e.role == PathRole::ClipPath
-        || is_similarity(e.local_to_root)
-    {
+    if !has_stroke_frame(e) {
         return None;
     }
     if options.scale_strokes {
         return Some(a);
     }
-    let total: f64 = weights.iter().sum();
-    let mean = samples
-        .iter()
-        .zip(weights)
-        .fold(Vec2::ZERO, |m, (p, &w)| m + w * p.to_vec2())
-        / total;
-    let q = orthogonal_factor(a);
-    let centre = mean.to_point();
-    let frame = Affine::translate(a * centre - q * centre) * q;
+    let frame = StrokeFrameRegion::of_samples(samples, weights)?.frame(a);
     frame.is_finite().then_some(frame)
+}
+
+/// Whether element `e` is drawn in a stroke frame (module doc): stroked, not clip geometry,
+/// inside a local → root map that is not a similarity.
+fn has_stroke_frame(e: &ImportedElement) -> bool {
+    e.paint.stroke_width.is_some()
+        && e.role != PathRole::ClipPath
+        && !is_similarity(e.local_to_root)
+}
+
+/// Where the stroke frame of element `element` of `drawing`'s document is fitted (module doc):
+/// `None` when the element has no stroke frame (or there is no such element). A live view that
+/// computes the element's best-fit map `A` itself (a [`crate::carry::CarryOperator`]) draws it
+/// as export does with [`StrokeFrameRegion::frame`]`(A)` (without
+/// [`FollowOptions::scale_strokes`]).
+///
+/// ```
+/// use splineskin_svg::{read_svg, ImportOptions};
+/// use splineskin_svg::follow::stroke_frame_region;
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100">
+///   <g transform="scale(4 1)"><path d="M5 20 L20 80" stroke="black" fill="none"/></g>
+///   <path d="M5 20 L20 80" stroke="black" fill="none"/></svg>"#;
+/// let drawing = read_svg(svg, &ImportOptions::default()).unwrap();
+/// let c = stroke_frame_region(&drawing, 0).unwrap().centre;
+/// assert!((c.x - 50.0).abs() < 1e-9 && (c.y - 50.0).abs() < 1e-9);
+/// assert!(stroke_frame_region(&drawing, 1).is_none());
+/// ```
+pub fn stroke_frame_region(drawing: &Drawing, element: usize) -> Option<StrokeFrameRegion> {
+    let e = drawing.source.as_ref()?.elements.get(element)?;
+    if !has_stroke_frame(e) {
+        return None;
+    }
+    let (samples, weights) = element_region(drawing, element);
+    StrokeFrameRegion::of_samples(&samples, &weights)
 }
 
 /// Where the best-fit map of element `k` of `drawing`'s document is sampled (module doc; path

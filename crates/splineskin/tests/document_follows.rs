@@ -1009,7 +1009,8 @@ fn a_stretched_stroke_under_a_bend_keeps_its_rest_shape_turned() {
     let a = element_maps.element_map(0).unwrap();
     let f = element_maps.stroke_frame(0).expect("a stroke frame");
     let [fa, fb, fc, fd, _, _] = f.as_coeffs();
-    // A rotation, by the angle of the rotation closest to the element's map.
+    // A rotation, by the angle of the rotation closest to the element's map (the region is a
+    // line, flat to the fit: the map is a similarity, whose rotation is the best-fit one).
     assert!(
         (fa * fd - fb * fc - 1.0).abs() < 1e-12 && (fa - fd).abs() < 1e-12,
         "{f:?} of {a:?}"
@@ -1111,4 +1112,58 @@ fn maps_with_handles(drawing: &Drawing, pose: Affine) -> ElementMaps {
     let mut w = [0.0; 5];
     let mut f = |p| skin_point(&field, &[pose; 5], p, &mut w);
     ElementMaps::from_map(drawing, &mut f, &FollowOptions::default()).expect("element maps")
+}
+
+/// A thin stroke (an S-shaped line inside `scale(4 1)`, as a user draws one, pinned along
+/// itself) under bends in every direction: its best-fit affine map is ill-conditioned across
+/// the line (the region has little width), so its stroke frame must not be read from that
+/// map's linear part alone. The frame is a rotation (a bend does not mirror the art) by about
+/// the turn of the line's chord.
+#[test]
+fn a_thin_stretched_stroke_under_bends_is_framed_by_a_rotation_along_it() {
+    let doc = svg(
+        "<g transform='scale(4 1)'><path d='M6 15 C9 35 16 60 19 85' fill='none' \
+        stroke='navy' stroke-width='2'/></g>",
+    );
+    let drawing = read_svg(&doc, &ImportOptions::default()).unwrap();
+    let handles = [(24.0, 15.0), (50.0, 50.0), (76.0, 85.0)].map(Point::from);
+    let field = Shepard::new(&handles, ShepardOptions::default());
+    let rig = SplineRig::precompute(&drawing, &field, &FitOptions::default()).expect("precompute");
+    let quarter = Affine::rotate_about(std::f64::consts::FRAC_PI_2, Point::new(50.0, 50.0));
+    let rest = drawing.flat_points();
+    let (r0, r1) = (rest[0], rest[rest.len() - 1]);
+    let mut worst: f64 = 0.0;
+    for k in 0..16 {
+        let angle = f64::from(k) * std::f64::consts::TAU / 16.0;
+        for (turn, drag) in [
+            (Affine::IDENTITY, 20.0),
+            (quarter, 20.0),
+            (Affine::IDENTITY, 35.0),
+        ] {
+            let pull = Affine::translate(Vec2::new(angle.cos(), angle.sin()) * drag);
+            let pose = [turn, turn, pull * turn];
+            let mut points = vec![Point::ZERO; rig.n_points()];
+            rig.update(&pose, &mut points).expect("update");
+            let mut w = [0.0; 3];
+            let mut f = |p| skin_point(&field, &pose, p, &mut w);
+            let element_maps =
+                ElementMaps::from_map(&drawing, &mut f, &FollowOptions::default()).unwrap();
+            let f = element_maps.stroke_frame(0).expect("a stroke frame");
+            let [fa, fb, fc, fd, _, _] = f.as_coeffs();
+            assert!(
+                (fa * fd - fb * fc - 1.0).abs() < 1e-12,
+                "pull {k} × {drag}: a reflection {f:?} of {:?}",
+                element_maps.element_map(0)
+            );
+            let (p0, p1) = (points[0], points[points.len() - 1]);
+            let chord_turn = (p1 - p0).atan2() - (r1 - r0).atan2();
+            let off = (fb.atan2(fa) - chord_turn).sin().abs().asin();
+            worst = worst.max(off);
+        }
+    }
+    eprintln!(
+        "thin stretched stroke: its frame within {:.1}° of its chord's turn",
+        worst.to_degrees()
+    );
+    assert!(worst < 20f64.to_radians(), "{}°", worst.to_degrees());
 }

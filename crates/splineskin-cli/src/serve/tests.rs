@@ -1332,22 +1332,14 @@ const LABELLED_PLATE_SVG: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" vie
   <g transform="translate(10 5) rotate(10)"><text x="40" y="40" font-size="14" transform="scale(1.2)">plate</text></g>
 </svg>"##;
 
-/// The carry operator the page moves text with gives, at a bend of the plate, the map Export
-/// SVG writes on the label (`P⁻¹ A P` before its own transform), to rounding; the shown
-/// document marks the label and the description gives its group's map `P`.
-#[tokio::test]
-async fn serve_carry_operator_gives_the_exported_label_map() {
-    let app = app();
-    let info = open_file(&app, "labelled.svg", LABELLED_PLATE_SVG).await;
+/// A bend of the plate's handles: the rig of document `info` under it, the maps its carry
+/// operator gives there (per carried text or image, then per element of `painted`), and the
+/// document Export SVG writes with it.
+async fn carry_and_export_at_bend(
+    app: &Router,
+    info: &serde_json::Value,
+) -> (Vec<kurbo::Affine>, String) {
     let id = info["id"].as_str().expect("id");
-    let parent = kurbo::Affine::translate((10.0, 5.0)) * kurbo::Affine::rotate(10f64.to_radians());
-    let carried: Vec<[f64; 6]> = serde_json::from_value(info["carried"].clone()).expect("carried");
-    assert_eq!(carried.len(), 1);
-    for (a, b) in carried[0].iter().zip(parent.as_coeffs()) {
-        assert!((a - b).abs() < 1e-12, "{carried:?}");
-    }
-    let shown = info["svg"].as_str().expect("svg");
-    assert!(shown.contains("data-splineskin-carried=\"0\""), "{shown}");
     let bend = [
         kurbo::Affine::IDENTITY,
         kurbo::Affine::translate((20.0, -10.0))
@@ -1364,21 +1356,25 @@ async fn serve_carry_operator_gives_the_exported_label_map() {
             "flexible": false
         }
     });
-    let (headers, _) = send_ok(&app, post_json("/api/rig", &scene)).await;
+    let (headers, _) = send_ok(app, post_json("/api/rig", &scene)).await;
     let rig = rig_id(&headers);
-    let (_, body) = send_ok(&app, get(&format!("/api/rigs/{rig}/carry"))).await;
+    let (_, body) = send_ok(app, get(&format!("/api/rigs/{rig}/carry"))).await;
     let carry = f64s(&body);
     let width = 6 * bend.len() + 1;
-    assert_eq!(carry.len(), 6 * width);
+    assert_eq!(carry.len() % (6 * width), 0, "rows of {width}");
     let x: Vec<f64> = bend
         .iter()
         .flat_map(|t| t.as_coeffs())
         .chain([1.0])
         .collect();
-    let a = kurbo::Affine::new(std::array::from_fn(|r| {
-        (0..width).map(|c| carry[r * width + c] * x[c]).sum::<f64>()
-    }));
-    let expected = parent.inverse() * a * parent;
+    let maps = carry
+        .chunks_exact(6 * width)
+        .map(|rows| {
+            kurbo::Affine::new(std::array::from_fn(|r| {
+                (0..width).map(|c| rows[r * width + c] * x[c]).sum::<f64>()
+            }))
+        })
+        .collect();
     let rest = numbers(&info["rest"]);
     let body = le_bytes(
         rest.into_iter()
@@ -1387,8 +1383,28 @@ async fn serve_carry_operator_gives_the_exported_label_map() {
     let request = post(&format!("/api/documents/{id}/export?rig={rig}"))
         .body(Body::from(body))
         .expect("a request");
-    let (_, body) = send_ok(&app, request).await;
-    let svg = String::from_utf8(body).expect("text");
+    let (_, body) = send_ok(app, request).await;
+    (maps, String::from_utf8(body).expect("text"))
+}
+
+/// The carry operator the page moves text with gives, at a bend of the plate, the map Export
+/// SVG writes on the label (`P⁻¹ A P` before its own transform), to rounding; the shown
+/// document marks the label and the description gives its group's map `P`.
+#[tokio::test]
+async fn serve_carry_operator_gives_the_exported_label_map() {
+    let app = app();
+    let info = open_file(&app, "labelled.svg", LABELLED_PLATE_SVG).await;
+    let parent = kurbo::Affine::translate((10.0, 5.0)) * kurbo::Affine::rotate(10f64.to_radians());
+    let carried: Vec<[f64; 6]> = serde_json::from_value(info["carried"].clone()).expect("carried");
+    assert_eq!(carried.len(), 1);
+    for (a, b) in carried[0].iter().zip(parent.as_coeffs()) {
+        assert!((a - b).abs() < 1e-12, "{carried:?}");
+    }
+    let shown = info["svg"].as_str().expect("svg");
+    assert!(shown.contains("data-splineskin-carried=\"0\""), "{shown}");
+    let (maps, svg) = carry_and_export_at_bend(&app, &info).await;
+    assert_eq!(maps.len(), 1);
+    let expected = parent.inverse() * maps[0] * parent;
     let written = matrix_in(&svg, "<text", "transform").expect("the label carries a transform");
     assert!(
         svg.contains(") scale(1.2)\""),
@@ -1402,6 +1418,56 @@ async fn serve_carry_operator_gives_the_exported_label_map() {
     }
     // The label does move under the bend (a map left at rest would not pass the above).
     assert!((expected.as_coeffs()[5]).abs() > 1.0, "{expected:?}");
+}
+
+/// A stroke inside a non-uniform transform: the description gives where its stroke frame is
+/// fitted (`stroke_frame`: its region's mean and covariance) and lists it in `painted`, so the
+/// carry operator gives its best-fit map `A`; the frame the page makes of them is the one
+/// Export SVG draws it in (`transform` `F L` for an element whose own transform is `L`). An
+/// element in a similar frame has none.
+#[tokio::test]
+async fn serve_stroke_frames_are_described_for_the_page_as_export_draws_them() {
+    let app = app();
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100">
+  <rect x="10" y="20" width="180" height="60" fill="#468"/>
+  <path id="line" d="M5 20 L45 80" transform="scale(4 1)" stroke="#222" stroke-width="2" fill="none"/>
+</svg>"##;
+    let info = open_file(&app, "stretched.svg", svg).await;
+    let elements = info["elements"].as_array().expect("elements");
+    assert!(elements[0]["stroke_frame"].is_null(), "{info}");
+    let centre = numbers(&elements[1]["stroke_frame"]["centre"]);
+    let covariance = numbers(&elements[1]["stroke_frame"]["covariance"]);
+    // The line from (20, 20) to (180, 80), sampled evenly: its midpoint.
+    assert!(
+        (centre[0] - 100.0).abs() < 1e-9 && (centre[1] - 50.0).abs() < 1e-9,
+        "{centre:?}"
+    );
+    // Its samples lie along the line's direction (160, 60).
+    let [cxx, cxy, cyy] = [covariance[0], covariance[1], covariance[2]];
+    assert!(
+        (cxy / cxx - 60.0 / 160.0).abs() < 1e-9 && (cxx * cyy - cxy * cxy).abs() < 1e-9 * cxx * cxx
+    );
+    assert_eq!(info["painted"], serde_json::json!([1]), "{info}");
+    let (maps, exported) = carry_and_export_at_bend(&app, &info).await;
+    assert_eq!(maps.len(), 1, "one element's map");
+    let region = splineskin::drawing::follow::StrokeFrameRegion {
+        centre: Point::new(centre[0], centre[1]),
+        covariance: [covariance[0], covariance[1], covariance[2]],
+    };
+    let frame = region.frame(maps[0]);
+    let expected = frame * kurbo::Affine::scale_non_uniform(4.0, 1.0);
+    let line = exported.find("id=\"line\"").expect("the line is kept");
+    let tag = &exported[exported[..line].rfind('<').expect("its tag")..];
+    let written =
+        matrix_in(tag, "<path", "transform").expect("the line is drawn in its stroke frame");
+    for (got, want) in written.as_coeffs().iter().zip(expected.as_coeffs()) {
+        assert!(
+            (got - want).abs() <= 1e-9 * 200.0,
+            "{written:?} vs {expected:?}\n{exported}"
+        );
+    }
+    // The frame turns under the bend (the element's own transform alone would not pass).
+    assert!(frame.as_coeffs()[1].abs() > 1e-2, "{frame:?}");
 }
 
 /// Every handle of the plate turned by 30° about its centre: the skinning map is that
