@@ -1,7 +1,9 @@
 //! `splineskin serve` under load and faults, on loopback: [`CLIENTS`] editors at once, each
 //! [`ROUNDS`] times opening a drawing, rigging it, solving a pose, asking a weight grid and
-//! exporting; meanwhile slow uploads, requests abandoned mid-job, bodies at and over the upload
-//! limit and garbage. Every answer must be 2xx, 4xx (with a message) or 503; the process must
+//! exporting; meanwhile slow uploads, requests abandoned, bodies at and over the upload
+//! limit and garbage. Then the heavy routes ([`HEAVY_CLIENTS`] editors: bounded biharmonic
+//! rigs, refinement, operator training, Lottie, Catmull–Clark rigs) and precomputations whose
+//! clients leave mid-job, which must end and free their slot. Every answer must be 2xx, 4xx (with a message) or 503; the process must
 //! still be serving at the end, with every job slot free, and its peak memory (`VmHWM`) below
 //! [`PEAK_MEMORY`]. Prints the count and p50/p95 latency per route, and the peak memory.
 //!
@@ -27,6 +29,19 @@ const CLIENTS: usize = 32;
 /// Rounds of requests per editor: 50 (each round one request of every kind).
 const ROUNDS: usize = 50;
 
+/// Editors at once on the heavy routes (bounded biharmonic rigs, refinement, operator
+/// training, Lottie export, Catmull–Clark rigs): 4, twice the server's job slots.
+const HEAVY_CLIENTS: usize = 4;
+
+/// Rounds of the heavy routes per editor: 3.
+const HEAVY_ROUNDS: usize = 3;
+
+/// Precomputations abandoned mid-job (their connection dropped while they run): 3.
+const ABANDONED: usize = 3;
+
+/// The Catmull–Clark cage the heavy clients rig: the bundled tube.
+const TUBE: &str = include_str!("../../splineskin/assets/subdiv/tube.obj");
+
 /// Largest peak resident memory of the server allowed: 1 GiB (measured: see the test's
 /// output; the store's limits bound it whatever the number of clients).
 const PEAK_MEMORY: u64 = 1 << 30;
@@ -42,6 +57,17 @@ struct Answer {
     status: u16,
     body: Vec<u8>,
     rig: Option<String>,
+}
+
+impl Answer {
+    /// A 200 with no body (what a check of the client's own records).
+    fn ok() -> Answer {
+        Answer {
+            status: 200,
+            body: Vec::new(),
+            rig: None,
+        }
+    }
 }
 
 /// The server: its process and address.
@@ -97,6 +123,17 @@ async fn send(
     target: &str,
     body: Vec<u8>,
 ) -> Result<Answer, String> {
+    send_with(addr, method, target, body, &[]).await
+}
+
+/// [`send`] with more headers.
+async fn send_with(
+    addr: SocketAddr,
+    method: &str,
+    target: &str,
+    body: Vec<u8>,
+    headers: &[(&str, &str)],
+) -> Result<Answer, String> {
     let stream = tokio::net::TcpStream::connect(addr)
         .await
         .map_err(|e| e.to_string())?;
@@ -110,7 +147,10 @@ async fn send(
         .uri(target)
         .header("host", addr.to_string())
         .header("x-splineskin", "1")
-        .header("x-file-name", "load.svg")
+        .header("x-file-name", "load.svg");
+    let request = headers
+        .iter()
+        .fold(request, |r, (k, v)| r.header(*k, *v))
         .body(Full::new(Bytes::from(body)))
         .map_err(|e| e.to_string())?;
     let response = sender
@@ -261,6 +301,128 @@ async fn client(addr: SocketAddr, k: usize, steady: bool) -> Tally {
     tally
 }
 
+/// One editor's rounds on the heavy routes: open, a bounded biharmonic rig, a refinement of a
+/// bend, an operator trained (Rigid ARAP, 10 samples), a Lottie export of a two-key timeline,
+/// and a Catmull–Clark rig of the tube.
+async fn heavy_client(addr: SocketAddr, k: usize) -> Tally {
+    let mut tally = Tally::default();
+    for round in 0..HEAVY_ROUNDS {
+        let t = Instant::now();
+        let opened = send(addr, "POST", "/api/open", SVG.as_bytes().to_vec()).await;
+        tally.record("open", t, &opened);
+        let Some(info) = opened
+            .ok()
+            .and_then(|a| serde_json::from_slice::<serde_json::Value>(&a.body).ok())
+        else {
+            continue;
+        };
+        let doc = info["id"].as_str().unwrap_or("").to_string();
+        let mut scene = info["scene"].clone();
+        scene["handles"] = serde_json::json!([[20, 20], [80, 30], [40, 85]]);
+        scene["pose"] = pose(k, round);
+        scene["weights"] = serde_json::json!({"family": "bbw"});
+        let body = serde_json::json!({ "document": doc, "scene": scene }).to_string();
+        let t = Instant::now();
+        let rigged = send(addr, "POST", "/api/rig", body.into_bytes()).await;
+        tally.record("rig (bbw)", t, &rigged);
+        if let Some(rig) = rigged.ok().and_then(|a| a.rig) {
+            let body =
+                serde_json::json!({"scene": scene, "poses": [pose(k, round)], "tolerance": 1e-4});
+            let t = Instant::now();
+            let target = format!("/api/rigs/{rig}/refine");
+            let refined = send(addr, "POST", &target, body.to_string().into_bytes()).await;
+            tally.record("refine", t, &refined);
+        }
+        let mut operator = scene.clone();
+        operator["weights"] = serde_json::json!({"family": "defop-arap", "samples": 10});
+        operator["pose"] = serde_json::json!(vec![[1, 0, 0, 1, 0, 0]; 3]);
+        let body = serde_json::json!({ "document": doc, "scene": operator }).to_string();
+        let t = Instant::now();
+        let trained = send(addr, "POST", "/api/defop", body.into_bytes()).await;
+        tally.record("defop", t, &trained);
+        let mut animated = scene.clone();
+        animated["weights"] = serde_json::json!({"family": "shepard"});
+        animated["animation"] = serde_json::json!({"fps": 10.0, "keyframes": [
+            {"time": 0.0, "pose": pose(k, 0)},
+            {"time": 1.0, "pose": pose(k, round + 20)}
+        ]});
+        let t = Instant::now();
+        let target = format!("/api/documents/{doc}/lottie");
+        let lottie = send(addr, "POST", &target, animated.to_string().into_bytes()).await;
+        tally.record("lottie", t, &lottie);
+        let body = serde_json::json!({"name": "tube.obj", "obj": TUBE, "level": 1, "scene": {
+            "handles": [{"position": [0.5, 0.0, 0.0]}, {"position": [7.5, 0.0, 0.0]}]
+        }});
+        let t = Instant::now();
+        let subdiv = send(
+            addr,
+            "POST",
+            "/api/subdiv/rig",
+            body.to_string().into_bytes(),
+        )
+        .await;
+        tally.record("subdiv rig", t, &subdiv);
+    }
+    tally
+}
+
+/// Bounded biharmonic rigs whose clients leave while they run: each request followed as a
+/// job (`x-splineskin-job`), its connection dropped after 300 ms. Every job must end (its
+/// progress `{"stage": null}`) within 120 s, its slot free: a rig asked after them answers.
+/// Records, per job, the time from its request until it is gone.
+async fn abandoned_jobs(addr: SocketAddr) -> Tally {
+    let mut tally = Tally::default();
+    let opened = send(addr, "POST", "/api/open", SVG.as_bytes().to_vec()).await;
+    let info: serde_json::Value = serde_json::from_slice(&opened.expect("open").body).unwrap();
+    let mut scene = info["scene"].clone();
+    scene["handles"] = serde_json::json!([[20, 20], [80, 30], [40, 85], [60, 60]]);
+    scene["pose"] = serde_json::json!(vec![[1, 0, 0, 1, 0, 0]; 4]);
+    scene["weights"] = serde_json::json!({"family": "bbw"});
+    let body = serde_json::json!({ "document": info["id"], "scene": scene }).to_string();
+    let started = Instant::now();
+    let jobs: Vec<String> = (0..ABANDONED).map(|i| format!("abandoned-{i}")).collect();
+    for job in &jobs {
+        let headers = [("x-splineskin-job", job.as_str())];
+        let request = send_with(
+            addr,
+            "POST",
+            "/api/rig",
+            body.clone().into_bytes(),
+            &headers,
+        );
+        let _ = tokio::time::timeout(Duration::from_millis(300), request).await;
+    }
+    // Jobs seen still running after their client left (the test would prove nothing if all
+    // had ended before).
+    let mut running = 0;
+    for job in &jobs {
+        let mut first = true;
+        loop {
+            let answer = send(addr, "GET", &format!("/api/progress/{job}"), Vec::new()).await;
+            let stage = answer
+                .ok()
+                .and_then(|a| serde_json::from_slice::<serde_json::Value>(&a.body).ok())
+                .map(|v| v["stage"].clone());
+            if stage == Some(serde_json::Value::Null) {
+                break;
+            }
+            running += usize::from(std::mem::take(&mut first));
+            assert!(
+                started.elapsed() < Duration::from_secs(120),
+                "{job} still runs"
+            );
+            tokio::time::sleep(Duration::from_millis(100)).await;
+        }
+        tally.record("abandoned job gone", started, &Ok(Answer::ok()));
+    }
+    assert!(running > 0, "no abandoned job was still running");
+    let t = Instant::now();
+    let again = send(addr, "POST", "/api/rig", body.into_bytes()).await;
+    assert_eq!(again.as_ref().map(|a| a.status).ok(), Some(200));
+    tally.record("rig (bbw) after", t, &again);
+    tally
+}
+
 /// The faults, while the clients run: a slow upload, rigs abandoned mid-job, bodies at and
 /// over the limit, garbage.
 async fn faults(addr: SocketAddr) -> Tally {
@@ -380,8 +542,32 @@ fn serve_under_load_and_faults() {
         server.peak_memory() as f64 / (1 << 20) as f64
     ));
     report.push_str(&table(&mut within));
+    // The heavy routes, more editors than job slots, then jobs abandoned mid-run.
+    let started = Instant::now();
+    let mut heavy = local.block_on(&runtime, async move {
+        let clients: Vec<_> = (0..HEAVY_CLIENTS)
+            .map(|k| tokio::task::spawn_local(heavy_client(addr, k)))
+            .collect();
+        let mut all = Tally::default();
+        for c in clients {
+            all.merge(c.await.unwrap());
+        }
+        all.merge(abandoned_jobs(addr).await);
+        all
+    });
+    report.push_str(&format!(
+        "heavy routes: {HEAVY_CLIENTS} clients × {HEAVY_ROUNDS} rounds, then {ABANDONED} rigs abandoned mid-job, in {:.1} s; peak memory {:.0} MiB\n",
+        started.elapsed().as_secs_f64(),
+        server.peak_memory() as f64 / (1 << 20) as f64
+    ));
+    report.push_str(&table(&mut heavy));
     eprint!("{report}");
     let _ = std::io::stderr().flush();
+    assert!(heavy.wrong.is_empty(), "{}", heavy.wrong.join("\n"));
+    for route in ["rig (bbw)", "refine", "defop", "lottie", "subdiv rig"] {
+        let ok = heavy.statuses.get(&(route, 200)).copied().unwrap_or(0);
+        assert!(ok > 0, "no {route} succeeded:\n{report}");
+    }
     assert!(within.wrong.is_empty(), "{}", within.wrong.join("\n"));
     for ((route, status), n) in &within.statuses {
         assert_eq!(*status, 200, "{n} × {route}: {status}\n{report}");
