@@ -37,6 +37,12 @@ const CASES = [
     warnings: ['attribute width="3rem" read as width="60"', 'attribute height="40vh" read as height="40"'],
   },
   {
+    // Q, vi, vb: exact; ic: 1 em in chromium where the font has no "水" (DejaVu Sans), as ours.
+    file: 'print-and-font-units.svg',
+    size: [200, 100],
+    warnings: ['attribute x="40Q" read as x="37.795275590551185"', 'attribute width="2IC" read as width="20"'],
+  },
+  {
     file: 'points.svg',
     size: [300, 300],
     warnings: [

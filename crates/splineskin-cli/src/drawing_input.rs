@@ -309,7 +309,6 @@ impl Rigged {
             SvgError::NoPaths { .. } => anyhow::anyhow!("{e} (nothing to pin)"),
             e => e.into(),
         })?;
-        crate::info::warn_import(&drawing);
         for (k, p) in args.pins.iter().enumerate() {
             if let Some(j) = args.pins[..k].iter().position(|q| q == p) {
                 bail!(

@@ -51,6 +51,8 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     let rigged = Rigged::new(&args.drawing, &args.pins, Some(&args.pose))?;
+    // The commands that set a scene up say these with its other warnings; rig says them here.
+    crate::info::warn_import(&rigged.drawing);
     let scene_dir = folder_of(&args.output);
     let (text, outlined);
     let svg = if args.inline || args.text_outlines {

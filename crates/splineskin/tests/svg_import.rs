@@ -629,6 +629,30 @@ fn svg_import_reads_what_browsers_draw() {
     assert!((circle.center().x - 120.0).abs() < 1e-9 && (circle.width() - 60.0).abs() < 1e-9);
     assert_eq!(bounds(&d, 2), kurbo::Rect::new(150.0, 20.0, 170.0, 40.0));
     assert_eq!(bounds(&d, 3).x1, 190.0);
+    // Q (a quarter millimetre), vi and vb (as vw and vh), ic (1 em of the element's font size,
+    // inherited: 20 from the root, 10 in the group; units without regard to case).
+    let d = read("print-and-font-units.svg");
+    // (The import reads in single precision: 1e-6 of the 200-unit drawing.)
+    let (q, close) = (96.0 / 101.6, 2e-4);
+    let a = bounds(&d, 0);
+    assert!(
+        (a.x0 - 40.0 * q).abs() < close && (a.width() - 40.0).abs() < close,
+        "{a:?}"
+    );
+    assert!((a.height() - 30.0).abs() < close, "{a:?}");
+    assert!((bounds(&d, 1).width() - 40.0).abs() < close);
+    assert_eq!(bounds(&d, 2), kurbo::Rect::new(100.0, 70.0, 120.0, 90.0));
+    let w = warnings(&d);
+    assert!(
+        w.iter()
+            .any(|w| w.contains("attribute x=\"40Q\" read as x=\"37.7952755")),
+        "{w:#?}"
+    );
+    assert!(
+        w.iter()
+            .any(|w| w.contains("width=\"2IC\" read as width=\"20\" (1ic taken as 1 em = 10")),
+        "{w:#?}"
+    );
     // points: the odd coordinate dropped; the list in error draws nothing.
     let d = read("points.svg");
     assert_eq!(d.paths.len(), 2);

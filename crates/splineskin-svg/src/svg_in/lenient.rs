@@ -8,10 +8,15 @@
 //!   and the delimiting quote escaped), and the subset is dropped (XML 1.0, §4.4 "XML
 //!   Processor Treatment of Entities"). At most [`MAX_ENTITY_DEPTH`] levels of nesting, and the
 //!   expanded text at most [`MAX_SVG_BYTES`].
-//! - **Lengths in CSS units** usvg does not know: `rem` (the root element's `font-size`, else
-//!   16 px), `vw`, `vh`, `vmin`, `vmax` (hundredths of the root viewport: its `width` and
-//!   `height`, else its `viewBox`'s) are written in user units, in geometry attributes and in
-//!   `stroke-width` and `font-size` (CSS Values 4, §6.1, §6.2).
+//! - **Lengths in CSS units** usvg does not know are written in user units, in geometry
+//!   attributes and in `stroke-width` and `font-size` (CSS Values 4, §6.1, §6.2): `rem` (the
+//!   root element's `font-size`, else 16 px), `vw`, `vh`, `vi`, `vb`, `vmin`, `vmax`
+//!   (hundredths of the root viewport: its `width` and `height`, else its `viewBox`'s; `vi` and
+//!   `vb` as `vw` and `vh` in horizontal writing) and `Q` (a quarter millimetre, 96/101.6 px)
+//!   exactly; the units of font metrics, `ch`, `ic`, `cap`, `lh` and `rlh`, by the fallbacks CSS
+//!   gives where the font cannot be measured (§6.1.1: `ch` ½ em, `ic` 1 em, `cap` the ascent,
+//!   taken as 0.8 em; `lh` and `rlh` the `normal` line height, taken as 1.2 em of the element's
+//!   and of the root's font size), with a warning that browsers measure the font instead.
 //! - **Invalid attribute values** are ignored as browsers ignore them (SVG 2, §4.4 "Error
 //!   handling": an invalid presentation attribute or geometry property value is as if not
 //!   given): a length that is not a length (`width="44mmx"`, `x="inherit"`: CSS-wide keywords
@@ -89,7 +94,16 @@ fn attribute_edits(
         let tag = node.tag_name().name();
         for attr in node.attributes().filter(|a| a.namespace().is_none()) {
             let (name, value) = (attr.name(), attr.value());
-            let Some(fix) = attribute_fix(tag, name, value, &units) else {
+            let font_size = || font_size_of(node, &units);
+            let parent_font_size = || {
+                node.parent_element()
+                    .map_or(ROOT_FONT_SIZE, |p| font_size_of(p, &units))
+            };
+            let sizes = FontSizes {
+                own: &font_size,
+                parent: &parent_font_size,
+            };
+            let Some(fix) = attribute_fix(tag, name, value, &units, &sizes) else {
                 continue;
             };
             let element = node_label(doc, node);
@@ -124,8 +138,22 @@ enum Fix {
     Value(String, String),
 }
 
-/// The fix attribute `name="value"` of a `tag` element needs, if any.
-fn attribute_fix(tag: &str, name: &str, value: &str, units: &Units) -> Option<Fix> {
+/// An element's font size and its parent's, computed when asked.
+struct FontSizes<'a> {
+    own: &'a dyn Fn() -> f64,
+    parent: &'a dyn Fn() -> f64,
+}
+
+/// The fix attribute `name="value"` of a `tag` element (whose font sizes `sizes` gives) needs,
+/// if any.
+fn attribute_fix(
+    tag: &str,
+    name: &str,
+    value: &str,
+    units: &Units,
+    sizes: &FontSizes,
+) -> Option<Fix> {
+    let (font_size, parent_font_size) = (sizes.own, sizes.parent);
     match name {
         // Only what does not parse: numbers beyond the import's range stay refused.
         "transform" => svgtypes::TransformListParser::from(value)
@@ -147,20 +175,22 @@ fn attribute_fix(tag: &str, name: &str, value: &str, units: &Units) -> Option<Fi
             .is_err()
             .then(|| Fix::Remove("not [defer] <align> [meet|slice]".into())),
         "points" if matches!(tag, "polyline" | "polygon") => points_fix(value),
-        "stroke-width" | "font-size" => css_unit_fix(value, units),
-        _ if length_attributes(tag).contains(&name) => length_fix(name, value, units),
+        "stroke-width" => css_unit_fix(value, units, font_size()),
+        // Font-metric units in `font-size` are relative to the parent's font size.
+        "font-size" => css_unit_fix(value, units, parent_font_size()),
+        _ if length_attributes(tag).contains(&name) => length_fix(name, value, units, font_size()),
         _ => None,
     }
 }
 
 /// A geometry length: CSS units written in user units; anything else that is not a length
 /// (nor `auto` where allowed) removed.
-fn length_fix(name: &str, value: &str, units: &Units) -> Option<Fix> {
+fn length_fix(name: &str, value: &str, units: &Units, font_size: f64) -> Option<Fix> {
     let auto_allowed = matches!(name, "rx" | "ry" | "width" | "height");
     if (auto_allowed && value.trim() == "auto") || svgtypes::Length::from_str(value).is_ok() {
         return None;
     }
-    css_unit_fix(value, units).or_else(|| {
+    css_unit_fix(value, units, font_size).or_else(|| {
         let why = match value.trim() {
             "inherit" | "initial" | "unset" | "revert" | "revert-layer" => {
                 "a CSS-wide keyword is not a value an attribute may take".to_string()
@@ -171,20 +201,93 @@ fn length_fix(name: &str, value: &str, units: &Units) -> Option<Fix> {
     })
 }
 
-/// A length in `rem`, `vw`, `vh`, `vmin` or `vmax`, written in user units.
-fn css_unit_fix(value: &str, units: &Units) -> Option<Fix> {
-    let v = value.trim();
-    let (number, unit) = ["vmin", "vmax", "rem", "vw", "vh"]
+/// CSS units usvg does not read (module doc), longest first where one ends another; matched
+/// without regard to case, as CSS units are.
+const CSS_UNITS: [&str; 13] = [
+    "vmin", "vmax", "rem", "rlh", "cap", "vw", "vh", "vi", "vb", "ch", "ic", "lh", "q",
+];
+
+/// Ems per unit of font metrics, as CSS falls back when the font cannot be measured (module
+/// doc), and how browsers measure it instead (for the warning).
+fn font_metric(unit: &str) -> Option<(f64, &'static str)> {
+    Some(match unit {
+        "ch" => (0.5, "the advance of the font's \"0\""),
+        "ic" => (1.0, "the advance of the font's \"水\""),
+        "cap" => (0.8, "the font's cap height"),
+        "lh" | "rlh" => (1.2, "the font's line spacing"),
+        _ => return None,
+    })
+}
+
+/// A length in one of [`CSS_UNITS`], written in user units; `font_size` is the element's.
+fn css_unit_fix(value: &str, units: &Units, font_size: f64) -> Option<Fix> {
+    let (user, unit, scale) = css_length(value, units, font_size)?;
+    let why = match font_metric(unit) {
+        Some((ems, measured)) => format!(
+            "1{unit} taken as {ems} em = {}, the value CSS gives when the font cannot be \
+             measured: browsers measure {measured}, which differs by font",
+            crate::document::number(scale)
+        ),
+        None => format!("1{unit} = {}", crate::document::number(scale)),
+    };
+    user.is_finite()
+        .then(|| Fix::Value(crate::document::number(user), why))
+}
+
+/// A length in one of [`CSS_UNITS`] in user units, its unit and user units per unit;
+/// `font_size` is the element's (for `font-size` itself, its parent's).
+fn css_length(value: &str, units: &Units, font_size: f64) -> Option<(f64, &'static str, f64)> {
+    let v = value.trim().to_ascii_lowercase();
+    let (number, unit) = CSS_UNITS
         .into_iter()
         .find_map(|u| Some((v.strip_suffix(u)?, u)))?;
+    let unit = if unit == "q" { "Q" } else { unit };
     let number: f64 = number.trim_end().parse().ok()?;
-    let scale = units.scale(unit)?;
-    let user = number * scale;
-    user.is_finite().then(|| {
-        Fix::Value(
-            crate::document::number(user),
-            format!("1{unit} = {}", crate::document::number(scale)),
-        )
+    let scale = match font_metric(unit) {
+        Some((ems, _)) => ems * if unit == "rlh" { units.rem } else { font_size },
+        None => units.scale(unit)?,
+    };
+    Some((number * scale, unit, scale))
+}
+
+/// User units per millimetre: 96 / 25.4 (CSS Values 4, §6.2: 1 in = 96 px = 25.4 mm).
+const PX_PER_MM: f64 = 96.0 / 25.4;
+
+/// The font size of `node` in user units: the nearest `font-size` of it or its ancestors that
+/// reads, relative ones (`em`, `ex` as ½ em, `%`, the font metrics of [`CSS_UNITS`]) against
+/// their parent's, else 16 (CSS `medium`).
+fn font_size_of(node: roxmltree::Node, units: &Units) -> f64 {
+    let mut chain: Vec<roxmltree::Node> = node.ancestors().filter(|n| n.is_element()).collect();
+    chain.reverse();
+    chain.iter().fold(ROOT_FONT_SIZE, |size, n| {
+        let Some(value) = n
+            .attribute("font-size")
+            .or_else(|| style_property(n.attribute("style")?, "font-size"))
+        else {
+            return size;
+        };
+        let Ok(length) = svgtypes::Length::from_str(value) else {
+            // A font size in font-metric units is relative to the parent's font size.
+            let css = css_length(value, units, size).map(|(user, _, _)| user);
+            return css.filter(|v| v.is_finite() && *v > 0.0).unwrap_or(size);
+        };
+        let v = length.number;
+        let absolute = match length.unit {
+            svgtypes::LengthUnit::None | svgtypes::LengthUnit::Px => v,
+            svgtypes::LengthUnit::Em => v * size,
+            svgtypes::LengthUnit::Ex => v * size / 2.0,
+            svgtypes::LengthUnit::Percent => v * size / 100.0,
+            svgtypes::LengthUnit::In => v * 96.0,
+            svgtypes::LengthUnit::Cm => v * 10.0 * PX_PER_MM,
+            svgtypes::LengthUnit::Mm => v * PX_PER_MM,
+            svgtypes::LengthUnit::Pt => v * 4.0 / 3.0,
+            svgtypes::LengthUnit::Pc => v * 16.0,
+        };
+        if absolute.is_finite() && absolute > 0.0 {
+            absolute
+        } else {
+            size
+        }
     })
 }
 
@@ -229,16 +332,18 @@ impl Units {
         }
     }
 
-    /// User units per `unit` (`None` without a viewport for the viewport units).
+    /// User units per `unit`, one of [`CSS_UNITS`] other than the font metrics (`None`
+    /// without a viewport for the viewport units).
     fn scale(&self, unit: &str) -> Option<f64> {
         let (w, h) = match unit {
             "rem" => return Some(self.rem),
+            "Q" => return Some(PX_PER_MM / 4.0),
             _ => self.viewport?,
         };
         Some(
             match unit {
-                "vw" => w,
-                "vh" => h,
+                "vw" | "vi" => w,
+                "vh" | "vb" => h,
                 "vmin" => w.min(h),
                 _ => w.max(h),
             } / 100.0,
@@ -618,5 +723,28 @@ mod tests {
         );
         assert_eq!(warnings.len(), 6, "{warnings:#?}");
         assert!(warnings[0].starts_with("t.svg: rect (line 1): attribute x=\"inherit\" ignored"));
+    }
+
+    #[test]
+    fn lenient_font_metric_units_take_the_css_fallbacks_of_the_element_font_size() {
+        // Root font size 2rem = 32; the group's 50 %, 16; the inner rect's own 3ch is of its
+        // parent's, 24, and its height in lh of that 24.
+        let text = "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 100 100\" \
+            font-size=\"2rem\"><rect width=\"10ch\" height=\"1cap\" x=\"1lh\"/>\
+            <g font-size=\"50%\"><rect width=\"2rlh\" height=\"2LH\" font-size=\"3ch\"/></g></svg>";
+        let (out, warnings) = read(text);
+        assert_eq!(
+            out,
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 100 100\" \
+             font-size=\"32\"><rect width=\"160\" height=\"25.6\" x=\"38.4\"/>\
+             <g font-size=\"50%\"><rect width=\"38.4\" height=\"57.599999999999994\" font-size=\"24\"/></g></svg>"
+        );
+        assert!(
+            warnings[1].contains(
+                "1ch taken as 0.5 em = 16, the value CSS gives when the font \
+                 cannot be measured: browsers measure the advance of the font's \"0\""
+            ),
+            "{warnings:#?}"
+        );
     }
 }
