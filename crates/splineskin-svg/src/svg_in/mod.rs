@@ -105,6 +105,7 @@
 //! [`PathRole`]: splineskin_core::drawing::PathRole
 //! [`PathRole::Hidden`]: splineskin_core::drawing::PathRole::Hidden
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::str::FromStr;
 
@@ -419,6 +420,27 @@ fn read_svg_impl(text: &str, options: &ImportOptions, origin: &str) -> Result<Dr
             },
             e => e,
         })
+}
+
+/// The text a drawing read from `text` (from `origin`, default options) keeps as its source
+/// ([`SvgSource::text`]): `text` as a browser reads it (entities expanded, values browsers
+/// ignore removed, CSS units written in user units: [`lenient`]), borrowed when that reading
+/// changes nothing. A cache of drawings by the text they were read from compares with it.
+///
+/// ```
+/// use splineskin_svg::svg_in::source_text;
+/// use splineskin_svg::{read_svg, ImportOptions};
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">
+///   <rect width="2rem" height="5"/></svg>"#;
+/// let read = read_svg(svg, &ImportOptions::default())?;
+/// let kept = source_text(svg, "<string>")?;
+/// assert_eq!(read.source.as_ref().unwrap().text, kept.as_ref());
+/// assert!(kept.contains(r#"width="32""#));
+/// # Ok::<(), splineskin_svg::SvgError>(())
+/// ```
+pub fn source_text<'t>(text: &'t str, origin: &str) -> Result<Cow<'t, str>, SvgError> {
+    check_size(origin, text.len() as u64)?;
+    Ok(lenient::browser_reading(text, origin)?.0)
 }
 
 /// The warnings reading `text` (from `origin`) gives of what is drawn other than written, as

@@ -88,7 +88,7 @@ impl Scene {
         Ok(Scene {
             svg_origin: origin.clone(),
             origin,
-            read: ReadDrawing(Some(Arc::new(drawing))),
+            read: ReadDrawing::new(drawing, &svg_text),
             svg_text,
             handles: pins,
             bones: Vec::new(),
@@ -173,7 +173,7 @@ impl Scene {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn with_drawing(mut self, drawing: Drawing) -> Scene {
-        self.read = ReadDrawing(Some(Arc::new(drawing)));
+        self.read = ReadDrawing::new(drawing, &self.svg_text);
         self
     }
 }
@@ -206,18 +206,45 @@ fn checked_maps(
 /// [`Scene::with_drawing`]), or nothing (a scene read from a file). [`Scene::drawing`] takes it
 /// instead of reading the SVG again while it is still the drawing of the scene's `svg_text`
 /// (named as the scene's `svg_origin` names it; a scene whose text was replaced, say by its
-/// text-as-outlines version, is read anew). It is a cache: two scenes
-/// compare equal whatever their caches hold.
+/// text-as-outlines version, is read anew). A drawing keeps as its source the text as browsers
+/// read it ([`crate::drawing::svg_in::source_text`]), which differs from `svg_text` where that
+/// reading rewrote it (entities expanded, CSS units): the text it was read from is then kept
+/// too. It is a cache: two scenes compare equal whatever their caches hold.
 #[derive(Clone, Default)]
-pub struct ReadDrawing(pub(crate) Option<Arc<Drawing>>);
+pub struct ReadDrawing {
+    drawing: Option<Arc<Drawing>>,
+    /// The text `drawing` was read from, where its source holds another (the browsers'
+    /// reading of it).
+    read_from: Option<Arc<str>>,
+}
 
 impl ReadDrawing {
+    /// `drawing` as read from `svg_text`, if it is: its source's text is `svg_text` or the
+    /// browsers' reading of it; else nothing is held (the text is read anew when needed).
+    pub(crate) fn new(drawing: Drawing, svg_text: &str) -> ReadDrawing {
+        let Some(source) = drawing.source.as_ref() else {
+            return ReadDrawing::default();
+        };
+        let read_from = match source.text == svg_text {
+            true => None,
+            false => match crate::drawing::svg_in::source_text(svg_text, &source.origin) {
+                Ok(kept) if kept == source.text => Some(Arc::from(svg_text)),
+                _ => return ReadDrawing::default(),
+            },
+        };
+        ReadDrawing {
+            drawing: Some(Arc::new(drawing)),
+            read_from,
+        }
+    }
+
     /// The drawing held, if it was read from `svg_text`, its source named `svg_origin` (as
     /// reading the text under that name would name it).
     pub(crate) fn of(&self, svg_text: &str, svg_origin: &str) -> Option<Drawing> {
-        let drawing = self.0.as_ref()?;
+        let drawing = self.drawing.as_ref()?;
         let source = drawing.source.as_ref()?;
-        if source.text != svg_text {
+        let read_from = self.read_from.as_deref().unwrap_or(&source.text);
+        if read_from != svg_text {
             return None;
         }
         let mut drawing = Drawing::clone(drawing);
@@ -240,7 +267,43 @@ impl PartialEq for ReadDrawing {
 
 impl std::fmt::Debug for ReadDrawing {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let held = if self.0.is_some() { "held" } else { "none" };
+        let held = if self.drawing.is_some() {
+            "held"
+        } else {
+            "none"
+        };
         write!(f, "ReadDrawing({held})")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::{read_svg_named, ImportOptions};
+
+    /// A drawing whose text the browsers' reading rewrites (an entity, a `rem` length) is still
+    /// the drawing of that text: held, not read again; another text misses.
+    #[test]
+    fn a_drawing_read_through_the_lenient_reading_is_held_for_its_text() {
+        let text = "<!DOCTYPE svg [<!ENTITY f \"fill:red\">]>\
+            <svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 10 10\">\
+            <rect style=\"&f;\" width=\"0.5rem\" height=\"4\"/></svg>";
+        let drawing = read_svg_named(text, &ImportOptions::default(), "a.svg").unwrap();
+        assert_ne!(
+            drawing.source.as_ref().unwrap().text,
+            text,
+            "the reading rewrites it"
+        );
+        let read = ReadDrawing::new(drawing.clone(), text);
+        let held = read.of(text, "a.svg").expect("held for its own text");
+        assert_eq!(held.flat_points(), drawing.flat_points());
+        assert!(read
+            .of(&text.replace("height=\"4\"", "height=\"5\""), "a.svg")
+            .is_none());
+        // A drawing of another text is not held at all.
+        let other = text.replace("0.5rem", "9");
+        assert!(ReadDrawing::new(drawing, &other)
+            .of(&other, "a.svg")
+            .is_none());
     }
 }
