@@ -479,6 +479,25 @@ async fn faults(addr: SocketAddr) -> Tally {
     tally
 }
 
+/// The tallies of `clients`, merged.
+async fn merged(clients: Vec<tokio::task::JoinHandle<Tally>>) -> Tally {
+    let mut all = Tally::default();
+    for c in clients {
+        all.merge(c.await.unwrap());
+    }
+    all
+}
+
+/// The report's line of a phase: what ran, its seconds since `started`, and the server's peak
+/// memory so far.
+fn phase_line(what: &str, started: Instant, server: &Server) -> String {
+    format!(
+        "{what} in {:.1} s; peak memory {:.0} MiB\n",
+        started.elapsed().as_secs_f64(),
+        server.peak_memory() as f64 / (1 << 20) as f64
+    )
+}
+
 /// The `q`-quantile of `values` (sorted in place), nearest rank.
 fn quantile(values: &mut [f64], q: f64) -> f64 {
     values.sort_by(f64::total_cmp);
@@ -501,20 +520,15 @@ fn serve_under_load_and_faults() {
             .map(|k| tokio::task::spawn_local(client(addr, k, false)))
             .collect();
         let mut all = faults(addr).await;
-        for c in clients {
-            all.merge(c.await.unwrap());
-        }
+        all.merge(merged(clients).await);
         // Still serving, every slot back: a request of each kind answers.
         let initial = send(addr, "GET", "/api/initial", Vec::new()).await;
         all.record("initial after", Instant::now(), &initial);
         assert_eq!(initial.map(|a| a.status).ok(), Some(200));
         all
     });
-    let seconds = started.elapsed().as_secs_f64();
-    let mut report = format!(
-        "serve under load: {CLIENTS} clients × {ROUNDS} rounds in {seconds:.1} s; peak memory {:.0} MiB\n",
-        server.peak_memory() as f64 / (1 << 20) as f64
-    );
+    let what = format!("serve under load: {CLIENTS} clients × {ROUNDS} rounds");
+    let mut report = phase_line(&what, started, &server);
     report.push_str(&table(&mut tally));
     // Within the store's limits (as many editors as it keeps rigs, each opening and rigging
     // once, then posing, asking weights and exporting), every request succeeds: the
@@ -524,21 +538,14 @@ fn serve_under_load_and_faults() {
         let clients: Vec<_> = (0..MAX_RIGS)
             .map(|k| tokio::task::spawn_local(client(addr, k, true)))
             .collect();
-        let mut all = Tally::default();
         // A job slot left taken by an abandoned request would hold these up: bounded.
-        let joined = tokio::time::timeout(Duration::from_secs(120), async {
-            for c in clients {
-                all.merge(c.await.unwrap());
-            }
-        });
-        joined.await.expect("the clients within the limits finish");
-        all
+        let joined = tokio::time::timeout(Duration::from_secs(120), merged(clients));
+        joined.await.expect("the clients within the limits finish")
     });
-    report.push_str(&format!(
-        "within the store's limits: {MAX_RIGS} clients, each one document and one rig, × {ROUNDS} rounds in {:.1} s; peak memory {:.0} MiB\n",
-        started.elapsed().as_secs_f64(),
-        server.peak_memory() as f64 / (1 << 20) as f64
-    ));
+    let what = format!(
+        "within the store's limits: {MAX_RIGS} clients, each one document and one rig, × {ROUNDS} rounds"
+    );
+    report.push_str(&phase_line(&what, started, &server));
     report.push_str(&table(&mut within));
     // The heavy routes, more editors than job slots, then jobs abandoned mid-run.
     let started = Instant::now();
@@ -546,18 +553,14 @@ fn serve_under_load_and_faults() {
         let clients: Vec<_> = (0..HEAVY_CLIENTS)
             .map(|k| tokio::task::spawn_local(heavy_client(addr, k)))
             .collect();
-        let mut all = Tally::default();
-        for c in clients {
-            all.merge(c.await.unwrap());
-        }
+        let mut all = merged(clients).await;
         all.merge(abandoned_jobs(addr).await);
         all
     });
-    report.push_str(&format!(
-        "heavy routes: {HEAVY_CLIENTS} clients × {HEAVY_ROUNDS} rounds, then {ABANDONED} rigs abandoned mid-job, in {:.1} s; peak memory {:.0} MiB\n",
-        started.elapsed().as_secs_f64(),
-        server.peak_memory() as f64 / (1 << 20) as f64
-    ));
+    let what = format!(
+        "heavy routes: {HEAVY_CLIENTS} clients × {HEAVY_ROUNDS} rounds, then {ABANDONED} rigs abandoned mid-job"
+    );
+    report.push_str(&phase_line(&what, started, &server));
     report.push_str(&table(&mut heavy));
     eprint!("{report}");
     let _ = std::io::stderr().flush();

@@ -58,3 +58,20 @@ export function writePaths(paths, offsets, first, end, points, format, T = null)
   }
   return d;
 }
+
+/**
+ * A formatter writing numbers with `digits` decimals, as toFixed does (half away from zero
+ * aside), about twice as fast: the per-frame path data of big drawings is mostly numbers.
+ */
+export function fixedFormatter(digits) {
+  if (digits === 0) return (v) => String(Math.round(v));
+  const scale = 10 ** digits;
+  const zeros = '0'.repeat(digits);
+  return (v) => {
+    const r = Math.round(v * scale);
+    const m = r < 0 ? -r : r;
+    const whole = Math.trunc(m / scale);
+    const fraction = String(m - whole * scale);
+    return (r < 0 ? '-' : '') + whole + '.' + (fraction.length < digits ? zeros.slice(fraction.length) + fraction : fraction);
+  };
+}

@@ -175,17 +175,17 @@ fn attribute_fix(
             .is_err()
             .then(|| Fix::Remove("not [defer] <align> [meet|slice]".into())),
         "points" if matches!(tag, "polyline" | "polygon") => points_fix(value),
-        "stroke-width" => css_unit_fix(value, units, font_size()),
+        "stroke-width" => css_unit_fix(value, units, font_size),
         // Font-metric units in `font-size` are relative to the parent's font size.
-        "font-size" => css_unit_fix(value, units, parent_font_size()),
-        _ if length_attributes(tag).contains(&name) => length_fix(name, value, units, font_size()),
+        "font-size" => css_unit_fix(value, units, parent_font_size),
+        _ if length_attributes(tag).contains(&name) => length_fix(name, value, units, font_size),
         _ => None,
     }
 }
 
 /// A geometry length: CSS units written in user units; anything else that is not a length
 /// (nor `auto` where allowed) removed.
-fn length_fix(name: &str, value: &str, units: &Units, font_size: f64) -> Option<Fix> {
+fn length_fix(name: &str, value: &str, units: &Units, font_size: &dyn Fn() -> f64) -> Option<Fix> {
     let auto_allowed = matches!(name, "rx" | "ry" | "width" | "height");
     if (auto_allowed && value.trim() == "auto") || svgtypes::Length::from_str(value).is_ok() {
         return None;
@@ -219,8 +219,9 @@ fn font_metric(unit: &str) -> Option<(f64, &'static str)> {
     })
 }
 
-/// A length in one of [`CSS_UNITS`], written in user units; `font_size` is the element's.
-fn css_unit_fix(value: &str, units: &Units, font_size: f64) -> Option<Fix> {
+/// A length in one of [`CSS_UNITS`], written in user units; `font_size` gives the element's
+/// (asked only for the units of font metrics).
+fn css_unit_fix(value: &str, units: &Units, font_size: &dyn Fn() -> f64) -> Option<Fix> {
     let (user, unit, scale) = css_length(value, units, font_size)?;
     let why = match font_metric(unit) {
         Some((ems, measured)) => format!(
@@ -235,8 +236,13 @@ fn css_unit_fix(value: &str, units: &Units, font_size: f64) -> Option<Fix> {
 }
 
 /// A length in one of [`CSS_UNITS`] in user units, its unit and user units per unit;
-/// `font_size` is the element's (for `font-size` itself, its parent's).
-fn css_length(value: &str, units: &Units, font_size: f64) -> Option<(f64, &'static str, f64)> {
+/// `font_size` gives the element's (for `font-size` itself, its parent's), asked only for the
+/// units of font metrics.
+fn css_length(
+    value: &str,
+    units: &Units,
+    font_size: &dyn Fn() -> f64,
+) -> Option<(f64, &'static str, f64)> {
     let v = value.trim().to_ascii_lowercase();
     let (number, unit) = CSS_UNITS
         .into_iter()
@@ -244,7 +250,13 @@ fn css_length(value: &str, units: &Units, font_size: f64) -> Option<(f64, &'stat
     let unit = if unit == "q" { "Q" } else { unit };
     let number: f64 = number.trim_end().parse().ok()?;
     let scale = match font_metric(unit) {
-        Some((ems, _)) => ems * if unit == "rlh" { units.rem } else { font_size },
+        Some((ems, _)) => {
+            ems * if unit == "rlh" {
+                units.rem
+            } else {
+                font_size()
+            }
+        }
         None => units.scale(unit)?,
     };
     Some((number * scale, unit, scale))
@@ -268,7 +280,7 @@ fn font_size_of(node: roxmltree::Node, units: &Units) -> f64 {
         };
         let Ok(length) = svgtypes::Length::from_str(value) else {
             // A font size in font-metric units is relative to the parent's font size.
-            let css = css_length(value, units, size).map(|(user, _, _)| user);
+            let css = css_length(value, units, &|| size).map(|(user, _, _)| user);
             return css.filter(|v| v.is_finite() && *v > 0.0).unwrap_or(size);
         };
         let v = length.number;
